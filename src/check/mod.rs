@@ -1,0 +1,5 @@
+//! The checker: syntax tree → typed [`Scene`].
+
+pub mod scene;
+
+pub use scene::*;

@@ -1,0 +1,126 @@
+//! The catalogue of diagnostic codes.
+//!
+//! The first two digits of a code name the stage that emits it (`E00` driver and files, `E01`
+//! parse, `E02` check, `E03` plan, `E04` resolve, `E05` solve, `E06` lower and output, `E07`
+//! import, `E08` generate); `W` codes are warnings in the same bands. A number, once used, is never
+//! given to anything else. Every code has a page `book/src/diagnostics/<CODE>.md`, embedded here
+//! at build time for `holoc explain`.
+
+use super::Severity;
+
+macro_rules! codes {
+    ($($code:ident $name:literal $summary:literal;)*) => {
+        /// A diagnostic code: stage band, kebab-case name, default severity and book page.
+        #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+        pub enum Code {
+            $(
+                #[doc = $summary]
+                $code,
+            )*
+        }
+
+        impl Code {
+            /// Every code, in catalogue order.
+            pub const ALL: &'static [Code] = &[$(Code::$code),*];
+
+            /// The code as written, e.g. `E0201`.
+            pub fn as_str(self) -> &'static str {
+                match self { $(Code::$code => stringify!($code),)* }
+            }
+
+            /// The kebab-case name of the problem, e.g. `unknown-object`.
+            pub fn name(self) -> &'static str {
+                match self { $(Code::$code => $name,)* }
+            }
+
+            /// A one-line summary.
+            pub fn summary(self) -> &'static str {
+                match self { $(Code::$code => $summary,)* }
+            }
+
+            /// The page of the diagnostics catalogue, as Markdown.
+            pub fn page(self) -> &'static str {
+                match self {
+                    $(Code::$code => include_str!(concat!(
+                        env!("CARGO_MANIFEST_DIR"), "/book/src/diagnostics/", stringify!($code), ".md"
+                    )),)*
+                }
+            }
+        }
+    };
+}
+
+codes! {
+    E0001 "io-error" "a file could not be read or written";
+    E0002 "internal-error" "holoc hit a bug; the input may be fine";
+    E0003 "invalid-encoding" "a file is not valid UTF-8 text";
+    E0004 "invalid-argument" "a command-line value is not usable";
+
+    E0101 "syntax-error" "the text does not follow the grammar of a statement";
+    E0102 "unknown-statement" "a line does not start like any statement of its block";
+    E0103 "invalid-number" "a number cannot be read or is not finite";
+    E0104 "invalid-string" "a string has an unknown escape or no closing quote";
+    E0105 "missing-unit" "a length or angle is written without its unit";
+    E0106 "wrong-unit" "a value carries a unit of the wrong kind";
+
+    E0201 "unknown-object" "a reference names no object of the room";
+    E0202 "unknown-room" "a reference names no room";
+    E0203 "duplicate-definition" "two definitions use the same name";
+    E0204 "forward-reference" "a constraint refers to an object declared after it";
+    E0205 "constraint-cycle" "constraints refer to each other in a circle";
+    E0206 "self-reference" "an object's constraint targets the object itself";
+    E0207 "wrong-target-kind" "a reference names something of the wrong kind";
+    E0208 "value-out-of-range" "a number is outside what the value allows";
+    E0209 "multiple-global-constraints" "an object has more than one of `edge` and `middle`";
+    E0210 "door-to-itself" "a door connects a room to itself";
+    E0211 "unknown-keyword" "a word is not in the vocabulary of its position";
+    E0212 "ambiguous-reference" "a reference names a group of several instances";
+    E0213 "duplicate-setting" "a setting is given twice in one block";
+    E0214 "too-few-corners" "a room outline has fewer than four corners";
+    E0215 "multiple-scene-blocks" "a file has more than one `scene` block";
+    E0216 "duplicate-connection" "two doors join the same pair of rooms";
+    W0201 "window-size-not-offered" "a window size is not one of the sizes of its type";
+    W0202 "missing-global-constraint" "a floor object has neither `edge` nor `middle`";
+    W0203 "empty-scene" "the scene declares no room";
+}
+
+impl Code {
+    /// The default severity: `E` codes are errors, `W` codes warnings.
+    pub fn severity(self) -> Severity {
+        if self.as_str().starts_with('W') {
+            Severity::Warning
+        } else {
+            Severity::Error
+        }
+    }
+
+    /// The stage that emits the code, from its band.
+    pub fn stage(self) -> &'static str {
+        match &self.as_str()[1..3] {
+            "00" => "driver",
+            "01" => "parse",
+            "02" => "check",
+            "03" => "plan",
+            "04" => "resolve",
+            "05" => "solve",
+            "06" => "lower",
+            "07" => "import",
+            "08" => "generate",
+            _ => "unknown",
+        }
+    }
+
+    /// The address of the code's page in the published book.
+    pub fn url(self) -> String {
+        format!("https://holoc.dev/book/diagnostics/{}.html", self.as_str())
+    }
+
+    /// Looks a code up by its text (`E0201`, case-insensitive) or its name (`unknown-object`).
+    pub fn parse(text: &str) -> Option<Code> {
+        let text = text.trim();
+        Code::ALL
+            .iter()
+            .copied()
+            .find(|c| c.as_str().eq_ignore_ascii_case(text) || c.name().eq_ignore_ascii_case(text))
+    }
+}

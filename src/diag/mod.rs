@@ -1,0 +1,170 @@
+//! Diagnostics: what every stage reports, as data.
+//!
+//! A [`Diagnostic`] has a [`Code`] (its stage, its name and its page in the book), a severity, a
+//! message, a primary [`Label`], secondary labels, at most one help sentence and notes. Stages
+//! build them from their own error facts in one place per stage (`<stage>/errors.rs`). Only
+//! [`format`] and [`lsp`] know how they are printed or serialized.
+
+pub mod codes;
+pub mod format;
+pub mod lsp;
+pub mod suggest;
+
+pub use codes::Code;
+
+use crate::source::Span;
+
+/// How serious a diagnostic is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum Severity {
+    /// The input cannot be used as it is; the stage's output must not be trusted.
+    Error,
+    /// Something was interpreted or left out; the output is still usable.
+    Warning,
+    /// Extra information.
+    Note,
+}
+
+impl Severity {
+    /// The lower-case word used in every output format.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Severity::Error => "error",
+            Severity::Warning => "warning",
+            Severity::Note => "note",
+        }
+    }
+}
+
+/// A span with a short phrase that explains it.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Label {
+    /// Where.
+    pub span: Span,
+    /// What about it (may be empty).
+    pub text: String,
+}
+
+impl Label {
+    /// Makes a label.
+    pub fn new(span: Span, text: impl Into<String>) -> Label {
+        Label { span, text: text.into() }
+    }
+}
+
+/// One problem found in the input.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Diagnostic {
+    /// The error code; it decides the default severity and the book page.
+    pub code: Code,
+    /// Error, warning or note.
+    pub severity: Severity,
+    /// What is wrong, lower-case, no final period.
+    pub message: String,
+    /// The main place; `None` only for diagnostics about no file at all (CLI, I/O).
+    pub primary: Option<Label>,
+    /// Every other place involved.
+    pub secondary: Vec<Label>,
+    /// One sentence of action.
+    pub help: Option<String>,
+    /// Further facts.
+    pub notes: Vec<String>,
+}
+
+impl Diagnostic {
+    /// A diagnostic with the code's default severity and no labels yet.
+    pub fn new(code: Code, message: impl Into<String>) -> Diagnostic {
+        Diagnostic {
+            code,
+            severity: code.severity(),
+            message: message.into(),
+            primary: None,
+            secondary: Vec::new(),
+            help: None,
+            notes: Vec::new(),
+        }
+    }
+
+    /// Sets the primary label.
+    #[must_use]
+    pub fn with_primary(mut self, span: Span, text: impl Into<String>) -> Diagnostic {
+        self.primary = Some(Label::new(span, text));
+        self
+    }
+
+    /// Adds a secondary label.
+    #[must_use]
+    pub fn with_secondary(mut self, span: Span, text: impl Into<String>) -> Diagnostic {
+        self.secondary.push(Label::new(span, text));
+        self
+    }
+
+    /// Sets the help sentence.
+    #[must_use]
+    pub fn with_help(mut self, help: impl Into<String>) -> Diagnostic {
+        self.help = Some(help.into());
+        self
+    }
+
+    /// Sets the help sentence if there is one.
+    #[must_use]
+    pub fn with_help_opt(mut self, help: Option<String>) -> Diagnostic {
+        if help.is_some() {
+            self.help = help;
+        }
+        self
+    }
+
+    /// Adds a note.
+    #[must_use]
+    pub fn with_note(mut self, note: impl Into<String>) -> Diagnostic {
+        self.notes.push(note.into());
+        self
+    }
+
+    /// Whether this is an error.
+    pub fn is_error(&self) -> bool {
+        self.severity == Severity::Error
+    }
+
+    /// An internal error: a bug in holoc, reported as a diagnostic rather than a panic.
+    pub fn internal(what: impl Into<String>) -> Diagnostic {
+        Diagnostic::new(Code::E0002, format!("internal error: {}", what.into()))
+            .with_help(format!(
+                "this is a bug in holoc {}; please report it with the command line and input",
+                env!("CARGO_PKG_VERSION")
+            ))
+    }
+}
+
+/// A stage's result: a value (possibly partial) and everything the stage reported.
+#[derive(Clone, Debug)]
+pub struct Outcome<T> {
+    /// The value, possibly partial when there are errors.
+    pub value: T,
+    /// Every diagnostic, in the order found.
+    pub diagnostics: Vec<Diagnostic>,
+}
+
+impl<T> Outcome<T> {
+    /// Wraps a value with its diagnostics.
+    pub fn new(value: T, diagnostics: Vec<Diagnostic>) -> Outcome<T> {
+        Outcome { value, diagnostics }
+    }
+
+    /// Whether any diagnostic is an error.
+    pub fn has_errors(&self) -> bool {
+        self.diagnostics.iter().any(Diagnostic::is_error)
+    }
+
+    /// Maps the value, keeping the diagnostics.
+    pub fn map<U>(self, f: impl FnOnce(T) -> U) -> Outcome<U> {
+        Outcome { value: f(self.value), diagnostics: self.diagnostics }
+    }
+}
+
+/// Sorts diagnostics by file and position (stable for equal positions), the order every output
+/// format uses.
+pub fn sort(diagnostics: &mut [Diagnostic]) {
+    diagnostics.sort_by_key(|d| d.primary.as_ref().map(|l| (l.span.file, l.span.start, l.span.end)));
+}

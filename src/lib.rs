@@ -1,0 +1,12 @@
+//! holoc: a compiler from `.holo` scene descriptions (and the LLM answers they are imported
+//! from) to AI2-THOR house JSON.
+//!
+//! Each stage is one module with one entry verb, its output noun and its diagnostics; see
+//! `ARCHITECTURE.md` for the pipeline and the invariants of every module.
+
+pub mod ast;
+pub mod check;
+pub mod diag;
+pub mod fmt;
+pub mod parse;
+pub mod source;

@@ -1,0 +1,496 @@
+//! The parser: `.holo` text → [`ast::File`].
+//!
+//! The grammar (`grammar/holo.pest`) reads every block line by line and ends each block body
+//! with a catch-all `bad_line`. The parser turns the pest tree into the AST; each bad line
+//! becomes an [`ast::ErrorNode`] (so its text is kept) and one diagnostic, made by re-reading the
+//! line with the rule its first word names ([`errors`]).
+//!
+//! **Invariant:** pest types do not leave this module.
+
+mod errors;
+mod grammar;
+
+use crate::ast::{self, Ident, Quantity, Str, Unit};
+use crate::diag::{Code, Diagnostic, Outcome};
+use crate::source::{FileId, SourceMap, Span};
+use grammar::{HoloParser, Rule};
+use pest::iterators::Pair;
+use pest::Parser as _;
+
+/// The block a line belongs to; it decides which statements may start the line.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Context {
+    /// The top level of the file.
+    Top,
+    /// A `scene` block.
+    Scene,
+    /// A `room` block.
+    Room,
+    /// An `object`, `wall object`, `instance`, `on top` or `ceiling` block.
+    Object,
+}
+
+/// Parses the file `file` of `sources`.
+pub fn parse(sources: &SourceMap, file: FileId) -> Outcome<ast::File> {
+    let text = &sources.get(file).text;
+    let mut builder = Builder { file, diagnostics: Vec::new() };
+    let whole = Span::new(file, 0, text.len());
+    let ast = match HoloParser::parse(Rule::file, text) {
+        Ok(mut pairs) => {
+            let file_pair = pairs.next().expect("the file rule always yields one pair");
+            builder.file(file_pair)
+        }
+        Err(error) => {
+            builder.diagnostics.push(errors::from_pest(file, 0, &error, Context::Top, text));
+            ast::File {
+                items: vec![ast::Item::Error(ast::ErrorNode { text: text.clone(), span: whole })],
+                span: whole,
+            }
+        }
+    };
+    Outcome::new(ast, builder.diagnostics)
+}
+
+/// Parses a text that is not in a source map (tests, the importer's round-trip check).
+pub fn parse_str(text: &str) -> Outcome<ast::File> {
+    let mut sources = SourceMap::new();
+    let id = sources.add("<text>", text);
+    parse(&sources, id)
+}
+
+struct Builder {
+    file: FileId,
+    diagnostics: Vec<Diagnostic>,
+}
+
+impl Builder {
+    fn span(&self, pair: &Pair<'_, Rule>) -> Span {
+        let s = pair.as_span();
+        Span::new(self.file, s.start(), s.end())
+    }
+
+    fn file(&mut self, pair: Pair<'_, Rule>) -> ast::File {
+        let span = self.span(&pair);
+        let mut items = Vec::new();
+        for p in children(pair) {
+            match p.as_rule() {
+                Rule::scene => items.push(ast::Item::Scene(self.scene(p))),
+                Rule::room => items.push(ast::Item::Room(self.room(p))),
+                Rule::door => items.push(ast::Item::Door(self.door(p))),
+                Rule::comment | Rule::trailing_comment => {
+                    items.push(ast::Item::Comment(self.comment(p)));
+                }
+                Rule::bad_line => items.push(ast::Item::Error(self.bad_line(p, Context::Top))),
+                Rule::stray_brace => {
+                    let span = self.span(&p);
+                    self.diagnostics.push(
+                        Diagnostic::new(Code::E0101, "unmatched `}`")
+                            .with_primary(span, "this closes no block")
+                            .with_help("remove it, or add the `{` it was meant to close"),
+                    );
+                    items.push(ast::Item::Error(ast::ErrorNode { text: "}".into(), span }));
+                }
+                _ => {}
+            }
+        }
+        ast::File { items, span }
+    }
+
+    fn comment(&self, pair: Pair<'_, Rule>) -> ast::Comment {
+        let trailing = pair.as_rule() == Rule::trailing_comment;
+        let span = self.span(&pair);
+        ast::Comment { text: pair.as_str().trim_end().to_string(), trailing, span }
+    }
+
+    fn bad_line(&mut self, pair: Pair<'_, Rule>, context: Context) -> ast::ErrorNode {
+        let span = self.span(&pair);
+        let line = pair.as_str();
+        self.diagnostics.push(errors::bad_line(self.file, span.start as usize, line, context));
+        ast::ErrorNode { text: line.trim_end().to_string(), span }
+    }
+
+    fn ident(&self, pair: Pair<'_, Rule>) -> Ident {
+        Ident::new(pair.as_str(), self.span(&pair))
+    }
+
+    fn string(&mut self, pair: Pair<'_, Rule>) -> Str {
+        let span = self.span(&pair);
+        let inner = children(pair).next().map_or("", |p| p.as_str());
+        Str { value: unescape(inner), span }
+    }
+
+    fn quantity(&mut self, pair: Pair<'_, Rule>) -> Quantity {
+        let span = self.span(&pair);
+        let mut inner = children(pair);
+        let number = inner.next().expect("a quantity starts with a number");
+        let text = number.as_str().to_string();
+        let value = text.parse::<f64>().unwrap_or(f64::NAN);
+        if !value.is_finite() {
+            self.diagnostics.push(
+                Diagnostic::new(Code::E0103, format!("the number `{text}` is too large"))
+                    .with_primary(self.span(&number), "not a finite number")
+                    .with_help("write a number of at most 15 digits"),
+            );
+        }
+        let (unit, unit_span) = match inner.next() {
+            Some(u) => (Some(unit_of(u.as_str())), Some(self.span(&u))),
+            None => (None, None),
+        };
+        Quantity { value: if value.is_finite() { value } else { 0.0 }, text, unit, unit_span, span }
+    }
+
+    fn body_items<T>(
+        &mut self,
+        pair: Pair<'_, Rule>,
+        context: Context,
+        mut stmt: impl FnMut(&mut Self, Pair<'_, Rule>) -> Option<T>,
+        comment: impl Fn(ast::Comment) -> T,
+        error: impl Fn(ast::ErrorNode) -> T,
+    ) -> Vec<T> {
+        let mut out = Vec::new();
+        for p in children(pair) {
+            match p.as_rule() {
+                Rule::comment | Rule::trailing_comment => out.push(comment(self.comment(p))),
+                Rule::bad_line => {
+                    let node = self.bad_line(p, context);
+                    out.push(error(node));
+                }
+                _ => {
+                    if let Some(item) = stmt(self, p) {
+                        out.push(item);
+                    }
+                }
+            }
+        }
+        out
+    }
+
+    fn scene(&mut self, pair: Pair<'_, Rule>) -> ast::SceneBlock {
+        let span = self.span(&pair);
+        let mut request = None;
+        let mut body = Vec::new();
+        for p in children(pair) {
+            match p.as_rule() {
+                Rule::string => request = Some(self.string(p)),
+                Rule::scene_body => {
+                    body = self.body_items(
+                        p,
+                        Context::Scene,
+                        |b, s| {
+                            let span = b.span(&s);
+                            let rule = s.as_rule();
+                            let q = b.quantity(children(s).next()?);
+                            match rule {
+                                Rule::wall_height => Some(ast::SceneStmt::WallHeight(q, span)),
+                                Rule::seed => Some(ast::SceneStmt::Seed(q, span)),
+                                _ => None,
+                            }
+                        },
+                        ast::SceneStmt::Comment,
+                        ast::SceneStmt::Error,
+                    );
+                }
+                _ => {}
+            }
+        }
+        ast::SceneBlock { request, body, span }
+    }
+
+    fn room(&mut self, pair: Pair<'_, Rule>) -> ast::Room {
+        let span = self.span(&pair);
+        let mut inner = children(pair);
+        let id = self.ident(inner.next().expect("a room has an identifier"));
+        let mut label = None;
+        let mut body = Vec::new();
+        for p in inner {
+            match p.as_rule() {
+                Rule::string => label = Some(self.string(p)),
+                Rule::room_body => {
+                    body = self.body_items(
+                        p,
+                        Context::Room,
+                        Builder::room_stmt,
+                        ast::RoomStmt::Comment,
+                        ast::RoomStmt::Error,
+                    );
+                }
+                _ => {}
+            }
+        }
+        ast::Room { id, label, body, span }
+    }
+
+    fn room_stmt(&mut self, pair: Pair<'_, Rule>) -> Option<ast::RoomStmt> {
+        let span = self.span(&pair);
+        let rule = pair.as_rule();
+        Some(match rule {
+            Rule::floor_design | Rule::wall_design | Rule::floor_material | Rule::wall_material => {
+                let s = self.string(children(pair).next()?);
+                match rule {
+                    Rule::floor_design => ast::RoomStmt::FloorDesign(s, span),
+                    Rule::wall_design => ast::RoomStmt::WallDesign(s, span),
+                    Rule::floor_material => ast::RoomStmt::FloorMaterial(s, span),
+                    _ => ast::RoomStmt::WallMaterial(s, span),
+                }
+            }
+            Rule::corners => {
+                let mut unit = None;
+                let mut points = Vec::new();
+                for p in children(pair) {
+                    match p.as_rule() {
+                        Rule::corners_unit => {
+                            let u = children(p).next()?;
+                            unit = Some((unit_of(u.as_str()), self.span(&u)));
+                        }
+                        Rule::point => {
+                            let pspan = self.span(&p);
+                            let mut q = children(p);
+                            let x = self.quantity(q.next()?);
+                            let z = self.quantity(q.next()?);
+                            points.push(ast::Point { x, z, span: pspan });
+                        }
+                        _ => {}
+                    }
+                }
+                ast::RoomStmt::Corners(ast::Corners { unit, points, span })
+            }
+            Rule::window => ast::RoomStmt::Window(self.window(pair)?),
+            Rule::object => ast::RoomStmt::Object(self.object(pair)?),
+            Rule::wall_object => ast::RoomStmt::WallObject(self.object(pair)?),
+            Rule::ceiling => {
+                let mut inner = children(pair);
+                let description = self.string(inner.next()?);
+                let body = match inner.next() {
+                    Some(block) => self.object_block(block),
+                    None => Vec::new(),
+                };
+                ast::RoomStmt::Ceiling(ast::Ceiling { description, body, span })
+            }
+            _ => return None,
+        })
+    }
+
+    fn window(&mut self, pair: Pair<'_, Rule>) -> Option<ast::Window> {
+        let span = self.span(&pair);
+        let mut inner = children(pair);
+        let wall = self.ident(inner.next()?);
+        let kind = self.ident(inner.next()?);
+        let width = self.quantity(inner.next()?);
+        let height = self.quantity(inner.next()?);
+        let mut window =
+            ast::Window { wall, kind, width, height, count: None, sill: None, asset: None, span };
+        for opt in inner {
+            let rule = opt.as_rule();
+            let value = children(opt).next()?;
+            match rule {
+                Rule::window_count => window.count = Some(self.quantity(value)),
+                Rule::window_sill => window.sill = Some(self.quantity(value)),
+                Rule::window_asset => window.asset = Some(self.string(value)),
+                _ => {}
+            }
+        }
+        Some(window)
+    }
+
+    fn object(&mut self, pair: Pair<'_, Rule>) -> Option<ast::Object> {
+        let span = self.span(&pair);
+        let mut inner = children(pair);
+        let id = self.ident(inner.next()?);
+        let category = self.string(inner.next()?);
+        let (body, has_block) = match inner.next() {
+            Some(block) => (self.object_block(block), true),
+            None => (Vec::new(), false),
+        };
+        Some(ast::Object { id, category, body, has_block, span })
+    }
+
+    fn object_block(&mut self, pair: Pair<'_, Rule>) -> Vec<ast::ObjectStmt> {
+        let Some(body) = children(pair).next() else { return Vec::new() };
+        self.body_items(
+            body,
+            Context::Object,
+            Builder::object_stmt,
+            ast::ObjectStmt::Comment,
+            ast::ObjectStmt::Error,
+        )
+    }
+
+    fn object_stmt(&mut self, pair: Pair<'_, Rule>) -> Option<ast::ObjectStmt> {
+        let span = self.span(&pair);
+        let rule = pair.as_rule();
+        let mut inner = children(pair);
+        Some(match rule {
+            Rule::describe => ast::ObjectStmt::Describe(self.string(inner.next()?), span),
+            Rule::asset => ast::ObjectStmt::Asset(self.string(inner.next()?), span),
+            Rule::size => {
+                let width = self.quantity(inner.next()?);
+                let depth = self.quantity(inner.next()?);
+                let height = self.quantity(inner.next()?);
+                ast::ObjectStmt::Size(ast::Size3 { width, depth, height, span })
+            }
+            Rule::count => {
+                let n = self.quantity(inner.next()?);
+                let variance = inner.next().map(|w| self.ident(w));
+                ast::ObjectStmt::Count(n, variance, span)
+            }
+            Rule::above => ast::ObjectStmt::Above(self.ident(inner.next()?), span),
+            Rule::height => ast::ObjectStmt::Height(self.quantity(inner.next()?), span),
+            Rule::at => ast::ObjectStmt::At(inner.map(|q| self.quantity(q)).collect(), span),
+            Rule::facing => ast::ObjectStmt::Facing(self.quantity(inner.next()?), span),
+            Rule::constraint => {
+                let relation = inner.next()?;
+                let words: Vec<&str> = relation.as_str().split_whitespace().collect();
+                let name = Ident::new(words.join(" "), self.span(&relation));
+                let target = inner.next().map(|t| self.ident(t));
+                ast::ObjectStmt::Constraint(ast::Constraint { name, target, span })
+            }
+            Rule::on_top => {
+                let item = self.string(inner.next()?);
+                let mut on_top =
+                    ast::OnTop { item, count: None, variance: None, body: Vec::new(), span };
+                for p in inner {
+                    match p.as_rule() {
+                        Rule::on_top_count => {
+                            let q = children(p).next()?;
+                            let qspan = self.span(&q);
+                            let text = q.as_str().to_string();
+                            let value = text.parse::<f64>().unwrap_or(0.0);
+                            on_top.count = Some(Quantity {
+                                value,
+                                text,
+                                unit: None,
+                                unit_span: None,
+                                span: qspan,
+                            });
+                        }
+                        Rule::word => on_top.variance = Some(self.ident(p)),
+                        Rule::object_block => on_top.body = self.object_block(p),
+                        _ => {}
+                    }
+                }
+                ast::ObjectStmt::OnTop(on_top)
+            }
+            Rule::instance => {
+                let id = self.ident(inner.next()?);
+                let body = self.object_block(inner.next()?);
+                ast::ObjectStmt::Instance(ast::Instance { id, body, span })
+            }
+            _ => return None,
+        })
+    }
+
+    fn door(&mut self, pair: Pair<'_, Rule>) -> ast::Door {
+        let span = self.span(&pair);
+        let mut inner = children(pair);
+        let from = self.ident(inner.next().expect("a door has a first side"));
+        let to = self.ident(inner.next().expect("a door has a second side"));
+        let kind = self.ident(inner.next().expect("a door has a kind"));
+        let mut door = ast::Door { from, to, kind, size: None, style: None, asset: None, span };
+        for p in inner {
+            match p.as_rule() {
+                Rule::door_size => door.size = children(p).next().map(|w| self.ident(w)),
+                Rule::string => door.style = Some(self.string(p)),
+                Rule::door_asset => {
+                    if let Some(s) = children(p).next() {
+                        door.asset = Some(self.string(s));
+                    }
+                }
+                _ => {}
+            }
+        }
+        door
+    }
+}
+
+/// The children of a pair, without the keyword tokens.
+fn children(pair: Pair<'_, Rule>) -> impl Iterator<Item = Pair<'_, Rule>> {
+    pair.into_inner().filter(|p| !is_keyword(p.as_rule()))
+}
+
+fn is_keyword(rule: Rule) -> bool {
+    matches!(
+        rule,
+        Rule::kw_scene
+            | Rule::kw_room
+            | Rule::kw_door
+            | Rule::kw_wall
+            | Rule::kw_walls
+            | Rule::kw_height
+            | Rule::kw_seed
+            | Rule::kw_floor
+            | Rule::kw_material
+            | Rule::kw_corners
+            | Rule::kw_in
+            | Rule::kw_window
+            | Rule::kw_count
+            | Rule::kw_sill
+            | Rule::kw_asset
+            | Rule::kw_object
+            | Rule::kw_ceiling
+            | Rule::kw_describe
+            | Rule::kw_size
+            | Rule::kw_above
+            | Rule::kw_at
+            | Rule::kw_facing
+            | Rule::kw_on
+            | Rule::kw_top
+            | Rule::kw_instance
+    )
+}
+
+fn unit_of(text: &str) -> Unit {
+    match text {
+        "m" => Unit::M,
+        "cm" => Unit::Cm,
+        "deg" => Unit::Deg,
+        "mm" => Unit::Mm,
+        "ft" => Unit::Ft,
+        "in" => Unit::In,
+        _ => Unit::Rad,
+    }
+}
+
+/// Resolves the escapes of a string's inside (the grammar guarantees they are well formed).
+fn unescape(inner: &str) -> String {
+    let mut out = String::with_capacity(inner.len());
+    let mut chars = inner.chars();
+    while let Some(c) = chars.next() {
+        if c != '\\' {
+            out.push(c);
+            continue;
+        }
+        match chars.next() {
+            Some('n') => out.push('\n'),
+            Some('t') => out.push('\t'),
+            Some('u') => {
+                let hex: String = chars.by_ref().skip(1).take_while(|c| *c != '}').collect();
+                out.push(
+                    u32::from_str_radix(&hex, 16)
+                        .ok()
+                        .and_then(char::from_u32)
+                        .unwrap_or(char::REPLACEMENT_CHARACTER),
+                );
+            }
+            Some(other) => out.push(other),
+            None => {}
+        }
+    }
+    out
+}
+
+/// Escapes a string value for printing between double quotes.
+pub fn escape(value: &str) -> String {
+    let mut out = String::with_capacity(value.len());
+    for c in value.chars() {
+        match c {
+            '"' => out.push_str("\\\""),
+            '\\' => out.push_str("\\\\"),
+            '\n' => out.push_str("\\n"),
+            '\t' => out.push_str("\\t"),
+            '\r' => out.push_str("\\u{d}"),
+            c if c.is_control() => out.push_str(&format!("\\u{{{:x}}}", c as u32)),
+            c => out.push(c),
+        }
+    }
+    out
+}

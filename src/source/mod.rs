@@ -1,0 +1,214 @@
+//! Source files, spans and line indexes.
+//!
+//! Every piece of text the compiler reads (a `.holo` file, a raw LLM answer, a catalog) is added
+//! to a [`SourceMap`] and gets a [`FileId`]. Positions are [`Span`]s: byte offsets, half-open.
+//! They are turned into lines and columns (1-based for people, 0-based UTF-16 for LSP) only
+//! through [`SourceFile::line_col`] and [`SourceFile::lsp_position`].
+
+use std::fmt;
+
+/// Identifies one file in a [`SourceMap`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Default)]
+pub struct FileId(pub u32);
+
+/// A half-open byte range `[start, end)` in one file.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Default)]
+pub struct Span {
+    /// The file the range belongs to.
+    pub file: FileId,
+    /// First byte.
+    pub start: u32,
+    /// One past the last byte.
+    pub end: u32,
+}
+
+impl Span {
+    /// Makes a span from byte offsets.
+    pub fn new(file: FileId, start: usize, end: usize) -> Span {
+        Span { file, start: start as u32, end: end.max(start) as u32 }
+    }
+
+    /// The smallest span that covers both `self` and `other` (same file assumed).
+    #[must_use]
+    pub fn to(self, other: Span) -> Span {
+        Span { file: self.file, start: self.start.min(other.start), end: self.end.max(other.end) }
+    }
+
+    /// The span shifted by `offset` bytes (used when a sub-text is parsed on its own).
+    #[must_use]
+    pub fn shifted(self, offset: usize) -> Span {
+        Span { file: self.file, start: self.start + offset as u32, end: self.end + offset as u32 }
+    }
+
+    /// Length in bytes.
+    pub fn len(self) -> usize {
+        (self.end - self.start) as usize
+    }
+
+    /// Whether the span covers no byte.
+    pub fn is_empty(self) -> bool {
+        self.end == self.start
+    }
+
+    /// The byte range, for slicing the file's text.
+    pub fn range(self) -> std::ops::Range<usize> {
+        self.start as usize..self.end as usize
+    }
+}
+
+/// Where a value the compiler works with came from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Origin {
+    /// Written in a source file at this span.
+    Source(Span),
+    /// Computed by the compiler from what is written at this span.
+    Derived(Span),
+    /// Made up by the compiler with no source (a default, a fallback).
+    Synthesized,
+}
+
+impl Origin {
+    /// The span this origin points at, if any.
+    pub fn span(self) -> Option<Span> {
+        match self {
+            Origin::Source(span) | Origin::Derived(span) => Some(span),
+            Origin::Synthesized => None,
+        }
+    }
+}
+
+/// A 1-based line and column (column counted in characters).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct LineCol {
+    /// 1-based line.
+    pub line: usize,
+    /// 1-based column, in Unicode scalar values.
+    pub column: usize,
+}
+
+/// One source file: its name, its text and the offsets of its line starts.
+#[derive(Clone, Debug)]
+pub struct SourceFile {
+    /// The name shown to people (a path, or a label such as `<floor-plan answer>`).
+    pub name: String,
+    /// The full text.
+    pub text: String,
+    line_starts: Vec<usize>,
+}
+
+impl SourceFile {
+    /// Makes a file and indexes its lines.
+    pub fn new(name: impl Into<String>, text: impl Into<String>) -> SourceFile {
+        let text = text.into();
+        let mut line_starts = vec![0];
+        line_starts.extend(text.match_indices('\n').map(|(i, _)| i + 1));
+        SourceFile { name: name.into(), text, line_starts }
+    }
+
+    /// The 0-based line index holding byte `offset`.
+    fn line_index(&self, offset: usize) -> usize {
+        match self.line_starts.binary_search(&offset) {
+            Ok(i) => i,
+            Err(i) => i - 1,
+        }
+    }
+
+    /// Clamps an offset into the text and onto a character boundary.
+    fn clamp(&self, offset: usize) -> usize {
+        let mut offset = offset.min(self.text.len());
+        while !self.text.is_char_boundary(offset) {
+            offset -= 1;
+        }
+        offset
+    }
+
+    /// The 1-based line and column of byte `offset`.
+    pub fn line_col(&self, offset: usize) -> LineCol {
+        let offset = self.clamp(offset);
+        let line = self.line_index(offset);
+        let column = self.text[self.line_starts[line]..offset].chars().count() + 1;
+        LineCol { line: line + 1, column }
+    }
+
+    /// The LSP position of byte `offset`: 0-based line, 0-based UTF-16 column.
+    pub fn lsp_position(&self, offset: usize) -> (u32, u32) {
+        let offset = self.clamp(offset);
+        let line = self.line_index(offset);
+        let column: usize =
+            self.text[self.line_starts[line]..offset].chars().map(char::len_utf16).sum();
+        (line as u32, column as u32)
+    }
+
+    /// The text of 1-based line `line`, without its line break.
+    pub fn line_text(&self, line: usize) -> &str {
+        let Some(&start) = self.line_starts.get(line.saturating_sub(1)) else { return "" };
+        let end = self.line_starts.get(line).copied().unwrap_or(self.text.len());
+        self.text[start..end].trim_end_matches(['\n', '\r'])
+    }
+
+    /// The text a span covers (empty if the span does not fit the file).
+    pub fn slice(&self, span: Span) -> &str {
+        let start = self.clamp(span.start as usize);
+        let end = self.clamp(span.end as usize).max(start);
+        &self.text[start..end]
+    }
+}
+
+/// All files of one compilation.
+#[derive(Clone, Debug, Default)]
+pub struct SourceMap {
+    files: Vec<SourceFile>,
+}
+
+impl SourceMap {
+    /// An empty map.
+    pub fn new() -> SourceMap {
+        SourceMap::default()
+    }
+
+    /// Adds a file and returns its id.
+    pub fn add(&mut self, name: impl Into<String>, text: impl Into<String>) -> FileId {
+        self.files.push(SourceFile::new(name, text));
+        FileId((self.files.len() - 1) as u32)
+    }
+
+    /// The file with this id.
+    ///
+    /// # Panics
+    /// If the id does not come from this map.
+    pub fn get(&self, id: FileId) -> &SourceFile {
+        &self.files[id.0 as usize]
+    }
+
+    /// The file with this id, if it exists.
+    pub fn try_get(&self, id: FileId) -> Option<&SourceFile> {
+        self.files.get(id.0 as usize)
+    }
+
+    /// All files, in the order they were added.
+    pub fn files(&self) -> impl Iterator<Item = (FileId, &SourceFile)> {
+        self.files.iter().enumerate().map(|(i, f)| (FileId(i as u32), f))
+    }
+}
+
+impl fmt::Display for Span {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}..{}", self.start, self.end)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn line_and_utf16_columns() {
+        let file = SourceFile::new("t", "ab\nçé😀x\n");
+        assert_eq!(file.line_col(0), LineCol { line: 1, column: 1 });
+        assert_eq!(file.line_col(3), LineCol { line: 2, column: 1 });
+        let x = file.text.find('x').expect("x is in the text");
+        assert_eq!(file.line_col(x), LineCol { line: 2, column: 4 });
+        assert_eq!(file.lsp_position(x), (1, 4));
+        assert_eq!(file.line_text(2), "çé😀x");
+    }
+}
