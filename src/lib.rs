@@ -6,7 +6,17 @@
 
 pub mod ast;
 pub mod check;
+pub mod cli;
 pub mod diag;
 pub mod fmt;
+pub mod generate;
+pub mod geometry;
+pub mod import;
+pub mod lower;
 pub mod parse;
+pub mod plan;
+pub mod render;
+pub mod report;
+pub mod resolve;
+pub mod solve;
 pub mod source;

@@ -1,0 +1,1 @@
+//! The `import` stage (being written).

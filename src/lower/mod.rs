@@ -1,0 +1,1 @@
+//! The `lower` stage (being written).

@@ -1,0 +1,1 @@
+//! The `report` stage (being written).
