@@ -82,6 +82,40 @@ codes! {
     W0201 "window-size-not-offered" "a window size is not one of the sizes of its type";
     W0202 "missing-global-constraint" "a floor object has neither `edge` nor `middle`";
     W0203 "empty-scene" "the scene declares no room";
+
+    E0301 "invalid-outline" "a room outline has a side that is not parallel to an axis, or no area";
+    E0302 "self-intersecting-outline" "a room outline crosses or touches itself";
+    E0303 "room-too-small" "a room is narrower than the smallest allowed room";
+    E0304 "room-too-large" "a room is wider than the largest allowed room";
+    E0305 "rooms-overlap" "two rooms cover the same floor";
+    E0306 "room-inside-room" "a room lies entirely inside another room";
+    E0307 "isolated-room" "a room shares no wall with any other room";
+    E0308 "disconnected-plan" "the rooms form separate groups that share no wall";
+    E0309 "rooms-not-adjacent" "a door or open connection joins rooms that share no wall";
+    E0310 "door-does-not-fit" "no wall between the rooms is long enough for the door";
+    E0311 "wall-already-has-hole" "every candidate wall already has a door or window";
+    E0312 "open-to-exterior" "an open connection names the exterior";
+    E0313 "unknown-door-asset" "a pinned door asset is not a door of the catalog";
+    E0314 "no-exterior-door" "no door leads outside";
+    E0315 "unreachable-room" "a room cannot be reached from outside through doors";
+    E0316 "no-outside-wall" "a window names a side of the room that has no outside wall";
+    E0317 "window-does-not-fit" "the windows of a row do not fit on their wall";
+    E0318 "window-too-high" "a window's top is above the wall";
+    E0319 "unknown-window-asset" "a pinned window asset is not a window of the catalog";
+    E0320 "unknown-material" "a pinned material is not in the material database";
+    W0301 "corner-snapped" "a corner nearly met another room's corner and was moved onto it";
+    W0302 "door-added" "a doorway was added so that every room can be reached";
+    W0303 "layer-conflict" "two neighbouring rooms had to share a lighting layer";
+
+    E0601 "invalid-house-json" "a house file is not JSON or does not follow the house schema";
+    E0602 "duplicate-id" "two entities of a house share an id";
+    E0603 "unknown-reference" "a house entity refers to an id that does not exist";
+    E0604 "hole-outside-wall" "a door or window hole is not inside its wall";
+    E0605 "several-holes-in-wall" "a wall has more than one door or window hole";
+    E0606 "room-not-closed" "a room's floor polygon is not a closed outline with an area";
+    E0607 "object-outside-room" "an object stands outside every room";
+    E0608 "objects-overlap" "two floor objects overlap";
+    W0601 "unknown-asset" "an asset id is not one of AI2-THOR's built-in assets";
 }
 
 impl Code {

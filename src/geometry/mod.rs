@@ -1,1 +1,315 @@
-//! The `geometry` stage (being written).
+//! Plane geometry in the floor plane `(x, z)`, metres.
+//!
+//! Every comparison of lengths goes through [`EPS_M`]: no two floats are compared for exact
+//! equality. Orientation follows the house JSON: x to the right, z up when a plan is drawn, so a
+//! *clockwise* polygon has a negative [`signed_area`]. Rotations by multiples of 90° are exact
+//! ([`rotate_quarter`]).
+
+/// The tolerance of every length comparison, metres (a micrometre).
+pub const EPS_M: f64 = 1e-6;
+
+/// A point or vector `(x, z)` in metres.
+pub type Point = [f64; 2];
+
+/// Whether two lengths are equal within [`EPS_M`].
+pub fn near(a: f64, b: f64) -> bool {
+    (a - b).abs() <= EPS_M
+}
+
+/// Whether two points are equal within [`EPS_M`] on both axes.
+pub fn near_point(a: Point, b: Point) -> bool {
+    near(a[0], b[0]) && near(a[1], b[1])
+}
+
+/// `b − a`.
+pub fn sub(b: Point, a: Point) -> Point {
+    [b[0] - a[0], b[1] - a[1]]
+}
+
+/// `a + s·v`.
+pub fn add_scaled(a: Point, v: Point, s: f64) -> Point {
+    [a[0] + s * v[0], a[1] + s * v[1]]
+}
+
+/// Euclidean distance.
+pub fn distance(a: Point, b: Point) -> f64 {
+    (b[0] - a[0]).hypot(b[1] - a[1])
+}
+
+/// The unit vector from `a` to `b` (zero when they coincide).
+pub fn unit(a: Point, b: Point) -> Point {
+    let d = distance(a, b);
+    if d <= EPS_M {
+        [0.0, 0.0]
+    } else {
+        [(b[0] - a[0]) / d, (b[1] - a[1]) / d]
+    }
+}
+
+/// Rotates a vector by `quarter_turns × 90°` clockwise (x right, z up), exactly: the turn that
+/// takes rotation 0 (facing +z) to rotation 90 (facing +x).
+pub fn rotate_quarter(v: Point, quarter_turns: i32) -> Point {
+    match quarter_turns.rem_euclid(4) {
+        0 => v,
+        1 => [v[1], -v[0]],
+        2 => [-v[0], -v[1]],
+        _ => [-v[1], v[0]],
+    }
+}
+
+/// The unit normal on the right of the direction `a → b` (x right, z up). For a clockwise
+/// room outline this points into the room.
+pub fn right_normal(a: Point, b: Point) -> Point {
+    rotate_quarter(unit(a, b), 1)
+}
+
+/// Twice the signed area is avoided: this is the signed area itself (shoelace); positive for
+/// counter-clockwise polygons, negative for clockwise ones.
+pub fn signed_area(polygon: &[Point]) -> f64 {
+    let n = polygon.len();
+    let mut sum = 0.0;
+    for i in 0..n {
+        let a = polygon[i];
+        let b = polygon[(i + 1) % n];
+        sum += a[0] * b[1] - b[0] * a[1];
+    }
+    sum / 2.0
+}
+
+/// The area centroid of a simple polygon (the vertex mean when the area is zero).
+pub fn area_centroid(polygon: &[Point]) -> Point {
+    let n = polygon.len();
+    if n == 0 {
+        return [0.0, 0.0];
+    }
+    let area = signed_area(polygon);
+    if area.abs() <= EPS_M * EPS_M {
+        let sx: f64 = polygon.iter().map(|p| p[0]).sum();
+        let sz: f64 = polygon.iter().map(|p| p[1]).sum();
+        return [sx / n as f64, sz / n as f64];
+    }
+    let (mut cx, mut cz) = (0.0, 0.0);
+    for i in 0..n {
+        let a = polygon[i];
+        let b = polygon[(i + 1) % n];
+        let cross = a[0] * b[1] - b[0] * a[1];
+        cx += (a[0] + b[0]) * cross;
+        cz += (a[1] + b[1]) * cross;
+    }
+    [cx / (6.0 * area), cz / (6.0 * area)]
+}
+
+/// Whether `p` lies on the segment `a–b` (within [`EPS_M`]), endpoints included.
+pub fn point_on_segment(p: Point, a: Point, b: Point) -> bool {
+    distance_to_segment(p, a, b) <= EPS_M
+}
+
+/// The distance from `p` to the segment `a–b`.
+pub fn distance_to_segment(p: Point, a: Point, b: Point) -> f64 {
+    let d = sub(b, a);
+    let len2 = d[0] * d[0] + d[1] * d[1];
+    if len2 <= EPS_M * EPS_M {
+        return distance(p, a);
+    }
+    let t = (((p[0] - a[0]) * d[0] + (p[1] - a[1]) * d[1]) / len2).clamp(0.0, 1.0);
+    distance(p, add_scaled(a, d, t))
+}
+
+/// Whether `p` is on the boundary of the polygon (within [`EPS_M`]).
+pub fn point_on_boundary(p: Point, polygon: &[Point]) -> bool {
+    let n = polygon.len();
+    (0..n).any(|i| point_on_segment(p, polygon[i], polygon[(i + 1) % n]))
+}
+
+/// Whether `p` is strictly inside the polygon (boundary points, within [`EPS_M`], are not).
+pub fn point_in_polygon(p: Point, polygon: &[Point]) -> bool {
+    if point_on_boundary(p, polygon) {
+        return false;
+    }
+    point_in_polygon_raw(p, polygon)
+}
+
+/// Whether `p` is inside or on the boundary of the polygon.
+pub fn point_in_or_on_polygon(p: Point, polygon: &[Point]) -> bool {
+    point_on_boundary(p, polygon) || point_in_polygon_raw(p, polygon)
+}
+
+fn point_in_polygon_raw(p: Point, polygon: &[Point]) -> bool {
+    let n = polygon.len();
+    let mut inside = false;
+    let mut j = n.wrapping_sub(1);
+    for i in 0..n {
+        let (a, b) = (polygon[i], polygon[j]);
+        if (a[1] > p[1]) != (b[1] > p[1]) {
+            let x = (b[0] - a[0]) * (p[1] - a[1]) / (b[1] - a[1]) + a[0];
+            if p[0] < x {
+                inside = !inside;
+            }
+        }
+        j = i;
+    }
+    inside
+}
+
+/// Whether the segment is parallel to an axis (within [`EPS_M`]).
+pub fn is_axis_aligned(a: Point, b: Point) -> bool {
+    near(a[0], b[0]) || near(a[1], b[1])
+}
+
+/// The shared piece of two collinear segments, if it has positive length, in the direction
+/// of `a0 → a1`.
+pub fn segment_overlap(a0: Point, a1: Point, b0: Point, b1: Point) -> Option<(Point, Point)> {
+    let len = distance(a0, a1);
+    if len <= EPS_M {
+        return None;
+    }
+    // Both ends of b must lie on the line through a.
+    let u = unit(a0, a1);
+    let cross = |p: Point| (p[0] - a0[0]) * u[1] - (p[1] - a0[1]) * u[0];
+    if cross(b0).abs() > EPS_M || cross(b1).abs() > EPS_M {
+        return None;
+    }
+    let t = |p: Point| (p[0] - a0[0]) * u[0] + (p[1] - a0[1]) * u[1];
+    let (tb0, tb1) = (t(b0), t(b1));
+    let lo = tb0.min(tb1).max(0.0);
+    let hi = tb0.max(tb1).min(len);
+    if hi - lo <= EPS_M {
+        return None;
+    }
+    Some((add_scaled(a0, u, lo), add_scaled(a0, u, hi)))
+}
+
+/// Whether two segments touch or cross (within [`EPS_M`]).
+pub fn segments_touch(a0: Point, a1: Point, b0: Point, b1: Point) -> bool {
+    let orient = |p: Point, q: Point, r: Point| {
+        let v = (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0]);
+        if v.abs() <= EPS_M * EPS_M {
+            0
+        } else if v > 0.0 {
+            1
+        } else {
+            -1
+        }
+    };
+    let (o1, o2) = (orient(a0, a1, b0), orient(a0, a1, b1));
+    let (o3, o4) = (orient(b0, b1, a0), orient(b0, b1, a1));
+    if o1 != o2 && o3 != o4 && o1 != 0 && o2 != 0 && o3 != 0 && o4 != 0 {
+        return true;
+    }
+    point_on_segment(b0, a0, a1)
+        || point_on_segment(b1, a0, a1)
+        || point_on_segment(a0, b0, b1)
+        || point_on_segment(a1, b0, b1)
+        || (o1 * o2 < 0 && o3 * o4 < 0)
+}
+
+/// An axis-aligned box in the floor plane.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Aabb {
+    /// Minimum corner.
+    pub min: Point,
+    /// Maximum corner.
+    pub max: Point,
+}
+
+impl Aabb {
+    /// The box around the points (an empty input gives a degenerate box at the origin).
+    pub fn of(points: &[Point]) -> Aabb {
+        let mut b = Aabb { min: [f64::INFINITY; 2], max: [f64::NEG_INFINITY; 2] };
+        for p in points {
+            b.min = [b.min[0].min(p[0]), b.min[1].min(p[1])];
+            b.max = [b.max[0].max(p[0]), b.max[1].max(p[1])];
+        }
+        if points.is_empty() {
+            b = Aabb { min: [0.0; 2], max: [0.0; 2] };
+        }
+        b
+    }
+
+    /// Width along x.
+    pub fn width(&self) -> f64 {
+        self.max[0] - self.min[0]
+    }
+
+    /// Depth along z.
+    pub fn depth(&self) -> f64 {
+        self.max[1] - self.min[1]
+    }
+
+    /// Whether the interiors overlap by more than [`EPS_M`] on both axes.
+    pub fn overlaps(&self, other: &Aabb) -> bool {
+        self.min[0] < other.max[0] - EPS_M
+            && other.min[0] < self.max[0] - EPS_M
+            && self.min[1] < other.max[1] - EPS_M
+            && other.min[1] < self.max[1] - EPS_M
+    }
+}
+
+/// The area shared by two polygons whose edges are axis-parallel (rectilinear), computed on
+/// the grid of their coordinates: exact up to rounding.
+pub fn rectilinear_intersection_area(p: &[Point], q: &[Point]) -> f64 {
+    let mut xs: Vec<f64> = p.iter().chain(q).map(|v| v[0]).collect();
+    let mut zs: Vec<f64> = p.iter().chain(q).map(|v| v[1]).collect();
+    xs.sort_by(f64::total_cmp);
+    zs.sort_by(f64::total_cmp);
+    xs.dedup_by(|a, b| near(*a, *b));
+    zs.dedup_by(|a, b| near(*a, *b));
+    let mut area = 0.0;
+    for xw in xs.windows(2) {
+        for zw in zs.windows(2) {
+            let c = [(xw[0] + xw[1]) / 2.0, (zw[0] + zw[1]) / 2.0];
+            if point_in_polygon_raw(c, p) && point_in_polygon_raw(c, q) {
+                area += (xw[1] - xw[0]) * (zw[1] - zw[0]);
+            }
+        }
+    }
+    area
+}
+
+/// The rectangle of depth `depth` on the side `normal` (a unit vector) of the segment
+/// `p1–p2`: `[p1, p2, p2 + depth·n, p1 + depth·n]`.
+pub fn box_beside(p1: Point, p2: Point, normal: Point, depth: f64) -> Vec<Point> {
+    vec![p1, p2, add_scaled(p2, normal, depth), add_scaled(p1, normal, depth)]
+}
+
+/// Rounds to the output precision (1e-6 m or degree) and turns `-0` into `0`.
+pub fn round6(v: f64) -> f64 {
+    let r = (v * 1e6).round() / 1e6;
+    if r == 0.0 {
+        0.0
+    } else {
+        r
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn clockwise_rectangle_has_negative_area() {
+        let r = [[0.0, 0.0], [0.0, 8.0], [5.0, 8.0], [5.0, 0.0]];
+        assert!(near(signed_area(&r), -40.0));
+        assert!(near_point(area_centroid(&r), [2.5, 4.0]));
+        // Inside is on the right of the clockwise west wall.
+        assert!(near_point(right_normal(r[0], r[1]), [1.0, 0.0]));
+    }
+
+    #[test]
+    fn overlap_and_area() {
+        let a = [[0.0, 0.0], [0.0, 4.0], [4.0, 4.0], [4.0, 0.0]];
+        let b = [[2.0, 2.0], [2.0, 6.0], [6.0, 6.0], [6.0, 2.0]];
+        assert!(near(rectilinear_intersection_area(&a, &b), 4.0));
+        let s = segment_overlap([4.0, 0.0], [4.0, 4.0], [4.0, 6.0], [4.0, 2.0]);
+        assert_eq!(s.map(|(p, q)| (p, q)), Some(([4.0, 2.0], [4.0, 4.0])));
+        assert!(point_in_polygon([1.0, 1.0], &a));
+        assert!(!point_in_polygon([0.0, 1.0], &a));
+    }
+
+    #[test]
+    fn quarter_turns_are_exact() {
+        assert_eq!(rotate_quarter([0.0, 1.0], 1), [1.0, 0.0]);
+        assert_eq!(rotate_quarter([0.0, 1.0], 2), [0.0, -1.0]);
+        assert_eq!(rotate_quarter([0.0, 1.0], 3), [-1.0, 0.0]);
+    }
+}

@@ -1,1 +1,3 @@
 //! The `resolve` stage (being written).
+
+pub mod structure;

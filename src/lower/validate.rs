@@ -1,0 +1,369 @@
+//! `holoc validate`: checks a house JSON file against the house schema
+//! (`data/house.schema.json`) and the geometric rules AI2-THOR relies on.
+//!
+//! Rules: ids are unique and every reference names an existing room or wall; each door or
+//! window hole lies inside its wall and no wall has two holes; each room's floor polygon is a
+//! closed outline with an area; objects stand inside their room; floor objects with known
+//! footprints (Holodeck's `vertices`) do not overlap; asset ids that are not built-in AI2-THOR
+//! assets get a warning. Diagnostics point at the id in the file where one can be found.
+
+use std::collections::{BTreeMap, BTreeSet};
+
+use serde_json::Value;
+
+use crate::diag::{Code, Diagnostic, Outcome};
+use crate::geometry::{self as geo, Aabb, Point};
+use crate::resolve::structure::StructureCatalog;
+use crate::source::{FileId, SourceMap, Span};
+
+/// The house schema, embedded.
+pub const HOUSE_SCHEMA: &str = include_str!("../../data/house.schema.json");
+
+/// Tolerance of hole and object containment checks, metres.
+pub const VALIDATE_TOLERANCE_M: f64 = 0.02;
+
+/// What a valid house holds.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct ValidationReport {
+    /// Number of rooms.
+    pub rooms: usize,
+    /// Number of walls.
+    pub walls: usize,
+    /// Number of doors.
+    pub doors: usize,
+    /// Number of windows.
+    pub windows: usize,
+    /// Number of top-level objects.
+    pub objects: usize,
+}
+
+struct Ctx<'a> {
+    text: &'a str,
+    file: FileId,
+    diags: Vec<Diagnostic>,
+}
+
+impl Ctx<'_> {
+    /// The span of the `nth` occurrence of `"key": "value"` in the file (whole file start if not
+    /// found).
+    fn span_of(&self, key: &str, value: &str, nth: usize) -> Span {
+        let quoted = serde_json::to_string(value).unwrap_or_default();
+        let mut seen = 0;
+        let mut from = 0;
+        while let Some(pos) = self.text[from..].find(&quoted) {
+            let at = from + pos;
+            let before = self.text[..at].trim_end();
+            if let Some(b) = before.strip_suffix(':') {
+                if b.trim_end().ends_with(&format!("\"{key}\"")) {
+                    if seen == nth {
+                        return Span::new(self.file, at, at + quoted.len());
+                    }
+                    seen += 1;
+                }
+            }
+            from = at + quoted.len().max(1);
+        }
+        Span::new(self.file, 0, self.text.len().min(1))
+    }
+
+    fn push(&mut self, d: Diagnostic) {
+        self.diags.push(d);
+    }
+}
+
+fn s<'v>(v: &'v Value, key: &str) -> Option<&'v str> {
+    v.get(key).and_then(Value::as_str)
+}
+
+fn num(v: &Value, key: &str) -> Option<f64> {
+    v.get(key).and_then(Value::as_f64)
+}
+
+fn floor_point(v: &Value) -> Option<Point> {
+    Some([num(v, "x")?, num(v, "z")?])
+}
+
+fn arr<'v>(v: &'v Value, key: &str) -> &'v [Value] {
+    v.get(key).and_then(Value::as_array).map_or(&[], Vec::as_slice)
+}
+
+/// `(width, height)` of a wall from its polygon.
+fn wall_size(wall: &Value) -> Option<(f64, f64)> {
+    let pts = arr(wall, "polygon");
+    let ys: Vec<f64> = pts.iter().filter_map(|p| num(p, "y")).collect();
+    let lo = ys.iter().copied().fold(f64::INFINITY, f64::min);
+    let hi = ys.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    let base: Vec<Point> = pts.iter().filter(|p| num(p, "y").is_some_and(|y| geo::near(y, lo))).filter_map(floor_point).collect();
+    let mut width: f64 = 0.0;
+    for a in &base {
+        for b in &base {
+            width = width.max(geo::distance(*a, *b));
+        }
+    }
+    (hi.is_finite() && lo.is_finite()).then_some((width, hi - lo))
+}
+
+/// `(min, max)` hole corners `(along, up)` of a door or window.
+fn hole(v: &Value) -> Option<([f64; 2], [f64; 2])> {
+    if let Some(poly) = v.get("holePolygon").and_then(Value::as_array) {
+        let a = poly.first()?;
+        let b = poly.get(1)?;
+        return Some(([num(a, "x")?, num(a, "y")?], [num(b, "x")?, num(b, "y")?]));
+    }
+    let bb = v.get("boundingBox")?;
+    let (a, b) = (bb.get("min")?, bb.get("max")?);
+    Some(([num(a, "x")?, num(a, "y")?], [num(b, "x")?, num(b, "y")?]))
+}
+
+/// Validates the house JSON in `file`.
+pub fn validate(sources: &SourceMap, file: FileId, catalog: &StructureCatalog) -> Outcome<ValidationReport> {
+    let text = sources.get(file).text.as_str();
+    let mut ctx = Ctx { text, file, diags: Vec::new() };
+    let value: Value = match serde_json::from_str(text) {
+        Ok(v) => v,
+        Err(e) => {
+            let offset = byte_offset(text, e.line(), e.column());
+            let d = Diagnostic::new(Code::E0601, format!("the file is not valid JSON: {e}"))
+                .with_primary(Span::new(file, offset, (offset + 1).min(text.len()).max(offset)), "here")
+                .with_help("fix the JSON syntax");
+            return Outcome::new(ValidationReport::default(), vec![d]);
+        }
+    };
+    let schema: Value = serde_json::from_str(HOUSE_SCHEMA).expect("the embedded schema is valid JSON");
+    let validator = match jsonschema::validator_for(&schema) {
+        Ok(v) => v,
+        Err(e) => {
+            return Outcome::new(ValidationReport::default(), vec![Diagnostic::internal(format!("house schema: {e}"))]);
+        }
+    };
+    let schema_errors: Vec<String> =
+        validator.iter_errors(&value).map(|e| format!("at `{}`: {}", e.instance_path, e)).take(20).collect();
+    if !schema_errors.is_empty() {
+        for msg in schema_errors {
+            ctx.push(
+                Diagnostic::new(Code::E0601, format!("the house does not follow the schema {msg}"))
+                    .with_primary(Span::new(file, 0, text.len().min(1)), "in this file")
+                    .with_help("see `data/house.schema.json` for the expected fields"),
+            );
+        }
+        return Outcome::new(ValidationReport::default(), ctx.diags);
+    }
+    let rooms = arr(&value, "rooms");
+    let walls = arr(&value, "walls");
+    let doors = arr(&value, "doors");
+    let windows = arr(&value, "windows");
+    let objects = arr(&value, "objects");
+
+    // Unique ids, per kind.
+    let mut seen_ids: BTreeMap<String, usize> = BTreeMap::new();
+    let mut all: Vec<&Value> = rooms.iter().chain(walls).chain(doors).chain(windows).collect();
+    let mut stack: Vec<&Value> = objects.iter().collect();
+    while let Some(o) = stack.pop() {
+        all.push(o);
+        stack.extend(arr(o, "children"));
+    }
+    for v in &all {
+        if let Some(id) = s(v, "id") {
+            let n = seen_ids.entry(id.to_owned()).or_insert(0);
+            *n += 1;
+            if *n == 2 {
+                let first = ctx.span_of("id", id, 0);
+                let second = ctx.span_of("id", id, 1);
+                ctx.push(
+                    Diagnostic::new(Code::E0602, format!("the id `{id}` is used twice"))
+                        .with_primary(second, "used again here")
+                        .with_secondary(first, "first used here")
+                        .with_help("give every entity its own id"),
+                );
+            }
+        }
+    }
+    let room_ids: BTreeSet<&str> = rooms.iter().filter_map(|r| s(r, "id")).collect();
+    let wall_by_id: BTreeMap<&str, &Value> = walls.iter().filter_map(|w| Some((s(w, "id")?, w))).collect();
+    for w in walls {
+        if let Some(r) = s(w, "roomId") {
+            if r != "exterior" && !room_ids.contains(r) {
+                let span = ctx.span_of("roomId", r, 0);
+                ctx.push(
+                    Diagnostic::new(Code::E0603, format!("wall `{}` names the unknown room `{r}`", s(w, "id").unwrap_or("?")))
+                        .with_primary(span, "no room has this id")
+                        .with_help("refer to an existing room id"),
+                );
+            }
+        }
+    }
+    // Doors and windows: references, holes inside walls, one hole per wall.
+    let mut holes_per_wall: BTreeMap<&str, Vec<&str>> = BTreeMap::new();
+    for (kind, list) in [("door", doors), ("window", windows)] {
+        for d in list {
+            let id = s(d, "id").unwrap_or("?");
+            for key in ["room0", "room1"] {
+                if let Some(r) = s(d, key) {
+                    if r != "exterior" && !room_ids.contains(r) {
+                        let span = ctx.span_of(key, r, 0);
+                        ctx.push(
+                            Diagnostic::new(Code::E0603, format!("{kind} `{id}` names the unknown room `{r}`"))
+                                .with_primary(span, "no room has this id")
+                                .with_help("refer to an existing room id"),
+                        );
+                    }
+                }
+            }
+            let mut own_walls = BTreeSet::new();
+            for key in ["wall0", "wall1"] {
+                let Some(wid) = s(d, key) else { continue };
+                if !wall_by_id.contains_key(wid) {
+                    let span = ctx.span_of(key, wid, 0);
+                    ctx.push(
+                        Diagnostic::new(Code::E0603, format!("{kind} `{id}` names the unknown wall `{wid}`"))
+                            .with_primary(span, "no wall has this id")
+                            .with_help("refer to an existing wall id"),
+                    );
+                } else if own_walls.insert(wid) {
+                    holes_per_wall.entry(wid).or_default().push(id);
+                }
+            }
+            if let (Some((lo, hi)), Some(w0)) = (hole(d), s(d, "wall0").and_then(|w| wall_by_id.get(w))) {
+                if let Some((width, height)) = wall_size(w0) {
+                    let t = VALIDATE_TOLERANCE_M;
+                    if lo[0] < -t || hi[0] > width + t || lo[1] < -t || hi[1] > height + t || hi[0] < lo[0] || hi[1] < lo[1] {
+                        let span = ctx.span_of("id", id, 0);
+                        ctx.push(
+                            Diagnostic::new(
+                                Code::E0604,
+                                format!(
+                                    "the hole of {kind} `{id}` ({:.3}–{:.3} m along, {:.3}–{:.3} m up) is not inside its {:.3} m × {:.3} m wall",
+                                    lo[0], hi[0], lo[1], hi[1], width, height
+                                ),
+                            )
+                            .with_primary(span, "hole outside its wall")
+                            .with_help("move the hole inside the wall"),
+                        );
+                    }
+                }
+            }
+        }
+    }
+    for (wall, users) in &holes_per_wall {
+        if users.len() > 1 {
+            let span = ctx.span_of("id", wall, 0);
+            ctx.push(
+                Diagnostic::new(Code::E0605, format!("wall `{wall}` has {} holes", users.len()))
+                    .with_primary(span, "AI2-THOR builds one hole per wall")
+                    .with_note(format!("used by {}", users.iter().map(|u| format!("`{u}`")).collect::<Vec<_>>().join(", ")))
+                    .with_help("move one of the openings to another wall"),
+            );
+        }
+    }
+    // Rooms closed.
+    let mut polygons: BTreeMap<&str, Vec<Point>> = BTreeMap::new();
+    for r in rooms {
+        let id = s(r, "id").unwrap_or("?");
+        let poly: Vec<Point> = arr(r, "floorPolygon").iter().filter_map(floor_point).collect();
+        if poly.len() < 3 || geo::signed_area(&poly).abs() <= geo::EPS_M {
+            let span = ctx.span_of("id", id, 0);
+            ctx.push(
+                Diagnostic::new(Code::E0606, format!("room `{id}` has no closed floor polygon"))
+                    .with_primary(span, format!("{} points, no area", poly.len()))
+                    .with_help("give the room at least three corners enclosing some floor"),
+            );
+        } else {
+            polygons.insert(id, poly);
+        }
+    }
+    // Objects inside rooms; floor footprints not overlapping.
+    let floor_ids: BTreeSet<&str> = arr(&value, "floor_objects").iter().filter_map(|o| s(o, "id")).collect();
+    let mut footprints: Vec<(&str, Aabb)> = Vec::new();
+    for o in objects {
+        let id = s(o, "id").unwrap_or("?");
+        let Some(pos) = o.get("position").and_then(floor_point) else { continue };
+        let inside = |poly: &Vec<Point>| {
+            geo::point_in_or_on_polygon(pos, poly)
+                || (0..poly.len()).any(|i| geo::distance_to_segment(pos, poly[i], poly[(i + 1) % poly.len()]) <= VALIDATE_TOLERANCE_M)
+        };
+        let ok = match s(o, "roomId").and_then(|r| polygons.get(r)) {
+            Some(poly) => inside(poly),
+            None => polygons.values().any(inside),
+        };
+        if !ok {
+            let span = ctx.span_of("id", id, 0);
+            let where_ = s(o, "roomId").map_or_else(|| "any room".to_owned(), |r| format!("room `{r}`"));
+            ctx.push(
+                Diagnostic::new(Code::E0607, format!("object `{id}` at ({:.3}, {:.3}) is outside {where_}", pos[0], pos[1]))
+                    .with_primary(span, "outside its room")
+                    .with_help("move the object into the room"),
+            );
+        }
+        if floor_ids.contains(id) {
+            let pts: Vec<Point> = arr(o, "vertices")
+                .iter()
+                .filter_map(|p| {
+                    let p = p.as_array()?;
+                    Some([p.first()?.as_f64()? / 100.0, p.get(1)?.as_f64()? / 100.0])
+                })
+                .collect();
+            if pts.len() >= 3 {
+                footprints.push((id, Aabb::of(&pts)));
+            }
+        }
+    }
+    for i in 0..footprints.len() {
+        for j in i + 1..footprints.len() {
+            let (a, b) = (&footprints[i], &footprints[j]);
+            let overlap_x = a.1.max[0].min(b.1.max[0]) - a.1.min[0].max(b.1.min[0]);
+            let overlap_z = a.1.max[1].min(b.1.max[1]) - a.1.min[1].max(b.1.min[1]);
+            if overlap_x > VALIDATE_TOLERANCE_M && overlap_z > VALIDATE_TOLERANCE_M {
+                let span = ctx.span_of("id", b.0, 0);
+                let other = ctx.span_of("id", a.0, 0);
+                ctx.push(
+                    Diagnostic::new(Code::E0608, format!("floor objects `{}` and `{}` overlap", a.0, b.0))
+                        .with_primary(span, format!("overlaps `{}` by {overlap_x:.2} m × {overlap_z:.2} m", a.0))
+                        .with_secondary(other, "this one")
+                        .with_help("move one of them"),
+                );
+            }
+        }
+    }
+    // Assets.
+    let mut unknown: BTreeMap<&str, usize> = BTreeMap::new();
+    for v in doors.iter().chain(windows).chain(all.iter().copied().filter(|v| v.get("position").is_some())) {
+        if let Some(a) = s(v, "assetId") {
+            if !catalog.is_thor_asset(a) {
+                *unknown.entry(a).or_insert(0) += 1;
+            }
+        }
+    }
+    if !unknown.is_empty() {
+        let first = unknown.keys().next().copied().unwrap_or_default();
+        let span = ctx.span_of("assetId", first, 0);
+        let list: Vec<String> = unknown.keys().take(5).map(|a| format!("`{a}`")).collect();
+        ctx.push(
+            Diagnostic::new(
+                Code::W0601,
+                format!("{} asset id{} are not built-in AI2-THOR assets", unknown.len(), if unknown.len() == 1 { "" } else { "s" }),
+            )
+            .with_primary(span, "not a built-in asset")
+            .with_note(format!("for example {}", list.join(", ")))
+            .with_help("these load only where the assets are installed (e.g. Objaverse assets with a user catalog)"),
+        );
+    }
+    let report = ValidationReport {
+        rooms: rooms.len(),
+        walls: walls.len(),
+        doors: doors.len(),
+        windows: windows.len(),
+        objects: objects.len(),
+    };
+    Outcome::new(report, ctx.diags)
+}
+
+fn byte_offset(text: &str, line: usize, column: usize) -> usize {
+    let mut offset = 0;
+    for (i, l) in text.split_inclusive('\n').enumerate() {
+        if i + 1 == line {
+            return (offset + column.saturating_sub(1)).min(text.len());
+        }
+        offset += l.len();
+    }
+    text.len()
+}

@@ -1,0 +1,1142 @@
+//! The plan algorithm, step by step (see the module documentation for the output).
+
+use std::collections::{BTreeMap, BTreeSet};
+
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+use super::errors::{m, pt};
+use super::{
+    AgentPose, FloorPlan, Hole, HoleKind, OpenConnection, PlacedDoor, PlacedWindow, PlanOptions,
+    PlanRoom, Wall, DOOR_BOX_DEPTH_M, DOOR_CORNER_MARGIN_M, MAX_ROOM_SIDE_M, MIN_ROOM_SIDE_M,
+    N_LAYERS, OPEN_BOX_DEPTH_M, SNAP_M, WINDOW_BOX_DEPTH_M, WINDOW_MARGIN_M, WINDOW_TOP_MARGIN_M,
+};
+use crate::check::scene::{Direction, DoorKind, DoorSide, DoorSize, RoomId, Scene};
+use crate::diag::suggest::{closest, did_you_mean};
+use crate::diag::{Code, Diagnostic, Outcome};
+use crate::geometry::{
+    self as geo, add_scaled, area_centroid, box_beside, distance, near, near_point, point_on_segment,
+    rectilinear_intersection_area, right_normal, segment_overlap, segments_touch, signed_area, Aabb,
+    Point, EPS_M,
+};
+use crate::resolve::structure::{StructureCatalog, Surface};
+use crate::source::Span;
+
+/// Purposes of the seeded random streams, so that adding one choice does not shift the others.
+const RNG_DOOR: u64 = 1;
+const RNG_SKYBOX: u64 = 2;
+const RNG_DOOR_ASSET: u64 = 3;
+
+fn rng(seed: u64, purpose: u64, index: u64) -> ChaCha8Rng {
+    // SplitMix64 of (purpose, index) mixed into the seed.
+    let mut z = purpose.wrapping_mul(0x9E37_79B9_7F4A_7C15) ^ index.wrapping_add(0x632B_E59B_D9B4_E019);
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^= z >> 31;
+    ChaCha8Rng::seed_from_u64(seed ^ z)
+}
+
+struct Ctx<'a> {
+    scene: &'a Scene,
+    catalog: &'a StructureCatalog,
+    options: PlanOptions,
+    diags: Vec<Diagnostic>,
+    rooms: Vec<PlanRoom>,
+    walls: Vec<Wall>,
+    doors: Vec<PlacedDoor>,
+    windows: Vec<PlacedWindow>,
+    open: Vec<OpenConnection>,
+}
+
+pub(crate) fn run(scene: &Scene, catalog: &StructureCatalog, options: PlanOptions) -> Outcome<FloorPlan> {
+    let mut ctx = Ctx {
+        scene,
+        catalog,
+        options,
+        diags: Vec::new(),
+        rooms: Vec::new(),
+        walls: Vec::new(),
+        doors: Vec::new(),
+        windows: Vec::new(),
+        open: Vec::new(),
+    };
+    let ok = ctx.outlines() && ctx.relations();
+    if ok {
+        ctx.make_walls();
+        ctx.open_connections();
+        ctx.place_doors();
+        ctx.reachability();
+        ctx.place_windows();
+        ctx.materials();
+        ctx.layers();
+    }
+    let sky_pick = rng(scene.seed, RNG_SKYBOX, 0).gen::<u64>();
+    let sky = catalog.skybox(sky_pick);
+    let agent = if ok { ctx.agent_pose() } else { AgentPose { room: RoomId(0), position: [0.0, 0.0], rotation_deg: 0.0 } };
+    let ceiling_material = ctx.rooms.first().map(|r| r.wall_material.clone()).unwrap_or_default();
+    let plan = FloorPlan {
+        seed: scene.seed,
+        wall_height_m: scene.wall_height_m,
+        rooms: ctx.rooms,
+        walls: ctx.walls,
+        doors: ctx.doors,
+        windows: ctx.windows,
+        open_connections: ctx.open,
+        skybox: sky.name.clone(),
+        time_of_day: sky.time_of_day.clone(),
+        ceiling_material,
+        agent,
+    };
+    Outcome::new(plan, ctx.diags)
+}
+
+/// Removes repeated and straight-through corners, makes the outline clockwise and starts it at
+/// the minimal-x (then minimal-z) corner.
+fn normalise(corners: &[Point]) -> Vec<Point> {
+    let mut pts: Vec<Point> = Vec::new();
+    for &p in corners {
+        if pts.last().map_or(true, |&q| !near_point(p, q)) {
+            pts.push(p);
+        }
+    }
+    while pts.len() > 1 && near_point(pts[0], pts[pts.len() - 1]) {
+        pts.pop();
+    }
+    // Drop corners where the outline goes straight on.
+    let mut changed = true;
+    while changed && pts.len() > 3 {
+        changed = false;
+        let n = pts.len();
+        for i in 0..n {
+            let (a, b, c) = (pts[(i + n - 1) % n], pts[i], pts[(i + 1) % n]);
+            let cross = (b[0] - a[0]) * (c[1] - b[1]) - (b[1] - a[1]) * (c[0] - b[0]);
+            let dot = (b[0] - a[0]) * (c[0] - b[0]) + (b[1] - a[1]) * (c[1] - b[1]);
+            if cross.abs() <= EPS_M * EPS_M && dot > 0.0 {
+                pts.remove(i);
+                changed = true;
+                break;
+            }
+        }
+    }
+    if signed_area(&pts) > 0.0 {
+        pts.reverse();
+    }
+    rotate_to_min(&mut pts);
+    pts
+}
+
+fn rotate_to_min(pts: &mut [Point]) {
+    if pts.is_empty() {
+        return;
+    }
+    let mut best = 0;
+    for (i, p) in pts.iter().enumerate() {
+        let b = pts[best];
+        if p[0] < b[0] - EPS_M || (near(p[0], b[0]) && p[1] < b[1] - EPS_M) {
+            best = i;
+        }
+    }
+    pts.rotate_left(best);
+}
+
+impl Ctx<'_> {
+    fn room_name(&self, id: RoomId) -> &str {
+        &self.scene.rooms[id.0].name
+    }
+
+    fn thor_name(&self, side: DoorSide) -> String {
+        match side {
+            DoorSide::Exterior => "exterior".to_owned(),
+            DoorSide::Room(r) => self.rooms[r.0].thor_id.clone(),
+        }
+    }
+
+    /// Snaps, normalises and checks every outline. Returns whether all are usable.
+    fn outlines(&mut self) -> bool {
+        let scene = self.scene;
+        // Snap coordinates, axis by axis, to the first value written within SNAP_M.
+        let mut anchors: [Vec<f64>; 2] = [Vec::new(), Vec::new()];
+        let mut snapped: Vec<Vec<Point>> = Vec::new();
+        for room in &scene.rooms {
+            let mut corners = Vec::new();
+            for (ci, &c) in room.corners.iter().enumerate() {
+                let mut p = c;
+                for axis in 0..2 {
+                    let v = c[axis];
+                    if let Some(&a) = anchors[axis].iter().find(|&&a| (a - v).abs() < SNAP_M) {
+                        p[axis] = a;
+                    } else {
+                        anchors[axis].push(v);
+                    }
+                }
+                // Only corners moved onto another room's value are worth a warning.
+                if !near_point(p, c) {
+                    let span = room.corner_spans.get(ci).copied().unwrap_or(room.decl_span);
+                    self.diags.push(
+                        Diagnostic::new(
+                            Code::W0301,
+                            format!("corner {} of room `{}` moved to {}", pt(c), room.name, pt(p)),
+                        )
+                        .with_primary(span, format!("within {} of a coordinate written earlier", m(SNAP_M)))
+                        .with_help("write the same coordinate in both places"),
+                    );
+                }
+                corners.push(p);
+            }
+            snapped.push(corners);
+        }
+
+        let mut labels: BTreeMap<String, usize> = BTreeMap::new();
+        let mut all_ok = true;
+        for (room, corners) in scene.rooms.iter().zip(&snapped) {
+            let pts = normalise(corners);
+            let mut ok = pts.len() >= 4;
+            let corner_span = |i: usize| room.corner_spans.get(i).copied().unwrap_or(room.name_span);
+            // Rectilinear: every side parallel to an axis (checked on the corners as written).
+            for i in 0..corners.len() {
+                let (a, b) = (corners[i], corners[(i + 1) % corners.len()]);
+                if !geo::is_axis_aligned(a, b) {
+                    self.diags.push(
+                        Diagnostic::new(
+                            Code::E0301,
+                            format!("the side of room `{}` from {} to {} is not parallel to an axis", room.name, pt(a), pt(b)),
+                        )
+                        .with_primary(corner_span(i), "this side runs at an angle")
+                        .with_secondary(corner_span((i + 1) % corners.len()), "to here")
+                        .with_help("rooms are rectilinear: make the two corners share their x or their z"),
+                    );
+                    ok = false;
+                    break;
+                }
+            }
+            if ok && signed_area(&pts).abs() <= EPS_M {
+                self.diags.push(
+                    Diagnostic::new(Code::E0301, format!("the outline of room `{}` has no area", room.name))
+                        .with_primary(room.name_span, "declared here")
+                        .with_help("give the room corners that enclose some floor"),
+                );
+                ok = false;
+            }
+            if ok {
+                // Simple polygon: non-adjacent sides never touch.
+                let n = pts.len();
+                'outer: for i in 0..n {
+                    for j in i + 2..n {
+                        if i == 0 && j == n - 1 {
+                            continue;
+                        }
+                        if segments_touch(pts[i], pts[(i + 1) % n], pts[j], pts[(j + 1) % n]) {
+                            self.diags.push(
+                                Diagnostic::new(
+                                    Code::E0302,
+                                    format!("the outline of room `{}` crosses itself", room.name),
+                                )
+                                .with_primary(room.name_span, "its corners are not in order around the room")
+                                .with_note(format!(
+                                    "the side {}–{} meets the side {}–{}",
+                                    pt(pts[i]),
+                                    pt(pts[(i + 1) % n]),
+                                    pt(pts[j]),
+                                    pt(pts[(j + 1) % n])
+                                ))
+                                .with_help("list the corners in order around the room"),
+                            );
+                            ok = false;
+                            break 'outer;
+                        }
+                    }
+                }
+            }
+            let bbox = Aabb::of(&pts);
+            let area = signed_area(&pts).abs();
+            if ok {
+                let narrow = bbox.width().min(bbox.depth());
+                let wide = bbox.width().max(bbox.depth());
+                if narrow < MIN_ROOM_SIDE_M - EPS_M || area < 1.0 - EPS_M {
+                    self.diags.push(
+                        Diagnostic::new(
+                            Code::E0303,
+                            format!("room `{}` is {} m by {} m, smaller than allowed", room.name, m(bbox.width()), m(bbox.depth())),
+                        )
+                        .with_primary(room.name_span, format!("{} m²", m(area)))
+                        .with_help(format!("make every room at least {} m wide and 1 m² in area", m(MIN_ROOM_SIDE_M))),
+                    );
+                    ok = false;
+                } else if wide > MAX_ROOM_SIDE_M + EPS_M {
+                    self.diags.push(
+                        Diagnostic::new(
+                            Code::E0304,
+                            format!("room `{}` is {} m by {} m, larger than allowed", room.name, m(bbox.width()), m(bbox.depth())),
+                        )
+                        .with_primary(room.name_span, "declared here")
+                        .with_help(format!("split it into rooms at most {} m wide", m(MAX_ROOM_SIDE_M))),
+                    );
+                    ok = false;
+                }
+            }
+            all_ok &= ok;
+            let count = labels.entry(room.label.clone()).or_insert(0);
+            let thor_id = if *count == 0 { room.label.clone() } else { format!("{}-{}", room.label, room.id.0) };
+            *count += 1;
+            self.rooms.push(PlanRoom {
+                id: room.id,
+                thor_id,
+                centroid: area_centroid(&pts),
+                area_m2: area,
+                polygon: pts.clone(),
+                corners: pts,
+                floor_material: String::new(),
+                wall_material: String::new(),
+                layer: 0,
+                door_keep_out: Vec::new(),
+                open_boxes: Vec::new(),
+                window_segments: Vec::new(),
+                name_span: room.name_span,
+            });
+        }
+        all_ok
+    }
+
+    fn shared_length(&self, a: usize, b: usize) -> f64 {
+        let (p, q) = (&self.rooms[a].corners, &self.rooms[b].corners);
+        let mut total = 0.0;
+        for i in 0..p.len() {
+            for j in 0..q.len() {
+                if let Some((s, e)) = segment_overlap(p[i], p[(i + 1) % p.len()], q[j], q[(j + 1) % q.len()]) {
+                    total += distance(s, e);
+                }
+            }
+        }
+        total
+    }
+
+    /// Overlap, containment, isolation and connectivity. Returns whether the plan is valid.
+    fn relations(&mut self) -> bool {
+        let n = self.rooms.len();
+        let mut ok = true;
+        let mut adjacent = vec![Vec::new(); n];
+        for a in 0..n {
+            for b in a + 1..n {
+                let (ra, rb) = (&self.rooms[a], &self.rooms[b]);
+                let inter = rectilinear_intersection_area(&ra.corners, &rb.corners);
+                if inter > 1e-4 {
+                    ok = false;
+                    let (na, nb) = (self.room_name(RoomId(a)).to_owned(), self.room_name(RoomId(b)).to_owned());
+                    let d = if near(inter, ra.area_m2) || inter >= ra.area_m2 - 1e-4 {
+                        Diagnostic::new(Code::E0306, format!("room `{na}` lies inside room `{nb}`"))
+                            .with_primary(ra.name_span, "this room")
+                            .with_secondary(rb.name_span, "is inside this one")
+                            .with_help(format!("cut `{na}` out of the outline of `{nb}`, or move it"))
+                    } else if inter >= rb.area_m2 - 1e-4 {
+                        Diagnostic::new(Code::E0306, format!("room `{nb}` lies inside room `{na}`"))
+                            .with_primary(rb.name_span, "this room")
+                            .with_secondary(ra.name_span, "is inside this one")
+                            .with_help(format!("cut `{nb}` out of the outline of `{na}`, or move it"))
+                    } else {
+                        Diagnostic::new(Code::E0305, format!("rooms `{na}` and `{nb}` overlap by {} m²", m(inter)))
+                            .with_primary(rb.name_span, format!("overlaps `{na}`"))
+                            .with_secondary(ra.name_span, format!("overlaps `{nb}`"))
+                            .with_help("move the corners so that the rooms only share walls")
+                    };
+                    self.diags.push(d);
+                } else if self.shared_length(a, b) > EPS_M {
+                    adjacent[a].push(b);
+                    adjacent[b].push(a);
+                }
+            }
+        }
+        if !ok || n < 2 {
+            return ok;
+        }
+        let mut isolated = BTreeSet::new();
+        for a in 0..n {
+            if adjacent[a].is_empty() {
+                isolated.insert(a);
+                ok = false;
+                self.diags.push(
+                    Diagnostic::new(
+                        Code::E0307,
+                        format!("room `{}` shares no wall with any other room", self.room_name(RoomId(a))),
+                    )
+                    .with_primary(self.rooms[a].name_span, "touches no other room")
+                    .with_help("move it so that one of its sides lies against another room"),
+                );
+            }
+        }
+        // Components among rooms that have neighbours.
+        let mut comp = vec![usize::MAX; n];
+        let mut groups: Vec<Vec<usize>> = Vec::new();
+        for start in 0..n {
+            if comp[start] != usize::MAX || isolated.contains(&start) {
+                continue;
+            }
+            let g = groups.len();
+            let mut stack = vec![start];
+            let mut members = Vec::new();
+            comp[start] = g;
+            while let Some(r) = stack.pop() {
+                members.push(r);
+                for &o in &adjacent[r] {
+                    if comp[o] == usize::MAX {
+                        comp[o] = g;
+                        stack.push(o);
+                    }
+                }
+            }
+            members.sort_unstable();
+            groups.push(members);
+        }
+        if groups.len() > 1 {
+            ok = false;
+            let names = |g: &[usize]| {
+                g.iter().map(|&r| format!("`{}`", self.room_name(RoomId(r)))).collect::<Vec<_>>().join(", ")
+            };
+            let mut d = Diagnostic::new(
+                Code::E0308,
+                format!("the plan falls apart into {} groups of rooms that share no wall", groups.len()),
+            )
+            .with_primary(self.rooms[groups[1][0]].name_span, "this group…")
+            .with_secondary(self.rooms[groups[0][0]].name_span, "…shares no wall with this one")
+            .with_help("move one group so that it shares a wall with the other");
+            for g in &groups {
+                d = d.with_note(format!("group: {}", names(g)));
+            }
+            self.diags.push(d);
+        }
+        ok
+    }
+
+    /// Splits outlines at neighbours' corners and makes one wall per piece.
+    fn make_walls(&mut self) {
+        let n = self.rooms.len();
+        let all: Vec<Point> = self.rooms.iter().flat_map(|r| r.corners.clone()).collect();
+        for r in 0..n {
+            let corners = self.rooms[r].corners.clone();
+            let mut full = Vec::new();
+            for i in 0..corners.len() {
+                let (a, b) = (corners[i], corners[(i + 1) % corners.len()]);
+                full.push(a);
+                let mut inner: Vec<Point> = all
+                    .iter()
+                    .copied()
+                    .filter(|&p| point_on_segment(p, a, b) && !near_point(p, a) && !near_point(p, b))
+                    .collect();
+                inner.sort_by(|p, q| distance(a, *p).total_cmp(&distance(a, *q)));
+                inner.dedup_by(|p, q| near_point(*p, *q));
+                full.extend(inner);
+            }
+            self.rooms[r].polygon = full;
+        }
+        let mut walls = Vec::new();
+        for r in 0..n {
+            let poly = self.rooms[r].polygon.clone();
+            for j in 0..poly.len() {
+                let (p, q) = (poly[j], poly[(j + 1) % poly.len()]);
+                let d = geo::sub(q, p);
+                let direction = if d[0].abs() >= d[1].abs() {
+                    if d[0] > 0.0 {
+                        Direction::North
+                    } else {
+                        Direction::South
+                    }
+                } else if d[1] > 0.0 {
+                    Direction::West
+                } else {
+                    Direction::East
+                };
+                let mut neighbour = None;
+                for o in 0..n {
+                    if o == r {
+                        continue;
+                    }
+                    let op = &self.rooms[o].polygon;
+                    for k in 0..op.len() {
+                        if segment_overlap(p, q, op[k], op[(k + 1) % op.len()]).is_some() {
+                            neighbour = Some((RoomId(o), k));
+                        }
+                    }
+                }
+                walls.push((r, j, direction, p, q, neighbour));
+            }
+        }
+        // Wall ids are known once every wall exists.
+        let id_of = |r: usize, j: usize, dir: Direction| format!("wall|{}|{}|{}", self.rooms[r].thor_id, dir.as_str(), j);
+        let dir_of: BTreeMap<(usize, usize), Direction> = walls.iter().map(|w| ((w.0, w.1), w.2)).collect();
+        for &(r, j, direction, p, q, neighbour) in &walls {
+            let neighbour = neighbour.and_then(|(o, k)| dir_of.get(&(o.0, k)).map(|&d| (o, id_of(o.0, k, d))));
+            self.walls.push(Wall {
+                id: id_of(r, j, direction),
+                room: RoomId(r),
+                direction,
+                start: p,
+                end: q,
+                width_m: distance(p, q),
+                exterior: neighbour.is_none(),
+                neighbour,
+                empty: false,
+                hole: None,
+            });
+        }
+    }
+
+    fn wall_index(&self, id: &str) -> Option<usize> {
+        self.walls.iter().position(|w| w.id == id)
+    }
+
+    fn rooms_not_adjacent(&mut self, door_span: Span, spans: [Span; 2], a: RoomId, b: RoomId) {
+        let (na, nb) = (self.room_name(a).to_owned(), self.room_name(b).to_owned());
+        self.diags.push(
+            Diagnostic::new(Code::E0309, format!("rooms `{na}` and `{nb}` share no wall"))
+                .with_primary(spans[1], format!("`{nb}` shares no wall with `{na}`"))
+                .with_secondary(spans[0], "first room")
+                .with_secondary(self.rooms[a.0].name_span, format!("`{na}` declared here"))
+                .with_secondary(self.rooms[b.0].name_span, format!("`{nb}` declared here"))
+                .with_note(format!("in the statement at byte {}", door_span.start))
+                .with_help("connect rooms that share a wall"),
+        );
+    }
+
+    fn open_connections(&mut self) {
+        for door in &self.scene.doors {
+            if door.kind != DoorKind::Open {
+                continue;
+            }
+            let (a, b) = match (door.from, door.to) {
+                (DoorSide::Room(a), DoorSide::Room(b)) => (a, b),
+                _ => {
+                    self.diags.push(
+                        Diagnostic::new(Code::E0312, "an open connection cannot lead outside")
+                            .with_primary(door.span, "`open` with `exterior`")
+                            .with_help("use a doorway or a doorframe to the exterior"),
+                    );
+                    continue;
+                }
+            };
+            let shared: Vec<usize> = (0..self.walls.len())
+                .filter(|&i| self.walls[i].room == a && self.walls[i].neighbour.as_ref().is_some_and(|n| n.0 == b))
+                .collect();
+            if shared.is_empty() {
+                self.rooms_not_adjacent(door.span, door.side_spans, a, b);
+                continue;
+            }
+            let mut segments = Vec::new();
+            for i in shared {
+                let w = self.walls[i].clone();
+                self.walls[i].empty = true;
+                if let Some(other) = w.neighbour.as_ref().and_then(|n| self.wall_index(&n.1)) {
+                    self.walls[other].empty = true;
+                }
+                let nrm = right_normal(w.start, w.end);
+                self.rooms[a.0].open_boxes.push(box_beside(w.start, w.end, nrm, OPEN_BOX_DEPTH_M));
+                self.rooms[b.0].open_boxes.push(box_beside(w.start, w.end, [-nrm[0], -nrm[1]], OPEN_BOX_DEPTH_M));
+                segments.push((w.start, w.end));
+            }
+            self.open.push(OpenConnection { rooms: (a, b), segments, span: door.span });
+        }
+    }
+
+    fn free(&self, i: usize) -> bool {
+        let w = &self.walls[i];
+        !w.empty
+            && w.hole.is_none()
+            && w.neighbour.as_ref().and_then(|n| self.wall_index(&n.1)).map_or(true, |o| self.walls[o].hole.is_none())
+    }
+
+    /// Candidate walls for a connection, seen from a real room `a`.
+    fn candidates(&self, a: RoomId, other: DoorSide) -> Vec<usize> {
+        (0..self.walls.len())
+            .filter(|&i| {
+                let w = &self.walls[i];
+                w.room == a
+                    && !w.empty
+                    && match other {
+                        DoorSide::Exterior => w.exterior,
+                        DoorSide::Room(b) => w.neighbour.as_ref().is_some_and(|n| n.0 == b),
+                    }
+            })
+            .collect()
+    }
+
+    /// Places one door between `from` and `to`; returns false (with a diagnostic) when it fails.
+    fn place_door(
+        &mut self,
+        index: usize,
+        from: DoorSide,
+        to: DoorSide,
+        kind: DoorKind,
+        size: DoorSize,
+        style: Option<&str>,
+        pinned: Option<&crate::check::scene::Pinned>,
+        span: Option<Span>,
+        spans: [Span; 2],
+    ) -> bool {
+        let (room, other) = match (from, to) {
+            (DoorSide::Room(a), o) => (a, o),
+            (DoorSide::Exterior, DoorSide::Room(b)) => (b, DoorSide::Exterior),
+            (DoorSide::Exterior, DoorSide::Exterior) => return false,
+        };
+        let asset = if let Some(pin) = pinned {
+            if let Some(a) = self.catalog.door(&pin.id) {
+                a.clone()
+            } else {
+                let names: Vec<&str> = self.catalog.doors.iter().map(|d| d.asset_id.as_str()).collect();
+                self.diags.push(
+                    Diagnostic::new(Code::E0313, format!("`{}` is not a door asset", pin.id))
+                        .with_primary(pin.span, "not in the door catalog")
+                        .with_help_opt(did_you_mean(&closest(&pin.id, names)))
+                        .with_note("door assets are `Doorway_*`, `Doorway_Double_*`, `Doorframe_*` and `Doorframe_Double_*`"),
+                );
+                return false;
+            }
+        } else {
+            let pick = rng(self.scene.seed, RNG_DOOR_ASSET, index as u64).gen::<u64>();
+            match self.catalog.select_door(kind, size, style, pick) {
+                Some(a) => a.clone(),
+                None => {
+                    self.diags.push(Diagnostic::internal("the door catalog has no door of this kind and size"));
+                    return false;
+                }
+            }
+        };
+        let width = asset.bbox_m[0];
+        let need = width + 2.0 * DOOR_CORNER_MARGIN_M;
+        let cands = self.candidates(room, other);
+        let primary = span.unwrap_or(self.rooms[room.0].name_span);
+        if cands.is_empty() {
+            if let DoorSide::Room(b) = other {
+                self.rooms_not_adjacent(primary, spans, room, b);
+            } else {
+                self.diags.push(
+                    Diagnostic::new(
+                        Code::E0310,
+                        format!("room `{}` has no outside wall for a door", self.room_name(room)),
+                    )
+                    .with_primary(primary, "door to the exterior")
+                    .with_help("connect the exterior to a room on the outside of the house"),
+                );
+            }
+            return false;
+        }
+        let free: Vec<usize> = cands.iter().copied().filter(|&i| self.free(i)).collect();
+        let mut best: Option<usize> = None;
+        for &i in &free {
+            if self.walls[i].width_m + EPS_M >= need && best.map_or(true, |b| self.walls[i].width_m > self.walls[b].width_m + EPS_M) {
+                best = Some(i);
+            }
+        }
+        let Some(wi) = best else {
+            let what = match other {
+                DoorSide::Exterior => format!("the outside walls of `{}`", self.room_name(room)),
+                DoorSide::Room(b) => format!("the walls between `{}` and `{}`", self.room_name(room), self.room_name(b)),
+            };
+            if free.is_empty() {
+                self.diags.push(
+                    Diagnostic::new(Code::E0311, format!("every one of {what} already has a door or window"))
+                        .with_primary(primary, "no free wall for this door")
+                        .with_help("AI2-THOR allows one hole per wall; move one of the openings"),
+                );
+            } else {
+                let longest = free.iter().map(|&i| self.walls[i].width_m).fold(0.0, f64::max);
+                self.diags.push(
+                    Diagnostic::new(
+                        Code::E0310,
+                        format!("the door ({} m wide) does not fit on {what} (longest free wall {} m)", m(width), m(longest)),
+                    )
+                    .with_primary(primary, format!("needs {} m of wall", m(need)))
+                    .with_help("use a single door, or make the shared wall longer"),
+                );
+            }
+            return false;
+        };
+        let wall = self.walls[wi].clone();
+        let l = wall.width_m;
+        let u: f64 = rng(self.scene.seed, RNG_DOOR, index as u64).gen();
+        let room_span = l - need;
+        let s_int = DOOR_CORNER_MARGIN_M + ((u * room_span) * 100.0).floor() / 100.0;
+        let s_int = s_int.min(l - DOOR_CORNER_MARGIN_M - width);
+        let dir = geo::unit(wall.start, wall.end);
+        let p1 = add_scaled(wall.start, dir, s_int);
+        let p2 = add_scaled(wall.start, dir, s_int + width);
+        // Keep-out boxes on the room side(s).
+        let nrm = right_normal(wall.start, wall.end);
+        self.rooms[room.0].door_keep_out.push(box_beside(p1, p2, nrm, DOOR_BOX_DEPTH_M));
+        let neighbour_idx = wall.neighbour.as_ref().and_then(|n| self.wall_index(&n.1));
+        if let DoorSide::Room(b) = other {
+            self.rooms[b.0].door_keep_out.push(box_beside(p1, p2, [-nrm[0], -nrm[1]], DOOR_BOX_DEPTH_M));
+        }
+        let hole_for = |start: f64| Hole { kind: HoleKind::Door, start_m: start, end_m: start + width, bottom_m: 0.0, top_m: asset.bbox_m[1] };
+        self.walls[wi].hole = Some(hole_for(s_int));
+        let reverse_start = l - s_int - width;
+        if let Some(o) = neighbour_idx {
+            self.walls[o].hole = Some(hole_for(reverse_start));
+        }
+        // wall0 is the wall on the `from` side; along it the hole starts at `start0`.
+        let room_wall = wall.id.clone();
+        let other_wall = match other {
+            DoorSide::Exterior => wall.exterior_id(),
+            DoorSide::Room(_) => wall.neighbour.as_ref().map(|n| n.1.clone()).unwrap_or_default(),
+        };
+        let (wall0, wall1, start0, segment) = if matches!(from, DoorSide::Room(r) if r == room) {
+            (room_wall, other_wall, s_int, (p1, p2))
+        } else {
+            (other_wall, room_wall, reverse_start, (p2, p1))
+        };
+        let off = asset.offset_m;
+        let hole_min = [start0 - off[0], 0.0];
+        let hole_max = [start0 + width - off[0], asset.bbox_m[1] - off[1]];
+        let asset_position = [hole_min[0] + off[0] + width / 2.0, hole_min[1] + off[1] + asset.bbox_m[1] / 2.0];
+        let exterior = matches!(from, DoorSide::Exterior) || matches!(to, DoorSide::Exterior);
+        let openable = kind == DoorKind::Doorway && !exterior;
+        self.doors.push(PlacedDoor {
+            id: format!("door|{}|{}|{}", index, self.thor_name(from), self.thor_name(to)),
+            kind,
+            asset_id: asset.asset_id.clone(),
+            room0: self.thor_name(from),
+            room1: self.thor_name(to),
+            wall0,
+            wall1,
+            hole_min,
+            hole_max,
+            asset_position,
+            segment,
+            openable,
+            openness: if openable { 1.0 } else { 0.0 },
+            span,
+        });
+        true
+    }
+
+    fn place_doors(&mut self) {
+        for door in &self.scene.doors {
+            if door.kind == DoorKind::Open {
+                continue;
+            }
+            self.place_door(
+                door.index,
+                door.from,
+                door.to,
+                door.kind,
+                door.size.unwrap_or(DoorSize::Single),
+                door.style.as_deref(),
+                door.asset.as_ref(),
+                Some(door.span),
+                door.side_spans,
+            );
+        }
+    }
+
+    fn reached(&self) -> (bool, Vec<bool>) {
+        let n = self.rooms.len();
+        let mut edges: Vec<(Option<usize>, Option<usize>)> = Vec::new();
+        let side = |s: &str| self.rooms.iter().position(|r| r.thor_id == s);
+        for d in &self.doors {
+            edges.push((side(&d.room0), side(&d.room1)));
+        }
+        for o in &self.open {
+            edges.push((Some(o.rooms.0 .0), Some(o.rooms.1 .0)));
+        }
+        let has_exterior = edges.iter().any(|e| e.0.is_none() || e.1.is_none());
+        let mut seen = vec![false; n];
+        let mut stack: Vec<usize> = edges
+            .iter()
+            .filter_map(|e| match e {
+                (None, Some(r)) | (Some(r), None) => Some(*r),
+                _ => None,
+            })
+            .collect();
+        while let Some(r) = stack.pop() {
+            if seen[r] {
+                continue;
+            }
+            seen[r] = true;
+            for e in &edges {
+                match *e {
+                    (Some(a), Some(b)) if a == r && !seen[b] => stack.push(b),
+                    (Some(a), Some(b)) if b == r && !seen[a] => stack.push(a),
+                    _ => {}
+                }
+            }
+        }
+        (has_exterior, seen)
+    }
+
+    fn reachability(&mut self) {
+        if self.diags.iter().any(Diagnostic::is_error) || self.rooms.is_empty() {
+            return;
+        }
+        let mut next_index = self.scene.doors.len();
+        let (has_exterior, _) = self.reached();
+        if !has_exterior {
+            let mut added = false;
+            if self.options.add_doors {
+                for r in 0..self.rooms.len() {
+                    let span = self.rooms[r].name_span;
+                    let before = self.diags.len();
+                    if self.place_door(next_index, DoorSide::Exterior, DoorSide::Room(RoomId(r)), DoorKind::Doorway, DoorSize::Single, None, None, None, [span, span]) {
+                        self.diags.truncate(before);
+                        next_index += 1;
+                        self.diags.push(
+                            Diagnostic::new(Code::W0302, format!("added a doorway from outside into room `{}`", self.room_name(RoomId(r))))
+                                .with_primary(span, "now reachable from outside")
+                                .with_help("write the door in the scene to choose where it goes"),
+                        );
+                        added = true;
+                        break;
+                    }
+                    self.diags.truncate(before);
+                }
+            }
+            if !added {
+                let span = self.rooms[0].name_span;
+                self.diags.push(
+                    Diagnostic::new(Code::E0314, "no door leads outside")
+                        .with_primary(span, "no room of the house has a door to the exterior")
+                        .with_help(format!("add `door exterior -- {} : doorway single`, or build with `--add-doors`", self.room_name(RoomId(0)))),
+                );
+                return;
+            }
+        }
+        loop {
+            let (_, seen) = self.reached();
+            if seen.iter().all(|&s| s) {
+                return;
+            }
+            let mut progress = false;
+            if self.options.add_doors {
+                for r in 0..self.rooms.len() {
+                    if seen[r] {
+                        continue;
+                    }
+                    let span = self.rooms[r].name_span;
+                    for o in 0..self.rooms.len() {
+                        if !seen[o] {
+                            continue;
+                        }
+                        let before = self.diags.len();
+                        if self.place_door(next_index, DoorSide::Room(RoomId(o)), DoorSide::Room(RoomId(r)), DoorKind::Doorway, DoorSize::Single, None, None, None, [span, span]) {
+                            self.diags.truncate(before);
+                            next_index += 1;
+                            self.diags.push(
+                                Diagnostic::new(
+                                    Code::W0302,
+                                    format!("added a doorway between `{}` and `{}`", self.room_name(RoomId(o)), self.room_name(RoomId(r))),
+                                )
+                                .with_primary(span, "now reachable from outside")
+                                .with_help("write the door in the scene to choose where it goes"),
+                            );
+                            progress = true;
+                            break;
+                        }
+                        self.diags.truncate(before);
+                    }
+                    if progress {
+                        break;
+                    }
+                }
+            }
+            if !progress {
+                for (r, reached) in seen.iter().enumerate() {
+                    if !reached {
+                        self.diags.push(
+                            Diagnostic::new(
+                                Code::E0315,
+                                format!("room `{}` cannot be reached from outside", self.room_name(RoomId(r))),
+                            )
+                            .with_primary(self.rooms[r].name_span, "no chain of doors leads here from the exterior")
+                            .with_help("add a door to a reachable neighbour, or build with `--add-doors`"),
+                        );
+                    }
+                }
+                return;
+            }
+        }
+    }
+
+    fn place_windows(&mut self) {
+        let h_wall = self.scene.wall_height_m;
+        for room in &self.scene.rooms {
+            for row in &room.windows {
+                let cands: Vec<usize> = (0..self.walls.len())
+                    .filter(|&i| {
+                        let w = &self.walls[i];
+                        w.room == room.id && w.direction == row.wall && w.exterior && !w.empty
+                    })
+                    .collect();
+                if cands.is_empty() {
+                    self.diags.push(
+                        Diagnostic::new(
+                            Code::E0316,
+                            format!("room `{}` has no outside wall on its {} side", room.name, row.wall.as_str()),
+                        )
+                        .with_primary(row.span, "window on a side without outside wall")
+                        .with_help("choose a side of the room that faces outside"),
+                    );
+                    continue;
+                }
+                let free: Vec<usize> = cands.iter().copied().filter(|&i| self.walls[i].hole.is_none()).collect();
+                let Some(&wi) = free.iter().max_by(|&&a, &&b| {
+                    self.walls[a].width_m.total_cmp(&self.walls[b].width_m).then(b.cmp(&a))
+                }) else {
+                    self.diags.push(
+                        Diagnostic::new(
+                            Code::E0311,
+                            format!("the {} wall of room `{}` already has a door or window", row.wall.as_str(), room.name),
+                        )
+                        .with_primary(row.span, "no free wall for this window")
+                        .with_help("AI2-THOR allows one hole per wall; put the window on another side"),
+                    );
+                    continue;
+                };
+                let asset = if let Some(pin) = &row.asset {
+                    if let Some(a) = self.catalog.window(&pin.id) {
+                        a.clone()
+                    } else {
+                        let names: Vec<&str> = self.catalog.windows.iter().map(|w| w.asset_id.as_str()).collect();
+                        self.diags.push(
+                            Diagnostic::new(Code::E0319, format!("`{}` is not a window asset", pin.id))
+                                .with_primary(pin.span, "not in the window catalog")
+                                .with_help_opt(did_you_mean(&closest(&pin.id, names))),
+                        );
+                        continue;
+                    }
+                } else if let Some(a) = self.catalog.select_window(row.kind, row.width_m, row.height_m) {
+                    a.clone()
+                } else {
+                    self.diags.push(Diagnostic::internal("the window catalog has no window of this type"));
+                    continue;
+                };
+                let wall = self.walls[wi].clone();
+                let n = row.count.max(1) as usize;
+                let piece = wall.width_m / n as f64;
+                let [hx, hy] = asset.hole_m;
+                if piece + EPS_M < hx + 2.0 * WINDOW_MARGIN_M {
+                    self.diags.push(
+                        Diagnostic::new(
+                            Code::E0317,
+                            format!(
+                                "{} window{} {} m wide do not fit on the {} wall of `{}` ({} m long)",
+                                n,
+                                if n == 1 { "" } else { "s" },
+                                m(hx),
+                                row.wall.as_str(),
+                                room.name,
+                                m(wall.width_m)
+                            ),
+                        )
+                        .with_primary(row.span, format!("needs {} m of wall", m(n as f64 * (hx + 2.0 * WINDOW_MARGIN_M))))
+                        .with_help("use fewer or narrower windows"),
+                    );
+                    continue;
+                }
+                if row.sill_m + hy > h_wall - WINDOW_TOP_MARGIN_M + EPS_M {
+                    self.diags.push(
+                        Diagnostic::new(
+                            Code::E0318,
+                            format!("the window's top at {} m is above the wall height of {} m", m(row.sill_m + hy), m(h_wall)),
+                        )
+                        .with_primary(row.span, format!("sill {} m + height {} m", m(row.sill_m), m(hy)))
+                        .with_help(format!("lower the sill to at most {} m", m(h_wall - WINDOW_TOP_MARGIN_M - hy))),
+                    );
+                    continue;
+                }
+                // Split into n sub-walls (one hole per wall), each with a centred window.
+                let dir = geo::unit(wall.start, wall.end);
+                let mut pieces = Vec::new();
+                for k in 0..n {
+                    let a = add_scaled(wall.start, dir, piece * k as f64);
+                    let b = if k + 1 == n { wall.end } else { add_scaled(wall.start, dir, piece * (k + 1) as f64) };
+                    let mut sub = wall.clone();
+                    if n > 1 {
+                        sub.id = format!("{}|{}", wall.id, k);
+                    }
+                    sub.start = a;
+                    sub.end = b;
+                    sub.width_m = distance(a, b);
+                    let start = (sub.width_m - hx) / 2.0;
+                    sub.hole = Some(Hole { kind: HoleKind::Window, start_m: start, end_m: start + hx, bottom_m: row.sill_m, top_m: row.sill_m + hy });
+                    let off = asset.offset_m;
+                    let hole_min = [start - off[0], row.sill_m];
+                    let hole_max = [start + hx - off[0], row.sill_m + hy - off[1]];
+                    let asset_position = [
+                        hole_min[0] + off[0] + asset.bbox_m[0] / 2.0,
+                        hole_min[1] + off[1] + asset.bbox_m[1] / 2.0,
+                    ];
+                    let s1 = add_scaled(a, dir, start);
+                    let s2 = add_scaled(a, dir, start + hx);
+                    self.rooms[room.id.0].window_segments.push((s1, s2));
+                    let _ = WINDOW_BOX_DEPTH_M;
+                    self.windows.push(PlacedWindow {
+                        id: format!("window|{}|{}", sub.id, k),
+                        asset_id: asset.asset_id.clone(),
+                        room: room.id,
+                        wall0: sub.id.clone(),
+                        wall1: sub.exterior_id(),
+                        hole_min,
+                        hole_max,
+                        asset_position,
+                        segment: (s1, s2),
+                        span: row.span,
+                    });
+                    pieces.push(sub);
+                }
+                self.walls.splice(wi..=wi, pieces);
+            }
+        }
+    }
+
+    fn materials(&mut self) {
+        let mut used: BTreeSet<String> = BTreeSet::new();
+        let mut cache: BTreeMap<(String, bool), String> = BTreeMap::new();
+        for room in &self.scene.rooms {
+            for surface in [Surface::Floor, Surface::Wall] {
+                let (pinned, design, default) = match surface {
+                    Surface::Floor => (&room.floor_material, &room.floor_design, "light oak wood floor"),
+                    Surface::Wall => (&room.wall_material, &room.wall_design, "white drywall"),
+                };
+                let name = if let Some(pin) = pinned {
+                    if self.catalog.material(&pin.id).is_some() {
+                        pin.id.clone()
+                    } else {
+                        let names: Vec<&str> = self.catalog.materials.iter().map(|m| m.name.as_str()).collect();
+                        self.diags.push(
+                            Diagnostic::new(Code::E0320, format!("`{}` is not a known material", pin.id))
+                                .with_primary(pin.span, "not in the material database")
+                                .with_help_opt(did_you_mean(&closest(&pin.id, names))),
+                        );
+                        continue;
+                    }
+                } else {
+                    let text = design.clone().unwrap_or_else(|| default.to_owned());
+                    let key = (text.clone(), surface == Surface::Floor);
+                    if let Some(hit) = cache.get(&key) {
+                        hit.clone()
+                    } else {
+                        let chosen = self
+                            .catalog
+                            .select_material(&text, surface, &used)
+                            .map(|m| m.name.clone())
+                            .unwrap_or_else(|| crate::resolve::structure::EXTERIOR_WALL_MATERIAL.to_owned());
+                        cache.insert(key, chosen.clone());
+                        chosen
+                    }
+                };
+                used.insert(name.clone());
+                match surface {
+                    Surface::Floor => self.rooms[room.id.0].floor_material = name,
+                    Surface::Wall => self.rooms[room.id.0].wall_material = name,
+                }
+            }
+        }
+    }
+
+    fn layers(&mut self) {
+        let n = self.rooms.len();
+        // Rooms joined by open connections form one group.
+        let mut group: Vec<usize> = (0..n).collect();
+        fn find(g: &mut [usize], x: usize) -> usize {
+            let mut r = x;
+            while g[r] != r {
+                r = g[r];
+            }
+            g[x] = r;
+            r
+        }
+        for o in &self.open {
+            let (a, b) = (find(&mut group, o.rooms.0 .0), find(&mut group, o.rooms.1 .0));
+            let (lo, hi) = (a.min(b), a.max(b));
+            group[hi] = lo;
+        }
+        let roots: Vec<usize> = (0..n).map(|r| find(&mut group, r)).collect();
+        let nodes: Vec<usize> = {
+            let mut v = roots.clone();
+            v.sort_unstable();
+            v.dedup();
+            v
+        };
+        let mut adj: BTreeSet<(usize, usize)> = BTreeSet::new();
+        for w in &self.walls {
+            if let Some((o, _)) = &w.neighbour {
+                let (a, b) = (roots[w.room.0], roots[o.0]);
+                if a != b {
+                    adj.insert((a.min(b), a.max(b)));
+                }
+            }
+        }
+        let mut colour: BTreeMap<usize, u8> = BTreeMap::new();
+        fn solve(i: usize, nodes: &[usize], adj: &BTreeSet<(usize, usize)>, colour: &mut BTreeMap<usize, u8>) -> bool {
+            if i == nodes.len() {
+                return true;
+            }
+            let v = nodes[i];
+            for c in 0..N_LAYERS {
+                let clash = colour.iter().any(|(&u, &cu)| cu == c && adj.contains(&(u.min(v), u.max(v))));
+                if !clash {
+                    colour.insert(v, c);
+                    if solve(i + 1, nodes, adj, colour) {
+                        return true;
+                    }
+                    colour.remove(&v);
+                }
+            }
+            false
+        }
+        if !solve(0, &nodes, &adj, &mut colour) {
+            colour = nodes.iter().enumerate().map(|(i, &v)| (v, (i % N_LAYERS as usize) as u8)).collect();
+            self.diags.push(
+                Diagnostic::new(Code::W0303, "four lighting layers are not enough for this plan")
+                    .with_primary(self.rooms[0].name_span, "some neighbouring rooms share a layer")
+                    .with_help("nothing is required; light may show through to a neighbour"),
+            );
+        }
+        for r in 0..n {
+            self.rooms[r].layer = colour.get(&roots[r]).copied().unwrap_or(0);
+        }
+    }
+
+    fn agent_pose(&self) -> AgentPose {
+        // The room with the first exterior door, else the first room.
+        let start = self
+            .doors
+            .iter()
+            .find_map(|d| {
+                if d.room0 == "exterior" {
+                    self.rooms.iter().position(|r| r.thor_id == d.room1)
+                } else if d.room1 == "exterior" {
+                    self.rooms.iter().position(|r| r.thor_id == d.room0)
+                } else {
+                    None
+                }
+            })
+            .unwrap_or(0);
+        let room = &self.rooms[start];
+        let bbox = Aabb::of(&room.polygon);
+        let poly = &room.polygon;
+        let mut best: Option<(f64, Point)> = None;
+        let step = 0.25;
+        let nx = (bbox.width() / step).floor() as i64;
+        let nz = (bbox.depth() / step).floor() as i64;
+        for ix in 0..=nx {
+            for iz in 0..=nz {
+                let p = [bbox.min[0] + ix as f64 * step, bbox.min[1] + iz as f64 * step];
+                if !geo::point_in_polygon(p, poly) {
+                    continue;
+                }
+                let clearance = (0..poly.len())
+                    .map(|i| geo::distance_to_segment(p, poly[i], poly[(i + 1) % poly.len()]))
+                    .fold(f64::INFINITY, f64::min);
+                if clearance < 0.5 - EPS_M {
+                    continue;
+                }
+                let blocked = room.door_keep_out.iter().chain(&room.open_boxes).any(|b| geo::point_in_or_on_polygon(p, b));
+                if blocked {
+                    continue;
+                }
+                let d = distance(p, room.centroid);
+                if best.map_or(true, |(bd, _)| d < bd - EPS_M) {
+                    best = Some((d, p));
+                }
+            }
+        }
+        AgentPose { room: RoomId(start), position: best.map_or(room.centroid, |b| b.1), rotation_deg: 0.0 }
+    }
+}
