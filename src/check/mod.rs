@@ -260,7 +260,7 @@ impl Checker {
                     groups.push(Group { decl: o, is_wall, count: n, first: 0 });
                 }
                 ast::RoomStmt::Ceiling(c) => ceiling_decl = Some(c),
-                ast::RoomStmt::Comment(_) | ast::RoomStmt::Error(_) => {}
+                ast::RoomStmt::Comment(_) | ast::RoomStmt::Error(_) | ast::RoomStmt::Blank(_) => {}
             }
         }
         if checked.corners.is_empty() && !seen.contains_key("corners") {
@@ -714,7 +714,7 @@ impl Checker {
                         self.misplaced("instance", inst.span, "an instance block", "instance blocks do not nest");
                     }
                 }
-                ast::ObjectStmt::Comment(_) | ast::ObjectStmt::Error(_) => {}
+                ast::ObjectStmt::Comment(_) | ast::ObjectStmt::Error(_) | ast::ObjectStmt::Blank(_) => {}
             }
         }
     }
@@ -764,7 +764,7 @@ impl Checker {
                     }
                 }
                 ast::ObjectStmt::Facing(q, _) => item.facing_deg = angle_deg(q, "the facing angle", &mut self.diagnostics),
-                ast::ObjectStmt::Comment(_) | ast::ObjectStmt::Error(_) => {}
+                ast::ObjectStmt::Comment(_) | ast::ObjectStmt::Error(_) | ast::ObjectStmt::Blank(_) => {}
                 other => {
                     let span = object_stmt_span(other);
                     self.misplaced(object_stmt_word(other), span, "an `on top` block", "an `on top` block takes `asset`, `at` and `facing`");
@@ -994,7 +994,7 @@ impl Checker {
                         );
                     }
                 }
-                ast::ObjectStmt::Comment(_) | ast::ObjectStmt::Error(_) => {}
+                ast::ObjectStmt::Comment(_) | ast::ObjectStmt::Error(_) | ast::ObjectStmt::Blank(_) => {}
                 other => {
                     let span = object_stmt_span(other);
                     self.misplaced(object_stmt_word(other), span, "a `ceiling` block", "a ceiling block takes `asset`, `above` and `at`");
@@ -1145,6 +1145,7 @@ fn object_stmt_span(stmt: &ast::ObjectStmt) -> Span {
         ast::ObjectStmt::Instance(i) => i.span,
         ast::ObjectStmt::Comment(c) => c.span,
         ast::ObjectStmt::Error(e) => e.span,
+        ast::ObjectStmt::Blank(s) => *s,
     }
 }
 
@@ -1162,6 +1163,6 @@ fn object_stmt_word(stmt: &ast::ObjectStmt) -> &str {
         ast::ObjectStmt::OnTop(..) => "on top",
         ast::ObjectStmt::Instance(..) => "instance",
         ast::ObjectStmt::Comment(..) => "comment",
-        ast::ObjectStmt::Error(..) => "line",
+        ast::ObjectStmt::Error(..) | ast::ObjectStmt::Blank(..) => "line",
     }
 }
