@@ -64,7 +64,11 @@ pub fn read_source(sources: &mut SourceMap, path: &Path) -> Result<FileId, Diagn
     let text = String::from_utf8(bytes).map_err(|e| {
         Diagnostic::new(
             Code::E0003,
-            format!("`{}` is not UTF-8 text (invalid byte at offset {})", path.display(), e.utf8_error().valid_up_to()),
+            format!(
+                "`{}` is not UTF-8 text (invalid byte at offset {})",
+                path.display(),
+                e.utf8_error().valid_up_to()
+            ),
         )
         .with_help("save the file as UTF-8")
     })?;
@@ -72,8 +76,17 @@ pub fn read_source(sources: &mut SourceMap, path: &Path) -> Result<FileId, Diagn
 }
 
 /// Prints diagnostics in the chosen format: human and short to stderr, json and lsp to stdout.
-#[allow(clippy::print_stdout, clippy::print_stderr, reason = "the CLI is the only place that prints")]
-pub fn emit(sources: &SourceMap, diagnostics: &[Diagnostic], format: DiagFormat, color: ColorChoice) {
+#[allow(
+    clippy::print_stdout,
+    clippy::print_stderr,
+    reason = "the CLI is the only place that prints"
+)]
+pub fn emit(
+    sources: &SourceMap,
+    diagnostics: &[Diagnostic],
+    format: DiagFormat,
+    color: ColorChoice,
+) {
     let mut sorted = diagnostics.to_vec();
     diag::sort(&mut sorted);
     match format {
