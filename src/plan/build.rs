@@ -618,10 +618,19 @@ impl Ctx<'_> {
             return false;
         }
         let free: Vec<usize> = cands.iter().copied().filter(|&i| self.free(i)).collect();
+        // Prefer walls on sides that no window row of the room asks for, then the longest.
+        let window_sides: Vec<Direction> = self.scene.rooms[room.0].windows.iter().map(|w| w.wall).collect();
+        let rank = |i: usize| (!window_sides.contains(&self.walls[i].direction), self.walls[i].width_m);
         let mut best: Option<usize> = None;
         for &i in &free {
-            if self.walls[i].width_m + EPS_M >= need && best.map_or(true, |b| self.walls[i].width_m > self.walls[b].width_m + EPS_M) {
-                best = Some(i);
+            if self.walls[i].width_m + EPS_M >= need {
+                let better = best.map_or(true, |b| {
+                    let (ri, rb) = (rank(i), rank(b));
+                    (ri.0 && !rb.0) || (ri.0 == rb.0 && ri.1 > rb.1 + EPS_M)
+                });
+                if better {
+                    best = Some(i);
+                }
             }
         }
         let Some(wi) = best else {
