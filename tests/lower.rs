@@ -1,0 +1,78 @@
+//! Lower stage: every example and every valid plan fixture becomes a house JSON that is
+//! snapshotted in `snapshots/lower/`, is byte-identical when built twice, and passes
+//! `holoc validate` without errors.
+
+mod common;
+
+use holoc::lower::{lower, validate::validate};
+use holoc::plan::plan;
+use holoc::resolve::structure::StructureCatalog;
+use holoc::source::SourceMap;
+use std::path::Path;
+
+/// Builds a `.holo` file to house JSON text (panics with the diagnostics when it fails).
+pub fn build_json(path: &Path) -> String {
+    let text = std::fs::read_to_string(path).expect("readable");
+    let mut sources = SourceMap::new();
+    let id = sources.add(path.display().to_string(), text);
+    let checked = holoc::compile::check_file(&sources, id);
+    let scene = checked.value.expect("no syntax errors");
+    let planned = plan(&scene, StructureCatalog::builtin());
+    assert!(
+        !planned.diagnostics.iter().any(holoc::diag::Diagnostic::is_error),
+        "{}",
+        common::render(&sources, &planned.diagnostics)
+    );
+    lower(&scene, &planned.value, &[]).to_json_string()
+}
+
+fn inputs() -> Vec<std::path::PathBuf> {
+    let mut out = Vec::new();
+    for dir in ["examples", "tests/corpus/plan/ok"] {
+        for entry in std::fs::read_dir(dir).expect("folder") {
+            let path = entry.expect("entry").path();
+            if path.extension().is_some_and(|e| e == "holo") {
+                out.push(path);
+            }
+        }
+    }
+    out.sort();
+    out
+}
+
+#[test]
+fn lower_snapshots() {
+    insta::with_settings!({
+        snapshot_path => "../snapshots/lower",
+        prepend_module_to_snapshot => false,
+        omit_expression => true,
+    }, {
+        for path in inputs() {
+            let name = path.to_string_lossy().replace(['/', '\\'], "__").replace(".holo", "");
+            insta::assert_snapshot!(name, build_json(&path));
+        }
+    });
+}
+
+#[test]
+fn same_input_same_bytes() {
+    for path in inputs() {
+        assert_eq!(build_json(&path), build_json(&path), "{}", path.display());
+    }
+}
+
+#[test]
+fn outputs_validate() {
+    for path in inputs() {
+        let json = build_json(&path);
+        let mut sources = SourceMap::new();
+        let id = sources.add("house.json", json);
+        let outcome = validate(&sources, id, StructureCatalog::builtin());
+        assert!(
+            outcome.diagnostics.is_empty(),
+            "{}: {}",
+            path.display(),
+            common::render(&sources, &outcome.diagnostics)
+        );
+    }
+}
