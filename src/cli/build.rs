@@ -68,7 +68,8 @@ pub fn build_file(
 ) -> Outcome<Option<BuildProduct>> {
     let checked = crate::compile::check_file(sources, file);
     let mut diagnostics = checked.diagnostics;
-    let Some(mut scene) = checked.value.filter(|_| !diagnostics.iter().any(crate::diag::Diagnostic::is_error))
+    let Some(mut scene) =
+        checked.value.filter(|_| !diagnostics.iter().any(crate::diag::Diagnostic::is_error))
     else {
         return Outcome::new(None, diagnostics);
     };

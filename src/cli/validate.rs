@@ -28,7 +28,8 @@ pub fn run(args: &ValidateArgs) -> ExitCode {
     for path in &args.files {
         match common::read_source(&mut sources, path) {
             Ok(id) => {
-                let outcome = crate::lower::validate::validate(&sources, id, StructureCatalog::builtin());
+                let outcome =
+                    crate::lower::validate::validate(&sources, id, StructureCatalog::builtin());
                 diagnostics.extend(outcome.diagnostics);
             }
             Err(d) => {

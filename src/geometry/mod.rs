@@ -301,7 +301,7 @@ mod tests {
         let b = [[2.0, 2.0], [2.0, 6.0], [6.0, 6.0], [6.0, 2.0]];
         assert!(near(rectilinear_intersection_area(&a, &b), 4.0));
         let s = segment_overlap([4.0, 0.0], [4.0, 4.0], [4.0, 6.0], [4.0, 2.0]);
-        assert_eq!(s.map(|(p, q)| (p, q)), Some(([4.0, 2.0], [4.0, 4.0])));
+        assert_eq!(s, Some(([4.0, 2.0], [4.0, 4.0])));
         assert!(point_in_polygon([1.0, 1.0], &a));
         assert!(!point_in_polygon([0.0, 1.0], &a));
     }

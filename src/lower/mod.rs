@@ -99,7 +99,10 @@ pub fn lower(scene: &Scene, plan: &FloorPlan, objects: &[LoweredObject]) -> Hous
         .iter()
         .map(|r| thor::Room {
             id: r.thor_id.clone(),
-            room_type: scene.rooms.get(r.id.0).map_or_else(|| r.thor_id.clone(), |s| s.label.clone()),
+            room_type: scene
+                .rooms
+                .get(r.id.0)
+                .map_or_else(|| r.thor_id.clone(), |s| s.label.clone()),
             floor_polygon: r.polygon.iter().map(|&p| v3(p, 0.0)).collect(),
             floor_material: thor::Material { name: r.floor_material.clone(), color: None },
             ceilings: Vec::new(),
@@ -111,7 +114,8 @@ pub fn lower(scene: &Scene, plan: &FloorPlan, objects: &[LoweredObject]) -> Hous
     let mut walls = Vec::new();
     for w in &plan.walls {
         let polygon = vec![v3(w.start, 0.0), v3(w.start, h), v3(w.end, h), v3(w.end, 0.0)];
-        let wall_material = plan.rooms.get(w.room.0).map_or_else(String::new, |r| r.wall_material.clone());
+        let wall_material =
+            plan.rooms.get(w.room.0).map_or_else(String::new, |r| r.wall_material.clone());
         if w.exterior {
             walls.push(thor::Wall {
                 id: w.exterior_id(),
@@ -228,7 +232,10 @@ fn thor_house(
             room_id: Some(r.thor_id.clone()),
             layer: Some(own.clone()),
             culling_mask_off: Some(
-                (0..crate::plan::N_LAYERS).map(|l| format!("Procedural{l}")).filter(|l| *l != own).collect(),
+                (0..crate::plan::N_LAYERS)
+                    .map(|l| format!("Procedural{l}"))
+                    .filter(|l| *l != own)
+                    .collect(),
             ),
         });
     }
@@ -239,10 +246,13 @@ fn thor_house(
         standing,
     };
     let mut agent_poses = BTreeMap::new();
-    for (kind, standing) in [("arm", Some(true)), ("default", Some(true)), ("locobot", None), ("stretch", Some(true))] {
+    for (kind, standing) in
+        [("arm", Some(true)), ("default", Some(true)), ("locobot", None), ("stretch", Some(true))]
+    {
         agent_poses.insert(kind.to_owned(), pose(standing));
     }
-    let ceiling_color = Rgb { r: 0.427_450_980_392_156_84, g: 0.384_313_725_490_196_1, b: 0.305_882_352_941_176_5 };
+    let ceiling_color =
+        Rgb { r: 0.427_450_980_392_156_84, g: 0.384_313_725_490_196_1, b: 0.305_882_352_941_176_5 };
     HouseJson {
         house: thor::House {
             rooms,
@@ -252,7 +262,10 @@ fn thor_house(
             objects,
             procedural_parameters: thor::ProceduralParameters {
                 ceiling_color,
-                ceiling_material: thor::Material { name: plan.ceiling_material.clone(), color: None },
+                ceiling_material: thor::Material {
+                    name: plan.ceiling_material.clone(),
+                    color: None,
+                },
                 floor_collider_thickness: 1.0,
                 receptacle_height: 0.7,
                 reflections: Vec::new(),

@@ -93,7 +93,11 @@ fn wall_size(wall: &Value) -> Option<(f64, f64)> {
     let ys: Vec<f64> = pts.iter().filter_map(|p| num(p, "y")).collect();
     let lo = ys.iter().copied().fold(f64::INFINITY, f64::min);
     let hi = ys.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-    let base: Vec<Point> = pts.iter().filter(|p| num(p, "y").is_some_and(|y| geo::near(y, lo))).filter_map(floor_point).collect();
+    let base: Vec<Point> = pts
+        .iter()
+        .filter(|p| num(p, "y").is_some_and(|y| geo::near(y, lo)))
+        .filter_map(floor_point)
+        .collect();
     let mut width: f64 = 0.0;
     for a in &base {
         for b in &base {
@@ -116,7 +120,11 @@ fn hole(v: &Value) -> Option<([f64; 2], [f64; 2])> {
 }
 
 /// Validates the house JSON in `file`.
-pub fn validate(sources: &SourceMap, file: FileId, catalog: &StructureCatalog) -> Outcome<ValidationReport> {
+pub fn validate(
+    sources: &SourceMap,
+    file: FileId,
+    catalog: &StructureCatalog,
+) -> Outcome<ValidationReport> {
     let text = sources.get(file).text.as_str();
     let mut ctx = Ctx { text, file, diags: Vec::new() };
     let value: Value = match serde_json::from_str(text) {
@@ -124,20 +132,37 @@ pub fn validate(sources: &SourceMap, file: FileId, catalog: &StructureCatalog) -
         Err(e) => {
             let offset = byte_offset(text, e.line(), e.column());
             let d = Diagnostic::new(Code::E0601, format!("the file is not valid JSON: {e}"))
-                .with_primary(Span::new(file, offset, (offset + 1).min(text.len()).max(offset)), "here")
+                .with_primary(
+                    Span::new(file, offset, (offset + 1).min(text.len()).max(offset)),
+                    "here",
+                )
                 .with_help("fix the JSON syntax");
             return Outcome::new(ValidationReport::default(), vec![d]);
         }
     };
-    let schema: Value = serde_json::from_str(HOUSE_SCHEMA).expect("the embedded schema is valid JSON");
+    let schema: Value =
+        serde_json::from_str(HOUSE_SCHEMA).expect("the embedded schema is valid JSON");
     let validator = match jsonschema::validator_for(&schema) {
         Ok(v) => v,
         Err(e) => {
-            return Outcome::new(ValidationReport::default(), vec![Diagnostic::internal(format!("house schema: {e}"))]);
+            return Outcome::new(
+                ValidationReport::default(),
+                vec![Diagnostic::internal(format!("house schema: {e}"))],
+            );
         }
     };
-    let schema_errors: Vec<String> =
-        validator.iter_errors(&value).map(|e| format!("at `{}`: {}", e.instance_path, e)).take(20).collect();
+    let schema_errors: Vec<String> = validator
+        .iter_errors(&value)
+        .map(|e| {
+            let path = e.instance_path.to_string();
+            if path.is_empty() {
+                format!("at the top level: {e}")
+            } else {
+                format!("at `{path}`: {e}")
+            }
+        })
+        .take(20)
+        .collect();
     if !schema_errors.is_empty() {
         for msg in schema_errors {
             ctx.push(
@@ -179,15 +204,22 @@ pub fn validate(sources: &SourceMap, file: FileId, catalog: &StructureCatalog) -
         }
     }
     let room_ids: BTreeSet<&str> = rooms.iter().filter_map(|r| s(r, "id")).collect();
-    let wall_by_id: BTreeMap<&str, &Value> = walls.iter().filter_map(|w| Some((s(w, "id")?, w))).collect();
+    let wall_by_id: BTreeMap<&str, &Value> =
+        walls.iter().filter_map(|w| Some((s(w, "id")?, w))).collect();
     for w in walls {
         if let Some(r) = s(w, "roomId") {
             if r != "exterior" && !room_ids.contains(r) {
                 let span = ctx.span_of("roomId", r, 0);
                 ctx.push(
-                    Diagnostic::new(Code::E0603, format!("wall `{}` names the unknown room `{r}`", s(w, "id").unwrap_or("?")))
-                        .with_primary(span, "no room has this id")
-                        .with_help("refer to an existing room id"),
+                    Diagnostic::new(
+                        Code::E0603,
+                        format!(
+                            "wall `{}` names the unknown room `{r}`",
+                            s(w, "id").unwrap_or("?")
+                        ),
+                    )
+                    .with_primary(span, "no room has this id")
+                    .with_help("refer to an existing room id"),
                 );
             }
         }
@@ -202,9 +234,12 @@ pub fn validate(sources: &SourceMap, file: FileId, catalog: &StructureCatalog) -
                     if r != "exterior" && !room_ids.contains(r) {
                         let span = ctx.span_of(key, r, 0);
                         ctx.push(
-                            Diagnostic::new(Code::E0603, format!("{kind} `{id}` names the unknown room `{r}`"))
-                                .with_primary(span, "no room has this id")
-                                .with_help("refer to an existing room id"),
+                            Diagnostic::new(
+                                Code::E0603,
+                                format!("{kind} `{id}` names the unknown room `{r}`"),
+                            )
+                            .with_primary(span, "no room has this id")
+                            .with_help("refer to an existing room id"),
                         );
                     }
                 }
@@ -215,18 +250,29 @@ pub fn validate(sources: &SourceMap, file: FileId, catalog: &StructureCatalog) -
                 if !wall_by_id.contains_key(wid) {
                     let span = ctx.span_of(key, wid, 0);
                     ctx.push(
-                        Diagnostic::new(Code::E0603, format!("{kind} `{id}` names the unknown wall `{wid}`"))
-                            .with_primary(span, "no wall has this id")
-                            .with_help("refer to an existing wall id"),
+                        Diagnostic::new(
+                            Code::E0603,
+                            format!("{kind} `{id}` names the unknown wall `{wid}`"),
+                        )
+                        .with_primary(span, "no wall has this id")
+                        .with_help("refer to an existing wall id"),
                     );
                 } else if own_walls.insert(wid) {
                     holes_per_wall.entry(wid).or_default().push(id);
                 }
             }
-            if let (Some((lo, hi)), Some(w0)) = (hole(d), s(d, "wall0").and_then(|w| wall_by_id.get(w))) {
+            if let (Some((lo, hi)), Some(w0)) =
+                (hole(d), s(d, "wall0").and_then(|w| wall_by_id.get(w)))
+            {
                 if let Some((width, height)) = wall_size(w0) {
                     let t = VALIDATE_TOLERANCE_M;
-                    if lo[0] < -t || hi[0] > width + t || lo[1] < -t || hi[1] > height + t || hi[0] < lo[0] || hi[1] < lo[1] {
+                    if lo[0] < -t
+                        || hi[0] > width + t
+                        || lo[1] < -t
+                        || hi[1] > height + t
+                        || hi[0] < lo[0]
+                        || hi[1] < lo[1]
+                    {
                         let span = ctx.span_of("id", id, 0);
                         ctx.push(
                             Diagnostic::new(
@@ -250,7 +296,10 @@ pub fn validate(sources: &SourceMap, file: FileId, catalog: &StructureCatalog) -
             ctx.push(
                 Diagnostic::new(Code::E0605, format!("wall `{wall}` has {} holes", users.len()))
                     .with_primary(span, "AI2-THOR builds one hole per wall")
-                    .with_note(format!("used by {}", users.iter().map(|u| format!("`{u}`")).collect::<Vec<_>>().join(", ")))
+                    .with_note(format!(
+                        "used by {}",
+                        users.iter().map(|u| format!("`{u}`")).collect::<Vec<_>>().join(", ")
+                    ))
                     .with_help("move one of the openings to another wall"),
             );
         }
@@ -272,14 +321,18 @@ pub fn validate(sources: &SourceMap, file: FileId, catalog: &StructureCatalog) -
         }
     }
     // Objects inside rooms; floor footprints not overlapping.
-    let floor_ids: BTreeSet<&str> = arr(&value, "floor_objects").iter().filter_map(|o| s(o, "id")).collect();
-    let mut footprints: Vec<(&str, Aabb)> = Vec::new();
+    let floor_ids: BTreeSet<&str> =
+        arr(&value, "floor_objects").iter().filter_map(|o| s(o, "id")).collect();
+    let mut footprints: Vec<(&str, Option<&str>, Aabb)> = Vec::new();
     for o in objects {
         let id = s(o, "id").unwrap_or("?");
         let Some(pos) = o.get("position").and_then(floor_point) else { continue };
         let inside = |poly: &Vec<Point>| {
             geo::point_in_or_on_polygon(pos, poly)
-                || (0..poly.len()).any(|i| geo::distance_to_segment(pos, poly[i], poly[(i + 1) % poly.len()]) <= VALIDATE_TOLERANCE_M)
+                || (0..poly.len()).any(|i| {
+                    geo::distance_to_segment(pos, poly[i], poly[(i + 1) % poly.len()])
+                        <= VALIDATE_TOLERANCE_M
+                })
         };
         let ok = match s(o, "roomId").and_then(|r| polygons.get(r)) {
             Some(poly) => inside(poly),
@@ -287,11 +340,15 @@ pub fn validate(sources: &SourceMap, file: FileId, catalog: &StructureCatalog) -
         };
         if !ok {
             let span = ctx.span_of("id", id, 0);
-            let where_ = s(o, "roomId").map_or_else(|| "any room".to_owned(), |r| format!("room `{r}`"));
+            let where_ =
+                s(o, "roomId").map_or_else(|| "any room".to_owned(), |r| format!("room `{r}`"));
             ctx.push(
-                Diagnostic::new(Code::E0607, format!("object `{id}` at ({:.3}, {:.3}) is outside {where_}", pos[0], pos[1]))
-                    .with_primary(span, "outside its room")
-                    .with_help("move the object into the room"),
+                Diagnostic::new(
+                    Code::E0607,
+                    format!("object `{id}` at ({:.3}, {:.3}) is outside {where_}", pos[0], pos[1]),
+                )
+                .with_primary(span, "outside its room")
+                .with_help("move the object into the room"),
             );
         }
         if floor_ids.contains(id) {
@@ -303,30 +360,43 @@ pub fn validate(sources: &SourceMap, file: FileId, catalog: &StructureCatalog) -
                 })
                 .collect();
             if pts.len() >= 3 {
-                footprints.push((id, Aabb::of(&pts)));
+                footprints.push((id, s(o, "roomId"), Aabb::of(&pts)));
             }
         }
     }
     for i in 0..footprints.len() {
         for j in i + 1..footprints.len() {
             let (a, b) = (&footprints[i], &footprints[j]);
-            let overlap_x = a.1.max[0].min(b.1.max[0]) - a.1.min[0].max(b.1.min[0]);
-            let overlap_z = a.1.max[1].min(b.1.max[1]) - a.1.min[1].max(b.1.min[1]);
+            if a.1 != b.1 {
+                continue;
+            }
+            let overlap_x = a.2.max[0].min(b.2.max[0]) - a.2.min[0].max(b.2.min[0]);
+            let overlap_z = a.2.max[1].min(b.2.max[1]) - a.2.min[1].max(b.2.min[1]);
             if overlap_x > VALIDATE_TOLERANCE_M && overlap_z > VALIDATE_TOLERANCE_M {
                 let span = ctx.span_of("id", b.0, 0);
                 let other = ctx.span_of("id", a.0, 0);
                 ctx.push(
-                    Diagnostic::new(Code::E0608, format!("floor objects `{}` and `{}` overlap", a.0, b.0))
-                        .with_primary(span, format!("overlaps `{}` by {overlap_x:.2} m × {overlap_z:.2} m", a.0))
-                        .with_secondary(other, "this one")
-                        .with_help("move one of them"),
+                    Diagnostic::new(
+                        Code::E0608,
+                        format!("floor objects `{}` and `{}` overlap", a.0, b.0),
+                    )
+                    .with_primary(
+                        span,
+                        format!("overlaps `{}` by {overlap_x:.2} m × {overlap_z:.2} m", a.0),
+                    )
+                    .with_secondary(other, "this one")
+                    .with_help("move one of them"),
                 );
             }
         }
     }
     // Assets.
     let mut unknown: BTreeMap<&str, usize> = BTreeMap::new();
-    for v in doors.iter().chain(windows).chain(all.iter().copied().filter(|v| v.get("position").is_some())) {
+    for v in doors
+        .iter()
+        .chain(windows)
+        .chain(all.iter().copied().filter(|v| v.get("position").is_some()))
+    {
         if let Some(a) = s(v, "assetId") {
             if !catalog.is_thor_asset(a) {
                 *unknown.entry(a).or_insert(0) += 1;

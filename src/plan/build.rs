@@ -15,9 +15,9 @@ use crate::check::scene::{Direction, DoorKind, DoorSide, DoorSize, RoomId, Scene
 use crate::diag::suggest::{closest, did_you_mean};
 use crate::diag::{Code, Diagnostic, Outcome};
 use crate::geometry::{
-    self as geo, add_scaled, area_centroid, box_beside, distance, near, near_point, point_on_segment,
-    rectilinear_intersection_area, right_normal, segment_overlap, segments_touch, signed_area, Aabb,
-    Point, EPS_M,
+    self as geo, add_scaled, area_centroid, box_beside, distance, near, near_point,
+    point_on_segment, rectilinear_intersection_area, right_normal, segment_overlap, segments_touch,
+    signed_area, Aabb, Point, EPS_M,
 };
 use crate::resolve::structure::{StructureCatalog, Surface};
 use crate::source::Span;
@@ -29,7 +29,8 @@ const RNG_DOOR_ASSET: u64 = 3;
 
 fn rng(seed: u64, purpose: u64, index: u64) -> ChaCha8Rng {
     // SplitMix64 of (purpose, index) mixed into the seed.
-    let mut z = purpose.wrapping_mul(0x9E37_79B9_7F4A_7C15) ^ index.wrapping_add(0x632B_E59B_D9B4_E019);
+    let mut z =
+        purpose.wrapping_mul(0x9E37_79B9_7F4A_7C15) ^ index.wrapping_add(0x632B_E59B_D9B4_E019);
     z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
     z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
     z ^= z >> 31;
@@ -48,7 +49,11 @@ struct Ctx<'a> {
     open: Vec<OpenConnection>,
 }
 
-pub(crate) fn run(scene: &Scene, catalog: &StructureCatalog, options: PlanOptions) -> Outcome<FloorPlan> {
+pub(crate) fn run(
+    scene: &Scene,
+    catalog: &StructureCatalog,
+    options: PlanOptions,
+) -> Outcome<FloorPlan> {
     let mut ctx = Ctx {
         scene,
         catalog,
@@ -72,7 +77,11 @@ pub(crate) fn run(scene: &Scene, catalog: &StructureCatalog, options: PlanOption
     }
     let sky_pick = rng(scene.seed, RNG_SKYBOX, 0).gen::<u64>();
     let sky = catalog.skybox(sky_pick);
-    let agent = if ok { ctx.agent_pose() } else { AgentPose { room: RoomId(0), position: [0.0, 0.0], rotation_deg: 0.0 } };
+    let agent = if ok {
+        ctx.agent_pose()
+    } else {
+        AgentPose { room: RoomId(0), position: [0.0, 0.0], rotation_deg: 0.0 }
+    };
     let ceiling_material = ctx.rooms.first().map(|r| r.wall_material.clone()).unwrap_or_default();
     let plan = FloorPlan {
         seed: scene.seed,
@@ -177,7 +186,10 @@ impl Ctx<'_> {
                             Code::W0301,
                             format!("corner {} of room `{}` moved to {}", pt(c), room.name, pt(p)),
                         )
-                        .with_primary(span, format!("within {} of a coordinate written earlier", m(SNAP_M)))
+                        .with_primary(
+                            span,
+                            format!("within {} of a coordinate written earlier", m(SNAP_M)),
+                        )
                         .with_help("write the same coordinate in both places"),
                     );
                 }
@@ -191,7 +203,8 @@ impl Ctx<'_> {
         for (room, corners) in scene.rooms.iter().zip(&snapped) {
             let pts = normalise(corners);
             let mut ok = pts.len() >= 4;
-            let corner_span = |i: usize| room.corner_spans.get(i).copied().unwrap_or(room.name_span);
+            let corner_span =
+                |i: usize| room.corner_spans.get(i).copied().unwrap_or(room.name_span);
             // Rectilinear: every side parallel to an axis (checked on the corners as written).
             for i in 0..corners.len() {
                 let (a, b) = (corners[i], corners[(i + 1) % corners.len()]);
@@ -199,11 +212,18 @@ impl Ctx<'_> {
                     self.diags.push(
                         Diagnostic::new(
                             Code::E0301,
-                            format!("the side of room `{}` from {} to {} is not parallel to an axis", room.name, pt(a), pt(b)),
+                            format!(
+                                "the side of room `{}` from {} to {} is not parallel to an axis",
+                                room.name,
+                                pt(a),
+                                pt(b)
+                            ),
                         )
                         .with_primary(corner_span(i), "this side runs at an angle")
                         .with_secondary(corner_span((i + 1) % corners.len()), "to here")
-                        .with_help("rooms are rectilinear: make the two corners share their x or their z"),
+                        .with_help(
+                            "rooms are rectilinear: make the two corners share their x or their z",
+                        ),
                     );
                     ok = false;
                     break;
@@ -211,9 +231,12 @@ impl Ctx<'_> {
             }
             if ok && signed_area(&pts).abs() <= EPS_M {
                 self.diags.push(
-                    Diagnostic::new(Code::E0301, format!("the outline of room `{}` has no area", room.name))
-                        .with_primary(room.name_span, "declared here")
-                        .with_help("give the room corners that enclose some floor"),
+                    Diagnostic::new(
+                        Code::E0301,
+                        format!("the outline of room `{}` has no area", room.name),
+                    )
+                    .with_primary(room.name_span, "declared here")
+                    .with_help("give the room corners that enclose some floor"),
                 );
                 ok = false;
             }
@@ -231,7 +254,10 @@ impl Ctx<'_> {
                                     Code::E0302,
                                     format!("the outline of room `{}` crosses itself", room.name),
                                 )
-                                .with_primary(room.name_span, "its corners are not in order around the room")
+                                .with_primary(
+                                    room.name_span,
+                                    "its corners are not in order around the room",
+                                )
                                 .with_note(format!(
                                     "the side {}–{} meets the side {}–{}",
                                     pt(pts[i]),
@@ -256,27 +282,47 @@ impl Ctx<'_> {
                     self.diags.push(
                         Diagnostic::new(
                             Code::E0303,
-                            format!("room `{}` is {} m by {} m, smaller than allowed", room.name, m(bbox.width()), m(bbox.depth())),
+                            format!(
+                                "room `{}` is {} m by {} m, smaller than allowed",
+                                room.name,
+                                m(bbox.width()),
+                                m(bbox.depth())
+                            ),
                         )
                         .with_primary(room.name_span, format!("{} m²", m(area)))
-                        .with_help(format!("make every room at least {} m wide and 1 m² in area", m(MIN_ROOM_SIDE_M))),
+                        .with_help(format!(
+                            "make every room at least {} m wide and 1 m² in area",
+                            m(MIN_ROOM_SIDE_M)
+                        )),
                     );
                     ok = false;
                 } else if wide > MAX_ROOM_SIDE_M + EPS_M {
                     self.diags.push(
                         Diagnostic::new(
                             Code::E0304,
-                            format!("room `{}` is {} m by {} m, larger than allowed", room.name, m(bbox.width()), m(bbox.depth())),
+                            format!(
+                                "room `{}` is {} m by {} m, larger than allowed",
+                                room.name,
+                                m(bbox.width()),
+                                m(bbox.depth())
+                            ),
                         )
                         .with_primary(room.name_span, "declared here")
-                        .with_help(format!("split it into rooms at most {} m wide", m(MAX_ROOM_SIDE_M))),
+                        .with_help(format!(
+                            "split it into rooms at most {} m wide",
+                            m(MAX_ROOM_SIDE_M)
+                        )),
                     );
                     ok = false;
                 }
             }
             all_ok &= ok;
             let count = labels.entry(room.label.clone()).or_insert(0);
-            let thor_id = if *count == 0 { room.label.clone() } else { format!("{}-{}", room.label, room.id.0) };
+            let thor_id = if *count == 0 {
+                room.label.clone()
+            } else {
+                format!("{}-{}", room.label, room.id.0)
+            };
             *count += 1;
             self.rooms.push(PlanRoom {
                 id: room.id,
@@ -302,7 +348,9 @@ impl Ctx<'_> {
         let mut total = 0.0;
         for i in 0..p.len() {
             for j in 0..q.len() {
-                if let Some((s, e)) = segment_overlap(p[i], p[(i + 1) % p.len()], q[j], q[(j + 1) % q.len()]) {
+                if let Some((s, e)) =
+                    segment_overlap(p[i], p[(i + 1) % p.len()], q[j], q[(j + 1) % q.len()])
+                {
                     total += distance(s, e);
                 }
             }
@@ -321,22 +369,32 @@ impl Ctx<'_> {
                 let inter = rectilinear_intersection_area(&ra.corners, &rb.corners);
                 if inter > 1e-4 {
                     ok = false;
-                    let (na, nb) = (self.room_name(RoomId(a)).to_owned(), self.room_name(RoomId(b)).to_owned());
+                    let (na, nb) = (
+                        self.room_name(RoomId(a)).to_owned(),
+                        self.room_name(RoomId(b)).to_owned(),
+                    );
                     let d = if near(inter, ra.area_m2) || inter >= ra.area_m2 - 1e-4 {
                         Diagnostic::new(Code::E0306, format!("room `{na}` lies inside room `{nb}`"))
                             .with_primary(ra.name_span, "this room")
                             .with_secondary(rb.name_span, "is inside this one")
-                            .with_help(format!("cut `{na}` out of the outline of `{nb}`, or move it"))
+                            .with_help(format!(
+                                "cut `{na}` out of the outline of `{nb}`, or move it"
+                            ))
                     } else if inter >= rb.area_m2 - 1e-4 {
                         Diagnostic::new(Code::E0306, format!("room `{nb}` lies inside room `{na}`"))
                             .with_primary(rb.name_span, "this room")
                             .with_secondary(ra.name_span, "is inside this one")
-                            .with_help(format!("cut `{nb}` out of the outline of `{na}`, or move it"))
+                            .with_help(format!(
+                                "cut `{nb}` out of the outline of `{na}`, or move it"
+                            ))
                     } else {
-                        Diagnostic::new(Code::E0305, format!("rooms `{na}` and `{nb}` overlap by {} m²", m(inter)))
-                            .with_primary(rb.name_span, format!("overlaps `{na}`"))
-                            .with_secondary(ra.name_span, format!("overlaps `{nb}`"))
-                            .with_help("move the corners so that the rooms only share walls")
+                        Diagnostic::new(
+                            Code::E0305,
+                            format!("rooms `{na}` and `{nb}` overlap by {} m²", m(inter)),
+                        )
+                        .with_primary(rb.name_span, format!("overlaps `{na}`"))
+                        .with_secondary(ra.name_span, format!("overlaps `{nb}`"))
+                        .with_help("move the corners so that the rooms only share walls")
                     };
                     self.diags.push(d);
                 } else if self.shared_length(a, b) > EPS_M {
@@ -349,14 +407,17 @@ impl Ctx<'_> {
             return ok;
         }
         let mut isolated = BTreeSet::new();
-        for a in 0..n {
-            if adjacent[a].is_empty() {
+        for (a, neighbours) in adjacent.iter().enumerate() {
+            if neighbours.is_empty() {
                 isolated.insert(a);
                 ok = false;
                 self.diags.push(
                     Diagnostic::new(
                         Code::E0307,
-                        format!("room `{}` shares no wall with any other room", self.room_name(RoomId(a))),
+                        format!(
+                            "room `{}` shares no wall with any other room",
+                            self.room_name(RoomId(a))
+                        ),
                     )
                     .with_primary(self.rooms[a].name_span, "touches no other room")
                     .with_help("move it so that one of its sides lies against another room"),
@@ -389,11 +450,17 @@ impl Ctx<'_> {
         if groups.len() > 1 {
             ok = false;
             let names = |g: &[usize]| {
-                g.iter().map(|&r| format!("`{}`", self.room_name(RoomId(r)))).collect::<Vec<_>>().join(", ")
+                g.iter()
+                    .map(|&r| format!("`{}`", self.room_name(RoomId(r))))
+                    .collect::<Vec<_>>()
+                    .join(", ")
             };
             let mut d = Diagnostic::new(
                 Code::E0308,
-                format!("the plan falls apart into {} groups of rooms that share no wall", groups.len()),
+                format!(
+                    "the plan falls apart into {} groups of rooms that share no wall",
+                    groups.len()
+                ),
             )
             .with_primary(self.rooms[groups[1][0]].name_span, "this group…")
             .with_secondary(self.rooms[groups[0][0]].name_span, "…shares no wall with this one")
@@ -419,7 +486,9 @@ impl Ctx<'_> {
                 let mut inner: Vec<Point> = all
                     .iter()
                     .copied()
-                    .filter(|&p| point_on_segment(p, a, b) && !near_point(p, a) && !near_point(p, b))
+                    .filter(|&p| {
+                        point_on_segment(p, a, b) && !near_point(p, a) && !near_point(p, b)
+                    })
                     .collect();
                 inner.sort_by(|p, q| distance(a, *p).total_cmp(&distance(a, *q)));
                 inner.dedup_by(|p, q| near_point(*p, *q));
@@ -460,10 +529,14 @@ impl Ctx<'_> {
             }
         }
         // Wall ids are known once every wall exists.
-        let id_of = |r: usize, j: usize, dir: Direction| format!("wall|{}|{}|{}", self.rooms[r].thor_id, dir.as_str(), j);
-        let dir_of: BTreeMap<(usize, usize), Direction> = walls.iter().map(|w| ((w.0, w.1), w.2)).collect();
+        let id_of = |r: usize, j: usize, dir: Direction| {
+            format!("wall|{}|{}|{}", self.rooms[r].thor_id, dir.as_str(), j)
+        };
+        let dir_of: BTreeMap<(usize, usize), Direction> =
+            walls.iter().map(|w| ((w.0, w.1), w.2)).collect();
         for &(r, j, direction, p, q, neighbour) in &walls {
-            let neighbour = neighbour.and_then(|(o, k)| dir_of.get(&(o.0, k)).map(|&d| (o, id_of(o.0, k, d))));
+            let neighbour =
+                neighbour.and_then(|(o, k)| dir_of.get(&(o.0, k)).map(|&d| (o, id_of(o.0, k, d))));
             self.walls.push(Wall {
                 id: id_of(r, j, direction),
                 room: RoomId(r),
@@ -501,19 +574,19 @@ impl Ctx<'_> {
             if door.kind != DoorKind::Open {
                 continue;
             }
-            let (a, b) = match (door.from, door.to) {
-                (DoorSide::Room(a), DoorSide::Room(b)) => (a, b),
-                _ => {
-                    self.diags.push(
-                        Diagnostic::new(Code::E0312, "an open connection cannot lead outside")
-                            .with_primary(door.span, "`open` with `exterior`")
-                            .with_help("use a doorway or a doorframe to the exterior"),
-                    );
-                    continue;
-                }
+            let (DoorSide::Room(a), DoorSide::Room(b)) = (door.from, door.to) else {
+                self.diags.push(
+                    Diagnostic::new(Code::E0312, "an open connection cannot lead outside")
+                        .with_primary(door.span, "`open` with `exterior`")
+                        .with_help("use a doorway or a doorframe to the exterior"),
+                );
+                continue;
             };
             let shared: Vec<usize> = (0..self.walls.len())
-                .filter(|&i| self.walls[i].room == a && self.walls[i].neighbour.as_ref().is_some_and(|n| n.0 == b))
+                .filter(|&i| {
+                    self.walls[i].room == a
+                        && self.walls[i].neighbour.as_ref().is_some_and(|n| n.0 == b)
+                })
                 .collect();
             if shared.is_empty() {
                 self.rooms_not_adjacent(door.span, door.side_spans, a, b);
@@ -528,7 +601,12 @@ impl Ctx<'_> {
                 }
                 let nrm = right_normal(w.start, w.end);
                 self.rooms[a.0].open_boxes.push(box_beside(w.start, w.end, nrm, OPEN_BOX_DEPTH_M));
-                self.rooms[b.0].open_boxes.push(box_beside(w.start, w.end, [-nrm[0], -nrm[1]], OPEN_BOX_DEPTH_M));
+                self.rooms[b.0].open_boxes.push(box_beside(
+                    w.start,
+                    w.end,
+                    [-nrm[0], -nrm[1]],
+                    OPEN_BOX_DEPTH_M,
+                ));
                 segments.push((w.start, w.end));
             }
             self.open.push(OpenConnection { rooms: (a, b), segments, span: door.span });
@@ -539,7 +617,10 @@ impl Ctx<'_> {
         let w = &self.walls[i];
         !w.empty
             && w.hole.is_none()
-            && w.neighbour.as_ref().and_then(|n| self.wall_index(&n.1)).map_or(true, |o| self.walls[o].hole.is_none())
+            && w.neighbour
+                .as_ref()
+                .and_then(|n| self.wall_index(&n.1))
+                .map_or(true, |o| self.walls[o].hole.is_none())
     }
 
     /// Candidate walls for a connection, seen from a real room `a`.
@@ -579,7 +660,8 @@ impl Ctx<'_> {
             if let Some(a) = self.catalog.door(&pin.id) {
                 a.clone()
             } else {
-                let names: Vec<&str> = self.catalog.doors.iter().map(|d| d.asset_id.as_str()).collect();
+                let names: Vec<&str> =
+                    self.catalog.doors.iter().map(|d| d.asset_id.as_str()).collect();
                 self.diags.push(
                     Diagnostic::new(Code::E0313, format!("`{}` is not a door asset", pin.id))
                         .with_primary(pin.span, "not in the door catalog")
@@ -590,13 +672,13 @@ impl Ctx<'_> {
             }
         } else {
             let pick = rng(self.scene.seed, RNG_DOOR_ASSET, index as u64).gen::<u64>();
-            match self.catalog.select_door(kind, size, style, pick) {
-                Some(a) => a.clone(),
-                None => {
-                    self.diags.push(Diagnostic::internal("the door catalog has no door of this kind and size"));
-                    return false;
-                }
-            }
+            let Some(a) = self.catalog.select_door(kind, size, style, pick) else {
+                self.diags.push(Diagnostic::internal(
+                    "the door catalog has no door of this kind and size",
+                ));
+                return false;
+            };
+            a.clone()
         };
         let width = asset.bbox_m[0];
         let need = width + 2.0 * DOOR_CORNER_MARGIN_M;
@@ -619,8 +701,10 @@ impl Ctx<'_> {
         }
         let free: Vec<usize> = cands.iter().copied().filter(|&i| self.free(i)).collect();
         // Prefer walls on sides that no window row of the room asks for, then the longest.
-        let window_sides: Vec<Direction> = self.scene.rooms[room.0].windows.iter().map(|w| w.wall).collect();
-        let rank = |i: usize| (!window_sides.contains(&self.walls[i].direction), self.walls[i].width_m);
+        let window_sides: Vec<Direction> =
+            self.scene.rooms[room.0].windows.iter().map(|w| w.wall).collect();
+        let rank =
+            |i: usize| (!window_sides.contains(&self.walls[i].direction), self.walls[i].width_m);
         let mut best: Option<usize> = None;
         for &i in &free {
             if self.walls[i].width_m + EPS_M >= need {
@@ -636,20 +720,31 @@ impl Ctx<'_> {
         let Some(wi) = best else {
             let what = match other {
                 DoorSide::Exterior => format!("the outside walls of `{}`", self.room_name(room)),
-                DoorSide::Room(b) => format!("the walls between `{}` and `{}`", self.room_name(room), self.room_name(b)),
+                DoorSide::Room(b) => format!(
+                    "the walls between `{}` and `{}`",
+                    self.room_name(room),
+                    self.room_name(b)
+                ),
             };
             if free.is_empty() {
                 self.diags.push(
-                    Diagnostic::new(Code::E0311, format!("every one of {what} already has a door or window"))
-                        .with_primary(primary, "no free wall for this door")
-                        .with_help("AI2-THOR allows one hole per wall; move one of the openings"),
+                    Diagnostic::new(
+                        Code::E0311,
+                        format!("every one of {what} already has a door or window"),
+                    )
+                    .with_primary(primary, "no free wall for this door")
+                    .with_help("AI2-THOR allows one hole per wall; move one of the openings"),
                 );
             } else {
                 let longest = free.iter().map(|&i| self.walls[i].width_m).fold(0.0, f64::max);
                 self.diags.push(
                     Diagnostic::new(
                         Code::E0310,
-                        format!("the door ({} m wide) does not fit on {what} (longest free wall {} m)", m(width), m(longest)),
+                        format!(
+                            "the door ({} m wide) does not fit on {what} (longest free wall {} m)",
+                            m(width),
+                            m(longest)
+                        ),
                     )
                     .with_primary(primary, format!("needs {} m of wall", m(need)))
                     .with_help("use a single door, or make the shared wall longer"),
@@ -671,9 +766,20 @@ impl Ctx<'_> {
         self.rooms[room.0].door_keep_out.push(box_beside(p1, p2, nrm, DOOR_BOX_DEPTH_M));
         let neighbour_idx = wall.neighbour.as_ref().and_then(|n| self.wall_index(&n.1));
         if let DoorSide::Room(b) = other {
-            self.rooms[b.0].door_keep_out.push(box_beside(p1, p2, [-nrm[0], -nrm[1]], DOOR_BOX_DEPTH_M));
+            self.rooms[b.0].door_keep_out.push(box_beside(
+                p1,
+                p2,
+                [-nrm[0], -nrm[1]],
+                DOOR_BOX_DEPTH_M,
+            ));
         }
-        let hole_for = |start: f64| Hole { kind: HoleKind::Door, start_m: start, end_m: start + width, bottom_m: 0.0, top_m: asset.bbox_m[1] };
+        let hole_for = |start: f64| Hole {
+            kind: HoleKind::Door,
+            start_m: start,
+            end_m: start + width,
+            bottom_m: 0.0,
+            top_m: asset.bbox_m[1],
+        };
         self.walls[wi].hole = Some(hole_for(s_int));
         let reverse_start = l - s_int - width;
         if let Some(o) = neighbour_idx {
@@ -693,7 +799,8 @@ impl Ctx<'_> {
         let off = asset.offset_m;
         let hole_min = [start0 - off[0], 0.0];
         let hole_max = [start0 + width - off[0], asset.bbox_m[1] - off[1]];
-        let asset_position = [hole_min[0] + off[0] + width / 2.0, hole_min[1] + off[1] + asset.bbox_m[1] / 2.0];
+        let asset_position =
+            [hole_min[0] + off[0] + width / 2.0, hole_min[1] + off[1] + asset.bbox_m[1] / 2.0];
         let exterior = matches!(from, DoorSide::Exterior) || matches!(to, DoorSide::Exterior);
         let openable = kind == DoorKind::Doorway && !exterior;
         self.doors.push(PlacedDoor {
@@ -781,13 +888,29 @@ impl Ctx<'_> {
                 for r in 0..self.rooms.len() {
                     let span = self.rooms[r].name_span;
                     let before = self.diags.len();
-                    if self.place_door(next_index, DoorSide::Exterior, DoorSide::Room(RoomId(r)), DoorKind::Doorway, DoorSize::Single, None, None, None, [span, span]) {
+                    if self.place_door(
+                        next_index,
+                        DoorSide::Exterior,
+                        DoorSide::Room(RoomId(r)),
+                        DoorKind::Doorway,
+                        DoorSize::Single,
+                        None,
+                        None,
+                        None,
+                        [span, span],
+                    ) {
                         self.diags.truncate(before);
                         next_index += 1;
                         self.diags.push(
-                            Diagnostic::new(Code::W0302, format!("added a doorway from outside into room `{}`", self.room_name(RoomId(r))))
-                                .with_primary(span, "now reachable from outside")
-                                .with_help("write the door in the scene to choose where it goes"),
+                            Diagnostic::new(
+                                Code::W0302,
+                                format!(
+                                    "added a doorway from outside into room `{}`",
+                                    self.room_name(RoomId(r))
+                                ),
+                            )
+                            .with_primary(span, "now reachable from outside")
+                            .with_help("write the door in the scene to choose where it goes"),
                         );
                         added = true;
                         break;
@@ -817,18 +940,32 @@ impl Ctx<'_> {
                         continue;
                     }
                     let span = self.rooms[r].name_span;
-                    for o in 0..self.rooms.len() {
-                        if !seen[o] {
+                    for (o, &reached) in seen.iter().enumerate() {
+                        if !reached {
                             continue;
                         }
                         let before = self.diags.len();
-                        if self.place_door(next_index, DoorSide::Room(RoomId(o)), DoorSide::Room(RoomId(r)), DoorKind::Doorway, DoorSize::Single, None, None, None, [span, span]) {
+                        if self.place_door(
+                            next_index,
+                            DoorSide::Room(RoomId(o)),
+                            DoorSide::Room(RoomId(r)),
+                            DoorKind::Doorway,
+                            DoorSize::Single,
+                            None,
+                            None,
+                            None,
+                            [span, span],
+                        ) {
                             self.diags.truncate(before);
                             next_index += 1;
                             self.diags.push(
                                 Diagnostic::new(
                                     Code::W0302,
-                                    format!("added a doorway between `{}` and `{}`", self.room_name(RoomId(o)), self.room_name(RoomId(r))),
+                                    format!(
+                                        "added a doorway between `{}` and `{}`",
+                                        self.room_name(RoomId(o)),
+                                        self.room_name(RoomId(r))
+                                    ),
                                 )
                                 .with_primary(span, "now reachable from outside")
                                 .with_help("write the door in the scene to choose where it goes"),
@@ -849,10 +986,18 @@ impl Ctx<'_> {
                         self.diags.push(
                             Diagnostic::new(
                                 Code::E0315,
-                                format!("room `{}` cannot be reached from outside", self.room_name(RoomId(r))),
+                                format!(
+                                    "room `{}` cannot be reached from outside",
+                                    self.room_name(RoomId(r))
+                                ),
                             )
-                            .with_primary(self.rooms[r].name_span, "no chain of doors leads here from the exterior")
-                            .with_help("add a door to a reachable neighbour, or build with `--add-doors`"),
+                            .with_primary(
+                                self.rooms[r].name_span,
+                                "no chain of doors leads here from the exterior",
+                            )
+                            .with_help(
+                                "add a door to a reachable neighbour, or build with `--add-doors`",
+                            ),
                         );
                     }
                 }
@@ -875,24 +1020,35 @@ impl Ctx<'_> {
                     self.diags.push(
                         Diagnostic::new(
                             Code::E0316,
-                            format!("room `{}` has no outside wall on its {} side", room.name, row.wall.as_str()),
+                            format!(
+                                "room `{}` has no outside wall on its {} side",
+                                room.name,
+                                row.wall.as_str()
+                            ),
                         )
                         .with_primary(row.span, "window on a side without outside wall")
                         .with_help("choose a side of the room that faces outside"),
                     );
                     continue;
                 }
-                let free: Vec<usize> = cands.iter().copied().filter(|&i| self.walls[i].hole.is_none()).collect();
+                let free: Vec<usize> =
+                    cands.iter().copied().filter(|&i| self.walls[i].hole.is_none()).collect();
                 let Some(&wi) = free.iter().max_by(|&&a, &&b| {
                     self.walls[a].width_m.total_cmp(&self.walls[b].width_m).then(b.cmp(&a))
                 }) else {
                     self.diags.push(
                         Diagnostic::new(
                             Code::E0311,
-                            format!("the {} wall of room `{}` already has a door or window", row.wall.as_str(), room.name),
+                            format!(
+                                "the {} wall of room `{}` already has a door or window",
+                                row.wall.as_str(),
+                                room.name
+                            ),
                         )
                         .with_primary(row.span, "no free wall for this window")
-                        .with_help("AI2-THOR allows one hole per wall; put the window on another side"),
+                        .with_help(
+                            "AI2-THOR allows one hole per wall; put the window on another side",
+                        ),
                     );
                     continue;
                 };
@@ -900,18 +1056,26 @@ impl Ctx<'_> {
                     if let Some(a) = self.catalog.window(&pin.id) {
                         a.clone()
                     } else {
-                        let names: Vec<&str> = self.catalog.windows.iter().map(|w| w.asset_id.as_str()).collect();
+                        let names: Vec<&str> =
+                            self.catalog.windows.iter().map(|w| w.asset_id.as_str()).collect();
                         self.diags.push(
-                            Diagnostic::new(Code::E0319, format!("`{}` is not a window asset", pin.id))
-                                .with_primary(pin.span, "not in the window catalog")
-                                .with_help_opt(did_you_mean(&closest(&pin.id, names))),
+                            Diagnostic::new(
+                                Code::E0319,
+                                format!("`{}` is not a window asset", pin.id),
+                            )
+                            .with_primary(pin.span, "not in the window catalog")
+                            .with_help_opt(did_you_mean(&closest(&pin.id, names))),
                         );
                         continue;
                     }
-                } else if let Some(a) = self.catalog.select_window(row.kind, row.width_m, row.height_m) {
+                } else if let Some(a) =
+                    self.catalog.select_window(row.kind, row.width_m, row.height_m)
+                {
                     a.clone()
                 } else {
-                    self.diags.push(Diagnostic::internal("the window catalog has no window of this type"));
+                    self.diags.push(Diagnostic::internal(
+                        "the window catalog has no window of this type",
+                    ));
                     continue;
                 };
                 let wall = self.walls[wi].clone();
@@ -941,10 +1105,20 @@ impl Ctx<'_> {
                     self.diags.push(
                         Diagnostic::new(
                             Code::E0318,
-                            format!("the window's top at {} m is above the wall height of {} m", m(row.sill_m + hy), m(h_wall)),
+                            format!(
+                                "the window's top at {} m is above the wall height of {} m",
+                                m(row.sill_m + hy),
+                                m(h_wall)
+                            ),
                         )
-                        .with_primary(row.span, format!("sill {} m + height {} m", m(row.sill_m), m(hy)))
-                        .with_help(format!("lower the sill to at most {} m", m(h_wall - WINDOW_TOP_MARGIN_M - hy))),
+                        .with_primary(
+                            row.span,
+                            format!("sill {} m + height {} m", m(row.sill_m), m(hy)),
+                        )
+                        .with_help(format!(
+                            "lower the sill to at most {} m",
+                            m(h_wall - WINDOW_TOP_MARGIN_M - hy)
+                        )),
                     );
                     continue;
                 }
@@ -953,7 +1127,11 @@ impl Ctx<'_> {
                 let mut pieces = Vec::new();
                 for k in 0..n {
                     let a = add_scaled(wall.start, dir, piece * k as f64);
-                    let b = if k + 1 == n { wall.end } else { add_scaled(wall.start, dir, piece * (k + 1) as f64) };
+                    let b = if k + 1 == n {
+                        wall.end
+                    } else {
+                        add_scaled(wall.start, dir, piece * (k + 1) as f64)
+                    };
                     let mut sub = wall.clone();
                     if n > 1 {
                         sub.id = format!("{}|{}", wall.id, k);
@@ -962,7 +1140,13 @@ impl Ctx<'_> {
                     sub.end = b;
                     sub.width_m = distance(a, b);
                     let start = (sub.width_m - hx) / 2.0;
-                    sub.hole = Some(Hole { kind: HoleKind::Window, start_m: start, end_m: start + hx, bottom_m: row.sill_m, top_m: row.sill_m + hy });
+                    sub.hole = Some(Hole {
+                        kind: HoleKind::Window,
+                        start_m: start,
+                        end_m: start + hx,
+                        bottom_m: row.sill_m,
+                        top_m: row.sill_m + hy,
+                    });
                     let off = asset.offset_m;
                     let hole_min = [start - off[0], row.sill_m];
                     let hole_max = [start + hx - off[0], row.sill_m + hy - off[1]];
@@ -999,18 +1183,24 @@ impl Ctx<'_> {
         for room in &self.scene.rooms {
             for surface in [Surface::Floor, Surface::Wall] {
                 let (pinned, design, default) = match surface {
-                    Surface::Floor => (&room.floor_material, &room.floor_design, "light oak wood floor"),
+                    Surface::Floor => {
+                        (&room.floor_material, &room.floor_design, "light oak wood floor")
+                    }
                     Surface::Wall => (&room.wall_material, &room.wall_design, "white drywall"),
                 };
                 let name = if let Some(pin) = pinned {
                     if self.catalog.material(&pin.id).is_some() {
                         pin.id.clone()
                     } else {
-                        let names: Vec<&str> = self.catalog.materials.iter().map(|m| m.name.as_str()).collect();
+                        let names: Vec<&str> =
+                            self.catalog.materials.iter().map(|m| m.name.as_str()).collect();
                         self.diags.push(
-                            Diagnostic::new(Code::E0320, format!("`{}` is not a known material", pin.id))
-                                .with_primary(pin.span, "not in the material database")
-                                .with_help_opt(did_you_mean(&closest(&pin.id, names))),
+                            Diagnostic::new(
+                                Code::E0320,
+                                format!("`{}` is not a known material", pin.id),
+                            )
+                            .with_primary(pin.span, "not in the material database")
+                            .with_help_opt(did_you_mean(&closest(&pin.id, names))),
                         );
                         continue;
                     }
@@ -1020,11 +1210,11 @@ impl Ctx<'_> {
                     if let Some(hit) = cache.get(&key) {
                         hit.clone()
                     } else {
-                        let chosen = self
-                            .catalog
-                            .select_material(&text, surface, &used)
-                            .map(|m| m.name.clone())
-                            .unwrap_or_else(|| crate::resolve::structure::EXTERIOR_WALL_MATERIAL.to_owned());
+                        let chosen =
+                            self.catalog.select_material(&text, surface, &used).map_or_else(
+                                || crate::resolve::structure::EXTERIOR_WALL_MATERIAL.to_owned(),
+                                |m| m.name.clone(),
+                            );
                         cache.insert(key, chosen.clone());
                         chosen
                     }
@@ -1042,14 +1232,6 @@ impl Ctx<'_> {
         let n = self.rooms.len();
         // Rooms joined by open connections form one group.
         let mut group: Vec<usize> = (0..n).collect();
-        fn find(g: &mut [usize], x: usize) -> usize {
-            let mut r = x;
-            while g[r] != r {
-                r = g[r];
-            }
-            g[x] = r;
-            r
-        }
         for o in &self.open {
             let (a, b) = (find(&mut group, o.rooms.0 .0), find(&mut group, o.rooms.1 .0));
             let (lo, hi) = (a.min(b), a.max(b));
@@ -1072,33 +1254,20 @@ impl Ctx<'_> {
             }
         }
         let mut colour: BTreeMap<usize, u8> = BTreeMap::new();
-        fn solve(i: usize, nodes: &[usize], adj: &BTreeSet<(usize, usize)>, colour: &mut BTreeMap<usize, u8>) -> bool {
-            if i == nodes.len() {
-                return true;
-            }
-            let v = nodes[i];
-            for c in 0..N_LAYERS {
-                let clash = colour.iter().any(|(&u, &cu)| cu == c && adj.contains(&(u.min(v), u.max(v))));
-                if !clash {
-                    colour.insert(v, c);
-                    if solve(i + 1, nodes, adj, colour) {
-                        return true;
-                    }
-                    colour.remove(&v);
-                }
-            }
-            false
-        }
         if !solve(0, &nodes, &adj, &mut colour) {
-            colour = nodes.iter().enumerate().map(|(i, &v)| (v, (i % N_LAYERS as usize) as u8)).collect();
+            colour = nodes
+                .iter()
+                .enumerate()
+                .map(|(i, &v)| (v, (i % N_LAYERS as usize) as u8))
+                .collect();
             self.diags.push(
                 Diagnostic::new(Code::W0303, "four lighting layers are not enough for this plan")
                     .with_primary(self.rooms[0].name_span, "some neighbouring rooms share a layer")
                     .with_help("nothing is required; light may show through to a neighbour"),
             );
         }
-        for r in 0..n {
-            self.rooms[r].layer = colour.get(&roots[r]).copied().unwrap_or(0);
+        for (room, root) in self.rooms.iter_mut().zip(&roots) {
+            room.layer = colour.get(root).copied().unwrap_or(0);
         }
     }
 
@@ -1136,7 +1305,11 @@ impl Ctx<'_> {
                 if clearance < 0.5 - EPS_M {
                     continue;
                 }
-                let blocked = room.door_keep_out.iter().chain(&room.open_boxes).any(|b| geo::point_in_or_on_polygon(p, b));
+                let blocked = room
+                    .door_keep_out
+                    .iter()
+                    .chain(&room.open_boxes)
+                    .any(|b| geo::point_in_or_on_polygon(p, b));
                 if blocked {
                     continue;
                 }
@@ -1146,6 +1319,44 @@ impl Ctx<'_> {
                 }
             }
         }
-        AgentPose { room: RoomId(start), position: best.map_or(room.centroid, |b| b.1), rotation_deg: 0.0 }
+        AgentPose {
+            room: RoomId(start),
+            position: best.map_or(room.centroid, |b| b.1),
+            rotation_deg: 0.0,
+        }
     }
+}
+
+/// Union-find root.
+fn find(g: &mut [usize], x: usize) -> usize {
+    let mut r = x;
+    while g[r] != r {
+        r = g[r];
+    }
+    g[x] = r;
+    r
+}
+
+/// Backtracking colouring of `nodes[i..]` with `N_LAYERS` colours.
+fn solve(
+    i: usize,
+    nodes: &[usize],
+    adj: &BTreeSet<(usize, usize)>,
+    colour: &mut BTreeMap<usize, u8>,
+) -> bool {
+    if i == nodes.len() {
+        return true;
+    }
+    let v = nodes[i];
+    for c in 0..N_LAYERS {
+        let clash = colour.iter().any(|(&u, &cu)| cu == c && adj.contains(&(u.min(v), u.max(v))));
+        if !clash {
+            colour.insert(v, c);
+            if solve(i + 1, nodes, adj, colour) {
+                return true;
+            }
+            colour.remove(&v);
+        }
+    }
+    false
 }

@@ -66,7 +66,14 @@ pub(crate) fn dump(plan: &FloorPlan, scene: &Scene) -> String {
                 HoleKind::Door => "door",
                 HoleKind::Window => "window",
             };
-            let _ = write!(line, "  {kind} hole {}–{} × {}–{}", f(h.start_m), f(h.end_m), f(h.bottom_m), f(h.top_m));
+            let _ = write!(
+                line,
+                "  {kind} hole {}–{} × {}–{}",
+                f(h.start_m),
+                f(h.end_m),
+                f(h.bottom_m),
+                f(h.top_m)
+            );
         }
         let _ = writeln!(out, "{line}");
     }
@@ -102,10 +109,15 @@ pub(crate) fn dump(plan: &FloorPlan, scene: &Scene) -> String {
     for o in &plan.open_connections {
         let a = plan.rooms.get(o.rooms.0 .0).map_or("?", |r| r.thor_id.as_str());
         let b = plan.rooms.get(o.rooms.1 .0).map_or("?", |r| r.thor_id.as_str());
-        let segs: Vec<String> = o.segments.iter().map(|(s, e)| format!("{} → {}", p(*s), p(*e))).collect();
+        let segs: Vec<String> =
+            o.segments.iter().map(|(s, e)| format!("{} → {}", p(*s), p(*e))).collect();
         let _ = writeln!(out, "  {a} -- {b}  {}", segs.join(", "));
     }
-    let _ = writeln!(out, "skybox {} ({}), ceiling `{}`", plan.skybox, plan.time_of_day, plan.ceiling_material);
+    let _ = writeln!(
+        out,
+        "skybox {} ({}), ceiling `{}`",
+        plan.skybox, plan.time_of_day, plan.ceiling_material
+    );
     let agent_room = plan.rooms.get(plan.agent.room.0).map_or("?", |r| r.thor_id.as_str());
     let _ = writeln!(
         out,

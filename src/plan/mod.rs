@@ -263,7 +263,11 @@ pub fn plan(scene: &Scene, catalog: &StructureCatalog) -> Outcome<FloorPlan> {
 }
 
 /// Plans the scene.
-pub fn plan_with(scene: &Scene, catalog: &StructureCatalog, options: PlanOptions) -> Outcome<FloorPlan> {
+pub fn plan_with(
+    scene: &Scene,
+    catalog: &StructureCatalog,
+    options: PlanOptions,
+) -> Outcome<FloorPlan> {
     build::run(scene, catalog, options)
 }
 

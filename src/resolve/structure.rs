@@ -105,7 +105,9 @@ pub struct StructureCatalog {
 }
 
 fn rows(text: &str) -> impl Iterator<Item = Vec<&str>> {
-    text.lines().filter(|l| !l.starts_with('#') && !l.trim().is_empty()).map(|l| l.split('\t').collect())
+    text.lines()
+        .filter(|l| !l.starts_with('#') && !l.trim().is_empty())
+        .map(|l| l.split('\t').collect())
 }
 
 fn num(field: &str) -> f64 {
@@ -182,11 +184,7 @@ impl StructureCatalog {
             })
             .collect();
         let materials = rows(MATERIALS_TSV)
-            .map(|r| Material {
-                name: r[0].to_owned(),
-                groups: words(r[1]),
-                words: words(r[2]),
-            })
+            .map(|r| Material { name: r[0].to_owned(), groups: words(r[1]), words: words(r[2]) })
             .collect();
         let skyboxes = rows(SKYBOXES_TSV)
             .map(|r| Skybox { name: r[0].to_owned(), time_of_day: r[1].to_owned() })
@@ -233,8 +231,7 @@ impl StructureCatalog {
             .map(|d| (d, overlap_score(&query, &d.style_words)))
             .collect();
         let best = candidates.iter().map(|c| c.1).fold(f64::NEG_INFINITY, f64::max);
-        let top: Vec<&DoorAsset> =
-            candidates.iter().filter(|c| c.1 >= best).map(|c| c.0).collect();
+        let top: Vec<&DoorAsset> = candidates.iter().filter(|c| c.1 >= best).map(|c| c.0).collect();
         if top.is_empty() {
             return None;
         }
@@ -243,7 +240,12 @@ impl StructureCatalog {
 
     /// The window of this type whose nominal size is nearest to `(width, height)` in metres
     /// (Euclidean distance between bounding boxes; ties keep the first id).
-    pub fn select_window(&self, kind: WindowKind, width_m: f64, height_m: f64) -> Option<&WindowAsset> {
+    pub fn select_window(
+        &self,
+        kind: WindowKind,
+        width_m: f64,
+        height_m: f64,
+    ) -> Option<&WindowAsset> {
         let mut best: Option<(&WindowAsset, f64)> = None;
         for w in self.windows.iter().filter(|w| w.kind == Some(kind)) {
             let d = (w.bbox_m[0] - width_m).hypot(w.bbox_m[1] - height_m);
@@ -272,7 +274,8 @@ impl StructureCatalog {
                     Surface::Wall => g == "Wall",
                 });
                 let sim = strsim::normalized_levenshtein(&lower, &m.name.to_lowercase());
-                let score = overlap_score(&query, &m.words) + if suits { 0.25 } else { 0.0 } + 0.1 * sim;
+                let score =
+                    overlap_score(&query, &m.words) + if suits { 0.25 } else { 0.0 } + 0.1 * sim;
                 (m, score)
             })
             .collect();
@@ -282,7 +285,12 @@ impl StructureCatalog {
 
     /// The best material for a design text, avoiding names in `used` when an equally good… or
     /// any of the top five is free (Holodeck's used-asset rule).
-    pub fn select_material(&self, design: &str, surface: Surface, used: &BTreeSet<String>) -> Option<&Material> {
+    pub fn select_material(
+        &self,
+        design: &str,
+        surface: Surface,
+        used: &BTreeSet<String>,
+    ) -> Option<&Material> {
         let ranked = self.rank_materials(design, surface);
         ranked
             .iter()
@@ -309,7 +317,7 @@ mod tests {
         assert_eq!(c.windows.len(), 21);
         assert_eq!(c.skyboxes.len(), 22);
         assert!(c.material(EXTERIOR_WALL_MATERIAL).is_some());
-        assert!(c.is_thor_asset("Sofa_1"));
+        assert!(c.is_thor_asset("Sofa_201_1"));
     }
 
     #[test]
@@ -323,7 +331,8 @@ mod tests {
     fn material_words_rank() {
         let c = StructureCatalog::builtin();
         let used = BTreeSet::new();
-        let m = c.select_material("dark wood planks", Surface::Floor, &used).map(|m| m.name.as_str());
+        let m =
+            c.select_material("dark wood planks", Surface::Floor, &used).map(|m| m.name.as_str());
         assert_eq!(m, Some("DarkWoodPlanks"));
     }
 }
