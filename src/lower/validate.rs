@@ -410,7 +410,11 @@ pub fn validate(
         ctx.push(
             Diagnostic::new(
                 Code::W0601,
-                format!("{} asset id{} are not built-in AI2-THOR assets", unknown.len(), if unknown.len() == 1 { "" } else { "s" }),
+                if unknown.len() == 1 {
+                    "1 asset id is not a built-in AI2-THOR asset".to_owned()
+                } else {
+                    format!("{} asset ids are not built-in AI2-THOR assets", unknown.len())
+                },
             )
             .with_primary(span, "not a built-in asset")
             .with_note(format!("for example {}", list.join(", ")))
