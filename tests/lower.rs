@@ -76,3 +76,33 @@ fn outputs_validate() {
         );
     }
 }
+
+#[test]
+fn objects_get_their_room_layer() {
+    let text = std::fs::read_to_string("tests/corpus/plan/ok/hallway_three_offices.holo")
+        .expect("fixture");
+    let mut sources = SourceMap::new();
+    let id = sources.add("hall.holo", text);
+    let scene = holoc::compile::check_file(&sources, id).value.expect("no syntax errors");
+    let planned = plan(&scene, StructureCatalog::builtin());
+    let room = holoc::check::scene::RoomId(2);
+    let object = holoc::lower::LoweredObject {
+        id: "desk-0 (office-2)".into(),
+        asset_id: "Desk_301_1".into(),
+        room,
+        position_m: [6.0, 0.4, 4.0],
+        rotation_deg: [0.0, 90.0, 0.0],
+        kinematic: true,
+        object_name: "desk-0".into(),
+    };
+    let house = lower(&scene, &planned.value, &[object]);
+    let o = &house.house.objects[0];
+    assert_eq!(o.layer, planned.value.layer_name(room));
+    assert_eq!(o.room_id, "office-2");
+    let json = house.to_json_string();
+    let mut sources = SourceMap::new();
+    let id = sources.add("house.json", json);
+    let outcome = validate(&sources, id, StructureCatalog::builtin());
+    let codes: Vec<&str> = outcome.diagnostics.iter().map(|d| d.code.as_str()).collect();
+    assert!(codes.iter().all(|c| *c == "W0601"), "{codes:?}");
+}
