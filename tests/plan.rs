@@ -49,7 +49,7 @@ fn plan_corpus() {
         prepend_module_to_snapshot => false,
         omit_expression => true,
     }, {
-        insta::glob!("corpus/plan", "**/*.holo", |path| check_plan(path));
+        insta::glob!("corpus/plan", "**/*.holo", check_plan);
     });
 }
 

@@ -93,6 +93,7 @@ fn not_json_points_at_the_error() {
 }
 
 #[test]
+#[allow(clippy::print_stdout, reason = "the test says why it skips and what it found")]
 fn real_scenes() {
     let dir = std::path::Path::new("../shared/data/real-scenes");
     if !dir.is_dir() {
