@@ -48,29 +48,13 @@ pub struct HouseJson {
 }
 
 impl HouseJson {
-    /// The house as pretty-printed JSON with every float rounded to 1e-6 and a final newline.
+    /// The house as pretty-printed JSON (fields in AI2-THOR's order) with a final newline.
+    /// Every coordinate was rounded to 1e-6 when the house was made ([`thor::Vec3::new`]).
     pub fn to_json_string(&self) -> String {
-        let mut value = serde_json::to_value(&self.house).expect("house types always serialize");
-        round_floats(&mut value);
-        let mut s = serde_json::to_string_pretty(&value).expect("a JSON value always prints");
+        let mut s =
+            serde_json::to_string_pretty(&self.house).expect("house types always serialize");
         s.push('\n');
         s
-    }
-}
-
-fn round_floats(value: &mut serde_json::Value) {
-    match value {
-        serde_json::Value::Number(n) => {
-            if let Some(f) = n.as_f64().filter(|_| n.is_f64()) {
-                let r = crate::geometry::round6(f);
-                if let Some(num) = serde_json::Number::from_f64(r) {
-                    *n = num;
-                }
-            }
-        }
-        serde_json::Value::Array(items) => items.iter_mut().for_each(round_floats),
-        serde_json::Value::Object(map) => map.values_mut().for_each(round_floats),
-        _ => {}
     }
 }
 

@@ -17,9 +17,10 @@ pub struct Vec3 {
 }
 
 impl Vec3 {
-    /// Makes a vector.
+    /// Makes a vector, rounding every component to the output precision (1e-6).
     pub fn new(x: f64, y: f64, z: f64) -> Vec3 {
-        Vec3 { x, y, z }
+        use crate::geometry::round6;
+        Vec3 { x: round6(x), y: round6(y), z: round6(z) }
     }
 }
 

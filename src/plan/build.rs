@@ -77,7 +77,7 @@ pub(crate) fn run(
     }
     let sky_pick = rng(scene.seed, RNG_SKYBOX, 0).gen::<u64>();
     let sky = catalog.skybox(sky_pick);
-    let agent = if ok {
+    let agent = if ok && !ctx.rooms.is_empty() {
         ctx.agent_pose()
     } else {
         AgentPose { room: RoomId(0), position: [0.0, 0.0], rotation_deg: 0.0 }
@@ -202,7 +202,7 @@ impl Ctx<'_> {
         let mut all_ok = true;
         for (room, corners) in scene.rooms.iter().zip(&snapped) {
             let pts = normalise(corners);
-            let mut ok = pts.len() >= 4;
+            let mut ok = true;
             let corner_span =
                 |i: usize| room.corner_spans.get(i).copied().unwrap_or(room.name_span);
             // Rectilinear: every side parallel to an axis (checked on the corners as written).
@@ -229,7 +229,7 @@ impl Ctx<'_> {
                     break;
                 }
             }
-            if ok && signed_area(&pts).abs() <= EPS_M {
+            if ok && (pts.len() < 4 || signed_area(&pts).abs() <= EPS_M) {
                 self.diags.push(
                     Diagnostic::new(
                         Code::E0301,

@@ -146,8 +146,17 @@ fn word_match(query: &str, name: &str) -> bool {
         || (query.len() >= 4 && name.contains(query))
 }
 
+/// Finish words say little about which material it is; they count for less.
+const FINISH_WORDS: [&str; 10] = [
+    "smooth", "matte", "glossy", "textured", "satin", "finish", "polished", "rough", "soft", "warm",
+];
+
 fn overlap_score(query: &[String], name_words: &[String]) -> f64 {
-    query.iter().filter(|q| name_words.iter().any(|n| word_match(q, n))).count() as f64
+    query
+        .iter()
+        .filter(|q| name_words.iter().any(|n| word_match(q, n)))
+        .map(|q| if FINISH_WORDS.contains(&q.as_str()) { 0.3 } else { 1.0 })
+        .sum()
 }
 
 impl StructureCatalog {
