@@ -121,3 +121,10 @@ fn real_scenes() {
         }
     }
 }
+
+#[test]
+fn not_json_with_non_ascii_text_does_not_panic() {
+    let (sources, diags) = run("bad.json", "{\"rooms\": [\"é\" é]}");
+    assert_eq!(codes(&diags), ["E0601"]);
+    let _ = common::render(&sources, &diags);
+}

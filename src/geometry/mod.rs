@@ -63,8 +63,8 @@ pub fn right_normal(a: Point, b: Point) -> Point {
     rotate_quarter(unit(a, b), 1)
 }
 
-/// Twice the signed area is avoided: this is the signed area itself (shoelace); positive for
-/// counter-clockwise polygons, negative for clockwise ones.
+/// The signed area (shoelace formula): positive for counter-clockwise polygons, negative for
+/// clockwise ones.
 pub fn signed_area(polygon: &[Point]) -> f64 {
     let n = polygon.len();
     let mut sum = 0.0;

@@ -130,10 +130,17 @@ pub fn validate(
     let value: Value = match serde_json::from_str(text) {
         Ok(v) => v,
         Err(e) => {
-            let offset = byte_offset(text, e.line(), e.column());
+            let mut offset = byte_offset(text, e.line(), e.column());
+            while offset > 0 && !text.is_char_boundary(offset) {
+                offset -= 1;
+            }
             let d = Diagnostic::new(Code::E0601, format!("the file is not valid JSON: {e}"))
                 .with_primary(
-                    Span::new(file, offset, (offset + 1).min(text.len()).max(offset)),
+                    Span::new(
+                        file,
+                        offset,
+                        text[offset..].chars().next().map_or(offset, |c| offset + c.len_utf8()),
+                    ),
                     "here",
                 )
                 .with_help("fix the JSON syntax");

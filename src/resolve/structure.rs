@@ -292,8 +292,8 @@ impl StructureCatalog {
         ranked
     }
 
-    /// The best material for a design text, avoiding names in `used` when an equally good… or
-    /// any of the top five is free (Holodeck's used-asset rule).
+    /// The best material for a design text: the first of the five best-ranked that is not in
+    /// `used`, else the best one (Holodeck's used-asset rule).
     pub fn select_material(
         &self,
         design: &str,
