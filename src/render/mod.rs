@@ -165,8 +165,16 @@ pub fn render_svg(drawing: &Drawing) -> String {
         }
     }
     let fold = |v: &[f64], f: fn(f64, f64) -> f64, init: f64| v.iter().copied().fold(init, f);
-    let (min_x, max_x) = if xs.is_empty() { (0.0, 1.0) } else { (fold(&xs, f64::min, f64::INFINITY), fold(&xs, f64::max, f64::NEG_INFINITY)) };
-    let (min_z, max_z) = if zs.is_empty() { (0.0, 1.0) } else { (fold(&zs, f64::min, f64::INFINITY), fold(&zs, f64::max, f64::NEG_INFINITY)) };
+    let (min_x, max_x) = if xs.is_empty() {
+        (0.0, 1.0)
+    } else {
+        (fold(&xs, f64::min, f64::INFINITY), fold(&xs, f64::max, f64::NEG_INFINITY))
+    };
+    let (min_z, max_z) = if zs.is_empty() {
+        (0.0, 1.0)
+    } else {
+        (fold(&zs, f64::min, f64::INFINITY), fold(&zs, f64::max, f64::NEG_INFINITY))
+    };
     let min = [min_x, min_z];
     let legend_lines = drawing.unplaced.len() + drawing.violations.len();
     let width = (max_x - min_x + 2.0 * MARGIN_M) * SCALE;
@@ -274,7 +282,18 @@ pub fn render_svg(drawing: &Drawing) -> String {
                 )
                 .add(
                     Path::new()
-                        .set("d", format!("M {} {} A {} {} 0 0 {sweep} {} {}", n(tx), n(ty), n(r), n(r), n(x2), n(y2)))
+                        .set(
+                            "d",
+                            format!(
+                                "M {} {} A {} {} 0 0 {sweep} {} {}",
+                                n(tx),
+                                n(ty),
+                                n(r),
+                                n(r),
+                                n(x2),
+                                n(y2)
+                            ),
+                        )
                         .set("fill", "none")
                         .set("stroke", "#8a5a2b")
                         .set("stroke-dasharray", "3 3"),
@@ -300,13 +319,14 @@ pub fn render_svg(drawing: &Drawing) -> String {
     let mut objects = Group::new().set("id", "objects");
     for o in &drawing.objects {
         let half = [o.size[0] / 2.0, o.size[1] / 2.0];
-        let corners: Vec<[f64; 2]> = [[-half[0], -half[1]], [-half[0], half[1]], [half[0], half[1]], [half[0], -half[1]]]
-            .iter()
-            .map(|d| {
-                let r = rotate(*d, o.facing_deg);
-                [o.center[0] + r[0], o.center[1] + r[1]]
-            })
-            .collect();
+        let corners: Vec<[f64; 2]> =
+            [[-half[0], -half[1]], [-half[0], half[1]], [half[0], half[1]], [half[0], -half[1]]]
+                .iter()
+                .map(|d| {
+                    let r = rotate(*d, o.facing_deg);
+                    [o.center[0] + r[0], o.center[1] + r[1]]
+                })
+                .collect();
         let (fill, stroke, dash) = match o.level {
             ObjectLevel::Floor => ("#cfe0c3", "#4d7a35", "none"),
             ObjectLevel::Wall => ("#e3d3f0", "#7a4d9a", "none"),
@@ -327,7 +347,9 @@ pub fn render_svg(drawing: &Drawing) -> String {
                 .set("stroke-dasharray", dash),
         );
         if o.level != ObjectLevel::Ceiling {
-            g = g.add(Circle::new().set("cx", n(fx)).set("cy", n(fy)).set("r", 3).set("fill", stroke));
+            g = g.add(
+                Circle::new().set("cx", n(fx)).set("cy", n(fy)).set("r", 3).set("fill", stroke),
+            );
         }
         g = g.add(
             Text::new("")
@@ -423,7 +445,10 @@ mod tests {
     fn draws_every_part_deterministically() {
         let drawing = Drawing {
             title: "t".into(),
-            rooms: vec![DrawRoom { label: "living room".into(), polygon: vec![[0.0, 0.0], [0.0, 4.0], [5.0, 4.0], [5.0, 0.0]] }],
+            rooms: vec![DrawRoom {
+                label: "living room".into(),
+                polygon: vec![[0.0, 0.0], [0.0, 4.0], [5.0, 4.0], [5.0, 0.0]],
+            }],
             walls: vec![DrawSegment { a: [0.0, 0.0], b: [0.0, 4.0] }],
             doors: vec![DrawDoor {
                 opening: DrawSegment { a: [2.0, 0.0], b: [3.0, 0.0] },
@@ -439,12 +464,23 @@ mod tests {
                 facing_deg: 90.0,
                 level: ObjectLevel::Floor,
             }],
-            violations: vec![DrawViolation { from: [1.0, 2.0], to: [3.0, 3.0], text: "near tv-0 (2.1 m)".into() }],
+            violations: vec![DrawViolation {
+                from: [1.0, 2.0],
+                to: [3.0, 3.0],
+                text: "near tv-0 (2.1 m)".into(),
+            }],
             unplaced: vec!["lamp-0: no free spot by the wall".into()],
         };
         let a = render_svg(&drawing);
         assert_eq!(a, render_svg(&drawing));
-        for needle in ["living room", "sofa-0", "doorway", "violated: near tv-0", "not placed: lamp-0", "<circle"] {
+        for needle in [
+            "living room",
+            "sofa-0",
+            "doorway",
+            "violated: near tv-0",
+            "not placed: lamp-0",
+            "<circle",
+        ] {
             assert!(a.contains(needle), "the drawing lacks {needle}");
         }
         // A sofa facing east (90°) is 0.9 m wide along x: its polygon spans x from 0.55 to 1.45 m.
