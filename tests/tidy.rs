@@ -148,3 +148,32 @@ fn book_snippets_check_without_errors() {
     }
     assert!(checked >= 5, "the book should have holo snippets, found {checked}");
 }
+
+#[test]
+fn every_corpus_snapshot_has_its_input() {
+    let mut stack = vec![PathBuf::from("snapshots")];
+    while let Some(dir) = stack.pop() {
+        let Ok(entries) = std::fs::read_dir(&dir) else { continue };
+        for entry in entries.flatten() {
+            let path = entry.path();
+            if path.is_dir() {
+                stack.push(path);
+                continue;
+            }
+            assert!(
+                path.extension().is_none_or(|e| e != "new"),
+                "{}: a pending snapshot was left behind; review it",
+                path.display()
+            );
+            let text = std::fs::read_to_string(&path).expect("readable snapshot");
+            if let Some(line) = text.lines().take(6).find(|l| l.starts_with("input_file: ")) {
+                let input = line.trim_start_matches("input_file: ").trim();
+                assert!(
+                    Path::new(input).exists(),
+                    "{}: its input `{input}` no longer exists; delete the snapshot",
+                    path.display()
+                );
+            }
+        }
+    }
+}
