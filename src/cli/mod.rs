@@ -3,10 +3,12 @@
 //! Exit codes: 0 success (warnings allowed), 1 errors in the input, 2 bad usage, I/O failure or
 //! an internal error.
 
+pub mod build;
 pub mod check;
 pub mod common;
 pub mod explain;
 pub mod fmt;
+pub mod validate;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -23,19 +25,25 @@ pub struct Cli {
 /// The subcommands.
 #[derive(Debug, Subcommand)]
 pub enum Command {
+    /// Compile a `.holo` scene to an AI2-THOR house.
+    Build(build::BuildArgs),
     /// Check `.holo` files and report every problem.
     Check(check::CheckArgs),
     /// Print `.holo` files in canonical form.
     Fmt(fmt::FmtArgs),
     /// Explain a diagnostic code.
     Explain(explain::ExplainArgs),
+    /// Check house JSON files against the schema and the geometric rules.
+    Validate(validate::ValidateArgs),
 }
 
 /// Runs a parsed command line.
 pub fn run(cli: Cli) -> ExitCode {
     match &cli.command {
+        Command::Build(args) => build::run(args),
         Command::Check(args) => check::run(args),
         Command::Fmt(args) => fmt::run(args),
         Command::Explain(args) => explain::run(args),
+        Command::Validate(args) => validate::run(args),
     }
 }
