@@ -257,7 +257,7 @@ pub fn rectilinear_intersection_area(p: &[Point], q: &[Point]) -> f64 {
     let mut area = 0.0;
     for xw in xs.windows(2) {
         for zw in zs.windows(2) {
-            let c = [(xw[0] + xw[1]) / 2.0, (zw[0] + zw[1]) / 2.0];
+            let c = [f64::midpoint(xw[0], xw[1]), f64::midpoint(zw[0], zw[1])];
             if point_in_polygon_raw(c, p) && point_in_polygon_raw(c, q) {
                 area += (xw[1] - xw[0]) * (zw[1] - zw[0]);
             }

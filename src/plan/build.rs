@@ -104,7 +104,7 @@ pub(crate) fn run(
 fn normalise(corners: &[Point]) -> Vec<Point> {
     let mut pts: Vec<Point> = Vec::new();
     for &p in corners {
-        if pts.last().map_or(true, |&q| !near_point(p, q)) {
+        if pts.last().is_none_or(|&q| !near_point(p, q)) {
             pts.push(p);
         }
     }
@@ -620,7 +620,7 @@ impl Ctx<'_> {
             && w.neighbour
                 .as_ref()
                 .and_then(|n| self.wall_index(&n.1))
-                .map_or(true, |o| self.walls[o].hole.is_none())
+                .is_none_or(|o| self.walls[o].hole.is_none())
     }
 
     /// Candidate walls for a connection, seen from a real room `a`.
@@ -708,7 +708,7 @@ impl Ctx<'_> {
         let mut best: Option<usize> = None;
         for &i in &free {
             if self.walls[i].width_m + EPS_M >= need {
-                let better = best.map_or(true, |b| {
+                let better = best.is_none_or(|b| {
                     let (ri, rb) = (rank(i), rank(b));
                     (ri.0 && !rb.0) || (ri.0 == rb.0 && ri.1 > rb.1 + EPS_M)
                 });
@@ -1314,7 +1314,7 @@ impl Ctx<'_> {
                     continue;
                 }
                 let d = distance(p, room.centroid);
-                if best.map_or(true, |(bd, _)| d < bd - EPS_M) {
+                if best.is_none_or(|(bd, _)| d < bd - EPS_M) {
                     best = Some((d, p));
                 }
             }

@@ -300,7 +300,10 @@ pub fn render_svg(drawing: &Drawing) -> String {
                 );
         }
         let label_at = px(
-            [(d.opening.a[0] + d.opening.b[0]) / 2.0, (d.opening.a[1] + d.opening.b[1]) / 2.0],
+            [
+                f64::midpoint(d.opening.a[0], d.opening.b[0]),
+                f64::midpoint(d.opening.a[1], d.opening.b[1]),
+            ],
             min,
             max_z,
         );

@@ -258,7 +258,7 @@ impl StructureCatalog {
         let mut best: Option<(&WindowAsset, f64)> = None;
         for w in self.windows.iter().filter(|w| w.kind == Some(kind)) {
             let d = (w.bbox_m[0] - width_m).hypot(w.bbox_m[1] - height_m);
-            if best.map_or(true, |(_, bd)| d < bd - 1e-9) {
+            if best.is_none_or(|(_, bd)| d < bd - 1e-9) {
                 best = Some((w, d));
             }
         }
