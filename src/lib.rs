@@ -6,6 +6,7 @@
 
 pub mod ast;
 pub mod check;
+pub mod compile;
 pub mod cli;
 pub mod diag;
 pub mod fmt;

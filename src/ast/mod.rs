@@ -166,6 +166,8 @@ pub enum Item {
     Door(Door),
     /// A comment line or block.
     Comment(Comment),
+    /// An empty line kept between two statements (at most one is kept).
+    Blank(Span),
     /// A line that is not a statement of its block (already reported by the parser).
     Error(ErrorNode),
 }
@@ -210,6 +212,8 @@ pub enum SceneStmt {
     Seed(Quantity, Span),
     /// A comment.
     Comment(Comment),
+    /// An empty line kept between two statements (at most one is kept).
+    Blank(Span),
     /// A line that could not be read.
     Error(ErrorNode),
 }
@@ -250,6 +254,8 @@ pub enum RoomStmt {
     Ceiling(Ceiling),
     /// A comment.
     Comment(Comment),
+    /// An empty line kept between two statements (at most one is kept).
+    Blank(Span),
     /// A line that could not be read.
     Error(ErrorNode),
 }
@@ -339,6 +345,8 @@ pub enum ObjectStmt {
     Instance(Instance),
     /// A comment.
     Comment(Comment),
+    /// An empty line kept between two statements (at most one is kept).
+    Blank(Span),
     /// A line that could not be read.
     Error(ErrorNode),
 }
