@@ -85,6 +85,12 @@ codes! {
     W0201 "window-size-not-offered" "a window size is not one of the sizes of its type";
     W0202 "missing-global-constraint" "a floor object has neither `edge` nor `middle`";
     W0203 "empty-scene" "the scene declares no room";
+
+    E0401 "unknown-asset" "a pinned asset id is in no catalog";
+    E0402 "asset-kind-mismatch" "a pinned asset cannot be placed the way the object is";
+    E0403 "invalid-catalog" "a catalog file cannot be read or is not a catalog";
+    W0401 "no-matching-asset" "no catalog asset matches an object well enough";
+    W0402 "invalid-catalog-entry" "a catalog entry is malformed and is skipped";
 }
 
 impl Code {

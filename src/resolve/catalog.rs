@@ -548,8 +548,12 @@ fn push_procthor(
     let object_type =
         entry.get("objectType").and_then(Value::as_str).unwrap_or(group).to_string();
     if matches!(object_type.as_str(), "Doorway" | "Doorframe" | "Window") {
-        // Doors and windows belong to the structural catalog, not to objects.
-        return;
+        return diags.push(bad_entry(
+            file,
+            span,
+            id,
+            "doors, doorframes and windows are structure, not objects",
+        ));
     }
     let builtin = builtin_type_placements();
     let known = builtin.get(&object_type);
@@ -684,7 +688,7 @@ mod tests {
     fn embedded_catalog_loads_without_structure() {
         let c = Catalog::embedded();
         assert!(c.assets().len() > 1500);
-        assert!(c.get("Sofa_1").is_some());
+        assert!(c.get("Sofa_201_1").is_some());
         assert!(c.assets().iter().all(|a| a.object_type != "Doorway" && a.object_type != "Window"));
         assert_eq!(c.sources()[0].name, "procthor-builtin");
         assert_eq!(c.sources()[0].version.as_deref(), Some("53d5bd4"));

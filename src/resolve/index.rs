@@ -29,6 +29,8 @@ pub(crate) struct TextIndex {
     doc_head: Vec<String>,
     /// A hash of each asset's id, for seeded tie-breaking.
     id_hash: Vec<u64>,
+    /// Bit `k` set when the asset may be placed as `PlacementKind::ALL[k]`.
+    allowed: Vec<u8>,
     avg_len: f64,
 }
 
@@ -54,6 +56,13 @@ impl TextIndex {
             index.doc_len.push(len);
             index.doc_head.push(text::head(&category).unwrap_or_default().to_string());
             index.id_hash.push(fnv1a(&asset.id));
+            let mut bits = 0u8;
+            for (k, kind) in PlacementKind::ALL.into_iter().enumerate() {
+                if asset.allows(kind) {
+                    bits |= 1 << k;
+                }
+            }
+            index.allowed.push(bits);
             total += u64::from(len);
         }
         index.avg_len = if assets.is_empty() { 1.0 } else { (total as f64 / assets.len() as f64).max(1.0) };
@@ -128,6 +137,11 @@ impl Candidate {
 /// Ranks the catalog's assets for `query`: every asset sharing a word with it, best first;
 /// exact ties are ordered by a hash of the seed and the asset id.
 pub fn rank(catalog: &Catalog, query: &Query, seed: u64) -> Vec<Candidate> {
+    rank_top(catalog, query, seed, usize::MAX)
+}
+
+/// The best `limit` candidates of [`rank`], in the same order, without building the rest.
+pub fn rank_top(catalog: &Catalog, query: &Query, seed: u64, limit: usize) -> Vec<Candidate> {
     let index = &catalog.index;
     let category = text::normalize(&query.category);
     let description = query.description.as_deref().map(text::normalize).unwrap_or_default();
@@ -148,13 +162,17 @@ pub fn rank(catalog: &Catalog, query: &Query, seed: u64) -> Vec<Candidate> {
     for t in &description {
         weights.entry(t).or_insert((0.0, false)).0 += 1.0;
     }
-    if weights.is_empty() || index.n_docs() == 0 {
+    if weights.is_empty() || index.n_docs() == 0 || limit == 0 {
         return Vec::new();
     }
+    let kind_bit = query.kind.map(|k| {
+        1u8 << PlacementKind::ALL.iter().position(|x| *x == k).expect("every kind is in ALL")
+    });
 
     let saturated = 2.0 * (BM25_K1 + 1.0) / (2.0 + BM25_K1);
     let mut ideal = 0.0;
-    let mut scores: BTreeMap<u32, f64> = BTreeMap::new();
+    let mut scores = vec![0.0f64; index.n_docs()];
+    let mut touched: Vec<u32> = Vec::new();
     for (term, (weight, in_category)) in &weights {
         let df = index.df(term);
         if df == 0 {
@@ -169,53 +187,82 @@ pub fn rank(catalog: &Catalog, query: &Query, seed: u64) -> Vec<Candidate> {
         ideal += weight * idf * saturated;
         if let Some(postings) = index.postings.get(*term) {
             for &(doc, tf) in postings {
+                if kind_bit.is_some_and(|bit| index.allowed[doc as usize] & bit == 0) {
+                    continue;
+                }
                 let tf = f64::from(tf);
-                let norm = 1.0 - BM25_B + BM25_B * f64::from(index.doc_len[doc as usize]) / index.avg_len;
-                *scores.entry(doc).or_default() += weight * idf * tf * (BM25_K1 + 1.0) / (tf + BM25_K1 * norm);
+                let norm = 1.0 - BM25_B
+                    + BM25_B * f64::from(index.doc_len[doc as usize]) / index.avg_len;
+                let slot = &mut scores[doc as usize];
+                if *slot == 0.0 {
+                    touched.push(doc);
+                }
+                *slot += weight * idf * tf * (BM25_K1 + 1.0) / (tf + BM25_K1 * norm);
             }
         }
     }
 
     let desired = query.size_m.map(sorted3);
-    let mut out: Vec<Candidate> = Vec::with_capacity(scores.len());
-    for (doc, bm25) in scores {
-        let asset = catalog.asset_at(doc as usize);
-        if query.kind.is_some_and(|k| !asset.allows(k)) {
-            continue;
-        }
-        let head_match = head.as_deref().is_some_and(|h| {
-            index.doc_head[doc as usize] == h
-                && (!text::is_generic_head(h)
-                    || modifiers.is_empty()
-                    || modifiers.iter().any(|m| index.contains(m, doc)))
-        });
-        let text = if ideal > 0.0 { (bm25 / ideal).min(1.0) } else { 0.0 };
-        let relevance = HEAD_SHARE * f64::from(u8::from(head_match)) + (1.0 - HEAD_SHARE) * text;
-        let size_diff_m = desired.map(|d| {
-            let b = sorted3(asset.bbox_m);
-            ((d[0] - b[0]).abs() + (d[1] - b[1]).abs() + (d[2] - b[2]).abs()) / 3.0
-        });
-        let score = RELEVANCE_WEIGHT * relevance - SIZE_WEIGHT * size_diff_m.unwrap_or(0.0);
-        out.push(Candidate {
-            asset_id: asset.id.clone(),
-            object_type: asset.object_type.clone(),
-            bbox_m: asset.bbox_m,
-            head_match,
-            text,
-            relevance,
-            size_diff_m,
-            score,
-            idx: doc as usize,
-            tie: splitmix64(seed ^ index.id_hash[doc as usize]),
-        });
+    let mut light: Vec<Light> = touched
+        .into_iter()
+        .map(|doc| {
+            let d = doc as usize;
+            let bm25 = scores[d];
+            let head_match = head.as_deref().is_some_and(|h| {
+                index.doc_head[d] == h
+                    && (!text::is_generic_head(h)
+                        || modifiers.is_empty()
+                        || modifiers.iter().any(|m| index.contains(m, doc)))
+            });
+            let text = if ideal > 0.0 { (bm25 / ideal).min(1.0) } else { 0.0 };
+            let relevance = HEAD_SHARE * f64::from(u8::from(head_match)) + (1.0 - HEAD_SHARE) * text;
+            let size_diff_m = desired.map(|want| {
+                let b = sorted3(catalog.asset_at(d).bbox_m);
+                ((want[0] - b[0]).abs() + (want[1] - b[1]).abs() + (want[2] - b[2]).abs()) / 3.0
+            });
+            let score = RELEVANCE_WEIGHT * relevance - SIZE_WEIGHT * size_diff_m.unwrap_or(0.0);
+            Light { doc, head_match, text, relevance, size_diff_m, score, tie: splitmix64(seed ^ index.id_hash[d]) }
+        })
+        .collect();
+    let order = |a: &Light, b: &Light| {
+        b.score.total_cmp(&a.score).then(a.tie.cmp(&b.tie)).then_with(|| {
+            catalog.asset_at(a.doc as usize).id.cmp(&catalog.asset_at(b.doc as usize).id)
+        })
+    };
+    if limit < light.len() {
+        light.select_nth_unstable_by(limit, order);
+        light.truncate(limit);
     }
-    out.sort_by(|a, b| {
-        b.score
-            .total_cmp(&a.score)
-            .then(a.tie.cmp(&b.tie))
-            .then_with(|| a.asset_id.cmp(&b.asset_id))
-    });
-    out
+    light.sort_by(order);
+    light
+        .into_iter()
+        .map(|l| {
+            let asset = catalog.asset_at(l.doc as usize);
+            Candidate {
+                asset_id: asset.id.clone(),
+                object_type: asset.object_type.clone(),
+                bbox_m: asset.bbox_m,
+                head_match: l.head_match,
+                text: l.text,
+                relevance: l.relevance,
+                size_diff_m: l.size_diff_m,
+                score: l.score,
+                idx: l.doc as usize,
+                tie: l.tie,
+            }
+        })
+        .collect()
+}
+
+/// A candidate before its strings are copied.
+struct Light {
+    doc: u32,
+    head_match: bool,
+    text: f64,
+    relevance: f64,
+    size_diff_m: Option<f64>,
+    score: f64,
+    tie: u64,
 }
 
 fn sorted3(mut v: [f64; 3]) -> [f64; 3] {

@@ -7,7 +7,7 @@
 //! resolved the same way. An object nothing good enough matches is left out with a warning
 //! naming its three nearest candidates, and is listed as unresolved; nothing is dropped silently.
 //!
-//! Doors, windows, materials and skyboxes are chosen by [`structure`]-level code elsewhere.
+//! Doors, windows, materials and skyboxes are chosen by `resolve::structure`.
 
 mod catalog;
 mod errors;
@@ -18,9 +18,10 @@ mod text;
 
 pub use catalog::{Asset, Catalog, CatalogSource, PlacementKind, Placements};
 pub use index::{
-    rank, Candidate, Query, BM25_B, BM25_K1, HEAD_SHARE, RELEVANCE_THRESHOLD, RELEVANCE_WEIGHT,
+    rank, rank_top, Candidate, Query, BM25_B, BM25_K1, HEAD_SHARE, RELEVANCE_THRESHOLD, RELEVANCE_WEIGHT,
     SIZE_WEIGHT,
 };
+pub(crate) use report::candidate_json;
 pub use report::report;
 pub use select::{resolve, Choice, Resolution, Resolved, Unresolved};
 

@@ -34,6 +34,7 @@ const SYNONYMS: &[(&str, &str)] = &[
     ("recliner", "arm chair"),
     ("bookshelf", "shelving unit"),
     ("bookcase", "shelving unit"),
+    ("bookshelve", "shelving unit"),
     ("book shelf", "shelving unit"),
     ("shelf", "shelving unit"),
     ("shelve", "shelving unit"),
