@@ -30,6 +30,8 @@ STRUCTURE_TYPES = {"Doorframe", "Doorway", "Window"}
 EXTRA_FLOOR = {"HousePlant", "Footstool"}
 # Types mounted on a wall that the annotations mark neither `onFloor` nor `onWall`.
 EXTRA_WALL = {"ShowerHead", "ShowerCurtain"}
+# Types that commonly stand on another object though no receptacle annotation says so.
+EXTRA_OBJECT = {"Television"}
 # Colour and material words worth keeping from material names.
 ATTRIBUTE_WORDS = {
     "wood", "wooden", "metal", "plastic", "glass", "fabric", "leather", "marble", "steel",
@@ -82,7 +84,7 @@ def main():
         on_floor = bool(pa["onFloor"].get(object_type)) or object_type in EXTRA_FLOOR
         on_wall = bool(pa["onWall"].get(object_type)) or object_type in EXTRA_WALL
         pickup = bool(pa["isPickupable"].get(object_type))
-        on_object = object_type in children or pickup
+        on_object = object_type in children or pickup or object_type in EXTRA_OBJECT
         if object_type == "Painting":
             on_object = False  # paintings hang on walls in generated houses
         kinds = ("F" if on_floor else "") + ("W" if on_wall else "") + ("O" if on_object else "")

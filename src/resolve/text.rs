@@ -148,7 +148,7 @@ const ATTRIBUTE_WORDS: &[&str] = &[
 const GENERIC_HEADS: &[&str] = &[
     "machine", "stand", "unit", "holder", "table", "set", "station", "system", "equipment",
     "device", "rack", "case", "box", "center", "console", "can", "bag", "decor", "top", "item",
-    "thing", "object", "furniture", "piece", "cabinet",
+    "thing", "object", "furniture", "piece", "cabinet", "ball",
 ];
 
 /// Lower-cases, splits on anything that is not a letter or digit, drops stopwords,
@@ -211,63 +211,63 @@ fn singular(word: &str) -> String {
     word.to_string()
 }
 
+/// A synonym entry split into words.
+struct Rule {
+    from: Vec<&'static str>,
+    to: Vec<&'static str>,
+}
+
+/// The synonym table indexed by the first word of each phrase, longest phrase first.
+fn rules() -> &'static std::collections::BTreeMap<&'static str, Vec<Rule>> {
+    static RULES: std::sync::OnceLock<std::collections::BTreeMap<&'static str, Vec<Rule>>> =
+        std::sync::OnceLock::new();
+    RULES.get_or_init(|| {
+        let mut map: std::collections::BTreeMap<&'static str, Vec<Rule>> =
+            std::collections::BTreeMap::new();
+        for (from, to) in SYNONYMS {
+            let from: Vec<&'static str> = from.split(' ').collect();
+            let to: Vec<&'static str> = to.split(' ').collect();
+            map.entry(from[0]).or_default().push(Rule { from, to });
+        }
+        for list in map.values_mut() {
+            // Longest first; the table order decides among equal lengths.
+            list.sort_by_key(|r| std::cmp::Reverse(r.from.len()));
+        }
+        map
+    })
+}
+
 fn apply_synonyms(words: &[String]) -> Vec<String> {
+    let once = rewrite(words, |_| true);
+    if once == words {
+        return once;
+    }
+    // A second pass folds doubled words that the first can create (`house house plant`), with
+    // only the shrinking rules, so that it cannot loop.
+    rewrite(&once, |r| r.from.len() > r.to.len())
+}
+
+fn rewrite(words: &[String], allowed: impl Fn(&Rule) -> bool) -> Vec<String> {
+    let rules = rules();
     let mut out: Vec<String> = Vec::with_capacity(words.len());
     let mut i = 0;
     while i < words.len() {
-        let mut best: Option<(usize, &str)> = None;
-        for (from, to) in SYNONYMS {
-            let n = from.split(' ').count();
-            if i + n <= words.len()
-                && from.split(' ').zip(&words[i..i + n]).all(|(a, b)| a == b)
-                && best.map_or(true, |(m, _)| n > m)
-            {
-                best = Some((n, to));
-            }
-        }
-        match best {
-            Some((n, to)) => {
-                out.extend(to.split(' ').map(str::to_string));
-                i += n;
+        let hit = rules.get(words[i].as_str()).and_then(|list| {
+            list.iter().find(|r| {
+                allowed(r)
+                    && i + r.from.len() <= words.len()
+                    && r.from.iter().zip(&words[i..]).all(|(a, b)| *a == b.as_str())
+            })
+        });
+        match hit {
+            Some(rule) => {
+                out.extend(rule.to.iter().map(|w| (*w).to_string()));
+                i += rule.from.len();
             }
             None => {
                 out.push(words[i].clone());
                 i += 1;
             }
-        }
-    }
-    // A second pass folds doubled words that synonyms can create (`shower shower head`).
-    if out.len() != words.len() || out.iter().zip(words).any(|(a, b)| a != b) {
-        let again = apply_synonyms_once(&out);
-        if again != out {
-            return again;
-        }
-    }
-    out
-}
-
-fn apply_synonyms_once(words: &[String]) -> Vec<String> {
-    // Only the folding entries (whose output is contained in their input) run again, so that
-    // the expansion cannot loop.
-    let mut out: Vec<String> = Vec::with_capacity(words.len());
-    let mut i = 0;
-    while i < words.len() {
-        let mut matched = false;
-        for (from, to) in SYNONYMS {
-            let n = from.split(' ').count();
-            if n > to.split(' ').count()
-                && i + n <= words.len()
-                && from.split(' ').zip(&words[i..i + n]).all(|(a, b)| a == b)
-            {
-                out.extend(to.split(' ').map(str::to_string));
-                i += n;
-                matched = true;
-                break;
-            }
-        }
-        if !matched {
-            out.push(words[i].clone());
-            i += 1;
         }
     }
     out
