@@ -11,21 +11,107 @@ use rand_chacha::ChaCha8Rng;
 use serde_json::{json, Map, Value};
 
 const NOUNS: &[&str] = &[
-    "sofa", "chair", "armchair", "table", "desk", "bed", "lamp", "shelf", "cabinet", "dresser",
-    "stool", "bench", "television", "plant", "rug", "mirror", "painting", "clock", "vase", "book",
-    "piano", "guitar", "treadmill", "fridge", "oven", "sink", "toilet", "bathtub", "wardrobe",
-    "nightstand", "ottoman", "speaker", "computer", "monitor", "printer", "whiteboard",
-    "chandelier", "fan", "pendant light", "mug", "bowl", "plate", "bottle", "basket", "box",
-    "crate", "barrel", "statue", "trophy", "pillow",
+    "sofa",
+    "chair",
+    "armchair",
+    "table",
+    "desk",
+    "bed",
+    "lamp",
+    "shelf",
+    "cabinet",
+    "dresser",
+    "stool",
+    "bench",
+    "television",
+    "plant",
+    "rug",
+    "mirror",
+    "painting",
+    "clock",
+    "vase",
+    "book",
+    "piano",
+    "guitar",
+    "treadmill",
+    "fridge",
+    "oven",
+    "sink",
+    "toilet",
+    "bathtub",
+    "wardrobe",
+    "nightstand",
+    "ottoman",
+    "speaker",
+    "computer",
+    "monitor",
+    "printer",
+    "whiteboard",
+    "chandelier",
+    "fan",
+    "pendant light",
+    "mug",
+    "bowl",
+    "plate",
+    "bottle",
+    "basket",
+    "box",
+    "crate",
+    "barrel",
+    "statue",
+    "trophy",
+    "pillow",
 ];
 const ADJECTIVES: &[&str] = &[
-    "modern", "vintage", "wooden", "metal", "grey", "white", "black", "red", "blue", "green",
-    "leather", "velvet", "glass", "small", "large", "round", "square", "rustic", "industrial",
-    "oak", "walnut", "marble", "brass", "plastic", "fabric", "soft", "tall", "low", "antique",
+    "modern",
+    "vintage",
+    "wooden",
+    "metal",
+    "grey",
+    "white",
+    "black",
+    "red",
+    "blue",
+    "green",
+    "leather",
+    "velvet",
+    "glass",
+    "small",
+    "large",
+    "round",
+    "square",
+    "rustic",
+    "industrial",
+    "oak",
+    "walnut",
+    "marble",
+    "brass",
+    "plastic",
+    "fabric",
+    "soft",
+    "tall",
+    "low",
+    "antique",
 ];
 const MODIFIERS: &[&str] = &[
-    "dining", "office", "coffee", "side", "floor", "desk", "kitchen", "bar", "wall", "ceiling",
-    "gaming", "reading", "study", "living room", "bedroom", "garden", "music", "arcade",
+    "dining",
+    "office",
+    "coffee",
+    "side",
+    "floor",
+    "desk",
+    "kitchen",
+    "bar",
+    "wall",
+    "ceiling",
+    "gaming",
+    "reading",
+    "study",
+    "living room",
+    "bedroom",
+    "garden",
+    "music",
+    "arcade",
 ];
 
 fn synthetic_catalog(n: usize, seed: u64) -> Value {
@@ -33,7 +119,11 @@ fn synthetic_catalog(n: usize, seed: u64) -> Value {
     let mut map = Map::new();
     for i in 0..n {
         let noun = NOUNS[rng.gen_range(0..NOUNS.len())];
-        let modifier = if rng.gen_bool(0.4) { format!("{} ", MODIFIERS[rng.gen_range(0..MODIFIERS.len())]) } else { String::new() };
+        let modifier = if rng.gen_bool(0.4) {
+            format!("{} ", MODIFIERS[rng.gen_range(0..MODIFIERS.len())])
+        } else {
+            String::new()
+        };
         let a1 = ADJECTIVES[rng.gen_range(0..ADJECTIVES.len())];
         let a2 = ADJECTIVES[rng.gen_range(0..ADJECTIVES.len())];
         let kind = rng.gen_range(0..4);
@@ -64,7 +154,11 @@ fn queries(n: usize, seed: u64) -> Vec<Query> {
             Query {
                 category: format!("{modifier} {noun}"),
                 description: Some(format!("{a} {modifier} {noun} with a cozy look")),
-                size_m: Some([rng.gen_range(0.2..2.0), rng.gen_range(0.2..2.0), rng.gen_range(0.2..2.0)]),
+                size_m: Some([
+                    rng.gen_range(0.2..2.0),
+                    rng.gen_range(0.2..2.0),
+                    rng.gen_range(0.2..2.0),
+                ]),
                 kind: Some(kinds[rng.gen_range(0..kinds.len())]),
             }
         })
@@ -87,7 +181,7 @@ fn bench(c: &mut Criterion) {
             let mut chosen = 0usize;
             for q in &queries {
                 let ranked = resolve::rank_top(&catalog, q, 1, 128);
-                chosen += usize::from(ranked.iter().any(|c| c.is_good_enough()));
+                chosen += usize::from(ranked.iter().any(resolve::Candidate::is_good_enough));
             }
             chosen
         });

@@ -239,7 +239,9 @@ fn user_catalog_fills_the_gaps() {
 #[test]
 fn same_input_and_seed_give_identical_results() {
     let catalog = Catalog::embedded();
-    for path in ["examples/apartment_1b1b.holo", "tests/corpus/resolve/scenes/varied_and_reuse.holo"] {
+    for path in
+        ["examples/apartment_1b1b.holo", "tests/corpus/resolve/scenes/varied_and_reuse.holo"]
+    {
         let mut sources = SourceMap::new();
         let (scene, _) = scene_of(&mut sources, Path::new(path));
         let scene = scene.expect("checks");
@@ -251,7 +253,8 @@ fn same_input_and_seed_give_identical_results() {
         assert_eq!(ra, rb);
         // Another seed still resolves everything the first did.
         let c = resolve::resolve(&scene, &catalog, 12);
-        let chosen = |r: &resolve::Resolved| r.objects.iter().filter(|o| o.choice().is_some()).count();
+        let chosen =
+            |r: &resolve::Resolved| r.objects.iter().filter(|o| o.choice().is_some()).count();
         assert_eq!(chosen(&a.value), chosen(&c.value));
     }
 }

@@ -197,8 +197,8 @@ fn search(args: &SearchArgs) -> ExitCode {
             let mut s = String::new();
             let _ = writeln!(
                 s,
-                "{:>4}  {:<32} {:<16} {:>7}  {:>9}  {:>4}  {:>5}  {:>7}  {}",
-                "rank", "asset", "type", "score", "relevance", "head", "text", "size Δ", "bbox m"
+                "{:>4}  {:<32} {:<16} {:>7}  {:>9}  {:>4}  {:>5}  {:>7}  bbox m",
+                "rank", "asset", "type", "score", "relevance", "head", "text", "size Δ"
             );
             for (i, c) in shown.iter().enumerate() {
                 let good = if c.is_good_enough() { "" } else { "  (below threshold)" };
@@ -240,13 +240,16 @@ fn list(args: &ListArgs) -> ExitCode {
     let mut assets: Vec<&resolve::Asset> = catalog
         .assets()
         .iter()
-        .filter(|a| args.object_type.as_ref().is_none_or_eq(&a.object_type))
-        .filter(|a| args.kind.is_none_or_allows(a))
+        .filter(|a| {
+            args.object_type.as_ref().map_or(true, |t| t.eq_ignore_ascii_case(&a.object_type))
+        })
+        .filter(|a| args.kind.map_or(true, |k| a.allows(k.kind())))
         .collect();
     assets.sort_by(|a, b| a.object_type.cmp(&b.object_type).then_with(|| a.id.cmp(&b.id)));
     if assets.is_empty() {
         if let Some(t) = &args.object_type {
-            let mut types: Vec<&str> = catalog.assets().iter().map(|a| a.object_type.as_str()).collect();
+            let mut types: Vec<&str> =
+                catalog.assets().iter().map(|a| a.object_type.as_str()).collect();
             types.sort_unstable();
             types.dedup();
             let close = crate::diag::suggest::closest(t, types);
@@ -282,8 +285,8 @@ fn list(args: &ListArgs) -> ExitCode {
             let mut s = String::new();
             let _ = writeln!(
                 s,
-                "{:<32} {:<16} {:<18} {:<6} {:<4} {}",
-                "asset", "type", "bbox m", "kinds", "rec", "catalog"
+                "{:<32} {:<16} {:<18} {:<6} {:<4} catalog",
+                "asset", "type", "bbox m", "kinds", "rec"
             );
             for a in &assets {
                 let _ = writeln!(
@@ -307,26 +310,6 @@ fn list(args: &ListArgs) -> ExitCode {
             common::emit_plain(&d);
             ExitCode::from(2)
         }
-    }
-}
-
-trait TypeFilter {
-    fn is_none_or_eq(self, object_type: &str) -> bool;
-}
-
-impl TypeFilter for Option<&String> {
-    fn is_none_or_eq(self, object_type: &str) -> bool {
-        self.map_or(true, |t| t.eq_ignore_ascii_case(object_type))
-    }
-}
-
-trait KindFilter {
-    fn is_none_or_allows(self, asset: &resolve::Asset) -> bool;
-}
-
-impl KindFilter for Option<KindArg> {
-    fn is_none_or_allows(self, asset: &resolve::Asset) -> bool {
-        self.map_or(true, |k| asset.allows(k.kind()))
     }
 }
 

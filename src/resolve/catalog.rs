@@ -33,8 +33,12 @@ pub enum PlacementKind {
 
 impl PlacementKind {
     /// Every kind, in this order.
-    pub const ALL: [PlacementKind; 4] =
-        [PlacementKind::Floor, PlacementKind::Wall, PlacementKind::OnObject, PlacementKind::Ceiling];
+    pub const ALL: [PlacementKind; 4] = [
+        PlacementKind::Floor,
+        PlacementKind::Wall,
+        PlacementKind::OnObject,
+        PlacementKind::Ceiling,
+    ];
 
     /// The word used on the command line and in reports.
     pub fn as_str(self) -> &'static str {
@@ -137,7 +141,9 @@ impl Asset {
     pub fn allows(&self, kind: PlacementKind) -> bool {
         let category = self.category.to_lowercase();
         let structural = match kind {
-            PlacementKind::Floor => ["door", "window", "frame"].iter().any(|w| category.contains(w)),
+            PlacementKind::Floor => {
+                ["door", "window", "frame"].iter().any(|w| category.contains(w))
+            }
             PlacementKind::Wall => ["door", "window"].iter().any(|w| category.contains(w)),
             _ => false,
         };
@@ -274,8 +280,12 @@ impl Catalog {
     }
 
     fn from_parts(assets: Vec<Asset>, sources: Vec<CatalogSource>) -> Catalog {
-        let mut catalog =
-            Catalog { assets: Vec::new(), by_id: BTreeMap::new(), sources, index: TextIndex::default() };
+        let mut catalog = Catalog {
+            assets: Vec::new(),
+            by_id: BTreeMap::new(),
+            sources,
+            index: TextIndex::default(),
+        };
         for asset in assets {
             catalog.insert(asset);
         }
@@ -327,7 +337,9 @@ fn sha256_hex(bytes: &[u8]) -> String {
 }
 
 fn catalog_name(path: &Path) -> String {
-    let file = path.file_name().map_or_else(|| path.display().to_string(), |f| f.to_string_lossy().into_owned());
+    let file = path
+        .file_name()
+        .map_or_else(|| path.display().to_string(), |f| f.to_string_lossy().into_owned());
     let file = file.strip_suffix(".gz").unwrap_or(&file);
     file.strip_suffix(".json").unwrap_or(file).to_string()
 }
@@ -411,7 +423,9 @@ fn parse_catalog(text: &str, file: FileId, source: usize, diags: &mut Vec<Diagno
             let label = id.clone().unwrap_or_else(|| format!("#{i}"));
             match id {
                 Some(id) => push_objathor(&id, entry, span, file, source, &mut parsed, diags),
-                None => diags.push(bad_entry(file, span, &label, "it has no `uid`, `assetId` or `id`")),
+                None => {
+                    diags.push(bad_entry(file, span, &label, "it has no `uid`, `assetId` or `id`"));
+                }
             }
         }
         return parsed;
@@ -443,7 +457,9 @@ fn parse_catalog(text: &str, file: FileId, source: usize, diags: &mut Vec<Diagno
                     None => span,
                 };
                 match id {
-                    Some(id) => push_procthor(&id, key, entry, espan, file, source, &mut parsed, diags),
+                    Some(id) => {
+                        push_procthor(&id, key, entry, espan, file, source, &mut parsed, diags);
+                    }
                     None => diags.push(bad_entry(
                         file,
                         espan,
@@ -497,15 +513,15 @@ fn builtin_type_placements() -> &'static BTreeMap<String, (Placements, String)> 
     static MAP: std::sync::OnceLock<BTreeMap<String, (Placements, String)>> =
         std::sync::OnceLock::new();
     MAP.get_or_init(|| {
-    let mut map = BTreeMap::new();
-    for line in EMBEDDED_TSV.lines().filter(|l| !l.starts_with('#')) {
-        let f: Vec<&str> = line.split('\t').collect();
-        if let [_, object_type, category, _, _, _, _, kinds, _] = f[..] {
-            map.entry(object_type.to_string())
-                .or_insert_with(|| (Placements::from_letters(kinds), category.to_string()));
+        let mut map = BTreeMap::new();
+        for line in EMBEDDED_TSV.lines().filter(|l| !l.starts_with('#')) {
+            let f: Vec<&str> = line.split('\t').collect();
+            if let [_, object_type, category, _, _, _, _, kinds, _] = f[..] {
+                map.entry(object_type.to_string())
+                    .or_insert_with(|| (Placements::from_letters(kinds), category.to_string()));
+            }
         }
-    }
-    map
+        map
     })
 }
 
@@ -545,8 +561,7 @@ fn push_procthor(
         Some(Err(why)) => return diags.push(bad_entry(file, span, id, &why)),
         None => return diags.push(bad_entry(file, span, id, "it has no `boundingBox`")),
     };
-    let object_type =
-        entry.get("objectType").and_then(Value::as_str).unwrap_or(group).to_string();
+    let object_type = entry.get("objectType").and_then(Value::as_str).unwrap_or(group).to_string();
     if matches!(object_type.as_str(), "Doorway" | "Doorframe" | "Window") {
         return diags.push(bad_entry(
             file,
@@ -623,7 +638,9 @@ fn push_objathor(
     let bbox = match meta.get("boundingBox").map(bbox_of) {
         Some(Ok(b)) => b,
         Some(Err(why)) => return diags.push(bad_entry(file, span, id, &why)),
-        None => return diags.push(bad_entry(file, span, id, "its asset metadata has no `boundingBox`")),
+        None => {
+            return diags.push(bad_entry(file, span, id, "its asset metadata has no `boundingBox`"))
+        }
     };
     let category = annotations.get("category").and_then(Value::as_str).map(str::to_string);
     let object_type = meta.get("objectType").and_then(Value::as_str).map(str::to_string);
@@ -632,7 +649,12 @@ fn push_objathor(
         (Some(c), None) => (c.clone(), c),
         (None, Some(t)) => (camel_words(&t), t),
         (None, None) => {
-            return diags.push(bad_entry(file, span, id, "it has no `category` and no `objectType`"))
+            return diags.push(bad_entry(
+                file,
+                span,
+                id,
+                "it has no `category` and no `objectType`",
+            ))
         }
     };
     let description =

@@ -32,7 +32,8 @@ pub(crate) fn unknown_asset(
         catalog.assets().iter().filter(|a| a.allows(kind)).map(|a| a.id.as_str()),
     );
     let help = suggest::did_you_mean(&close).or_else(|| {
-        suggest::did_you_mean(&ids(ranked)).map(|h| format!("{h} (the best matches of the description)"))
+        suggest::did_you_mean(&ids(ranked))
+            .map(|h| format!("{h} (the best matches of the description)"))
     });
     Diagnostic::new(Code::E0401, format!("unknown asset `{}`", pin.id))
         .with_primary(pin.span, "no catalog has this asset")
@@ -47,8 +48,11 @@ pub(crate) fn wrong_kind(
     ranked: &[Candidate],
     name: &str,
 ) -> Diagnostic {
-    let can: Vec<&str> =
-        PlacementKind::ALL.into_iter().filter(|k| asset.allows(*k)).map(PlacementKind::as_str).collect();
+    let can: Vec<&str> = PlacementKind::ALL
+        .into_iter()
+        .filter(|k| asset.allows(*k))
+        .map(PlacementKind::as_str)
+        .collect();
     let can = if can.is_empty() { "nowhere".to_string() } else { can.join(", ") };
     Diagnostic::new(
         Code::E0402,
@@ -70,20 +74,33 @@ pub(crate) fn no_match(
 ) -> Diagnostic {
     let mut d = Diagnostic::new(
         Code::W0401,
-        format!("no {} asset matches `{}` (\"{}\"); it is left out", kind.as_str(), what.name, what.description),
+        format!(
+            "no {} asset matches `{}` (\"{}\"); it is left out",
+            kind.as_str(),
+            what.name,
+            what.description
+        ),
     )
     .with_primary(what.span, "nothing in the catalog is close enough");
     if nearest.is_empty() {
         d = d.with_note("no asset of this placement kind shares a word with the description");
     }
     for c in nearest {
-        d = d.with_note(format!("candidate `{}` ({}): score {}", c.asset_id, c.object_type, parts_text(c)));
+        d = d.with_note(format!(
+            "candidate `{}` ({}): score {}",
+            c.asset_id,
+            c.object_type,
+            parts_text(c)
+        ));
     }
     let has_kind = catalog.assets().iter().any(|a| a.allows(kind));
     let help = if has_kind {
         "describe it with words the catalog uses, pin an asset with `asset \"…\"`, or add a catalog with `--catalog`".to_string()
     } else {
-        format!("the catalogs have no asset that can be placed {}; add one with `--catalog`", kind_phrase(kind))
+        format!(
+            "the catalogs have no asset that can be placed {}; add one with `--catalog`",
+            kind_phrase(kind)
+        )
     };
     d.with_help(help)
 }

@@ -65,7 +65,8 @@ impl TextIndex {
             index.allowed.push(bits);
             total += u64::from(len);
         }
-        index.avg_len = if assets.is_empty() { 1.0 } else { (total as f64 / assets.len() as f64).max(1.0) };
+        index.avg_len =
+            if assets.is_empty() { 1.0 } else { (total as f64 / assets.len() as f64).max(1.0) };
         index
     }
 
@@ -84,9 +85,7 @@ impl TextIndex {
     }
 
     fn contains(&self, term: &str, doc: u32) -> bool {
-        self.postings
-            .get(term)
-            .is_some_and(|p| p.binary_search_by_key(&doc, |&(d, _)| d).is_ok())
+        self.postings.get(term).is_some_and(|p| p.binary_search_by_key(&doc, |&(d, _)| d).is_ok())
     }
 }
 
@@ -191,8 +190,8 @@ pub fn rank_top(catalog: &Catalog, query: &Query, seed: u64, limit: usize) -> Ve
                     continue;
                 }
                 let tf = f64::from(tf);
-                let norm = 1.0 - BM25_B
-                    + BM25_B * f64::from(index.doc_len[doc as usize]) / index.avg_len;
+                let norm =
+                    1.0 - BM25_B + BM25_B * f64::from(index.doc_len[doc as usize]) / index.avg_len;
                 let slot = &mut scores[doc as usize];
                 if *slot == 0.0 {
                     touched.push(doc);
@@ -215,13 +214,22 @@ pub fn rank_top(catalog: &Catalog, query: &Query, seed: u64, limit: usize) -> Ve
                         || modifiers.iter().any(|m| index.contains(m, doc)))
             });
             let text = if ideal > 0.0 { (bm25 / ideal).min(1.0) } else { 0.0 };
-            let relevance = HEAD_SHARE * f64::from(u8::from(head_match)) + (1.0 - HEAD_SHARE) * text;
+            let relevance =
+                HEAD_SHARE * f64::from(u8::from(head_match)) + (1.0 - HEAD_SHARE) * text;
             let size_diff_m = desired.map(|want| {
                 let b = sorted3(catalog.asset_at(d).bbox_m);
                 ((want[0] - b[0]).abs() + (want[1] - b[1]).abs() + (want[2] - b[2]).abs()) / 3.0
             });
             let score = RELEVANCE_WEIGHT * relevance - SIZE_WEIGHT * size_diff_m.unwrap_or(0.0);
-            Light { doc, head_match, text, relevance, size_diff_m, score, tie: splitmix64(seed ^ index.id_hash[d]) }
+            Light {
+                doc,
+                head_match,
+                text,
+                relevance,
+                size_diff_m,
+                score,
+                tie: splitmix64(seed ^ index.id_hash[d]),
+            }
         })
         .collect();
     let order = |a: &Light, b: &Light| {
@@ -293,7 +301,8 @@ mod tests {
 
     fn top(category: &str, kind: PlacementKind) -> Option<String> {
         let c = Catalog::embedded();
-        let q = Query { category: category.into(), description: None, size_m: None, kind: Some(kind) };
+        let q =
+            Query { category: category.into(), description: None, size_m: None, kind: Some(kind) };
         rank(&c, &q, 0).into_iter().find(Candidate::is_good_enough).map(|c| c.object_type)
     }
 

@@ -18,8 +18,8 @@ mod text;
 
 pub use catalog::{Asset, Catalog, CatalogSource, PlacementKind, Placements};
 pub use index::{
-    rank, rank_top, Candidate, Query, BM25_B, BM25_K1, HEAD_SHARE, RELEVANCE_THRESHOLD, RELEVANCE_WEIGHT,
-    SIZE_WEIGHT,
+    rank, rank_top, Candidate, Query, BM25_B, BM25_K1, HEAD_SHARE, RELEVANCE_THRESHOLD,
+    RELEVANCE_WEIGHT, SIZE_WEIGHT,
 };
 pub(crate) use report::candidate_json;
 pub use report::report;
@@ -34,7 +34,6 @@ pub fn search(
     size_m: Option<[f64; 3]>,
     kind: Option<PlacementKind>,
 ) -> Vec<Candidate> {
-    let query =
-        Query { category: query.to_string(), description: None, size_m, kind };
+    let query = Query { category: query.to_string(), description: None, size_m, kind };
     rank(catalog, &query, 0)
 }

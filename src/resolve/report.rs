@@ -102,7 +102,10 @@ pub fn report(scene: &Scene, catalog: &Catalog, resolved: &Resolved) -> Value {
             head.insert("object".into(), json!(obj.name));
             head.insert("room".into(), json!(room.name));
             head.insert("kind".into(), json!(if obj.is_floor() { "floor" } else { "wall" }));
-            head.insert("description".into(), json!(obj.description.as_deref().unwrap_or(&obj.category)));
+            head.insert(
+                "description".into(),
+                json!(obj.description.as_deref().unwrap_or(&obj.category)),
+            );
             if let Some(res) = resolved.objects.get(id.0) {
                 let v = resolution(res, catalog, head);
                 if matches!(res, Resolution::Unresolved(_)) {

@@ -45,6 +45,10 @@ pub struct Unresolved {
 }
 
 /// The outcome for one thing to resolve.
+#[allow(
+    clippy::large_enum_variant,
+    reason = "a scene has few resolutions; boxing would burden every stage that matches on them"
+)]
 #[derive(Clone, Debug, PartialEq)]
 pub enum Resolution {
     /// An asset was chosen.
@@ -89,7 +93,8 @@ impl Resolved {
                 let obj = scene.object(id);
                 let kind = if obj.is_floor() { "floor" } else { "wall" };
                 if let Some(res) = self.objects.get(id.0) {
-                    let _ = writeln!(out, "  {} [{kind}] {}", obj.name, dump_resolution(res, catalog));
+                    let _ =
+                        writeln!(out, "  {} [{kind}] {}", obj.name, dump_resolution(res, catalog));
                 }
                 for (k, item) in obj.on_top.iter().enumerate() {
                     if let Some(list) = self.small.get(&(id, k)) {
@@ -134,7 +139,11 @@ fn dump_resolution(res: &Resolution, catalog: &Catalog) -> String {
         Resolution::Unresolved(u) => {
             let nearest: Vec<String> =
                 u.nearest.iter().map(|c| format!("{} {:.3}", c.asset_id, c.score)).collect();
-            format!("unresolved: {} (nearest: {})", u.reason, if nearest.is_empty() { "none".to_string() } else { nearest.join(", ") })
+            format!(
+                "unresolved: {} (nearest: {})",
+                u.reason,
+                if nearest.is_empty() { "none".to_string() } else { nearest.join(", ") }
+            )
         }
     }
 }
@@ -165,7 +174,10 @@ pub fn resolve(scene: &Scene, catalog: &Catalog, seed: u64) -> Outcome<Resolved>
     };
     let mut resolved = Resolved {
         objects: vec![
-            Resolution::Unresolved(Unresolved { reason: "not resolved".into(), nearest: Vec::new() });
+            Resolution::Unresolved(Unresolved {
+                reason: "not resolved".into(),
+                nearest: Vec::new()
+            });
             scene.objects.len()
         ],
         ..Resolved::default()
@@ -194,15 +206,15 @@ pub fn resolve(scene: &Scene, catalog: &Catalog, seed: u64) -> Outcome<Resolved>
                 kind: Some(kind),
             };
             let wants_receptacle = !first.on_top.is_empty();
-            let pins: Vec<Option<&Pinned>> = ids.iter().map(|&id| scene.object(id).asset.as_ref()).collect();
+            let pins: Vec<Option<&Pinned>> =
+                ids.iter().map(|&id| scene.object(id).asset.as_ref()).collect();
             let what = Subject {
                 name: first.name.clone(),
                 description: first.description.clone().unwrap_or_else(|| first.category.clone()),
                 span: first.name_span,
                 room: room.id,
             };
-            let results =
-                state.choose(&what, &query, first.variance, &pins, wants_receptacle);
+            let results = state.choose(&what, &query, first.variance, &pins, wants_receptacle);
             for (&id, res) in ids.iter().zip(results) {
                 resolved.objects[id.0] = res;
             }
@@ -312,9 +324,8 @@ impl State<'_> {
             good.sort_by_key(|c| !self.catalog.asset_at(c.idx).receptacle);
         }
         // Avoid assets used in other rooms where an alternative exists.
-        let (fresh, used): (Vec<&Candidate>, Vec<&Candidate>) = good.iter().partition(|c| {
-            self.used.get(&c.asset_id).is_none_or_room(what.room)
-        });
+        let (fresh, used): (Vec<&Candidate>, Vec<&Candidate>) =
+            good.iter().partition(|c| self.used.get(&c.asset_id).free_for(what.room));
         let pool: Vec<&Candidate> = fresh.into_iter().chain(used).collect();
 
         let mut out = Vec::with_capacity(pins.len());
@@ -328,7 +339,11 @@ impl State<'_> {
                 let d = errors::no_match(what, kind, &nearest, self.catalog);
                 self.report_once(what.span, d);
                 out.push(Resolution::Unresolved(Unresolved {
-                    reason: format!("no {} asset matches \"{}\" well enough", kind.as_str(), what.description),
+                    reason: format!(
+                        "no {} asset matches \"{}\" well enough",
+                        kind.as_str(),
+                        what.description
+                    ),
                     nearest,
                 }));
                 continue;
@@ -354,7 +369,13 @@ impl State<'_> {
         out
     }
 
-    fn pinned(&mut self, what: &Subject, pin: &Pinned, kind: PlacementKind, ranked: &[Candidate]) -> Resolution {
+    fn pinned(
+        &mut self,
+        what: &Subject,
+        pin: &Pinned,
+        kind: PlacementKind,
+        ranked: &[Candidate],
+    ) -> Resolution {
         let right_kind: Vec<Candidate> =
             ranked.iter().filter(|c| c.is_good_enough()).take(3).cloned().collect();
         match self.catalog.get(&pin.id) {
@@ -370,7 +391,11 @@ impl State<'_> {
                 let d = errors::wrong_kind(pin, asset, kind, &right_kind, &what.name);
                 self.report_once(pin.span, d);
                 Resolution::Unresolved(Unresolved {
-                    reason: format!("pinned asset `{}` cannot be placed {}", pin.id, errors::kind_phrase(kind)),
+                    reason: format!(
+                        "pinned asset `{}` cannot be placed {}",
+                        pin.id,
+                        errors::kind_phrase(kind)
+                    ),
                     nearest: right_kind,
                 })
             }
@@ -393,11 +418,11 @@ impl State<'_> {
 
 /// Whether an asset's set of rooms leaves it free for `room` (unused, or used only there).
 trait FreeFor {
-    fn is_none_or_room(self, room: RoomId) -> bool;
+    fn free_for(self, room: RoomId) -> bool;
 }
 
 impl FreeFor for Option<&BTreeSet<RoomId>> {
-    fn is_none_or_room(self, room: RoomId) -> bool {
+    fn free_for(self, room: RoomId) -> bool {
         self.map_or(true, |rooms| rooms.iter().all(|r| *r == room))
     }
 }

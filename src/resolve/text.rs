@@ -132,23 +132,119 @@ const SYNONYMS: &[(&str, &str)] = &[
 /// Words that describe how a thing looks rather than what it is (colours, materials, sizes,
 /// styles). They are ignored when finding a category's head word.
 const ATTRIBUTE_WORDS: &[&str] = &[
-    "small", "large", "big", "tall", "short", "long", "wide", "narrow", "tiny", "huge", "mini",
-    "round", "square", "rectangular", "oval", "modern", "contemporary", "vintage", "antique",
-    "rustic", "classic", "industrial", "minimalist", "scandinavian", "traditional", "cozy",
-    "comfortable", "elegant", "simple", "sleek", "stylish", "new", "old", "wooden", "wood",
-    "metal", "metallic", "plastic", "glass", "fabric", "leather", "marble", "steel", "iron",
-    "velvet", "wicker", "ceramic", "white", "black", "grey", "brown", "beige", "cream", "red",
-    "blue", "green", "yellow", "orange", "pink", "purple", "dark", "light", "tan", "navy",
-    "golden", "gold", "silver", "upholstered", "padded", "soft", "hard", "low", "high", "double",
-    "single", "king", "queen", "twin", "size", "sized", "style", "styled",
+    "small",
+    "large",
+    "big",
+    "tall",
+    "short",
+    "long",
+    "wide",
+    "narrow",
+    "tiny",
+    "huge",
+    "mini",
+    "round",
+    "square",
+    "rectangular",
+    "oval",
+    "modern",
+    "contemporary",
+    "vintage",
+    "antique",
+    "rustic",
+    "classic",
+    "industrial",
+    "minimalist",
+    "scandinavian",
+    "traditional",
+    "cozy",
+    "comfortable",
+    "elegant",
+    "simple",
+    "sleek",
+    "stylish",
+    "new",
+    "old",
+    "wooden",
+    "wood",
+    "metal",
+    "metallic",
+    "plastic",
+    "glass",
+    "fabric",
+    "leather",
+    "marble",
+    "steel",
+    "iron",
+    "velvet",
+    "wicker",
+    "ceramic",
+    "white",
+    "black",
+    "grey",
+    "brown",
+    "beige",
+    "cream",
+    "red",
+    "blue",
+    "green",
+    "yellow",
+    "orange",
+    "pink",
+    "purple",
+    "dark",
+    "light",
+    "tan",
+    "navy",
+    "golden",
+    "gold",
+    "silver",
+    "upholstered",
+    "padded",
+    "soft",
+    "hard",
+    "low",
+    "high",
+    "double",
+    "single",
+    "king",
+    "queen",
+    "twin",
+    "size",
+    "sized",
+    "style",
+    "styled",
 ];
 
 /// Head words too general to identify a thing alone: `arcade machine` is not a coffee machine.
 /// When a category's head is one of these and it has other words, one of them must match too.
 const GENERIC_HEADS: &[&str] = &[
-    "machine", "stand", "unit", "holder", "table", "set", "station", "system", "equipment",
-    "device", "rack", "case", "box", "center", "console", "can", "bag", "decor", "top", "item",
-    "thing", "object", "furniture", "piece", "cabinet", "ball",
+    "machine",
+    "stand",
+    "unit",
+    "holder",
+    "table",
+    "set",
+    "station",
+    "system",
+    "equipment",
+    "device",
+    "rack",
+    "case",
+    "box",
+    "center",
+    "console",
+    "can",
+    "bag",
+    "decor",
+    "top",
+    "item",
+    "thing",
+    "object",
+    "furniture",
+    "piece",
+    "cabinet",
+    "ball",
 ];
 
 /// Lower-cases, splits on anything that is not a letter or digit, drops stopwords,
@@ -204,7 +300,10 @@ fn singular(word: &str) -> String {
             return word[..word.len() - 2].to_string();
         }
     }
-    if word.ends_with('s') && !word.ends_with("ss") && !word.ends_with("us") && !word.ends_with("is")
+    if word.ends_with('s')
+        && !word.ends_with("ss")
+        && !word.ends_with("us")
+        && !word.ends_with("is")
     {
         return word[..word.len() - 1].to_string();
     }
@@ -259,15 +358,12 @@ fn rewrite(words: &[String], allowed: impl Fn(&Rule) -> bool) -> Vec<String> {
                     && r.from.iter().zip(&words[i..]).all(|(a, b)| *a == b.as_str())
             })
         });
-        match hit {
-            Some(rule) => {
-                out.extend(rule.to.iter().map(|w| (*w).to_string()));
-                i += rule.from.len();
-            }
-            None => {
-                out.push(words[i].clone());
-                i += 1;
-            }
+        if let Some(rule) = hit {
+            out.extend(rule.to.iter().map(|w| (*w).to_string()));
+            i += rule.from.len();
+        } else {
+            out.push(words[i].clone());
+            i += 1;
         }
     }
     out
