@@ -717,6 +717,28 @@ mod tests {
     }
 
     #[test]
+    fn list_format_and_version() {
+        let text = r#"[{"uid": "a1", "category": "lamp", "onFloor": true,
+            "assetMetadata": {"boundingBox": {"x": 0.3, "y": 1.5, "z": 0.3}}},
+            {"category": "lamp"}]"#;
+        let mut diags = Vec::new();
+        let parsed = parse_catalog(text, FileId(0), 1, &mut diags);
+        assert_eq!(parsed.assets.len(), 1);
+        assert_eq!(parsed.assets[0].id, "a1");
+        assert_eq!(diags.len(), 1);
+        assert_eq!(diags[0].code, Code::W0402);
+
+        let text = r#"{"version": "2024-01", "b2": {"annotations": {"category": "rug",
+            "onFloor": true}, "thor_metadata": {"assetMetadata": {"boundingBox":
+            {"size": {"x": 2, "y": 0.01, "z": 1.5}}}}}}"#;
+        let mut diags = Vec::new();
+        let parsed = parse_catalog(text, FileId(0), 1, &mut diags);
+        assert!(diags.is_empty(), "{diags:?}");
+        assert_eq!(parsed.version.as_deref(), Some("2024-01"));
+        assert_eq!(parsed.assets[0].bbox_m, [2.0, 0.01, 1.5]);
+    }
+
+    #[test]
     fn bbox_shapes() {
         let v: Value = serde_json::json!({"min": {"x": -1, "y": 0, "z": -0.5}, "max": {"x": 1, "y": 1, "z": 0.5}});
         assert_eq!(bbox_of(&v), Ok([2.0, 1.0, 1.0]));

@@ -141,6 +141,30 @@ pub fn rank(catalog: &Catalog, query: &Query, seed: u64) -> Vec<Candidate> {
 
 /// The best `limit` candidates of [`rank`], in the same order, without building the rest.
 pub fn rank_top(catalog: &Catalog, query: &Query, seed: u64, limit: usize) -> Vec<Candidate> {
+    let n_docs = catalog.index.n_docs();
+    if n_docs == 0 || limit == 0 {
+        return Vec::new();
+    }
+    // One reusable score buffer per thread: only the touched slots are reset afterwards.
+    SCRATCH.with_borrow_mut(|scores| {
+        if scores.len() < n_docs {
+            scores.resize(n_docs, 0.0);
+        }
+        rank_with(catalog, query, seed, limit, scores)
+    })
+}
+
+thread_local! {
+    static SCRATCH: std::cell::RefCell<Vec<f64>> = const { std::cell::RefCell::new(Vec::new()) };
+}
+
+fn rank_with(
+    catalog: &Catalog,
+    query: &Query,
+    seed: u64,
+    limit: usize,
+    scores: &mut [f64],
+) -> Vec<Candidate> {
     let index = &catalog.index;
     let category = text::normalize(&query.category);
     let description = query.description.as_deref().map(text::normalize).unwrap_or_default();
@@ -150,8 +174,6 @@ pub fn rank_top(catalog: &Catalog, query: &Query, seed: u64, limit: usize) -> Ve
         .map(String::as_str)
         .filter(|t| Some(*t) != head.as_deref() && !text::is_attribute(t))
         .collect();
-
-    // Query word weights: head 3, other category words 2, description words 1.
     let mut weights: BTreeMap<&str, (f64, bool)> = BTreeMap::new();
     for t in &category {
         let w = if Some(t.as_str()) == head.as_deref() { 3.0 } else { 2.0 };
@@ -161,16 +183,14 @@ pub fn rank_top(catalog: &Catalog, query: &Query, seed: u64, limit: usize) -> Ve
     for t in &description {
         weights.entry(t).or_insert((0.0, false)).0 += 1.0;
     }
-    if weights.is_empty() || index.n_docs() == 0 || limit == 0 {
+    if weights.is_empty() {
         return Vec::new();
     }
     let kind_bit = query.kind.map(|k| {
         1u8 << PlacementKind::ALL.iter().position(|x| *x == k).expect("every kind is in ALL")
     });
-
     let saturated = 2.0 * (BM25_K1 + 1.0) / (2.0 + BM25_K1);
     let mut ideal = 0.0;
-    let mut scores = vec![0.0f64; index.n_docs()];
     let mut touched: Vec<u32> = Vec::new();
     for (term, (weight, in_category)) in &weights {
         let df = index.df(term);
@@ -206,7 +226,7 @@ pub fn rank_top(catalog: &Catalog, query: &Query, seed: u64, limit: usize) -> Ve
         .into_iter()
         .map(|doc| {
             let d = doc as usize;
-            let bm25 = scores[d];
+            let bm25 = std::mem::take(&mut scores[d]);
             let head_match = head.as_deref().is_some_and(|h| {
                 index.doc_head[d] == h
                     && (!text::is_generic_head(h)
