@@ -21,8 +21,7 @@ pub use index::{
     rank, rank_top, Candidate, Query, BM25_B, BM25_K1, HEAD_SHARE, RELEVANCE_THRESHOLD,
     RELEVANCE_WEIGHT, SIZE_WEIGHT,
 };
-pub(crate) use report::candidate_json;
-pub use report::report;
+pub use report::{candidate_json, report};
 pub use select::{resolve, Choice, Resolution, Resolved, Unresolved};
 
 /// Ranks the catalog for a free-text query, as `holoc assets search` does: the whole text is

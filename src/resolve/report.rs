@@ -29,7 +29,7 @@ fn candidate(c: &Candidate, catalog: &Catalog) -> Value {
 }
 
 /// One candidate as JSON (the `holoc assets search --format json` item).
-pub(crate) fn candidate_json(c: &Candidate, catalog: &Catalog) -> Value {
+pub fn candidate_json(c: &Candidate, catalog: &Catalog) -> Value {
     candidate(c, catalog)
 }
 
