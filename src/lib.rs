@@ -6,8 +6,8 @@
 
 pub mod ast;
 pub mod check;
-pub mod compile;
 pub mod cli;
+pub mod compile;
 pub mod diag;
 pub mod fmt;
 pub mod generate;

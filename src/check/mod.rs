@@ -9,7 +9,10 @@
 //!
 //! **Invariant:** the [`Scene`] holds no syntax; later stages see ids, metres and degrees.
 
+mod dump;
 pub mod scene;
+
+pub use dump::dump;
 mod units;
 
 pub use scene::*;
@@ -33,13 +36,16 @@ pub const DEFAULT_SILL_M: f64 = 0.9;
 
 /// Checks a parsed file and builds the typed scene.
 pub fn check(file: &ast::File) -> Outcome<Scene> {
-    let mut checker = Checker { diagnostics: Vec::new() };
+    let mut checker = Checker { diagnostics: Vec::new(), all_instances: BTreeMap::new() };
     let scene = checker.file(file);
     Outcome::new(scene, checker.diagnostics)
 }
 
 struct Checker {
     diagnostics: Vec<Diagnostic>,
+    /// Every object name of every room (instances and groups) → the rooms that declare it, so
+    /// that a reference to an object of another room is named as such.
+    all_instances: BTreeMap<String, Vec<String>>,
 }
 
 /// A declared object group, before expansion.
@@ -103,15 +109,41 @@ impl Checker {
                 }
                 if let Some((_, first)) = room_ids.get(&room.id.name) {
                     self.push(
-                        Diagnostic::new(Code::E0203, format!("room `{}` is defined twice", room.id.name))
-                            .with_primary(room.id.span, "defined again here")
-                            .with_secondary(*first, "first defined here")
-                            .with_help("give each room its own identifier"),
+                        Diagnostic::new(
+                            Code::E0203,
+                            format!("room `{}` is defined twice", room.id.name),
+                        )
+                        .with_primary(room.id.span, "defined again here")
+                        .with_secondary(*first, "first defined here")
+                        .with_help("give each room its own identifier"),
                     );
                     continue;
                 }
                 room_ids.insert(room.id.name.clone(), (RoomId(rooms.len()), room.id.span));
                 rooms.push(room);
+            }
+        }
+        for room in &rooms {
+            for stmt in &room.body {
+                if let ast::RoomStmt::Object(o) | ast::RoomStmt::WallObject(o) = stmt {
+                    let n = o
+                        .body
+                        .iter()
+                        .find_map(|s| match s {
+                            ast::ObjectStmt::Count(q, _, _)
+                                if q.value >= 1.0 && q.value <= f64::from(MAX_GROUP_COUNT) =>
+                            {
+                                Some(q.value as u32)
+                            }
+                            _ => None,
+                        })
+                        .unwrap_or(1);
+                    let mut names = vec![o.id.name.clone()];
+                    names.extend((0..n).map(|i| format!("{}-{i}", o.id.name)));
+                    for name in names {
+                        self.all_instances.entry(name).or_default().push(room.id.name.clone());
+                    }
+                }
             }
         }
         for (index, room) in rooms.iter().enumerate() {
@@ -120,7 +152,8 @@ impl Checker {
         }
         // Cross-room reference checks need every room's names.
         self.doors(file, &room_ids, &mut scene);
-        if scene.rooms.is_empty() {
+        let has_bad_line = file.items.iter().any(|i| matches!(i, ast::Item::Error(_)));
+        if scene.rooms.is_empty() && !has_bad_line {
             let span = file.span;
             self.push(
                 Diagnostic::new(Code::W0203, "the scene declares no room")
@@ -155,7 +188,10 @@ impl Checker {
                             self.push(
                                 Diagnostic::new(
                                     Code::E0208,
-                                    format!("wall height {} m is outside {lo} m to {hi} m", ast::format_number(h)),
+                                    format!(
+                                        "wall height {} m is outside {lo} m to {hi} m",
+                                        ast::format_number(h)
+                                    ),
                                 )
                                 .with_primary(q.span, "out of range")
                                 .with_help("AI2-THOR rooms are usually 2.5 m to 3.5 m high"),
@@ -164,11 +200,18 @@ impl Checker {
                     }
                 }
                 ast::SceneStmt::Seed(q, _) => {
-                    if q.unit.is_some() || q.value < 0.0 || q.value.fract() != 0.0 || q.value > 9.0e15 {
+                    if q.unit.is_some()
+                        || q.value < 0.0
+                        || q.value.fract() != 0.0
+                        || q.value > 9.0e15
+                    {
                         self.push(
-                            Diagnostic::new(Code::E0208, format!("seed `{}` is not a whole number ≥ 0", q.text))
-                                .with_primary(q.span, "expected a whole number without unit")
-                                .with_help("write e.g. `seed 42`"),
+                            Diagnostic::new(
+                                Code::E0208,
+                                format!("seed `{}` is not a whole number ≥ 0", q.text),
+                            )
+                            .with_primary(q.span, "expected a whole number without unit")
+                            .with_help("write e.g. `seed 42`"),
                         );
                     } else {
                         scene.seed = q.value as u64;
@@ -247,7 +290,10 @@ impl Checker {
                         self.push(
                             Diagnostic::new(
                                 Code::E0203,
-                                format!("object `{}` is defined twice in room `{}`", o.id.name, room.id.name),
+                                format!(
+                                    "object `{}` is defined twice in room `{}`",
+                                    o.id.name, room.id.name
+                                ),
                             )
                             .with_primary(o.id.span, "defined again here")
                             .with_secondary(*first, "first defined here")
@@ -278,16 +324,18 @@ impl Checker {
             g.first = next;
             names.groups.insert(g.decl.id.name.clone(), (g.count, ObjectId(next)));
             for i in 0..g.count {
-                names
-                    .instances
-                    .insert(format!("{}-{i}", g.decl.id.name), (ObjectId(next + i as usize), !g.is_wall));
+                names.instances.insert(
+                    format!("{}-{i}", g.decl.id.name),
+                    (ObjectId(next + i as usize), !g.is_wall),
+                );
             }
             next += g.count as usize;
         }
         for g in &groups {
             self.expand_group(g, id, &checked, &names, scene);
         }
-        checked.objects = (groups.first().map_or(scene.objects.len(), |g| g.first)..scene.objects.len())
+        checked.objects = (groups.first().map_or(scene.objects.len(), |g| g.first)
+            ..scene.objects.len())
             .map(ObjectId)
             .collect();
         self.check_constraint_order(&checked, scene);
@@ -302,9 +350,12 @@ impl Checker {
         if let Some((unit, span)) = c.unit {
             if !matches!(unit, ast::Unit::M | ast::Unit::Cm) {
                 self.push(
-                    Diagnostic::new(Code::E0106, format!("corners are given in `{}`", unit.as_str()))
-                        .with_primary(span, "expected `m` or `cm`")
-                        .with_help("write `corners in m ...` or `corners in cm ...`"),
+                    Diagnostic::new(
+                        Code::E0106,
+                        format!("corners are given in `{}`", unit.as_str()),
+                    )
+                    .with_primary(span, "expected `m` or `cm`")
+                    .with_help("write `corners in m ...` or `corners in cm ...`"),
                 );
                 return;
             }
@@ -325,10 +376,16 @@ impl Checker {
             self.push(
                 Diagnostic::new(
                     Code::E0214,
-                    format!("room `{}` has {} corners; an outline needs at least 4", room.name, c.points.len()),
+                    format!(
+                        "room `{}` has {} corners; an outline needs at least 4",
+                        room.name,
+                        c.points.len()
+                    ),
                 )
                 .with_primary(c.span, "too few corners")
-                .with_help("rooms are rectilinear polygons: list every corner, e.g. four for a rectangle"),
+                .with_help(
+                    "rooms are rectilinear polygons: list every corner, e.g. four for a rectangle",
+                ),
             );
         }
     }
@@ -356,12 +413,21 @@ impl Checker {
         let wall = self.word(
             &w.wall,
             "wall direction",
-            &[("north", Direction::North), ("south", Direction::South), ("east", Direction::East), ("west", Direction::West)],
+            &[
+                ("north", Direction::North),
+                ("south", Direction::South),
+                ("east", Direction::East),
+                ("west", Direction::West),
+            ],
         );
         let kind = self.word(
             &w.kind,
             "window type",
-            &[("fixed", WindowKind::Fixed), ("hung", WindowKind::Hung), ("slider", WindowKind::Slider)],
+            &[
+                ("fixed", WindowKind::Fixed),
+                ("hung", WindowKind::Hung),
+                ("slider", WindowKind::Slider),
+            ],
         );
         let width = self.positive_length(&w.width, "the window width");
         let height = self.positive_length(&w.height, "the window height");
@@ -377,7 +443,9 @@ impl Checker {
                         self.push(
                             Diagnostic::new(Code::E0208, "the sill height is negative")
                                 .with_primary(q.span, "below the floor")
-                                .with_help("the sill is the height of the window's bottom above the floor"),
+                                .with_help(
+                                    "the sill is the height of the window's bottom above the floor",
+                                ),
                         );
                         None
                     } else {
@@ -431,7 +499,10 @@ impl Checker {
                         ast::format_number(round6(hc))
                     ),
                 )
-                .with_primary(w.width.span.to(w.height.span), "the nearest offered size will be used")
+                .with_primary(
+                    w.width.span.to(w.height.span),
+                    "the nearest offered size will be used",
+                )
                 .with_help(format!(
                     "write `{} cm x {} cm`, the nearest size of a {} window",
                     nearest.0,
@@ -474,13 +545,21 @@ impl Checker {
                     continue;
                 }
                 seen = Some(*span);
-                n = count(q, "the object count", 1, MAX_GROUP_COUNT, &mut self.diagnostics).unwrap_or(1);
+                n = count(q, "the object count", 1, MAX_GROUP_COUNT, &mut self.diagnostics)
+                    .unwrap_or(1);
             }
         }
         n
     }
 
-    fn expand_group(&mut self, g: &Group<'_>, room: RoomId, checked: &Room, names: &RoomNames, scene: &mut Scene) {
+    fn expand_group(
+        &mut self,
+        g: &Group<'_>,
+        room: RoomId,
+        checked: &Room,
+        names: &RoomNames,
+        scene: &mut Scene,
+    ) {
         let o = g.decl;
         // Group-level settings.
         let mut base = Object {
@@ -515,34 +594,61 @@ impl Checker {
                     Some(i) => {
                         if let Some(first) = instances.get(&i) {
                             self.push(
-                                Diagnostic::new(Code::E0203, format!("instance `{}` has two blocks", inst.id.name))
-                                    .with_primary(inst.id.span, "second block")
-                                    .with_secondary(first.id.span, "first block")
-                                    .with_help("merge the two blocks"),
+                                Diagnostic::new(
+                                    Code::E0203,
+                                    format!("instance `{}` has two blocks", inst.id.name),
+                                )
+                                .with_primary(inst.id.span, "second block")
+                                .with_secondary(first.id.span, "first block")
+                                .with_help("merge the two blocks"),
                             );
                         } else {
                             instances.insert(i, inst);
                         }
                     }
                     None => {
-                        let all: Vec<String> = (0..g.count).map(|i| format!("{}-{i}", o.id.name)).collect();
-                        let candidates = suggest::closest(&inst.id.name, all.iter().map(String::as_str));
+                        let all: Vec<String> =
+                            (0..g.count).map(|i| format!("{}-{i}", o.id.name)).collect();
+                        let candidates =
+                            suggest::closest(&inst.id.name, all.iter().map(String::as_str));
                         self.push(
                             Diagnostic::new(
                                 Code::E0201,
                                 format!("`{}` is not an instance of `{}`", inst.id.name, o.id.name),
                             )
-                            .with_primary(inst.id.span, format!("`{}` has {} instance(s): {}", o.id.name, g.count, all.join(", ")))
-                            .with_help_opt(suggest::did_you_mean(&candidates).or_else(|| {
-                                Some(format!("raise `count` to declare more instances of `{}`", o.id.name))
-                            })),
+                            .with_primary(
+                                inst.id.span,
+                                format!(
+                                    "`{}` has {} instance(s): {}",
+                                    o.id.name,
+                                    g.count,
+                                    all.join(", ")
+                                ),
+                            )
+                            .with_help_opt(
+                                suggest::did_you_mean(&candidates).or_else(|| {
+                                    Some(format!(
+                                        "raise `count` to declare more instances of `{}`",
+                                        o.id.name
+                                    ))
+                                }),
+                            ),
                         );
                     }
                 }
             }
         }
         let wall_height = scene.wall_height_m;
-        self.apply_stmts(&shared, &mut base, g.is_wall, true, &mut seen, checked, names, wall_height);
+        self.apply_stmts(
+            &shared,
+            &mut base,
+            g.is_wall,
+            true,
+            &mut seen,
+            checked,
+            names,
+            wall_height,
+        );
         let mut missing_global: Vec<String> = Vec::new();
         for i in 0..g.count {
             let mut obj = base.clone();
@@ -552,7 +658,16 @@ impl Checker {
             if let Some(inst) = instances.get(&i) {
                 let stmts: Vec<&ast::ObjectStmt> = inst.body.iter().collect();
                 let mut inst_seen = seen.clone();
-                self.apply_stmts(&stmts, &mut obj, g.is_wall, false, &mut inst_seen, checked, names, wall_height);
+                self.apply_stmts(
+                    &stmts,
+                    &mut obj,
+                    g.is_wall,
+                    false,
+                    &mut inst_seen,
+                    checked,
+                    names,
+                    wall_height,
+                );
             }
             if let Placement::Floor { constraints, .. } = &mut obj.placement {
                 let own = obj.id;
@@ -575,7 +690,11 @@ impl Checker {
             }
             scene.objects.push(obj);
         }
-        if !missing_global.is_empty() {
+        let has_bad_line = o.body.iter().any(|s| matches!(s, ast::ObjectStmt::Error(_)))
+            || instances
+                .values()
+                .any(|i| i.body.iter().any(|s| matches!(s, ast::ObjectStmt::Error(_))));
+        if !missing_global.is_empty() && !has_bad_line {
             let which = if missing_global.len() == g.count as usize && g.count > 1 {
                 format!("every instance of `{}`", o.id.name)
             } else {
@@ -584,7 +703,9 @@ impl Checker {
             self.push(
                 Diagnostic::new(
                     Code::W0202,
-                    format!("{which} has neither `edge` nor `middle`; it will be placed against a wall"),
+                    format!(
+                        "{which} has neither `edge` nor `middle`; it will be placed against a wall"
+                    ),
                 )
                 .with_primary(o.id.span, "no global constraint")
                 .with_help("add `edge` or `middle` to the object"),
@@ -635,7 +756,12 @@ impl Checker {
                 }
                 ast::ObjectStmt::Count(q, variance, span) => {
                     if !group_level {
-                        self.misplaced("count", *span, "an instance block", "put `count` in the object's own block");
+                        self.misplaced(
+                            "count",
+                            *span,
+                            "an instance block",
+                            "put `count` in the object's own block",
+                        );
                         continue;
                     }
                     let _ = q;
@@ -646,17 +772,29 @@ impl Checker {
                         }
                     }
                 }
-                ast::ObjectStmt::Asset(s, _) => obj.asset = Some(Pinned { id: s.value.clone(), span: s.span }),
+                ast::ObjectStmt::Asset(s, _) => {
+                    obj.asset = Some(Pinned { id: s.value.clone(), span: s.span });
+                }
                 ast::ObjectStmt::Constraint(c) => {
                     if is_wall {
-                        self.misplaced(&c.name.name, c.span, "a wall object", "wall objects take `above` and `height`");
+                        self.misplaced(
+                            &c.name.name,
+                            c.span,
+                            "a wall object",
+                            "wall objects take `above` and `height`",
+                        );
                         continue;
                     }
                     self.constraint(c, obj, room, names);
                 }
                 ast::ObjectStmt::Above(target, span) => {
                     if !is_wall {
-                        self.misplaced("above", *span, "a floor object", "`above` places wall and ceiling objects");
+                        self.misplaced(
+                            "above",
+                            *span,
+                            "a floor object",
+                            "`above` places wall and ceiling objects",
+                        );
                         continue;
                     }
                     if let Some(id) = self.resolve_target(target, room, names, obj, true) {
@@ -667,10 +805,17 @@ impl Checker {
                 }
                 ast::ObjectStmt::Height(q, span) => {
                     if !is_wall {
-                        self.misplaced("height", *span, "a floor object", "the height of a floor object is part of `size`");
+                        self.misplaced(
+                            "height",
+                            *span,
+                            "a floor object",
+                            "the height of a floor object is part of `size`",
+                        );
                         continue;
                     }
-                    if let Some(h) = length_m(q, None, "the height above the floor", &mut self.diagnostics) {
+                    if let Some(h) =
+                        length_m(q, None, "the height above the floor", &mut self.diagnostics)
+                    {
                         if h < 0.0 || h >= wall_height_m {
                             self.push(
                                 Diagnostic::new(
@@ -691,9 +836,12 @@ impl Checker {
                 ast::ObjectStmt::At(qs, span) => {
                     if qs.len() != 2 {
                         self.push(
-                            Diagnostic::new(Code::E0208, format!("`at` takes 2 coordinates here, not {}", qs.len()))
-                                .with_primary(*span, "expected `at X, Z`")
-                                .with_help("write the position of the centre, e.g. `at 2 m, 3.5 m`"),
+                            Diagnostic::new(
+                                Code::E0208,
+                                format!("`at` takes 2 coordinates here, not {}", qs.len()),
+                            )
+                            .with_primary(*span, "expected `at X, Z`")
+                            .with_help("write the position of the centre, e.g. `at 2 m, 3.5 m`"),
                         );
                         continue;
                     }
@@ -703,7 +851,9 @@ impl Checker {
                         obj.at = Some([x, z]);
                     }
                 }
-                ast::ObjectStmt::Facing(q, _) => obj.facing_deg = angle_deg(q, "the facing angle", &mut self.diagnostics),
+                ast::ObjectStmt::Facing(q, _) => {
+                    obj.facing_deg = angle_deg(q, "the facing angle", &mut self.diagnostics);
+                }
                 ast::ObjectStmt::OnTop(t) => {
                     if let Some(item) = self.on_top(t) {
                         obj.on_top.push(item);
@@ -711,10 +861,17 @@ impl Checker {
                 }
                 ast::ObjectStmt::Instance(inst) => {
                     if !group_level {
-                        self.misplaced("instance", inst.span, "an instance block", "instance blocks do not nest");
+                        self.misplaced(
+                            "instance",
+                            inst.span,
+                            "an instance block",
+                            "instance blocks do not nest",
+                        );
                     }
                 }
-                ast::ObjectStmt::Comment(_) | ast::ObjectStmt::Error(_) | ast::ObjectStmt::Blank(_) => {}
+                ast::ObjectStmt::Comment(_)
+                | ast::ObjectStmt::Error(_)
+                | ast::ObjectStmt::Blank(_) => {}
             }
         }
     }
@@ -733,7 +890,9 @@ impl Checker {
             None => 1,
         };
         let variance = match &t.variance {
-            Some(v) => self.word(v, "variance", &[("same", Variance::Same), ("varied", Variance::Varied)])?,
+            Some(v) => {
+                self.word(v, "variance", &[("same", Variance::Same), ("varied", Variance::Varied)])?
+            }
             None => Variance::Same,
         };
         let mut item = SmallItem {
@@ -747,7 +906,9 @@ impl Checker {
         };
         for stmt in &t.body {
             match stmt {
-                ast::ObjectStmt::Asset(s, _) => item.asset = Some(Pinned { id: s.value.clone(), span: s.span }),
+                ast::ObjectStmt::Asset(s, _) => {
+                    item.asset = Some(Pinned { id: s.value.clone(), span: s.span });
+                }
                 ast::ObjectStmt::At(qs, span) => {
                     if qs.len() != 3 {
                         self.push(
@@ -757,24 +918,41 @@ impl Checker {
                         );
                         continue;
                     }
-                    let v: Vec<Option<f64>> =
-                        qs.iter().map(|q| length_m(q, None, "a coordinate", &mut self.diagnostics)).collect();
+                    let v: Vec<Option<f64>> = qs
+                        .iter()
+                        .map(|q| length_m(q, None, "a coordinate", &mut self.diagnostics))
+                        .collect();
                     if let [Some(x), Some(y), Some(z)] = v[..] {
                         item.at = Some([x, y, z]);
                     }
                 }
-                ast::ObjectStmt::Facing(q, _) => item.facing_deg = angle_deg(q, "the facing angle", &mut self.diagnostics),
-                ast::ObjectStmt::Comment(_) | ast::ObjectStmt::Error(_) | ast::ObjectStmt::Blank(_) => {}
+                ast::ObjectStmt::Facing(q, _) => {
+                    item.facing_deg = angle_deg(q, "the facing angle", &mut self.diagnostics);
+                }
+                ast::ObjectStmt::Comment(_)
+                | ast::ObjectStmt::Error(_)
+                | ast::ObjectStmt::Blank(_) => {}
                 other => {
                     let span = object_stmt_span(other);
-                    self.misplaced(object_stmt_word(other), span, "an `on top` block", "an `on top` block takes `asset`, `at` and `facing`");
+                    self.misplaced(
+                        object_stmt_word(other),
+                        span,
+                        "an `on top` block",
+                        "an `on top` block takes `asset`, `at` and `facing`",
+                    );
                 }
             }
         }
         Some(item)
     }
 
-    fn constraint(&mut self, c: &ast::Constraint, obj: &mut Object, room: &Room, names: &RoomNames) {
+    fn constraint(
+        &mut self,
+        c: &ast::Constraint,
+        obj: &mut Object,
+        room: &Room,
+        names: &RoomNames,
+    ) {
         let global_kind = match c.name.name.as_str() {
             "edge" => Some(GlobalKind::Edge),
             "middle" => Some(GlobalKind::Middle),
@@ -785,7 +963,10 @@ impl Checker {
                 self.push(
                     Diagnostic::new(Code::E0219, format!("`{}` takes no object", c.name.name))
                         .with_primary(t.span, "unexpected name")
-                        .with_help(format!("write `{}` alone; to relate objects use e.g. `near {}`", c.name.name, t.name)),
+                        .with_help(format!(
+                            "write `{}` alone; to relate objects use e.g. `near {}`",
+                            c.name.name, t.name
+                        )),
                 );
             }
             let group = obj.group.clone();
@@ -793,10 +974,13 @@ impl Checker {
             if let Some(first) = global {
                 let first_span = first.span;
                 self.push(
-                    Diagnostic::new(Code::E0209, format!("`{group}` has more than one global constraint"))
-                        .with_primary(c.span, format!("`{}` here", c.name.name))
-                        .with_secondary(first_span, "the first global constraint")
-                        .with_help("keep one of `edge` and `middle`"),
+                    Diagnostic::new(
+                        Code::E0209,
+                        format!("`{group}` has more than one global constraint"),
+                    )
+                    .with_primary(c.span, format!("`{}` here", c.name.name))
+                    .with_secondary(first_span, "the first global constraint")
+                    .with_help("keep one of `edge` and `middle`"),
                 );
                 return;
             }
@@ -814,7 +998,12 @@ impl Checker {
         };
         if let Some(id) = self.resolve_target(target, room, names, obj, false) {
             if let Placement::Floor { constraints, .. } = &mut obj.placement {
-                constraints.push(Constraint { kind, target: id, span: c.span, target_span: target.span });
+                constraints.push(Constraint {
+                    kind,
+                    target: id,
+                    span: c.span,
+                    target_span: target.span,
+                });
             }
         }
     }
@@ -831,7 +1020,9 @@ impl Checker {
     ) -> Option<ObjectId> {
         let name = &target.name;
         let found = names.instances.get(name).copied().or_else(|| match names.groups.get(name) {
-            Some((1, first)) => Some((*first, names.instances.get(&format!("{name}-0")).is_some_and(|e| e.1))),
+            Some((1, first)) => {
+                Some((*first, names.instances.get(&format!("{name}-0")).is_some_and(|e| e.1)))
+            }
             _ => None,
         });
         if let Some((id, is_floor)) = found {
@@ -839,11 +1030,16 @@ impl Checker {
                 self.push(
                     Diagnostic::new(Code::E0207, format!("`{name}` is a wall object"))
                         .with_primary(target.span, "expected a floor object")
-                        .with_help("constraints and `above` relate to objects standing on the floor"),
+                        .with_help(
+                            "constraints and `above` relate to objects standing on the floor",
+                        ),
                 );
                 return None;
             }
-            if !for_wall && !obj.name.is_empty() && (id == obj.id || group_instance(name, &obj.group, obj.group_count, obj.index)) {
+            if !for_wall
+                && !obj.name.is_empty()
+                && (id == obj.id || group_instance(name, &obj.group, obj.group_count, obj.index))
+            {
                 self.push(
                     Diagnostic::new(Code::E0206, format!("`{}` refers to itself", obj.name))
                         .with_primary(target.span, "the object itself")
@@ -862,8 +1058,25 @@ impl Checker {
             );
             return None;
         }
+        let elsewhere: Vec<String> = self
+            .all_instances
+            .get(name)
+            .map(|rooms| rooms.iter().filter(|r| **r != room.name).cloned().collect())
+            .unwrap_or_default();
+        if let Some(other) = elsewhere.first() {
+            self.push(
+                Diagnostic::new(
+                    Code::E0207,
+                    format!("`{name}` is in room `{other}`, not in `{}`", room.name),
+                )
+                .with_primary(target.span, "an object of another room")
+                .with_help("constraints relate objects of the same room"),
+            );
+            return None;
+        }
         let mut candidates_pool: Vec<&str> = names.instances.keys().map(String::as_str).collect();
-        candidates_pool.extend(names.groups.iter().filter(|(_, (n, _))| *n == 1).map(|(g, _)| g.as_str()));
+        candidates_pool
+            .extend(names.groups.iter().filter(|(_, (n, _))| *n == 1).map(|(g, _)| g.as_str()));
         let candidates = suggest::closest(name, candidates_pool.iter().copied());
         self.push(
             Diagnostic::new(Code::E0201, format!("unknown object `{name}`"))
@@ -903,7 +1116,9 @@ impl Checker {
         let mut drop: Vec<(ObjectId, usize)> = Vec::new();
         for &(id, k) in &forward {
             let (target, span, target_span) = match &scene.objects[id.0].placement {
-                Placement::Floor { constraints, .. } => (constraints[k].target, constraints[k].span, constraints[k].target_span),
+                Placement::Floor { constraints, .. } => {
+                    (constraints[k].target, constraints[k].span, constraints[k].target_span)
+                }
                 Placement::Wall { .. } => continue,
             };
             drop.push((id, k));
@@ -921,7 +1136,10 @@ impl Checker {
                 )
                 .with_primary(span, "this constraint closes the circle");
                 for (node, s) in &path {
-                    d = d.with_secondary(*s, format!("`{}` depends on the next object here", scene.objects[*node].name));
+                    d = d.with_secondary(
+                        *s,
+                        format!("`{}` depends on the next object here", scene.objects[*node].name),
+                    );
                     in_cycle_reported.push(*node);
                 }
                 in_cycle_reported.push(id.0);
@@ -950,8 +1168,20 @@ impl Checker {
         }
     }
 
-    fn ceiling(&mut self, c: &ast::Ceiling, room: &Room, names: &RoomNames, scene: &Scene) -> Ceiling {
-        let mut ceiling = Ceiling { description: c.description.value.clone(), asset: None, above: None, at: None, span: c.span };
+    fn ceiling(
+        &mut self,
+        c: &ast::Ceiling,
+        room: &Room,
+        names: &RoomNames,
+        scene: &Scene,
+    ) -> Ceiling {
+        let mut ceiling = Ceiling {
+            description: c.description.value.clone(),
+            asset: None,
+            above: None,
+            at: None,
+            span: c.span,
+        };
         let probe = Object {
             id: ObjectId(usize::MAX),
             room: room.id,
@@ -974,7 +1204,9 @@ impl Checker {
         let _ = scene;
         for stmt in &c.body {
             match stmt {
-                ast::ObjectStmt::Asset(s, _) => ceiling.asset = Some(Pinned { id: s.value.clone(), span: s.span }),
+                ast::ObjectStmt::Asset(s, _) => {
+                    ceiling.asset = Some(Pinned { id: s.value.clone(), span: s.span });
+                }
                 ast::ObjectStmt::Above(t, _) => {
                     if let Some(id) = self.resolve_target(t, room, names, &probe, true) {
                         ceiling.above = Some((id, t.span));
@@ -989,22 +1221,37 @@ impl Checker {
                         }
                     } else {
                         self.push(
-                            Diagnostic::new(Code::E0208, format!("`at` takes 2 coordinates here, not {}", qs.len()))
-                                .with_primary(*span, "expected `at X, Z`"),
+                            Diagnostic::new(
+                                Code::E0208,
+                                format!("`at` takes 2 coordinates here, not {}", qs.len()),
+                            )
+                            .with_primary(*span, "expected `at X, Z`"),
                         );
                     }
                 }
-                ast::ObjectStmt::Comment(_) | ast::ObjectStmt::Error(_) | ast::ObjectStmt::Blank(_) => {}
+                ast::ObjectStmt::Comment(_)
+                | ast::ObjectStmt::Error(_)
+                | ast::ObjectStmt::Blank(_) => {}
                 other => {
                     let span = object_stmt_span(other);
-                    self.misplaced(object_stmt_word(other), span, "a `ceiling` block", "a ceiling block takes `asset`, `above` and `at`");
+                    self.misplaced(
+                        object_stmt_word(other),
+                        span,
+                        "a `ceiling` block",
+                        "a ceiling block takes `asset`, `above` and `at`",
+                    );
                 }
             }
         }
         ceiling
     }
 
-    fn doors(&mut self, file: &ast::File, rooms: &BTreeMap<String, (RoomId, Span)>, scene: &mut Scene) {
+    fn doors(
+        &mut self,
+        file: &ast::File,
+        rooms: &BTreeMap<String, (RoomId, Span)>,
+        scene: &mut Scene,
+    ) {
         let mut pairs: BTreeMap<(DoorSide, DoorSide), Span> = BTreeMap::new();
         for item in &file.items {
             let ast::Item::Door(d) = item else { continue };
@@ -1013,18 +1260,32 @@ impl Checker {
             let kind = self.word(
                 &d.kind,
                 "connection kind",
-                &[("doorway", DoorKind::Doorway), ("doorframe", DoorKind::Doorframe), ("open", DoorKind::Open)],
+                &[
+                    ("doorway", DoorKind::Doorway),
+                    ("doorframe", DoorKind::Doorframe),
+                    ("open", DoorKind::Open),
+                ],
             );
             let size = match &d.size {
                 Some(w) if w.name.eq_ignore_ascii_case("n/a") => Some(None),
                 Some(w) => self
-                    .word(w, "door size", &[("single", DoorSize::Single), ("double", DoorSize::Double)])
+                    .word(
+                        w,
+                        "door size",
+                        &[("single", DoorSize::Single), ("double", DoorSize::Double)],
+                    )
                     .map(Some),
                 None => Some(None),
             };
-            let (Some(from), Some(to), Some(kind), Some(size)) = (from, to, kind, size) else { continue };
+            let (Some(from), Some(to), Some(kind), Some(size)) = (from, to, kind, size) else {
+                continue;
+            };
             if from == to {
-                let what = if from == DoorSide::Exterior { "the outside to itself" } else { "a room to itself" };
+                let what = if from == DoorSide::Exterior {
+                    "the outside to itself"
+                } else {
+                    "a room to itself"
+                };
                 self.push(
                     Diagnostic::new(Code::E0210, format!("a door connects {what}"))
                         .with_primary(d.to.span, format!("`{}` again", d.to.name))
@@ -1050,7 +1311,9 @@ impl Checker {
                     )
                     .with_primary(d.span, "second connection")
                     .with_secondary(*first, "first connection")
-                    .with_help("keep one connection per pair of rooms; AI2-THOR allows one hole per wall"),
+                    .with_help(
+                        "keep one connection per pair of rooms; AI2-THOR allows one hole per wall",
+                    ),
                 );
                 continue;
             }
@@ -1073,7 +1336,11 @@ impl Checker {
         }
     }
 
-    fn door_side(&mut self, ident: &ast::Ident, rooms: &BTreeMap<String, (RoomId, Span)>) -> Option<DoorSide> {
+    fn door_side(
+        &mut self,
+        ident: &ast::Ident,
+        rooms: &BTreeMap<String, (RoomId, Span)>,
+    ) -> Option<DoorSide> {
         if ident.name == "exterior" {
             return Some(DoorSide::Exterior);
         }
@@ -1107,7 +1374,11 @@ fn parse_instance(name: &str, group: &str, count: u32) -> Option<u32> {
 }
 
 /// A path `from → … → to` in the dependency graph, as (node, constraint span) steps.
-fn find_path(edges: &BTreeMap<usize, Vec<(usize, Span)>>, from: usize, to: usize) -> Option<Vec<(usize, Span)>> {
+fn find_path(
+    edges: &BTreeMap<usize, Vec<(usize, Span)>>,
+    from: usize,
+    to: usize,
+) -> Option<Vec<(usize, Span)>> {
     let mut stack: Vec<(usize, Vec<(usize, Span)>)> = vec![(from, Vec::new())];
     let mut seen = std::collections::BTreeSet::new();
     while let Some((node, path)) = stack.pop() {
@@ -1138,14 +1409,14 @@ fn object_stmt_span(stmt: &ast::ObjectStmt) -> Span {
         | ast::ObjectStmt::Above(_, s)
         | ast::ObjectStmt::Height(_, s)
         | ast::ObjectStmt::At(_, s)
-        | ast::ObjectStmt::Facing(_, s) => *s,
+        | ast::ObjectStmt::Facing(_, s)
+        | ast::ObjectStmt::Blank(s) => *s,
         ast::ObjectStmt::Size(s) => s.span,
         ast::ObjectStmt::Constraint(c) => c.span,
         ast::ObjectStmt::OnTop(t) => t.span,
         ast::ObjectStmt::Instance(i) => i.span,
         ast::ObjectStmt::Comment(c) => c.span,
         ast::ObjectStmt::Error(e) => e.span,
-        ast::ObjectStmt::Blank(s) => *s,
     }
 }
 

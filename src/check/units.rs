@@ -32,7 +32,10 @@ pub(super) fn length_m(
             diagnostics.push(
                 Diagnostic::new(
                     Code::E0106,
-                    format!("{what} is written in `{}`, which is not a length unit of holoc", unit.as_str()),
+                    format!(
+                        "{what} is written in `{}`, which is not a length unit of holoc",
+                        unit.as_str()
+                    ),
                 )
                 .with_primary(q.unit_span.unwrap_or(q.span), "expected `m` or `cm`")
                 .with_help(help),
@@ -43,7 +46,11 @@ pub(super) fn length_m(
 }
 
 /// Converts an angle to degrees in `[0, 360)`, or reports why it cannot be one.
-pub(super) fn angle_deg(q: &Quantity, what: &str, diagnostics: &mut Vec<Diagnostic>) -> Option<f64> {
+pub(super) fn angle_deg(
+    q: &Quantity,
+    what: &str,
+    diagnostics: &mut Vec<Diagnostic>,
+) -> Option<f64> {
     let degrees = match q.unit {
         Some(Unit::Deg) => q.value,
         None => {
@@ -95,8 +102,11 @@ pub(super) fn count(
     }
     if q.value.fract() != 0.0 || q.value < f64::from(min) || q.value > f64::from(max) {
         diagnostics.push(
-            Diagnostic::new(Code::E0208, format!("{what} `{}` is not a whole number from {min} to {max}", q.text))
-                .with_primary(q.span, format!("expected {min}..={max}")),
+            Diagnostic::new(
+                Code::E0208,
+                format!("{what} `{}` is not a whole number from {min} to {max}", q.text),
+            )
+            .with_primary(q.span, format!("expected {min}..={max}")),
         );
         return None;
     }

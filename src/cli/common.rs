@@ -56,6 +56,10 @@ pub fn exit_for(diagnostics: &[Diagnostic]) -> ExitCode {
 }
 
 /// Reads a file into the source map, or returns the diagnostic (E0001, E0003).
+#[allow(
+    clippy::result_large_err,
+    reason = "the error is printed at once; it is rare and never propagated far"
+)]
 pub fn read_source(sources: &mut SourceMap, path: &Path) -> Result<FileId, Diagnostic> {
     let bytes = std::fs::read(path).map_err(|e| {
         Diagnostic::new(Code::E0001, format!("cannot read `{}`: {e}", path.display()))
@@ -64,7 +68,11 @@ pub fn read_source(sources: &mut SourceMap, path: &Path) -> Result<FileId, Diagn
     let text = String::from_utf8(bytes).map_err(|e| {
         Diagnostic::new(
             Code::E0003,
-            format!("`{}` is not UTF-8 text (invalid byte at offset {})", path.display(), e.utf8_error().valid_up_to()),
+            format!(
+                "`{}` is not UTF-8 text (invalid byte at offset {})",
+                path.display(),
+                e.utf8_error().valid_up_to()
+            ),
         )
         .with_help("save the file as UTF-8")
     })?;
@@ -72,8 +80,17 @@ pub fn read_source(sources: &mut SourceMap, path: &Path) -> Result<FileId, Diagn
 }
 
 /// Prints diagnostics in the chosen format: human and short to stderr, json and lsp to stdout.
-#[allow(clippy::print_stdout, clippy::print_stderr, reason = "the CLI is the only place that prints")]
-pub fn emit(sources: &SourceMap, diagnostics: &[Diagnostic], format: DiagFormat, color: ColorChoice) {
+#[allow(
+    clippy::print_stdout,
+    clippy::print_stderr,
+    reason = "the CLI is the only place that prints"
+)]
+pub fn emit(
+    sources: &SourceMap,
+    diagnostics: &[Diagnostic],
+    format: DiagFormat,
+    color: ColorChoice,
+) {
     let mut sorted = diagnostics.to_vec();
     diag::sort(&mut sorted);
     match format {
@@ -107,6 +124,10 @@ pub fn emit_plain(d: &Diagnostic) {
 
 /// Writes `contents` to `path` atomically: a temporary file in the same folder, then a rename.
 /// On failure the existing file is untouched.
+#[allow(
+    clippy::result_large_err,
+    reason = "the error is printed at once; it is rare and never propagated far"
+)]
 pub fn write_atomic(path: &Path, contents: &[u8]) -> Result<(), Diagnostic> {
     let dir = match path.parent() {
         Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
@@ -125,6 +146,10 @@ pub fn write_atomic(path: &Path, contents: &[u8]) -> Result<(), Diagnostic> {
 
 /// Writes a product to `-o PATH` atomically, or to stdout when no path is given.
 #[allow(clippy::print_stdout, reason = "the CLI is the only place that prints")]
+#[allow(
+    clippy::result_large_err,
+    reason = "the error is printed at once; it is rare and never propagated far"
+)]
 pub fn write_output(path: Option<&Path>, contents: &str) -> Result<(), Diagnostic> {
     match path {
         Some(p) if p.as_os_str() != "-" => write_atomic(p, contents.as_bytes()),

@@ -33,9 +33,10 @@ pub fn run(args: &ExplainArgs) -> ExitCode {
             let names: Vec<&str> = Code::ALL.iter().flat_map(|c| [c.as_str(), c.name()]).collect();
             let candidates = crate::diag::suggest::closest(text, names.iter().copied());
             let d = Diagnostic::new(Code::E0004, format!("unknown diagnostic code `{text}`"))
-                .with_help_opt(crate::diag::suggest::did_you_mean(&candidates).or_else(|| {
-                    Some("`holoc explain --list` prints every code".to_string())
-                }));
+                .with_help_opt(
+                    crate::diag::suggest::did_you_mean(&candidates)
+                        .or_else(|| Some("`holoc explain --list` prints every code".to_string())),
+                );
             super::common::emit_plain(&d);
             ExitCode::from(2)
         }

@@ -23,7 +23,11 @@ pub struct FmtArgs {
 }
 
 /// Runs `holoc fmt`.
-#[allow(clippy::print_stdout, clippy::print_stderr, reason = "the CLI is the only place that prints")]
+#[allow(
+    clippy::print_stdout,
+    clippy::print_stderr,
+    reason = "the CLI is the only place that prints"
+)]
 pub fn run(args: &FmtArgs) -> ExitCode {
     let mut sources = SourceMap::new();
     let mut status = ExitCode::SUCCESS;
