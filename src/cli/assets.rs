@@ -241,9 +241,9 @@ fn list(args: &ListArgs) -> ExitCode {
         .assets()
         .iter()
         .filter(|a| {
-            args.object_type.as_ref().map_or(true, |t| t.eq_ignore_ascii_case(&a.object_type))
+            args.object_type.as_ref().is_none_or(|t| t.eq_ignore_ascii_case(&a.object_type))
         })
-        .filter(|a| args.kind.map_or(true, |k| a.allows(k.kind())))
+        .filter(|a| args.kind.is_none_or(|k| a.allows(k.kind())))
         .collect();
     assets.sort_by(|a, b| a.object_type.cmp(&b.object_type).then_with(|| a.id.cmp(&b.id)));
     if assets.is_empty() {

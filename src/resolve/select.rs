@@ -423,6 +423,6 @@ trait FreeFor {
 
 impl FreeFor for Option<&BTreeSet<RoomId>> {
     fn free_for(self, room: RoomId) -> bool {
-        self.map_or(true, |rooms| rooms.iter().all(|r| *r == room))
+        self.is_none_or(|rooms| rooms.iter().all(|r| *r == room))
     }
 }
