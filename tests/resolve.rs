@@ -300,3 +300,31 @@ fn search_ranks_by_words_and_size() {
     assert!(wall.iter().all(|c| c.object_type == "Painting"));
     assert!(resolve::search(&catalog, "", None, None).is_empty());
 }
+
+/// The `.holo` example of each resolve diagnostic page produces that code and no other.
+#[test]
+fn diagnostic_page_examples_produce_their_code() {
+    let catalog = Catalog::embedded();
+    for code in ["E0401", "E0402", "W0401"] {
+        let page = std::fs::read_to_string(format!("book/src/diagnostics/{code}.md"))
+            .expect("the page exists");
+        let example = page
+            .split("```holo\n")
+            .nth(1)
+            .and_then(|rest| rest.split("```").next())
+            .expect("the page has a holo example");
+        let mut sources = SourceMap::new();
+        let id = sources.add(format!("{code}.holo"), example.to_string());
+        let checked = holoc::compile::check_file(&sources, id);
+        assert!(!checked.has_errors(), "{code}: {:?}", checked.diagnostics);
+        let scene = checked.value.expect("a scene");
+        let outcome = resolve::resolve(&scene, &catalog, scene.seed);
+        let codes: Vec<&str> = checked
+            .diagnostics
+            .iter()
+            .chain(&outcome.diagnostics)
+            .map(|d| d.code.as_str())
+            .collect();
+        assert_eq!(codes, vec![code], "{code}");
+    }
+}
