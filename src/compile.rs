@@ -1,16 +1,21 @@
 //! The driver: runs the stages in order on one file and collects their diagnostics.
 //!
-//! A stage runs only when the stages before it produced no error.
+//! A stage runs only when the stages before it produced no error. The driver does no I/O:
+//! sources come in a [`SourceMap`], catalogs as values.
 
 use crate::check::Scene;
-use crate::diag::Outcome;
+use crate::diag::{Diagnostic, Outcome};
+use crate::lower::{HouseJson, LoweredObject};
+use crate::plan::{FloorPlan, PlanOptions};
+use crate::resolve::structure::StructureCatalog;
+use crate::resolve::{Catalog, Resolved};
 use crate::source::{FileId, SourceMap};
 
 /// Parses and checks one file. The scene is `None` when the file has syntax errors.
 pub fn check_file(sources: &SourceMap, file: FileId) -> Outcome<Option<Scene>> {
     let parsed = crate::parse::parse(sources, file);
     let mut diagnostics = parsed.diagnostics;
-    let parse_failed = diagnostics.iter().any(crate::diag::Diagnostic::is_error);
+    let parse_failed = diagnostics.iter().any(Diagnostic::is_error);
     let checked = crate::check::check(&parsed.value);
     // The checker also runs on a file with syntax errors (the editor wants every problem);
     // bad lines are error nodes that it skips.
@@ -19,8 +24,73 @@ pub fn check_file(sources: &SourceMap, file: FileId) -> Outcome<Option<Scene>> {
     Outcome::new(scene, diagnostics)
 }
 
-/// Runs every stage on one file as far as it gets and returns all diagnostics (what an editor
-/// shows, and what the diagnostics catalogue's examples are checked against).
-pub fn diagnose(sources: &SourceMap, file: FileId) -> Vec<crate::diag::Diagnostic> {
-    check_file(sources, file).diagnostics
+/// How to build.
+#[derive(Clone, Copy, Debug)]
+pub struct BuildOptions<'a> {
+    /// Overrides the scene's seed.
+    pub seed: Option<u64>,
+    /// Options of the plan stage.
+    pub plan: PlanOptions,
+    /// The asset catalog objects are resolved against.
+    pub catalog: &'a Catalog,
+}
+
+/// Everything a build produced, stage by stage.
+#[derive(Clone, Debug)]
+pub struct Built {
+    /// The checked scene (with the seed override applied).
+    pub scene: Scene,
+    /// The floor plan.
+    pub plan: FloorPlan,
+    /// The chosen assets.
+    pub resolved: Resolved,
+    /// The objects as they go into the house.
+    pub objects: Vec<LoweredObject>,
+    /// The house.
+    pub house: HouseJson,
+}
+
+fn has_errors(diagnostics: &[Diagnostic]) -> bool {
+    diagnostics.iter().any(Diagnostic::is_error)
+}
+
+/// Runs parse → check → plan → resolve → solve → lower on one file. The product is `None`
+/// when a stage reported an error.
+pub fn build(
+    sources: &SourceMap,
+    file: FileId,
+    options: &BuildOptions<'_>,
+) -> Outcome<Option<Built>> {
+    let checked = check_file(sources, file);
+    let mut diagnostics = checked.diagnostics;
+    let Some(mut scene) = checked.value.filter(|_| !has_errors(&diagnostics)) else {
+        return Outcome::new(None, diagnostics);
+    };
+    if let Some(seed) = options.seed {
+        scene.seed = seed;
+    }
+    let planned = crate::plan::plan_with(&scene, StructureCatalog::builtin(), options.plan);
+    diagnostics.extend(planned.diagnostics);
+    if has_errors(&diagnostics) {
+        return Outcome::new(None, diagnostics);
+    }
+    let plan = planned.value;
+    let resolved = crate::resolve::resolve(&scene, options.catalog, scene.seed);
+    diagnostics.extend(resolved.diagnostics);
+    if has_errors(&diagnostics) {
+        return Outcome::new(None, diagnostics);
+    }
+    let resolved = resolved.value;
+    let objects: Vec<LoweredObject> = Vec::new();
+    let house = crate::lower::lower(&scene, &plan, &objects);
+    Outcome::new(Some(Built { scene, plan, resolved, objects, house }), diagnostics)
+}
+
+/// Runs every stage on one file as far as it gets, with the embedded catalogs, and returns all
+/// diagnostics (what an editor shows, and what the diagnostics catalogue's examples are checked
+/// against).
+pub fn diagnose(sources: &SourceMap, file: FileId) -> Vec<Diagnostic> {
+    let catalog = Catalog::embedded();
+    let options = BuildOptions { seed: None, plan: PlanOptions::default(), catalog: &catalog };
+    build(sources, file, &options).diagnostics
 }

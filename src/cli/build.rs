@@ -1,12 +1,9 @@
 //! `holoc build SCENE.holo [-o house.json] [--seed N] [--emit plan|house] [--add-doors]`.
 
 use super::common::{self, ColorChoice, DiagFormat};
-use crate::check::Scene;
-use crate::diag::Outcome;
-use crate::lower::{HouseJson, LoweredObject};
-use crate::plan::{FloorPlan, PlanOptions};
-use crate::resolve::structure::StructureCatalog;
-use crate::source::{FileId, SourceMap};
+use crate::compile::BuildOptions;
+use crate::plan::PlanOptions;
+use crate::source::SourceMap;
 use clap::ValueEnum;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -39,51 +36,15 @@ pub struct BuildArgs {
     /// instead of failing with E0314/E0315.
     #[arg(long)]
     pub add_doors: bool,
+    /// User asset catalogs.
+    #[command(flatten)]
+    pub catalogs: super::assets::CatalogArgs,
     /// How to print diagnostics.
     #[arg(long, value_enum, default_value_t = DiagFormat::Human)]
     pub format: DiagFormat,
     /// When to colour human diagnostics.
     #[arg(long, value_enum, default_value_t = ColorChoice::Auto)]
     pub color: ColorChoice,
-}
-
-/// The products of a successful build.
-#[derive(Clone, Debug)]
-pub struct BuildProduct {
-    /// The checked scene.
-    pub scene: Scene,
-    /// Its floor plan.
-    pub plan: FloorPlan,
-    /// The house.
-    pub house: HouseJson,
-}
-
-/// Runs parse → check → plan → lower on one file. The product is `None` when a stage failed.
-pub fn build_file(
-    sources: &SourceMap,
-    file: FileId,
-    seed: Option<u64>,
-    options: PlanOptions,
-    objects: &[LoweredObject],
-) -> Outcome<Option<BuildProduct>> {
-    let checked = crate::compile::check_file(sources, file);
-    let mut diagnostics = checked.diagnostics;
-    let Some(mut scene) =
-        checked.value.filter(|_| !diagnostics.iter().any(crate::diag::Diagnostic::is_error))
-    else {
-        return Outcome::new(None, diagnostics);
-    };
-    if let Some(seed) = seed {
-        scene.seed = seed;
-    }
-    let planned = crate::plan::plan_with(&scene, StructureCatalog::builtin(), options);
-    diagnostics.extend(planned.diagnostics);
-    if diagnostics.iter().any(crate::diag::Diagnostic::is_error) {
-        return Outcome::new(None, diagnostics);
-    }
-    let plan = planned.value;
-    let house = crate::lower::lower(&scene, &plan, objects);
-    Outcome::new(Some(BuildProduct { scene, plan, house }), diagnostics)
 }
 
 /// Runs `holoc build`.
@@ -96,8 +57,19 @@ pub fn run(args: &BuildArgs) -> ExitCode {
             return ExitCode::from(2);
         }
     };
-    let options = PlanOptions { add_doors: args.add_doors };
-    let built = build_file(&sources, file, args.seed, options, &[]);
+    let loaded = args.catalogs.load(&mut sources);
+    if loaded.has_errors() {
+        common::emit(&sources, &loaded.diagnostics, args.format, args.color);
+        return ExitCode::from(1);
+    }
+    let catalog = loaded.value;
+    let options = BuildOptions {
+        seed: args.seed,
+        plan: PlanOptions { add_doors: args.add_doors },
+        catalog: &catalog,
+    };
+    let mut built = crate::compile::build(&sources, file, &options);
+    built.diagnostics.splice(0..0, loaded.diagnostics);
     common::emit(&sources, &built.diagnostics, args.format, args.color);
     let Some(product) = built.value else {
         return common::exit_for(&built.diagnostics);

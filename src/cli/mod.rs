@@ -3,6 +3,7 @@
 //! Exit codes: 0 success (warnings allowed), 1 errors in the input, 2 bad usage, I/O failure or
 //! an internal error.
 
+pub mod assets;
 pub mod build;
 pub mod check;
 pub mod common;
@@ -25,6 +26,8 @@ pub struct Cli {
 /// The subcommands.
 #[derive(Debug, Subcommand)]
 pub enum Command {
+    /// Search and list the asset catalogs.
+    Assets(assets::AssetsArgs),
     /// Compile a `.holo` scene to an AI2-THOR house.
     Build(build::BuildArgs),
     /// Check `.holo` files and report every problem.
@@ -40,6 +43,7 @@ pub enum Command {
 /// Runs a parsed command line.
 pub fn run(cli: Cli) -> ExitCode {
     match &cli.command {
+        Command::Assets(args) => assets::run(args),
         Command::Build(args) => build::run(args),
         Command::Check(args) => check::run(args),
         Command::Fmt(args) => fmt::run(args),

@@ -119,6 +119,11 @@ codes! {
     E0607 "object-outside-room" "an object stands outside every room";
     E0608 "objects-overlap" "two floor objects overlap";
     W0601 "unknown-asset" "an asset id is not one of AI2-THOR's built-in assets";
+    E0401 "unknown-asset" "a pinned asset id is in no catalog";
+    E0402 "asset-kind-mismatch" "a pinned asset cannot be placed the way the object is";
+    E0403 "invalid-catalog" "a catalog file cannot be read or is not a catalog";
+    W0401 "no-matching-asset" "no catalog asset matches an object well enough";
+    W0402 "invalid-catalog-entry" "a catalog entry is malformed and is skipped";
 }
 
 impl Code {

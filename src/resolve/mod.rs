@@ -1,3 +1,39 @@
-//! The `resolve` stage (being written).
+//! The `resolve` stage: object descriptions → catalog assets.
+//!
+//! [`resolve`] chooses, for every object instance of a checked [`Scene`], an asset of a
+//! [`Catalog`]: a pinned one when the file pins it (checked for existence and placement kind),
+//! otherwise the best-ranked asset of the right placement kind (see [`rank`] and the book's
+//! `design/catalog-matching.md`). Small objects on top of receptacles and ceiling objects are
+//! resolved the same way. An object nothing good enough matches is left out with a warning
+//! naming its three nearest candidates, and is listed as unresolved; nothing is dropped silently.
+//!
+//! Doors, windows, materials and skyboxes are chosen by `resolve::structure`.
 
+mod catalog;
+mod errors;
+mod index;
+mod report;
+mod select;
 pub mod structure;
+mod text;
+
+pub use catalog::{Asset, Catalog, CatalogSource, PlacementKind, Placements};
+pub use index::{
+    rank, rank_top, Candidate, Query, BM25_B, BM25_K1, HEAD_SHARE, RELEVANCE_THRESHOLD,
+    RELEVANCE_WEIGHT, SIZE_WEIGHT,
+};
+pub use report::{candidate_json, report};
+pub use select::{resolve, Choice, Resolution, Resolved, Unresolved};
+
+/// Ranks the catalog for a free-text query, as `holoc assets search` does: the whole text is
+/// the category (its last word the head), with an optional desired size and placement kind.
+/// Ties are broken with seed 0.
+pub fn search(
+    catalog: &Catalog,
+    query: &str,
+    size_m: Option<[f64; 3]>,
+    kind: Option<PlacementKind>,
+) -> Vec<Candidate> {
+    let query = Query { category: query.to_string(), description: None, size_m, kind };
+    rank(catalog, &query, 0)
+}

@@ -1,0 +1,328 @@
+//! `holoc assets search|list`: look into the asset catalogs.
+
+use super::common::{self, ColorChoice, DiagFormat};
+use crate::diag::{Code, Diagnostic, Outcome};
+use crate::resolve::{self, Catalog, PlacementKind};
+use crate::source::SourceMap;
+use std::fmt::Write as _;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+/// The catalog options every command that resolves assets shares (flatten it into its args).
+#[derive(Clone, Debug, Default, clap::Args)]
+pub struct CatalogArgs {
+    /// A catalog file to add to the embedded one: a ProcTHOR asset database or objathor
+    /// annotations (`.json` or `.json.gz`). Repeatable; later files win on id clashes.
+    #[arg(long = "catalog", value_name = "FILE")]
+    pub catalogs: Vec<PathBuf>,
+}
+
+impl CatalogArgs {
+    /// Loads the embedded catalog and the files, adding the files' text to `sources`.
+    pub fn load(&self, sources: &mut SourceMap) -> Outcome<Catalog> {
+        Catalog::load(&self.catalogs, sources)
+    }
+}
+
+/// Arguments of `holoc assets`.
+#[derive(Debug, clap::Args)]
+pub struct AssetsArgs {
+    /// What to do.
+    #[command(subcommand)]
+    pub command: AssetsCommand,
+}
+
+/// The `holoc assets` subcommands.
+#[derive(Debug, clap::Subcommand)]
+pub enum AssetsCommand {
+    /// Rank the catalog's assets for a description, with the parts of each score.
+    Search(SearchArgs),
+    /// List assets, optionally of one object type or placement kind.
+    List(ListArgs),
+}
+
+/// Output format of `holoc assets`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
+pub enum AssetsFormat {
+    /// A table for people.
+    #[default]
+    Human,
+    /// A JSON array in rank (or list) order.
+    Json,
+}
+
+/// A placement kind on the command line.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum KindArg {
+    /// Stands on the floor.
+    Floor,
+    /// Hangs on a wall.
+    Wall,
+    /// Stands on another object.
+    OnObject,
+    /// Hangs from the ceiling.
+    Ceiling,
+}
+
+impl KindArg {
+    fn kind(self) -> PlacementKind {
+        match self {
+            KindArg::Floor => PlacementKind::Floor,
+            KindArg::Wall => PlacementKind::Wall,
+            KindArg::OnObject => PlacementKind::OnObject,
+            KindArg::Ceiling => PlacementKind::Ceiling,
+        }
+    }
+}
+
+/// Arguments of `holoc assets search`.
+#[derive(Debug, clap::Args)]
+pub struct SearchArgs {
+    /// The description, e.g. "light grey sectional sofa" (its last word names the thing).
+    pub query: String,
+    /// Desired size, width x depth x height with a unit: `200x100x80cm`, `2x1x0.8m`.
+    #[arg(long, value_name = "WxDxH")]
+    pub size: Option<String>,
+    /// Only assets that can be placed this way.
+    #[arg(long, value_enum)]
+    pub kind: Option<KindArg>,
+    /// How many candidates to print.
+    #[arg(long, default_value_t = 10)]
+    pub limit: usize,
+    /// Output format.
+    #[arg(long, value_enum, default_value_t = AssetsFormat::Human)]
+    pub format: AssetsFormat,
+    /// When to colour diagnostics.
+    #[arg(long, value_enum, default_value_t = ColorChoice::Auto)]
+    pub color: ColorChoice,
+    /// Catalogs.
+    #[command(flatten)]
+    pub catalog: CatalogArgs,
+}
+
+/// Arguments of `holoc assets list`.
+#[derive(Debug, clap::Args)]
+pub struct ListArgs {
+    /// Only assets of this object type (`Sofa`; case-insensitive).
+    #[arg(long = "type", value_name = "TYPE")]
+    pub object_type: Option<String>,
+    /// Only assets that can be placed this way.
+    #[arg(long, value_enum)]
+    pub kind: Option<KindArg>,
+    /// Output format.
+    #[arg(long, value_enum, default_value_t = AssetsFormat::Human)]
+    pub format: AssetsFormat,
+    /// When to colour diagnostics.
+    #[arg(long, value_enum, default_value_t = ColorChoice::Auto)]
+    pub color: ColorChoice,
+    /// Catalogs.
+    #[command(flatten)]
+    pub catalog: CatalogArgs,
+}
+
+/// Runs `holoc assets`.
+pub fn run(args: &AssetsArgs) -> ExitCode {
+    match &args.command {
+        AssetsCommand::Search(a) => search(a),
+        AssetsCommand::List(a) => list(a),
+    }
+}
+
+/// Parses `200x100x80cm`, `2 x 1 x 0.8 m` or `200×100×80 cm` into metres.
+pub fn parse_size(text: &str) -> Result<[f64; 3], String> {
+    let t = text.trim().to_lowercase();
+    let (numbers, scale) = if let Some(n) = t.strip_suffix("cm") {
+        (n, 0.01)
+    } else if let Some(n) = t.strip_suffix("mm") {
+        (n, 0.001)
+    } else if let Some(n) = t.strip_suffix('m') {
+        (n, 1.0)
+    } else {
+        return Err(format!("size `{text}` has no unit; write e.g. `200x100x80cm`"));
+    };
+    let parts: Vec<&str> = numbers.split(['x', '×', ',']).map(str::trim).collect();
+    let [a, b, c] = parts[..] else {
+        return Err(format!("size `{text}` needs three numbers, width x depth x height"));
+    };
+    let mut out = [0.0; 3];
+    for (slot, p) in out.iter_mut().zip([a, b, c]) {
+        let v: f64 = p.parse().map_err(|_| format!("`{p}` in size `{text}` is not a number"))?;
+        if !v.is_finite() || v <= 0.0 {
+            return Err(format!("size `{text}` must be positive"));
+        }
+        *slot = v * scale;
+    }
+    Ok(out)
+}
+
+/// Loads the catalogs and prints their diagnostics; `None` when a file could not be used.
+fn load(catalog: &CatalogArgs, color: ColorChoice) -> Option<Catalog> {
+    let mut sources = SourceMap::new();
+    let outcome = catalog.load(&mut sources);
+    common::emit(&sources, &outcome.diagnostics, DiagFormat::Human, color);
+    if outcome.diagnostics.iter().any(|d| d.code == Code::E0403) {
+        return None;
+    }
+    Some(outcome.value)
+}
+
+fn f3(v: [f64; 3]) -> String {
+    format!("{:.2}×{:.2}×{:.2}", v[0], v[1], v[2])
+}
+
+fn search(args: &SearchArgs) -> ExitCode {
+    let size = match args.size.as_deref().map(parse_size).transpose() {
+        Ok(s) => s,
+        Err(message) => {
+            common::emit_plain(
+                &Diagnostic::new(Code::E0004, message).with_help("e.g. `--size 200x100x80cm`"),
+            );
+            return ExitCode::from(2);
+        }
+    };
+    let Some(catalog) = load(&args.catalog, args.color) else {
+        return ExitCode::from(2);
+    };
+    let candidates = resolve::search(&catalog, &args.query, size, args.kind.map(KindArg::kind));
+    let shown = &candidates[..candidates.len().min(args.limit)];
+    let text = match args.format {
+        AssetsFormat::Json => {
+            let list: Vec<serde_json::Value> =
+                shown.iter().map(|c| resolve::candidate_json(c, &catalog)).collect();
+            let mut s = serde_json::to_string_pretty(&list).unwrap_or_else(|_| "[]".into());
+            s.push('\n');
+            s
+        }
+        AssetsFormat::Human => {
+            let mut s = String::new();
+            let _ = writeln!(
+                s,
+                "{:>4}  {:<32} {:<16} {:>7}  {:>9}  {:>4}  {:>5}  {:>7}  bbox m",
+                "rank", "asset", "type", "score", "relevance", "head", "text", "size Δ"
+            );
+            for (i, c) in shown.iter().enumerate() {
+                let good = if c.is_good_enough() { "" } else { "  (below threshold)" };
+                let _ = writeln!(
+                    s,
+                    "{:>4}  {:<32} {:<16} {:>7.3}  {:>9.3}  {:>4}  {:>5.3}  {:>7}  {}{good}",
+                    i + 1,
+                    c.asset_id,
+                    c.object_type,
+                    c.score,
+                    c.relevance,
+                    if c.head_match { "yes" } else { "no" },
+                    c.text,
+                    c.size_diff_m.map_or_else(|| "-".to_string(), |d| format!("{d:.3}")),
+                    f3(c.bbox_m),
+                );
+            }
+            if candidates.is_empty() {
+                s.push_str("no asset shares a word with the query\n");
+            } else if candidates.len() > shown.len() {
+                let _ = writeln!(s, "… {} more (use --limit)", candidates.len() - shown.len());
+            }
+            s
+        }
+    };
+    match common::write_output(None, &text) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(d) => {
+            common::emit_plain(&d);
+            ExitCode::from(2)
+        }
+    }
+}
+
+fn list(args: &ListArgs) -> ExitCode {
+    let Some(catalog) = load(&args.catalog, args.color) else {
+        return ExitCode::from(2);
+    };
+    let mut assets: Vec<&resolve::Asset> = catalog
+        .assets()
+        .iter()
+        .filter(|a| {
+            args.object_type.as_ref().is_none_or(|t| t.eq_ignore_ascii_case(&a.object_type))
+        })
+        .filter(|a| args.kind.is_none_or(|k| a.allows(k.kind())))
+        .collect();
+    assets.sort_by(|a, b| a.object_type.cmp(&b.object_type).then_with(|| a.id.cmp(&b.id)));
+    if assets.is_empty() {
+        if let Some(t) = &args.object_type {
+            let mut types: Vec<&str> =
+                catalog.assets().iter().map(|a| a.object_type.as_str()).collect();
+            types.sort_unstable();
+            types.dedup();
+            let close = crate::diag::suggest::closest(t, types);
+            common::emit_plain(
+                &Diagnostic::new(Code::E0004, format!("no asset has object type `{t}`"))
+                    .with_help_opt(crate::diag::suggest::did_you_mean(&close)),
+            );
+            return ExitCode::from(2);
+        }
+    }
+    let text = match args.format {
+        AssetsFormat::Json => {
+            let list: Vec<serde_json::Value> = assets
+                .iter()
+                .map(|a| {
+                    serde_json::json!({
+                        "assetId": a.id,
+                        "objectType": a.object_type,
+                        "category": a.category,
+                        "description": a.description,
+                        "bboxM": a.bbox_m,
+                        "placements": PlacementKind::ALL.into_iter().filter(|k| a.allows(*k)).map(PlacementKind::as_str).collect::<Vec<_>>(),
+                        "receptacle": a.receptacle,
+                        "catalog": catalog.source_of(a).name,
+                    })
+                })
+                .collect();
+            let mut s = serde_json::to_string_pretty(&list).unwrap_or_else(|_| "[]".into());
+            s.push('\n');
+            s
+        }
+        AssetsFormat::Human => {
+            let mut s = String::new();
+            let _ = writeln!(
+                s,
+                "{:<32} {:<16} {:<18} {:<6} {:<4} catalog",
+                "asset", "type", "bbox m", "kinds", "rec"
+            );
+            for a in &assets {
+                let _ = writeln!(
+                    s,
+                    "{:<32} {:<16} {:<18} {:<6} {:<4} {}",
+                    a.id,
+                    a.object_type,
+                    f3(a.bbox_m),
+                    a.placements.letters(),
+                    if a.receptacle { "yes" } else { "no" },
+                    catalog.source_of(a).name
+                );
+            }
+            let _ = writeln!(s, "{} asset(s)", assets.len());
+            s
+        }
+    };
+    match common::write_output(None, &text) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(d) => {
+            common::emit_plain(&d);
+            ExitCode::from(2)
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sizes_parse() {
+        assert_eq!(parse_size("200x100x80cm"), Ok([2.0, 1.0, 0.8]));
+        assert_eq!(parse_size("2 x 1 x 0.5 m"), Ok([2.0, 1.0, 0.5]));
+        assert!(parse_size("200x100x80").is_err());
+        assert!(parse_size("200x100cm").is_err());
+        assert!(parse_size("0x1x1m").is_err());
+    }
+}

@@ -1,0 +1,106 @@
+//! The resolve stage's diagnostics, built in one place.
+
+use super::catalog::{Asset, Catalog, PlacementKind};
+use super::index::Candidate;
+use super::select::{parts_text, Subject};
+use crate::check::Pinned;
+use crate::diag::{suggest, Code, Diagnostic};
+
+/// `on the floor`, `on a wall`, … for messages.
+pub(crate) fn kind_phrase(kind: PlacementKind) -> &'static str {
+    match kind {
+        PlacementKind::Floor => "on the floor",
+        PlacementKind::Wall => "on a wall",
+        PlacementKind::OnObject => "on top of an object",
+        PlacementKind::Ceiling => "on the ceiling",
+    }
+}
+
+fn ids(candidates: &[Candidate]) -> Vec<String> {
+    candidates.iter().map(|c| c.asset_id.clone()).collect()
+}
+
+/// E0401: a pin names no asset of any catalog.
+pub(crate) fn unknown_asset(
+    pin: &Pinned,
+    catalog: &Catalog,
+    kind: PlacementKind,
+    ranked: &[Candidate],
+) -> Diagnostic {
+    let close: Vec<String> = suggest::closest(
+        &pin.id,
+        catalog.assets().iter().filter(|a| a.allows(kind)).map(|a| a.id.as_str()),
+    );
+    let help = suggest::did_you_mean(&close).or_else(|| {
+        suggest::did_you_mean(&ids(ranked))
+            .map(|h| format!("{h} (the best matches of the description)"))
+    });
+    Diagnostic::new(Code::E0401, format!("unknown asset `{}`", pin.id))
+        .with_primary(pin.span, "no catalog has this asset")
+        .with_help_opt(help.or_else(|| Some("list assets with `holoc assets list`".into())))
+}
+
+/// E0402: a pinned asset cannot be placed the way the object is.
+pub(crate) fn wrong_kind(
+    pin: &Pinned,
+    asset: &Asset,
+    kind: PlacementKind,
+    ranked: &[Candidate],
+    name: &str,
+) -> Diagnostic {
+    let can: Vec<&str> = PlacementKind::ALL
+        .into_iter()
+        .filter(|k| asset.allows(*k))
+        .map(PlacementKind::as_str)
+        .collect();
+    let can = if can.is_empty() { "nowhere".to_string() } else { can.join(", ") };
+    Diagnostic::new(
+        Code::E0402,
+        format!("asset `{}` cannot be placed {} (`{name}`)", pin.id, kind_phrase(kind)),
+    )
+    .with_primary(pin.span, format!("a {} asset; it can go: {can}", asset.object_type))
+    .with_help_opt(
+        suggest::did_you_mean(&ids(ranked))
+            .or_else(|| Some(format!("pin an asset that can be placed {}", kind_phrase(kind)))),
+    )
+}
+
+/// W0401: nothing in the catalog is good enough.
+pub(crate) fn no_match(
+    what: &Subject,
+    kind: PlacementKind,
+    nearest: &[Candidate],
+    catalog: &Catalog,
+) -> Diagnostic {
+    let mut d = Diagnostic::new(
+        Code::W0401,
+        format!(
+            "no {} asset matches `{}` (\"{}\"); it is left out",
+            kind.as_str(),
+            what.name,
+            what.description
+        ),
+    )
+    .with_primary(what.span, "nothing in the catalog is close enough");
+    if nearest.is_empty() {
+        d = d.with_note("no asset of this placement kind shares a word with the description");
+    }
+    for c in nearest {
+        d = d.with_note(format!(
+            "candidate `{}` ({}): score {}",
+            c.asset_id,
+            c.object_type,
+            parts_text(c)
+        ));
+    }
+    let has_kind = catalog.assets().iter().any(|a| a.allows(kind));
+    let help = if has_kind {
+        "describe it with words the catalog uses, pin an asset with `asset \"…\"`, or add a catalog with `--catalog`".to_string()
+    } else {
+        format!(
+            "the catalogs have no asset that can be placed {}; add one with `--catalog`",
+            kind_phrase(kind)
+        )
+    };
+    d.with_help(help)
+}

@@ -1,0 +1,342 @@
+//! The word index of a catalog (BM25 statistics) and the ranking of assets for one query.
+
+use std::collections::{BTreeMap, HashMap};
+
+use super::catalog::{Asset, Catalog, PlacementKind};
+use super::text;
+
+/// BM25 term-frequency saturation.
+pub const BM25_K1: f64 = 1.2;
+/// BM25 length normalization.
+pub const BM25_B: f64 = 0.75;
+/// Weight of the text relevance (0…1) in the score.
+pub const RELEVANCE_WEIGHT: f64 = 10.0;
+/// Weight of the size discrepancy (metres) in the score, as in the original (§18.2).
+pub const SIZE_WEIGHT: f64 = 10.0;
+/// Share of the relevance given by a matching head word; the rest is the BM25 part.
+pub const HEAD_SHARE: f64 = 0.6;
+/// The smallest relevance for an asset to be good enough to resolve an object.
+pub const RELEVANCE_THRESHOLD: f64 = 0.5;
+
+/// Per-asset word statistics for ranking.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct TextIndex {
+    /// Word → (asset index, term frequency), asset indexes ascending.
+    postings: HashMap<String, Vec<(u32, u32)>>,
+    /// Number of words per asset.
+    doc_len: Vec<u32>,
+    /// The head word of each asset's category.
+    doc_head: Vec<String>,
+    /// A hash of each asset's id, for seeded tie-breaking.
+    id_hash: Vec<u64>,
+    /// Bit `k` set when the asset may be placed as `PlacementKind::ALL[k]`.
+    allowed: Vec<u8>,
+    avg_len: f64,
+}
+
+impl TextIndex {
+    /// Indexes the assets: category words count twice, description words once.
+    pub(crate) fn build(assets: &[Asset]) -> TextIndex {
+        let mut index = TextIndex::default();
+        let mut total = 0u64;
+        for (i, asset) in assets.iter().enumerate() {
+            let category = text::normalize(&asset.category);
+            let description = text::normalize(&asset.description);
+            let mut counts: BTreeMap<&str, u32> = BTreeMap::new();
+            for t in &category {
+                *counts.entry(t).or_default() += 2;
+            }
+            for t in &description {
+                *counts.entry(t).or_default() += 1;
+            }
+            let len = (2 * category.len() + description.len()) as u32;
+            for (t, tf) in counts {
+                index.postings.entry(t.to_string()).or_default().push((i as u32, tf));
+            }
+            index.doc_len.push(len);
+            index.doc_head.push(text::head(&category).unwrap_or_default().to_string());
+            index.id_hash.push(fnv1a(&asset.id));
+            let mut bits = 0u8;
+            for (k, kind) in PlacementKind::ALL.into_iter().enumerate() {
+                if asset.allows(kind) {
+                    bits |= 1 << k;
+                }
+            }
+            index.allowed.push(bits);
+            total += u64::from(len);
+        }
+        index.avg_len =
+            if assets.is_empty() { 1.0 } else { (total as f64 / assets.len() as f64).max(1.0) };
+        index
+    }
+
+    fn n_docs(&self) -> usize {
+        self.doc_len.len()
+    }
+
+    fn df(&self, term: &str) -> usize {
+        self.postings.get(term).map_or(0, Vec::len)
+    }
+
+    fn idf(&self, df: usize) -> f64 {
+        let n = self.n_docs() as f64;
+        let df = df as f64;
+        (1.0 + (n - df + 0.5) / (df + 0.5)).ln()
+    }
+
+    fn contains(&self, term: &str, doc: u32) -> bool {
+        self.postings.get(term).is_some_and(|p| p.binary_search_by_key(&doc, |&(d, _)| d).is_ok())
+    }
+}
+
+/// What to look for.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Query {
+    /// What the thing is (`dining chair`); its last word is the head.
+    pub category: String,
+    /// How it looks (`modern, light grey`).
+    pub description: Option<String>,
+    /// Desired size (any order; compared sorted), metres.
+    pub size_m: Option<[f64; 3]>,
+    /// Only assets that may be placed this way.
+    pub kind: Option<PlacementKind>,
+}
+
+/// One ranked asset with the parts of its score.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Candidate {
+    /// The asset id.
+    pub asset_id: String,
+    /// Its object type.
+    pub object_type: String,
+    /// Its bounding box, metres.
+    pub bbox_m: [f64; 3],
+    /// Whether its category's head word is the query's (for a generic head such as `table`, also
+    /// one of the query's other category words).
+    pub head_match: bool,
+    /// The BM25 score over the query's words, divided by the score of an ideal match (0…1).
+    pub text: f64,
+    /// `HEAD_SHARE × head_match + (1 − HEAD_SHARE) × text`, 0…1.
+    pub relevance: f64,
+    /// Mean absolute difference of the sorted sizes, metres (`None` without a desired size).
+    pub size_diff_m: Option<f64>,
+    /// `RELEVANCE_WEIGHT × relevance − SIZE_WEIGHT × size_diff_m`.
+    pub score: f64,
+    pub(crate) idx: usize,
+    pub(crate) tie: u64,
+}
+
+impl Candidate {
+    /// Whether the candidate is good enough to resolve an object.
+    pub fn is_good_enough(&self) -> bool {
+        self.relevance >= RELEVANCE_THRESHOLD
+    }
+}
+
+/// Ranks the catalog's assets for `query`: every asset sharing a word with it, best first;
+/// exact ties are ordered by a hash of the seed and the asset id.
+pub fn rank(catalog: &Catalog, query: &Query, seed: u64) -> Vec<Candidate> {
+    rank_top(catalog, query, seed, usize::MAX)
+}
+
+/// The best `limit` candidates of [`rank`], in the same order, without building the rest.
+pub fn rank_top(catalog: &Catalog, query: &Query, seed: u64, limit: usize) -> Vec<Candidate> {
+    let n_docs = catalog.index.n_docs();
+    if n_docs == 0 || limit == 0 {
+        return Vec::new();
+    }
+    // One reusable score buffer per thread: only the touched slots are reset afterwards.
+    SCRATCH.with_borrow_mut(|scores| {
+        if scores.len() < n_docs {
+            scores.resize(n_docs, 0.0);
+        }
+        rank_with(catalog, query, seed, limit, scores)
+    })
+}
+
+thread_local! {
+    static SCRATCH: std::cell::RefCell<Vec<f64>> = const { std::cell::RefCell::new(Vec::new()) };
+}
+
+fn rank_with(
+    catalog: &Catalog,
+    query: &Query,
+    seed: u64,
+    limit: usize,
+    scores: &mut [f64],
+) -> Vec<Candidate> {
+    let index = &catalog.index;
+    let category = text::normalize(&query.category);
+    let description = query.description.as_deref().map(text::normalize).unwrap_or_default();
+    let head = text::head(&category).map(str::to_string);
+    let modifiers: Vec<&str> = category
+        .iter()
+        .map(String::as_str)
+        .filter(|t| Some(*t) != head.as_deref() && !text::is_attribute(t))
+        .collect();
+    let mut weights: BTreeMap<&str, (f64, bool)> = BTreeMap::new();
+    for t in &category {
+        let w = if Some(t.as_str()) == head.as_deref() { 3.0 } else { 2.0 };
+        let e = weights.entry(t).or_insert((0.0, true));
+        e.0 += w;
+    }
+    for t in &description {
+        weights.entry(t).or_insert((0.0, false)).0 += 1.0;
+    }
+    if weights.is_empty() {
+        return Vec::new();
+    }
+    let kind_bit = query.kind.map(|k| {
+        1u8 << PlacementKind::ALL.iter().position(|x| *x == k).expect("every kind is in ALL")
+    });
+    let saturated = 2.0 * (BM25_K1 + 1.0) / (2.0 + BM25_K1);
+    let mut ideal = 0.0;
+    let mut touched: Vec<u32> = Vec::new();
+    for (term, (weight, in_category)) in &weights {
+        let df = index.df(term);
+        if df == 0 {
+            // A category word no asset has still counts against every asset; an unknown
+            // description word (`cozy`) does not.
+            if *in_category {
+                ideal += weight * index.idf(0) * saturated;
+            }
+            continue;
+        }
+        let idf = index.idf(df);
+        ideal += weight * idf * saturated;
+        if let Some(postings) = index.postings.get(*term) {
+            for &(doc, tf) in postings {
+                if kind_bit.is_some_and(|bit| index.allowed[doc as usize] & bit == 0) {
+                    continue;
+                }
+                let tf = f64::from(tf);
+                let norm =
+                    1.0 - BM25_B + BM25_B * f64::from(index.doc_len[doc as usize]) / index.avg_len;
+                let slot = &mut scores[doc as usize];
+                if *slot == 0.0 {
+                    touched.push(doc);
+                }
+                *slot += weight * idf * tf * (BM25_K1 + 1.0) / (tf + BM25_K1 * norm);
+            }
+        }
+    }
+
+    let desired = query.size_m.map(sorted3);
+    let mut light: Vec<Light> = touched
+        .into_iter()
+        .map(|doc| {
+            let d = doc as usize;
+            let bm25 = std::mem::take(&mut scores[d]);
+            let head_match = head.as_deref().is_some_and(|h| {
+                index.doc_head[d] == h
+                    && (!text::is_generic_head(h)
+                        || modifiers.is_empty()
+                        || modifiers.iter().any(|m| index.contains(m, doc)))
+            });
+            let text = if ideal > 0.0 { (bm25 / ideal).min(1.0) } else { 0.0 };
+            let relevance =
+                HEAD_SHARE * f64::from(u8::from(head_match)) + (1.0 - HEAD_SHARE) * text;
+            let size_diff_m = desired.map(|want| {
+                let b = sorted3(catalog.asset_at(d).bbox_m);
+                ((want[0] - b[0]).abs() + (want[1] - b[1]).abs() + (want[2] - b[2]).abs()) / 3.0
+            });
+            let score = RELEVANCE_WEIGHT * relevance - SIZE_WEIGHT * size_diff_m.unwrap_or(0.0);
+            Light {
+                doc,
+                head_match,
+                text,
+                relevance,
+                size_diff_m,
+                score,
+                tie: splitmix64(seed ^ index.id_hash[d]),
+            }
+        })
+        .collect();
+    let order = |a: &Light, b: &Light| {
+        b.score.total_cmp(&a.score).then(a.tie.cmp(&b.tie)).then_with(|| {
+            catalog.asset_at(a.doc as usize).id.cmp(&catalog.asset_at(b.doc as usize).id)
+        })
+    };
+    if limit < light.len() {
+        light.select_nth_unstable_by(limit, order);
+        light.truncate(limit);
+    }
+    light.sort_by(order);
+    light
+        .into_iter()
+        .map(|l| {
+            let asset = catalog.asset_at(l.doc as usize);
+            Candidate {
+                asset_id: asset.id.clone(),
+                object_type: asset.object_type.clone(),
+                bbox_m: asset.bbox_m,
+                head_match: l.head_match,
+                text: l.text,
+                relevance: l.relevance,
+                size_diff_m: l.size_diff_m,
+                score: l.score,
+                idx: l.doc as usize,
+                tie: l.tie,
+            }
+        })
+        .collect()
+}
+
+/// A candidate before its strings are copied.
+struct Light {
+    doc: u32,
+    head_match: bool,
+    text: f64,
+    relevance: f64,
+    size_diff_m: Option<f64>,
+    score: f64,
+    tie: u64,
+}
+
+fn sorted3(mut v: [f64; 3]) -> [f64; 3] {
+    v.sort_by(f64::total_cmp);
+    v
+}
+
+fn fnv1a(text: &str) -> u64 {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for b in text.bytes() {
+        h ^= u64::from(b);
+        h = h.wrapping_mul(0x0100_0000_01b3);
+    }
+    h
+}
+
+/// The SplitMix64 finalizer: a fixed, platform-independent mix of the seed and the id hash.
+fn splitmix64(x: u64) -> u64 {
+    let mut z = x.wrapping_add(0x9e37_79b9_7f4a_7c15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+    z ^ (z >> 31)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn top(category: &str, kind: PlacementKind) -> Option<String> {
+        let c = Catalog::embedded();
+        let q =
+            Query { category: category.into(), description: None, size_m: None, kind: Some(kind) };
+        rank(&c, &q, 0).into_iter().find(Candidate::is_good_enough).map(|c| c.object_type)
+    }
+
+    #[test]
+    fn heads_decide_the_type() {
+        assert_eq!(top("dining chair", PlacementKind::Floor).as_deref(), Some("Chair"));
+        assert_eq!(top("couch", PlacementKind::Floor).as_deref(), Some("Sofa"));
+        assert_eq!(top("nightstand", PlacementKind::Floor).as_deref(), Some("SideTable"));
+        assert_eq!(top("tv", PlacementKind::Floor).as_deref(), Some("Television"));
+        assert_eq!(top("tv stand", PlacementKind::Floor).as_deref(), Some("TVStand"));
+        assert_eq!(top("armchair", PlacementKind::Floor).as_deref(), Some("ArmChair"));
+        assert_eq!(top("arcade machine", PlacementKind::Floor), None);
+        assert_eq!(top("grand piano", PlacementKind::Floor), None);
+        assert_eq!(top("painting", PlacementKind::Wall).as_deref(), Some("Painting"));
+        assert_eq!(top("book", PlacementKind::OnObject).as_deref(), Some("Book"));
+    }
+}

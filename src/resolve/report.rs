@@ -1,0 +1,152 @@
+//! The resolve part of the build report, as JSON (internal types are not `Serialize`).
+
+use serde_json::{json, Map, Value};
+
+use super::catalog::Catalog;
+use super::index::Candidate;
+use super::select::{Resolution, Resolved};
+use crate::check::Scene;
+
+/// Rounds to 4 decimals so that reports stay short and stable.
+fn r4(v: f64) -> Value {
+    let rounded = (v * 10_000.0).round() / 10_000.0;
+    serde_json::Number::from_f64(rounded).map_or(Value::Null, Value::Number)
+}
+
+fn candidate(c: &Candidate, catalog: &Catalog) -> Value {
+    let source = catalog.assets().get(c.idx).map(|a| catalog.source_of(a).name.clone());
+    json!({
+        "assetId": c.asset_id,
+        "objectType": c.object_type,
+        "catalog": source,
+        "score": r4(c.score),
+        "relevance": r4(c.relevance),
+        "headMatch": c.head_match,
+        "text": r4(c.text),
+        "sizeDiffM": c.size_diff_m.map(r4),
+        "bboxM": [r4(c.bbox_m[0]), r4(c.bbox_m[1]), r4(c.bbox_m[2])],
+    })
+}
+
+/// One candidate as JSON (the `holoc assets search --format json` item).
+pub fn candidate_json(c: &Candidate, catalog: &Catalog) -> Value {
+    candidate(c, catalog)
+}
+
+fn resolution(res: &Resolution, catalog: &Catalog, mut head: Map<String, Value>) -> Value {
+    match res {
+        Resolution::Chosen(c) => {
+            let source = &catalog.sources()[c.source.min(catalog.sources().len() - 1)];
+            head.insert("status".into(), json!(if c.pinned { "pinned" } else { "chosen" }));
+            head.insert("assetId".into(), json!(c.asset_id));
+            head.insert("objectType".into(), json!(c.object_type));
+            head.insert("catalog".into(), json!(source.name));
+            head.insert("bboxM".into(), json!([r4(c.bbox_m[0]), r4(c.bbox_m[1]), r4(c.bbox_m[2])]));
+            head.insert(
+                "score".into(),
+                c.parts.as_ref().map_or(Value::Null, |p| candidate(p, catalog)["score"].clone()),
+            );
+            head.insert(
+                "scoreParts".into(),
+                c.parts.as_ref().map_or(Value::Null, |p| {
+                    json!({
+                        "relevance": r4(p.relevance),
+                        "headMatch": p.head_match,
+                        "text": r4(p.text),
+                        "sizeDiffM": p.size_diff_m.map(r4),
+                    })
+                }),
+            );
+            head.insert(
+                "runnerUp".into(),
+                c.runner_up.as_ref().map_or(Value::Null, |r| candidate(r, catalog)),
+            );
+        }
+        Resolution::Unresolved(u) => {
+            head.insert("status".into(), json!("unresolved"));
+            head.insert("reason".into(), json!(u.reason));
+            head.insert(
+                "nearest".into(),
+                Value::Array(u.nearest.iter().map(|c| candidate(c, catalog)).collect()),
+            );
+        }
+    }
+    Value::Object(head)
+}
+
+/// The resolve fragment of the build report: the catalog lock (name, version, sha256 of every
+/// catalog), then per object, small object and ceiling object the chosen asset with its score
+/// parts and runner-up, or why it is unresolved; and the list of everything left out.
+pub fn report(scene: &Scene, catalog: &Catalog, resolved: &Resolved) -> Value {
+    let catalogs: Vec<Value> = catalog
+        .sources()
+        .iter()
+        .map(|s| {
+            json!({
+                "name": s.name,
+                "version": s.version,
+                "sha256": s.sha256,
+                "path": s.path,
+                "assets": s.n_assets,
+            })
+        })
+        .collect();
+    let mut objects = Vec::new();
+    let mut small = Vec::new();
+    let mut ceilings = Vec::new();
+    let mut unresolved = Vec::new();
+    for room in &scene.rooms {
+        for &id in &room.objects {
+            let obj = scene.object(id);
+            let mut head = Map::new();
+            head.insert("object".into(), json!(obj.name));
+            head.insert("room".into(), json!(room.name));
+            head.insert("kind".into(), json!(if obj.is_floor() { "floor" } else { "wall" }));
+            head.insert(
+                "description".into(),
+                json!(obj.description.as_deref().unwrap_or(&obj.category)),
+            );
+            if let Some(res) = resolved.objects.get(id.0) {
+                let v = resolution(res, catalog, head);
+                if matches!(res, Resolution::Unresolved(_)) {
+                    unresolved.push(v.clone());
+                }
+                objects.push(v);
+            }
+            for (k, item) in obj.on_top.iter().enumerate() {
+                for (i, res) in resolved.small.get(&(id, k)).into_iter().flatten().enumerate() {
+                    let mut head = Map::new();
+                    head.insert("object".into(), json!(format!("{}#{i}", item.item)));
+                    head.insert("on".into(), json!(obj.name));
+                    head.insert("room".into(), json!(room.name));
+                    head.insert("kind".into(), json!("on-object"));
+                    head.insert("description".into(), json!(item.item));
+                    let v = resolution(res, catalog, head);
+                    if matches!(res, Resolution::Unresolved(_)) {
+                        unresolved.push(v.clone());
+                    }
+                    small.push(v);
+                }
+            }
+        }
+        if let (Some(res), Some(ceiling)) = (resolved.ceilings.get(&room.id), &room.ceiling) {
+            let mut head = Map::new();
+            head.insert("object".into(), json!(format!("ceiling ({})", room.name)));
+            head.insert("room".into(), json!(room.name));
+            head.insert("kind".into(), json!("ceiling"));
+            head.insert("description".into(), json!(ceiling.description));
+            let v = resolution(res, catalog, head);
+            if matches!(res, Resolution::Unresolved(_)) {
+                unresolved.push(v.clone());
+            }
+            ceilings.push(v);
+        }
+    }
+    json!({
+        "catalogs": catalogs,
+        "objects": objects,
+        "smallObjects": small,
+        "ceilings": ceilings,
+        "unresolved": unresolved,
+    })
+}

@@ -1,0 +1,428 @@
+//! Choosing one asset per object instance, small object and ceiling object.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::fmt::Write as _;
+
+use super::catalog::{Catalog, PlacementKind};
+use super::errors;
+use super::index::{rank_top, Candidate, Query};
+
+/// How many ranked candidates resolution looks at (enough for the largest varied group and
+/// for avoiding assets used in other rooms).
+const RANK_LIMIT: usize = 128;
+use crate::check::{ObjectId, Pinned, Placement, RoomId, Scene, Variance};
+use crate::diag::{Diagnostic, Outcome};
+use crate::source::Span;
+
+/// The chosen asset of one object, small object or ceiling object.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Choice {
+    /// The asset id.
+    pub asset_id: String,
+    /// Its object type.
+    pub object_type: String,
+    /// Its bounding box, metres (x width, y height, z depth).
+    pub bbox_m: [f64; 3],
+    /// Whether other objects can be put on it.
+    pub receptacle: bool,
+    /// Index of its catalog in [`Catalog::sources`].
+    pub source: usize,
+    /// Whether the file pinned it (then `parts` is `None`).
+    pub pinned: bool,
+    /// The parts of its score when it was ranked.
+    pub parts: Option<Candidate>,
+    /// The best other candidate, if any.
+    pub runner_up: Option<Candidate>,
+}
+
+/// Why nothing was chosen.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Unresolved {
+    /// In words.
+    pub reason: String,
+    /// The nearest candidates (at most three), best first.
+    pub nearest: Vec<Candidate>,
+}
+
+/// The outcome for one thing to resolve.
+#[allow(
+    clippy::large_enum_variant,
+    reason = "a scene has few resolutions; boxing would burden every stage that matches on them"
+)]
+#[derive(Clone, Debug, PartialEq)]
+pub enum Resolution {
+    /// An asset was chosen.
+    Chosen(Choice),
+    /// Nothing was chosen; the thing is left out of the house and listed in the report.
+    Unresolved(Unresolved),
+}
+
+impl Resolution {
+    /// The choice, if any.
+    pub fn choice(&self) -> Option<&Choice> {
+        match self {
+            Resolution::Chosen(c) => Some(c),
+            Resolution::Unresolved(_) => None,
+        }
+    }
+}
+
+/// Every resolution of a scene.
+#[derive(Clone, Debug, PartialEq, Default)]
+pub struct Resolved {
+    /// Per object instance, indexed by [`ObjectId`].
+    pub objects: Vec<Resolution>,
+    /// Per room with a ceiling object.
+    pub ceilings: BTreeMap<RoomId, Resolution>,
+    /// Per object and `on top` line index: one resolution per small-object instance.
+    pub small: BTreeMap<(ObjectId, usize), Vec<Resolution>>,
+}
+
+impl Resolved {
+    /// The chosen asset of an object, if any.
+    pub fn object(&self, id: ObjectId) -> Option<&Choice> {
+        self.objects.get(id.0).and_then(Resolution::choice)
+    }
+
+    /// A readable dump, one line per resolution, as `--emit resolved` and the snapshots show it.
+    pub fn dump(&self, scene: &Scene, catalog: &Catalog) -> String {
+        let mut out = String::new();
+        for room in &scene.rooms {
+            let _ = writeln!(out, "room {} \"{}\"", room.name, room.label);
+            for &id in &room.objects {
+                let obj = scene.object(id);
+                let kind = if obj.is_floor() { "floor" } else { "wall" };
+                if let Some(res) = self.objects.get(id.0) {
+                    let _ =
+                        writeln!(out, "  {} [{kind}] {}", obj.name, dump_resolution(res, catalog));
+                }
+                for (k, item) in obj.on_top.iter().enumerate() {
+                    if let Some(list) = self.small.get(&(id, k)) {
+                        for (i, res) in list.iter().enumerate() {
+                            let _ = writeln!(
+                                out,
+                                "    on top {}#{i} [on-object] {}",
+                                item.item,
+                                dump_resolution(res, catalog)
+                            );
+                        }
+                    }
+                }
+            }
+            if let Some(res) = self.ceilings.get(&room.id) {
+                let _ = writeln!(out, "  ceiling [ceiling] {}", dump_resolution(res, catalog));
+            }
+        }
+        out
+    }
+}
+
+fn dump_resolution(res: &Resolution, catalog: &Catalog) -> String {
+    match res {
+        Resolution::Chosen(c) => {
+            let source = &catalog.sources()[c.source.min(catalog.sources().len() - 1)].name;
+            let how = match &c.parts {
+                _ if c.pinned => "pinned".to_string(),
+                Some(p) => format!("score {}", parts_text(p)),
+                None => String::new(),
+            };
+            let runner = c
+                .runner_up
+                .as_ref()
+                .map(|r| format!("; runner-up {} {:.3}", r.asset_id, r.score))
+                .unwrap_or_default();
+            format!(
+                "→ {} ({}, {}) {:.2}×{:.2}×{:.2} m, {how}{runner}",
+                c.asset_id, c.object_type, source, c.bbox_m[0], c.bbox_m[1], c.bbox_m[2]
+            )
+        }
+        Resolution::Unresolved(u) => {
+            let nearest: Vec<String> =
+                u.nearest.iter().map(|c| format!("{} {:.3}", c.asset_id, c.score)).collect();
+            format!(
+                "unresolved: {} (nearest: {})",
+                u.reason,
+                if nearest.is_empty() { "none".to_string() } else { nearest.join(", ") }
+            )
+        }
+    }
+}
+
+/// The parts of a score in words: `7.512 = 10×0.936 − 10×0.185 m`.
+pub(crate) fn parts_text(c: &Candidate) -> String {
+    match c.size_diff_m {
+        Some(d) => format!("{:.3} = 10×{:.3} − 10×{d:.3} m", c.score, c.relevance),
+        None => format!("{:.3} = 10×{:.3}", c.score, c.relevance),
+    }
+}
+
+/// Resolves every object, small object and ceiling object of the scene against the catalog.
+///
+/// Pins win (an unknown pin or one of the wrong placement kind is an error). Otherwise the
+/// best-ranked good-enough asset is chosen: a `same` group shares one asset, a `varied` group
+/// takes different assets where there are enough, assets already used in another room are
+/// avoided where an alternative exists, and objects with things on top prefer receptacles.
+/// Exact ties are broken by the seed.
+pub fn resolve(scene: &Scene, catalog: &Catalog, seed: u64) -> Outcome<Resolved> {
+    let mut state = State {
+        catalog,
+        seed,
+        used: BTreeMap::new(),
+        diagnostics: Vec::new(),
+        reported: BTreeSet::new(),
+        cache: BTreeMap::new(),
+    };
+    let mut resolved = Resolved {
+        objects: vec![
+            Resolution::Unresolved(Unresolved {
+                reason: "not resolved".into(),
+                nearest: Vec::new()
+            });
+            scene.objects.len()
+        ],
+        ..Resolved::default()
+    };
+
+    for room in &scene.rooms {
+        // Object groups of the room, in order of first instance.
+        let mut groups: Vec<(String, Vec<ObjectId>)> = Vec::new();
+        for &id in &room.objects {
+            let obj = scene.object(id);
+            match groups.iter_mut().find(|(g, _)| *g == obj.group) {
+                Some((_, ids)) => ids.push(id),
+                None => groups.push((obj.group.clone(), vec![id])),
+            }
+        }
+        for (_, ids) in &groups {
+            let first = scene.object(ids[0]);
+            let kind = match first.placement {
+                Placement::Floor { .. } => PlacementKind::Floor,
+                Placement::Wall { .. } => PlacementKind::Wall,
+            };
+            let query = Query {
+                category: first.category.clone(),
+                description: first.description.clone(),
+                size_m: first.size_m,
+                kind: Some(kind),
+            };
+            let wants_receptacle = !first.on_top.is_empty();
+            let pins: Vec<Option<&Pinned>> =
+                ids.iter().map(|&id| scene.object(id).asset.as_ref()).collect();
+            let what = Subject {
+                name: first.name.clone(),
+                description: first.description.clone().unwrap_or_else(|| first.category.clone()),
+                span: first.name_span,
+                room: room.id,
+            };
+            let results = state.choose(&what, &query, first.variance, &pins, wants_receptacle);
+            for (&id, res) in ids.iter().zip(results) {
+                resolved.objects[id.0] = res;
+            }
+        }
+        // Small objects on top, per instance and line.
+        for &id in &room.objects {
+            let obj = scene.object(id);
+            for (k, item) in obj.on_top.iter().enumerate() {
+                let query = Query {
+                    category: item.item.clone(),
+                    description: None,
+                    size_m: None,
+                    kind: Some(PlacementKind::OnObject),
+                };
+                let pins = vec![item.asset.as_ref(); item.count as usize];
+                let what = Subject {
+                    name: format!("{} on {}", item.item, obj.name),
+                    description: item.item.clone(),
+                    span: item.span,
+                    room: room.id,
+                };
+                let results = state.choose(&what, &query, item.variance, &pins, false);
+                resolved.small.insert((id, k), results);
+            }
+        }
+        if let Some(ceiling) = &room.ceiling {
+            let category =
+                ceiling.description.rsplit(',').next().unwrap_or(&ceiling.description).to_string();
+            let query = Query {
+                category,
+                description: Some(ceiling.description.clone()),
+                size_m: None,
+                kind: Some(PlacementKind::Ceiling),
+            };
+            let what = Subject {
+                name: format!("ceiling of {}", room.name),
+                description: ceiling.description.clone(),
+                span: ceiling.span,
+                room: room.id,
+            };
+            let mut results =
+                state.choose(&what, &query, Variance::Same, &[ceiling.asset.as_ref()], false);
+            if let Some(res) = results.pop() {
+                resolved.ceilings.insert(room.id, res);
+            }
+        }
+    }
+    Outcome::new(resolved, state.diagnostics)
+}
+
+/// What is being resolved, for messages.
+pub(crate) struct Subject {
+    pub(crate) name: String,
+    pub(crate) description: String,
+    pub(crate) span: Span,
+    pub(crate) room: RoomId,
+}
+
+struct State<'a> {
+    catalog: &'a Catalog,
+    seed: u64,
+    /// Asset id → rooms it is used in.
+    used: BTreeMap<String, BTreeSet<RoomId>>,
+    diagnostics: Vec<Diagnostic>,
+    /// Spans already reported (one cause, one diagnostic).
+    reported: BTreeSet<(u32, u32, u32)>,
+    /// Rankings already computed, by query text.
+    cache: BTreeMap<(String, String, String, &'static str), Vec<Candidate>>,
+}
+
+impl State<'_> {
+    fn ranked(&mut self, query: &Query) -> Vec<Candidate> {
+        let key = (
+            query.category.clone(),
+            query.description.clone().unwrap_or_default(),
+            format!("{:?}", query.size_m),
+            query.kind.map_or("", PlacementKind::as_str),
+        );
+        if let Some(hit) = self.cache.get(&key) {
+            return hit.clone();
+        }
+        let list = rank_top(self.catalog, query, self.seed, RANK_LIMIT);
+        self.cache.insert(key, list.clone());
+        list
+    }
+
+    fn report_once(&mut self, span: Span, d: Diagnostic) {
+        if self.reported.insert((span.file.0, span.start, span.end)) {
+            self.diagnostics.push(d);
+        }
+    }
+
+    /// Resolutions for `pins.len()` instances of one thing.
+    fn choose(
+        &mut self,
+        what: &Subject,
+        query: &Query,
+        variance: Variance,
+        pins: &[Option<&Pinned>],
+        wants_receptacle: bool,
+    ) -> Vec<Resolution> {
+        let kind = query.kind.unwrap_or(PlacementKind::Floor);
+        let ranked = self.ranked(query);
+        let mut good: Vec<&Candidate> = ranked.iter().filter(|c| c.is_good_enough()).collect();
+        if wants_receptacle && good.iter().any(|c| self.catalog.asset_at(c.idx).receptacle) {
+            // Stable: receptacles first, each part in rank order.
+            good.sort_by_key(|c| !self.catalog.asset_at(c.idx).receptacle);
+        }
+        // Avoid assets used in other rooms where an alternative exists.
+        let (fresh, used): (Vec<&Candidate>, Vec<&Candidate>) =
+            good.iter().partition(|c| self.used.get(&c.asset_id).free_for(what.room));
+        let pool: Vec<&Candidate> = fresh.into_iter().chain(used).collect();
+
+        let mut out = Vec::with_capacity(pins.len());
+        for (i, pin) in pins.iter().enumerate() {
+            if let Some(pin) = pin {
+                out.push(self.pinned(what, pin, kind, &ranked));
+                continue;
+            }
+            if pool.is_empty() {
+                let nearest: Vec<Candidate> = ranked.iter().take(3).cloned().collect();
+                let d = errors::no_match(what, kind, &nearest, self.catalog);
+                self.report_once(what.span, d);
+                out.push(Resolution::Unresolved(Unresolved {
+                    reason: format!(
+                        "no {} asset matches \"{}\" well enough",
+                        kind.as_str(),
+                        what.description
+                    ),
+                    nearest,
+                }));
+                continue;
+            }
+            let pick = match variance {
+                Variance::Same => pool[0],
+                Variance::Varied => pool[i % pool.len()],
+            };
+            let runner_up = ranked.iter().find(|c| c.asset_id != pick.asset_id).cloned();
+            let asset = self.catalog.asset_at(pick.idx);
+            self.used.entry(asset.id.clone()).or_default().insert(what.room);
+            out.push(Resolution::Chosen(Choice {
+                asset_id: asset.id.clone(),
+                object_type: asset.object_type.clone(),
+                bbox_m: asset.bbox_m,
+                receptacle: asset.receptacle,
+                source: asset.source,
+                pinned: false,
+                parts: Some(pick.clone()),
+                runner_up,
+            }));
+        }
+        out
+    }
+
+    fn pinned(
+        &mut self,
+        what: &Subject,
+        pin: &Pinned,
+        kind: PlacementKind,
+        ranked: &[Candidate],
+    ) -> Resolution {
+        let right_kind: Vec<Candidate> =
+            ranked.iter().filter(|c| c.is_good_enough()).take(3).cloned().collect();
+        match self.catalog.get(&pin.id) {
+            None => {
+                let d = errors::unknown_asset(pin, self.catalog, kind, &right_kind);
+                self.report_once(pin.span, d);
+                Resolution::Unresolved(Unresolved {
+                    reason: format!("pinned asset `{}` is not in the catalog", pin.id),
+                    nearest: right_kind,
+                })
+            }
+            Some(asset) if !asset.allows(kind) => {
+                let d = errors::wrong_kind(pin, asset, kind, &right_kind, &what.name);
+                self.report_once(pin.span, d);
+                Resolution::Unresolved(Unresolved {
+                    reason: format!(
+                        "pinned asset `{}` cannot be placed {}",
+                        pin.id,
+                        errors::kind_phrase(kind)
+                    ),
+                    nearest: right_kind,
+                })
+            }
+            Some(asset) => {
+                self.used.entry(asset.id.clone()).or_default().insert(what.room);
+                Resolution::Chosen(Choice {
+                    asset_id: asset.id.clone(),
+                    object_type: asset.object_type.clone(),
+                    bbox_m: asset.bbox_m,
+                    receptacle: asset.receptacle,
+                    source: asset.source,
+                    pinned: true,
+                    parts: None,
+                    runner_up: ranked.iter().find(|c| c.asset_id != asset.id).cloned(),
+                })
+            }
+        }
+    }
+}
+
+/// Whether an asset's set of rooms leaves it free for `room` (unused, or used only there).
+trait FreeFor {
+    fn free_for(self, room: RoomId) -> bool;
+}
+
+impl FreeFor for Option<&BTreeSet<RoomId>> {
+    fn free_for(self, room: RoomId) -> bool {
+        self.is_none_or(|rooms| rooms.iter().all(|r| *r == room))
+    }
+}

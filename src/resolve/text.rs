@@ -1,0 +1,443 @@
+//! Words: tokenizing descriptions, the synonym table, attribute words and generic heads.
+//!
+//! Both the catalog's words and a query's words go through [`normalize`], so that `couch`,
+//! `sofas` and `sofa` meet as the same token. The tables here are documented in the book
+//! (`design/catalog-matching.md`); change both together.
+
+/// Words that carry no meaning for matching.
+const STOPWORDS: &[&str] = &[
+    "a", "an", "the", "of", "with", "and", "or", "for", "in", "on", "to", "at", "by", "from",
+    "its", "it", "is", "that", "this", "as", "3d", "model", "some", "one", "two", "three", "x",
+];
+
+/// Phrase synonyms, applied longest first, after lower-casing and singularizing. Each maps a
+/// word sequence to the catalog's words for the same thing.
+const SYNONYMS: &[(&str, &str)] = &[
+    ("couch", "sofa"),
+    ("sectional", "sofa"),
+    ("loveseat", "sofa"),
+    ("love seat", "sofa"),
+    ("settee", "sofa"),
+    ("tv", "television"),
+    ("flat screen", "television"),
+    ("flatscreen", "television"),
+    ("nightstand", "side table"),
+    ("night stand", "side table"),
+    ("bedside table", "side table"),
+    ("end table", "side table"),
+    ("sidetable", "side table"),
+    ("fridge", "fridge"),
+    ("refrigerator", "fridge"),
+    ("armchair", "arm chair"),
+    ("accent chair", "arm chair"),
+    ("lounge chair", "arm chair"),
+    ("recliner", "arm chair"),
+    ("bookshelf", "shelving unit"),
+    ("bookcase", "shelving unit"),
+    ("bookshelve", "shelving unit"),
+    ("book shelf", "shelving unit"),
+    ("shelf", "shelving unit"),
+    ("shelve", "shelving unit"),
+    ("shelves", "shelving unit"),
+    ("trash can", "garbage can"),
+    ("trash bin", "garbage can"),
+    ("waste bin", "garbage can"),
+    ("garbage bin", "garbage can"),
+    ("wastebasket", "garbage can"),
+    ("dustbin", "garbage can"),
+    ("trashcan", "garbage can"),
+    ("table lamp", "desk lamp"),
+    ("reading lamp", "desk lamp"),
+    ("standing lamp", "floor lamp"),
+    ("houseplant", "house plant"),
+    ("potted plant", "house plant"),
+    ("plant", "house plant"),
+    ("house house plant", "house plant"),
+    ("picture", "painting"),
+    ("poster", "painting"),
+    ("artwork", "painting"),
+    ("wall art", "painting"),
+    ("framed print", "painting"),
+    ("canvas", "painting"),
+    ("coffee maker", "coffee machine"),
+    ("espresso machine", "coffee machine"),
+    ("washer", "washing machine"),
+    ("dryer", "clothes dryer"),
+    ("computer", "desktop"),
+    ("pc", "desktop"),
+    ("monitor", "desktop"),
+    ("phone", "cell phone"),
+    ("cellphone", "cell phone"),
+    ("smartphone", "cell phone"),
+    ("remote", "remote control"),
+    ("remote control control", "remote control"),
+    ("cushion", "pillow"),
+    ("countertop", "counter top"),
+    ("counter", "counter top"),
+    ("counter top top", "counter top"),
+    ("kitchen island", "counter top"),
+    ("chest of drawer", "dresser"),
+    ("drawer", "dresser"),
+    ("footrest", "ottoman"),
+    ("pouf", "ottoman"),
+    ("sculpture", "statue"),
+    ("figurine", "statue"),
+    ("media console", "television stand"),
+    ("tv cabinet", "television stand"),
+    ("tv console", "television stand"),
+    ("tv table", "television stand"),
+    ("kitchen table", "dining table"),
+    ("work table", "desk"),
+    ("study table", "desk"),
+    ("writing desk", "desk"),
+    ("office desk", "desk"),
+    ("entertainment center", "television stand"),
+    ("clock", "alarm clock"),
+    ("alarm alarm clock", "alarm clock"),
+    ("basin", "sink"),
+    ("washbasin", "sink"),
+    ("tap", "faucet"),
+    ("shower", "shower head"),
+    ("shower head head", "shower head"),
+    ("shower shower curtain", "shower curtain"),
+    ("shower head curtain", "shower curtain"),
+    ("laundry basket", "laundry hamper"),
+    ("hamper", "laundry hamper"),
+    ("laundry laundry hamper", "laundry hamper"),
+    ("weight", "dumbbell"),
+    ("coffee cup", "mug"),
+    ("teapot", "kettle"),
+    ("frying pan", "pan"),
+    ("skillet", "pan"),
+    ("saucepan", "pot"),
+    ("dish", "plate"),
+    ("knive", "knife"),
+    ("tissue", "tissue box"),
+    ("tissue box box", "tissue box"),
+    ("stuffed animal", "teddy bear"),
+    ("plush", "teddy bear"),
+    ("basketball", "basket ball"),
+    ("trolley", "cart"),
+    ("vacuum", "vacuum cleaner"),
+    ("vacuum cleaner cleaner", "vacuum cleaner"),
+    ("pet bed", "dog bed"),
+    ("magazine", "newspaper"),
+    ("gray", "grey"),
+    ("chandelier", "chandelier light"),
+    ("ceiling lamp", "ceiling light"),
+    ("pendant lamp", "pendant light"),
+    ("light fixture", "light"),
+];
+
+/// Words that describe how a thing looks rather than what it is (colours, materials, sizes,
+/// styles). They are ignored when finding a category's head word.
+const ATTRIBUTE_WORDS: &[&str] = &[
+    "small",
+    "large",
+    "big",
+    "tall",
+    "short",
+    "long",
+    "wide",
+    "narrow",
+    "tiny",
+    "huge",
+    "mini",
+    "round",
+    "square",
+    "rectangular",
+    "oval",
+    "modern",
+    "contemporary",
+    "vintage",
+    "antique",
+    "rustic",
+    "classic",
+    "industrial",
+    "minimalist",
+    "scandinavian",
+    "traditional",
+    "cozy",
+    "comfortable",
+    "elegant",
+    "simple",
+    "sleek",
+    "stylish",
+    "new",
+    "old",
+    "wooden",
+    "wood",
+    "metal",
+    "metallic",
+    "plastic",
+    "glass",
+    "fabric",
+    "leather",
+    "marble",
+    "steel",
+    "iron",
+    "velvet",
+    "wicker",
+    "ceramic",
+    "white",
+    "black",
+    "grey",
+    "brown",
+    "beige",
+    "cream",
+    "red",
+    "blue",
+    "green",
+    "yellow",
+    "orange",
+    "pink",
+    "purple",
+    "dark",
+    "light",
+    "tan",
+    "navy",
+    "golden",
+    "gold",
+    "silver",
+    "upholstered",
+    "padded",
+    "soft",
+    "hard",
+    "low",
+    "high",
+    "double",
+    "single",
+    "king",
+    "queen",
+    "twin",
+    "size",
+    "sized",
+    "style",
+    "styled",
+];
+
+/// Head words too general to identify a thing alone: `arcade machine` is not a coffee machine.
+/// When a category's head is one of these and it has other words, one of them must match too.
+const GENERIC_HEADS: &[&str] = &[
+    "machine",
+    "stand",
+    "unit",
+    "holder",
+    "table",
+    "set",
+    "station",
+    "system",
+    "equipment",
+    "device",
+    "rack",
+    "case",
+    "box",
+    "center",
+    "console",
+    "can",
+    "bag",
+    "decor",
+    "top",
+    "item",
+    "thing",
+    "object",
+    "furniture",
+    "piece",
+    "cabinet",
+    "ball",
+];
+
+/// Lower-cases, splits on anything that is not a letter or digit, drops stopwords,
+/// singularizes and applies the synonym table.
+pub(crate) fn normalize(text: &str) -> Vec<String> {
+    let words: Vec<String> = text
+        .split(|c: char| !c.is_alphanumeric())
+        .filter(|w| !w.is_empty())
+        .map(|w| singular(&w.to_lowercase()))
+        .filter(|w| !STOPWORDS.contains(&w.as_str()))
+        .collect();
+    apply_synonyms(&words)
+}
+
+/// Splits an identifier such as `SideTable` or `TVStand` into words (`side table`, `tv stand`).
+pub(crate) fn camel_words(name: &str) -> String {
+    let chars: Vec<char> = name.chars().collect();
+    let mut out = String::new();
+    for (i, &c) in chars.iter().enumerate() {
+        if !c.is_alphanumeric() {
+            if !out.ends_with(' ') && !out.is_empty() {
+                out.push(' ');
+            }
+            continue;
+        }
+        let prev = i.checked_sub(1).map(|j| chars[j]);
+        let next = chars.get(i + 1).copied();
+        let boundary = match prev {
+            Some(p) if c.is_uppercase() => {
+                p.is_lowercase() || (p.is_uppercase() && next.is_some_and(char::is_lowercase))
+            }
+            Some(p) if c.is_ascii_digit() => !p.is_ascii_digit(),
+            _ => false,
+        };
+        if boundary && !out.ends_with(' ') {
+            out.push(' ');
+        }
+        out.extend(c.to_lowercase());
+    }
+    out.trim().to_string()
+}
+
+fn singular(word: &str) -> String {
+    let n = word.chars().count();
+    if n <= 3 || !word.is_ascii() {
+        return word.to_string();
+    }
+    if let Some(stem) = word.strip_suffix("ies") {
+        return format!("{stem}y");
+    }
+    for suffix in ["sses", "shes", "ches", "xes"] {
+        if word.ends_with(suffix) {
+            return word[..word.len() - 2].to_string();
+        }
+    }
+    if word.ends_with('s')
+        && !word.ends_with("ss")
+        && !word.ends_with("us")
+        && !word.ends_with("is")
+    {
+        return word[..word.len() - 1].to_string();
+    }
+    word.to_string()
+}
+
+/// A synonym entry split into words.
+struct Rule {
+    from: Vec<&'static str>,
+    to: Vec<&'static str>,
+}
+
+/// The synonym table indexed by the first word of each phrase, longest phrase first.
+fn rules() -> &'static std::collections::BTreeMap<&'static str, Vec<Rule>> {
+    static RULES: std::sync::OnceLock<std::collections::BTreeMap<&'static str, Vec<Rule>>> =
+        std::sync::OnceLock::new();
+    RULES.get_or_init(|| {
+        let mut map: std::collections::BTreeMap<&'static str, Vec<Rule>> =
+            std::collections::BTreeMap::new();
+        for (from, to) in SYNONYMS {
+            let from: Vec<&'static str> = from.split(' ').collect();
+            let to: Vec<&'static str> = to.split(' ').collect();
+            map.entry(from[0]).or_default().push(Rule { from, to });
+        }
+        for list in map.values_mut() {
+            // Longest first; the table order decides among equal lengths.
+            list.sort_by_key(|r| std::cmp::Reverse(r.from.len()));
+        }
+        map
+    })
+}
+
+fn apply_synonyms(words: &[String]) -> Vec<String> {
+    let once = rewrite(words, |_| true);
+    if once == words {
+        return once;
+    }
+    // A second pass folds doubled words that the first can create (`house house plant`), with
+    // only the shrinking rules, so that it cannot loop.
+    rewrite(&once, |r| r.from.len() > r.to.len())
+}
+
+fn rewrite(words: &[String], allowed: impl Fn(&Rule) -> bool) -> Vec<String> {
+    let rules = rules();
+    let mut out: Vec<String> = Vec::with_capacity(words.len());
+    let mut i = 0;
+    while i < words.len() {
+        let hit = rules.get(words[i].as_str()).and_then(|list| {
+            list.iter().find(|r| {
+                allowed(r)
+                    && i + r.from.len() <= words.len()
+                    && r.from.iter().zip(&words[i..]).all(|(a, b)| *a == b.as_str())
+            })
+        });
+        if let Some(rule) = hit {
+            out.extend(rule.to.iter().map(|w| (*w).to_string()));
+            i += rule.from.len();
+        } else {
+            out.push(words[i].clone());
+            i += 1;
+        }
+    }
+    out
+}
+
+/// Whether a (normalized) word is an attribute word.
+pub(crate) fn is_attribute(word: &str) -> bool {
+    ATTRIBUTE_WORDS.contains(&word)
+}
+
+/// Whether a (normalized) head word is too general to match alone.
+pub(crate) fn is_generic_head(word: &str) -> bool {
+    GENERIC_HEADS.contains(&word)
+}
+
+/// The head of a normalized category: its last word that is not an attribute word (or its last
+/// word when all are attributes).
+pub(crate) fn head(tokens: &[String]) -> Option<&str> {
+    // `light` ends `ceiling light` as a noun, though it is an attribute in `light grey`.
+    if tokens.last().is_some_and(|t| t == "light") {
+        return tokens.last().map(String::as_str);
+    }
+    tokens
+        .iter()
+        .rev()
+        .find(|t| !is_attribute(t) && !t.chars().all(|c| c.is_ascii_digit()))
+        .or_else(|| tokens.last())
+        .map(String::as_str)
+}
+
+/// The number of synonym entries (for the book and the tests).
+#[cfg(test)]
+pub(crate) fn synonym_table() -> &'static [(&'static str, &'static str)] {
+    SYNONYMS
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn synonyms_and_plurals_meet() {
+        assert_eq!(normalize("Couches"), vec!["sofa"]);
+        assert_eq!(normalize("a TV"), vec!["television"]);
+        assert_eq!(normalize("nightstand"), vec!["side", "table"]);
+        assert_eq!(normalize("Night stands"), vec!["side", "table"]);
+        assert_eq!(normalize("refrigerator"), vec!["fridge"]);
+        assert_eq!(normalize("bookshelves"), vec!["shelving", "unit"]);
+        assert_eq!(normalize("shower curtain"), vec!["shower", "curtain"]);
+        assert_eq!(normalize("potted plant"), vec!["house", "plant"]);
+        assert_eq!(normalize("house plant"), vec!["house", "plant"]);
+        assert_eq!(normalize("countertop"), vec!["counter", "top"]);
+        assert_eq!(normalize("counter top"), vec!["counter", "top"]);
+        assert_eq!(normalize("grey"), vec!["grey"]);
+        assert_eq!(normalize("glasses"), vec!["glass"]);
+        assert_eq!(normalize("gray café"), vec!["grey", "café"]);
+    }
+
+    #[test]
+    fn camel_case_splits() {
+        assert_eq!(camel_words("SideTable"), "side table");
+        assert_eq!(camel_words("TVStand"), "tv stand");
+        assert_eq!(camel_words("Sofa_1"), "sofa 1");
+        assert_eq!(camel_words("ArmChair"), "arm chair");
+    }
+
+    #[test]
+    fn heads_skip_attributes() {
+        let t = normalize("modern light grey sofa");
+        assert_eq!(head(&t), Some("sofa"));
+        let t = normalize("semi-flush mount ceiling light");
+        assert_eq!(head(&t), Some("light"));
+        let t = normalize("round");
+        assert_eq!(head(&t), Some("round"));
+        assert!(synonym_table().iter().all(|(a, _)| !a.is_empty()));
+    }
+}
