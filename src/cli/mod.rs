@@ -9,6 +9,7 @@ pub mod check;
 pub mod common;
 pub mod explain;
 pub mod fmt;
+pub mod import;
 pub mod validate;
 
 use clap::{Parser, Subcommand};
@@ -36,6 +37,8 @@ pub enum Command {
     Fmt(fmt::FmtArgs),
     /// Explain a diagnostic code.
     Explain(explain::ExplainArgs),
+    /// Turn LLM answers, a transcript or an original Holodeck scene into `.holo`.
+    Import(import::ImportArgs),
     /// Check house JSON files against the schema and the geometric rules.
     Validate(validate::ValidateArgs),
 }
@@ -48,6 +51,7 @@ pub fn run(cli: Cli) -> ExitCode {
         Command::Check(args) => check::run(args),
         Command::Fmt(args) => fmt::run(args),
         Command::Explain(args) => explain::run(args),
+        Command::Import(args) => import::run(args),
         Command::Validate(args) => validate::run(args),
     }
 }

@@ -124,6 +124,22 @@ codes! {
     E0403 "invalid-catalog" "a catalog file cannot be read or is not a catalog";
     W0401 "no-matching-asset" "no catalog asset matches an object well enough";
     W0402 "invalid-catalog-entry" "a catalog entry is malformed and is skipped";
+    E0701 "unreadable-line" "a line of an answer does not have the shape its stage expects";
+    E0702 "invalid-value" "a field of an answer holds a value that cannot be used";
+    E0703 "unknown-answer-room" "an answer names a room the floor plan does not have";
+    E0704 "unknown-answer-object" "an answer names an object the room does not have";
+    E0705 "unknown-answer-keyword" "an answer uses a word outside its vocabulary and synonym table";
+    E0706 "invalid-answer-json" "an answer holds no usable JSON value";
+    E0707 "dropped-constraint" "a constraint names an unknown, later or the same object";
+    E0708 "empty-answer" "an answer holds nothing the stage can use";
+    E0709 "invalid-transcript" "a transcript or scene file cannot be read";
+    W0701 "tolerated-noise" "an answer had decoration that was removed";
+    W0702 "synonym-used" "a near-miss keyword was read as its documented synonym";
+    W0703 "converted-value" "a value with a unit or a decimal comma was converted";
+    W0704 "renamed-duplicate" "a duplicate name was given a numbered id";
+    W0705 "no-constraints" "a floor object has no constraints and will be placed at an edge";
+    W0706 "ignored-input" "a line or field was ignored or replaced";
+    W0707 "adjusted-value" "a value was clamped or defaulted";
 }
 
 impl Code {

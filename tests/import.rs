@@ -1,0 +1,276 @@
+//! Tests of `holoc import`.
+//!
+//! Corpus: one raw answer per file under `tests/corpus/import/<stage>/*.txt` (the folder names
+//! the stage). Raw answers cannot carry a `// expect:` header, so a fixture may start with
+//! directive lines that the driver strips before importing:
+//! - `#! expect: E0701, W0702` — the set of codes the import must report (exactly, no order);
+//! - `#! room: living room` — the room a per-room answer is about;
+//! - `#! before: floor-plan ../floor-plan/clean.txt` — an earlier answer to import first, so
+//!   that names are checked against it (path relative to the fixture).
+//!
+//! Each fixture's snapshot (`snapshots/import/`) holds the answer, the diagnostics and the
+//! `.holo` output; the output must be in canonical form (print ∘ parse is the identity).
+
+mod common;
+
+use common::{corpus_name, render, snapshot_body};
+use holoc::import::{self, ImportContext, ImportOptions, Stage};
+use holoc::source::SourceMap;
+use std::path::Path;
+
+struct Fixture {
+    expect: Option<Vec<String>>,
+    room: Option<String>,
+    before: Vec<(Stage, std::path::PathBuf)>,
+    body: String,
+}
+
+fn read_fixture(path: &Path) -> Fixture {
+    let text = std::fs::read_to_string(path).expect("fixture is readable");
+    let mut f = Fixture { expect: None, room: None, before: Vec::new(), body: String::new() };
+    let mut rest = text.as_str();
+    while let Some(line) = rest.strip_prefix("#!") {
+        let (directive, after) = line.split_once('\n').unwrap_or((line, ""));
+        rest = after;
+        let (key, value) = directive.split_once(':').expect("directive is `key: value`");
+        let value = value.trim();
+        match key.trim() {
+            "expect" => {
+                let mut codes: Vec<String> = value
+                    .split(',')
+                    .map(|c| c.trim().to_string())
+                    .filter(|c| !c.is_empty())
+                    .collect();
+                codes.sort();
+                codes.dedup();
+                f.expect = Some(codes);
+            }
+            "room" => f.room = Some(value.to_string()),
+            "before" => {
+                let (stage, p) = value.split_once(' ').expect("before: STAGE PATH");
+                let stage = Stage::parse(stage).expect("known stage");
+                f.before.push((stage, path.parent().expect("folder").join(p.trim())));
+            }
+            other => panic!("unknown directive `{other}` in {}", path.display()),
+        }
+    }
+    f.body = rest.to_string();
+    f
+}
+
+fn stage_of(path: &Path) -> Stage {
+    let folder = path.parent().and_then(Path::file_name).and_then(|n| n.to_str()).expect("folder");
+    Stage::parse(folder).expect("corpus folder names a stage")
+}
+
+static MISMATCHES: std::sync::Mutex<Vec<String>> = std::sync::Mutex::new(Vec::new());
+
+fn run_fixture(path: &Path) {
+    let fixture = read_fixture(path);
+    let mut sources = SourceMap::new();
+    let mut ctx = ImportContext::new();
+    for (stage, p) in &fixture.before {
+        let earlier = read_fixture(p);
+        let id = sources.add(p.display().to_string(), earlier.body);
+        ctx.set_room(earlier.room.as_deref());
+        ctx = import::import_answer(*stage, &sources, id, &ctx).value.context;
+    }
+    ctx.set_room(fixture.room.as_deref());
+    let id = sources.add(corpus_name(path), fixture.body.clone());
+    let out = import::import_answer(stage_of(path), &sources, id, &ctx);
+    let holo = holoc::fmt::print(&out.value.fragment);
+    // Canonical: printing the parsed output gives it back, and it parses without errors.
+    let reparsed = holoc::parse::parse_str(&holo);
+    assert!(
+        !reparsed.has_errors(),
+        "{}: output does not parse:\n{holo}\n{:?}",
+        path.display(),
+        reparsed.diagnostics
+    );
+    assert_eq!(
+        holoc::fmt::print(&reparsed.value),
+        holo,
+        "{}: output is not canonical",
+        path.display()
+    );
+    let mut codes: Vec<String> =
+        out.diagnostics.iter().map(|d| d.code.as_str().to_string()).collect();
+    codes.sort();
+    codes.dedup();
+    if let Some(expect) = &fixture.expect {
+        if &codes != expect {
+            MISMATCHES.lock().expect("lock").push(format!(
+                "{}: expected {expect:?}, got {codes:?}\n{}",
+                path.display(),
+                render(&sources, &out.diagnostics)
+            ));
+        }
+    }
+    let body = snapshot_body(
+        &corpus_name(path),
+        &fixture.body,
+        &render(&sources, &out.diagnostics),
+        &holo,
+    );
+    insta::assert_snapshot!(body);
+}
+
+#[test]
+fn import_corpus() {
+    insta::with_settings!({
+        snapshot_path => "../snapshots/import",
+        prepend_module_to_snapshot => false,
+        omit_expression => true,
+    }, {
+        insta::glob!("corpus/import", "**/*.txt", |path| run_fixture(path));
+    });
+    let mismatches = MISMATCHES.lock().expect("lock");
+    assert!(mismatches.is_empty(), "{}", mismatches.join("\n\n"));
+}
+
+/// The 8 real Holodeck scenes (reads `../shared/data/real-scenes`, relative to the repository
+/// root; skipped with a message when absent) import to `.holo` files that `check` accepts,
+/// with and without `--keep-layout`, deterministically.
+#[test]
+fn real_holodeck_scenes_import_and_check() {
+    let dir = Path::new("../shared/data/real-scenes");
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        println!("skipped: {} is absent", dir.display());
+        return;
+    };
+    let mut paths: Vec<_> = entries
+        .filter_map(Result::ok)
+        .map(|e| e.path())
+        .filter(|p| p.extension().is_some_and(|e| e == "json"))
+        .filter(|p| {
+            !p.file_name().and_then(|n| n.to_str()).is_some_and(|n| n.starts_with("procthor-"))
+        })
+        .collect();
+    paths.sort();
+    assert_eq!(paths.len(), 8, "expected the 8 Holodeck scenes");
+    for path in paths {
+        let value: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&path).expect("readable")).expect("json");
+        for keep_layout in [false, true] {
+            let options = ImportOptions { keep_layout };
+            let mut sources = SourceMap::new();
+            let out = import::import_holodeck_scene(&value, &mut sources, &options);
+            let errors: Vec<_> = out.diagnostics.iter().filter(|d| d.is_error()).collect();
+            assert!(
+                errors.is_empty(),
+                "{}: import errors\n{}",
+                path.display(),
+                render(&sources, &out.diagnostics)
+            );
+            let holo = holoc::fmt::print(&out.value);
+            let again = import::import_holodeck_scene(&value, &mut SourceMap::new(), &options);
+            assert_eq!(
+                holoc::fmt::print(&again.value),
+                holo,
+                "{}: not deterministic",
+                path.display()
+            );
+            let mut check_sources = SourceMap::new();
+            let id = check_sources.add(path.display().to_string(), holo.clone());
+            let checked = holoc::compile::check_file(&check_sources, id);
+            let errors: Vec<_> =
+                checked.diagnostics.iter().filter(|d| d.is_error()).cloned().collect();
+            assert!(
+                errors.is_empty(),
+                "{} (keep_layout {keep_layout}) does not check:\n{}\n{holo}",
+                path.display(),
+                render(&check_sources, &errors)
+            );
+            let reparsed = holoc::parse::parse_str(&holo);
+            assert_eq!(holoc::fmt::print(&reparsed.value), holo, "not canonical");
+        }
+    }
+}
+
+/// A transcript with repairs: the highest attempt wins, per-room stages use their room.
+#[test]
+fn transcript_imports_latest_attempts() {
+    let json = r#"{"format": "holoc-transcript", "version": 1, "request": "a small bedroom", "seed": 3,
+      "exchanges": [
+        {"stage": "wall-height", "answer": "2.8"},
+        {"stage": "floor-plan", "answer": "bedroom | oak | white | [(0, 0), (0, 4)]"},
+        {"stage": "floor-plan", "attempt": 1, "answer": "bedroom | oak | white | [(0, 0), (0, 4), (4, 4), (4, 0)]"},
+        {"stage": "doorways", "answer": "exterior | bedroom | doorway | single | white door"},
+        {"stage": "objects", "room": "bedroom", "answer": "{\"bed\": {\"description\": \"double bed\", \"location\": \"floor\", \"size\": [200, 160, 50], \"quantity\": 1, \"variance_type\": \"same\", \"objects_on_top\": []}, \"nightstand\": {\"description\": \"oak\", \"location\": \"floor\", \"size\": [50, 40, 55], \"quantity\": 2, \"variance_type\": \"same\", \"objects_on_top\": [{\"object_name\": \"lamp\", \"quantity\": 1, \"variance_type\": \"same\"}]}}"},
+        {"stage": "floor-constraints", "room": "bedroom", "answer": "bed-0 | edge\nnightstand-0 | edge | near, bed-0\nnightstand-1 | edge | near, bed-0"}
+      ]}"#;
+    let t: import::Transcript = serde_json::from_str(json).expect("transcript");
+    let mut sources = SourceMap::new();
+    let out = import::import_transcript(&t, &mut sources, &ImportOptions::default());
+    assert!(!out.has_errors(), "{}", render(&sources, &out.diagnostics));
+    let holo = holoc::fmt::print(&out.value);
+    insta::with_settings!({snapshot_path => "../snapshots/import", prepend_module_to_snapshot => false}, {
+        insta::assert_snapshot!("transcript_latest_attempts", holo);
+    });
+    let mut cs = SourceMap::new();
+    let id = cs.add("t.holo", holo.clone());
+    let checked = holoc::compile::check_file(&cs, id);
+    assert!(!checked.has_errors(), "{}\n{holo}", render(&cs, &checked.diagnostics));
+}
+
+mod fuzz {
+    use super::*;
+    use proptest::prelude::*;
+
+    fn import_all(text: &str) {
+        for &stage in Stage::ALL {
+            let mut sources = SourceMap::new();
+            let id = sources.add("fuzz", text.to_string());
+            let out = import::import_answer(stage, &sources, id, &ImportContext::new());
+            let holo = holoc::fmt::print(&out.value.fragment);
+            let reparsed = holoc::parse::parse_str(&holo);
+            assert_eq!(holoc::fmt::print(&reparsed.value), holo);
+        }
+    }
+
+    const SEEDS: &[&str] = &[
+        "living room | oak | white | [(0, 0), (0, 4), (4, 4), (4, 0)]",
+        "exterior | living room | doorway | double | oak door",
+        "living room | west | fixed | (130, 130) | 1 | 50",
+        "{\"sofa\": {\"description\": \"grey\", \"location\": \"floor\", \"size\": [200, 90, 80], \"quantity\": 2, \"variance_type\": \"same\", \"objects_on_top\": [{\"object_name\": \"pillow\", \"quantity\": 2, \"variance_type\": \"varied\"}]}}",
+        "sofa-0 | edge\ntable-0 | middle | near, sofa-0 | face to, sofa-0",
+        "painting-0 | above, sofa-0 | 160",
+        "sofa-0 (living room) | pillow, 2, varied | book, 1, same",
+        "[{\"object_name\": \"sofa-0\", \"position\": {\"X\": 100, \"Y\": 50}, \"rotation\": 90}]",
+    ];
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 64, .. ProptestConfig::default() })]
+
+        #[test]
+        fn random_text_never_panics(text in "\\PC{0,200}") {
+            import_all(&text);
+        }
+
+        #[test]
+        fn mutated_answers_never_panic(seed in 0usize..8, at in 0usize..400, insert in "[|,()\\[\\]{}\"0-9a-z\\-\\.\n ]{0,6}", cut in 0usize..8) {
+            let base = SEEDS[seed];
+            let mut at = at.min(base.len());
+            while !base.is_char_boundary(at) { at -= 1; }
+            let end = (at + cut).min(base.len());
+            let mut end = end;
+            while !base.is_char_boundary(end) { end -= 1; }
+            let text = format!("{}{}{}", &base[..at], insert, &base[end.max(at)..]);
+            import_all(&text);
+        }
+    }
+
+    #[test]
+    fn adversarial_inputs_never_panic() {
+        let big = "living room | oak | white | [(0, 0), (0, 4), (4, 4), (4, 0)]\n".repeat(20_000);
+        assert!(big.len() > 1_000_000);
+        import_all(&big);
+        import_all("");
+        import_all("\u{0}\u{1}\u{fffd}\u{7f}|||||\u{200b}");
+        import_all("{{{{[[[[(((( | ]]]] }}}");
+        import_all("a | NaN | inf | -1e400 | 1e400 | -0");
+        import_all("客厅 | 木地板 | 白墙 | [(0, 0), (0, 4), (4, 4), (4, 0)]");
+        import_all(&"[".repeat(10_000));
+        import_all(&"{".repeat(10_000));
+    }
+}
