@@ -82,6 +82,10 @@ codes! {
     W0201 "window-size-not-offered" "a window size is not one of the sizes of its type";
     W0202 "missing-global-constraint" "a floor object has neither `edge` nor `middle`";
     W0203 "empty-scene" "the scene declares no room";
+    E0501 "unusable-room-outline" "a room's outline is not a rectilinear polygon the solver can use";
+    E0502 "unusable-object" "an object's size, height or reference cannot be used by the solver";
+    W0501 "unplaceable-object" "an object cannot be placed without breaking a hard rule and is left out";
+    W0502 "pinned-pose-breaks-rule" "a pinned pose breaks a hard layout rule and is kept as pinned";
 }
 
 impl Code {
