@@ -28,6 +28,8 @@ pub const FRONT_CLEARANCE_M: f64 = 0.4;
 pub const WINDOW_ZONE_M: f64 = 0.25;
 /// Radius of the agent used for the reachability rule, metres.
 pub const AGENT_RADIUS_M: f64 = 0.2;
+/// Share of the free floor that must stay reachable from a door.
+pub const MIN_REACHABLE_FRACTION: f64 = 0.6;
 /// Cell size of the reachability grid, metres.
 pub const REACH_CELL_M: f64 = 0.1;
 
@@ -639,23 +641,16 @@ impl ReachGrid {
         self.source.iter().zip(&self.open).any(|(s, o)| *s && *o)
     }
 
-    /// The footprints (from `footprints`) that no agent coming in through a door can reach
-    /// (stand within [`AGENT_RADIUS_M`] + one cell of). Empty when the room has no door.
-    pub fn unreachable(&self, footprints: &[Rect]) -> Vec<usize> {
-        if !self.has_sources() || footprints.is_empty() {
-            return Vec::new();
-        }
+    /// Free cells (agent fits, no footprint) and which of them an agent entering through a door
+    /// reaches.
+    fn flood(&self, footprints: &[Rect]) -> (Vec<bool>, Vec<bool>) {
         let (nx, nz) = (self.nx, self.nz);
         let mut free = self.open.clone();
-        let cell_of = |v: f64, o: f64, n: usize| (((v - o) / REACH_CELL_M).floor().max(0.0) as usize).min(n);
         for fp in footprints {
-            let g = fp.grow(AGENT_RADIUS_M - 1e-3);
-            let (i0, i1) = (cell_of(g.min_x, self.origin[0], nx), cell_of(g.max_x, self.origin[0], nx - 1));
-            let (j0, j1) = (cell_of(g.min_z, self.origin[1], nz), cell_of(g.max_z, self.origin[1], nz - 1));
-            for i in i0..=i1.min(nx - 1) {
-                for j in j0..=j1.min(nz - 1) {
-                    let c = [self.origin[0] + (i as f64 + 0.5) * REACH_CELL_M, self.origin[1] + (j as f64 + 0.5) * REACH_CELL_M];
-                    if fp.distance_to_point(c) < AGENT_RADIUS_M - 1e-3 {
+            let (i0, i1, j0, j1) = self.cell_range(&fp.grow(AGENT_RADIUS_M - 1e-3));
+            for i in i0..=i1 {
+                for j in j0..=j1 {
+                    if fp.distance_to_point(self.cell_center(i, j)) < AGENT_RADIUS_M - 1e-3 {
                         free[i * nz + j] = false;
                     }
                 }
@@ -668,47 +663,83 @@ impl ReachGrid {
         }
         while let Some(k) = stack.pop() {
             let (i, j) = (k / nz, k % nz);
-            let mut push = |ii: usize, jj: usize| {
-                let kk = ii * nz + jj;
+            let mut next = Vec::with_capacity(4);
+            if i > 0 {
+                next.push(k - nz);
+            }
+            if i + 1 < nx {
+                next.push(k + nz);
+            }
+            if j > 0 {
+                next.push(k - 1);
+            }
+            if j + 1 < nz {
+                next.push(k + 1);
+            }
+            for kk in next {
                 if free[kk] && !seen[kk] {
                     seen[kk] = true;
                     stack.push(kk);
                 }
-            };
-            if i > 0 {
-                push(i - 1, j);
-            }
-            if i + 1 < nx {
-                push(i + 1, j);
-            }
-            if j > 0 {
-                push(i, j - 1);
-            }
-            if j + 1 < nz {
-                push(i, j + 1);
             }
         }
+        (free, seen)
+    }
+
+    fn cell_center(&self, i: usize, j: usize) -> [f64; 2] {
+        [self.origin[0] + (i as f64 + 0.5) * REACH_CELL_M, self.origin[1] + (j as f64 + 0.5) * REACH_CELL_M]
+    }
+
+    /// The cells `(i0, i1, j0, j1)` (inclusive, clamped) that a rectangle covers.
+    fn cell_range(&self, r: &Rect) -> (usize, usize, usize, usize) {
+        let cell = |v: f64, o: f64, n: usize| (((v - o) / REACH_CELL_M).floor().max(0.0) as usize).min(n - 1);
+        (
+            cell(r.min_x, self.origin[0], self.nx),
+            cell(r.max_x, self.origin[0], self.nx),
+            cell(r.min_z, self.origin[1], self.nz),
+            cell(r.max_z, self.origin[1], self.nz),
+        )
+    }
+
+    fn unreachable_in(&self, footprints: &[Rect], seen: &[bool]) -> Vec<usize> {
         let reach = AGENT_RADIUS_M + 1.5 * REACH_CELL_M;
         let mut out = Vec::new();
         for (n, fp) in footprints.iter().enumerate() {
-            let g = fp.grow(reach);
-            let (i0, i1) = (cell_of(g.min_x, self.origin[0], nx), cell_of(g.max_x, self.origin[0], nx - 1));
-            let (j0, j1) = (cell_of(g.min_z, self.origin[1], nz), cell_of(g.max_z, self.origin[1], nz - 1));
-            let mut ok = false;
-            'cells: for i in i0..=i1.min(nx - 1) {
-                for j in j0..=j1.min(nz - 1) {
-                    let c = [self.origin[0] + (i as f64 + 0.5) * REACH_CELL_M, self.origin[1] + (j as f64 + 0.5) * REACH_CELL_M];
-                    if seen[i * nz + j] && fp.distance_to_point(c) <= reach {
-                        ok = true;
-                        break 'cells;
-                    }
-                }
-            }
+            let (i0, i1, j0, j1) = self.cell_range(&fp.grow(reach));
+            let ok = (i0..=i1).any(|i| {
+                (j0..=j1).any(|j| seen[i * self.nz + j] && fp.distance_to_point(self.cell_center(i, j)) <= reach)
+            });
             if !ok {
                 out.push(n);
             }
         }
         out
+    }
+
+    /// The footprints (indices into `footprints`) that no agent coming in through a door can
+    /// reach (stand within [`AGENT_RADIUS_M`] + 1.5 cells of). Empty when the room has no door.
+    pub fn unreachable(&self, footprints: &[Rect]) -> Vec<usize> {
+        if !self.has_sources() || footprints.is_empty() {
+            return Vec::new();
+        }
+        let (_, seen) = self.flood(footprints);
+        self.unreachable_in(footprints, &seen)
+    }
+
+    /// The reachability rule: every footprint is reachable, and at least
+    /// [`MIN_REACHABLE_FRACTION`] of the free floor is reachable from a door (so that a door is
+    /// never boxed in by a wall of furniture). Always true for a room with no door.
+    pub fn ok(&self, footprints: &[Rect]) -> bool {
+        if !self.has_sources() || footprints.is_empty() {
+            return true;
+        }
+        let (free, seen) = self.flood(footprints);
+        let n_free = free.iter().filter(|f| **f).count();
+        let n_seen = seen.iter().filter(|f| **f).count();
+        if (n_seen as f64) < MIN_REACHABLE_FRACTION * n_free as f64 {
+            return false;
+        }
+        self.unreachable_in(footprints, &seen).is_empty()
     }
 }
 

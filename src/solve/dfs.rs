@@ -267,7 +267,7 @@ impl Search<'_, '_> {
             }
             reach_checks += 1;
             st.fps.push(c.fp);
-            let boxed = !self.prep.reach.unreachable(&st.fps).is_empty();
+            let boxed = !self.prep.reach.ok(&st.fps);
             st.fps.pop();
             if boxed {
                 continue;
@@ -339,7 +339,7 @@ impl Search<'_, '_> {
     }
 }
 
-fn static_reason(fails: &BTreeMap<HardRule, usize>) -> (HardRule, String) {
+pub(crate) fn static_reason(fails: &BTreeMap<HardRule, usize>) -> (HardRule, String) {
     let beyond_inside: Vec<(&HardRule, &usize)> = fails.iter().filter(|(r, _)| **r != HardRule::InsideRoom).collect();
     let pick = beyond_inside.iter().max_by_key(|(r, n)| (**n, std::cmp::Reverse(**r))).map(|(r, _)| **r);
     match pick {

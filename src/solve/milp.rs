@@ -259,8 +259,15 @@ fn solve_one(prep: &Prepared<'_>, k: usize, rot: Rot, poses: &[Option<Pose>], ob
             RelationKind::FaceSameAs => {}
         }
     }
-    // A tiny pull towards the room's lower-left corner makes the optimum unique.
-    m.objective += -1e-4 * (x + z);
+    // A small pull towards the room's centroid makes the optimum unique and keeps objects
+    // from crowding into one corner.
+    let centre = prep.room.centroid();
+    let (cu, cv) = (m.vars.add(variable().min(0.0)), m.vars.add(variable().min(0.0)));
+    m.cons.push(constraint!(cu >= x - centre[0]));
+    m.cons.push(constraint!(cu >= centre[0] - x));
+    m.cons.push(constraint!(cv >= z - centre[1]));
+    m.cons.push(constraint!(cv >= centre[1] - z));
+    m.objective += -1e-3 * (cu + cv);
     let Model { vars, cons, objective } = m;
     let mut problem = backend(vars.maximise(objective));
     for c in cons {
@@ -301,7 +308,7 @@ fn place_milp(prep: &Prepared<'_>, k: usize, poses: &[Option<Pose>], fps: &[Rect
             }
             let mut all = fps.to_vec();
             all.push(fp);
-            if !prep.reach.unreachable(&all).is_empty() {
+            if !prep.reach.ok(&all) {
                 break;
             }
             let mut s = fast_score(prep, k, &pose, poses);
@@ -320,8 +327,7 @@ fn place_fallback(prep: &Prepared<'_>, k: usize, seed: u64, poses: &[Option<Pose
     let (mut cands, fails) = static_candidates(prep, k, seed);
     cands.extend(derived_candidates(prep, k, poses));
     if cands.is_empty() {
-        let rule = fails.keys().copied().find(|r| *r != HardRule::InsideRoom).unwrap_or(HardRule::InsideRoom);
-        return Err((rule, format!("no pose inside the room keeps {}", rule.describe())));
+        return Err(super::dfs::static_reason(&fails));
     }
     let mut free: Vec<(Pose, Rect, f64)> = cands
         .iter()
@@ -335,7 +341,7 @@ fn place_fallback(prep: &Prepared<'_>, k: usize, seed: u64, poses: &[Option<Pose
     for (pose, fp, _) in free.iter().take(24) {
         let mut all = fps.to_vec();
         all.push(*fp);
-        if prep.reach.unreachable(&all).is_empty() {
+        if prep.reach.ok(&all) {
             return Ok(*pose);
         }
     }
