@@ -590,7 +590,11 @@ pub fn static_rules(
     if !room.contains_rect(&fp) {
         return Some(HardRule::InsideRoom);
     }
-    if !global(global_kind, pose, size, room).satisfied {
+    let global_ok = match global_kind {
+        GlobalKind::Edge => room.distance_to_wall(back_center(pose, size)) <= EDGE_TOLERANCE_M + EPS,
+        GlobalKind::Middle => room.contains_rect(&fp.grow(MIDDLE_GAP_M)),
+    };
+    if !global_ok {
         return Some(HardRule::Global);
     }
     if keep_out.iter().any(|k| k.overlaps(&fp)) {

@@ -32,9 +32,15 @@ pub(crate) struct Cand {
     pub fp: Rect,
 }
 
-/// The grid step for a room: about 1/24 of its longer side, between 10 and 25 cm.
+/// The grid step for free-standing positions: 1/20 of the room's longer side, between 15 and
+/// 50 cm.
 pub(crate) fn grid_step(bounds: &Rect) -> f64 {
-    (bounds.width().max(bounds.depth()) / 24.0).clamp(0.1, 0.25)
+    (bounds.width().max(bounds.depth()) / 20.0).clamp(0.15, 0.5)
+}
+
+/// The step along walls: 1/40 of the room's longer side, between 10 and 25 cm.
+pub(crate) fn wall_step(bounds: &Rect) -> f64 {
+    (bounds.width().max(bounds.depth()) / 40.0).clamp(0.1, 0.25)
 }
 
 /// Coordinates along one axis: a grid from `lo + h` to `hi − h` plus both ends.
@@ -76,7 +82,7 @@ fn dedup(v: &mut Vec<f64>) {
 pub(crate) fn static_candidates(prep: &Prepared<'_>, k: usize, seed: u64) -> (Vec<Cand>, BTreeMap<HardRule, usize>) {
     let obj = &prep.problem.objects[k];
     let b = prep.room.bounds;
-    let g = grid_step(&b);
+    let g = if obj.global == GlobalKind::Edge { wall_step(&b) } else { grid_step(&b) };
     let mut out = Vec::new();
     let mut fails = BTreeMap::new();
     for rot in Rot::ALL {
@@ -307,14 +313,13 @@ impl Search<'_, '_> {
     /// Scored candidates of object `k` (best first), or why there are none.
     fn candidates(&self, k: usize, st: &State) -> (Vec<(Cand, f64)>, Option<(HardRule, String)>) {
         let prep = self.prep;
-        let mut all: Vec<Cand> = self.statics[k].clone();
-        all.extend(derived_candidates(prep, k, &st.poses));
-        if all.is_empty() {
+        let derived = derived_candidates(prep, k, &st.poses);
+        if self.statics[k].is_empty() && derived.is_empty() {
             return (Vec::new(), Some(static_reason(&self.static_fails[k])));
         }
         let mut blockers: BTreeMap<usize, usize> = BTreeMap::new();
         let mut scored = Vec::new();
-        for c in all {
+        for &c in self.statics[k].iter().chain(derived.iter()) {
             if let Some(i) = st.fps.iter().position(|f| f.overlaps(&c.fp)) {
                 *blockers.entry(i).or_insert(0) += 1;
                 continue;

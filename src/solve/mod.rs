@@ -50,7 +50,7 @@ impl Default for SolveOptions {
 }
 
 /// The default node budget per room.
-pub const DEFAULT_NODE_BUDGET: u64 = 600;
+pub const DEFAULT_NODE_BUDGET: u64 = 200;
 
 /// A hole in a wall: a door or a window.
 #[derive(Clone, Copy, Debug, PartialEq)]
