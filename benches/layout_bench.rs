@@ -72,9 +72,12 @@ fn main() {
     }
     let mut c = Criterion::default().configure_from_args().sample_size(20);
     for (name, p) in rooms.iter().filter(|(n, _)| {
-        ["bedroom", "classroom_25", "open_office_40", "restaurant_34", "l_shaped_living"].contains(&n.as_str())
+        ["bedroom", "classroom_25", "open_office_40", "restaurant_34", "l_shaped_living"]
+            .contains(&n.as_str())
     }) {
-        c.bench_function(&format!("dfs/{name}"), |b| b.iter(|| solve::solve_room(black_box(p), &SolveOptions::default())));
+        c.bench_function(&format!("dfs/{name}"), |b| {
+            b.iter(|| solve::solve_room(black_box(p), &SolveOptions::default()));
+        });
     }
     c.final_summary();
 }

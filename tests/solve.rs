@@ -16,13 +16,19 @@ use proptest::prelude::*;
 fn dump(problem: &RoomProblem, layout: &RoomLayout) -> String {
     let mut s = String::new();
     let (ok, total) = layout.constraint_tally(problem);
-    let _ = writeln!(s, "room {}: {ok}/{total} constraints, score {:.3}", problem.name, layout.score);
+    let _ =
+        writeln!(s, "room {}: {ok}/{total} constraints, score {:.3}", problem.name, layout.score);
     for p in &layout.floor {
         let o = &problem.objects[p.index];
         let _ = writeln!(
             s,
             "floor {} at ({:.3}, {:.3}) rot {} by {} score {:.3}",
-            o.id, p.pose.x, p.pose.z, p.pose.rot.deg(), p.by, p.score
+            o.id,
+            p.pose.x,
+            p.pose.z,
+            p.pose.rot.deg(),
+            p.by,
+            p.score
         );
         for c in &p.constraints {
             let _ = writeln!(
@@ -38,7 +44,8 @@ fn dump(problem: &RoomProblem, layout: &RoomLayout) -> String {
     for (kind, list) in [("wall", &layout.wall), ("small", &layout.small)] {
         for p in list {
             let [x, y, z] = p.position_m;
-            let _ = writeln!(s, "{kind} {} at ({x:.3}, {y:.3}, {z:.3}) rot {}", p.id, p.rotation_deg);
+            let _ =
+                writeln!(s, "{kind} {} at ({x:.3}, {y:.3}, {z:.3}) rot {}", p.id, p.rotation_deg);
         }
     }
     if let Some(c) = &layout.ceiling {
@@ -54,7 +61,12 @@ fn dump(problem: &RoomProblem, layout: &RoomLayout) -> String {
 fn check_hard_rules(problem: &RoomProblem, layout: &RoomLayout) {
     let room = solve::RoomShape::new(&problem.outline).expect("corpus rooms are valid");
     for (i, a) in layout.floor.iter().enumerate() {
-        assert!(room.contains_rect(&a.footprint), "{}: {} outside", problem.name, problem.objects[a.index].id);
+        assert!(
+            room.contains_rect(&a.footprint),
+            "{}: {} outside",
+            problem.name,
+            problem.objects[a.index].id
+        );
         for b in &layout.floor[i + 1..] {
             assert!(
                 !a.footprint.overlaps(&b.footprint),
@@ -66,7 +78,12 @@ fn check_hard_rules(problem: &RoomProblem, layout: &RoomLayout) {
         }
         for k in &problem.keep_out {
             let r = solve::Rect::bounding(k);
-            assert!(!a.footprint.overlaps(&r), "{}: {} in a door zone", problem.name, problem.objects[a.index].id);
+            assert!(
+                !a.footprint.overlaps(&r),
+                "{}: {} in a door zone",
+                problem.name,
+                problem.objects[a.index].id
+            );
         }
         assert!(a.constraints[0].measure.satisfied, "{}: global broken", problem.name);
     }
@@ -117,7 +134,10 @@ fn infeasible_objects_are_reported_and_the_rest_placed() {
     let out = solve::solve_room(&problem, &SolveOptions::default());
     let layout = &out.value;
     assert!(layout.unplaced.iter().any(|u| u.id == "bed-0"));
-    assert!(layout.floor.iter().any(|p| problem.objects[p.index].id == "plant-0"), "later objects still placed");
+    assert!(
+        layout.floor.iter().any(|p| problem.objects[p.index].id == "plant-0"),
+        "later objects still placed"
+    );
     assert!(out.diagnostics.iter().any(|d| d.code == Code::W0501 && d.message.contains("bed-0")));
 }
 
@@ -168,7 +188,8 @@ fn doors_are_never_boxed_in() {
     };
     let out = solve::solve_room(&problem, &SolveOptions::default());
     let room = solve::RoomShape::new(&problem.outline).expect("valid");
-    let grid = solve::constraints::ReachGrid::new(&room, &[solve::Rect::bounding(&problem.keep_out[0])]);
+    let grid =
+        solve::constraints::ReachGrid::new(&room, &[solve::Rect::bounding(&problem.keep_out[0])]);
     let fps: Vec<_> = out.value.floor.iter().map(|p| p.footprint).collect();
     assert!(grid.unreachable(&fps).is_empty());
     assert!(grid.ok(&fps));
@@ -194,7 +215,14 @@ fn random_problem(sizes: Vec<(f64, f64, bool)>, w: f64, d: f64) -> RoomProblem {
         .collect();
     RoomProblem {
         name: "random".into(),
-        outline: vec![[0.0, 0.0], [0.0, d], [w, d], [w, d / 2.0], [w / 2.0, d / 2.0], [w / 2.0, 0.0]],
+        outline: vec![
+            [0.0, 0.0],
+            [0.0, d],
+            [w, d],
+            [w, d / 2.0],
+            [w / 2.0, d / 2.0],
+            [w / 2.0, 0.0],
+        ],
         wall_height: 2.7,
         keep_out: vec![vec![[0.0, 0.0], [0.0, 0.9], [0.9, 0.9], [0.9, 0.0]]],
         walls: Vec::new(),

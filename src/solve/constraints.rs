@@ -128,12 +128,22 @@ pub struct Rect {
 impl Rect {
     /// The rectangle between two corners in any order.
     pub fn from_corners(a: [f64; 2], b: [f64; 2]) -> Rect {
-        Rect { min_x: a[0].min(b[0]), min_z: a[1].min(b[1]), max_x: a[0].max(b[0]), max_z: a[1].max(b[1]) }
+        Rect {
+            min_x: a[0].min(b[0]),
+            min_z: a[1].min(b[1]),
+            max_x: a[0].max(b[0]),
+            max_z: a[1].max(b[1]),
+        }
     }
 
     /// The bounding box of some points (a zero rectangle for none).
     pub fn bounding(points: &[[f64; 2]]) -> Rect {
-        let mut r = Rect { min_x: f64::INFINITY, min_z: f64::INFINITY, max_x: f64::NEG_INFINITY, max_z: f64::NEG_INFINITY };
+        let mut r = Rect {
+            min_x: f64::INFINITY,
+            min_z: f64::INFINITY,
+            max_x: f64::NEG_INFINITY,
+            max_z: f64::NEG_INFINITY,
+        };
         for p in points {
             r.min_x = r.min_x.min(p[0]);
             r.min_z = r.min_z.min(p[1]);
@@ -163,23 +173,38 @@ impl Rect {
     }
 
     /// Grown by `m` on every side (shrunk for negative `m`).
+    #[must_use]
     pub fn grow(&self, m: f64) -> Rect {
-        Rect { min_x: self.min_x - m, min_z: self.min_z - m, max_x: self.max_x + m, max_z: self.max_z + m }
+        Rect {
+            min_x: self.min_x - m,
+            min_z: self.min_z - m,
+            max_x: self.max_x + m,
+            max_z: self.max_z + m,
+        }
     }
 
     /// Whether the interiors intersect (touching is not overlapping).
     pub fn overlaps(&self, o: &Rect) -> bool {
-        self.min_x < o.max_x - EPS && o.min_x < self.max_x - EPS && self.min_z < o.max_z - EPS && o.min_z < self.max_z - EPS
+        self.min_x < o.max_x - EPS
+            && o.min_x < self.max_x - EPS
+            && self.min_z < o.max_z - EPS
+            && o.min_z < self.max_z - EPS
     }
 
     /// Whether `o` lies inside this rectangle (touching allowed).
     pub fn contains(&self, o: &Rect) -> bool {
-        o.min_x >= self.min_x - EPS && o.max_x <= self.max_x + EPS && o.min_z >= self.min_z - EPS && o.max_z <= self.max_z + EPS
+        o.min_x >= self.min_x - EPS
+            && o.max_x <= self.max_x + EPS
+            && o.min_z >= self.min_z - EPS
+            && o.max_z <= self.max_z + EPS
     }
 
     /// Whether a point is inside or on the border.
     pub fn contains_point(&self, p: [f64; 2]) -> bool {
-        p[0] >= self.min_x - EPS && p[0] <= self.max_x + EPS && p[1] >= self.min_z - EPS && p[1] <= self.max_z + EPS
+        p[0] >= self.min_x - EPS
+            && p[0] <= self.max_x + EPS
+            && p[1] >= self.min_z - EPS
+            && p[1] <= self.max_z + EPS
     }
 
     /// The gap between two rectangles (0 when they touch or overlap).
@@ -270,7 +295,9 @@ impl RoomShape {
                 *cell = point_in_polygon(c, outline);
             }
         }
-        let all_in = |i0: usize, i1: usize, j0: usize, j1: usize| (i0..=i1).all(|i| (j0..=j1).all(|j| inside[i][j]));
+        let all_in = |i0: usize, i1: usize, j0: usize, j1: usize| {
+            (i0..=i1).all(|i| (j0..=j1).all(|j| inside[i][j]))
+        };
         let mut candidates = Vec::new();
         for i0 in 0..nx {
             for i1 in i0..nx {
@@ -287,15 +314,28 @@ impl RoomShape {
             .iter()
             .filter(|&&(i0, i1, j0, j1)| {
                 !candidates.iter().any(|&(a0, a1, b0, b1)| {
-                    (a0, a1, b0, b1) != (i0, i1, j0, j1) && a0 <= i0 && a1 >= i1 && b0 <= j0 && b1 >= j1
+                    (a0, a1, b0, b1) != (i0, i1, j0, j1)
+                        && a0 <= i0
+                        && a1 >= i1
+                        && b0 <= j0
+                        && b1 >= j1
                 })
             })
-            .map(|&(i0, i1, j0, j1)| Rect { min_x: xs[i0], min_z: zs[j0], max_x: xs[i1 + 1], max_z: zs[j1 + 1] })
+            .map(|&(i0, i1, j0, j1)| Rect {
+                min_x: xs[i0],
+                min_z: zs[j0],
+                max_x: xs[i1 + 1],
+                max_z: zs[j1 + 1],
+            })
             .collect();
         if maximal.is_empty() {
             return None;
         }
-        Some(RoomShape { outline: outline.to_vec(), rects: maximal, bounds: Rect::bounding(outline) })
+        Some(RoomShape {
+            outline: outline.to_vec(),
+            rects: maximal,
+            bounds: Rect::bounding(outline),
+        })
     }
 
     /// Whether a rectangle lies inside the room (touching the walls allowed).
@@ -311,7 +351,9 @@ impl RoomShape {
     /// The distance from a point to the nearest wall line of the outline.
     pub fn distance_to_wall(&self, p: [f64; 2]) -> f64 {
         let n = self.outline.len();
-        (0..n).map(|i| segment_distance(p, self.outline[i], self.outline[(i + 1) % n])).fold(f64::INFINITY, f64::min)
+        (0..n)
+            .map(|i| segment_distance(p, self.outline[i], self.outline[(i + 1) % n]))
+            .fold(f64::INFINITY, f64::min)
     }
 
     /// The walls as segments with the unit normal pointing into the room, in outline order.
@@ -361,7 +403,9 @@ pub fn point_in_polygon(p: [f64; 2], poly: &[[f64; 2]]) -> bool {
     let mut j = n.wrapping_sub(1);
     for i in 0..n {
         let (a, b) = (poly[i], poly[j]);
-        if (a[1] > p[1]) != (b[1] > p[1]) && p[0] < (b[0] - a[0]) * (p[1] - a[1]) / (b[1] - a[1]) + a[0] {
+        if (a[1] > p[1]) != (b[1] > p[1])
+            && p[0] < (b[0] - a[0]) * (p[1] - a[1]) / (b[1] - a[1]) + a[0]
+        {
             inside = !inside;
         }
         j = i;
@@ -373,7 +417,11 @@ pub fn point_in_polygon(p: [f64; 2], poly: &[[f64; 2]]) -> bool {
 pub fn segment_distance(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
     let (dx, dz) = (b[0] - a[0], b[1] - a[1]);
     let len2 = dx * dx + dz * dz;
-    let t = if len2 < EPS * EPS { 0.0 } else { (((p[0] - a[0]) * dx + (p[1] - a[1]) * dz) / len2).clamp(0.0, 1.0) };
+    let t = if len2 < EPS * EPS {
+        0.0
+    } else {
+        (((p[0] - a[0]) * dx + (p[1] - a[1]) * dz) / len2).clamp(0.0, 1.0)
+    };
     (p[0] - a[0] - t * dx).hypot(p[1] - a[1] - t * dz)
 }
 
@@ -453,7 +501,13 @@ pub fn angle_to(pose: &Pose, p: [f64; 2]) -> f64 {
 }
 
 /// Measures one relation of an object (`me`, `my_size = [width, depth]`) to its target.
-pub fn relation(kind: RelationKind, me: &Pose, my_size: [f64; 2], target: &Pose, target_size: [f64; 2]) -> Measure {
+pub fn relation(
+    kind: RelationKind,
+    me: &Pose,
+    my_size: [f64; 2],
+    target: &Pose,
+    target_size: [f64; 2],
+) -> Measure {
     let mf = footprint(me, my_size);
     let tf = footprint(target, target_size);
     let gap = mf.gap(&tf);
@@ -462,11 +516,22 @@ pub fn relation(kind: RelationKind, me: &Pose, my_size: [f64; 2], target: &Pose,
     let back = [-front[0], -front[1]];
     let left = [-right[0], -right[1]];
     match kind {
-        RelationKind::Near => {
-            Measure { satisfied: gap <= NEAR_MAX_M + EPS, score: (1.0 - gap / NEAR_MAX_M).clamp(0.0, 1.0), value: gap, unit: "m" }
-        }
-        RelationKind::Far => Measure { satisfied: gap >= FAR_MIN_M - EPS, score: (gap / FAR_MIN_M).clamp(0.0, 1.0), value: gap, unit: "m" },
-        RelationKind::InFrontOf | RelationKind::Behind | RelationKind::LeftOf | RelationKind::RightOf => {
+        RelationKind::Near => Measure {
+            satisfied: gap <= NEAR_MAX_M + EPS,
+            score: (1.0 - gap / NEAR_MAX_M).clamp(0.0, 1.0),
+            value: gap,
+            unit: "m",
+        },
+        RelationKind::Far => Measure {
+            satisfied: gap >= FAR_MIN_M - EPS,
+            score: (gap / FAR_MIN_M).clamp(0.0, 1.0),
+            value: gap,
+            unit: "m",
+        },
+        RelationKind::InFrontOf
+        | RelationKind::Behind
+        | RelationKind::LeftOf
+        | RelationKind::RightOf => {
             let axis = match kind {
                 RelationKind::InFrontOf => front,
                 RelationKind::Behind => back,
@@ -487,13 +552,20 @@ pub fn relation(kind: RelationKind, me: &Pose, my_size: [f64; 2], target: &Pose,
             let close = gap <= AROUND_MAX_M + EPS;
             let near_part = (1.0 - gap / (2.0 * AROUND_MAX_M)).clamp(0.0, 1.0);
             let score = 0.5 * near_part + if facing { 0.5 } else { 0.0 };
-            Measure { satisfied: facing && close, score: if facing && close { 1.0 } else { score.min(0.9) }, value: gap, unit: "m" }
+            Measure {
+                satisfied: facing && close,
+                score: if facing && close { 1.0 } else { score.min(0.9) },
+                value: gap,
+                unit: "m",
+            }
         }
         RelationKind::CenterAligned => {
             let d = (me.x - target.x).abs().min((me.z - target.z).abs());
             Measure::yes_no(d <= ALIGN_TOLERANCE_M + EPS, d, "m")
         }
-        RelationKind::FaceTo => Measure::yes_no(faces(me, &tf), angle_to(me, [target.x, target.z]), "deg"),
+        RelationKind::FaceTo => {
+            Measure::yes_no(faces(me, &tf), angle_to(me, [target.x, target.z]), "deg")
+        }
         RelationKind::FaceSameAs => {
             let diff = (me.rot.deg() - target.rot.deg()).rem_euclid(360.0);
             let diff = diff.min(360.0 - diff);
@@ -508,13 +580,23 @@ pub fn global(kind: GlobalKind, pose: &Pose, size: [f64; 2], room: &RoomShape) -
     match kind {
         GlobalKind::Edge => {
             let d = room.distance_to_wall(back_center(pose, size));
-            Measure::yes_no(d <= EDGE_TOLERANCE_M + EPS && room.contains_rect(&footprint(pose, size)), d, "m")
+            Measure::yes_no(
+                d <= EDGE_TOLERANCE_M + EPS && room.contains_rect(&footprint(pose, size)),
+                d,
+                "m",
+            )
         }
         GlobalKind::Middle => {
             let fp = footprint(pose, size);
             let ok = room.contains_rect(&fp.grow(MIDDLE_GAP_M));
-            let corners = [[fp.min_x, fp.min_z], [fp.min_x, fp.max_z], [fp.max_x, fp.min_z], [fp.max_x, fp.max_z]];
-            let mut d = corners.iter().map(|c| room.distance_to_wall(*c)).fold(f64::INFINITY, f64::min);
+            let corners = [
+                [fp.min_x, fp.min_z],
+                [fp.min_x, fp.max_z],
+                [fp.max_x, fp.min_z],
+                [fp.max_x, fp.max_z],
+            ];
+            let mut d =
+                corners.iter().map(|c| room.distance_to_wall(*c)).fold(f64::INFINITY, f64::min);
             // Walls may also pass beside a side without touching a corner.
             let n = room.outline.len();
             for i in 0..n {
@@ -591,7 +673,9 @@ pub fn static_rules(
         return Some(HardRule::InsideRoom);
     }
     let global_ok = match global_kind {
-        GlobalKind::Edge => room.distance_to_wall(back_center(pose, size)) <= EDGE_TOLERANCE_M + EPS,
+        GlobalKind::Edge => {
+            room.distance_to_wall(back_center(pose, size)) <= EDGE_TOLERANCE_M + EPS
+        }
         GlobalKind::Middle => room.contains_rect(&fp.grow(MIDDLE_GAP_M)),
     };
     if !global_ok {
@@ -631,8 +715,12 @@ impl ReachGrid {
         let mut source = vec![false; nx * nz];
         for i in 0..nx {
             for j in 0..nz {
-                let c = [b.min_x + (i as f64 + 0.5) * REACH_CELL_M, b.min_z + (j as f64 + 0.5) * REACH_CELL_M];
-                let disk = Rect { min_x: c[0], min_z: c[1], max_x: c[0], max_z: c[1] }.grow(AGENT_RADIUS_M - 1e-3);
+                let c = [
+                    b.min_x + (i as f64 + 0.5) * REACH_CELL_M,
+                    b.min_z + (j as f64 + 0.5) * REACH_CELL_M,
+                ];
+                let disk = Rect { min_x: c[0], min_z: c[1], max_x: c[0], max_z: c[1] }
+                    .grow(AGENT_RADIUS_M - 1e-3);
                 open[i * nz + j] = room.contains_rect(&disk);
                 source[i * nz + j] = doors.iter().any(|d| d.contains_point(c));
             }
@@ -667,20 +755,13 @@ impl ReachGrid {
         }
         while let Some(k) = stack.pop() {
             let (i, j) = (k / nz, k % nz);
-            let mut next = Vec::with_capacity(4);
-            if i > 0 {
-                next.push(k - nz);
-            }
-            if i + 1 < nx {
-                next.push(k + nz);
-            }
-            if j > 0 {
-                next.push(k - 1);
-            }
-            if j + 1 < nz {
-                next.push(k + 1);
-            }
-            for kk in next {
+            let next = [
+                (i > 0).then(|| k - nz),
+                (i + 1 < nx).then_some(k + nz),
+                (j > 0).then(|| k - 1),
+                (j + 1 < nz).then_some(k + 1),
+            ];
+            for kk in next.into_iter().flatten() {
                 if free[kk] && !seen[kk] {
                     seen[kk] = true;
                     stack.push(kk);
@@ -691,12 +772,17 @@ impl ReachGrid {
     }
 
     fn cell_center(&self, i: usize, j: usize) -> [f64; 2] {
-        [self.origin[0] + (i as f64 + 0.5) * REACH_CELL_M, self.origin[1] + (j as f64 + 0.5) * REACH_CELL_M]
+        [
+            self.origin[0] + (i as f64 + 0.5) * REACH_CELL_M,
+            self.origin[1] + (j as f64 + 0.5) * REACH_CELL_M,
+        ]
     }
 
     /// The cells `(i0, i1, j0, j1)` (inclusive, clamped) that a rectangle covers.
     fn cell_range(&self, r: &Rect) -> (usize, usize, usize, usize) {
-        let cell = |v: f64, o: f64, n: usize| (((v - o) / REACH_CELL_M).floor().max(0.0) as usize).min(n - 1);
+        let cell = |v: f64, o: f64, n: usize| {
+            (((v - o) / REACH_CELL_M).floor().max(0.0) as usize).min(n - 1)
+        };
         (
             cell(r.min_x, self.origin[0], self.nx),
             cell(r.max_x, self.origin[0], self.nx),
@@ -711,7 +797,9 @@ impl ReachGrid {
         for (n, fp) in footprints.iter().enumerate() {
             let (i0, i1, j0, j1) = self.cell_range(&fp.grow(reach));
             let ok = (i0..=i1).any(|i| {
-                (j0..=j1).any(|j| seen[i * self.nz + j] && fp.distance_to_point(self.cell_center(i, j)) <= reach)
+                (j0..=j1).any(|j| {
+                    seen[i * self.nz + j] && fp.distance_to_point(self.cell_center(i, j)) <= reach
+                })
             });
             if !ok {
                 out.push(n);
@@ -757,7 +845,15 @@ mod tests {
 
     #[test]
     fn l_shape_has_two_maximal_rects() {
-        let l = RoomShape::new(&[[0.0, 0.0], [0.0, 4.0], [2.0, 4.0], [2.0, 2.0], [4.0, 2.0], [4.0, 0.0]]).expect("L");
+        let l = RoomShape::new(&[
+            [0.0, 0.0],
+            [0.0, 4.0],
+            [2.0, 4.0],
+            [2.0, 2.0],
+            [4.0, 2.0],
+            [4.0, 0.0],
+        ])
+        .expect("L");
         assert_eq!(l.rects.len(), 2);
         assert!(l.contains_rect(&Rect::from_corners([0.0, 0.0], [4.0, 2.0])));
         assert!(!l.contains_rect(&Rect::from_corners([1.0, 1.0], [3.0, 3.0])));

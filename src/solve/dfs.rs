@@ -32,10 +32,10 @@ pub(crate) struct Cand {
     pub fp: Rect,
 }
 
-/// The grid step for free-standing positions: 1/20 of the room's longer side, between 15 and
-/// 50 cm.
+/// The grid step for free-standing positions: 1/24 of the room's longer side, between 15 and
+/// 40 cm.
 pub(crate) fn grid_step(bounds: &Rect) -> f64 {
-    (bounds.width().max(bounds.depth()) / 20.0).clamp(0.15, 0.5)
+    (bounds.width().max(bounds.depth()) / 24.0).clamp(0.15, 0.4)
 }
 
 /// The step along walls: 1/40 of the room's longer side, between 10 and 25 cm.
@@ -62,11 +62,11 @@ fn axis_values(lo: f64, hi: f64, h: f64, g: f64) -> Vec<f64> {
 /// Wall-flush centre coordinates for a footprint with half extents `h`: `(xs, zs)`.
 pub(crate) fn flush_values(prep: &Prepared<'_>, h: [f64; 2]) -> (Vec<f64>, Vec<f64>) {
     let (mut xs, mut zs) = (Vec::new(), Vec::new());
-    for (a, _b, n) in prep.room.walls() {
-        if n[0] != 0.0 {
-            xs.push(a[0] + n[0] * h[0]);
-        } else {
+    for &(a, _b, n) in &prep.walls {
+        if n[0] == 0.0 {
             zs.push(a[1] + n[1] * h[1]);
+        } else {
+            xs.push(a[0] + n[0] * h[0]);
         }
     }
     (xs, zs)
@@ -79,7 +79,11 @@ fn dedup(v: &mut Vec<f64>) {
 
 /// Static candidates of object `k` (before any other object is placed) and the tally of the
 /// hard rules that rejected the others.
-pub(crate) fn static_candidates(prep: &Prepared<'_>, k: usize, seed: u64) -> (Vec<Cand>, BTreeMap<HardRule, usize>) {
+pub(crate) fn static_candidates(
+    prep: &Prepared<'_>,
+    k: usize,
+    seed: u64,
+) -> (Vec<Cand>, BTreeMap<HardRule, usize>) {
     let obj = &prep.problem.objects[k];
     let b = prep.room.bounds;
     let g = if obj.global == GlobalKind::Edge { wall_step(&b) } else { grid_step(&b) };
@@ -117,7 +121,15 @@ pub(crate) fn static_candidates(prep: &Prepared<'_>, k: usize, seed: u64) -> (Ve
         }
         for (x, z) in points {
             let pose = Pose { x, z, rot };
-            match static_rules(&pose, obj.size, obj.height, obj.global, &prep.room, &prep.keep_out, &prep.windows) {
+            match static_rules(
+                &pose,
+                obj.size,
+                obj.height,
+                obj.global,
+                &prep.room,
+                &prep.keep_out,
+                &prep.windows,
+            ) {
                 None => out.push(Cand { pose, fp: footprint(&pose, obj.size) }),
                 Some(rule) => *fails.entry(rule).or_insert(0) += 1,
             }
@@ -130,14 +142,19 @@ pub(crate) fn static_candidates(prep: &Prepared<'_>, k: usize, seed: u64) -> (Ve
 }
 
 fn dedup_cands(v: &mut Vec<Cand>) {
-    let key = |c: &Cand| ((c.pose.x * 1e4).round() as i64, (c.pose.z * 1e4).round() as i64, c.pose.rot);
+    let key =
+        |c: &Cand| ((c.pose.x * 1e4).round() as i64, (c.pose.z * 1e4).round() as i64, c.pose.rot);
     v.sort_by_key(key);
     v.dedup_by_key(|c| key(c));
 }
 
 /// Candidates derived from the placed targets of object `k`'s relations: flush against a
 /// side of the target or aligned with its centre, combined with wall-flush coordinates.
-pub(crate) fn derived_candidates(prep: &Prepared<'_>, k: usize, poses: &[Option<Pose>]) -> Vec<Cand> {
+pub(crate) fn derived_candidates(
+    prep: &Prepared<'_>,
+    k: usize,
+    poses: &[Option<Pose>],
+) -> Vec<Cand> {
     let obj = &prep.problem.objects[k];
     let mut out = Vec::new();
     let mut seen_targets = Vec::new();
@@ -146,14 +163,15 @@ pub(crate) fn derived_candidates(prep: &Prepared<'_>, k: usize, poses: &[Option<
             continue;
         }
         seen_targets.push(c.target);
-        let (Some(Some(tp)), Some(t)) = (poses.get(c.target), prep.problem.objects.get(c.target)) else {
+        let (Some(Some(tp)), Some(t)) = (poses.get(c.target), prep.problem.objects.get(c.target))
+        else {
             continue;
         };
         let tf = footprint(tp, t.size);
         for rot in Rot::ALL {
             let h = half_extents(obj.size, rot);
-            let tx = [tp.x, tf.min_x - h[0], tf.max_x + h[0]];
-            let tz = [tp.z, tf.min_z - h[1], tf.max_z + h[1]];
+            let tx = [tp.x, tf.min_x - h[0], tf.max_x + h[0], tf.min_x + h[0], tf.max_x - h[0]];
+            let tz = [tp.z, tf.min_z - h[1], tf.max_z + h[1], tf.min_z + h[1], tf.max_z - h[1]];
             let (fx, fz) = flush_values(prep, h);
             let xs: Vec<f64> = tx.iter().chain(fx.iter()).copied().collect();
             let zs: Vec<f64> = tz.iter().chain(fz.iter()).copied().collect();
@@ -163,8 +181,16 @@ pub(crate) fn derived_candidates(prep: &Prepared<'_>, k: usize, poses: &[Option<
                         continue;
                     }
                     let pose = Pose { x, z, rot };
-                    if static_rules(&pose, obj.size, obj.height, obj.global, &prep.room, &prep.keep_out, &prep.windows)
-                        .is_none()
+                    if static_rules(
+                        &pose,
+                        obj.size,
+                        obj.height,
+                        obj.global,
+                        &prep.room,
+                        &prep.keep_out,
+                        &prep.windows,
+                    )
+                    .is_none()
                     {
                         out.push(Cand { pose, fp: footprint(&pose, obj.size) });
                     }
@@ -176,17 +202,32 @@ pub(crate) fn derived_candidates(prep: &Prepared<'_>, k: usize, poses: &[Option<
     out
 }
 
-/// The weighted soft score of object `k` at a pose.
-pub(crate) fn fast_score(prep: &Prepared<'_>, k: usize, pose: &Pose, poses: &[Option<Pose>]) -> f64 {
+/// Value of one satisfied relation in the search objective; it dominates the weighted scores.
+pub(crate) const SATISFIED_VALUE: f64 = 10.0;
+
+/// The search value of object `k` at a pose: [`SATISFIED_VALUE`] per satisfied relation plus
+/// the weighted soft score.
+pub(crate) fn fast_score(
+    prep: &Prepared<'_>,
+    k: usize,
+    pose: &Pose,
+    poses: &[Option<Pose>],
+) -> f64 {
     let obj = &prep.problem.objects[k];
     let mut s = 0.0;
     for c in &obj.constraints {
-        if let (Some(Some(tp)), Some(t)) = (poses.get(c.target), prep.problem.objects.get(c.target)) {
-            s += constraints::weight(c.kind) * constraints::relation(c.kind, pose, obj.size, tp, t.size).score;
+        if let (Some(Some(tp)), Some(t)) = (poses.get(c.target), prep.problem.objects.get(c.target))
+        {
+            let m = constraints::relation(c.kind, pose, obj.size, tp, t.size);
+            s += constraints::weight(c.kind) * m.score
+                + if m.satisfied { SATISFIED_VALUE } else { 0.0 };
         }
     }
     s
 }
+
+/// Why an object has no pose: the rule and the words.
+type Reason = (HardRule, String);
 
 /// Search state along one path.
 #[derive(Clone)]
@@ -238,17 +279,25 @@ impl Search<'_, '_> {
         let obj = &self.prep.problem.objects[k];
         if let Some(pin) = obj.pin {
             let fp = footprint(&pin, obj.size);
-            if let Some(rule) = static_rules(&pin, obj.size, obj.height, obj.global, &self.prep.room, &self.prep.keep_out, &self.prep.windows)
-                .or_else(|| st.fps.iter().any(|f| f.overlaps(&fp)).then_some(HardRule::NoOverlap))
+            if let Some(rule) = static_rules(
+                &pin,
+                obj.size,
+                obj.height,
+                obj.global,
+                &self.prep.room,
+                &self.prep.keep_out,
+                &self.prep.windows,
+            )
+            .or_else(|| st.fps.iter().any(|f| f.overlaps(&fp)).then_some(HardRule::NoOverlap))
             {
                 if !self.pin_breaks.iter().any(|(i, _)| *i == k) {
                     self.pin_breaks.push((k, rule));
                 }
             }
             let s = fast_score(self.prep, k, &pin, &st.poses);
-            self.place(k, pin, fp, PLACED_VALUE + s, "pin", st);
+            Self::place(k, pin, fp, PLACED_VALUE + s, "pin", st);
             self.visit(k + 1, disc, st);
-            self.unplace(k, PLACED_VALUE + s, st);
+            Self::unplace(k, PLACED_VALUE + s, st);
             return;
         }
         let (cands, reason) = self.candidates(k, st);
@@ -259,9 +308,8 @@ impl Search<'_, '_> {
             return;
         }
         let mut tried = 0usize;
-        let mut reach_checks = 0usize;
         let mut pruned = false;
-        for (c, s) in &cands {
+        for (reach_checks, (c, s)) in cands.iter().enumerate() {
             if let Some(b) = &self.best {
                 if st.value + PLACED_VALUE + s + self.remaining_max[k + 1] <= b.value + 1e-9 {
                     pruned = true;
@@ -271,7 +319,6 @@ impl Search<'_, '_> {
             if tried > disc || reach_checks >= REACH_TRIES {
                 break;
             }
-            reach_checks += 1;
             st.fps.push(c.fp);
             let boxed = !self.prep.reach.ok(&st.fps);
             st.fps.pop();
@@ -279,9 +326,9 @@ impl Search<'_, '_> {
                 continue;
             }
             let v = PLACED_VALUE + s;
-            self.place(k, c.pose, c.fp, v, "dfs", st);
+            Self::place(k, c.pose, c.fp, v, "dfs", st);
             self.visit(k + 1, disc - tried, st);
-            self.unplace(k, v, st);
+            Self::unplace(k, v, st);
             tried += 1;
             if self.out_of_budget() {
                 break;
@@ -290,28 +337,29 @@ impl Search<'_, '_> {
         if tried == 0 && !pruned {
             st.fails[k] = Some((
                 HardRule::Reachable,
-                "every pose left would leave a placed object (or itself) unreachable from the door".to_string(),
+                "every pose left would leave a placed object (or itself) unreachable from the door"
+                    .to_string(),
             ));
             self.visit(k + 1, disc, st);
             st.fails[k] = None;
         }
     }
 
-    fn place(&self, k: usize, pose: Pose, fp: Rect, v: f64, by: &'static str, st: &mut State) {
+    fn place(k: usize, pose: Pose, fp: Rect, v: f64, by: &'static str, st: &mut State) {
         st.poses[k] = Some(pose);
         st.fps.push(fp);
         st.value += v;
         st.by[k] = by;
     }
 
-    fn unplace(&self, k: usize, v: f64, st: &mut State) {
+    fn unplace(k: usize, v: f64, st: &mut State) {
         st.poses[k] = None;
         st.fps.pop();
         st.value -= v;
     }
 
     /// Scored candidates of object `k` (best first), or why there are none.
-    fn candidates(&self, k: usize, st: &State) -> (Vec<(Cand, f64)>, Option<(HardRule, String)>) {
+    fn candidates(&self, k: usize, st: &State) -> (Vec<(Cand, f64)>, Option<Reason>) {
         let prep = self.prep;
         let derived = derived_candidates(prep, k, &st.poses);
         if self.statics[k].is_empty() && derived.is_empty() {
@@ -330,13 +378,18 @@ impl Search<'_, '_> {
             let placed: Vec<usize> = (0..k).filter(|&i| st.poses[i].is_some()).collect();
             let mut names: Vec<(usize, String)> = blockers
                 .iter()
-                .filter_map(|(&slot, &count)| placed.get(slot).map(|&i| (count, prep.problem.objects[i].id.clone())))
+                .filter_map(|(&slot, &count)| {
+                    placed.get(slot).map(|&i| (count, prep.problem.objects[i].id.clone()))
+                })
                 .collect();
             names.sort_by(|a, b| b.0.cmp(&a.0).then(a.1.cmp(&b.1)));
             let list: Vec<String> = names.iter().take(3).map(|(_, n)| format!("`{n}`")).collect();
             return (
                 Vec::new(),
-                Some((HardRule::NoOverlap, format!("every pose overlaps an object already placed ({})", list.join(", ")))),
+                Some((
+                    HardRule::NoOverlap,
+                    format!("every pose overlaps an object already placed ({})", list.join(", ")),
+                )),
             );
         }
         scored.sort_by(|a, b| b.1.total_cmp(&a.1));
@@ -345,8 +398,10 @@ impl Search<'_, '_> {
 }
 
 pub(crate) fn static_reason(fails: &BTreeMap<HardRule, usize>) -> (HardRule, String) {
-    let beyond_inside: Vec<(&HardRule, &usize)> = fails.iter().filter(|(r, _)| **r != HardRule::InsideRoom).collect();
-    let pick = beyond_inside.iter().max_by_key(|(r, n)| (**n, std::cmp::Reverse(**r))).map(|(r, _)| **r);
+    let beyond_inside: Vec<(&HardRule, &usize)> =
+        fails.iter().filter(|(r, _)| **r != HardRule::InsideRoom).collect();
+    let pick =
+        beyond_inside.iter().max_by_key(|(r, n)| (**n, std::cmp::Reverse(**r))).map(|(r, _)| **r);
     match pick {
         Some(rule) => (rule, format!("no pose inside the room keeps {}", rule.describe())),
         None => (HardRule::InsideRoom, "the object does not fit inside the room".to_string()),
@@ -363,21 +418,24 @@ pub(crate) fn solve(prep: &Prepared<'_>, options: &SolveOptions) -> RoomLayout {
         statics.push(c);
         static_fails.push(f);
     }
-    run(prep, options, statics, static_fails, vec![None; n])
+    run(prep, options, statics, static_fails)
 }
 
-/// The search over objects, with some objects possibly fixed in advance (`fixed[k]`).
+/// The search over objects from their static candidates.
 pub(crate) fn run(
     prep: &Prepared<'_>,
     options: &SolveOptions,
     statics: Vec<Vec<Cand>>,
     static_fails: Vec<BTreeMap<HardRule, usize>>,
-    by: Vec<Option<&'static str>>,
 ) -> RoomLayout {
     let n = prep.problem.objects.len();
     let mut remaining_max = vec![0.0; n + 1];
     for k in (0..n).rev() {
-        remaining_max[k] = remaining_max[k + 1] + PLACED_VALUE + super::max_score(&prep.problem.objects[k]);
+        let obj = &prep.problem.objects[k];
+        remaining_max[k] = remaining_max[k + 1]
+            + PLACED_VALUE
+            + super::max_score(obj)
+            + SATISFIED_VALUE * obj.constraints.len() as f64;
     }
     let mut search = Search {
         prep,
@@ -389,7 +447,13 @@ pub(crate) fn run(
         best: None,
         pin_breaks: Vec::new(),
     };
-    let mut st = State { poses: vec![None; n], fps: Vec::new(), value: 0.0, fails: vec![None; n], by: vec!["dfs"; n] };
+    let mut st = State {
+        poses: vec![None; n],
+        fps: Vec::new(),
+        value: 0.0,
+        fails: vec![None; n],
+        by: vec!["dfs"; n],
+    };
     for disc in 0..=MAX_DISCREPANCY {
         search.visit(0, disc, &mut st);
         if search.out_of_budget() {
@@ -402,18 +466,32 @@ pub(crate) fn run(
     let mut layout = RoomLayout { nodes, ..RoomLayout::default() };
     for k in 0..n {
         let obj = &prep.problem.objects[k];
-        match best.poses[k] {
-            Some(pose) => {
-                let (reports, score) = measure_object(prep.problem, &prep.room, k, &pose, &best.poses);
+        if let Some(pose) = best.poses[k] {
+            {
+                let (reports, score) =
+                    measure_object(prep.problem, &prep.room, k, &pose, &best.poses);
                 layout.score += score;
-                let tag = by.get(k).copied().flatten().unwrap_or(best.by[k]);
-                layout.floor.push(PlacedFloor { index: k, pose, footprint: footprint(&pose, obj.size), constraints: reports, score, by: tag });
+                let tag = best.by[k];
+                layout.floor.push(PlacedFloor {
+                    index: k,
+                    pose,
+                    footprint: footprint(&pose, obj.size),
+                    constraints: reports,
+                    score,
+                    by: tag,
+                });
             }
-            None => {
+        } else {
+            {
                 let (rule, reason) = best.fails[k]
                     .clone()
                     .unwrap_or((HardRule::NoOverlap, "no pose left by the search".to_string()));
-                layout.unplaced.push(Unplaced { id: obj.id.clone(), kind: "floor", rule: Some(rule), reason });
+                layout.unplaced.push(Unplaced {
+                    id: obj.id.clone(),
+                    kind: "floor",
+                    rule: Some(rule),
+                    reason,
+                });
             }
         }
     }

@@ -9,7 +9,9 @@ pub(crate) fn bad_room(problem: &RoomProblem) -> Diagnostic {
         Code::E0501,
         format!("room `{}` has an outline the solver cannot use", problem.name),
     )
-    .with_help("give at least four corners, each wall parallel to the x or z axis, enclosing some area")
+    .with_help(
+        "give at least four corners, each wall parallel to the x or z axis, enclosing some area",
+    )
     .with_note(format!("corners: {:?}", problem.outline));
     match problem.span {
         Some(s) => d.with_primary(s, "this room"),
@@ -35,7 +37,11 @@ pub(crate) fn check_objects(problem: &RoomProblem, diags: &mut Vec<Diagnostic>) 
         }
         for c in &o.constraints {
             if c.target >= k {
-                bad(&o.id, c.span.or(o.span), "has a constraint on itself or on a later object".to_string());
+                bad(
+                    &o.id,
+                    c.span.or(o.span),
+                    "has a constraint on itself or on a later object".to_string(),
+                );
             }
         }
         if let Some(p) = o.pin {
@@ -49,7 +55,11 @@ pub(crate) fn check_objects(problem: &RoomProblem, diags: &mut Vec<Diagnostic>) 
             bad(&w.id, w.span, "has a size or height that is not a positive length".to_string());
         }
         if w.above.is_some_and(|t| t >= problem.objects.len()) {
-            bad(&w.id, w.span, "hangs above an object that is not a floor object of the room".to_string());
+            bad(
+                &w.id,
+                w.span,
+                "hangs above an object that is not a floor object of the room".to_string(),
+            );
         }
     }
     for s in &problem.small_objects {
@@ -63,8 +73,11 @@ pub(crate) fn check_objects(problem: &RoomProblem, diags: &mut Vec<Diagnostic>) 
         }
     }
     if !(problem.wall_height.is_finite() && problem.wall_height > 0.0) {
-        let d = Diagnostic::new(Code::E0502, format!("room `{}` has a wall height that is not a positive length", problem.name))
-            .with_help("give the scene a wall height such as `2.7 m`");
+        let d = Diagnostic::new(
+            Code::E0502,
+            format!("room `{}` has a wall height that is not a positive length", problem.name),
+        )
+        .with_help("give the scene a wall height such as `2.7 m`");
         diags.push(d);
     }
     diags.len() == before

@@ -10,7 +10,9 @@
 //! is checked with the shared hard rules and scored with the shared scorer; the best rotation
 //! wins. When no rotation gives a valid pose the object falls back to the DFS candidates.
 
-use good_lp::{constraint, variable, Expression, ProblemVariables, Solution, SolverModel, Variable};
+use good_lp::{
+    constraint, variable, Expression, ProblemVariables, Solution, SolverModel, Variable,
+};
 
 use super::constraints::{self, footprint, half_extents, static_rules, HardRule, Pose, Rect, Rot};
 use super::dfs::{derived_candidates, fast_score, static_candidates};
@@ -46,19 +48,19 @@ impl Model {
 /// `coord + sign·h` for a footprint side along one axis: the expression of the side of the
 /// footprint that lies furthest along `axis` (a unit axis vector).
 fn far_side(x: Variable, z: Variable, h: [f64; 2], axis: [f64; 2]) -> Expression {
-    if axis[0] != 0.0 {
-        axis[0] * x + h[0]
-    } else {
+    if axis[0] == 0.0 {
         axis[1] * z + h[1]
+    } else {
+        axis[0] * x + h[0]
     }
 }
 
 /// The object's centre projected on a unit axis.
 fn along(x: Variable, z: Variable, axis: [f64; 2]) -> Expression {
-    if axis[0] != 0.0 {
-        axis[0] * x + 0.0
-    } else {
+    if axis[0] == 0.0 {
         axis[1] * z + 0.0
+    } else {
+        axis[0] * x + 0.0
     }
 }
 
@@ -81,12 +83,19 @@ fn proj_range(r: &Rect, axis: [f64; 2]) -> (f64, f64) {
 }
 
 /// Solves one object at one rotation; `obstacles` are rectangles it must not overlap.
-fn solve_one(prep: &Prepared<'_>, k: usize, rot: Rot, poses: &[Option<Pose>], obstacles: &[Rect]) -> Option<Pose> {
+fn solve_one(
+    prep: &Prepared<'_>,
+    k: usize,
+    rot: Rot,
+    poses: &[Option<Pose>],
+    obstacles: &[Rect],
+) -> Option<Pose> {
     let obj = &prep.problem.objects[k];
     let h = half_extents(obj.size, rot);
     let b = prep.room.bounds;
     let big = 2.0 * (b.width() + b.depth()) + 10.0;
-    let mut m = Model { vars: ProblemVariables::new(), cons: Vec::new(), objective: Expression::from(0.0) };
+    let mut m =
+        Model { vars: ProblemVariables::new(), cons: Vec::new(), objective: Expression::from(0.0) };
     let x = m.vars.add(variable().min(b.min_x + h[0]).max(b.max_x - h[0]));
     let z = m.vars.add(variable().min(b.min_z + h[1]).max(b.max_z - h[1]));
     if b.min_x + h[0] > b.max_x - h[0] || b.min_z + h[1] > b.max_z - h[1] {
@@ -96,8 +105,14 @@ fn solve_one(prep: &Prepared<'_>, k: usize, rot: Rot, poses: &[Option<Pose>], ob
     // for `middle` the footprint grown by the middle gap.
     let f = rot.front();
     let grow = if obj.global == GlobalKind::Middle { constraints::MIDDLE_GAP_M } else { 0.0 };
-    let lo = [h[0] + grow + if f[0] < 0.0 { constraints::FRONT_CLEARANCE_M } else { 0.0 }, h[1] + grow + if f[1] < 0.0 { constraints::FRONT_CLEARANCE_M } else { 0.0 }];
-    let hi = [h[0] + grow + if f[0] > 0.0 { constraints::FRONT_CLEARANCE_M } else { 0.0 }, h[1] + grow + if f[1] > 0.0 { constraints::FRONT_CLEARANCE_M } else { 0.0 }];
+    let lo = [
+        h[0] + grow + if f[0] < 0.0 { constraints::FRONT_CLEARANCE_M } else { 0.0 },
+        h[1] + grow + if f[1] < 0.0 { constraints::FRONT_CLEARANCE_M } else { 0.0 },
+    ];
+    let hi = [
+        h[0] + grow + if f[0] > 0.0 { constraints::FRONT_CLEARANCE_M } else { 0.0 },
+        h[1] + grow + if f[1] > 0.0 { constraints::FRONT_CLEARANCE_M } else { 0.0 },
+    ];
     let fits: Vec<&Rect> = prep
         .room
         .rects
@@ -121,7 +136,7 @@ fn solve_one(prep: &Prepared<'_>, k: usize, rot: Rot, poses: &[Option<Pose>], ob
         // The back touches a wall whose inward normal is the object's front.
         let mut any: Expression = Expression::from(0.0);
         let mut count = 0;
-        for (a, bb, n) in prep.room.walls() {
+        for &(a, bb, n) in &prep.walls {
             if n != f {
                 continue;
             }
@@ -129,11 +144,15 @@ fn solve_one(prep: &Prepared<'_>, k: usize, rot: Rot, poses: &[Option<Pose>], ob
             let e = m.binary();
             any += e;
             let back = far_side(x, z, h, [-f[0], -f[1]]);
-            let wall = if f[0] != 0.0 { -f[0] * a[0] } else { -f[1] * a[1] };
+            let wall = if f[0] == 0.0 { -f[1] * a[1] } else { -f[0] * a[0] };
             m.cons.push(constraint!(back.clone() <= wall + big * (1.0 - e)));
             m.cons.push(constraint!(back >= wall - big * (1.0 - e)));
-            let (s0, s1) = if f[0] != 0.0 { (a[1].min(bb[1]), a[1].max(bb[1])) } else { (a[0].min(bb[0]), a[0].max(bb[0])) };
-            let lateral = if f[0] != 0.0 { z } else { x };
+            let (s0, s1) = if f[0] == 0.0 {
+                (a[0].min(bb[0]), a[0].max(bb[0]))
+            } else {
+                (a[1].min(bb[1]), a[1].max(bb[1]))
+            };
+            let lateral = if f[0] == 0.0 { x } else { z };
             m.cons.push(constraint!(lateral >= s0 - big * (1.0 - e)));
             m.cons.push(constraint!(lateral <= s1 + big * (1.0 - e)));
         }
@@ -154,7 +173,10 @@ fn solve_one(prep: &Prepared<'_>, k: usize, rot: Rot, poses: &[Option<Pose>], ob
     // Soft relations.
     let scale = b.width() + b.depth();
     for c in &obj.constraints {
-        let (Some(Some(tp)), Some(t)) = (poses.get(c.target), prep.problem.objects.get(c.target)) else { continue };
+        let (Some(Some(tp)), Some(t)) = (poses.get(c.target), prep.problem.objects.get(c.target))
+        else {
+            continue;
+        };
         let tf = footprint(tp, t.size);
         let w = constraints::weight(c.kind);
         let tfront = tp.rot.front();
@@ -203,8 +225,12 @@ fn solve_one(prep: &Prepared<'_>, k: usize, rot: Rot, poses: &[Option<Pose>], ob
                 m.objective += w * ind - (w / scale) * (u + v);
             }
             RelationKind::Far => {
-                let cap = constraints::FAR_MIN_M + tf.width().max(tf.depth()) + h[0].max(h[1]) * 2.0;
-                let (p, q) = (m.vars.add(variable().min(0.0).max(cap)), m.vars.add(variable().min(0.0).max(cap)));
+                let cap =
+                    constraints::FAR_MIN_M + tf.width().max(tf.depth()) + h[0].max(h[1]) * 2.0;
+                let (p, q) = (
+                    m.vars.add(variable().min(0.0).max(cap)),
+                    m.vars.add(variable().min(0.0).max(cap)),
+                );
                 let (sx, sz) = (m.binary(), m.binary());
                 m.cons.push(constraint!(p <= x - tp.x + big * (1.0 - sx)));
                 m.cons.push(constraint!(p <= tp.x - x + big * sx));
@@ -284,14 +310,21 @@ fn solve_one(prep: &Prepared<'_>, k: usize, rot: Rot, poses: &[Option<Pose>], ob
 
 /// Places object `k` with the MILP; `None` when no rotation gives a pose that keeps the
 /// shared hard rules.
-fn place_milp(prep: &Prepared<'_>, k: usize, poses: &[Option<Pose>], fps: &[Rect]) -> Option<(Pose, f64)> {
+fn place_milp(
+    prep: &Prepared<'_>,
+    k: usize,
+    poses: &[Option<Pose>],
+    fps: &[Rect],
+) -> Option<(Pose, f64)> {
     let obj = &prep.problem.objects[k];
     let mut best: Option<(Pose, f64)> = None;
     for rot in Rot::ALL {
         let mut obstacles: Vec<Rect> = prep.keep_out.clone();
         obstacles.extend(prep.windows.iter().filter(|w| obj.height > w.sill_m).map(|w| w.zone));
         for c in &obj.constraints {
-            if let (Some(Some(tp)), Some(t)) = (poses.get(c.target), prep.problem.objects.get(c.target)) {
+            if let (Some(Some(tp)), Some(t)) =
+                (poses.get(c.target), prep.problem.objects.get(c.target))
+            {
                 obstacles.push(footprint(tp, t.size));
             }
         }
@@ -303,7 +336,17 @@ fn place_milp(prep: &Prepared<'_>, k: usize, poses: &[Option<Pose>], fps: &[Rect
                 obstacles.extend(hit);
                 continue;
             }
-            if static_rules(&pose, obj.size, obj.height, obj.global, &prep.room, &prep.keep_out, &prep.windows).is_some() {
+            if static_rules(
+                &pose,
+                obj.size,
+                obj.height,
+                obj.global,
+                &prep.room,
+                &prep.keep_out,
+                &prep.windows,
+            )
+            .is_some()
+            {
                 break;
             }
             let mut all = fps.to_vec();
@@ -323,7 +366,13 @@ fn place_milp(prep: &Prepared<'_>, k: usize, poses: &[Option<Pose>], fps: &[Rect
 }
 
 /// The DFS fallback for one object: its best candidate that keeps every hard rule.
-fn place_fallback(prep: &Prepared<'_>, k: usize, seed: u64, poses: &[Option<Pose>], fps: &[Rect]) -> Result<Pose, (HardRule, String)> {
+fn place_fallback(
+    prep: &Prepared<'_>,
+    k: usize,
+    seed: u64,
+    poses: &[Option<Pose>],
+    fps: &[Rect],
+) -> Result<Pose, (HardRule, String)> {
     let (mut cands, fails) = static_candidates(prep, k, seed);
     cands.extend(derived_candidates(prep, k, poses));
     if cands.is_empty() {
@@ -335,7 +384,10 @@ fn place_fallback(prep: &Prepared<'_>, k: usize, seed: u64, poses: &[Option<Pose
         .map(|c| (c.pose, c.fp, fast_score(prep, k, &c.pose, poses)))
         .collect();
     if free.is_empty() {
-        return Err((HardRule::NoOverlap, "every pose overlaps an object already placed".to_string()));
+        return Err((
+            HardRule::NoOverlap,
+            "every pose overlaps an object already placed".to_string(),
+        ));
     }
     free.sort_by(|a, b| b.2.total_cmp(&a.2));
     for (pose, fp, _) in free.iter().take(24) {
@@ -345,7 +397,10 @@ fn place_fallback(prep: &Prepared<'_>, k: usize, seed: u64, poses: &[Option<Pose
             return Ok(*pose);
         }
     }
-    Err((HardRule::Reachable, "every pose left would leave a placed object unreachable from the door".to_string()))
+    Err((
+        HardRule::Reachable,
+        "every pose left would leave a placed object unreachable from the door".to_string(),
+    ))
 }
 
 /// Places the floor objects one by one with the MILP, falling back to the DFS candidates.
@@ -361,8 +416,16 @@ pub(crate) fn solve(prep: &Prepared<'_>, options: &SolveOptions) -> RoomLayout {
         layout.nodes += 1;
         if let Some(pin) = obj.pin {
             let fp = footprint(&pin, obj.size);
-            if let Some(rule) = static_rules(&pin, obj.size, obj.height, obj.global, &prep.room, &prep.keep_out, &prep.windows)
-                .or_else(|| fps.iter().any(|f| f.overlaps(&fp)).then_some(HardRule::NoOverlap))
+            if let Some(rule) = static_rules(
+                &pin,
+                obj.size,
+                obj.height,
+                obj.global,
+                &prep.room,
+                &prep.keep_out,
+                &prep.windows,
+            )
+            .or_else(|| fps.iter().any(|f| f.overlaps(&fp)).then_some(HardRule::NoOverlap))
             {
                 layout.pinned_breaks.push((k, rule));
             }
@@ -388,15 +451,29 @@ pub(crate) fn solve(prep: &Prepared<'_>, options: &SolveOptions) -> RoomLayout {
     }
     for k in 0..n {
         let obj = &prep.problem.objects[k];
-        match poses[k] {
-            Some(pose) => {
+        if let Some(pose) = poses[k] {
+            {
                 let (reports, score) = measure_object(prep.problem, &prep.room, k, &pose, &poses);
                 layout.score += score;
-                layout.floor.push(PlacedFloor { index: k, pose, footprint: footprint(&pose, obj.size), constraints: reports, score, by: by[k] });
+                layout.floor.push(PlacedFloor {
+                    index: k,
+                    pose,
+                    footprint: footprint(&pose, obj.size),
+                    constraints: reports,
+                    score,
+                    by: by[k],
+                });
             }
-            None => {
-                let (rule, reason) = fails[k].take().unwrap_or((HardRule::NoOverlap, "no pose found".to_string()));
-                layout.unplaced.push(Unplaced { id: obj.id.clone(), kind: "floor", rule: Some(rule), reason });
+        } else {
+            {
+                let (rule, reason) =
+                    fails[k].take().unwrap_or((HardRule::NoOverlap, "no pose found".to_string()));
+                layout.unplaced.push(Unplaced {
+                    id: obj.id.clone(),
+                    kind: "floor",
+                    rule: Some(rule),
+                    reason,
+                });
             }
         }
     }

@@ -256,7 +256,8 @@ impl RoomLayout {
     /// there are in total (unplaced objects' constraints count as not holding).
     pub fn constraint_tally(&self, problem: &RoomProblem) -> (usize, usize) {
         let total = problem.objects.iter().map(|o| 1 + o.constraints.len()).sum();
-        let ok = self.floor.iter().flat_map(|p| &p.constraints).filter(|c| c.measure.satisfied).count();
+        let ok =
+            self.floor.iter().flat_map(|p| &p.constraints).filter(|c| c.measure.satisfied).count();
         (ok, total)
     }
 }
@@ -268,6 +269,8 @@ pub(crate) struct Prepared<'a> {
     pub keep_out: Vec<Rect>,
     pub windows: Vec<constraints::WindowZone>,
     pub reach: constraints::ReachGrid,
+    /// The room's walls with their inward normals.
+    pub walls: Vec<([f64; 2], [f64; 2], [f64; 2])>,
 }
 
 /// Places every object of one room.
@@ -281,10 +284,12 @@ pub fn solve_room(problem: &RoomProblem, options: &SolveOptions) -> Outcome<Room
     if !objects_ok {
         return Outcome::new(RoomLayout::default(), diags);
     }
-    let keep_out: Vec<Rect> = problem.keep_out.iter().filter(|p| !p.is_empty()).map(|p| Rect::bounding(p)).collect();
+    let keep_out: Vec<Rect> =
+        problem.keep_out.iter().filter(|p| !p.is_empty()).map(|p| Rect::bounding(p)).collect();
     let windows = others::window_zones(problem, &room);
     let reach = constraints::ReachGrid::new(&room, &keep_out);
-    let prep = Prepared { problem, room, keep_out, windows, reach };
+    let walls = room.walls();
+    let prep = Prepared { problem, room, keep_out, windows, reach, walls };
     let mut layout = match options.solver {
         Solver::Dfs => dfs::solve(&prep, options),
         Solver::Milp => milp::solve(&prep, options),
@@ -325,7 +330,11 @@ pub fn measure_object(
     let mut out = vec![ConstraintReport { kind: None, text: gname.to_string(), measure: g }];
     let mut score = 0.0;
     for c in &obj.constraints {
-        let text = format!("{} {}", c.kind.as_str(), problem.objects.get(c.target).map_or("?", |t| t.id.as_str()));
+        let text = format!(
+            "{} {}",
+            c.kind.as_str(),
+            problem.objects.get(c.target).map_or("?", |t| t.id.as_str())
+        );
         let target = poses.get(c.target).copied().flatten().zip(problem.objects.get(c.target));
         let measure = match target {
             Some((tp, t)) => constraints::relation(c.kind, pose, obj.size, &tp, t.size),

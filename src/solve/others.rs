@@ -21,7 +21,11 @@ pub(crate) fn walls(problem: &RoomProblem) -> Vec<WallSegment> {
     }
     let n = problem.outline.len();
     (0..n)
-        .map(|i| WallSegment { a: problem.outline[i], b: problem.outline[(i + 1) % n], holes: Vec::new() })
+        .map(|i| WallSegment {
+            a: problem.outline[i],
+            b: problem.outline[(i + 1) % n],
+            holes: Vec::new(),
+        })
         .collect()
 }
 
@@ -111,7 +115,10 @@ fn place_walls(prep: &Prepared<'_>, layout: &mut RoomLayout) {
         let [w, dd, h] = wo.size;
         let top_limit = problem.wall_height - h - CEILING_MARGIN_M;
         let bottom = wo.height_m.unwrap_or(DEFAULT_WALL_HEIGHT_M).min(top_limit).max(0.0);
-        let target = wo.above.and_then(|t| layout.floor.iter().find(|p| p.index == t)).map(|p| [p.pose.x, p.pose.z]);
+        let target = wo
+            .above
+            .and_then(|t| layout.floor.iter().find(|p| p.index == t))
+            .map(|p| [p.pose.x, p.pose.z]);
         let mut best: Option<(f64, Box3, [f64; 2], Rot)> = None;
         let mut reasons = (0usize, 0usize, 0usize);
         for seg in &segs {
@@ -142,7 +149,10 @@ fn place_walls(prep: &Prepared<'_>, layout: &mut RoomLayout) {
                     continue;
                 }
                 let in_hole = seg.holes.iter().any(|ho| {
-                    s - w / 2.0 < ho.to_m - 1e-6 && ho.from_m < s + w / 2.0 - 1e-6 && bottom < ho.top_m - 1e-6 && ho.bottom_m < bottom + h - 1e-6
+                    s - w / 2.0 < ho.to_m - 1e-6
+                        && ho.from_m < s + w / 2.0 - 1e-6
+                        && bottom < ho.top_m - 1e-6
+                        && ho.bottom_m < bottom + h - 1e-6
                 });
                 if in_hole {
                     reasons.0 += 1;
@@ -157,33 +167,37 @@ fn place_walls(prep: &Prepared<'_>, layout: &mut RoomLayout) {
                     continue;
                 }
                 let centre = rect.center();
-                let score = match target {
-                    Some(t) => -(centre[0] - t[0]).hypot(centre[1] - t[1]),
-                    None => {
-                        let spread = placed
-                            .iter()
-                            .map(|(_, q)| (centre[0] - q[0]).hypot(centre[1] - q[1]))
-                            .fold(3.0_f64, f64::min);
-                        spread - 0.01 * (s - len / 2.0).abs()
-                    }
+                let score = if let Some(t) = target {
+                    -(centre[0] - t[0]).hypot(centre[1] - t[1])
+                } else {
+                    let spread = placed
+                        .iter()
+                        .map(|(_, q)| (centre[0] - q[0]).hypot(centre[1] - q[1]))
+                        .fold(3.0_f64, f64::min);
+                    spread - 0.01 * (s - len / 2.0).abs()
                 };
                 if best.as_ref().map_or(true, |(b, ..)| score > b + 1e-9) {
                     best = Some((score, bx, centre, rot));
                 }
             }
         }
-        match best {
-            Some((_, bx, centre, rot)) => {
+        if let Some((_, bx, centre, rot)) = best {
+            {
                 let f = rot.front();
                 layout.wall.push(PlacedObject {
                     id: wo.id.clone(),
-                    position_m: [centre[0] + f[0] * WALL_OFFSET_M, bottom + h / 2.0, centre[1] + f[1] * WALL_OFFSET_M],
+                    position_m: [
+                        centre[0] + f[0] * WALL_OFFSET_M,
+                        bottom + h / 2.0,
+                        centre[1] + f[1] * WALL_OFFSET_M,
+                    ],
                     rotation_deg: rot.deg(),
                     on: None,
                 });
                 placed.push((bx, centre));
             }
-            None => {
+        } else {
+            {
                 let reason = if reasons == (0, 0, 0) {
                     "no wall of the room is long enough".to_string()
                 } else {
@@ -192,7 +206,12 @@ fn place_walls(prep: &Prepared<'_>, layout: &mut RoomLayout) {
                         reasons.0, reasons.1, reasons.2
                     )
                 };
-                layout.unplaced.push(Unplaced { id: wo.id.clone(), kind: "wall", rule: None, reason });
+                layout.unplaced.push(Unplaced {
+                    id: wo.id.clone(),
+                    kind: "wall",
+                    rule: None,
+                    reason,
+                });
             }
         }
     }
@@ -220,7 +239,8 @@ fn place_small(prep: &Prepared<'_>, layout: &mut RoomLayout) {
         }
         let Some(rp) = layout.floor.iter().find(|p| p.index == r) else {
             for &i in items {
-                reasons[i] = Some(format!("its receptacle `{}` is not placed", problem.objects[r].id));
+                reasons[i] =
+                    Some(format!("its receptacle `{}` is not placed", problem.objects[r].id));
             }
             continue;
         };
@@ -272,7 +292,12 @@ fn place_small(prep: &Prepared<'_>, layout: &mut RoomLayout) {
             Some(p) => layout.small.push(p),
             None => {
                 if let Some(reason) = reasons[i].take() {
-                    layout.unplaced.push(Unplaced { id: problem.small_objects[i].id.clone(), kind: "small", rule: None, reason });
+                    layout.unplaced.push(Unplaced {
+                        id: problem.small_objects[i].id.clone(),
+                        kind: "small",
+                        rule: None,
+                        reason,
+                    });
                 }
             }
         }
@@ -282,7 +307,10 @@ fn place_small(prep: &Prepared<'_>, layout: &mut RoomLayout) {
 fn place_ceiling(prep: &Prepared<'_>, layout: &mut RoomLayout) {
     let problem = prep.problem;
     let Some(c) = &problem.ceiling else { return };
-    let over = c.above.and_then(|t| layout.floor.iter().find(|p| p.index == t)).map(|p| [p.pose.x, p.pose.z]);
+    let over = c
+        .above
+        .and_then(|t| layout.floor.iter().find(|p| p.index == t))
+        .map(|p| [p.pose.x, p.pose.z]);
     let mut at = over.unwrap_or_else(|| prep.room.centroid());
     if !prep.room.contains_point(at) {
         let biggest = prep

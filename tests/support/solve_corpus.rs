@@ -128,7 +128,11 @@ pub fn load(path: &Path) -> RoomProblem {
         name: r.name.clone(),
         outline: r.outline.clone(),
         wall_height: r.wall_height,
-        keep_out: r.keep_out.iter().map(|[a, b]| vec![*a, [a[0], b[1]], *b, [b[0], a[1]]]).collect(),
+        keep_out: r
+            .keep_out
+            .iter()
+            .map(|[a, b]| vec![*a, [a[0], b[1]], *b, [b[0], a[1]]])
+            .collect(),
         walls,
         objects,
         wall_objects: r
