@@ -30,15 +30,16 @@ fn median_time(problem: &RoomProblem, opts: &SolveOptions, runs: usize) -> Durat
 
 fn table(rooms: &[(String, RoomProblem)]) {
     println!(
-        "| room | objects | DFS median ms | placed | DFS sat | greedy sat | MILP ms | MILP placed | MILP sat | overlaps |"
+        "| room | objects | DFS median ms | nodes | placed | DFS sat | greedy ms | greedy sat | MILP ms | MILP placed | MILP sat | overlaps |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
     for (name, p) in rooms {
         let dfs = SolveOptions::default();
         let milp = SolveOptions { solver: Solver::Milp, ..SolveOptions::default() };
         let t = median_time(p, &dfs, 7);
         let out = solve::solve_room(p, &dfs).value;
         let greedy = solve::solve_room_greedy(p, &dfs).value;
+        let tg = median_time(p, &SolveOptions { node_budget: 0, ..dfs }, 3);
         let tm = median_time(p, &milp, 1);
         let mo = solve::solve_room(p, &milp).value;
         let (ok, total) = out.constraint_tally(p);
@@ -52,11 +53,13 @@ fn table(rooms: &[(String, RoomProblem)]) {
             .filter(|(a, b)| a.footprint.overlaps(&b.footprint))
             .count();
         println!(
-            "| {name} | {} | {:.1} | {}/{} | {ok}/{total} | {gok}/{total} | {:.0} | {}/{} | {mok}/{total} | {overlaps} |",
+            "| {name} | {} | {:.1} | {} | {}/{} | {ok}/{total} | {:.1} | {gok}/{total} | {:.0} | {}/{} | {mok}/{total} | {overlaps} |",
             p.objects.len(),
             t.as_secs_f64() * 1000.0,
+            out.nodes,
             out.floor.len(),
             p.objects.len(),
+            tg.as_secs_f64() * 1000.0,
             tm.as_secs_f64() * 1000.0,
             mo.floor.len(),
             p.objects.len(),

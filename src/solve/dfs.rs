@@ -18,8 +18,6 @@ use super::constraints::{self, footprint, half_extents, static_rules, HardRule, 
 use super::{measure_object, PlacedFloor, Prepared, RoomLayout, SolveOptions, Unplaced};
 use crate::check::scene::GlobalKind;
 
-/// Value of one placed object in the objective; it dominates every soft score.
-const PLACED_VALUE: f64 = 1000.0;
 /// The most reachability checks per node before the object counts as boxed in.
 const REACH_TRIES: usize = 24;
 /// The largest discrepancy tried (number of non-best choices on one path).
@@ -202,16 +200,14 @@ pub(crate) fn derived_candidates(
     out
 }
 
-/// Value of one satisfied relation in the search objective; it dominates the weighted scores.
-pub(crate) const SATISFIED_VALUE: f64 = 10.0;
-
-/// The search value of object `k` at a pose: [`SATISFIED_VALUE`] per satisfied relation plus
-/// the weighted soft score.
+/// The search value of object `k` at a pose: `sat_value` per satisfied relation plus the
+/// weighted soft score.
 pub(crate) fn fast_score(
     prep: &Prepared<'_>,
     k: usize,
     pose: &Pose,
     poses: &[Option<Pose>],
+    sat_value: f64,
 ) -> f64 {
     let obj = &prep.problem.objects[k];
     let mut s = 0.0;
@@ -219,8 +215,7 @@ pub(crate) fn fast_score(
         if let (Some(Some(tp)), Some(t)) = (poses.get(c.target), prep.problem.objects.get(c.target))
         {
             let m = constraints::relation(c.kind, pose, obj.size, tp, t.size);
-            s += constraints::weight(c.kind) * m.score
-                + if m.satisfied { SATISFIED_VALUE } else { 0.0 };
+            s += constraints::weight(c.kind) * m.score + if m.satisfied { sat_value } else { 0.0 };
         }
     }
     s
@@ -241,6 +236,8 @@ struct State {
 
 struct Search<'p, 'a> {
     prep: &'p Prepared<'a>,
+    placed_value: f64,
+    sat_value: f64,
     statics: Vec<Vec<Cand>>,
     static_fails: Vec<BTreeMap<HardRule, usize>>,
     remaining_max: Vec<f64>,
@@ -294,10 +291,10 @@ impl Search<'_, '_> {
                     self.pin_breaks.push((k, rule));
                 }
             }
-            let s = fast_score(self.prep, k, &pin, &st.poses);
-            Self::place(k, pin, fp, PLACED_VALUE + s, "pin", st);
+            let s = fast_score(self.prep, k, &pin, &st.poses, self.sat_value);
+            Self::place(k, pin, fp, self.placed_value + s, "pin", st);
             self.visit(k + 1, disc, st);
-            Self::unplace(k, PLACED_VALUE + s, st);
+            Self::unplace(k, self.placed_value + s, st);
             return;
         }
         let (cands, reason) = self.candidates(k, st);
@@ -311,7 +308,7 @@ impl Search<'_, '_> {
         let mut pruned = false;
         for (reach_checks, (c, s)) in cands.iter().enumerate() {
             if let Some(b) = &self.best {
-                if st.value + PLACED_VALUE + s + self.remaining_max[k + 1] <= b.value + 1e-9 {
+                if st.value + self.placed_value + s + self.remaining_max[k + 1] <= b.value + 1e-9 {
                     pruned = true;
                     break;
                 }
@@ -325,7 +322,7 @@ impl Search<'_, '_> {
             if boxed {
                 continue;
             }
-            let v = PLACED_VALUE + s;
+            let v = self.placed_value + s;
             Self::place(k, c.pose, c.fp, v, "dfs", st);
             self.visit(k + 1, disc - tried, st);
             Self::unplace(k, v, st);
@@ -372,7 +369,7 @@ impl Search<'_, '_> {
                 *blockers.entry(i).or_insert(0) += 1;
                 continue;
             }
-            scored.push((c, fast_score(prep, k, &c.pose, &st.poses)));
+            scored.push((c, fast_score(prep, k, &c.pose, &st.poses, self.sat_value)));
         }
         if scored.is_empty() {
             let placed: Vec<usize> = (0..k).filter(|&i| st.poses[i].is_some()).collect();
@@ -429,16 +426,21 @@ pub(crate) fn run(
     static_fails: Vec<BTreeMap<HardRule, usize>>,
 ) -> RoomLayout {
     let n = prep.problem.objects.len();
+    // Lexicographic objective: placed objects, then satisfied relations, then graded score.
+    let graded_max: f64 = prep.problem.objects.iter().map(super::max_score).sum();
+    let relations: usize = prep.problem.objects.iter().map(|o| o.constraints.len()).sum();
+    let sat_value = graded_max + 1.0;
+    let placed_value = sat_value * (relations as f64 + 1.0);
     let mut remaining_max = vec![0.0; n + 1];
     for k in (0..n).rev() {
         let obj = &prep.problem.objects[k];
-        remaining_max[k] = remaining_max[k + 1]
-            + PLACED_VALUE
-            + super::max_score(obj)
-            + SATISFIED_VALUE * obj.constraints.len() as f64;
+        remaining_max[k] =
+            remaining_max[k + 1] + placed_value + sat_value * obj.constraints.len() as f64;
     }
     let mut search = Search {
         prep,
+        placed_value,
+        sat_value,
         statics,
         static_fails,
         remaining_max,

@@ -354,7 +354,7 @@ fn place_milp(
             if !prep.reach.ok(&all) {
                 break;
             }
-            let mut s = fast_score(prep, k, &pose, poses);
+            let mut s = fast_score(prep, k, &pose, poses, 10.0);
             s -= 1e-6 * rot.deg();
             if best.as_ref().map_or(true, |(_, b)| s > *b + 1e-9) {
                 best = Some((pose, s));
@@ -381,7 +381,7 @@ fn place_fallback(
     let mut free: Vec<(Pose, Rect, f64)> = cands
         .iter()
         .filter(|c| !fps.iter().any(|f| f.overlaps(&c.fp)))
-        .map(|c| (c.pose, c.fp, fast_score(prep, k, &c.pose, poses)))
+        .map(|c| (c.pose, c.fp, fast_score(prep, k, &c.pose, poses, 10.0)))
         .collect();
     if free.is_empty() {
         return Err((

@@ -347,6 +347,6 @@ pub fn measure_object(
 }
 
 /// The best score an object can reach: the sum of its relation weights.
-pub(crate) fn max_score(obj: &FloorObject) -> f64 {
+pub fn max_score(obj: &FloorObject) -> f64 {
     obj.constraints.iter().map(|c| constraints::weight(c.kind)).sum()
 }
