@@ -36,7 +36,7 @@ fn dump(problem: &RoomProblem, layout: &RoomLayout) -> String {
                 "  {} {} {:.3} {}",
                 if c.measure.satisfied { "ok  " } else { "FAIL" },
                 c.text,
-                c.measure.value + 0.0, // no `-0.000`
+                (c.measure.value * 1000.0).round() / 1000.0 + 0.0, // no `-0.000`
                 c.measure.unit
             );
         }
