@@ -257,3 +257,28 @@ proptest! {
         prop_assert_eq!(fl.len() + out.value.unplaced.len(), problem.objects.len());
     }
 }
+
+#[test]
+fn example_scene_rooms_solve_from_the_checked_scene() {
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/examples/apartment_1b1b.holo"
+    ))
+    .expect("example exists");
+    let mut sources = holoc::source::SourceMap::new();
+    let id = sources.add("apartment_1b1b.holo", text);
+    let checked = holoc::compile::check_file(&sources, id);
+    let Some(scene) = checked.value else { panic!("example checks: {:?}", checked.diagnostics) };
+    let mut out = String::new();
+    for room in &scene.rooms {
+        let problem =
+            solve::room_problem(&scene, room.id, &solve::WrittenSizes, Vec::new(), Vec::new());
+        let layout = solve::solve_room(&problem, &SolveOptions::default());
+        assert!(!layout.has_errors(), "{:?}", layout.diagnostics);
+        check_hard_rules(&problem, &layout.value);
+        out.push_str(&dump(&problem, &layout.value));
+    }
+    insta::with_settings!({snapshot_path => "../snapshots/solve", prepend_module_to_snapshot => false}, {
+        insta::assert_snapshot!("scene_apartment_1b1b", out);
+    });
+}

@@ -14,12 +14,14 @@ mod dfs;
 mod errors;
 mod milp;
 mod others;
+mod scene;
 
 use crate::check::scene::{GlobalKind, RelationKind};
 use crate::diag::{Diagnostic, Outcome};
 use crate::source::Span;
 
 pub use constraints::{HardRule, Measure, Pose, Rect, RoomShape, Rot};
+pub use scene::{room_problem, Sizes, WrittenSizes};
 
 /// Which floor solver to run.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
