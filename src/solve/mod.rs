@@ -34,6 +34,24 @@ pub enum Solver {
     Milp,
 }
 
+impl Solver {
+    /// Both solvers, in the order `dfs`, `milp`.
+    pub const ALL: [Solver; 2] = [Solver::Dfs, Solver::Milp];
+
+    /// The name used on the command line (`dfs`, `milp`).
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Solver::Dfs => "dfs",
+            Solver::Milp => "milp",
+        }
+    }
+
+    /// Parses a command-line name.
+    pub fn from_name(name: &str) -> Option<Solver> {
+        Solver::ALL.into_iter().find(|s| s.as_str().eq_ignore_ascii_case(name.trim()))
+    }
+}
+
 /// Settings of the solve stage.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct SolveOptions {
