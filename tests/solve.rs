@@ -282,3 +282,18 @@ fn example_scene_rooms_solve_from_the_checked_scene() {
         insta::assert_snapshot!("scene_apartment_1b1b", out);
     });
 }
+
+#[test]
+fn unusable_rooms_and_objects_are_errors_not_panics() {
+    let mut problem = random_problem(vec![(1.0, 1.0, false)], 4.0, 4.0);
+    problem.outline = vec![[0.0, 0.0], [0.0, 4.0], [3.0, 5.0], [3.0, 0.0]];
+    let out = solve::solve_room(&problem, &SolveOptions::default());
+    assert!(out.diagnostics.iter().any(|d| d.code == Code::E0501));
+    let mut problem = random_problem(vec![(1.0, 1.0, false)], 4.0, 4.0);
+    problem.outline = vec![[0.0, 0.0], [0.0, 1e9], [1e9, 1e9], [1e9, 0.0]];
+    assert!(solve::solve_room(&problem, &SolveOptions::default()).has_errors());
+    let mut problem = random_problem(vec![(f64::NAN, 1.0, false), (1.0, 1.0, true)], 4.0, 4.0);
+    problem.objects[1].constraints[0].target = 5;
+    let out = solve::solve_room(&problem, &SolveOptions::default());
+    assert_eq!(out.diagnostics.iter().filter(|d| d.code == Code::E0502).count(), 2);
+}

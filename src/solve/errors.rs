@@ -10,7 +10,7 @@ pub(crate) fn bad_room(problem: &RoomProblem) -> Diagnostic {
         format!("room `{}` has an outline the solver cannot use", problem.name),
     )
     .with_help(
-        "give at least four corners, each wall parallel to the x or z axis, enclosing some area",
+        "give at least four corners, walls parallel to the x or z axis, some area, sides up to 100 m",
     )
     .with_note(format!("corners: {:?}", problem.outline));
     match problem.span {

@@ -69,6 +69,9 @@ impl Default for SolveOptions {
     }
 }
 
+/// The longest side of a room the solver accepts, metres (larger rooms are E0501).
+pub const MAX_ROOM_SIDE_M: f64 = 100.0;
+
 /// The default node budget per room.
 pub const DEFAULT_NODE_BUDGET: u64 = 200;
 
@@ -296,7 +299,9 @@ pub(crate) struct Prepared<'a> {
 /// Places every object of one room.
 pub fn solve_room(problem: &RoomProblem, options: &SolveOptions) -> Outcome<RoomLayout> {
     let mut diags: Vec<Diagnostic> = Vec::new();
-    let Some(room) = RoomShape::new(&problem.outline) else {
+    let Some(room) = RoomShape::new(&problem.outline)
+        .filter(|r| r.bounds.width().max(r.bounds.depth()) <= MAX_ROOM_SIDE_M)
+    else {
         diags.push(errors::bad_room(problem));
         return Outcome::new(RoomLayout::default(), diags);
     };
