@@ -140,6 +140,10 @@ codes! {
     W0705 "no-constraints" "a floor object has no constraints and will be placed at an edge";
     W0706 "ignored-input" "a line or field was ignored or replaced";
     W0707 "adjusted-value" "a value was clamped or defaulted";
+    E0501 "unusable-room-outline" "a room's outline is not a rectilinear polygon the solver can use";
+    E0502 "unusable-object" "an object's size, height or reference cannot be used by the solver";
+    W0501 "unplaceable-object" "an object cannot be placed without breaking a hard rule and is left out";
+    W0502 "pinned-pose-breaks-rule" "a pinned pose breaks a hard layout rule and is kept as pinned";
 }
 
 impl Code {

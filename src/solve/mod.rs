@@ -1,1 +1,377 @@
-//! The `solve` stage (being written).
+//! The `solve` stage: places every object of a room.
+//!
+//! Floor objects are placed by a depth-first branch-and-bound search ([`Solver::Dfs`], the
+//! default) or by a sequence of small MILPs ([`Solver::Milp`]); both use the hard rules and
+//! the scoring of [`constraints`]. Wall objects hang on the room's walls, small objects are
+//! packed on top of their receptacles and the ceiling object hangs at the ceiling. The entry
+//! verb is [`solve_room`]; its output noun is [`RoomLayout`].
+//!
+//! Hard rules are never broken: an object that cannot keep them is left out and reported with
+//! the rule that blocked it (W0501), and the objects after it are still placed.
+
+pub mod constraints;
+mod dfs;
+mod errors;
+mod milp;
+mod others;
+mod scene;
+
+use crate::check::scene::{GlobalKind, RelationKind};
+use crate::diag::{Diagnostic, Outcome};
+use crate::source::Span;
+
+pub use constraints::{HardRule, Measure, Pose, Rect, RoomShape, Rot};
+pub use scene::{room_problem, Sizes, WrittenSizes};
+
+/// Which floor solver to run.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Solver {
+    /// Depth-first search with branch and bound over candidate poses.
+    #[default]
+    Dfs,
+    /// One small MILP per object (good_lp), falling back to the DFS for an object it cannot
+    /// place.
+    Milp,
+}
+
+impl Solver {
+    /// Both solvers, in the order `dfs`, `milp`.
+    pub const ALL: [Solver; 2] = [Solver::Dfs, Solver::Milp];
+
+    /// The name used on the command line (`dfs`, `milp`).
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Solver::Dfs => "dfs",
+            Solver::Milp => "milp",
+        }
+    }
+
+    /// Parses a command-line name.
+    pub fn from_name(name: &str) -> Option<Solver> {
+        Solver::ALL.into_iter().find(|s| s.as_str().eq_ignore_ascii_case(name.trim()))
+    }
+}
+
+/// Settings of the solve stage.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SolveOptions {
+    /// The floor solver.
+    pub solver: Solver,
+    /// The seed of every tie-break.
+    pub seed: u64,
+    /// The most search nodes (poses tried) per room; the search never looks at the clock.
+    pub node_budget: u64,
+}
+
+impl Default for SolveOptions {
+    fn default() -> SolveOptions {
+        SolveOptions { solver: Solver::Dfs, seed: 0, node_budget: DEFAULT_NODE_BUDGET }
+    }
+}
+
+/// The longest side of a room the solver accepts, metres (larger rooms are E0501).
+pub const MAX_ROOM_SIDE_M: f64 = 100.0;
+
+/// The default node budget per room.
+pub const DEFAULT_NODE_BUDGET: u64 = 200;
+
+/// A hole in a wall: a door or a window.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct WallHole {
+    /// Start of the hole along the wall, metres from the wall's first end.
+    pub from_m: f64,
+    /// End of the hole along the wall, metres from the wall's first end.
+    pub to_m: f64,
+    /// Height of the bottom above the floor, metres (0 for doors).
+    pub bottom_m: f64,
+    /// Height of the top above the floor, metres.
+    pub top_m: f64,
+    /// Whether it is a window (else a door or an open connection).
+    pub window: bool,
+}
+
+/// A straight wall of the room, from `a` to `b`, with its holes.
+#[derive(Clone, Debug, PartialEq)]
+pub struct WallSegment {
+    /// First end, metres.
+    pub a: [f64; 2],
+    /// Second end, metres.
+    pub b: [f64; 2],
+    /// Doors and windows in it.
+    pub holes: Vec<WallHole>,
+}
+
+/// A relation of a floor object to an earlier floor object of the same problem.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ProblemConstraint {
+    /// The relation.
+    pub kind: RelationKind,
+    /// Index of the target in [`RoomProblem::objects`] (must be earlier).
+    pub target: usize,
+    /// Where the constraint is written.
+    pub span: Option<Span>,
+}
+
+/// A floor object to place.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FloorObject {
+    /// The instance name, e.g. `sofa-0`.
+    pub id: String,
+    /// Footprint `[width, depth]` at rotation 0, metres.
+    pub size: [f64; 2],
+    /// Height, metres.
+    pub height: f64,
+    /// `edge` (also when none is written) or `middle`.
+    pub global: GlobalKind,
+    /// The relations to earlier objects.
+    pub constraints: Vec<ProblemConstraint>,
+    /// A pinned pose: used as it is (and reported if it breaks a hard rule).
+    pub pin: Option<Pose>,
+    /// Where the object is declared.
+    pub span: Option<Span>,
+}
+
+/// A wall object to hang.
+#[derive(Clone, Debug, PartialEq)]
+pub struct WallObject {
+    /// The instance name.
+    pub id: String,
+    /// `[width, depth, height]`, metres.
+    pub size: [f64; 3],
+    /// The floor object (index in [`RoomProblem::objects`]) it hangs above.
+    pub above: Option<usize>,
+    /// Height of its bottom above the floor, metres (default [`others::DEFAULT_WALL_HEIGHT_M`]).
+    pub height_m: Option<f64>,
+    /// Where the object is declared.
+    pub span: Option<Span>,
+}
+
+/// A small object to put on a receptacle.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SmallObject {
+    /// The instance name, e.g. `book-0`.
+    pub id: String,
+    /// `[width, depth, height]`, metres.
+    pub size: [f64; 3],
+    /// The receptacle: an index into [`RoomProblem::objects`].
+    pub on: usize,
+    /// Where it is declared.
+    pub span: Option<Span>,
+}
+
+/// The ceiling object of a room.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CeilingObject {
+    /// Its name.
+    pub id: String,
+    /// `[width, depth, height]`, metres.
+    pub size: [f64; 3],
+    /// The floor object it hangs over (else the room's area centroid).
+    pub above: Option<usize>,
+    /// Where it is declared.
+    pub span: Option<Span>,
+}
+
+/// Everything the solver needs about one room.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RoomProblem {
+    /// The room's name (for messages).
+    pub name: String,
+    /// The rectilinear outline, metres.
+    pub outline: Vec<[f64; 2]>,
+    /// The wall height, metres.
+    pub wall_height: f64,
+    /// Door keep-out zones on the floor (polygons; their bounding boxes are used).
+    pub keep_out: Vec<Vec<[f64; 2]>>,
+    /// The walls with their holes; when empty, the outline's edges without holes.
+    pub walls: Vec<WallSegment>,
+    /// Floor objects in plan order.
+    pub objects: Vec<FloorObject>,
+    /// Wall objects in plan order.
+    pub wall_objects: Vec<WallObject>,
+    /// Small objects in plan order.
+    pub small_objects: Vec<SmallObject>,
+    /// The ceiling object.
+    pub ceiling: Option<CeilingObject>,
+    /// The room's declaration.
+    pub span: Option<Span>,
+}
+
+/// One constraint in the report.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ConstraintReport {
+    /// The relation (`None` for the global constraint).
+    pub kind: Option<RelationKind>,
+    /// The words, e.g. `near sofa-0` or `edge`.
+    pub text: String,
+    /// The measurement.
+    pub measure: Measure,
+}
+
+/// A placed floor object.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PlacedFloor {
+    /// Index in [`RoomProblem::objects`].
+    pub index: usize,
+    /// Its pose.
+    pub pose: Pose,
+    /// Its footprint.
+    pub footprint: Rect,
+    /// Each constraint, global first.
+    pub constraints: Vec<ConstraintReport>,
+    /// Its weighted score.
+    pub score: f64,
+    /// The solver that placed it (`dfs`, `milp`, `pin`).
+    pub by: &'static str,
+}
+
+/// A placed object in world coordinates (wall, small and ceiling objects).
+#[derive(Clone, Debug, PartialEq)]
+pub struct PlacedObject {
+    /// The instance name.
+    pub id: String,
+    /// The centre of its box, metres `(x, y, z)`.
+    pub position_m: [f64; 3],
+    /// Rotation about y, degrees.
+    pub rotation_deg: f64,
+    /// For small objects, the receptacle's index in [`RoomProblem::objects`].
+    pub on: Option<usize>,
+}
+
+/// An object left out, and why.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Unplaced {
+    /// The instance name.
+    pub id: String,
+    /// `floor`, `wall`, `small` or `ceiling`.
+    pub kind: &'static str,
+    /// The hard rule that removed the last candidate poses.
+    pub rule: Option<HardRule>,
+    /// The full reason in words.
+    pub reason: String,
+}
+
+/// The solved room.
+#[derive(Clone, Debug, PartialEq, Default)]
+pub struct RoomLayout {
+    /// Placed floor objects, in plan order.
+    pub floor: Vec<PlacedFloor>,
+    /// Floor objects as world boxes (centre at half height), plan order.
+    pub floor_world: Vec<PlacedObject>,
+    /// Placed wall objects, plan order.
+    pub wall: Vec<PlacedObject>,
+    /// Placed small objects, plan order.
+    pub small: Vec<PlacedObject>,
+    /// The ceiling object.
+    pub ceiling: Option<PlacedObject>,
+    /// Objects left out.
+    pub unplaced: Vec<Unplaced>,
+    /// Total score of the floor objects.
+    pub score: f64,
+    /// Search nodes used.
+    pub nodes: u64,
+    /// Pinned floor objects (index) whose pose breaks a hard rule; they stay as pinned.
+    pub pinned_breaks: Vec<(usize, HardRule)>,
+}
+
+impl RoomLayout {
+    /// How many constraints (global and relations) of placed floor objects hold, and how many
+    /// there are in total (unplaced objects' constraints count as not holding).
+    pub fn constraint_tally(&self, problem: &RoomProblem) -> (usize, usize) {
+        let total = problem.objects.iter().map(|o| 1 + o.constraints.len()).sum();
+        let ok =
+            self.floor.iter().flat_map(|p| &p.constraints).filter(|c| c.measure.satisfied).count();
+        (ok, total)
+    }
+}
+
+/// Validated inputs shared by the solvers.
+pub(crate) struct Prepared<'a> {
+    pub problem: &'a RoomProblem,
+    pub room: RoomShape,
+    pub keep_out: Vec<Rect>,
+    pub windows: Vec<constraints::WindowZone>,
+    pub reach: constraints::ReachGrid,
+    /// The room's walls with their inward normals.
+    pub walls: Vec<([f64; 2], [f64; 2], [f64; 2])>,
+}
+
+/// Places every object of one room.
+pub fn solve_room(problem: &RoomProblem, options: &SolveOptions) -> Outcome<RoomLayout> {
+    let mut diags: Vec<Diagnostic> = Vec::new();
+    let Some(room) = RoomShape::new(&problem.outline)
+        .filter(|r| r.bounds.width().max(r.bounds.depth()) <= MAX_ROOM_SIDE_M)
+    else {
+        diags.push(errors::bad_room(problem));
+        return Outcome::new(RoomLayout::default(), diags);
+    };
+    let objects_ok = errors::check_objects(problem, &mut diags);
+    if !objects_ok {
+        return Outcome::new(RoomLayout::default(), diags);
+    }
+    let keep_out: Vec<Rect> =
+        problem.keep_out.iter().filter(|p| !p.is_empty()).map(|p| Rect::bounding(p)).collect();
+    let windows = others::window_zones(problem, &room);
+    let reach = constraints::ReachGrid::new(&room, &keep_out);
+    let walls = room.walls();
+    let prep = Prepared { problem, room, keep_out, windows, reach, walls };
+    let mut layout = match options.solver {
+        Solver::Dfs => dfs::solve(&prep, options),
+        Solver::Milp => milp::solve(&prep, options),
+    };
+    others::finish(&prep, &mut layout);
+    for &(k, rule) in &layout.pinned_breaks {
+        diags.push(errors::pin_breaks(problem, k, rule));
+    }
+    for u in &layout.unplaced {
+        diags.push(errors::unplaced(problem, u));
+    }
+    Outcome::new(layout, diags)
+}
+
+/// Places the floor objects with the greedy baseline: each object in plan order takes its
+/// best-scored pose, with no backtracking. Used by the benchmarks to compare with the search.
+pub fn solve_room_greedy(problem: &RoomProblem, options: &SolveOptions) -> Outcome<RoomLayout> {
+    let greedy = SolveOptions { solver: Solver::Dfs, node_budget: 0, ..*options };
+    solve_room(problem, &greedy)
+}
+
+/// Measures every constraint of a floor object at a pose against already placed targets
+/// (`poses[i]` is the pose of object `i`, if placed). Returns the reports (global first) and
+/// the weighted score.
+pub fn measure_object(
+    problem: &RoomProblem,
+    room: &RoomShape,
+    index: usize,
+    pose: &Pose,
+    poses: &[Option<Pose>],
+) -> (Vec<ConstraintReport>, f64) {
+    let obj = &problem.objects[index];
+    let g = constraints::global(obj.global, pose, obj.size, room);
+    let gname = match obj.global {
+        GlobalKind::Edge => "edge",
+        GlobalKind::Middle => "middle",
+    };
+    let mut out = vec![ConstraintReport { kind: None, text: gname.to_string(), measure: g }];
+    let mut score = 0.0;
+    for c in &obj.constraints {
+        let text = format!(
+            "{} {}",
+            c.kind.as_str(),
+            problem.objects.get(c.target).map_or("?", |t| t.id.as_str())
+        );
+        let target = poses.get(c.target).copied().flatten().zip(problem.objects.get(c.target));
+        let measure = match target {
+            Some((tp, t)) => constraints::relation(c.kind, pose, obj.size, &tp, t.size),
+            None => Measure { satisfied: false, score: 0.0, value: f64::NAN, unit: "m" },
+        };
+        score += constraints::weight(c.kind) * measure.score;
+        out.push(ConstraintReport { kind: Some(c.kind), text, measure });
+    }
+    (out, score)
+}
+
+/// The best score an object can reach: the sum of its relation weights.
+pub fn max_score(obj: &FloorObject) -> f64 {
+    obj.constraints.iter().map(|c| constraints::weight(c.kind)).sum()
+}

@@ -1,0 +1,903 @@
+//! The geometric meaning of every layout constraint and hard rule, as pure functions.
+//!
+//! The solver (both back ends), the report, `validate` and the SVG renderer all call these
+//! functions, so a relation means the same thing everywhere. `book/src/design/layout-semantics.md`
+//! states the same definitions in prose. Units are metres and degrees; `x` grows east, `z` grows
+//! north, and a rotation of 0° faces +z (AI2-THOR's convention, left-handed: facing +z, the
+//! object's right is +x).
+
+use crate::check::scene::{GlobalKind, RelationKind};
+
+/// Tolerance for "touching" comparisons, metres.
+pub const EPS: f64 = 1e-6;
+/// `edge`: the middle of the back side is at most this far from a wall, metres.
+pub const EDGE_TOLERANCE_M: f64 = 0.02;
+/// `middle`: every side of the footprint keeps at least this gap to every wall, metres.
+pub const MIDDLE_GAP_M: f64 = 0.4;
+/// `near`: satisfied when the gap between footprints is at most this, metres.
+pub const NEAR_MAX_M: f64 = 1.5;
+/// `far`: satisfied when the gap between footprints is at least this, metres.
+pub const FAR_MIN_M: f64 = 1.5;
+/// `around`: satisfied when the gap is at most this (and the object faces the target), metres.
+pub const AROUND_MAX_M: f64 = 0.6;
+/// `center aligned`: satisfied when the centres differ by at most this on x or z, metres.
+pub const ALIGN_TOLERANCE_M: f64 = 0.05;
+/// Free depth kept in front of every floor object, inside the room, metres.
+pub const FRONT_CLEARANCE_M: f64 = 0.4;
+/// Depth of the zone in front of a window that tall floor objects must keep free, metres.
+pub const WINDOW_ZONE_M: f64 = 0.25;
+/// Radius of the agent used for the reachability rule, metres.
+pub const AGENT_RADIUS_M: f64 = 0.2;
+/// Share of the free floor that must stay reachable from a door.
+pub const MIN_REACHABLE_FRACTION: f64 = 0.6;
+/// Cell size of the reachability grid, metres.
+pub const REACH_CELL_M: f64 = 0.1;
+
+/// A rotation about the vertical axis, a multiple of 90°.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum Rot {
+    /// Faces +z (north).
+    R0,
+    /// Faces +x (east).
+    R90,
+    /// Faces −z (south).
+    R180,
+    /// Faces −x (west).
+    R270,
+}
+
+impl Rot {
+    /// All four, in the order 0, 90, 180, 270.
+    pub const ALL: [Rot; 4] = [Rot::R0, Rot::R90, Rot::R180, Rot::R270];
+
+    /// The angle in degrees.
+    pub fn deg(self) -> f64 {
+        match self {
+            Rot::R0 => 0.0,
+            Rot::R90 => 90.0,
+            Rot::R180 => 180.0,
+            Rot::R270 => 270.0,
+        }
+    }
+
+    /// The nearest multiple of 90° to an angle in degrees.
+    pub fn from_deg(deg: f64) -> Rot {
+        let q = ((deg / 90.0).round() as i64).rem_euclid(4);
+        match q {
+            0 => Rot::R0,
+            1 => Rot::R90,
+            2 => Rot::R180,
+            _ => Rot::R270,
+        }
+    }
+
+    /// The unit facing direction `(dx, dz)`.
+    pub fn front(self) -> [f64; 2] {
+        match self {
+            Rot::R0 => [0.0, 1.0],
+            Rot::R90 => [1.0, 0.0],
+            Rot::R180 => [0.0, -1.0],
+            Rot::R270 => [-1.0, 0.0],
+        }
+    }
+
+    /// The unit direction to the object's right `(dx, dz)`.
+    pub fn right(self) -> [f64; 2] {
+        let [fx, fz] = self.front();
+        [fz, -fx]
+    }
+
+    /// Whether width and depth swap (90° and 270°).
+    pub fn swaps(self) -> bool {
+        matches!(self, Rot::R90 | Rot::R270)
+    }
+
+    /// The rotation whose front is this unit direction, if it is axis-aligned.
+    pub fn facing(dir: [f64; 2]) -> Option<Rot> {
+        Rot::ALL.into_iter().find(|r| {
+            let f = r.front();
+            (f[0] - dir[0]).abs() < 1e-9 && (f[1] - dir[1]).abs() < 1e-9
+        })
+    }
+}
+
+/// Where a floor object stands: the centre of its footprint and its rotation.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Pose {
+    /// Centre x, metres.
+    pub x: f64,
+    /// Centre z, metres.
+    pub z: f64,
+    /// Rotation.
+    pub rot: Rot,
+}
+
+/// An axis-aligned rectangle on the floor, metres.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Rect {
+    /// West side.
+    pub min_x: f64,
+    /// South side.
+    pub min_z: f64,
+    /// East side.
+    pub max_x: f64,
+    /// North side.
+    pub max_z: f64,
+}
+
+impl Rect {
+    /// The rectangle between two corners in any order.
+    pub fn from_corners(a: [f64; 2], b: [f64; 2]) -> Rect {
+        Rect {
+            min_x: a[0].min(b[0]),
+            min_z: a[1].min(b[1]),
+            max_x: a[0].max(b[0]),
+            max_z: a[1].max(b[1]),
+        }
+    }
+
+    /// The bounding box of some points (a zero rectangle for none).
+    pub fn bounding(points: &[[f64; 2]]) -> Rect {
+        let mut r = Rect {
+            min_x: f64::INFINITY,
+            min_z: f64::INFINITY,
+            max_x: f64::NEG_INFINITY,
+            max_z: f64::NEG_INFINITY,
+        };
+        for p in points {
+            r.min_x = r.min_x.min(p[0]);
+            r.min_z = r.min_z.min(p[1]);
+            r.max_x = r.max_x.max(p[0]);
+            r.max_z = r.max_z.max(p[1]);
+        }
+        if points.is_empty() {
+            Rect { min_x: 0.0, min_z: 0.0, max_x: 0.0, max_z: 0.0 }
+        } else {
+            r
+        }
+    }
+
+    /// The centre.
+    pub fn center(&self) -> [f64; 2] {
+        [(self.min_x + self.max_x) / 2.0, (self.min_z + self.max_z) / 2.0]
+    }
+
+    /// Extent along x.
+    pub fn width(&self) -> f64 {
+        self.max_x - self.min_x
+    }
+
+    /// Extent along z.
+    pub fn depth(&self) -> f64 {
+        self.max_z - self.min_z
+    }
+
+    /// Grown by `m` on every side (shrunk for negative `m`).
+    #[must_use]
+    pub fn grow(&self, m: f64) -> Rect {
+        Rect {
+            min_x: self.min_x - m,
+            min_z: self.min_z - m,
+            max_x: self.max_x + m,
+            max_z: self.max_z + m,
+        }
+    }
+
+    /// Whether the interiors intersect (touching is not overlapping).
+    pub fn overlaps(&self, o: &Rect) -> bool {
+        self.min_x < o.max_x - EPS
+            && o.min_x < self.max_x - EPS
+            && self.min_z < o.max_z - EPS
+            && o.min_z < self.max_z - EPS
+    }
+
+    /// Whether `o` lies inside this rectangle (touching allowed).
+    pub fn contains(&self, o: &Rect) -> bool {
+        o.min_x >= self.min_x - EPS
+            && o.max_x <= self.max_x + EPS
+            && o.min_z >= self.min_z - EPS
+            && o.max_z <= self.max_z + EPS
+    }
+
+    /// Whether a point is inside or on the border.
+    pub fn contains_point(&self, p: [f64; 2]) -> bool {
+        p[0] >= self.min_x - EPS
+            && p[0] <= self.max_x + EPS
+            && p[1] >= self.min_z - EPS
+            && p[1] <= self.max_z + EPS
+    }
+
+    /// The gap between two rectangles (0 when they touch or overlap).
+    pub fn gap(&self, o: &Rect) -> f64 {
+        let dx = (o.min_x - self.max_x).max(self.min_x - o.max_x).max(0.0);
+        let dz = (o.min_z - self.max_z).max(self.min_z - o.max_z).max(0.0);
+        dx.hypot(dz)
+    }
+
+    /// Distance from a point to the rectangle (0 inside).
+    pub fn distance_to_point(&self, p: [f64; 2]) -> f64 {
+        let dx = (self.min_x - p[0]).max(p[0] - self.max_x).max(0.0);
+        let dz = (self.min_z - p[1]).max(p[1] - self.max_z).max(0.0);
+        dx.hypot(dz)
+    }
+}
+
+/// Half extents `(hx, hz)` of a `width × depth` footprint at a rotation.
+pub fn half_extents(size: [f64; 2], rot: Rot) -> [f64; 2] {
+    if rot.swaps() {
+        [size[1] / 2.0, size[0] / 2.0]
+    } else {
+        [size[0] / 2.0, size[1] / 2.0]
+    }
+}
+
+/// The footprint of an object of `size = [width, depth]` at a pose.
+pub fn footprint(pose: &Pose, size: [f64; 2]) -> Rect {
+    let [hx, hz] = half_extents(size, pose.rot);
+    Rect { min_x: pose.x - hx, min_z: pose.z - hz, max_x: pose.x + hx, max_z: pose.z + hz }
+}
+
+/// The floor area in front of an object that must stay inside the room.
+pub fn front_zone(pose: &Pose, size: [f64; 2], depth: f64) -> Rect {
+    let fp = footprint(pose, size);
+    match pose.rot {
+        Rot::R0 => Rect { min_z: fp.max_z, max_z: fp.max_z + depth, ..fp },
+        Rot::R180 => Rect { min_z: fp.min_z - depth, max_z: fp.min_z, ..fp },
+        Rot::R90 => Rect { min_x: fp.max_x, max_x: fp.max_x + depth, ..fp },
+        Rot::R270 => Rect { min_x: fp.min_x - depth, max_x: fp.min_x, ..fp },
+    }
+}
+
+/// The middle of the back side of the footprint.
+pub fn back_center(pose: &Pose, size: [f64; 2]) -> [f64; 2] {
+    let [fx, fz] = pose.rot.front();
+    let d = size[1] / 2.0;
+    [pose.x - fx * d, pose.z - fz * d]
+}
+
+/// A room's floor: a rectilinear outline, split into the maximal rectangles it contains.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RoomShape {
+    /// The outline corners, in order, metres.
+    pub outline: Vec<[f64; 2]>,
+    /// Every maximal axis-aligned rectangle inside the outline. A rectangle lies inside the
+    /// room exactly when it lies inside one of these.
+    pub rects: Vec<Rect>,
+    /// The bounding box.
+    pub bounds: Rect,
+}
+
+impl RoomShape {
+    /// Builds the shape of a rectilinear outline. Returns `None` when the outline has fewer than
+    /// four corners, an edge that is not axis-aligned, or no area.
+    pub fn new(outline: &[[f64; 2]]) -> Option<RoomShape> {
+        if outline.len() < 4 || outline.iter().any(|p| !p[0].is_finite() || !p[1].is_finite()) {
+            return None;
+        }
+        for i in 0..outline.len() {
+            let a = outline[i];
+            let b = outline[(i + 1) % outline.len()];
+            if (a[0] - b[0]).abs() > EPS && (a[1] - b[1]).abs() > EPS {
+                return None;
+            }
+        }
+        let mut xs: Vec<f64> = outline.iter().map(|p| p[0]).collect();
+        let mut zs: Vec<f64> = outline.iter().map(|p| p[1]).collect();
+        xs.sort_by(f64::total_cmp);
+        zs.sort_by(f64::total_cmp);
+        xs.dedup_by(|a, b| (*a - *b).abs() < EPS);
+        zs.dedup_by(|a, b| (*a - *b).abs() < EPS);
+        let (nx, nz) = (xs.len().saturating_sub(1), zs.len().saturating_sub(1));
+        let mut inside = vec![vec![false; nz]; nx];
+        for (i, col) in inside.iter_mut().enumerate() {
+            for (j, cell) in col.iter_mut().enumerate() {
+                let c = [(xs[i] + xs[i + 1]) / 2.0, (zs[j] + zs[j + 1]) / 2.0];
+                *cell = point_in_polygon(c, outline);
+            }
+        }
+        let all_in = |i0: usize, i1: usize, j0: usize, j1: usize| {
+            (i0..=i1).all(|i| (j0..=j1).all(|j| inside[i][j]))
+        };
+        let mut candidates = Vec::new();
+        for i0 in 0..nx {
+            for i1 in i0..nx {
+                for j0 in 0..nz {
+                    for j1 in j0..nz {
+                        if all_in(i0, i1, j0, j1) {
+                            candidates.push((i0, i1, j0, j1));
+                        }
+                    }
+                }
+            }
+        }
+        let maximal: Vec<_> = candidates
+            .iter()
+            .filter(|&&(i0, i1, j0, j1)| {
+                !candidates.iter().any(|&(a0, a1, b0, b1)| {
+                    (a0, a1, b0, b1) != (i0, i1, j0, j1)
+                        && a0 <= i0
+                        && a1 >= i1
+                        && b0 <= j0
+                        && b1 >= j1
+                })
+            })
+            .map(|&(i0, i1, j0, j1)| Rect {
+                min_x: xs[i0],
+                min_z: zs[j0],
+                max_x: xs[i1 + 1],
+                max_z: zs[j1 + 1],
+            })
+            .collect();
+        if maximal.is_empty() {
+            return None;
+        }
+        Some(RoomShape {
+            outline: outline.to_vec(),
+            rects: maximal,
+            bounds: Rect::bounding(outline),
+        })
+    }
+
+    /// Whether a rectangle lies inside the room (touching the walls allowed).
+    pub fn contains_rect(&self, r: &Rect) -> bool {
+        self.rects.iter().any(|m| m.contains(r))
+    }
+
+    /// Whether a point is inside the room or on its walls.
+    pub fn contains_point(&self, p: [f64; 2]) -> bool {
+        self.rects.iter().any(|m| m.contains_point(p))
+    }
+
+    /// The distance from a point to the nearest wall line of the outline.
+    pub fn distance_to_wall(&self, p: [f64; 2]) -> f64 {
+        let n = self.outline.len();
+        (0..n)
+            .map(|i| segment_distance(p, self.outline[i], self.outline[(i + 1) % n]))
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    /// The walls as segments with the unit normal pointing into the room, in outline order.
+    pub fn walls(&self) -> Vec<([f64; 2], [f64; 2], [f64; 2])> {
+        let n = self.outline.len();
+        let mut out = Vec::new();
+        for i in 0..n {
+            let a = self.outline[i];
+            let b = self.outline[(i + 1) % n];
+            let len = (b[0] - a[0]).hypot(b[1] - a[1]);
+            if len < EPS {
+                continue;
+            }
+            let d = [(b[0] - a[0]) / len, (b[1] - a[1]) / len];
+            let mid = [(a[0] + b[0]) / 2.0, (a[1] + b[1]) / 2.0];
+            let left = [-d[1], d[0]];
+            let probe = [mid[0] + left[0] * 1e-3, mid[1] + left[1] * 1e-3];
+            let normal = if point_in_polygon(probe, &self.outline) { left } else { [d[1], -d[0]] };
+            out.push((a, b, [normal[0].round(), normal[1].round()]));
+        }
+        out
+    }
+
+    /// The area centroid of the outline.
+    pub fn centroid(&self) -> [f64; 2] {
+        let n = self.outline.len();
+        let (mut a, mut cx, mut cz) = (0.0, 0.0, 0.0);
+        for i in 0..n {
+            let p = self.outline[i];
+            let q = self.outline[(i + 1) % n];
+            let cross = p[0] * q[1] - q[0] * p[1];
+            a += cross;
+            cx += (p[0] + q[0]) * cross;
+            cz += (p[1] + q[1]) * cross;
+        }
+        if a.abs() < EPS {
+            return self.bounds.center();
+        }
+        [cx / (3.0 * a), cz / (3.0 * a)]
+    }
+}
+
+/// Even-odd point-in-polygon test.
+pub fn point_in_polygon(p: [f64; 2], poly: &[[f64; 2]]) -> bool {
+    let mut inside = false;
+    let n = poly.len();
+    let mut j = n.wrapping_sub(1);
+    for i in 0..n {
+        let (a, b) = (poly[i], poly[j]);
+        if (a[1] > p[1]) != (b[1] > p[1])
+            && p[0] < (b[0] - a[0]) * (p[1] - a[1]) / (b[1] - a[1]) + a[0]
+        {
+            inside = !inside;
+        }
+        j = i;
+    }
+    inside
+}
+
+/// Distance from a point to a segment.
+pub fn segment_distance(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
+    let (dx, dz) = (b[0] - a[0], b[1] - a[1]);
+    let len2 = dx * dx + dz * dz;
+    let t = if len2 < EPS * EPS {
+        0.0
+    } else {
+        (((p[0] - a[0]) * dx + (p[1] - a[1]) * dz) / len2).clamp(0.0, 1.0)
+    };
+    (p[0] - a[0] - t * dx).hypot(p[1] - a[1] - t * dz)
+}
+
+/// A measured constraint: whether it holds, its contribution in `[0, 1]` and the measured value.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Measure {
+    /// Whether the constraint holds.
+    pub satisfied: bool,
+    /// Satisfaction in `[0, 1]`, multiplied by the weight in the score.
+    pub score: f64,
+    /// The measured value (see [`Measure::unit`]).
+    pub value: f64,
+    /// `"m"` or `"deg"`.
+    pub unit: &'static str,
+}
+
+impl Measure {
+    fn yes_no(ok: bool, value: f64, unit: &'static str) -> Measure {
+        Measure { satisfied: ok, score: if ok { 1.0 } else { 0.0 }, value, unit }
+    }
+}
+
+/// The documented weight of a relation in the score.
+pub fn weight(kind: RelationKind) -> f64 {
+    match kind {
+        RelationKind::Around => 1.5,
+        RelationKind::CenterAligned | RelationKind::FaceSameAs => 0.5,
+        _ => 1.0,
+    }
+}
+
+/// Projects a footprint onto an axis: `(min, max)` of `dot(p, axis)` over the rectangle.
+fn project(r: &Rect, axis: [f64; 2]) -> (f64, f64) {
+    let xs = [r.min_x * axis[0], r.max_x * axis[0]];
+    let zs = [r.min_z * axis[1], r.max_z * axis[1]];
+    (xs[0].min(xs[1]) + zs[0].min(zs[1]), xs[0].max(xs[1]) + zs[0].max(zs[1]))
+}
+
+fn dot(a: [f64; 2], b: [f64; 2]) -> f64 {
+    a[0] * b[0] + a[1] * b[1]
+}
+
+/// How far the object's footprint lies beyond the target's footprint along `axis` (the
+/// target's own front or right), and whether the object's centre is within the target's
+/// extent across that axis. Positive separation means "on that side".
+fn side_measure(me: &Rect, target: &Rect, axis: [f64; 2]) -> (f64, bool) {
+    let (_, t_max) = project(target, axis);
+    let (m_min, _) = project(me, axis);
+    let across = [axis[1], -axis[0]];
+    let (t_lo, t_hi) = project(target, across);
+    let c = dot(me.center(), across);
+    (m_min - t_max, c >= t_lo - EPS && c <= t_hi + EPS)
+}
+
+/// Whether the ray from the pose's centre along its facing direction meets the rectangle.
+pub fn faces(pose: &Pose, target: &Rect) -> bool {
+    let [fx, fz] = pose.rot.front();
+    let c = [pose.x, pose.z];
+    if fx == 0.0 {
+        let across = c[0] >= target.min_x - EPS && c[0] <= target.max_x + EPS;
+        across && ((fz > 0.0 && target.max_z > c[1]) || (fz < 0.0 && target.min_z < c[1]))
+    } else {
+        let across = c[1] >= target.min_z - EPS && c[1] <= target.max_z + EPS;
+        across && ((fx > 0.0 && target.max_x > c[0]) || (fx < 0.0 && target.min_x < c[0]))
+    }
+}
+
+/// The angle in degrees between the pose's facing direction and the direction to a point.
+pub fn angle_to(pose: &Pose, p: [f64; 2]) -> f64 {
+    let f = pose.rot.front();
+    let d = [p[0] - pose.x, p[1] - pose.z];
+    let len = d[0].hypot(d[1]);
+    if len < EPS {
+        return 0.0;
+    }
+    (dot(f, d) / len).clamp(-1.0, 1.0).acos().to_degrees()
+}
+
+/// Measures one relation of an object (`me`, `my_size = [width, depth]`) to its target.
+pub fn relation(
+    kind: RelationKind,
+    me: &Pose,
+    my_size: [f64; 2],
+    target: &Pose,
+    target_size: [f64; 2],
+) -> Measure {
+    let mf = footprint(me, my_size);
+    let tf = footprint(target, target_size);
+    let gap = mf.gap(&tf);
+    let front = target.rot.front();
+    let right = target.rot.right();
+    let back = [-front[0], -front[1]];
+    let left = [-right[0], -right[1]];
+    match kind {
+        RelationKind::Near => Measure {
+            satisfied: gap <= NEAR_MAX_M + EPS,
+            score: (1.0 - gap / NEAR_MAX_M).clamp(0.0, 1.0),
+            value: gap,
+            unit: "m",
+        },
+        RelationKind::Far => Measure {
+            satisfied: gap >= FAR_MIN_M - EPS,
+            score: (gap / FAR_MIN_M).clamp(0.0, 1.0),
+            value: gap,
+            unit: "m",
+        },
+        RelationKind::InFrontOf
+        | RelationKind::Behind
+        | RelationKind::LeftOf
+        | RelationKind::RightOf => {
+            let axis = match kind {
+                RelationKind::InFrontOf => front,
+                RelationKind::Behind => back,
+                RelationKind::LeftOf => left,
+                _ => right,
+            };
+            let (sep, within) = side_measure(&mf, &tf, axis);
+            Measure::yes_no(sep >= -EPS && within, sep, "m")
+        }
+        RelationKind::SideOf => {
+            let (sl, wl) = side_measure(&mf, &tf, left);
+            let (sr, wr) = side_measure(&mf, &tf, right);
+            let ok = (sl >= -EPS && wl) || (sr >= -EPS && wr);
+            Measure::yes_no(ok, sl.max(sr), "m")
+        }
+        RelationKind::Around => {
+            let facing = faces(me, &tf);
+            let close = gap <= AROUND_MAX_M + EPS;
+            let near_part = (1.0 - gap / (2.0 * AROUND_MAX_M)).clamp(0.0, 1.0);
+            let score = 0.5 * near_part + if facing { 0.5 } else { 0.0 };
+            Measure {
+                satisfied: facing && close,
+                score: if facing && close { 1.0 } else { score.min(0.9) },
+                value: gap,
+                unit: "m",
+            }
+        }
+        RelationKind::CenterAligned => {
+            let d = (me.x - target.x).abs().min((me.z - target.z).abs());
+            Measure::yes_no(d <= ALIGN_TOLERANCE_M + EPS, d, "m")
+        }
+        RelationKind::FaceTo => {
+            Measure::yes_no(faces(me, &tf), angle_to(me, [target.x, target.z]), "deg")
+        }
+        RelationKind::FaceSameAs => {
+            let diff = (me.rot.deg() - target.rot.deg()).rem_euclid(360.0);
+            let diff = diff.min(360.0 - diff);
+            Measure::yes_no(me.rot == target.rot, diff, "deg")
+        }
+    }
+}
+
+/// Measures a global constraint: for `edge` the distance from the middle of the back side to
+/// the nearest wall, for `middle` the smallest gap between the footprint and the walls.
+pub fn global(kind: GlobalKind, pose: &Pose, size: [f64; 2], room: &RoomShape) -> Measure {
+    match kind {
+        GlobalKind::Edge => {
+            let d = room.distance_to_wall(back_center(pose, size));
+            Measure::yes_no(
+                d <= EDGE_TOLERANCE_M + EPS && room.contains_rect(&footprint(pose, size)),
+                d,
+                "m",
+            )
+        }
+        GlobalKind::Middle => {
+            let fp = footprint(pose, size);
+            let ok = room.contains_rect(&fp.grow(MIDDLE_GAP_M));
+            let corners = [
+                [fp.min_x, fp.min_z],
+                [fp.min_x, fp.max_z],
+                [fp.max_x, fp.min_z],
+                [fp.max_x, fp.max_z],
+            ];
+            let mut d =
+                corners.iter().map(|c| room.distance_to_wall(*c)).fold(f64::INFINITY, f64::min);
+            // Walls may also pass beside a side without touching a corner.
+            let n = room.outline.len();
+            for i in 0..n {
+                let a = room.outline[i];
+                let b = room.outline[(i + 1) % n];
+                d = d.min(Rect::from_corners(a, b).gap(&fp));
+            }
+            Measure::yes_no(ok, d, "m")
+        }
+    }
+}
+
+/// The hard rules a floor pose must keep, in the order they are checked.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum HardRule {
+    /// The footprint lies inside the room.
+    InsideRoom,
+    /// The global constraint (`edge` or `middle`).
+    Global,
+    /// The footprint avoids every door keep-out zone.
+    DoorKeepOut,
+    /// The front clearance lies inside the room.
+    FrontClearance,
+    /// A tall object does not stand in front of a window.
+    Window,
+    /// The footprint overlaps no other placed footprint.
+    NoOverlap,
+    /// Every placed object stays reachable from a door.
+    Reachable,
+}
+
+impl HardRule {
+    /// A short phrase naming the rule.
+    pub fn describe(self) -> &'static str {
+        match self {
+            HardRule::InsideRoom => "inside the room",
+            HardRule::Global => "the global constraint",
+            HardRule::DoorKeepOut => "door keep-out zones",
+            HardRule::FrontClearance => "front clearance",
+            HardRule::Window => "window zones",
+            HardRule::NoOverlap => "no overlap",
+            HardRule::Reachable => "reachability from a door",
+        }
+    }
+}
+
+/// A window seen from the floor: the zone in front of it and the height of its sill.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct WindowZone {
+    /// The floor zone (both sides of the wall line, [`WINDOW_ZONE_M`] deep).
+    pub zone: Rect,
+    /// Height of the bottom of the window above the floor, metres.
+    pub sill_m: f64,
+}
+
+/// Whether a floor object of `height_m` standing on `fp` blocks a window.
+pub fn blocks_window(fp: &Rect, height_m: f64, w: &WindowZone) -> bool {
+    height_m > w.sill_m + EPS && fp.overlaps(&w.zone)
+}
+
+/// The static hard rules of a pose (everything but overlap and reachability): the first rule
+/// it breaks, if any.
+pub fn static_rules(
+    pose: &Pose,
+    size: [f64; 2],
+    height_m: f64,
+    global_kind: GlobalKind,
+    room: &RoomShape,
+    keep_out: &[Rect],
+    windows: &[WindowZone],
+) -> Option<HardRule> {
+    let fp = footprint(pose, size);
+    if !room.contains_rect(&fp) {
+        return Some(HardRule::InsideRoom);
+    }
+    let global_ok = match global_kind {
+        GlobalKind::Edge => {
+            room.distance_to_wall(back_center(pose, size)) <= EDGE_TOLERANCE_M + EPS
+        }
+        GlobalKind::Middle => room.contains_rect(&fp.grow(MIDDLE_GAP_M)),
+    };
+    if !global_ok {
+        return Some(HardRule::Global);
+    }
+    if keep_out.iter().any(|k| k.overlaps(&fp)) {
+        return Some(HardRule::DoorKeepOut);
+    }
+    if !room.contains_rect(&front_zone(pose, size, FRONT_CLEARANCE_M)) {
+        return Some(HardRule::FrontClearance);
+    }
+    if windows.iter().any(|w| blocks_window(&fp, height_m, w)) {
+        return Some(HardRule::Window);
+    }
+    None
+}
+
+/// A grid over the room's floor for the reachability rule.
+#[derive(Clone, Debug)]
+pub struct ReachGrid {
+    origin: [f64; 2],
+    nx: usize,
+    nz: usize,
+    /// Cells whose agent disk fits inside the room.
+    open: Vec<bool>,
+    /// Cells inside a door keep-out zone (where the agent enters).
+    source: Vec<bool>,
+}
+
+impl ReachGrid {
+    /// Builds the grid of a room with its door keep-out zones.
+    pub fn new(room: &RoomShape, doors: &[Rect]) -> ReachGrid {
+        let b = room.bounds;
+        let nx = ((b.width() / REACH_CELL_M).ceil() as usize).max(1);
+        let nz = ((b.depth() / REACH_CELL_M).ceil() as usize).max(1);
+        let mut open = vec![false; nx * nz];
+        let mut source = vec![false; nx * nz];
+        for i in 0..nx {
+            for j in 0..nz {
+                let c = [
+                    b.min_x + (i as f64 + 0.5) * REACH_CELL_M,
+                    b.min_z + (j as f64 + 0.5) * REACH_CELL_M,
+                ];
+                let disk = Rect { min_x: c[0], min_z: c[1], max_x: c[0], max_z: c[1] }
+                    .grow(AGENT_RADIUS_M - 1e-3);
+                open[i * nz + j] = room.contains_rect(&disk);
+                source[i * nz + j] = doors.iter().any(|d| d.contains_point(c));
+            }
+        }
+        ReachGrid { origin: [b.min_x, b.min_z], nx, nz, open, source }
+    }
+
+    /// Whether there is any door to start from.
+    pub fn has_sources(&self) -> bool {
+        self.source.iter().zip(&self.open).any(|(s, o)| *s && *o)
+    }
+
+    /// Free cells (agent fits, no footprint) and which of them an agent entering through a door
+    /// reaches.
+    fn flood(&self, footprints: &[Rect]) -> (Vec<bool>, Vec<bool>) {
+        let (nx, nz) = (self.nx, self.nz);
+        let mut free = self.open.clone();
+        for fp in footprints {
+            let (i0, i1, j0, j1) = self.cell_range(&fp.grow(AGENT_RADIUS_M - 1e-3));
+            for i in i0..=i1 {
+                for j in j0..=j1 {
+                    if fp.distance_to_point(self.cell_center(i, j)) < AGENT_RADIUS_M - 1e-3 {
+                        free[i * nz + j] = false;
+                    }
+                }
+            }
+        }
+        let mut seen = vec![false; nx * nz];
+        let mut stack: Vec<usize> = (0..nx * nz).filter(|&k| free[k] && self.source[k]).collect();
+        for &k in &stack {
+            seen[k] = true;
+        }
+        while let Some(k) = stack.pop() {
+            let (i, j) = (k / nz, k % nz);
+            let next = [
+                (i > 0).then(|| k - nz),
+                (i + 1 < nx).then_some(k + nz),
+                (j > 0).then(|| k - 1),
+                (j + 1 < nz).then_some(k + 1),
+            ];
+            for kk in next.into_iter().flatten() {
+                if free[kk] && !seen[kk] {
+                    seen[kk] = true;
+                    stack.push(kk);
+                }
+            }
+        }
+        (free, seen)
+    }
+
+    fn cell_center(&self, i: usize, j: usize) -> [f64; 2] {
+        [
+            self.origin[0] + (i as f64 + 0.5) * REACH_CELL_M,
+            self.origin[1] + (j as f64 + 0.5) * REACH_CELL_M,
+        ]
+    }
+
+    /// The cells `(i0, i1, j0, j1)` (inclusive, clamped) that a rectangle covers.
+    fn cell_range(&self, r: &Rect) -> (usize, usize, usize, usize) {
+        let cell = |v: f64, o: f64, n: usize| {
+            (((v - o) / REACH_CELL_M).floor().max(0.0) as usize).min(n - 1)
+        };
+        (
+            cell(r.min_x, self.origin[0], self.nx),
+            cell(r.max_x, self.origin[0], self.nx),
+            cell(r.min_z, self.origin[1], self.nz),
+            cell(r.max_z, self.origin[1], self.nz),
+        )
+    }
+
+    fn unreachable_in(&self, footprints: &[Rect], seen: &[bool]) -> Vec<usize> {
+        let reach = AGENT_RADIUS_M + 1.5 * REACH_CELL_M;
+        let mut out = Vec::new();
+        for (n, fp) in footprints.iter().enumerate() {
+            let (i0, i1, j0, j1) = self.cell_range(&fp.grow(reach));
+            let ok = (i0..=i1).any(|i| {
+                (j0..=j1).any(|j| {
+                    seen[i * self.nz + j] && fp.distance_to_point(self.cell_center(i, j)) <= reach
+                })
+            });
+            if !ok {
+                out.push(n);
+            }
+        }
+        out
+    }
+
+    /// The footprints (indices into `footprints`) that no agent coming in through a door can
+    /// reach (stand within [`AGENT_RADIUS_M`] + 1.5 cells of). Empty when the room has no door.
+    pub fn unreachable(&self, footprints: &[Rect]) -> Vec<usize> {
+        if !self.has_sources() || footprints.is_empty() {
+            return Vec::new();
+        }
+        let (_, seen) = self.flood(footprints);
+        self.unreachable_in(footprints, &seen)
+    }
+
+    /// The reachability rule: every footprint is reachable, and at least
+    /// [`MIN_REACHABLE_FRACTION`] of the free floor is reachable from a door (so that a door is
+    /// never boxed in by a wall of furniture). Always true for a room with no door.
+    pub fn ok(&self, footprints: &[Rect]) -> bool {
+        if !self.has_sources() || footprints.is_empty() {
+            return true;
+        }
+        let (free, seen) = self.flood(footprints);
+        let n_free = free.iter().filter(|f| **f).count();
+        let n_seen = seen.iter().filter(|f| **f).count();
+        if (n_seen as f64) < MIN_REACHABLE_FRACTION * n_free as f64 {
+            return false;
+        }
+        self.unreachable_in(footprints, &seen).is_empty()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn rect_room() -> RoomShape {
+        RoomShape::new(&[[0.0, 0.0], [0.0, 4.0], [5.0, 4.0], [5.0, 0.0]]).expect("valid room")
+    }
+
+    #[test]
+    fn l_shape_has_two_maximal_rects() {
+        let l = RoomShape::new(&[
+            [0.0, 0.0],
+            [0.0, 4.0],
+            [2.0, 4.0],
+            [2.0, 2.0],
+            [4.0, 2.0],
+            [4.0, 0.0],
+        ])
+        .expect("L");
+        assert_eq!(l.rects.len(), 2);
+        assert!(l.contains_rect(&Rect::from_corners([0.0, 0.0], [4.0, 2.0])));
+        assert!(!l.contains_rect(&Rect::from_corners([1.0, 1.0], [3.0, 3.0])));
+    }
+
+    #[test]
+    fn left_and_right_follow_the_target() {
+        let t = Pose { x: 2.0, z: 2.0, rot: Rot::R0 };
+        let left = Pose { x: 0.5, z: 2.0, rot: Rot::R0 };
+        assert!(relation(RelationKind::LeftOf, &left, [1.0, 1.0], &t, [1.0, 1.0]).satisfied);
+        assert!(!relation(RelationKind::RightOf, &left, [1.0, 1.0], &t, [1.0, 1.0]).satisfied);
+        let t90 = Pose { rot: Rot::R90, ..t };
+        // Facing +x, the target's left is +z.
+        let up = Pose { x: 2.0, z: 3.5, rot: Rot::R0 };
+        assert!(relation(RelationKind::LeftOf, &up, [1.0, 1.0], &t90, [1.0, 1.0]).satisfied);
+    }
+
+    #[test]
+    fn in_front_and_face_to() {
+        let t = Pose { x: 2.0, z: 0.5, rot: Rot::R0 };
+        let me = Pose { x: 2.0, z: 2.0, rot: Rot::R180 };
+        assert!(relation(RelationKind::InFrontOf, &me, [1.0, 1.0], &t, [1.0, 1.0]).satisfied);
+        assert!(relation(RelationKind::FaceTo, &me, [1.0, 1.0], &t, [1.0, 1.0]).satisfied);
+        assert!(!relation(RelationKind::Behind, &me, [1.0, 1.0], &t, [1.0, 1.0]).satisfied);
+    }
+
+    #[test]
+    fn edge_and_middle() {
+        let room = rect_room();
+        let against = Pose { x: 2.0, z: 0.5, rot: Rot::R0 };
+        assert!(global(GlobalKind::Edge, &against, [2.0, 1.0], &room).satisfied);
+        assert!(!global(GlobalKind::Middle, &against, [2.0, 1.0], &room).satisfied);
+        let centre = Pose { x: 2.5, z: 2.0, rot: Rot::R0 };
+        assert!(global(GlobalKind::Middle, &centre, [1.0, 1.0], &room).satisfied);
+    }
+
+    #[test]
+    fn boxed_in_object_is_unreachable() {
+        let room = rect_room();
+        let door = Rect::from_corners([2.0, 0.0], [3.0, 1.0]);
+        let grid = ReachGrid::new(&room, &[door]);
+        let wall = Rect::from_corners([0.0, 1.5], [5.0, 2.0]);
+        let behind = Rect::from_corners([2.0, 3.0], [3.0, 4.0]);
+        assert_eq!(grid.unreachable(&[wall, behind]), vec![1]);
+        assert!(grid.unreachable(&[behind]).is_empty());
+    }
+}

@@ -1,0 +1,136 @@
+//! The solve stage's diagnostics, built in one place.
+
+use super::{HardRule, RoomProblem, Unplaced};
+use crate::diag::{Code, Diagnostic};
+
+/// E0501: the outline is not a rectilinear polygon with area.
+pub(crate) fn bad_room(problem: &RoomProblem) -> Diagnostic {
+    let d = Diagnostic::new(
+        Code::E0501,
+        format!("room `{}` has an outline the solver cannot use", problem.name),
+    )
+    .with_help(
+        "give at least four corners, walls parallel to the x or z axis, some area, sides up to 100 m",
+    )
+    .with_note(format!("corners: {:?}", problem.outline));
+    match problem.span {
+        Some(s) => d.with_primary(s, "this room"),
+        None => d,
+    }
+}
+
+/// E0502 for every object with an unusable size or reference; returns whether all are fine.
+pub(crate) fn check_objects(problem: &RoomProblem, diags: &mut Vec<Diagnostic>) -> bool {
+    let before = diags.len();
+    let good = |v: f64| v.is_finite() && v > 0.0;
+    let mut bad = |id: &str, span: Option<crate::source::Span>, what: String| {
+        let d = Diagnostic::new(Code::E0502, format!("object `{id}` in room `{}` {what}", problem.name))
+            .with_help("give every size as a positive length and refer only to earlier floor objects of the room");
+        diags.push(match span {
+            Some(s) => d.with_primary(s, "this object"),
+            None => d,
+        });
+    };
+    for (k, o) in problem.objects.iter().enumerate() {
+        if !(good(o.size[0]) && good(o.size[1]) && good(o.height)) {
+            bad(&o.id, o.span, "has a size that is not a positive length".to_string());
+        }
+        for c in &o.constraints {
+            if c.target >= k {
+                bad(
+                    &o.id,
+                    c.span.or(o.span),
+                    "has a constraint on itself or on a later object".to_string(),
+                );
+            }
+        }
+        if let Some(p) = o.pin {
+            if !(p.x.is_finite() && p.z.is_finite()) {
+                bad(&o.id, o.span, "has a pinned position that is not finite".to_string());
+            }
+        }
+    }
+    for w in &problem.wall_objects {
+        if !w.size.iter().all(|v| good(*v)) || w.height_m.is_some_and(|h| !h.is_finite()) {
+            bad(&w.id, w.span, "has a size or height that is not a positive length".to_string());
+        }
+        if w.above.is_some_and(|t| t >= problem.objects.len()) {
+            bad(
+                &w.id,
+                w.span,
+                "hangs above an object that is not a floor object of the room".to_string(),
+            );
+        }
+    }
+    for s in &problem.small_objects {
+        if !s.size.iter().all(|v| good(*v)) {
+            bad(&s.id, s.span, "has a size that is not a positive length".to_string());
+        }
+    }
+    if let Some(c) = &problem.ceiling {
+        if !c.size.iter().all(|v| good(*v)) || c.above.is_some_and(|t| t >= problem.objects.len()) {
+            bad(&c.id, c.span, "has a bad size or hangs over an unknown object".to_string());
+        }
+    }
+    if !(problem.wall_height.is_finite() && problem.wall_height > 0.0) {
+        let d = Diagnostic::new(
+            Code::E0502,
+            format!("room `{}` has a wall height that is not a positive length", problem.name),
+        )
+        .with_help("give the scene a wall height such as `2.7 m`");
+        diags.push(d);
+    }
+    diags.len() == before
+}
+
+/// W0501: an object was left out.
+pub(crate) fn unplaced(problem: &RoomProblem, u: &Unplaced) -> Diagnostic {
+    let span = match u.kind {
+        "floor" => problem.objects.iter().find(|o| o.id == u.id).and_then(|o| o.span),
+        "wall" => problem.wall_objects.iter().find(|o| o.id == u.id).and_then(|o| o.span),
+        "small" => problem.small_objects.iter().find(|o| o.id == u.id).and_then(|o| o.span),
+        _ => problem.ceiling.as_ref().and_then(|c| c.span),
+    };
+    let mut d = Diagnostic::new(
+        Code::W0501,
+        format!("cannot place {} object `{}` in room `{}`", u.kind, u.id, problem.name),
+    )
+    .with_note(u.reason.clone());
+    d = match span {
+        Some(s) => d.with_primary(s, "left out of the layout"),
+        None => d,
+    };
+    if let Some(o) = problem.objects.iter().find(|o| o.id == u.id) {
+        for c in &o.constraints {
+            if let Some(s) = c.span {
+                d = d.with_secondary(s, "constraint of the object left out");
+            }
+        }
+    }
+    let help = match u.rule {
+        Some(HardRule::InsideRoom) => "choose a smaller object or make the room larger",
+        Some(HardRule::Global) => "try the other global constraint (`edge` or `middle`), or a smaller object",
+        Some(HardRule::NoOverlap | HardRule::Reachable) => {
+            "remove or shrink an earlier object, or declare this object earlier so it is placed first"
+        }
+        Some(HardRule::DoorKeepOut | HardRule::FrontClearance | HardRule::Window) => {
+            "make the object smaller or move a door or window"
+        }
+        None => "make the object smaller or free some space for it",
+    };
+    d.with_help(help)
+}
+
+/// W0502: a pinned pose breaks a hard rule; it is kept as pinned.
+pub(crate) fn pin_breaks(problem: &RoomProblem, index: usize, rule: HardRule) -> Diagnostic {
+    let o = &problem.objects[index];
+    let d = Diagnostic::new(
+        Code::W0502,
+        format!("the pinned pose of `{}` breaks the rule `{}`", o.id, rule.describe()),
+    )
+    .with_help("move the pin (`at`, `facing`) or remove it to let the solver choose");
+    match o.span {
+        Some(s) => d.with_primary(s, "pinned here"),
+        None => d,
+    }
+}

@@ -1,0 +1,481 @@
+//! The MILP floor solver: one small mixed-integer program per object and rotation, in plan
+//! order, with earlier objects fixed.
+//!
+//! For an object at a fixed rotation the variables are its centre `(x, z)`; binaries choose the
+//! room rectangle that holds it (the room is a union of maximal rectangles), the wall its back
+//! touches (`edge`), the side of every obstacle it keeps to (non-overlap as a four-way
+//! disjunction), and whether each soft relation holds. Obstacles are added lazily: the first
+//! program sees only the door zones and the object's targets; every obstacle the solution
+//! overlaps is added and the program solved again (at most [`MAX_ROUNDS`] times). The result
+//! is checked with the shared hard rules and scored with the shared scorer; the best rotation
+//! wins. When no rotation gives a valid pose the object falls back to the DFS candidates.
+
+use good_lp::{
+    constraint, variable, Expression, ProblemVariables, Solution, SolverModel, Variable,
+};
+
+use super::constraints::{self, footprint, half_extents, static_rules, HardRule, Pose, Rect, Rot};
+use super::dfs::{derived_candidates, fast_score, static_candidates};
+use super::{measure_object, PlacedFloor, Prepared, RoomLayout, SolveOptions, Unplaced};
+use crate::check::scene::{GlobalKind, RelationKind};
+
+/// Rounds of lazy obstacle generation per program.
+pub const MAX_ROUNDS: usize = 6;
+
+#[cfg(feature = "highs")]
+fn backend(p: good_lp::variable::UnsolvedProblem) -> impl SolverModel {
+    good_lp::highs(p)
+}
+
+#[cfg(not(feature = "highs"))]
+fn backend(p: good_lp::variable::UnsolvedProblem) -> good_lp::solvers::microlp::MicroLpProblem {
+    good_lp::microlp(p)
+}
+
+/// A linear model under construction: variables, constraints, objective.
+struct Model {
+    vars: ProblemVariables,
+    cons: Vec<good_lp::Constraint>,
+    objective: Expression,
+}
+
+impl Model {
+    fn binary(&mut self) -> Variable {
+        self.vars.add(variable().binary())
+    }
+}
+
+/// `coord + sign·h` for a footprint side along one axis: the expression of the side of the
+/// footprint that lies furthest along `axis` (a unit axis vector).
+fn far_side(x: Variable, z: Variable, h: [f64; 2], axis: [f64; 2]) -> Expression {
+    if axis[0] == 0.0 {
+        axis[1] * z + h[1]
+    } else {
+        axis[0] * x + h[0]
+    }
+}
+
+/// The object's centre projected on a unit axis.
+fn along(x: Variable, z: Variable, axis: [f64; 2]) -> Expression {
+    if axis[0] == 0.0 {
+        axis[1] * z + 0.0
+    } else {
+        axis[0] * x + 0.0
+    }
+}
+
+fn proj_max(r: &Rect, axis: [f64; 2]) -> f64 {
+    if axis[0] > 0.0 {
+        r.max_x
+    } else if axis[0] < 0.0 {
+        -r.min_x
+    } else if axis[1] > 0.0 {
+        r.max_z
+    } else {
+        -r.min_z
+    }
+}
+
+fn proj_range(r: &Rect, axis: [f64; 2]) -> (f64, f64) {
+    let a = proj_max(r, axis);
+    let b = -proj_max(r, [-axis[0], -axis[1]]);
+    (b.min(a), a.max(b))
+}
+
+/// Solves one object at one rotation; `obstacles` are rectangles it must not overlap.
+fn solve_one(
+    prep: &Prepared<'_>,
+    k: usize,
+    rot: Rot,
+    poses: &[Option<Pose>],
+    obstacles: &[Rect],
+) -> Option<Pose> {
+    let obj = &prep.problem.objects[k];
+    let h = half_extents(obj.size, rot);
+    let b = prep.room.bounds;
+    let big = 2.0 * (b.width() + b.depth()) + 10.0;
+    let mut m =
+        Model { vars: ProblemVariables::new(), cons: Vec::new(), objective: Expression::from(0.0) };
+    let x = m.vars.add(variable().min(b.min_x + h[0]).max(b.max_x - h[0]));
+    let z = m.vars.add(variable().min(b.min_z + h[1]).max(b.max_z - h[1]));
+    if b.min_x + h[0] > b.max_x - h[0] || b.min_z + h[1] > b.max_z - h[1] {
+        return None;
+    }
+    // The rectangle that must lie inside the room: the footprint plus its front clearance, or
+    // for `middle` the footprint grown by the middle gap.
+    let f = rot.front();
+    let grow = if obj.global == GlobalKind::Middle { constraints::MIDDLE_GAP_M } else { 0.0 };
+    let lo = [
+        h[0] + grow + if f[0] < 0.0 { constraints::FRONT_CLEARANCE_M } else { 0.0 },
+        h[1] + grow + if f[1] < 0.0 { constraints::FRONT_CLEARANCE_M } else { 0.0 },
+    ];
+    let hi = [
+        h[0] + grow + if f[0] > 0.0 { constraints::FRONT_CLEARANCE_M } else { 0.0 },
+        h[1] + grow + if f[1] > 0.0 { constraints::FRONT_CLEARANCE_M } else { 0.0 },
+    ];
+    let fits: Vec<&Rect> = prep
+        .room
+        .rects
+        .iter()
+        .filter(|r| r.width() + 1e-9 >= lo[0] + hi[0] && r.depth() + 1e-9 >= lo[1] + hi[1])
+        .collect();
+    if fits.is_empty() {
+        return None;
+    }
+    let mut pick: Expression = Expression::from(0.0);
+    for r in &fits {
+        let y = m.binary();
+        pick += y;
+        m.cons.push(constraint!(x - lo[0] >= r.min_x - big * (1.0 - y)));
+        m.cons.push(constraint!(x + hi[0] <= r.max_x + big * (1.0 - y)));
+        m.cons.push(constraint!(z - lo[1] >= r.min_z - big * (1.0 - y)));
+        m.cons.push(constraint!(z + hi[1] <= r.max_z + big * (1.0 - y)));
+    }
+    m.cons.push(constraint!(pick == 1.0));
+    if obj.global == GlobalKind::Edge {
+        // The back touches a wall whose inward normal is the object's front.
+        let mut any: Expression = Expression::from(0.0);
+        let mut count = 0;
+        for &(a, bb, n) in &prep.walls {
+            if n != f {
+                continue;
+            }
+            count += 1;
+            let e = m.binary();
+            any += e;
+            let back = far_side(x, z, h, [-f[0], -f[1]]);
+            let wall = if f[0] == 0.0 { -f[1] * a[1] } else { -f[0] * a[0] };
+            m.cons.push(constraint!(back.clone() <= wall + big * (1.0 - e)));
+            m.cons.push(constraint!(back >= wall - big * (1.0 - e)));
+            let (s0, s1) = if f[0] == 0.0 {
+                (a[0].min(bb[0]), a[0].max(bb[0]))
+            } else {
+                (a[1].min(bb[1]), a[1].max(bb[1]))
+            };
+            let lateral = if f[0] == 0.0 { x } else { z };
+            m.cons.push(constraint!(lateral >= s0 - big * (1.0 - e)));
+            m.cons.push(constraint!(lateral <= s1 + big * (1.0 - e)));
+        }
+        if count == 0 {
+            return None;
+        }
+        m.cons.push(constraint!(any == 1.0));
+    }
+    // Non-overlap: one of four sides for every obstacle.
+    for o in obstacles {
+        let (l, r, s, n) = (m.binary(), m.binary(), m.binary(), m.binary());
+        m.cons.push(constraint!(x + h[0] <= o.min_x + big * (1.0 - l)));
+        m.cons.push(constraint!(x - h[0] >= o.max_x - big * (1.0 - r)));
+        m.cons.push(constraint!(z + h[1] <= o.min_z + big * (1.0 - s)));
+        m.cons.push(constraint!(z - h[1] >= o.max_z - big * (1.0 - n)));
+        m.cons.push(constraint!(l + r + s + n >= 1.0));
+    }
+    // Soft relations.
+    let scale = b.width() + b.depth();
+    for c in &obj.constraints {
+        let (Some(Some(tp)), Some(t)) = (poses.get(c.target), prep.problem.objects.get(c.target))
+        else {
+            continue;
+        };
+        let tf = footprint(tp, t.size);
+        let w = constraints::weight(c.kind);
+        let tfront = tp.rot.front();
+        let tright = tp.rot.right();
+        let side = |m: &mut Model, axis: [f64; 2]| -> Variable {
+            // Footprint beyond the target's side along `axis`, centre within its extent across.
+            let ind = m.binary();
+            let near_side = far_side(x, z, h, [-axis[0], -axis[1]]);
+            m.cons.push(constraint!(-near_side >= proj_max(&tf, axis) - big * (1.0 - ind)));
+            let across = [axis[1], -axis[0]];
+            let (a0, a1) = proj_range(&tf, across);
+            let c_across = along(x, z, across);
+            m.cons.push(constraint!(c_across.clone() >= a0 - big * (1.0 - ind)));
+            m.cons.push(constraint!(c_across <= a1 + big * (1.0 - ind)));
+            ind
+        };
+        let within = |m: &mut Model, gap: f64| -> Variable {
+            let ind = m.binary();
+            m.cons.push(constraint!(x - h[0] <= tf.max_x + gap + big * (1.0 - ind)));
+            m.cons.push(constraint!(x + h[0] >= tf.min_x - gap - big * (1.0 - ind)));
+            m.cons.push(constraint!(z - h[1] <= tf.max_z + gap + big * (1.0 - ind)));
+            m.cons.push(constraint!(z + h[1] >= tf.min_z - gap - big * (1.0 - ind)));
+            ind
+        };
+        let facing = |m: &mut Model| -> Variable {
+            let ind = m.binary();
+            if f[0] == 0.0 {
+                m.cons.push(constraint!(x >= tf.min_x - big * (1.0 - ind)));
+                m.cons.push(constraint!(x <= tf.max_x + big * (1.0 - ind)));
+                m.cons.push(constraint!(f[1] * z <= proj_max(&tf, f) - 0.01 + big * (1.0 - ind)));
+            } else {
+                m.cons.push(constraint!(z >= tf.min_z - big * (1.0 - ind)));
+                m.cons.push(constraint!(z <= tf.max_z + big * (1.0 - ind)));
+                m.cons.push(constraint!(f[0] * x <= proj_max(&tf, f) - 0.01 + big * (1.0 - ind)));
+            }
+            ind
+        };
+        match c.kind {
+            RelationKind::Near => {
+                let ind = within(&mut m, constraints::NEAR_MAX_M);
+                let (u, v) = (m.vars.add(variable().min(0.0)), m.vars.add(variable().min(0.0)));
+                m.cons.push(constraint!(u >= x - tp.x));
+                m.cons.push(constraint!(u >= tp.x - x));
+                m.cons.push(constraint!(v >= z - tp.z));
+                m.cons.push(constraint!(v >= tp.z - z));
+                m.objective += w * ind - (w / scale) * (u + v);
+            }
+            RelationKind::Far => {
+                let cap =
+                    constraints::FAR_MIN_M + tf.width().max(tf.depth()) + h[0].max(h[1]) * 2.0;
+                let (p, q) = (
+                    m.vars.add(variable().min(0.0).max(cap)),
+                    m.vars.add(variable().min(0.0).max(cap)),
+                );
+                let (sx, sz) = (m.binary(), m.binary());
+                m.cons.push(constraint!(p <= x - tp.x + big * (1.0 - sx)));
+                m.cons.push(constraint!(p <= tp.x - x + big * sx));
+                m.cons.push(constraint!(q <= z - tp.z + big * (1.0 - sz)));
+                m.cons.push(constraint!(q <= tp.z - z + big * sz));
+                m.objective += (w / cap) * (p + q);
+            }
+            RelationKind::InFrontOf => {
+                let i = side(&mut m, tfront);
+                m.objective += w * i;
+            }
+            RelationKind::Behind => {
+                let i = side(&mut m, [-tfront[0], -tfront[1]]);
+                m.objective += w * i;
+            }
+            RelationKind::RightOf => {
+                let i = side(&mut m, tright);
+                m.objective += w * i;
+            }
+            RelationKind::LeftOf => {
+                let i = side(&mut m, [-tright[0], -tright[1]]);
+                m.objective += w * i;
+            }
+            RelationKind::SideOf => {
+                let a = side(&mut m, tright);
+                let bb = side(&mut m, [-tright[0], -tright[1]]);
+                m.cons.push(constraint!(a + bb <= 1.0));
+                m.objective += w * a + w * bb;
+            }
+            RelationKind::Around => {
+                let a = within(&mut m, constraints::AROUND_MAX_M);
+                let fc = facing(&mut m);
+                let both = m.binary();
+                m.cons.push(constraint!(both <= a));
+                m.cons.push(constraint!(both <= fc));
+                m.objective += w * both;
+            }
+            RelationKind::CenterAligned => {
+                let (ax, az) = (m.binary(), m.binary());
+                let tol = constraints::ALIGN_TOLERANCE_M;
+                m.cons.push(constraint!(x - tp.x <= tol + big * (1.0 - ax)));
+                m.cons.push(constraint!(tp.x - x <= tol + big * (1.0 - ax)));
+                m.cons.push(constraint!(z - tp.z <= tol + big * (1.0 - az)));
+                m.cons.push(constraint!(tp.z - z <= tol + big * (1.0 - az)));
+                m.cons.push(constraint!(ax + az <= 1.0));
+                m.objective += w * ax + w * az;
+            }
+            RelationKind::FaceTo => {
+                let i = facing(&mut m);
+                m.objective += w * i;
+            }
+            RelationKind::FaceSameAs => {}
+        }
+    }
+    // A small pull towards the room's centroid makes the optimum unique and keeps objects
+    // from crowding into one corner.
+    let centre = prep.room.centroid();
+    let (cu, cv) = (m.vars.add(variable().min(0.0)), m.vars.add(variable().min(0.0)));
+    m.cons.push(constraint!(cu >= x - centre[0]));
+    m.cons.push(constraint!(cu >= centre[0] - x));
+    m.cons.push(constraint!(cv >= z - centre[1]));
+    m.cons.push(constraint!(cv >= centre[1] - z));
+    m.objective += -1e-3 * (cu + cv);
+    let Model { vars, cons, objective } = m;
+    let mut problem = backend(vars.maximise(objective));
+    for c in cons {
+        problem = problem.with(c);
+    }
+    let sol = problem.solve().ok()?;
+    let (px, pz) = (sol.value(x), sol.value(z));
+    if !(px.is_finite() && pz.is_finite()) {
+        return None;
+    }
+    // Snap to a millimetre so that the result does not depend on the solver's round-off.
+    Some(Pose { x: (px * 1000.0).round() / 1000.0, z: (pz * 1000.0).round() / 1000.0, rot })
+}
+
+/// Places object `k` with the MILP; `None` when no rotation gives a pose that keeps the
+/// shared hard rules.
+fn place_milp(
+    prep: &Prepared<'_>,
+    k: usize,
+    poses: &[Option<Pose>],
+    fps: &[Rect],
+) -> Option<(Pose, f64)> {
+    let obj = &prep.problem.objects[k];
+    let mut best: Option<(Pose, f64)> = None;
+    for rot in Rot::ALL {
+        let mut obstacles: Vec<Rect> = prep.keep_out.clone();
+        obstacles.extend(prep.windows.iter().filter(|w| obj.height > w.sill_m).map(|w| w.zone));
+        for c in &obj.constraints {
+            if let (Some(Some(tp)), Some(t)) =
+                (poses.get(c.target), prep.problem.objects.get(c.target))
+            {
+                obstacles.push(footprint(tp, t.size));
+            }
+        }
+        for _ in 0..MAX_ROUNDS {
+            let Some(pose) = solve_one(prep, k, rot, poses, &obstacles) else { break };
+            let fp = footprint(&pose, obj.size);
+            let hit: Vec<Rect> = fps.iter().filter(|f| f.overlaps(&fp)).copied().collect();
+            if !hit.is_empty() {
+                obstacles.extend(hit);
+                continue;
+            }
+            if static_rules(
+                &pose,
+                obj.size,
+                obj.height,
+                obj.global,
+                &prep.room,
+                &prep.keep_out,
+                &prep.windows,
+            )
+            .is_some()
+            {
+                break;
+            }
+            let mut all = fps.to_vec();
+            all.push(fp);
+            if !prep.reach.ok(&all) {
+                break;
+            }
+            let mut s = fast_score(prep, k, &pose, poses, 10.0);
+            s -= 1e-6 * rot.deg();
+            if best.as_ref().map_or(true, |(_, b)| s > *b + 1e-9) {
+                best = Some((pose, s));
+            }
+            break;
+        }
+    }
+    best
+}
+
+/// The DFS fallback for one object: its best candidate that keeps every hard rule.
+fn place_fallback(
+    prep: &Prepared<'_>,
+    k: usize,
+    seed: u64,
+    poses: &[Option<Pose>],
+    fps: &[Rect],
+) -> Result<Pose, (HardRule, String)> {
+    let (mut cands, fails) = static_candidates(prep, k, seed);
+    cands.extend(derived_candidates(prep, k, poses));
+    if cands.is_empty() {
+        return Err(super::dfs::static_reason(&fails));
+    }
+    let mut free: Vec<(Pose, Rect, f64)> = cands
+        .iter()
+        .filter(|c| !fps.iter().any(|f| f.overlaps(&c.fp)))
+        .map(|c| (c.pose, c.fp, fast_score(prep, k, &c.pose, poses, 10.0)))
+        .collect();
+    if free.is_empty() {
+        return Err((
+            HardRule::NoOverlap,
+            "every pose overlaps an object already placed".to_string(),
+        ));
+    }
+    free.sort_by(|a, b| b.2.total_cmp(&a.2));
+    for (pose, fp, _) in free.iter().take(24) {
+        let mut all = fps.to_vec();
+        all.push(*fp);
+        if prep.reach.ok(&all) {
+            return Ok(*pose);
+        }
+    }
+    Err((
+        HardRule::Reachable,
+        "every pose left would leave a placed object unreachable from the door".to_string(),
+    ))
+}
+
+/// Places the floor objects one by one with the MILP, falling back to the DFS candidates.
+pub(crate) fn solve(prep: &Prepared<'_>, options: &SolveOptions) -> RoomLayout {
+    let n = prep.problem.objects.len();
+    let mut poses: Vec<Option<Pose>> = vec![None; n];
+    let mut fps: Vec<Rect> = Vec::new();
+    let mut by = vec!["milp"; n];
+    let mut layout = RoomLayout::default();
+    let mut fails: Vec<Option<(HardRule, String)>> = vec![None; n];
+    for k in 0..n {
+        let obj = &prep.problem.objects[k];
+        layout.nodes += 1;
+        if let Some(pin) = obj.pin {
+            let fp = footprint(&pin, obj.size);
+            if let Some(rule) = static_rules(
+                &pin,
+                obj.size,
+                obj.height,
+                obj.global,
+                &prep.room,
+                &prep.keep_out,
+                &prep.windows,
+            )
+            .or_else(|| fps.iter().any(|f| f.overlaps(&fp)).then_some(HardRule::NoOverlap))
+            {
+                layout.pinned_breaks.push((k, rule));
+            }
+            poses[k] = Some(pin);
+            fps.push(fp);
+            by[k] = "pin";
+            continue;
+        }
+        match place_milp(prep, k, &poses, &fps) {
+            Some((pose, _)) => {
+                poses[k] = Some(pose);
+                fps.push(footprint(&pose, obj.size));
+            }
+            None => match place_fallback(prep, k, options.seed, &poses, &fps) {
+                Ok(pose) => {
+                    poses[k] = Some(pose);
+                    fps.push(footprint(&pose, obj.size));
+                    by[k] = "dfs";
+                }
+                Err(reason) => fails[k] = Some(reason),
+            },
+        }
+    }
+    for k in 0..n {
+        let obj = &prep.problem.objects[k];
+        if let Some(pose) = poses[k] {
+            {
+                let (reports, score) = measure_object(prep.problem, &prep.room, k, &pose, &poses);
+                layout.score += score;
+                layout.floor.push(PlacedFloor {
+                    index: k,
+                    pose,
+                    footprint: footprint(&pose, obj.size),
+                    constraints: reports,
+                    score,
+                    by: by[k],
+                });
+            }
+        } else {
+            {
+                let (rule, reason) =
+                    fails[k].take().unwrap_or((HardRule::NoOverlap, "no pose found".to_string()));
+                layout.unplaced.push(Unplaced {
+                    id: obj.id.clone(),
+                    kind: "floor",
+                    rule: Some(rule),
+                    reason,
+                });
+            }
+        }
+    }
+    layout
+}

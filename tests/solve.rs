@@ -1,0 +1,299 @@
+//! Integration tests of the `solve` stage over the layout corpus (`tests/corpus/solve/`).
+
+#[path = "support/solve_corpus.rs"]
+mod solve_corpus;
+
+use std::fmt::Write as _;
+
+use holoc::check::scene::{GlobalKind, RelationKind};
+use holoc::diag::Code;
+use holoc::solve::{
+    self, FloorObject, ProblemConstraint, RoomLayout, RoomProblem, SolveOptions, Solver,
+};
+use proptest::prelude::*;
+
+/// The layout as text with fixed precision, for snapshots.
+fn dump(problem: &RoomProblem, layout: &RoomLayout) -> String {
+    let mut s = String::new();
+    let (ok, total) = layout.constraint_tally(problem);
+    let _ =
+        writeln!(s, "room {}: {ok}/{total} constraints, score {:.3}", problem.name, layout.score);
+    for p in &layout.floor {
+        let o = &problem.objects[p.index];
+        let _ = writeln!(
+            s,
+            "floor {} at ({:.3}, {:.3}) rot {} by {} score {:.3}",
+            o.id,
+            p.pose.x,
+            p.pose.z,
+            p.pose.rot.deg(),
+            p.by,
+            p.score
+        );
+        for c in &p.constraints {
+            let _ = writeln!(
+                s,
+                "  {} {} {:.3} {}",
+                if c.measure.satisfied { "ok  " } else { "FAIL" },
+                c.text,
+                (c.measure.value * 1000.0).round() / 1000.0 + 0.0, // no `-0.000`
+                c.measure.unit
+            );
+        }
+    }
+    for (kind, list) in [("wall", &layout.wall), ("small", &layout.small)] {
+        for p in list {
+            let [x, y, z] = p.position_m;
+            let _ =
+                writeln!(s, "{kind} {} at ({x:.3}, {y:.3}, {z:.3}) rot {}", p.id, p.rotation_deg);
+        }
+    }
+    if let Some(c) = &layout.ceiling {
+        let [x, y, z] = c.position_m;
+        let _ = writeln!(s, "ceiling {} at ({x:.3}, {y:.3}, {z:.3})", c.id);
+    }
+    for u in &layout.unplaced {
+        let _ = writeln!(s, "unplaced {} {}: {}", u.kind, u.id, u.reason);
+    }
+    s
+}
+
+fn check_hard_rules(problem: &RoomProblem, layout: &RoomLayout) {
+    let room = solve::RoomShape::new(&problem.outline).expect("corpus rooms are valid");
+    for (i, a) in layout.floor.iter().enumerate() {
+        assert!(
+            room.contains_rect(&a.footprint),
+            "{}: {} outside",
+            problem.name,
+            problem.objects[a.index].id
+        );
+        for b in &layout.floor[i + 1..] {
+            assert!(
+                !a.footprint.overlaps(&b.footprint),
+                "{}: {} overlaps {}",
+                problem.name,
+                problem.objects[a.index].id,
+                problem.objects[b.index].id
+            );
+        }
+        for k in &problem.keep_out {
+            let r = solve::Rect::bounding(k);
+            assert!(
+                !a.footprint.overlaps(&r),
+                "{}: {} in a door zone",
+                problem.name,
+                problem.objects[a.index].id
+            );
+        }
+        assert!(a.constraints[0].measure.satisfied, "{}: global broken", problem.name);
+    }
+}
+
+#[test]
+fn corpus_layouts_snapshot_and_keep_hard_rules() {
+    for (name, problem) in solve_corpus::load_all() {
+        let out = solve::solve_room(&problem, &SolveOptions::default());
+        assert!(!out.has_errors(), "{name}: {:?}", out.diagnostics);
+        check_hard_rules(&problem, &out.value);
+        insta::with_settings!({snapshot_path => "../snapshots/solve", prepend_module_to_snapshot => false}, {
+            insta::assert_snapshot!(format!("dfs_{name}"), dump(&problem, &out.value));
+        });
+    }
+}
+
+#[test]
+fn milp_layouts_keep_hard_rules() {
+    for (name, problem) in solve_corpus::load_all() {
+        if problem.objects.len() > 14 {
+            continue; // the big rooms are covered by the benchmark
+        }
+        let opts = SolveOptions { solver: Solver::Milp, ..SolveOptions::default() };
+        let out = solve::solve_room(&problem, &opts);
+        assert!(!out.has_errors(), "{name}: {:?}", out.diagnostics);
+        check_hard_rules(&problem, &out.value);
+        insta::with_settings!({snapshot_path => "../snapshots/solve", prepend_module_to_snapshot => false}, {
+            insta::assert_snapshot!(format!("milp_{name}"), dump(&problem, &out.value));
+        });
+    }
+}
+
+#[test]
+fn same_seed_same_layout_byte_for_byte() {
+    for (_, problem) in solve_corpus::load_all().into_iter().take(8) {
+        let opts = SolveOptions { seed: 7, ..SolveOptions::default() };
+        let a = dump(&problem, &solve::solve_room(&problem, &opts).value);
+        let b = dump(&problem, &solve::solve_room(&problem, &opts).value);
+        assert_eq!(a, b);
+    }
+}
+
+#[test]
+fn infeasible_objects_are_reported_and_the_rest_placed() {
+    let path = solve_corpus::corpus_dir().join("infeasible.json");
+    let problem = solve_corpus::load(&path);
+    let out = solve::solve_room(&problem, &SolveOptions::default());
+    let layout = &out.value;
+    assert!(layout.unplaced.iter().any(|u| u.id == "bed-0"));
+    assert!(
+        layout.floor.iter().any(|p| problem.objects[p.index].id == "plant-0"),
+        "later objects still placed"
+    );
+    assert!(out.diagnostics.iter().any(|d| d.code == Code::W0501 && d.message.contains("bed-0")));
+}
+
+#[test]
+fn middle_is_enforced() {
+    for (_, problem) in solve_corpus::load_all() {
+        let out = solve::solve_room(&problem, &SolveOptions::default());
+        let room = solve::RoomShape::new(&problem.outline).expect("valid");
+        for p in &out.value.floor {
+            if problem.objects[p.index].global == GlobalKind::Middle {
+                assert!(room.contains_rect(&p.footprint.grow(solve::constraints::MIDDLE_GAP_M)));
+            }
+        }
+    }
+}
+
+#[test]
+fn doors_are_never_boxed_in() {
+    // A room 3 m deep with a door at the south: a wall of cabinets across the room would cut
+    // the north half off; the solver must keep everything reachable.
+    let mut objects = Vec::new();
+    for k in 0..8 {
+        objects.push(FloorObject {
+            id: format!("cabinet-{k}"),
+            size: [1.0, 0.6],
+            height: 1.2,
+            global: GlobalKind::Middle,
+            constraints: if k == 0 {
+                Vec::new()
+            } else {
+                vec![ProblemConstraint { kind: RelationKind::Near, target: k - 1, span: None }]
+            },
+            pin: None,
+            span: None,
+        });
+    }
+    let problem = RoomProblem {
+        name: "corridor".into(),
+        outline: vec![[0.0, 0.0], [0.0, 4.0], [3.0, 4.0], [3.0, 0.0]],
+        wall_height: 2.7,
+        keep_out: vec![vec![[1.0, 0.0], [1.0, 1.0], [2.0, 1.0], [2.0, 0.0]]],
+        walls: Vec::new(),
+        objects,
+        wall_objects: Vec::new(),
+        small_objects: Vec::new(),
+        ceiling: None,
+        span: None,
+    };
+    let out = solve::solve_room(&problem, &SolveOptions::default());
+    let room = solve::RoomShape::new(&problem.outline).expect("valid");
+    let grid =
+        solve::constraints::ReachGrid::new(&room, &[solve::Rect::bounding(&problem.keep_out[0])]);
+    let fps: Vec<_> = out.value.floor.iter().map(|p| p.footprint).collect();
+    assert!(grid.unreachable(&fps).is_empty());
+    assert!(grid.ok(&fps));
+}
+
+fn random_problem(sizes: Vec<(f64, f64, bool)>, w: f64, d: f64) -> RoomProblem {
+    let objects = sizes
+        .iter()
+        .enumerate()
+        .map(|(k, &(sw, sd, middle))| FloorObject {
+            id: format!("obj-{k}"),
+            size: [sw, sd],
+            height: 0.8,
+            global: if middle { GlobalKind::Middle } else { GlobalKind::Edge },
+            constraints: if k == 0 {
+                Vec::new()
+            } else {
+                vec![ProblemConstraint { kind: RelationKind::Near, target: k - 1, span: None }]
+            },
+            pin: None,
+            span: None,
+        })
+        .collect();
+    RoomProblem {
+        name: "random".into(),
+        outline: vec![
+            [0.0, 0.0],
+            [0.0, d],
+            [w, d],
+            [w, d / 2.0],
+            [w / 2.0, d / 2.0],
+            [w / 2.0, 0.0],
+        ],
+        wall_height: 2.7,
+        keep_out: vec![vec![[0.0, 0.0], [0.0, 0.9], [0.9, 0.9], [0.9, 0.0]]],
+        walls: Vec::new(),
+        objects,
+        wall_objects: Vec::new(),
+        small_objects: Vec::new(),
+        ceiling: None,
+        span: None,
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(24))]
+    #[test]
+    fn placed_footprints_never_overlap_and_stay_inside(
+        sizes in prop::collection::vec((0.3f64..2.0, 0.3f64..1.5, any::<bool>()), 1..8),
+        w in 3.0f64..7.0,
+        d in 3.0f64..7.0,
+        seed in 0u64..1000,
+    ) {
+        let problem = random_problem(sizes, w, d);
+        let out = solve::solve_room(&problem, &SolveOptions { seed, node_budget: 60, ..SolveOptions::default() });
+        prop_assert!(!out.has_errors());
+        let room = solve::RoomShape::new(&problem.outline).expect("valid");
+        let fl = &out.value.floor;
+        for (i, a) in fl.iter().enumerate() {
+            prop_assert!(room.contains_rect(&a.footprint));
+            for b in &fl[i + 1..] {
+                prop_assert!(!a.footprint.overlaps(&b.footprint));
+            }
+        }
+        prop_assert_eq!(fl.len() + out.value.unplaced.len(), problem.objects.len());
+    }
+}
+
+#[test]
+fn example_scene_rooms_solve_from_the_checked_scene() {
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/examples/apartment_1b1b.holo"
+    ))
+    .expect("example exists");
+    let mut sources = holoc::source::SourceMap::new();
+    let id = sources.add("apartment_1b1b.holo", text);
+    let checked = holoc::compile::check_file(&sources, id);
+    let Some(scene) = checked.value else { panic!("example checks: {:?}", checked.diagnostics) };
+    let mut out = String::new();
+    for room in &scene.rooms {
+        let problem =
+            solve::room_problem(&scene, room.id, &solve::WrittenSizes, Vec::new(), Vec::new());
+        let layout = solve::solve_room(&problem, &SolveOptions::default());
+        assert!(!layout.has_errors(), "{:?}", layout.diagnostics);
+        check_hard_rules(&problem, &layout.value);
+        out.push_str(&dump(&problem, &layout.value));
+    }
+    insta::with_settings!({snapshot_path => "../snapshots/solve", prepend_module_to_snapshot => false}, {
+        insta::assert_snapshot!("scene_apartment_1b1b", out);
+    });
+}
+
+#[test]
+fn unusable_rooms_and_objects_are_errors_not_panics() {
+    let mut problem = random_problem(vec![(1.0, 1.0, false)], 4.0, 4.0);
+    problem.outline = vec![[0.0, 0.0], [0.0, 4.0], [3.0, 5.0], [3.0, 0.0]];
+    let out = solve::solve_room(&problem, &SolveOptions::default());
+    assert!(out.diagnostics.iter().any(|d| d.code == Code::E0501));
+    let mut problem = random_problem(vec![(1.0, 1.0, false)], 4.0, 4.0);
+    problem.outline = vec![[0.0, 0.0], [0.0, 1e9], [1e9, 1e9], [1e9, 0.0]];
+    assert!(solve::solve_room(&problem, &SolveOptions::default()).has_errors());
+    let mut problem = random_problem(vec![(f64::NAN, 1.0, false), (1.0, 1.0, true)], 4.0, 4.0);
+    problem.objects[1].constraints[0].target = 5;
+    let out = solve::solve_room(&problem, &SolveOptions::default());
+    assert_eq!(out.diagnostics.iter().filter(|d| d.code == Code::E0502).count(), 2);
+}
