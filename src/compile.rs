@@ -9,6 +9,7 @@ use crate::lower::{HouseJson, LoweredObject};
 use crate::plan::{FloorPlan, PlanOptions};
 use crate::resolve::structure::StructureCatalog;
 use crate::resolve::{Catalog, Resolved};
+use crate::solve::{Layout, SolveOptions, Solver};
 use crate::source::{FileId, SourceMap};
 
 /// Parses and checks one file. The scene is `None` when the file has syntax errors.
@@ -33,6 +34,10 @@ pub struct BuildOptions<'a> {
     pub plan: PlanOptions,
     /// The asset catalog objects are resolved against.
     pub catalog: &'a Catalog,
+    /// The floor solver.
+    pub solver: Solver,
+    /// The search budget per room (`None`: the solver's default).
+    pub node_budget: Option<u64>,
 }
 
 /// Everything a build produced, stage by stage.
@@ -44,6 +49,8 @@ pub struct Built {
     pub plan: FloorPlan,
     /// The chosen assets.
     pub resolved: Resolved,
+    /// The solved layout.
+    pub layout: Layout,
     /// The objects as they go into the house.
     pub objects: Vec<LoweredObject>,
     /// The house.
@@ -81,9 +88,19 @@ pub fn build(
         return Outcome::new(None, diagnostics);
     }
     let resolved = resolved.value;
-    let objects: Vec<LoweredObject> = Vec::new();
+    let mut solve_options = SolveOptions { solver: options.solver, seed: scene.seed, ..SolveOptions::default() };
+    if let Some(budget) = options.node_budget {
+        solve_options.node_budget = budget;
+    }
+    let solved = crate::solve::solve(&scene, &plan, &resolved, &solve_options);
+    diagnostics.extend(solved.diagnostics);
+    if has_errors(&diagnostics) {
+        return Outcome::new(None, diagnostics);
+    }
+    let layout = solved.value;
+    let objects = layout.lowered(&scene, &plan, &resolved);
     let house = crate::lower::lower(&scene, &plan, &objects);
-    Outcome::new(Some(Built { scene, plan, resolved, objects, house }), diagnostics)
+    Outcome::new(Some(Built { scene, plan, resolved, layout, objects, house }), diagnostics)
 }
 
 /// Runs every stage on one file as far as it gets, with the embedded catalogs, and returns all
@@ -91,6 +108,12 @@ pub fn build(
 /// against).
 pub fn diagnose(sources: &SourceMap, file: FileId) -> Vec<Diagnostic> {
     let catalog = Catalog::embedded();
-    let options = BuildOptions { seed: None, plan: PlanOptions::default(), catalog: &catalog };
+    let options = BuildOptions {
+        seed: None,
+        plan: PlanOptions::default(),
+        catalog: &catalog,
+        solver: Solver::Dfs,
+        node_budget: None,
+    };
     build(sources, file, &options).diagnostics
 }

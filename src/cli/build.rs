@@ -1,21 +1,40 @@
-//! `holoc build SCENE.holo [-o house.json] [--seed N] [--emit plan|house] [--add-doors]`.
+//! `holoc build SCENE.holo [-o house.json] [--seed N] [--emit STAGE] [--report FILE] …`.
 
 use super::common::{self, ColorChoice, DiagFormat};
 use crate::compile::BuildOptions;
 use crate::plan::PlanOptions;
+use crate::solve::Solver;
 use crate::source::SourceMap;
 use clap::ValueEnum;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-/// What `holoc build` prints.
+/// What `holoc build` prints: the dump of one stage, or the house.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
 pub enum Emit {
-    /// The human-readable floor-plan dump (what the plan snapshots show).
+    /// The syntax tree.
+    Ast,
+    /// The checked scene.
+    Scene,
+    /// The floor plan: rooms, walls, doors, windows, keep-out zones.
     Plan,
+    /// The chosen assets with their scores.
+    Resolved,
+    /// The solved layout.
+    Layout,
     /// The AI2-THOR house JSON.
     #[default]
     House,
+}
+
+/// The floor solver, as named on the command line.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
+pub enum SolverArg {
+    /// Depth-first search with branch and bound (default).
+    #[default]
+    Dfs,
+    /// Mixed-integer linear programming (good_lp).
+    Milp,
 }
 
 /// Arguments of `holoc build`.
@@ -32,6 +51,15 @@ pub struct BuildArgs {
     /// What to produce.
     #[arg(long, value_enum, default_value_t = Emit::House)]
     pub emit: Emit,
+    /// Also write the build report (assets, poses, constraints, objects left out) to this file.
+    #[arg(long)]
+    pub report: Option<PathBuf>,
+    /// The floor solver.
+    #[arg(long, value_enum, default_value_t = SolverArg::Dfs)]
+    pub solver: SolverArg,
+    /// The search budget per room (poses tried); the search never looks at the clock.
+    #[arg(long)]
+    pub node_budget: Option<u64>,
     /// Add a doorway for every room that cannot be reached from outside (warning W0302)
     /// instead of failing with E0314/E0315.
     #[arg(long)]
@@ -57,6 +85,9 @@ pub fn run(args: &BuildArgs) -> ExitCode {
             return ExitCode::from(2);
         }
     };
+    if matches!(args.emit, Emit::Ast | Emit::Scene) {
+        return emit_front(&sources, file, args);
+    }
     let loaded = args.catalogs.load(&mut sources);
     if loaded.has_errors() {
         common::emit(&sources, &loaded.diagnostics, args.format, args.color);
@@ -67,6 +98,11 @@ pub fn run(args: &BuildArgs) -> ExitCode {
         seed: args.seed,
         plan: PlanOptions { add_doors: args.add_doors },
         catalog: &catalog,
+        solver: match args.solver {
+            SolverArg::Dfs => Solver::Dfs,
+            SolverArg::Milp => Solver::Milp,
+        },
+        node_budget: args.node_budget,
     };
     let mut built = crate::compile::build(&sources, file, &options);
     built.diagnostics.splice(0..0, loaded.diagnostics);
@@ -76,11 +112,47 @@ pub fn run(args: &BuildArgs) -> ExitCode {
     };
     let text = match args.emit {
         Emit::Plan => product.plan.dump(&product.scene),
-        Emit::House => product.house.to_json_string(),
+        Emit::Resolved => product.resolved.dump(&product.scene, &catalog),
+        Emit::Layout => product.layout.dump(&product.scene),
+        Emit::House | Emit::Ast | Emit::Scene => product.house.to_json_string(),
     };
+    if let Some(path) = &args.report {
+        let report = crate::report::report(&product, &catalog);
+        let mut json = serde_json::to_string_pretty(&report).unwrap_or_default();
+        json.push('\n');
+        if let Err(d) = common::write_atomic(path, json.as_bytes()) {
+            common::emit_plain(&d);
+            return ExitCode::from(2);
+        }
+    }
     if let Err(d) = common::write_output(args.output.as_deref(), &text) {
         common::emit_plain(&d);
         return ExitCode::from(2);
     }
     common::exit_for(&built.diagnostics)
+}
+
+/// `--emit ast` and `--emit scene`: the front end only.
+fn emit_front(sources: &SourceMap, file: crate::source::FileId, args: &BuildArgs) -> ExitCode {
+    let parsed = crate::parse::parse(sources, file);
+    let text = if args.emit == Emit::Ast {
+        common::emit(sources, &parsed.diagnostics, args.format, args.color);
+        format!("{:#?}\n", parsed.value.items)
+    } else {
+        let checked = crate::compile::check_file(sources, file);
+        common::emit(sources, &checked.diagnostics, args.format, args.color);
+        match &checked.value {
+            Some(scene) if !checked.has_errors() => crate::check::dump(scene),
+            _ => return common::exit_for(&checked.diagnostics),
+        }
+    };
+    if let Err(d) = common::write_output(args.output.as_deref(), &text) {
+        common::emit_plain(&d);
+        return ExitCode::from(2);
+    }
+    if parsed.has_errors() {
+        ExitCode::from(1)
+    } else {
+        ExitCode::SUCCESS
+    }
 }

@@ -1,1 +1,105 @@
-//! The `report` stage (being written).
+//! The build report (`holoc build --report report.json`): for every object, the chosen asset
+//! with its score parts and runner-up, its pose, each constraint satisfied or violated with the
+//! measured value, and every object that was left out with the reason.
+//!
+//! **Invariant:** the report is built from the stages' values with `serde_json::json!`; the
+//! internal types are not `Serialize`. Object order is the scene's; numbers are rounded to
+//! 1e-4 so that the report is stable.
+
+use crate::compile::Built;
+use crate::resolve::Catalog;
+use serde_json::{json, Value};
+
+/// The version of the report's format; raised on any change to it.
+pub const REPORT_VERSION: u32 = 1;
+
+fn r4(v: f64) -> f64 {
+    let r = (v * 10_000.0).round() / 10_000.0;
+    if r == 0.0 {
+        0.0
+    } else {
+        r
+    }
+}
+
+/// Builds the report of a build.
+pub fn report(built: &Built, catalog: &Catalog) -> Value {
+    let assets = crate::resolve::report(&built.scene, catalog, &built.resolved);
+    let mut rooms = Vec::new();
+    for solved in &built.layout.rooms {
+        let room = built.scene.room(solved.room);
+        let mut floor = Vec::new();
+        for placed in &solved.layout.floor {
+            let object = &solved.problem.objects[placed.index];
+            let constraints: Vec<Value> = placed
+                .constraints
+                .iter()
+                .map(|c| {
+                    json!({
+                        "constraint": c.text,
+                        "satisfied": c.measure.satisfied,
+                        "measured": r4(c.measure.value),
+                        "unit": c.measure.unit,
+                        "score": r4(c.measure.score),
+                    })
+                })
+                .collect();
+            floor.push(json!({
+                "object": object.id,
+                "position": {"x": r4(placed.pose.x), "z": r4(placed.pose.z)},
+                "rotation": placed.pose.rot.deg(),
+                "footprint": {
+                    "min_x": r4(placed.footprint.min_x), "min_z": r4(placed.footprint.min_z),
+                    "max_x": r4(placed.footprint.max_x), "max_z": r4(placed.footprint.max_z),
+                },
+                "score": r4(placed.score),
+                "placed_by": placed.by,
+                "constraints": constraints,
+            }));
+        }
+        let others = |list: &[crate::solve::PlacedObject]| -> Vec<Value> {
+            list.iter()
+                .map(|p| {
+                    json!({
+                        "object": p.id,
+                        "position": {"x": r4(p.position_m[0]), "y": r4(p.position_m[1]), "z": r4(p.position_m[2])},
+                        "rotation": r4(p.rotation_deg),
+                    })
+                })
+                .collect()
+        };
+        let unplaced: Vec<Value> = solved
+            .layout
+            .unplaced
+            .iter()
+            .map(|u| {
+                json!({
+                    "object": u.id,
+                    "kind": u.kind,
+                    "rule": u.rule.map(crate::solve::HardRule::describe),
+                    "reason": u.reason,
+                })
+            })
+            .collect();
+        let (satisfied, total) = solved.layout.constraint_tally(&solved.problem);
+        rooms.push(json!({
+            "room": room.name,
+            "label": room.label,
+            "floor_objects": floor,
+            "wall_objects": others(&solved.layout.wall),
+            "small_objects": others(&solved.layout.small),
+            "ceiling": solved.layout.ceiling.as_ref().map(|c| others(std::slice::from_ref(c))),
+            "not_placed": unplaced,
+            "constraints_satisfied": satisfied,
+            "constraints_total": total,
+            "search_nodes": solved.layout.nodes,
+        }));
+    }
+    json!({
+        "version": REPORT_VERSION,
+        "request": built.scene.request,
+        "seed": built.scene.seed,
+        "assets": assets,
+        "layout": rooms,
+    })
+}

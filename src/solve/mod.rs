@@ -14,6 +14,7 @@ mod dfs;
 mod errors;
 mod milp;
 mod others;
+mod pipeline;
 mod scene;
 
 use crate::check::scene::{GlobalKind, RelationKind};
@@ -21,6 +22,7 @@ use crate::diag::{Diagnostic, Outcome};
 use crate::source::Span;
 
 pub use constraints::{HardRule, Measure, Pose, Rect, RoomShape, Rot};
+pub use pipeline::{solve, Layout, SolvedRoom};
 pub use scene::{room_problem, Sizes, WrittenSizes};
 
 /// Which floor solver to run.

@@ -1,0 +1,299 @@
+//! The solve stage over a whole scene: builds one [`RoomProblem`] per room from the checked
+//! scene, the floor plan and the resolved assets, solves it, and turns the poses into the
+//! objects the house is lowered with.
+//!
+//! Objects whose asset could not be resolved are left out of the problems (the resolve stage has
+//! reported them), so they take no space and constraints naming them are dropped.
+
+use super::{room_problem, RoomLayout, RoomProblem, SolveOptions, Sizes, WallHole, WallSegment};
+use crate::check::scene::{ObjectId, RoomId, Scene, SmallItem};
+use crate::diag::Outcome;
+use crate::lower::LoweredObject;
+use crate::plan::{FloorPlan, HoleKind};
+use crate::resolve::{Resolution, Resolved};
+use std::collections::BTreeMap;
+
+/// The solved layout of every room.
+#[derive(Clone, Debug)]
+pub struct Layout {
+    /// One entry per room, in room order.
+    pub rooms: Vec<SolvedRoom>,
+}
+
+/// One solved room.
+#[derive(Clone, Debug)]
+pub struct SolvedRoom {
+    /// The room.
+    pub room: RoomId,
+    /// The problem that was solved.
+    pub problem: RoomProblem,
+    /// The solution.
+    pub layout: RoomLayout,
+    /// The scene object of each floor object of the problem, in problem order.
+    pub floor_ids: Vec<ObjectId>,
+    /// The scene object of each wall object of the problem.
+    pub wall_ids: Vec<ObjectId>,
+    /// For each small object of the problem: the receptacle, the `on top` line and the copy.
+    pub small_keys: Vec<(ObjectId, usize, u32)>,
+}
+
+/// Sizes from the resolved assets: `[width, depth, height]` = the bounding box's `(x, z, y)`.
+struct ResolvedSizes<'a> {
+    scene: &'a Scene,
+    resolved: &'a Resolved,
+}
+
+fn bbox_to_size(b: [f64; 3]) -> [f64; 3] {
+    [b[0], b[2], b[1]]
+}
+
+impl Sizes for ResolvedSizes<'_> {
+    fn object(&self, object: &crate::check::scene::Object) -> [f64; 3] {
+        self.resolved
+            .object(object.id)
+            .map_or_else(|| object.size_m.unwrap_or([0.5, 0.5, 0.5]), |c| bbox_to_size(c.bbox_m))
+    }
+
+    fn small(&self, item: &SmallItem) -> [f64; 3] {
+        // The item is identified by address: it lives in the scene the problem is built from.
+        for o in &self.scene.objects {
+            if let Some(k) = o.on_top.iter().position(|t| std::ptr::eq(t, item)) {
+                if let Some(choice) = self
+                    .resolved
+                    .small
+                    .get(&(o.id, k))
+                    .and_then(|v| v.iter().find_map(Resolution::choice))
+                {
+                    return bbox_to_size(choice.bbox_m);
+                }
+            }
+        }
+        [0.2, 0.2, 0.2]
+    }
+
+    fn ceiling(&self, room: RoomId) -> [f64; 3] {
+        self.resolved.ceilings.get(&room).and_then(Resolution::choice).map_or([0.5, 0.5, 0.3], |c| bbox_to_size(c.bbox_m))
+    }
+}
+
+/// Solves every room of the scene.
+pub fn solve(scene: &Scene, plan: &FloorPlan, resolved: &Resolved, options: &SolveOptions) -> Outcome<Layout> {
+    // The scene without the objects that have no asset.
+    let mut kept = scene.clone();
+    for room in &mut kept.rooms {
+        room.objects.retain(|id| resolved.object(*id).is_some());
+    }
+    let sizes = ResolvedSizes { scene: &kept, resolved };
+    let mut diagnostics = Vec::new();
+    let mut rooms = Vec::new();
+    for room in &kept.rooms {
+        let plan_room = plan.room(room.id);
+        let mut keep_out: Vec<Vec<[f64; 2]>> = plan_room.door_keep_out.clone();
+        keep_out.extend(plan_room.open_boxes.iter().cloned());
+        let walls: Vec<WallSegment> = plan
+            .room_walls(room.id)
+            .filter(|w| !w.exterior)
+            .map(|w| {
+                let mut holes = Vec::new();
+                if let Some(h) = &w.hole {
+                    holes.push(WallHole {
+                        from_m: h.start_m,
+                        to_m: h.end_m,
+                        bottom_m: h.bottom_m,
+                        top_m: h.top_m,
+                        window: h.kind == HoleKind::Window,
+                    });
+                }
+                if w.empty {
+                    holes.push(WallHole { from_m: 0.0, to_m: w.width_m, bottom_m: 0.0, top_m: scene.wall_height_m, window: false });
+                }
+                WallSegment { a: w.start, b: w.end, holes }
+            })
+            .collect();
+        let mut problem = room_problem(&kept, room.id, &sizes, keep_out, walls);
+        problem.outline.clone_from(&plan_room.corners);
+        if room.ceiling.is_some() && !resolved.ceilings.get(&room.id).is_some_and(|r| r.choice().is_some()) {
+            problem.ceiling = None;
+        }
+        let floor_ids: Vec<ObjectId> = room.objects.iter().copied().filter(|id| kept.object(*id).is_floor()).collect();
+        let wall_ids: Vec<ObjectId> = room.objects.iter().copied().filter(|id| !kept.object(*id).is_floor()).collect();
+        let mut small_keys = Vec::new();
+        for &id in &floor_ids {
+            for (k, item) in kept.object(id).on_top.iter().enumerate() {
+                for i in 0..item.count {
+                    small_keys.push((id, k, i));
+                }
+            }
+        }
+        // Each copy of a small object has its own asset, hence its own size.
+        for (small, &(receptacle, line, copy)) in problem.small_objects.iter_mut().zip(&small_keys) {
+            if let Some(choice) =
+                resolved.small.get(&(receptacle, line)).and_then(|v| v.get(copy as usize)).and_then(Resolution::choice)
+            {
+                small.size = bbox_to_size(choice.bbox_m);
+            }
+        }
+        let room_options = SolveOptions { seed: options.seed ^ (room.id.0 as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15), ..*options };
+        let solved = super::solve_room(&problem, &room_options);
+        diagnostics.extend(solved.diagnostics);
+        rooms.push(SolvedRoom { room: room.id, problem, layout: solved.value, floor_ids, wall_ids, small_keys });
+    }
+    Outcome::new(Layout { rooms }, diagnostics)
+}
+
+fn round6(v: f64) -> f64 {
+    let r = (v * 1e6).round() / 1e6;
+    if r == 0.0 {
+        0.0
+    } else {
+        r
+    }
+}
+
+fn position(p: [f64; 3]) -> [f64; 3] {
+    [round6(p[0]), round6(p[1]), round6(p[2])]
+}
+
+impl Layout {
+    /// The objects of the house: floor, wall, small and ceiling objects, room by room.
+    pub fn lowered(&self, scene: &Scene, plan: &FloorPlan, resolved: &Resolved) -> Vec<LoweredObject> {
+        let mut out = Vec::new();
+        for solved in &self.rooms {
+            let label = &plan.room(solved.room).thor_id;
+            let by_name: BTreeMap<&str, usize> =
+                solved.problem.objects.iter().enumerate().map(|(i, o)| (o.id.as_str(), i)).collect();
+            for placed in &solved.layout.floor_world {
+                let Some(&index) = by_name.get(placed.id.as_str()) else { continue };
+                let id = solved.floor_ids[index];
+                let Some(choice) = resolved.object(id) else { continue };
+                let name = &scene.object(id).name;
+                out.push(LoweredObject {
+                    id: format!("{name} ({label})"),
+                    asset_id: choice.asset_id.clone(),
+                    room: solved.room,
+                    position_m: position(placed.position_m),
+                    rotation_deg: [0.0, placed.rotation_deg, 0.0],
+                    kinematic: true,
+                    object_name: name.clone(),
+                });
+            }
+            let wall_index: BTreeMap<&str, usize> =
+                solved.problem.wall_objects.iter().enumerate().map(|(i, o)| (o.id.as_str(), i)).collect();
+            for placed in &solved.layout.wall {
+                let Some(&index) = wall_index.get(placed.id.as_str()) else { continue };
+                let id = solved.wall_ids[index];
+                let Some(choice) = resolved.object(id) else { continue };
+                let name = &scene.object(id).name;
+                out.push(LoweredObject {
+                    id: format!("{name} ({label})"),
+                    asset_id: choice.asset_id.clone(),
+                    room: solved.room,
+                    position_m: position(placed.position_m),
+                    rotation_deg: [0.0, placed.rotation_deg, 0.0],
+                    kinematic: true,
+                    object_name: name.clone(),
+                });
+            }
+            // Small objects: the problem lists them in the order of `small_keys`; ids may repeat
+            // (two `on top` lines naming the same item), so they are matched in order.
+            let mut by_id: BTreeMap<&str, Vec<usize>> = BTreeMap::new();
+            for (i, s) in solved.problem.small_objects.iter().enumerate().rev() {
+                by_id.entry(s.id.as_str()).or_default().push(i);
+            }
+            for placed in &solved.layout.small {
+                let Some(index) = by_id.get_mut(placed.id.as_str()).and_then(Vec::pop) else { continue };
+                let (receptacle, line, copy) = solved.small_keys[index];
+                let Some(choice) = resolved
+                    .small
+                    .get(&(receptacle, line))
+                    .and_then(|v| v.get(copy as usize))
+                    .and_then(Resolution::choice)
+                else {
+                    continue;
+                };
+                let receptacle_name = &scene.object(receptacle).name;
+                let b = choice.bbox_m;
+                let small = b[0] <= 0.25 && b[1] <= 0.25 && b[2] <= 0.25;
+                out.push(LoweredObject {
+                    id: format!("{}|{receptacle_name} ({label})", placed.id.split('|').next().unwrap_or(&placed.id)),
+                    asset_id: choice.asset_id.clone(),
+                    room: solved.room,
+                    position_m: position(placed.position_m),
+                    rotation_deg: [0.0, placed.rotation_deg, 0.0],
+                    kinematic: !small,
+                    object_name: placed.id.split('|').next().unwrap_or(&placed.id).to_string(),
+                });
+            }
+            if let (Some(placed), Some(choice)) =
+                (&solved.layout.ceiling, resolved.ceilings.get(&solved.room).and_then(Resolution::choice))
+            {
+                out.push(LoweredObject {
+                    id: format!("ceiling ({label})"),
+                    asset_id: choice.asset_id.clone(),
+                    room: solved.room,
+                    position_m: position(placed.position_m),
+                    rotation_deg: [0.0, placed.rotation_deg, 0.0],
+                    kinematic: true,
+                    object_name: "ceiling".to_string(),
+                });
+            }
+        }
+        out
+    }
+}
+
+fn n(v: f64) -> String {
+    crate::ast::format_number(round6((v * 1000.0).round() / 1000.0))
+}
+
+impl Layout {
+    /// A human-readable dump (`holoc build --emit layout`, the layout snapshots).
+    pub fn dump(&self, scene: &Scene) -> String {
+        use std::fmt::Write as _;
+        let mut out = String::new();
+        for solved in &self.rooms {
+            let room = scene.room(solved.room);
+            let (ok, total) = solved.layout.constraint_tally(&solved.problem);
+            let _ = writeln!(out, "room {} ({ok}/{total} constraints hold)", room.name);
+            for placed in &solved.layout.floor {
+                let o = &solved.problem.objects[placed.index];
+                let failed: Vec<String> = placed
+                    .constraints
+                    .iter()
+                    .filter(|c| !c.measure.satisfied)
+                    .map(|c| format!("{} ({} {})", c.text, n(c.measure.value), c.measure.unit))
+                    .collect();
+                let _ = writeln!(
+                    out,
+                    "  floor {} at ({}, {}) facing {} by {}{}",
+                    o.id,
+                    n(placed.pose.x),
+                    n(placed.pose.z),
+                    placed.pose.rot.deg(),
+                    placed.by,
+                    if failed.is_empty() { String::new() } else { format!("; violated: {}", failed.join(", ")) }
+                );
+            }
+            for (kind, list) in [("wall", &solved.layout.wall), ("small", &solved.layout.small)] {
+                for p in list {
+                    let _ = writeln!(
+                        out,
+                        "  {kind} {} at ({}, {}, {}) facing {}",
+                        p.id,
+                        n(p.position_m[0]),
+                        n(p.position_m[1]),
+                        n(p.position_m[2]),
+                        n(p.rotation_deg)
+                    );
+                }
+            }
+            if let Some(c) = &solved.layout.ceiling {
+                let _ = writeln!(out, "  ceiling at ({}, {}, {})", n(c.position_m[0]), n(c.position_m[1]), n(c.position_m[2]));
+            }
+            for u in &solved.layout.unplaced {
+                let _ = writeln!(out, "  not placed: {} {}: {}", u.kind, u.id, u.reason);
+            }
+        }
+        out
+    }
+}
