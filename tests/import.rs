@@ -122,7 +122,7 @@ fn import_corpus() {
         prepend_module_to_snapshot => false,
         omit_expression => true,
     }, {
-        insta::glob!("corpus/import", "**/*.txt", |path| run_fixture(path));
+        insta::glob!("corpus/import", "**/*.txt", run_fixture);
     });
     let mismatches = MISMATCHES.lock().expect("lock");
     assert!(mismatches.is_empty(), "{}", mismatches.join("\n\n"));

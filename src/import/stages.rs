@@ -1,5 +1,10 @@
 //! The readers of every stage's answer.
 
+#![allow(
+    clippy::single_match_else,
+    reason = "a match with a `None` arm that reports and skips reads better than `if let … else`"
+)]
+
 use super::draft::{loose, object_id, DDoor, DInstance, DObject, DOnTop, DWindow};
 use super::front::{self, norm, Field, Line, Num};
 use super::{noise_diagnostics, ImportContext, Stage};
@@ -1024,7 +1029,7 @@ fn objects_json(text: &str, file: FileId, ctx: &mut ImportContext, d: &mut Diags
                 Some(&[l, w, h])
                     if [l, w, h].iter().all(|x| (0.0..10_000.0).contains(x) && *x != 0.0) =>
                 {
-                    o.size = Some([l, w, h])
+                    o.size = Some([l, w, h]);
                 }
                 Some(&[_, _, _]) => bad_value(
                     span,
