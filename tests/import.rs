@@ -122,7 +122,7 @@ fn import_corpus() {
         prepend_module_to_snapshot => false,
         omit_expression => true,
     }, {
-        insta::glob!("corpus/import", "**/*.txt", |path| run_fixture(path));
+        insta::glob!("corpus/import", "**/*.txt", run_fixture);
     });
     let mismatches = MISMATCHES.lock().expect("lock");
     assert!(mismatches.is_empty(), "{}", mismatches.join("\n\n"));
@@ -132,6 +132,7 @@ fn import_corpus() {
 /// root; skipped with a message when absent) import to `.holo` files that `check` accepts,
 /// with and without `--keep-layout`, deterministically.
 #[test]
+#[allow(clippy::print_stdout, reason = "say why the test did nothing")]
 fn real_holodeck_scenes_import_and_check() {
     let dir = Path::new("../shared/data/real-scenes");
     let Ok(entries) = std::fs::read_dir(dir) else {
@@ -140,7 +141,7 @@ fn real_holodeck_scenes_import_and_check() {
     };
     let mut paths: Vec<_> = entries
         .filter_map(Result::ok)
-        .map(|e| e.path())
+        .map(|e| std::fs::DirEntry::path(&e))
         .filter(|p| p.extension().is_some_and(|e| e == "json"))
         .filter(|p| {
             !p.file_name().and_then(|n| n.to_str()).is_some_and(|n| n.starts_with("procthor-"))
@@ -214,7 +215,7 @@ fn transcript_imports_latest_attempts() {
 }
 
 mod fuzz {
-    use super::*;
+    use super::{import, ImportContext, SourceMap, Stage};
     use proptest::prelude::*;
 
     fn import_all(text: &str) {

@@ -50,7 +50,7 @@ pub fn run(args: &ImportArgs) -> ExitCode {
     };
     let (holo, diagnostics) = if let Some(stage_name) = &args.stage {
         let Some(stage) = Stage::parse(stage_name) else {
-            let names: Vec<&str> = Stage::ALL.iter().map(|s| s.as_str()).collect();
+            let names: Vec<&str> = Stage::ALL.iter().map(|s| Stage::as_str(*s)).collect();
             common::emit_plain(
                 &Diagnostic::new(Code::E0004, format!("unknown stage `{stage_name}`"))
                     .with_help(format!("stages: {}", names.join(", "))),

@@ -133,6 +133,7 @@ impl ImportContext {
     }
 
     /// Sets the English request and the seed written in the `scene` block.
+    #[must_use]
     pub fn with_request(mut self, request: impl Into<String>, seed: u64) -> ImportContext {
         self.draft.request = Some(request.into());
         self.draft.seed = seed;
@@ -197,7 +198,7 @@ pub fn import_answer(
     context: &ImportContext,
 ) -> Outcome<Imported> {
     let mut ctx = context.clone();
-    let text = sources.try_get(file).map(|f| f.text.as_str()).unwrap_or_default();
+    let text = sources.try_get(file).map_or("", |f| f.text.as_str());
     let mut diags = Vec::new();
     stages::run(stage, text, file, &mut ctx, &mut diags);
     let fragment = ctx.draft.to_ast(Span::new(file, 0, 0));

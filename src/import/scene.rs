@@ -8,6 +8,7 @@ use crate::ast;
 use crate::diag::{Code, Diagnostic, Outcome};
 use crate::source::{FileId, SourceMap, Span};
 use serde_json::Value;
+use std::fmt::Write as _;
 
 /// Imports the answers of one stage (and room) into the context.
 fn feed(
@@ -131,7 +132,8 @@ fn plan_text(plan: &serde_json::Map<String, Value>, selected: Option<&Value>) ->
     for (i, k) in order.iter().enumerate() {
         let v = plan.get(*k).cloned().unwrap_or(Value::Null);
         let key = serde_json::to_string(k).unwrap_or_else(|_| "\"?\"".into());
-        out.push_str(&format!("  {key}: {v}{}\n", if i + 1 < order.len() { "," } else { "" }));
+        let comma = if i + 1 < order.len() { "," } else { "" };
+        let _ = writeln!(out, "  {key}: {v}{comma}");
     }
     out.push('}');
     out

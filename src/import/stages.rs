@@ -1,5 +1,10 @@
 //! The readers of every stage's answer.
 
+#![allow(
+    clippy::single_match_else,
+    reason = "a match with a `None` arm that reports and skips reads better than `if let … else`"
+)]
+
 use super::draft::{loose, object_id, DDoor, DInstance, DObject, DOnTop, DWindow};
 use super::front::{self, norm, Field, Line, Num};
 use super::{noise_diagnostics, ImportContext, Stage};
@@ -243,9 +248,27 @@ fn to_cm(n: &Num) -> f64 {
     }
 }
 
+/// The most list lines (or JSON entries) read from one answer.
+const MAX_LINES: usize = 300;
+
 fn start_lines(text: &str, file: FileId, d: &mut Diags, stage: Stage) -> Vec<Line> {
-    let l = front::lines(text, file, true);
+    let mut l = front::lines(text, file, true);
     noise_diagnostics(&l.noise, d);
+    if l.lines.len() > MAX_LINES {
+        let first = &l.lines[MAX_LINES];
+        d.push(
+            Diagnostic::new(
+                Code::E0701,
+                format!(
+                    "the {stage} answer has {} list lines; only the first {MAX_LINES} are read",
+                    l.lines.len()
+                ),
+            )
+            .with_primary(first.span(), "not read from here on")
+            .with_help("a scene answer needs far fewer lines; ask again"),
+        );
+        l.lines.truncate(MAX_LINES);
+    }
     if l.lines.is_empty() {
         d.push(
             Diagnostic::new(Code::E0708, format!("the {stage} answer has no `|`-separated line"))
@@ -434,7 +457,7 @@ fn floor_plan(text: &str, file: FileId, ctx: &mut ImportContext, d: &mut Diags) 
                 .with_primary(fields[0].span, format!("renamed `{id}`")),
             );
         }
-        let mut room = super::draft::DRoom { id, label, ..Default::default() };
+        let mut room = super::draft::DRoom { id, label, ..super::draft::DRoom::default() };
         room.floor = (!fields[1].is_na()).then(|| fields[1].text.clone());
         room.walls = (!fields[2].is_na()).then(|| fields[2].text.clone());
         match front::vertex_list(&fields[3].text) {
@@ -748,7 +771,7 @@ fn count_field(f: &Field, d: &mut Diags) -> Option<u32> {
         n
     });
     match n {
-        Some(n) if n.value >= 1.0 && n.value <= 100.0 && n.unit.is_none() => {
+        Some(n) if (1.0..=100.0).contains(&n.value) && n.unit.is_none() => {
             if n.value.fract() != 0.0 {
                 d.push(
                     Diagnostic::new(Code::W0707, "rounded a fractional quantity")
@@ -937,6 +960,21 @@ fn objects_json(text: &str, file: FileId, ctx: &mut ImportContext, d: &mut Diags
         );
     }
     let mut seen: Vec<String> = Vec::new();
+    let mut entries = entries;
+    if entries.len() > MAX_LINES {
+        d.push(
+            Diagnostic::new(
+                Code::E0701,
+                format!(
+                    "the answer selects {} objects; only the first {MAX_LINES} are read",
+                    entries.len()
+                ),
+            )
+            .with_primary(whole, "too many objects")
+            .with_help("a room needs far fewer objects; ask again"),
+        );
+        entries.truncate(MAX_LINES);
+    }
     for (key, value) in entries {
         let span = find_span(text, file, &format!("\"{key}\""), whole);
         let serde_json::Value::Object(rec) = value else {
@@ -985,13 +1023,13 @@ fn objects_json(text: &str, file: FileId, ctx: &mut ImportContext, d: &mut Diags
             json_word(get("location"), "location", LOCATIONS, LOCATION_SYNONYMS, "floor", span, d)
                 == "wall";
         if let Some(v) = get("size").filter(|v| !v.is_null()) {
-            let nums: Option<Vec<f64>> = v
-                .as_array()
-                .map(|a| a.iter().map(json_number).collect::<Option<Vec<_>>>())
-                .unwrap_or(None);
+            let nums: Option<Vec<f64>> =
+                v.as_array().and_then(|a| a.iter().map(json_number).collect::<Option<Vec<_>>>());
             match nums.as_deref() {
-                Some(&[l, w, h]) if [l, w, h].iter().all(|x| *x > 0.0 && *x < 10_000.0) => {
-                    o.size = Some([l, w, h])
+                Some(&[l, w, h])
+                    if [l, w, h].iter().all(|x| (0.0..10_000.0).contains(x) && *x != 0.0) =>
+                {
+                    o.size = Some([l, w, h]);
                 }
                 Some(&[_, _, _]) => bad_value(
                     span,
@@ -1218,7 +1256,7 @@ fn inst_norm(name: &str) -> String {
 fn find_inst(ctx: &ImportContext, room: &str, name: &str, wall: Option<bool>) -> Option<Inst> {
     let r = ctx.draft.room(room)?;
     let n = inst_norm(name);
-    let ok = |o: &DObject| wall.is_none_or(|w| o.wall == w);
+    let ok = |o: &DObject| wall.map_or(true, |w| o.wall == w);
     for (oi, o) in r.objects.iter().enumerate().filter(|(_, o)| ok(o)) {
         for (ii, inst) in o.instance_names().iter().enumerate() {
             if *inst == n || loose(inst) == loose(&n) {
@@ -1238,7 +1276,7 @@ fn all_insts(ctx: &ImportContext, room: &str, wall: Option<bool>) -> Vec<String>
         .map(|r| {
             r.objects
                 .iter()
-                .filter(|o| wall.is_none_or(|w| o.wall == w))
+                .filter(|o| wall.map_or(true, |w| o.wall == w))
                 .flat_map(DObject::instance_names)
                 .collect()
         })
@@ -1471,7 +1509,6 @@ fn floor_constraints(text: &str, file: FileId, ctx: &mut ImportContext, d: &mut 
                 }
                 continue;
             };
-            let tfield = Field { text: target.clone(), span: f.span };
             let to = find_inst(ctx, &room, &target, Some(false));
             let problem = match to {
                 None => {
@@ -1490,7 +1527,6 @@ fn floor_constraints(text: &str, file: FileId, ctx: &mut ImportContext, d: &mut 
                 )),
                 Some(_) => None,
             };
-            let _ = tfield;
             if let Some((msg, help)) = problem {
                 d.push(
                     Diagnostic::new(Code::E0707, msg)
@@ -1881,6 +1917,20 @@ fn absolute_layout(text: &str, file: FileId, ctx: &mut ImportContext, d: &mut Di
     });
     let (min_x, min_z) = if min_x.is_finite() { (min_x, min_z) } else { (0.0, 0.0) };
     let implicit = all_insts(ctx, &room, Some(false)).is_empty();
+    let mut list = list;
+    if list.len() > MAX_LINES {
+        d.push(
+            Diagnostic::new(
+                Code::E0701,
+                format!(
+                    "the layout has {} entries; only the first {MAX_LINES} are read",
+                    list.len()
+                ),
+            )
+            .with_primary(whole, "too many entries"),
+        );
+        list.truncate(MAX_LINES);
+    }
     for entry in list {
         let get = |v: &serde_json::Value, k: &str| -> Option<serde_json::Value> {
             v.as_object()?.iter().find(|(n, _)| n.eq_ignore_ascii_case(k)).map(|(_, v)| v.clone())
