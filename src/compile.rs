@@ -88,7 +88,8 @@ pub fn build(
         return Outcome::new(None, diagnostics);
     }
     let resolved = resolved.value;
-    let mut solve_options = SolveOptions { solver: options.solver, seed: scene.seed, ..SolveOptions::default() };
+    let mut solve_options =
+        SolveOptions { solver: options.solver, seed: scene.seed, ..SolveOptions::default() };
     if let Some(budget) = options.node_budget {
         solve_options.node_budget = budget;
     }

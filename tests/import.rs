@@ -156,9 +156,12 @@ fn real_holodeck_scenes_import_and_check() {
             let options = ImportOptions { keep_layout };
             let mut sources = SourceMap::new();
             let out = import::import_holodeck_scene(&value, &mut sources, &options);
-            let errors: Vec<_> = out.diagnostics.iter().filter(|d| d.is_error()).collect();
+            // The model's answers in these files have real mistakes (e.g. a curtain of depth 0
+            // in `a_sad_room`): those are reported as E0702 and the rest is imported.
+            let unexpected: Vec<_> =
+                out.diagnostics.iter().filter(|d| d.is_error() && d.code.as_str() != "E0702").collect();
             assert!(
-                errors.is_empty(),
+                unexpected.is_empty(),
                 "{}: import errors\n{}",
                 path.display(),
                 render(&sources, &out.diagnostics)

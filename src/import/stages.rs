@@ -1256,7 +1256,7 @@ fn inst_norm(name: &str) -> String {
 fn find_inst(ctx: &ImportContext, room: &str, name: &str, wall: Option<bool>) -> Option<Inst> {
     let r = ctx.draft.room(room)?;
     let n = inst_norm(name);
-    let ok = |o: &DObject| wall.map_or(true, |w| o.wall == w);
+    let ok = |o: &DObject| wall.is_none_or(|w| o.wall == w);
     for (oi, o) in r.objects.iter().enumerate().filter(|(_, o)| ok(o)) {
         for (ii, inst) in o.instance_names().iter().enumerate() {
             if *inst == n || loose(inst) == loose(&n) {
@@ -1276,7 +1276,7 @@ fn all_insts(ctx: &ImportContext, room: &str, wall: Option<bool>) -> Vec<String>
         .map(|r| {
             r.objects
                 .iter()
-                .filter(|o| wall.map_or(true, |w| o.wall == w))
+                .filter(|o| wall.is_none_or(|w| o.wall == w))
                 .flat_map(DObject::instance_names)
                 .collect()
         })

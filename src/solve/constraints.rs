@@ -159,7 +159,7 @@ impl Rect {
 
     /// The centre.
     pub fn center(&self) -> [f64; 2] {
-        [(self.min_x + self.max_x) / 2.0, (self.min_z + self.max_z) / 2.0]
+        [f64::midpoint(self.min_x, self.max_x), f64::midpoint(self.min_z, self.max_z)]
     }
 
     /// Extent along x.
@@ -291,7 +291,7 @@ impl RoomShape {
         let mut inside = vec![vec![false; nz]; nx];
         for (i, col) in inside.iter_mut().enumerate() {
             for (j, cell) in col.iter_mut().enumerate() {
-                let c = [(xs[i] + xs[i + 1]) / 2.0, (zs[j] + zs[j + 1]) / 2.0];
+                let c = [f64::midpoint(xs[i], xs[i + 1]), f64::midpoint(zs[j], zs[j + 1])];
                 *cell = point_in_polygon(c, outline);
             }
         }
@@ -368,7 +368,7 @@ impl RoomShape {
                 continue;
             }
             let d = [(b[0] - a[0]) / len, (b[1] - a[1]) / len];
-            let mid = [(a[0] + b[0]) / 2.0, (a[1] + b[1]) / 2.0];
+            let mid = [f64::midpoint(a[0], b[0]), f64::midpoint(a[1], b[1])];
             let left = [-d[1], d[0]];
             let probe = [mid[0] + left[0] * 1e-3, mid[1] + left[1] * 1e-3];
             let normal = if point_in_polygon(probe, &self.outline) { left } else { [d[1], -d[0]] };

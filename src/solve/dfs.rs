@@ -249,7 +249,7 @@ struct Search<'p, 'a> {
 
 impl Search<'_, '_> {
     fn better(&self, value: f64) -> bool {
-        self.best.as_ref().map_or(true, |b| value > b.value + 1e-9)
+        self.best.as_ref().is_none_or(|b| value > b.value + 1e-9)
     }
 
     fn out_of_budget(&self) -> bool {

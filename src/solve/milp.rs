@@ -356,7 +356,7 @@ fn place_milp(
             }
             let mut s = fast_score(prep, k, &pose, poses, 10.0);
             s -= 1e-6 * rot.deg();
-            if best.as_ref().map_or(true, |(_, b)| s > *b + 1e-9) {
+            if best.as_ref().is_none_or(|(_, b)| s > *b + 1e-9) {
                 best = Some((pose, s));
             }
             break;

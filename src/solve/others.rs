@@ -176,7 +176,7 @@ fn place_walls(prep: &Prepared<'_>, layout: &mut RoomLayout) {
                         .fold(3.0_f64, f64::min);
                     spread - 0.01 * (s - len / 2.0).abs()
                 };
-                if best.as_ref().map_or(true, |(b, ..)| score > b + 1e-9) {
+                if best.as_ref().is_none_or(|(b, ..)| score > b + 1e-9) {
                     best = Some((score, bx, centre, rot));
                 }
             }

@@ -5,7 +5,7 @@
 //! Objects whose asset could not be resolved are left out of the problems (the resolve stage has
 //! reported them), so they take no space and constraints naming them are dropped.
 
-use super::{room_problem, RoomLayout, RoomProblem, SolveOptions, Sizes, WallHole, WallSegment};
+use super::{room_problem, RoomLayout, RoomProblem, Sizes, SolveOptions, WallHole, WallSegment};
 use crate::check::scene::{ObjectId, RoomId, Scene, SmallItem};
 use crate::diag::Outcome;
 use crate::lower::LoweredObject;
@@ -72,12 +72,21 @@ impl Sizes for ResolvedSizes<'_> {
     }
 
     fn ceiling(&self, room: RoomId) -> [f64; 3] {
-        self.resolved.ceilings.get(&room).and_then(Resolution::choice).map_or([0.5, 0.5, 0.3], |c| bbox_to_size(c.bbox_m))
+        self.resolved
+            .ceilings
+            .get(&room)
+            .and_then(Resolution::choice)
+            .map_or([0.5, 0.5, 0.3], |c| bbox_to_size(c.bbox_m))
     }
 }
 
 /// Solves every room of the scene.
-pub fn solve(scene: &Scene, plan: &FloorPlan, resolved: &Resolved, options: &SolveOptions) -> Outcome<Layout> {
+pub fn solve(
+    scene: &Scene,
+    plan: &FloorPlan,
+    resolved: &Resolved,
+    options: &SolveOptions,
+) -> Outcome<Layout> {
     // The scene without the objects that have no asset.
     let mut kept = scene.clone();
     for room in &mut kept.rooms {
@@ -105,18 +114,28 @@ pub fn solve(scene: &Scene, plan: &FloorPlan, resolved: &Resolved, options: &Sol
                     });
                 }
                 if w.empty {
-                    holes.push(WallHole { from_m: 0.0, to_m: w.width_m, bottom_m: 0.0, top_m: scene.wall_height_m, window: false });
+                    holes.push(WallHole {
+                        from_m: 0.0,
+                        to_m: w.width_m,
+                        bottom_m: 0.0,
+                        top_m: scene.wall_height_m,
+                        window: false,
+                    });
                 }
                 WallSegment { a: w.start, b: w.end, holes }
             })
             .collect();
         let mut problem = room_problem(&kept, room.id, &sizes, keep_out, walls);
         problem.outline.clone_from(&plan_room.corners);
-        if room.ceiling.is_some() && !resolved.ceilings.get(&room.id).is_some_and(|r| r.choice().is_some()) {
+        if room.ceiling.is_some()
+            && resolved.ceilings.get(&room.id).is_none_or(|r| r.choice().is_none())
+        {
             problem.ceiling = None;
         }
-        let floor_ids: Vec<ObjectId> = room.objects.iter().copied().filter(|id| kept.object(*id).is_floor()).collect();
-        let wall_ids: Vec<ObjectId> = room.objects.iter().copied().filter(|id| !kept.object(*id).is_floor()).collect();
+        let floor_ids: Vec<ObjectId> =
+            room.objects.iter().copied().filter(|id| kept.object(*id).is_floor()).collect();
+        let wall_ids: Vec<ObjectId> =
+            room.objects.iter().copied().filter(|id| !kept.object(*id).is_floor()).collect();
         let mut small_keys = Vec::new();
         for &id in &floor_ids {
             for (k, item) in kept.object(id).on_top.iter().enumerate() {
@@ -126,17 +145,31 @@ pub fn solve(scene: &Scene, plan: &FloorPlan, resolved: &Resolved, options: &Sol
             }
         }
         // Each copy of a small object has its own asset, hence its own size.
-        for (small, &(receptacle, line, copy)) in problem.small_objects.iter_mut().zip(&small_keys) {
-            if let Some(choice) =
-                resolved.small.get(&(receptacle, line)).and_then(|v| v.get(copy as usize)).and_then(Resolution::choice)
+        for (small, &(receptacle, line, copy)) in problem.small_objects.iter_mut().zip(&small_keys)
+        {
+            if let Some(choice) = resolved
+                .small
+                .get(&(receptacle, line))
+                .and_then(|v| v.get(copy as usize))
+                .and_then(Resolution::choice)
             {
                 small.size = bbox_to_size(choice.bbox_m);
             }
         }
-        let room_options = SolveOptions { seed: options.seed ^ (room.id.0 as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15), ..*options };
+        let room_options = SolveOptions {
+            seed: options.seed ^ (room.id.0 as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15),
+            ..*options
+        };
         let solved = super::solve_room(&problem, &room_options);
         diagnostics.extend(solved.diagnostics);
-        rooms.push(SolvedRoom { room: room.id, problem, layout: solved.value, floor_ids, wall_ids, small_keys });
+        rooms.push(SolvedRoom {
+            room: room.id,
+            problem,
+            layout: solved.value,
+            floor_ids,
+            wall_ids,
+            small_keys,
+        });
     }
     Outcome::new(Layout { rooms }, diagnostics)
 }
@@ -156,12 +189,22 @@ fn position(p: [f64; 3]) -> [f64; 3] {
 
 impl Layout {
     /// The objects of the house: floor, wall, small and ceiling objects, room by room.
-    pub fn lowered(&self, scene: &Scene, plan: &FloorPlan, resolved: &Resolved) -> Vec<LoweredObject> {
+    pub fn lowered(
+        &self,
+        scene: &Scene,
+        plan: &FloorPlan,
+        resolved: &Resolved,
+    ) -> Vec<LoweredObject> {
         let mut out = Vec::new();
         for solved in &self.rooms {
             let label = &plan.room(solved.room).thor_id;
-            let by_name: BTreeMap<&str, usize> =
-                solved.problem.objects.iter().enumerate().map(|(i, o)| (o.id.as_str(), i)).collect();
+            let by_name: BTreeMap<&str, usize> = solved
+                .problem
+                .objects
+                .iter()
+                .enumerate()
+                .map(|(i, o)| (o.id.as_str(), i))
+                .collect();
             for placed in &solved.layout.floor_world {
                 let Some(&index) = by_name.get(placed.id.as_str()) else { continue };
                 let id = solved.floor_ids[index];
@@ -177,8 +220,13 @@ impl Layout {
                     object_name: name.clone(),
                 });
             }
-            let wall_index: BTreeMap<&str, usize> =
-                solved.problem.wall_objects.iter().enumerate().map(|(i, o)| (o.id.as_str(), i)).collect();
+            let wall_index: BTreeMap<&str, usize> = solved
+                .problem
+                .wall_objects
+                .iter()
+                .enumerate()
+                .map(|(i, o)| (o.id.as_str(), i))
+                .collect();
             for placed in &solved.layout.wall {
                 let Some(&index) = wall_index.get(placed.id.as_str()) else { continue };
                 let id = solved.wall_ids[index];
@@ -201,7 +249,9 @@ impl Layout {
                 by_id.entry(s.id.as_str()).or_default().push(i);
             }
             for placed in &solved.layout.small {
-                let Some(index) = by_id.get_mut(placed.id.as_str()).and_then(Vec::pop) else { continue };
+                let Some(index) = by_id.get_mut(placed.id.as_str()).and_then(Vec::pop) else {
+                    continue;
+                };
                 let (receptacle, line, copy) = solved.small_keys[index];
                 let Some(choice) = resolved
                     .small
@@ -215,7 +265,10 @@ impl Layout {
                 let b = choice.bbox_m;
                 let small = b[0] <= 0.25 && b[1] <= 0.25 && b[2] <= 0.25;
                 out.push(LoweredObject {
-                    id: format!("{}|{receptacle_name} ({label})", placed.id.split('|').next().unwrap_or(&placed.id)),
+                    id: format!(
+                        "{}|{receptacle_name} ({label})",
+                        placed.id.split('|').next().unwrap_or(&placed.id)
+                    ),
                     asset_id: choice.asset_id.clone(),
                     room: solved.room,
                     position_m: position(placed.position_m),
@@ -224,9 +277,10 @@ impl Layout {
                     object_name: placed.id.split('|').next().unwrap_or(&placed.id).to_string(),
                 });
             }
-            if let (Some(placed), Some(choice)) =
-                (&solved.layout.ceiling, resolved.ceilings.get(&solved.room).and_then(Resolution::choice))
-            {
+            if let (Some(placed), Some(choice)) = (
+                &solved.layout.ceiling,
+                resolved.ceilings.get(&solved.room).and_then(Resolution::choice),
+            ) {
                 out.push(LoweredObject {
                     id: format!("ceiling ({label})"),
                     asset_id: choice.asset_id.clone(),
@@ -271,7 +325,11 @@ impl Layout {
                     n(placed.pose.z),
                     placed.pose.rot.deg(),
                     placed.by,
-                    if failed.is_empty() { String::new() } else { format!("; violated: {}", failed.join(", ")) }
+                    if failed.is_empty() {
+                        String::new()
+                    } else {
+                        format!("; violated: {}", failed.join(", "))
+                    }
                 );
             }
             for (kind, list) in [("wall", &solved.layout.wall), ("small", &solved.layout.small)] {
@@ -288,7 +346,13 @@ impl Layout {
                 }
             }
             if let Some(c) = &solved.layout.ceiling {
-                let _ = writeln!(out, "  ceiling at ({}, {}, {})", n(c.position_m[0]), n(c.position_m[1]), n(c.position_m[2]));
+                let _ = writeln!(
+                    out,
+                    "  ceiling at ({}, {}, {})",
+                    n(c.position_m[0]),
+                    n(c.position_m[1]),
+                    n(c.position_m[2])
+                );
             }
             for u in &solved.layout.unplaced {
                 let _ = writeln!(out, "  not placed: {} {}: {}", u.kind, u.id, u.reason);
