@@ -1,1 +1,4 @@
-//! The `generate` stage (being written).
+//! The `generate` stage: English request → LLM answers → `.holo` text.
+
+pub mod client;
+pub mod prompts;
