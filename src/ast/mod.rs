@@ -137,8 +137,8 @@ pub struct File {
 }
 
 impl File {
-    /// The tree printed without spans and without the written text of numbers: what the file
-    /// says, independent of where and how it is laid out.
+    /// The tree printed without spans and without empty lines: what the file says,
+    /// independent of where and how it is laid out.
     pub fn shape(&self) -> String {
         let debug = format!("{:?}", self.items);
         let mut out = String::with_capacity(debug.len());
@@ -151,7 +151,8 @@ impl File {
             rest = &after[close..];
         }
         out.push_str(rest);
-        out
+        // Empty lines are layout, not meaning.
+        out.replace("Blank(_), ", "").replace(", Blank(_)", "").replace("Blank(_)", "")
     }
 }
 
@@ -166,6 +167,8 @@ pub enum Item {
     Door(Door),
     /// A comment line or block.
     Comment(Comment),
+    /// An empty line kept between two statements (at most one is kept).
+    Blank(Span),
     /// A line that is not a statement of its block (already reported by the parser).
     Error(ErrorNode),
 }
@@ -210,6 +213,8 @@ pub enum SceneStmt {
     Seed(Quantity, Span),
     /// A comment.
     Comment(Comment),
+    /// An empty line kept between two statements (at most one is kept).
+    Blank(Span),
     /// A line that could not be read.
     Error(ErrorNode),
 }
@@ -250,6 +255,8 @@ pub enum RoomStmt {
     Ceiling(Ceiling),
     /// A comment.
     Comment(Comment),
+    /// An empty line kept between two statements (at most one is kept).
+    Blank(Span),
     /// A line that could not be read.
     Error(ErrorNode),
 }
@@ -339,6 +346,8 @@ pub enum ObjectStmt {
     Instance(Instance),
     /// A comment.
     Comment(Comment),
+    /// An empty line kept between two statements (at most one is kept).
+    Blank(Span),
     /// A line that could not be read.
     Error(ErrorNode),
 }

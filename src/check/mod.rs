@@ -1,5 +1,1439 @@
 //! The checker: syntax tree → typed [`Scene`].
+//!
+//! It resolves every name to an id, converts every quantity to metres or degrees, expands object
+//! groups into instances (`chair-0`, `chair-1`, …) and checks what the grammar cannot: units,
+//! vocabularies, value ranges, duplicates, references and their kinds, the order of constraints
+//! (a constraint may only name an object declared before it, so that constraints never form a
+//! cycle). It reports every problem it finds, one diagnostic per cause: a name that does not
+//! resolve makes the constraint disappear from the scene, and nothing else complains about it.
+//!
+//! **Invariant:** the [`Scene`] holds no syntax; later stages see ids, metres and degrees.
 
+mod dump;
 pub mod scene;
 
+pub use dump::dump;
+mod units;
+
 pub use scene::*;
+
+use crate::ast::{self, Quantity};
+use crate::diag::{suggest, Code, Diagnostic, Outcome};
+use crate::source::Span;
+use std::collections::BTreeMap;
+use units::{angle_deg, count, length_m};
+
+/// The allowed wall heights, metres (inclusive).
+pub const WALL_HEIGHT_RANGE_M: (f64, f64) = (2.0, 8.0);
+/// The largest number of instances in one object group.
+pub const MAX_GROUP_COUNT: u32 = 50;
+/// The largest number of windows in one window row.
+pub const MAX_WINDOW_COUNT: u32 = 20;
+/// The largest number of small objects in one `on top` line.
+pub const MAX_ON_TOP_COUNT: u32 = 20;
+/// The default sill height of a window, metres.
+pub const DEFAULT_SILL_M: f64 = 0.9;
+
+/// Checks a parsed file and builds the typed scene.
+pub fn check(file: &ast::File) -> Outcome<Scene> {
+    let mut checker = Checker { diagnostics: Vec::new(), all_instances: BTreeMap::new() };
+    let scene = checker.file(file);
+    Outcome::new(scene, checker.diagnostics)
+}
+
+struct Checker {
+    diagnostics: Vec<Diagnostic>,
+    /// Every object name of every room (instances and groups) → the rooms that declare it, so
+    /// that a reference to an object of another room is named as such.
+    all_instances: BTreeMap<String, Vec<String>>,
+}
+
+/// A declared object group, before expansion.
+struct Group<'a> {
+    decl: &'a ast::Object,
+    is_wall: bool,
+    count: u32,
+    first: usize,
+}
+
+/// The instance names of one room, for reference resolution.
+struct RoomNames {
+    /// Instance name → object index and whether it stands on the floor.
+    instances: BTreeMap<String, (ObjectId, bool)>,
+    /// Group id → (count, first object).
+    groups: BTreeMap<String, (u32, ObjectId)>,
+}
+
+impl Checker {
+    fn push(&mut self, d: Diagnostic) {
+        self.diagnostics.push(d);
+    }
+
+    fn file(&mut self, file: &ast::File) -> Scene {
+        let mut scene = Scene {
+            request: None,
+            wall_height_m: DEFAULT_WALL_HEIGHT_M,
+            seed: 0,
+            rooms: Vec::new(),
+            doors: Vec::new(),
+            objects: Vec::new(),
+        };
+        let mut scene_span: Option<Span> = None;
+        for item in &file.items {
+            if let ast::Item::Scene(block) = item {
+                if let Some(first) = scene_span {
+                    self.push(
+                        Diagnostic::new(Code::E0215, "a file has more than one `scene` block")
+                            .with_primary(block.span, "second `scene` block")
+                            .with_secondary(first, "first `scene` block")
+                            .with_help("merge the two blocks into one"),
+                    );
+                    continue;
+                }
+                scene_span = Some(block.span);
+                self.scene_block(block, &mut scene);
+            }
+        }
+        // Rooms: first their names, so that doors may name rooms declared anywhere.
+        let mut room_ids: BTreeMap<String, (RoomId, Span)> = BTreeMap::new();
+        let mut rooms: Vec<&ast::Room> = Vec::new();
+        for item in &file.items {
+            if let ast::Item::Room(room) = item {
+                if room.id.name == "exterior" {
+                    self.push(
+                        Diagnostic::new(Code::E0203, "`exterior` is reserved for the outside")
+                            .with_primary(room.id.span, "cannot name a room")
+                            .with_help("give the room another identifier, e.g. `exterior_room`"),
+                    );
+                    continue;
+                }
+                if let Some((_, first)) = room_ids.get(&room.id.name) {
+                    self.push(
+                        Diagnostic::new(
+                            Code::E0203,
+                            format!("room `{}` is defined twice", room.id.name),
+                        )
+                        .with_primary(room.id.span, "defined again here")
+                        .with_secondary(*first, "first defined here")
+                        .with_help("give each room its own identifier"),
+                    );
+                    continue;
+                }
+                room_ids.insert(room.id.name.clone(), (RoomId(rooms.len()), room.id.span));
+                rooms.push(room);
+            }
+        }
+        for room in &rooms {
+            for stmt in &room.body {
+                if let ast::RoomStmt::Object(o) | ast::RoomStmt::WallObject(o) = stmt {
+                    let n = o
+                        .body
+                        .iter()
+                        .find_map(|s| match s {
+                            ast::ObjectStmt::Count(q, _, _)
+                                if q.value >= 1.0 && q.value <= f64::from(MAX_GROUP_COUNT) =>
+                            {
+                                Some(q.value as u32)
+                            }
+                            _ => None,
+                        })
+                        .unwrap_or(1);
+                    let mut names = vec![o.id.name.clone()];
+                    names.extend((0..n).map(|i| format!("{}-{i}", o.id.name)));
+                    for name in names {
+                        self.all_instances.entry(name).or_default().push(room.id.name.clone());
+                    }
+                }
+            }
+        }
+        for (index, room) in rooms.iter().enumerate() {
+            let checked = self.room(room, RoomId(index), &mut scene);
+            scene.rooms.push(checked);
+        }
+        // Cross-room reference checks need every room's names.
+        self.doors(file, &room_ids, &mut scene);
+        let has_bad_line = file.items.iter().any(|i| matches!(i, ast::Item::Error(_)));
+        if scene.rooms.is_empty() && !has_bad_line {
+            let span = file.span;
+            self.push(
+                Diagnostic::new(Code::W0203, "the scene declares no room")
+                    .with_primary(Span { end: span.start, ..span }, "no `room` block in this file")
+                    .with_help("add a room, e.g. `room bedroom \"bedroom\" { corners in m (0, 0) (0, 4) (4, 4) (4, 0) }`"),
+            );
+        }
+        scene
+    }
+
+    fn scene_block(&mut self, block: &ast::SceneBlock, scene: &mut Scene) {
+        scene.request = block.request.as_ref().map(|s| s.value.clone());
+        let mut seen: BTreeMap<&str, Span> = BTreeMap::new();
+        for stmt in &block.body {
+            let (key, span) = match stmt {
+                ast::SceneStmt::WallHeight(_, span) => ("wall height", *span),
+                ast::SceneStmt::Seed(_, span) => ("seed", *span),
+                _ => continue,
+            };
+            if let Some(first) = seen.get(key) {
+                self.duplicate_setting(key, span, *first);
+                continue;
+            }
+            seen.insert(key, span);
+            match stmt {
+                ast::SceneStmt::WallHeight(q, _) => {
+                    if let Some(h) = length_m(q, None, "the wall height", &mut self.diagnostics) {
+                        let (lo, hi) = WALL_HEIGHT_RANGE_M;
+                        if (lo..=hi).contains(&h) {
+                            scene.wall_height_m = h;
+                        } else {
+                            self.push(
+                                Diagnostic::new(
+                                    Code::E0208,
+                                    format!(
+                                        "wall height {} m is outside {lo} m to {hi} m",
+                                        ast::format_number(h)
+                                    ),
+                                )
+                                .with_primary(q.span, "out of range")
+                                .with_help("AI2-THOR rooms are usually 2.5 m to 3.5 m high"),
+                            );
+                        }
+                    }
+                }
+                ast::SceneStmt::Seed(q, _) => {
+                    if q.unit.is_some()
+                        || q.value < 0.0
+                        || q.value.fract() != 0.0
+                        || q.value > 9.0e15
+                    {
+                        self.push(
+                            Diagnostic::new(
+                                Code::E0208,
+                                format!("seed `{}` is not a whole number ≥ 0", q.text),
+                            )
+                            .with_primary(q.span, "expected a whole number without unit")
+                            .with_help("write e.g. `seed 42`"),
+                        );
+                    } else {
+                        scene.seed = q.value as u64;
+                    }
+                }
+                _ => {}
+            }
+        }
+    }
+
+    fn duplicate_setting(&mut self, key: &str, span: Span, first: Span) {
+        self.push(
+            Diagnostic::new(Code::E0213, format!("`{key}` is given twice"))
+                .with_primary(span, "given again here")
+                .with_secondary(first, "first given here")
+                .with_help("keep one of them"),
+        );
+    }
+
+    fn room(&mut self, room: &ast::Room, id: RoomId, scene: &mut Scene) -> Room {
+        let mut checked = Room {
+            id,
+            name: room.id.name.clone(),
+            label: room.label.as_ref().map_or_else(|| room.id.name.clone(), |l| l.value.clone()),
+            floor_design: None,
+            wall_design: None,
+            floor_material: None,
+            wall_material: None,
+            corners: Vec::new(),
+            corner_spans: Vec::new(),
+            windows: Vec::new(),
+            objects: Vec::new(),
+            ceiling: None,
+            name_span: room.id.span,
+            decl_span: room.span,
+        };
+        let mut seen: BTreeMap<&str, Span> = BTreeMap::new();
+        let mut groups: Vec<Group<'_>> = Vec::new();
+        let mut group_spans: BTreeMap<String, Span> = BTreeMap::new();
+        let mut ceiling_decl: Option<&ast::Ceiling> = None;
+        for stmt in &room.body {
+            let single = match stmt {
+                ast::RoomStmt::FloorDesign(_, s) => Some(("floor", *s)),
+                ast::RoomStmt::WallDesign(_, s) => Some(("walls", *s)),
+                ast::RoomStmt::FloorMaterial(_, s) => Some(("floor material", *s)),
+                ast::RoomStmt::WallMaterial(_, s) => Some(("wall material", *s)),
+                ast::RoomStmt::Corners(c) => Some(("corners", c.span)),
+                ast::RoomStmt::Ceiling(c) => Some(("ceiling", c.span)),
+                _ => None,
+            };
+            if let Some((key, span)) = single {
+                if let Some(first) = seen.get(key) {
+                    self.duplicate_setting(key, span, *first);
+                    continue;
+                }
+                seen.insert(key, span);
+            }
+            match stmt {
+                ast::RoomStmt::FloorDesign(s, _) => checked.floor_design = Some(s.value.clone()),
+                ast::RoomStmt::WallDesign(s, _) => checked.wall_design = Some(s.value.clone()),
+                ast::RoomStmt::FloorMaterial(s, _) => {
+                    checked.floor_material = Some(Pinned { id: s.value.clone(), span: s.span });
+                }
+                ast::RoomStmt::WallMaterial(s, _) => {
+                    checked.wall_material = Some(Pinned { id: s.value.clone(), span: s.span });
+                }
+                ast::RoomStmt::Corners(c) => self.corners(c, &mut checked),
+                ast::RoomStmt::Window(w) => {
+                    if let Some(window) = self.window(w, scene.wall_height_m) {
+                        checked.windows.push(window);
+                    }
+                }
+                ast::RoomStmt::Object(o) | ast::RoomStmt::WallObject(o) => {
+                    let is_wall = matches!(stmt, ast::RoomStmt::WallObject(_));
+                    if let Some(first) = group_spans.get(&o.id.name) {
+                        self.push(
+                            Diagnostic::new(
+                                Code::E0203,
+                                format!(
+                                    "object `{}` is defined twice in room `{}`",
+                                    o.id.name, room.id.name
+                                ),
+                            )
+                            .with_primary(o.id.span, "defined again here")
+                            .with_secondary(*first, "first defined here")
+                            .with_help("give each object group its own identifier, or use `count`"),
+                        );
+                        continue;
+                    }
+                    group_spans.insert(o.id.name.clone(), o.id.span);
+                    let n = self.group_count(o);
+                    groups.push(Group { decl: o, is_wall, count: n, first: 0 });
+                }
+                ast::RoomStmt::Ceiling(c) => ceiling_decl = Some(c),
+                ast::RoomStmt::Comment(_) | ast::RoomStmt::Error(_) | ast::RoomStmt::Blank(_) => {}
+            }
+        }
+        if checked.corners.is_empty() && !seen.contains_key("corners") {
+            self.push(
+                Diagnostic::new(Code::E0214, format!("room `{}` has no corners", room.id.name))
+                    .with_primary(room.id.span, "no `corners` statement")
+                    .with_help("add its outline, e.g. `corners in m (0, 0) (0, 4) (5, 4) (5, 0)`"),
+            );
+        }
+        // Floor groups first, then wall groups, each in declaration order.
+        groups.sort_by_key(|g| g.is_wall);
+        let mut names = RoomNames { instances: BTreeMap::new(), groups: BTreeMap::new() };
+        let mut next = scene.objects.len();
+        for g in &mut groups {
+            g.first = next;
+            names.groups.insert(g.decl.id.name.clone(), (g.count, ObjectId(next)));
+            for i in 0..g.count {
+                names.instances.insert(
+                    format!("{}-{i}", g.decl.id.name),
+                    (ObjectId(next + i as usize), !g.is_wall),
+                );
+            }
+            next += g.count as usize;
+        }
+        for g in &groups {
+            self.expand_group(g, id, &checked, &names, scene);
+        }
+        checked.objects = (groups.first().map_or(scene.objects.len(), |g| g.first)
+            ..scene.objects.len())
+            .map(ObjectId)
+            .collect();
+        self.check_constraint_order(&checked, scene);
+        if let Some(c) = ceiling_decl {
+            checked.ceiling = Some(self.ceiling(c, &checked, &names, scene));
+        }
+        checked
+    }
+
+    fn corners(&mut self, c: &ast::Corners, room: &mut Room) {
+        let default = c.unit.map(|(u, _)| u);
+        if let Some((unit, span)) = c.unit {
+            if !matches!(unit, ast::Unit::M | ast::Unit::Cm) {
+                self.push(
+                    Diagnostic::new(
+                        Code::E0106,
+                        format!("corners are given in `{}`", unit.as_str()),
+                    )
+                    .with_primary(span, "expected `m` or `cm`")
+                    .with_help("write `corners in m ...` or `corners in cm ...`"),
+                );
+                return;
+            }
+        }
+        let mut ok = true;
+        for p in &c.points {
+            let x = length_m(&p.x, default, "a corner coordinate", &mut self.diagnostics);
+            let z = length_m(&p.z, default, "a corner coordinate", &mut self.diagnostics);
+            match (x, z) {
+                (Some(x), Some(z)) => {
+                    room.corners.push([x, z]);
+                    room.corner_spans.push(p.span);
+                }
+                _ => ok = false,
+            }
+        }
+        if ok && c.points.len() < 4 {
+            self.push(
+                Diagnostic::new(
+                    Code::E0214,
+                    format!(
+                        "room `{}` has {} corners; an outline needs at least 4",
+                        room.name,
+                        c.points.len()
+                    ),
+                )
+                .with_primary(c.span, "too few corners")
+                .with_help(
+                    "rooms are rectilinear polygons: list every corner, e.g. four for a rectangle",
+                ),
+            );
+        }
+    }
+
+    fn word<T: Copy>(&mut self, word: &ast::Word, what: &str, table: &[(&str, T)]) -> Option<T> {
+        let lower = word.name.to_lowercase();
+        if let Some((_, v)) = table.iter().find(|(w, _)| *w == lower) {
+            return Some(*v);
+        }
+        let names: Vec<&str> = table.iter().map(|(w, _)| *w).collect();
+        let candidates = suggest::closest(&lower, names.iter().copied());
+        let listed: Vec<String> = names.iter().map(|n| format!("`{n}`")).collect();
+        self.push(
+            Diagnostic::new(Code::E0211, format!("unknown {what} `{}`", word.name))
+                .with_primary(word.span, format!("not a {what}"))
+                .with_help(
+                    suggest::did_you_mean(&candidates)
+                        .unwrap_or_else(|| format!("a {what} is one of {}", listed.join(", "))),
+                ),
+        );
+        None
+    }
+
+    fn window(&mut self, w: &ast::Window, wall_height_m: f64) -> Option<Window> {
+        let wall = self.word(
+            &w.wall,
+            "wall direction",
+            &[
+                ("north", Direction::North),
+                ("south", Direction::South),
+                ("east", Direction::East),
+                ("west", Direction::West),
+            ],
+        );
+        let kind = self.word(
+            &w.kind,
+            "window type",
+            &[
+                ("fixed", WindowKind::Fixed),
+                ("hung", WindowKind::Hung),
+                ("slider", WindowKind::Slider),
+            ],
+        );
+        let width = self.positive_length(&w.width, "the window width");
+        let height = self.positive_length(&w.height, "the window height");
+        let n = match &w.count {
+            Some(q) => count(q, "the window count", 1, MAX_WINDOW_COUNT, &mut self.diagnostics),
+            None => Some(1),
+        };
+        let sill = match &w.sill {
+            Some(q) => {
+                let s = length_m(q, None, "the sill height", &mut self.diagnostics);
+                if let Some(s) = s {
+                    if s < 0.0 {
+                        self.push(
+                            Diagnostic::new(Code::E0208, "the sill height is negative")
+                                .with_primary(q.span, "below the floor")
+                                .with_help(
+                                    "the sill is the height of the window's bottom above the floor",
+                                ),
+                        );
+                        None
+                    } else {
+                        Some(s)
+                    }
+                } else {
+                    None
+                }
+            }
+            None => Some(DEFAULT_SILL_M),
+        };
+        let (wall, kind, width, height, n, sill) = (wall?, kind?, width?, height?, n?, sill?);
+        if sill + height > wall_height_m + 1e-9 {
+            let span = w.sill.as_ref().map_or(w.span, |q| q.span);
+            self.push(
+                Diagnostic::new(
+                    Code::E0208,
+                    format!(
+                        "the window's top ({} m) is above the wall ({} m)",
+                        ast::format_number(round6(sill + height)),
+                        ast::format_number(wall_height_m)
+                    ),
+                )
+                .with_primary(span, "sill + height exceeds the wall height")
+                .with_help(format!(
+                    "lower the sill to at most {} cm",
+                    ast::format_number(round6((wall_height_m - height) * 100.0).max(0.0))
+                )),
+            );
+            return None;
+        }
+        let offered = kind.offered_sizes_cm();
+        let (wc, hc) = (width * 100.0, height * 100.0);
+        if !offered.iter().any(|(a, b)| (a - wc).abs() < 0.5 && (b - hc).abs() < 0.5) {
+            let nearest = offered
+                .iter()
+                .min_by(|a, b| {
+                    let da = (a.0 - wc).hypot(a.1 - hc);
+                    let db = (b.0 - wc).hypot(b.1 - hc);
+                    da.total_cmp(&db)
+                })
+                .copied()
+                .unwrap_or((wc, hc));
+            self.push(
+                Diagnostic::new(
+                    Code::W0201,
+                    format!(
+                        "{} windows come in other sizes; {} cm x {} cm is not one of them",
+                        kind.as_str(),
+                        ast::format_number(round6(wc)),
+                        ast::format_number(round6(hc))
+                    ),
+                )
+                .with_primary(
+                    w.width.span.to(w.height.span),
+                    "the nearest offered size will be used",
+                )
+                .with_help(format!(
+                    "write `{} cm x {} cm`, the nearest size of a {} window",
+                    nearest.0,
+                    nearest.1,
+                    kind.as_str()
+                )),
+            );
+        }
+        Some(Window {
+            wall,
+            kind,
+            width_m: width,
+            height_m: height,
+            count: n,
+            sill_m: sill,
+            asset: w.asset.as_ref().map(|s| Pinned { id: s.value.clone(), span: s.span }),
+            span: w.span,
+        })
+    }
+
+    fn positive_length(&mut self, q: &Quantity, what: &str) -> Option<f64> {
+        let v = length_m(q, None, what, &mut self.diagnostics)?;
+        if v <= 0.0 {
+            self.push(
+                Diagnostic::new(Code::E0208, format!("{what} must be greater than zero"))
+                    .with_primary(q.span, "not a positive length"),
+            );
+            return None;
+        }
+        Some(v)
+    }
+
+    fn group_count(&mut self, o: &ast::Object) -> u32 {
+        let mut n = 1;
+        let mut seen: Option<Span> = None;
+        for stmt in &o.body {
+            if let ast::ObjectStmt::Count(q, _, span) = stmt {
+                if let Some(first) = seen {
+                    self.duplicate_setting("count", *span, first);
+                    continue;
+                }
+                seen = Some(*span);
+                n = count(q, "the object count", 1, MAX_GROUP_COUNT, &mut self.diagnostics)
+                    .unwrap_or(1);
+            }
+        }
+        n
+    }
+
+    fn expand_group(
+        &mut self,
+        g: &Group<'_>,
+        room: RoomId,
+        checked: &Room,
+        names: &RoomNames,
+        scene: &mut Scene,
+    ) {
+        let o = g.decl;
+        // Group-level settings.
+        let mut base = Object {
+            id: ObjectId(g.first),
+            room,
+            name: String::new(),
+            group: o.id.name.clone(),
+            index: 0,
+            group_count: g.count,
+            category: o.category.value.clone(),
+            description: None,
+            size_m: None,
+            variance: Variance::Same,
+            asset: None,
+            at: None,
+            facing_deg: None,
+            placement: if g.is_wall {
+                Placement::Wall { above: None, height_m: None }
+            } else {
+                Placement::Floor { global: None, constraints: Vec::new() }
+            },
+            on_top: Vec::new(),
+            name_span: o.id.span,
+            decl_span: o.span,
+        };
+        let mut instances: BTreeMap<u32, &ast::Instance> = BTreeMap::new();
+        let mut seen: BTreeMap<&'static str, Span> = BTreeMap::new();
+        let shared: Vec<&ast::ObjectStmt> = o.body.iter().collect();
+        for stmt in &o.body {
+            if let ast::ObjectStmt::Instance(inst) = stmt {
+                match parse_instance(&inst.id.name, &o.id.name, g.count) {
+                    Some(i) => {
+                        if let Some(first) = instances.get(&i) {
+                            self.push(
+                                Diagnostic::new(
+                                    Code::E0203,
+                                    format!("instance `{}` has two blocks", inst.id.name),
+                                )
+                                .with_primary(inst.id.span, "second block")
+                                .with_secondary(first.id.span, "first block")
+                                .with_help("merge the two blocks"),
+                            );
+                        } else {
+                            instances.insert(i, inst);
+                        }
+                    }
+                    None => {
+                        let all: Vec<String> =
+                            (0..g.count).map(|i| format!("{}-{i}", o.id.name)).collect();
+                        let candidates =
+                            suggest::closest(&inst.id.name, all.iter().map(String::as_str));
+                        self.push(
+                            Diagnostic::new(
+                                Code::E0201,
+                                format!("`{}` is not an instance of `{}`", inst.id.name, o.id.name),
+                            )
+                            .with_primary(
+                                inst.id.span,
+                                format!(
+                                    "`{}` has {} instance(s): {}",
+                                    o.id.name,
+                                    g.count,
+                                    all.join(", ")
+                                ),
+                            )
+                            .with_help_opt(
+                                suggest::did_you_mean(&candidates).or_else(|| {
+                                    Some(format!(
+                                        "raise `count` to declare more instances of `{}`",
+                                        o.id.name
+                                    ))
+                                }),
+                            ),
+                        );
+                    }
+                }
+            }
+        }
+        let wall_height = scene.wall_height_m;
+        self.apply_stmts(
+            &shared,
+            &mut base,
+            g.is_wall,
+            true,
+            &mut seen,
+            checked,
+            names,
+            wall_height,
+        );
+        let mut missing_global: Vec<String> = Vec::new();
+        for i in 0..g.count {
+            let mut obj = base.clone();
+            obj.id = ObjectId(g.first + i as usize);
+            obj.index = i;
+            obj.name = format!("{}-{i}", o.id.name);
+            if let Some(inst) = instances.get(&i) {
+                let stmts: Vec<&ast::ObjectStmt> = inst.body.iter().collect();
+                let mut inst_seen = seen.clone();
+                self.apply_stmts(
+                    &stmts,
+                    &mut obj,
+                    g.is_wall,
+                    false,
+                    &mut inst_seen,
+                    checked,
+                    names,
+                    wall_height,
+                );
+            }
+            if let Placement::Floor { constraints, .. } = &mut obj.placement {
+                let own = obj.id;
+                let mut k = 0;
+                while k < constraints.len() {
+                    if constraints[k].target == own {
+                        let c = constraints.remove(k);
+                        self.diagnostics.push(
+                            Diagnostic::new(Code::E0206, format!("`{}-{i}` refers to itself", o.id.name))
+                                .with_primary(c.target_span, "the object itself")
+                                .with_help("a constraint written for the whole group applies to every instance; put it in the instance blocks of the others"),
+                        );
+                    } else {
+                        k += 1;
+                    }
+                }
+            }
+            if matches!(obj.placement, Placement::Floor { global: None, .. }) && obj.at.is_none() {
+                missing_global.push(obj.name.clone());
+            }
+            scene.objects.push(obj);
+        }
+        let has_bad_line = o.body.iter().any(|s| matches!(s, ast::ObjectStmt::Error(_)))
+            || instances
+                .values()
+                .any(|i| i.body.iter().any(|s| matches!(s, ast::ObjectStmt::Error(_))));
+        if !missing_global.is_empty() && !has_bad_line {
+            let which = if missing_global.len() == g.count as usize && g.count > 1 {
+                format!("every instance of `{}`", o.id.name)
+            } else {
+                missing_global.iter().map(|n| format!("`{n}`")).collect::<Vec<_>>().join(", ")
+            };
+            self.push(
+                Diagnostic::new(
+                    Code::W0202,
+                    format!(
+                        "{which} has neither `edge` nor `middle`; it will be placed against a wall"
+                    ),
+                )
+                .with_primary(o.id.span, "no global constraint")
+                .with_help("add `edge` or `middle` to the object"),
+            );
+        }
+    }
+
+    /// Applies object statements (group or instance level) to an object.
+    #[allow(clippy::too_many_arguments, reason = "the checker's context for one block")]
+    fn apply_stmts(
+        &mut self,
+        stmts: &[&ast::ObjectStmt],
+        obj: &mut Object,
+        is_wall: bool,
+        group_level: bool,
+        seen: &mut BTreeMap<&'static str, Span>,
+        room: &Room,
+        names: &RoomNames,
+        wall_height_m: f64,
+    ) {
+        for stmt in stmts {
+            let single: Option<(&'static str, Span)> = match stmt {
+                ast::ObjectStmt::Describe(_, s) => Some(("describe", *s)),
+                ast::ObjectStmt::Size(s) => Some(("size", s.span)),
+                ast::ObjectStmt::Asset(_, s) => Some(("asset", *s)),
+                ast::ObjectStmt::Above(_, s) => Some(("above", *s)),
+                ast::ObjectStmt::Height(_, s) => Some(("height", *s)),
+                ast::ObjectStmt::At(_, s) => Some(("at", *s)),
+                ast::ObjectStmt::Facing(_, s) => Some(("facing", *s)),
+                _ => None,
+            };
+            if let Some((key, span)) = single {
+                if let Some(first) = seen.get(key) {
+                    self.duplicate_setting(key, span, *first);
+                    continue;
+                }
+                seen.insert(key, span);
+            }
+            match stmt {
+                ast::ObjectStmt::Describe(s, _) => obj.description = Some(s.value.clone()),
+                ast::ObjectStmt::Size(s) => {
+                    let w = self.positive_length(&s.width, "the width");
+                    let d = self.positive_length(&s.depth, "the depth");
+                    let h = self.positive_length(&s.height, "the height");
+                    if let (Some(w), Some(d), Some(h)) = (w, d, h) {
+                        obj.size_m = Some([w, d, h]);
+                    }
+                }
+                ast::ObjectStmt::Count(q, variance, span) => {
+                    if !group_level {
+                        self.misplaced(
+                            "count",
+                            *span,
+                            "an instance block",
+                            "put `count` in the object's own block",
+                        );
+                        continue;
+                    }
+                    let _ = q;
+                    if let Some(v) = variance {
+                        let table = [("same", Variance::Same), ("varied", Variance::Varied)];
+                        if let Some(v) = self.word(v, "variance", &table) {
+                            obj.variance = v;
+                        }
+                    }
+                }
+                ast::ObjectStmt::Asset(s, _) => {
+                    obj.asset = Some(Pinned { id: s.value.clone(), span: s.span })
+                }
+                ast::ObjectStmt::Constraint(c) => {
+                    if is_wall {
+                        self.misplaced(
+                            &c.name.name,
+                            c.span,
+                            "a wall object",
+                            "wall objects take `above` and `height`",
+                        );
+                        continue;
+                    }
+                    self.constraint(c, obj, room, names);
+                }
+                ast::ObjectStmt::Above(target, span) => {
+                    if !is_wall {
+                        self.misplaced(
+                            "above",
+                            *span,
+                            "a floor object",
+                            "`above` places wall and ceiling objects",
+                        );
+                        continue;
+                    }
+                    if let Some(id) = self.resolve_target(target, room, names, obj, true) {
+                        if let Placement::Wall { above, .. } = &mut obj.placement {
+                            *above = Some((id, target.span));
+                        }
+                    }
+                }
+                ast::ObjectStmt::Height(q, span) => {
+                    if !is_wall {
+                        self.misplaced(
+                            "height",
+                            *span,
+                            "a floor object",
+                            "the height of a floor object is part of `size`",
+                        );
+                        continue;
+                    }
+                    if let Some(h) =
+                        length_m(q, None, "the height above the floor", &mut self.diagnostics)
+                    {
+                        if h < 0.0 || h >= wall_height_m {
+                            self.push(
+                                Diagnostic::new(
+                                    Code::E0208,
+                                    format!(
+                                        "height {} m is not between the floor and the top of the wall ({} m)",
+                                        ast::format_number(round6(h)),
+                                        ast::format_number(wall_height_m)
+                                    ),
+                                )
+                                .with_primary(q.span, "out of range"),
+                            );
+                        } else if let Placement::Wall { height_m, .. } = &mut obj.placement {
+                            *height_m = Some(h);
+                        }
+                    }
+                }
+                ast::ObjectStmt::At(qs, span) => {
+                    if qs.len() != 2 {
+                        self.push(
+                            Diagnostic::new(
+                                Code::E0208,
+                                format!("`at` takes 2 coordinates here, not {}", qs.len()),
+                            )
+                            .with_primary(*span, "expected `at X, Z`")
+                            .with_help("write the position of the centre, e.g. `at 2 m, 3.5 m`"),
+                        );
+                        continue;
+                    }
+                    let x = length_m(&qs[0], None, "the x coordinate", &mut self.diagnostics);
+                    let z = length_m(&qs[1], None, "the z coordinate", &mut self.diagnostics);
+                    if let (Some(x), Some(z)) = (x, z) {
+                        obj.at = Some([x, z]);
+                    }
+                }
+                ast::ObjectStmt::Facing(q, _) => {
+                    obj.facing_deg = angle_deg(q, "the facing angle", &mut self.diagnostics)
+                }
+                ast::ObjectStmt::OnTop(t) => {
+                    if let Some(item) = self.on_top(t) {
+                        obj.on_top.push(item);
+                    }
+                }
+                ast::ObjectStmt::Instance(inst) => {
+                    if !group_level {
+                        self.misplaced(
+                            "instance",
+                            inst.span,
+                            "an instance block",
+                            "instance blocks do not nest",
+                        );
+                    }
+                }
+                ast::ObjectStmt::Comment(_)
+                | ast::ObjectStmt::Error(_)
+                | ast::ObjectStmt::Blank(_) => {}
+            }
+        }
+    }
+
+    fn misplaced(&mut self, what: &str, span: Span, place: &str, help: &str) {
+        self.push(
+            Diagnostic::new(Code::E0217, format!("`{what}` is not allowed in {place}"))
+                .with_primary(span, "not allowed here")
+                .with_help(help.to_string()),
+        );
+    }
+
+    fn on_top(&mut self, t: &ast::OnTop) -> Option<SmallItem> {
+        let n = match &t.count {
+            Some(q) => count(q, "the number of items", 1, MAX_ON_TOP_COUNT, &mut self.diagnostics)?,
+            None => 1,
+        };
+        let variance = match &t.variance {
+            Some(v) => {
+                self.word(v, "variance", &[("same", Variance::Same), ("varied", Variance::Varied)])?
+            }
+            None => Variance::Same,
+        };
+        let mut item = SmallItem {
+            item: t.item.value.clone(),
+            count: n,
+            variance,
+            asset: None,
+            at: None,
+            facing_deg: None,
+            span: t.span,
+        };
+        for stmt in &t.body {
+            match stmt {
+                ast::ObjectStmt::Asset(s, _) => {
+                    item.asset = Some(Pinned { id: s.value.clone(), span: s.span })
+                }
+                ast::ObjectStmt::At(qs, span) => {
+                    if qs.len() != 3 {
+                        self.push(
+                            Diagnostic::new(Code::E0208, format!("`at` takes 3 coordinates here, not {}", qs.len()))
+                                .with_primary(*span, "expected `at X, Y, Z`")
+                                .with_help("a small object's pin is the centre of its box, e.g. `at 1 m, 0.8 m, 2 m`"),
+                        );
+                        continue;
+                    }
+                    let v: Vec<Option<f64>> = qs
+                        .iter()
+                        .map(|q| length_m(q, None, "a coordinate", &mut self.diagnostics))
+                        .collect();
+                    if let [Some(x), Some(y), Some(z)] = v[..] {
+                        item.at = Some([x, y, z]);
+                    }
+                }
+                ast::ObjectStmt::Facing(q, _) => {
+                    item.facing_deg = angle_deg(q, "the facing angle", &mut self.diagnostics)
+                }
+                ast::ObjectStmt::Comment(_)
+                | ast::ObjectStmt::Error(_)
+                | ast::ObjectStmt::Blank(_) => {}
+                other => {
+                    let span = object_stmt_span(other);
+                    self.misplaced(
+                        object_stmt_word(other),
+                        span,
+                        "an `on top` block",
+                        "an `on top` block takes `asset`, `at` and `facing`",
+                    );
+                }
+            }
+        }
+        Some(item)
+    }
+
+    fn constraint(
+        &mut self,
+        c: &ast::Constraint,
+        obj: &mut Object,
+        room: &Room,
+        names: &RoomNames,
+    ) {
+        let global_kind = match c.name.name.as_str() {
+            "edge" => Some(GlobalKind::Edge),
+            "middle" => Some(GlobalKind::Middle),
+            _ => None,
+        };
+        if let Some(kind) = global_kind {
+            if let Some(t) = &c.target {
+                self.push(
+                    Diagnostic::new(Code::E0219, format!("`{}` takes no object", c.name.name))
+                        .with_primary(t.span, "unexpected name")
+                        .with_help(format!(
+                            "write `{}` alone; to relate objects use e.g. `near {}`",
+                            c.name.name, t.name
+                        )),
+                );
+            }
+            let group = obj.group.clone();
+            let Placement::Floor { global, .. } = &mut obj.placement else { return };
+            if let Some(first) = global {
+                let first_span = first.span;
+                self.push(
+                    Diagnostic::new(
+                        Code::E0209,
+                        format!("`{group}` has more than one global constraint"),
+                    )
+                    .with_primary(c.span, format!("`{}` here", c.name.name))
+                    .with_secondary(first_span, "the first global constraint")
+                    .with_help("keep one of `edge` and `middle`"),
+                );
+                return;
+            }
+            *global = Some(GlobalConstraint { kind, span: c.span });
+            return;
+        }
+        let Some(kind) = RelationKind::from_words(&c.name.name) else { return };
+        let Some(target) = &c.target else {
+            self.push(
+                Diagnostic::new(Code::E0218, format!("`{}` needs an object", c.name.name))
+                    .with_primary(c.span, "no object named")
+                    .with_help(format!("write e.g. `{} sofa-0`", c.name.name)),
+            );
+            return;
+        };
+        if let Some(id) = self.resolve_target(target, room, names, obj, false) {
+            if let Placement::Floor { constraints, .. } = &mut obj.placement {
+                constraints.push(Constraint {
+                    kind,
+                    target: id,
+                    span: c.span,
+                    target_span: target.span,
+                });
+            }
+        }
+    }
+
+    /// Resolves an object reference within a room. `for_wall`: the reference comes from a wall
+    /// or ceiling object (`above`), which may name any floor object of the room.
+    fn resolve_target(
+        &mut self,
+        target: &ast::Ident,
+        room: &Room,
+        names: &RoomNames,
+        obj: &Object,
+        for_wall: bool,
+    ) -> Option<ObjectId> {
+        let name = &target.name;
+        let found = names.instances.get(name).copied().or_else(|| match names.groups.get(name) {
+            Some((1, first)) => {
+                Some((*first, names.instances.get(&format!("{name}-0")).is_some_and(|e| e.1)))
+            }
+            _ => None,
+        });
+        if let Some((id, is_floor)) = found {
+            if !is_floor {
+                self.push(
+                    Diagnostic::new(Code::E0207, format!("`{name}` is a wall object"))
+                        .with_primary(target.span, "expected a floor object")
+                        .with_help(
+                            "constraints and `above` relate to objects standing on the floor",
+                        ),
+                );
+                return None;
+            }
+            if !for_wall
+                && !obj.name.is_empty()
+                && (id == obj.id || group_instance(name, &obj.group, obj.group_count, obj.index))
+            {
+                self.push(
+                    Diagnostic::new(Code::E0206, format!("`{}` refers to itself", obj.name))
+                        .with_primary(target.span, "the object itself")
+                        .with_help("a constraint relates an object to another, earlier object"),
+                );
+                return None;
+            }
+            return Some(id);
+        }
+        if let Some((n, _)) = names.groups.get(name) {
+            let all: Vec<String> = (0..*n).map(|i| format!("`{name}-{i}`")).collect();
+            self.push(
+                Diagnostic::new(Code::E0212, format!("`{name}` names {n} instances"))
+                    .with_primary(target.span, "which one?")
+                    .with_help(format!("name one instance: {}", all.join(", "))),
+            );
+            return None;
+        }
+        let elsewhere: Vec<String> = self
+            .all_instances
+            .get(name)
+            .map(|rooms| rooms.iter().filter(|r| **r != room.name).cloned().collect())
+            .unwrap_or_default();
+        if let Some(other) = elsewhere.first() {
+            self.push(
+                Diagnostic::new(
+                    Code::E0207,
+                    format!("`{name}` is in room `{other}`, not in `{}`", room.name),
+                )
+                .with_primary(target.span, "an object of another room")
+                .with_help("constraints relate objects of the same room"),
+            );
+            return None;
+        }
+        let mut candidates_pool: Vec<&str> = names.instances.keys().map(String::as_str).collect();
+        candidates_pool
+            .extend(names.groups.iter().filter(|(_, (n, _))| *n == 1).map(|(g, _)| g.as_str()));
+        let candidates = suggest::closest(name, candidates_pool.iter().copied());
+        self.push(
+            Diagnostic::new(Code::E0201, format!("unknown object `{name}`"))
+                .with_primary(target.span, format!("not declared in room `{}`", room.name))
+                .with_help_opt(suggest::did_you_mean(&candidates)),
+        );
+        None
+    }
+
+    /// Reports constraints whose target is declared after the object (forward references), and
+    /// circles among them.
+    fn check_constraint_order(&mut self, room: &Room, scene: &mut Scene) {
+        let ids: Vec<ObjectId> = room.objects.clone();
+        let mut forward: Vec<(ObjectId, usize)> = Vec::new();
+        for &id in &ids {
+            if let Placement::Floor { constraints, .. } = &scene.objects[id.0].placement {
+                for (k, c) in constraints.iter().enumerate() {
+                    if c.target.0 > id.0 {
+                        forward.push((id, k));
+                    }
+                }
+            }
+        }
+        if forward.is_empty() {
+            return;
+        }
+        // Edges of the dependency graph: object → target, over every constraint.
+        let mut edges: BTreeMap<usize, Vec<(usize, Span)>> = BTreeMap::new();
+        for &id in &ids {
+            if let Placement::Floor { constraints, .. } = &scene.objects[id.0].placement {
+                for c in constraints {
+                    edges.entry(id.0).or_default().push((c.target.0, c.span));
+                }
+            }
+        }
+        let mut in_cycle_reported: Vec<usize> = Vec::new();
+        let mut drop: Vec<(ObjectId, usize)> = Vec::new();
+        for &(id, k) in &forward {
+            let (target, span, target_span) = match &scene.objects[id.0].placement {
+                Placement::Floor { constraints, .. } => {
+                    (constraints[k].target, constraints[k].span, constraints[k].target_span)
+                }
+                Placement::Wall { .. } => continue,
+            };
+            drop.push((id, k));
+            // Is there a path target → … → id? Then the constraints form a circle.
+            if let Some(path) = find_path(&edges, target.0, id.0) {
+                if in_cycle_reported.contains(&id.0) || in_cycle_reported.contains(&target.0) {
+                    continue;
+                }
+                let mut d = Diagnostic::new(
+                    Code::E0205,
+                    format!(
+                        "constraints of `{}` and `{}` refer to each other in a circle",
+                        scene.objects[id.0].name, scene.objects[target.0].name
+                    ),
+                )
+                .with_primary(span, "this constraint closes the circle");
+                for (node, s) in &path {
+                    d = d.with_secondary(
+                        *s,
+                        format!("`{}` depends on the next object here", scene.objects[*node].name),
+                    );
+                    in_cycle_reported.push(*node);
+                }
+                in_cycle_reported.push(id.0);
+                self.push(d.with_help("remove one of these constraints; an object may only depend on objects before it"));
+            } else {
+                let target_obj = &scene.objects[target.0];
+                self.push(
+                    Diagnostic::new(
+                        Code::E0204,
+                        format!("`{}` is declared after `{}`, which refers to it", target_obj.name, scene.objects[id.0].name),
+                    )
+                    .with_primary(target_span, "declared later")
+                    .with_secondary(target_obj.name_span, "declared here")
+                    .with_help(format!(
+                        "move `{}` above `{}`; objects are placed in order and may only depend on earlier ones",
+                        target_obj.group, scene.objects[id.0].group
+                    )),
+                );
+            }
+        }
+        // One cause, one diagnostic: the reported constraints leave the scene.
+        for (id, k) in drop.into_iter().rev() {
+            if let Placement::Floor { constraints, .. } = &mut scene.objects[id.0].placement {
+                constraints.remove(k);
+            }
+        }
+    }
+
+    fn ceiling(
+        &mut self,
+        c: &ast::Ceiling,
+        room: &Room,
+        names: &RoomNames,
+        scene: &Scene,
+    ) -> Ceiling {
+        let mut ceiling = Ceiling {
+            description: c.description.value.clone(),
+            asset: None,
+            above: None,
+            at: None,
+            span: c.span,
+        };
+        let probe = Object {
+            id: ObjectId(usize::MAX),
+            room: room.id,
+            name: String::new(),
+            group: String::new(),
+            index: 0,
+            group_count: 1,
+            category: String::new(),
+            description: None,
+            size_m: None,
+            variance: Variance::Same,
+            asset: None,
+            at: None,
+            facing_deg: None,
+            placement: Placement::Wall { above: None, height_m: None },
+            on_top: Vec::new(),
+            name_span: c.span,
+            decl_span: c.span,
+        };
+        let _ = scene;
+        for stmt in &c.body {
+            match stmt {
+                ast::ObjectStmt::Asset(s, _) => {
+                    ceiling.asset = Some(Pinned { id: s.value.clone(), span: s.span })
+                }
+                ast::ObjectStmt::Above(t, _) => {
+                    if let Some(id) = self.resolve_target(t, room, names, &probe, true) {
+                        ceiling.above = Some((id, t.span));
+                    }
+                }
+                ast::ObjectStmt::At(qs, span) => {
+                    if qs.len() == 2 {
+                        let x = length_m(&qs[0], None, "the x coordinate", &mut self.diagnostics);
+                        let z = length_m(&qs[1], None, "the z coordinate", &mut self.diagnostics);
+                        if let (Some(x), Some(z)) = (x, z) {
+                            ceiling.at = Some([x, z]);
+                        }
+                    } else {
+                        self.push(
+                            Diagnostic::new(
+                                Code::E0208,
+                                format!("`at` takes 2 coordinates here, not {}", qs.len()),
+                            )
+                            .with_primary(*span, "expected `at X, Z`"),
+                        );
+                    }
+                }
+                ast::ObjectStmt::Comment(_)
+                | ast::ObjectStmt::Error(_)
+                | ast::ObjectStmt::Blank(_) => {}
+                other => {
+                    let span = object_stmt_span(other);
+                    self.misplaced(
+                        object_stmt_word(other),
+                        span,
+                        "a `ceiling` block",
+                        "a ceiling block takes `asset`, `above` and `at`",
+                    );
+                }
+            }
+        }
+        ceiling
+    }
+
+    fn doors(
+        &mut self,
+        file: &ast::File,
+        rooms: &BTreeMap<String, (RoomId, Span)>,
+        scene: &mut Scene,
+    ) {
+        let mut pairs: BTreeMap<(DoorSide, DoorSide), Span> = BTreeMap::new();
+        for item in &file.items {
+            let ast::Item::Door(d) = item else { continue };
+            let from = self.door_side(&d.from, rooms);
+            let to = self.door_side(&d.to, rooms);
+            let kind = self.word(
+                &d.kind,
+                "connection kind",
+                &[
+                    ("doorway", DoorKind::Doorway),
+                    ("doorframe", DoorKind::Doorframe),
+                    ("open", DoorKind::Open),
+                ],
+            );
+            let size = match &d.size {
+                Some(w) if w.name.eq_ignore_ascii_case("n/a") => Some(None),
+                Some(w) => self
+                    .word(
+                        w,
+                        "door size",
+                        &[("single", DoorSize::Single), ("double", DoorSize::Double)],
+                    )
+                    .map(Some),
+                None => Some(None),
+            };
+            let (Some(from), Some(to), Some(kind), Some(size)) = (from, to, kind, size) else {
+                continue;
+            };
+            if from == to {
+                let what = if from == DoorSide::Exterior {
+                    "the outside to itself"
+                } else {
+                    "a room to itself"
+                };
+                self.push(
+                    Diagnostic::new(Code::E0210, format!("a door connects {what}"))
+                        .with_primary(d.to.span, format!("`{}` again", d.to.name))
+                        .with_secondary(d.from.span, "first side")
+                        .with_help("a door joins two different rooms, or a room and `exterior`"),
+                );
+                continue;
+            }
+            if kind == DoorKind::Open && (from == DoorSide::Exterior || to == DoorSide::Exterior) {
+                self.push(
+                    Diagnostic::new(Code::E0207, "an open connection cannot lead outside")
+                        .with_primary(d.kind.span, "`open` removes the wall between two rooms")
+                        .with_help("use `doorway` for a door to the exterior"),
+                );
+                continue;
+            }
+            let key = if from <= to { (from, to) } else { (to, from) };
+            if let Some(first) = pairs.get(&key) {
+                self.push(
+                    Diagnostic::new(
+                        Code::E0216,
+                        format!("`{}` and `{}` are already connected", d.from.name, d.to.name),
+                    )
+                    .with_primary(d.span, "second connection")
+                    .with_secondary(*first, "first connection")
+                    .with_help(
+                        "keep one connection per pair of rooms; AI2-THOR allows one hole per wall",
+                    ),
+                );
+                continue;
+            }
+            pairs.insert(key, d.span);
+            let size = match kind {
+                DoorKind::Open => None,
+                _ => Some(size.unwrap_or(DoorSize::Single)),
+            };
+            scene.doors.push(Door {
+                index: scene.doors.len(),
+                from,
+                to,
+                kind,
+                size,
+                style: d.style.as_ref().map(|s| s.value.clone()),
+                asset: d.asset.as_ref().map(|s| Pinned { id: s.value.clone(), span: s.span }),
+                side_spans: [d.from.span, d.to.span],
+                span: d.span,
+            });
+        }
+    }
+
+    fn door_side(
+        &mut self,
+        ident: &ast::Ident,
+        rooms: &BTreeMap<String, (RoomId, Span)>,
+    ) -> Option<DoorSide> {
+        if ident.name == "exterior" {
+            return Some(DoorSide::Exterior);
+        }
+        if let Some((id, _)) = rooms.get(&ident.name) {
+            return Some(DoorSide::Room(*id));
+        }
+        let mut pool: Vec<&str> = rooms.keys().map(String::as_str).collect();
+        pool.push("exterior");
+        let candidates = suggest::closest(&ident.name, pool.iter().copied());
+        self.push(
+            Diagnostic::new(Code::E0202, format!("unknown room `{}`", ident.name))
+                .with_primary(ident.span, "no room has this identifier")
+                .with_help_opt(suggest::did_you_mean(&candidates).or_else(|| {
+                    Some("a door names two rooms, or a room and `exterior`".to_string())
+                })),
+        );
+        None
+    }
+}
+
+/// Whether `name` is `<group>-<index>` of the given group and instance.
+fn group_instance(name: &str, group: &str, count: u32, index: u32) -> bool {
+    (count == 1 && name == group) || name == format!("{group}-{index}")
+}
+
+/// Reads `group-N` with `N < count`.
+fn parse_instance(name: &str, group: &str, count: u32) -> Option<u32> {
+    let rest = name.strip_prefix(group)?.strip_prefix('-')?;
+    let i: u32 = rest.parse().ok()?;
+    (i < count && rest == i.to_string()).then_some(i)
+}
+
+/// A path `from → … → to` in the dependency graph, as (node, constraint span) steps.
+fn find_path(
+    edges: &BTreeMap<usize, Vec<(usize, Span)>>,
+    from: usize,
+    to: usize,
+) -> Option<Vec<(usize, Span)>> {
+    let mut stack: Vec<(usize, Vec<(usize, Span)>)> = vec![(from, Vec::new())];
+    let mut seen = std::collections::BTreeSet::new();
+    while let Some((node, path)) = stack.pop() {
+        if node == to {
+            return Some(path);
+        }
+        if !seen.insert(node) {
+            continue;
+        }
+        for &(next, span) in edges.get(&node).map_or(&[][..], Vec::as_slice) {
+            let mut p = path.clone();
+            p.push((node, span));
+            stack.push((next, p));
+        }
+    }
+    None
+}
+
+fn round6(v: f64) -> f64 {
+    (v * 1e6).round() / 1e6
+}
+
+fn object_stmt_span(stmt: &ast::ObjectStmt) -> Span {
+    match stmt {
+        ast::ObjectStmt::Describe(_, s)
+        | ast::ObjectStmt::Asset(_, s)
+        | ast::ObjectStmt::Count(_, _, s)
+        | ast::ObjectStmt::Above(_, s)
+        | ast::ObjectStmt::Height(_, s)
+        | ast::ObjectStmt::At(_, s)
+        | ast::ObjectStmt::Facing(_, s) => *s,
+        ast::ObjectStmt::Size(s) => s.span,
+        ast::ObjectStmt::Constraint(c) => c.span,
+        ast::ObjectStmt::OnTop(t) => t.span,
+        ast::ObjectStmt::Instance(i) => i.span,
+        ast::ObjectStmt::Comment(c) => c.span,
+        ast::ObjectStmt::Error(e) => e.span,
+        ast::ObjectStmt::Blank(s) => *s,
+    }
+}
+
+fn object_stmt_word(stmt: &ast::ObjectStmt) -> &str {
+    match stmt {
+        ast::ObjectStmt::Describe(..) => "describe",
+        ast::ObjectStmt::Asset(..) => "asset",
+        ast::ObjectStmt::Count(..) => "count",
+        ast::ObjectStmt::Above(..) => "above",
+        ast::ObjectStmt::Height(..) => "height",
+        ast::ObjectStmt::At(..) => "at",
+        ast::ObjectStmt::Facing(..) => "facing",
+        ast::ObjectStmt::Size(..) => "size",
+        ast::ObjectStmt::Constraint(c) => &c.name.name,
+        ast::ObjectStmt::OnTop(..) => "on top",
+        ast::ObjectStmt::Instance(..) => "instance",
+        ast::ObjectStmt::Comment(..) => "comment",
+        ast::ObjectStmt::Error(..) | ast::ObjectStmt::Blank(..) => "line",
+    }
+}

@@ -79,6 +79,9 @@ codes! {
     E0214 "too-few-corners" "a room outline has fewer than four corners";
     E0215 "multiple-scene-blocks" "a file has more than one `scene` block";
     E0216 "duplicate-connection" "two doors join the same pair of rooms";
+    E0217 "misplaced-statement" "a statement is not allowed in this kind of block";
+    E0218 "missing-target" "a relation names no object to relate to";
+    E0219 "unexpected-target" "`edge` or `middle` is followed by an object name";
     W0201 "window-size-not-offered" "a window size is not one of the sizes of its type";
     W0202 "missing-global-constraint" "a floor object has neither `edge` nor `middle`";
     W0203 "empty-scene" "the scene declares no room";

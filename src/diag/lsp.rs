@@ -28,7 +28,10 @@ fn uri(sources: &SourceMap, span: Span) -> Option<Uri> {
 }
 
 /// Converts diagnostics to LSP diagnostics, each paired with the file it belongs to.
-pub fn to_lsp(sources: &SourceMap, diagnostics: &[Diagnostic]) -> Vec<(String, lsp_types::Diagnostic)> {
+pub fn to_lsp(
+    sources: &SourceMap,
+    diagnostics: &[Diagnostic],
+) -> Vec<(String, lsp_types::Diagnostic)> {
     diagnostics
         .iter()
         .map(|d| {
@@ -43,7 +46,10 @@ pub fn to_lsp(sources: &SourceMap, diagnostics: &[Diagnostic]) -> Vec<(String, l
                 .iter()
                 .filter_map(|l| {
                     Some(DiagnosticRelatedInformation {
-                        location: Location { uri: uri(sources, l.span)?, range: range(sources, l.span) },
+                        location: Location {
+                            uri: uri(sources, l.span)?,
+                            range: range(sources, l.span),
+                        },
                         message: l.text.clone(),
                     })
                 })
@@ -61,7 +67,9 @@ pub fn to_lsp(sources: &SourceMap, diagnostics: &[Diagnostic]) -> Vec<(String, l
                     Severity::Note => DiagnosticSeverity::INFORMATION,
                 }),
                 code: Some(NumberOrString::String(d.code.as_str().to_string())),
-                code_description: Uri::from_str(&d.code.url()).ok().map(|href| CodeDescription { href }),
+                code_description: Uri::from_str(&d.code.url())
+                    .ok()
+                    .map(|href| CodeDescription { href }),
                 source: Some("holoc".to_string()),
                 message,
                 related_information: (!related.is_empty()).then_some(related),

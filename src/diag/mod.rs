@@ -129,11 +129,10 @@ impl Diagnostic {
 
     /// An internal error: a bug in holoc, reported as a diagnostic rather than a panic.
     pub fn internal(what: impl Into<String>) -> Diagnostic {
-        Diagnostic::new(Code::E0002, format!("internal error: {}", what.into()))
-            .with_help(format!(
-                "this is a bug in holoc {}; please report it with the command line and input",
-                env!("CARGO_PKG_VERSION")
-            ))
+        Diagnostic::new(Code::E0002, format!("internal error: {}", what.into())).with_help(format!(
+            "this is a bug in holoc {}; please report it with the command line and input",
+            env!("CARGO_PKG_VERSION")
+        ))
     }
 }
 
@@ -166,5 +165,6 @@ impl<T> Outcome<T> {
 /// Sorts diagnostics by file and position (stable for equal positions), the order every output
 /// format uses.
 pub fn sort(diagnostics: &mut [Diagnostic]) {
-    diagnostics.sort_by_key(|d| d.primary.as_ref().map(|l| (l.span.file, l.span.start, l.span.end)));
+    diagnostics
+        .sort_by_key(|d| d.primary.as_ref().map(|l| (l.span.file, l.span.start, l.span.end)));
 }

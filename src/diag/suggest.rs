@@ -51,6 +51,9 @@ mod tests {
         let names = ["sofa-0", "coffee_table-0", "tv_stand-0"];
         assert_eq!(closest("sofa-1", names), vec!["sofa-0".to_string()]);
         assert!(closest("wardrobe", names).is_empty());
-        assert_eq!(did_you_mean(&["a".into(), "b".into()]).as_deref(), Some("did you mean `a` or `b`?"));
+        assert_eq!(
+            did_you_mean(&["a".into(), "b".into()]).as_deref(),
+            Some("did you mean `a` or `b`?")
+        );
     }
 }

@@ -15,7 +15,10 @@ use std::fmt::Write as _;
 pub fn print(file: &ast::File) -> String {
     let mut p = Printer { out: String::new(), indent: 0 };
     let mut previous: Option<&ast::Item> = None;
-    for item in &file.items {
+    for (index, item) in file.items.iter().enumerate() {
+        if let ast::Item::Blank(_) = item {
+            continue;
+        }
         if let ast::Item::Comment(c) = item {
             if c.trailing && previous.is_some() {
                 p.trailing(&c.text);
@@ -26,10 +29,14 @@ pub fn print(file: &ast::File) -> String {
             let is_block = |i: &ast::Item| matches!(i, ast::Item::Scene(_) | ast::Item::Room(_));
             let prev_is_comment = matches!(prev, ast::Item::Comment(_));
             if is_block(prev) || (is_block(item) && !prev_is_comment) {
-                p.out.push('\n');
+                p.blank_line();
             }
         }
+        if index > 0 && matches!(file.items[index - 1], ast::Item::Blank(_)) {
+            p.blank_line();
+        }
         match item {
+            ast::Item::Blank(_) => {}
             ast::Item::Scene(s) => p.scene(s),
             ast::Item::Room(r) => p.room(r),
             ast::Item::Door(d) => p.door(d),
@@ -59,6 +66,13 @@ struct Printer {
 }
 
 impl Printer {
+    /// Ends the current paragraph with one empty line (never two, never at the start).
+    fn blank_line(&mut self) {
+        if !self.out.is_empty() && !self.out.ends_with("\n\n") && !self.out.ends_with("{\n") {
+            self.out.push('\n');
+        }
+    }
+
     fn line(&mut self, text: &str) {
         for _ in 0..self.indent {
             self.out.push_str("  ");
@@ -112,6 +126,7 @@ impl Printer {
                 ast::SceneStmt::Seed(q, _) => p.line(&format!("seed {}", quantity(q))),
                 ast::SceneStmt::Comment(c) => p.comment(c, first),
                 ast::SceneStmt::Error(e) => p.line(&e.text),
+                ast::SceneStmt::Blank(_) => p.blank_line(),
             }
             first = false;
         });
@@ -178,6 +193,7 @@ impl Printer {
             }
             ast::RoomStmt::Comment(c) => self.comment(c, first),
             ast::RoomStmt::Error(e) => self.line(&e.text),
+            ast::RoomStmt::Blank(_) => self.blank_line(),
         }
     }
 
@@ -191,6 +207,23 @@ impl Printer {
     }
 
     fn object_block(&mut self, header: &str, body: &[ast::ObjectStmt]) {
+        // A block of one simple statement stays on one line: `instance chair-1 { near table-0 }`.
+        if let [only] = body {
+            let simple = !matches!(
+                only,
+                ast::ObjectStmt::Instance(_)
+                    | ast::ObjectStmt::OnTop(_)
+                    | ast::ObjectStmt::Comment(_)
+                    | ast::ObjectStmt::Error(_)
+                    | ast::ObjectStmt::Blank(_)
+            );
+            if simple {
+                let mut inner = Printer { out: String::new(), indent: 0 };
+                inner.object_stmt(only, true);
+                self.line(&format!("{header} {{ {} }}", inner.out.trim_end()));
+                return;
+            }
+        }
         let mut first = true;
         self.block(header, body, |p, stmt| {
             p.object_stmt(stmt, first);
@@ -245,6 +278,7 @@ impl Printer {
             }
             ast::ObjectStmt::Comment(c) => self.comment(c, first),
             ast::ObjectStmt::Error(e) => self.line(&e.text),
+            ast::ObjectStmt::Blank(_) => self.blank_line(),
         }
     }
 

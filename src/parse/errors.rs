@@ -54,9 +54,29 @@ fn statements(context: Context) -> &'static [(&'static str, &'static str)] {
 
 /// Whole phrases of the object block, for suggestions on a misspelt constraint.
 const PHRASES: &[&str] = &[
-    "describe", "size", "count", "asset", "on top", "instance", "above", "height", "at",
-    "facing", "edge", "middle", "near", "far", "in front of", "behind", "side of", "left of",
-    "right of", "around", "center aligned", "face to", "face same as",
+    "describe",
+    "size",
+    "count",
+    "asset",
+    "on top",
+    "instance",
+    "above",
+    "height",
+    "at",
+    "facing",
+    "edge",
+    "middle",
+    "near",
+    "far",
+    "in front of",
+    "behind",
+    "side of",
+    "left of",
+    "right of",
+    "around",
+    "center aligned",
+    "face to",
+    "face same as",
 ];
 
 fn block_name(context: Context) -> &'static str {
@@ -103,7 +123,7 @@ fn string_problem(line: &str) -> Option<(usize, usize, &'static str, &'static st
     let bytes = line.as_bytes();
     let mut i = 0;
     while i < bytes.len() {
-        if line[i..].starts_with("//") {
+        if bytes[i..].starts_with(b"//") {
             return None;
         }
         if bytes[i] == b'"' {
@@ -175,7 +195,8 @@ pub(super) fn bad_line(file: FileId, offset: usize, line: &str, context: Context
         }
         None => {
             let words: Vec<&str> = trimmed.split_whitespace().collect();
-            let head = if first.is_empty() { trimmed.chars().take(20).collect() } else { first.clone() };
+            let head =
+                if first.is_empty() { trimmed.chars().take(20).collect() } else { first.clone() };
             let mut candidates: Vec<&str> = table.iter().map(|(kw, _)| *kw).collect();
             if context == Context::Object {
                 candidates = PHRASES.to_vec();
@@ -223,11 +244,8 @@ pub(super) fn from_pest(
     };
     expected.sort_unstable();
     expected.dedup();
-    let found: String = text[pos.min(text.len())..]
-        .chars()
-        .take_while(|c| !c.is_whitespace())
-        .take(20)
-        .collect();
+    let found: String =
+        text[pos.min(text.len())..].chars().take_while(|c| !c.is_whitespace()).take(20).collect();
     let end = pos + found.len().max(usize::from(pos < text.len()));
     let what = if expected.is_empty() {
         "unexpected text".to_string()

@@ -33,7 +33,7 @@ pub(crate) enum Context {
 /// Parses the file `file` of `sources`.
 pub fn parse(sources: &SourceMap, file: FileId) -> Outcome<ast::File> {
     let text = &sources.get(file).text;
-    let mut builder = Builder { file, diagnostics: Vec::new() };
+    let mut builder = Builder { file, text, diagnostics: Vec::new() };
     let whole = Span::new(file, 0, text.len());
     let ast = match HoloParser::parse(Rule::file, text) {
         Ok(mut pairs) => {
@@ -58,12 +58,13 @@ pub fn parse_str(text: &str) -> Outcome<ast::File> {
     parse(&sources, id)
 }
 
-struct Builder {
+struct Builder<'a> {
     file: FileId,
+    text: &'a str,
     diagnostics: Vec<Diagnostic>,
 }
 
-impl Builder {
+impl Builder<'_> {
     fn span(&self, pair: &Pair<'_, Rule>) -> Span {
         let s = pair.as_span();
         Span::new(self.file, s.start(), s.end())
@@ -72,7 +73,16 @@ impl Builder {
     fn file(&mut self, pair: Pair<'_, Rule>) -> ast::File {
         let span = self.span(&pair);
         let mut items = Vec::new();
+        let mut previous_end: Option<usize> = None;
         for p in children(pair) {
+            if p.as_rule() == Rule::EOI {
+                continue;
+            }
+            let start = p.as_span().start();
+            if self.blank_between(previous_end, start) {
+                items.push(ast::Item::Blank(Span::new(self.file, start, start)));
+            }
+            previous_end = Some(p.as_span().end());
             match p.as_rule() {
                 Rule::scene => items.push(ast::Item::Scene(self.scene(p))),
                 Rule::room => items.push(ast::Item::Room(self.room(p))),
@@ -94,6 +104,13 @@ impl Builder {
             }
         }
         ast::File { items, span }
+    }
+
+    /// Whether an empty line separates the previous item (ending at `previous_end`) from an
+    /// item starting at `start`.
+    fn blank_between(&self, previous_end: Option<usize>, start: usize) -> bool {
+        let Some(end) = previous_end else { return false };
+        self.text.get(end..start).is_some_and(|gap| gap.matches('\n').count() >= 2)
     }
 
     fn comment(&self, pair: Pair<'_, Rule>) -> ast::Comment {
@@ -146,9 +163,16 @@ impl Builder {
         mut stmt: impl FnMut(&mut Self, Pair<'_, Rule>) -> Option<T>,
         comment: impl Fn(ast::Comment) -> T,
         error: impl Fn(ast::ErrorNode) -> T,
+        blank: impl Fn(Span) -> T,
     ) -> Vec<T> {
         let mut out = Vec::new();
+        let mut previous_end: Option<usize> = None;
         for p in children(pair) {
+            let start = p.as_span().start();
+            if self.blank_between(previous_end, start) {
+                out.push(blank(Span::new(self.file, start, start)));
+            }
+            previous_end = Some(p.as_span().end());
             match p.as_rule() {
                 Rule::comment | Rule::trailing_comment => out.push(comment(self.comment(p))),
                 Rule::bad_line => {
@@ -188,6 +212,7 @@ impl Builder {
                         },
                         ast::SceneStmt::Comment,
                         ast::SceneStmt::Error,
+                        ast::SceneStmt::Blank,
                     );
                 }
                 _ => {}
@@ -212,6 +237,7 @@ impl Builder {
                         Builder::room_stmt,
                         ast::RoomStmt::Comment,
                         ast::RoomStmt::Error,
+                        ast::RoomStmt::Blank,
                     );
                 }
                 _ => {}
@@ -312,6 +338,7 @@ impl Builder {
             Builder::object_stmt,
             ast::ObjectStmt::Comment,
             ast::ObjectStmt::Error,
+            ast::ObjectStmt::Blank,
         )
     }
 

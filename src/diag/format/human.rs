@@ -83,8 +83,7 @@ fn report<'a>(sources: &SourceMap, d: &'a Diagnostic) -> Report<'a> {
     if let Some(primary) = &d.primary {
         if let Some(file) = sources.try_get(primary.span.file) {
             source = Some(NamedSource::new(file.name.clone(), file.text.clone()));
-            let to_span =
-                |s: crate::source::Span| SourceSpan::from((s.start as usize, s.len()));
+            let to_span = |s: crate::source::Span| SourceSpan::from((s.start as usize, s.len()));
             let text = (!primary.text.is_empty()).then(|| primary.text.clone());
             labels.push(LabeledSpan::new_primary_with_span(text, to_span(primary.span)));
             for l in &d.secondary {
@@ -105,13 +104,15 @@ fn report<'a>(sources: &SourceMap, d: &'a Diagnostic) -> Report<'a> {
 }
 
 /// Draws diagnostics the way people read them, with the source lines and labels.
-pub fn render_human(sources: &SourceMap, diagnostics: &[Diagnostic], options: HumanOptions) -> String {
-    let theme = if options.color {
-        GraphicalTheme::unicode()
-    } else {
-        GraphicalTheme::unicode_nocolor()
-    };
-    let handler = GraphicalReportHandler::new_themed(theme).with_width(options.width).with_links(false);
+pub fn render_human(
+    sources: &SourceMap,
+    diagnostics: &[Diagnostic],
+    options: HumanOptions,
+) -> String {
+    let theme =
+        if options.color { GraphicalTheme::unicode() } else { GraphicalTheme::unicode_nocolor() };
+    let handler =
+        GraphicalReportHandler::new_themed(theme).with_width(options.width).with_links(false);
     let mut out = String::new();
     for d in diagnostics {
         let r = report(sources, d);

@@ -13,7 +13,8 @@ pub fn render_short(sources: &SourceMap, diagnostics: &[Diagnostic]) -> String {
             .and_then(|l| place(sources, l.span))
             .map(|p| format!("{}:{}:{}: ", p.file, p.line, p.column))
             .unwrap_or_default();
-        let _ = writeln!(out, "{location}{}[{}]: {}", d.severity.as_str(), d.code.as_str(), d.message);
+        let _ =
+            writeln!(out, "{location}{}[{}]: {}", d.severity.as_str(), d.code.as_str(), d.message);
     }
     out
 }

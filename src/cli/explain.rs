@@ -1,0 +1,44 @@
+//! `holoc explain CODE`: print a code's page from the diagnostics catalogue.
+
+use crate::diag::{Code, Diagnostic};
+use std::process::ExitCode;
+
+/// Arguments of `holoc explain`.
+#[derive(Debug, clap::Args)]
+pub struct ExplainArgs {
+    /// A code (`E0201`) or its name (`unknown-object`); `--list` prints them all.
+    #[arg(required_unless_present = "list")]
+    pub code: Option<String>,
+    /// List every code with its name and summary.
+    #[arg(long)]
+    pub list: bool,
+}
+
+/// Runs `holoc explain`.
+#[allow(clippy::print_stdout, reason = "the CLI is the only place that prints")]
+pub fn run(args: &ExplainArgs) -> ExitCode {
+    if args.list {
+        for code in Code::ALL {
+            println!("{}  {:<28} {}", code.as_str(), code.name(), code.summary());
+        }
+        return ExitCode::SUCCESS;
+    }
+    let text = args.code.as_deref().unwrap_or_default();
+    match Code::parse(text) {
+        Some(code) => {
+            print!("{}", code.page());
+            ExitCode::SUCCESS
+        }
+        None => {
+            let names: Vec<&str> = Code::ALL.iter().flat_map(|c| [c.as_str(), c.name()]).collect();
+            let candidates = crate::diag::suggest::closest(text, names.iter().copied());
+            let d = Diagnostic::new(Code::E0004, format!("unknown diagnostic code `{text}`"))
+                .with_help_opt(
+                    crate::diag::suggest::did_you_mean(&candidates)
+                        .or_else(|| Some("`holoc explain --list` prints every code".to_string())),
+                );
+            super::common::emit_plain(&d);
+            ExitCode::from(2)
+        }
+    }
+}

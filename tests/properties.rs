@@ -1,0 +1,152 @@
+//! Properties of the language front end over the whole corpus and the examples:
+//! formatting round-trips and is idempotent; no input makes the parser or checker panic.
+
+use proptest::prelude::*;
+use std::path::PathBuf;
+
+fn holo_files() -> Vec<PathBuf> {
+    let mut out = Vec::new();
+    let mut stack = vec![PathBuf::from("tests/corpus"), PathBuf::from("examples")];
+    while let Some(dir) = stack.pop() {
+        let Ok(entries) = std::fs::read_dir(&dir) else { continue };
+        for entry in entries.flatten() {
+            let path = entry.path();
+            if path.is_dir() {
+                stack.push(path);
+            } else if path.extension().is_some_and(|e| e == "holo") {
+                out.push(path);
+            }
+        }
+    }
+    out.sort();
+    out
+}
+
+#[test]
+fn fmt_round_trips_and_is_idempotent() {
+    let files = holo_files();
+    assert!(files.len() > 20, "the corpus should have many files, found {}", files.len());
+    for path in files {
+        let text = std::fs::read_to_string(&path).expect("readable");
+        let first = holoc::parse::parse_str(&text);
+        if first.has_errors() {
+            continue;
+        }
+        let printed = holoc::fmt::print(&first.value);
+        let second = holoc::parse::parse_str(&printed);
+        assert!(
+            !second.has_errors(),
+            "{}: the printed form does not parse:\n{printed}",
+            path.display()
+        );
+        assert_eq!(
+            first.value.shape(),
+            second.value.shape(),
+            "{}: parse → print → parse changed the tree",
+            path.display()
+        );
+        assert_eq!(
+            holoc::fmt::print(&second.value),
+            printed,
+            "{}: printing twice differs",
+            path.display()
+        );
+    }
+}
+
+#[test]
+fn examples_are_canonical() {
+    for path in holo_files().into_iter().filter(|p| p.starts_with("examples")) {
+        let text = std::fs::read_to_string(&path).expect("readable");
+        let parsed = holoc::parse::parse_str(&text);
+        assert_eq!(
+            holoc::fmt::print(&parsed.value),
+            text,
+            "{} is not in canonical form",
+            path.display()
+        );
+    }
+}
+
+/// Runs the front end on a text; the property is that it returns.
+fn front_end(text: &str) {
+    let parsed = holoc::parse::parse_str(text);
+    let checked = holoc::check::check(&parsed.value);
+    let _ = holoc::fmt::print(&parsed.value);
+    let _ = holoc::check::dump(&checked.value);
+    let mut sources = holoc::source::SourceMap::new();
+    sources.add("fuzz.holo", text);
+    let mut all = parsed.diagnostics;
+    all.extend(checked.diagnostics);
+    let _ = holoc::diag::format::render_json(&sources, &all);
+    let _ = holoc::diag::lsp::render_lsp(&sources, &all);
+    let _ = holoc::diag::format::render_human(
+        &sources,
+        &all,
+        holoc::diag::format::HumanOptions::default(),
+    );
+}
+
+/// Tokens that make up plausible and implausible `.holo` text.
+fn token() -> impl Strategy<Value = String> {
+    prop_oneof![
+        Just("room".to_string()),
+        Just("scene".to_string()),
+        Just("door".to_string()),
+        Just("object".to_string()),
+        Just("wall".to_string()),
+        Just("corners".to_string()),
+        Just("window".to_string()),
+        Just("instance".to_string()),
+        Just("near".to_string()),
+        Just("in front of".to_string()),
+        Just("edge".to_string()),
+        Just("{".to_string()),
+        Just("}".to_string()),
+        Just("(".to_string()),
+        Just(")".to_string()),
+        Just("--".to_string()),
+        Just(":".to_string()),
+        Just(",".to_string()),
+        Just(";".to_string()),
+        Just("\n".to_string()),
+        Just("\"".to_string()),
+        Just("//".to_string()),
+        Just("/*".to_string()),
+        Just("x".to_string()),
+        Just("m".to_string()),
+        Just("cm".to_string()),
+        Just("deg".to_string()),
+        "[a-z_][a-z0-9_-]{0,8}",
+        "-?[0-9]{1,4}(\\.[0-9]{1,3})?",
+        "\"[^\"\\n]{0,12}\"",
+        "\\PC{1,3}",
+    ]
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 2000, ..ProptestConfig::default() })]
+
+    #[test]
+    fn random_token_streams_never_panic(tokens in proptest::collection::vec(token(), 0..60)) {
+        front_end(&tokens.join(" "));
+    }
+
+    #[test]
+    fn arbitrary_text_never_panics(text in "\\PC{0,200}") {
+        front_end(&text);
+    }
+
+    #[test]
+    fn mutated_examples_never_panic(index in 0usize..64, at in 0usize..4000, cut in 0usize..40, insert in "\\PC{0,6}") {
+        let files = holo_files();
+        let path = &files[index % files.len()];
+        let text = std::fs::read_to_string(path).expect("readable");
+        let mut at = at.min(text.len());
+        while !text.is_char_boundary(at) { at -= 1; }
+        let mut end = (at + cut).min(text.len());
+        while !text.is_char_boundary(end) { end -= 1; }
+        let mutated = format!("{}{}{}", &text[..at], insert, &text[end..]);
+        front_end(&mutated);
+    }
+}
