@@ -119,7 +119,8 @@ impl Progress for Bar {
             ProgressEvent::StageStarted { .. } => {}
             ProgressEvent::Asking { stage, room, attempt } => {
                 let room = room.as_ref().map(|r| format!(" [{r}]")).unwrap_or_default();
-                let repair = if *attempt > 0 { format!(" (repair {attempt})") } else { String::new() };
+                let repair =
+                    if *attempt > 0 { format!(" (repair {attempt})") } else { String::new() };
                 self.bar.set_message(format!("asking {}{room}{repair}", stage.as_str()));
             }
             ProgressEvent::Answered { stage, room, errors, .. } => {
@@ -129,10 +130,14 @@ impl Progress for Bar {
                         *done.entry(stage.as_str().to_string()).or_default() += 1;
                     }
                     if *errors > 0 {
-                        self.bar.println(format!("  {} [{room}]: {errors} error(s), asking again", stage.as_str()));
+                        self.bar.println(format!(
+                            "  {} [{room}]: {errors} error(s), asking again",
+                            stage.as_str()
+                        ));
                     }
                 } else if *errors > 0 {
-                    self.bar.println(format!("  {}: {errors} error(s), asking again", stage.as_str()));
+                    self.bar
+                        .println(format!("  {}: {errors} error(s), asking again", stage.as_str()));
                 }
             }
             ProgressEvent::StageFinished { stage } => {
@@ -185,10 +190,16 @@ fn record_path(args: &GenerateArgs) -> Option<PathBuf> {
 #[allow(clippy::print_stderr, reason = "the CLI is the only place that prints")]
 pub fn run(args: &GenerateArgs) -> ExitCode {
     if !(args.timeout.is_finite() && args.timeout > 0.0) {
-        return usage(format!("`--timeout {}` is not a positive number of seconds", args.timeout), "e.g. `--timeout 60`");
+        return usage(
+            format!("`--timeout {}` is not a positive number of seconds", args.timeout),
+            "e.g. `--timeout 60`",
+        );
     }
     if !(args.max_retry_delay.is_finite() && args.max_retry_delay >= 0.0) {
-        return usage(format!("`--max-retry-delay {}` is not a number of seconds", args.max_retry_delay), "e.g. `--max-retry-delay 30`");
+        return usage(
+            format!("`--max-retry-delay {}` is not a number of seconds", args.max_retry_delay),
+            "e.g. `--max-retry-delay 30`",
+        );
     }
     if !args.temperature.is_finite() {
         return usage("`--temperature` is not a number".to_string(), "e.g. `--temperature 0.2`");
@@ -201,7 +212,10 @@ pub fn run(args: &GenerateArgs) -> ExitCode {
     let mut overrides = BTreeMap::new();
     if let Some(dir) = &args.prompts {
         if !dir.is_dir() {
-            return usage(format!("`--prompts {}` is not a folder", dir.display()), "give a folder holding files such as `floor_plan.txt`");
+            return usage(
+                format!("`--prompts {}` is not a folder", dir.display()),
+                "give a folder holding files such as `floor_plan.txt`",
+            );
         }
         for template in Template::ALL {
             let path = dir.join(template.file_name());
@@ -284,7 +298,8 @@ pub fn run(args: &GenerateArgs) -> ExitCode {
     };
     let request = Request { text: args.request.clone(), seed: args.seed };
     let bar = (!args.quiet).then(Bar::new);
-    let outcome = generate::generate(&request, llm, &options, bar.as_ref().map(|b| b as &dyn Progress));
+    let outcome =
+        generate::generate(&request, llm, &options, bar.as_ref().map(|b| b as &dyn Progress));
     if let Some(bar) = &bar {
         bar.bar.finish_and_clear();
     }
@@ -301,7 +316,9 @@ pub fn run(args: &GenerateArgs) -> ExitCode {
                 }
             }
             Err(e) => {
-                common::emit_plain(&Diagnostic::internal(format!("cannot serialize the transcript: {e}")));
+                common::emit_plain(&Diagnostic::internal(format!(
+                    "cannot serialize the transcript: {e}"
+                )));
                 io_failed = true;
             }
         }
@@ -331,15 +348,24 @@ pub fn run(args: &GenerateArgs) -> ExitCode {
         // FIXME(issue 7): call the build driver (`holoc build`) here once it is on main; the
         // `.holo` text is in `generated.holo` and the output path in `args.output`.
         common::emit_plain(
-            &Diagnostic::new(Code::E0004, "`--build` needs the build driver, which is not in this holoc yet")
-                .with_help("run `holoc build` on the written `.holo` file when it is available"),
+            &Diagnostic::new(
+                Code::E0004,
+                "`--build` needs the build driver, which is not in this holoc yet",
+            )
+            .with_help("run `holoc build` on the written `.holo` file when it is available"),
         );
         io_failed = true;
     }
     let model_failed = outcome.diagnostics.iter().any(|d| {
         matches!(
             d.code,
-            Code::E0803 | Code::E0804 | Code::E0805 | Code::E0806 | Code::E0807 | Code::E0808 | Code::E0810
+            Code::E0803
+                | Code::E0804
+                | Code::E0805
+                | Code::E0806
+                | Code::E0807
+                | Code::E0808
+                | Code::E0810
         )
     });
     if io_failed || model_failed {

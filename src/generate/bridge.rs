@@ -23,7 +23,12 @@ pub(crate) struct Problems {
 }
 
 /// The errors of one answer, in the context of the earlier exchanges of `context`.
-pub(crate) fn answer_problems(stage: &str, room: Option<&str>, answer: &str, context: &Transcript) -> Problems {
+pub(crate) fn answer_problems(
+    stage: &str,
+    room: Option<&str>,
+    answer: &str,
+    context: &Transcript,
+) -> Problems {
     let mut transcript = context.clone();
     transcript.exchanges.retain(|e| !(e.stage == stage && e.room.as_deref() == room));
     transcript.exchanges.push(crate::import::Exchange {
@@ -163,11 +168,21 @@ fn quote(text: &str) -> String {
 
 impl<'a> Reader<'a> {
     fn new(transcript: &'a Transcript) -> Reader<'a> {
-        Reader { transcript, wall_height: None, rooms: Vec::new(), doors: Vec::new(), problems: Vec::new() }
+        Reader {
+            transcript,
+            wall_height: None,
+            rooms: Vec::new(),
+            doors: Vec::new(),
+            problems: Vec::new(),
+        }
     }
 
     fn problem(&mut self, stage: &str, room: Option<&str>, line: usize, message: String) {
-        self.problems.push((stage.to_string(), room.map(str::to_string), format!("line {line}: {message}")));
+        self.problems.push((
+            stage.to_string(),
+            room.map(str::to_string),
+            format!("line {line}: {message}"),
+        ));
     }
 
     fn answer(&self, stage: &str, room: Option<&str>) -> Option<String> {
@@ -188,7 +203,12 @@ impl<'a> Reader<'a> {
         if let Some(answer) = self.answer("wall-height", None) {
             match answer.lines().next().map(numbers).and_then(|n| n.first().copied()) {
                 Some(h) => self.wall_height = Some(h.clamp(2.0, 4.5)),
-                None => self.problem("wall-height", None, 1, "expected a number of metres such as `2.8`".into()),
+                None => self.problem(
+                    "wall-height",
+                    None,
+                    1,
+                    "expected a number of metres such as `2.8`".into(),
+                ),
             }
         }
         if let Some(answer) = self.answer("doorways", None) {
@@ -217,7 +237,12 @@ impl<'a> Reader<'a> {
                 let index = self.rooms.iter().position(|r| r.label == fields[0]);
                 match (index, fields.len()) {
                     (Some(i), 2) => self.rooms[i].ceiling = Some(fields[1].clone()),
-                    _ => self.problem("ceiling", None, line, "expected `room | description` with a room of the plan".into()),
+                    _ => self.problem(
+                        "ceiling",
+                        None,
+                        line,
+                        "expected `room | description` with a room of the plan".into(),
+                    ),
                 }
             }
         }
@@ -236,7 +261,12 @@ impl<'a> Reader<'a> {
             }
             let n = numbers(&fields[3]);
             if n.len() < 8 || n.len() % 2 != 0 {
-                self.problem("floor-plan", None, line, "expected a list of at least four (x, y) corners in metres".into());
+                self.problem(
+                    "floor-plan",
+                    None,
+                    line,
+                    "expected a list of at least four (x, y) corners in metres".into(),
+                );
                 continue;
             }
             let label = fields[0].replace('\'', "");
@@ -256,18 +286,36 @@ impl<'a> Reader<'a> {
             });
         }
         if self.rooms.is_empty() {
-            self.problem("floor-plan", None, 1, "no room line `room | floor design | wall design | [(x, y), ...]` found".into());
+            self.problem(
+                "floor-plan",
+                None,
+                1,
+                "no room line `room | floor design | wall design | [(x, y), ...]` found".into(),
+            );
         }
     }
 
     fn doorways(&mut self, answer: &str) {
         for (line, f) in lines(answer) {
             if f.len() != 5 {
-                self.problem("doorways", None, line, format!("expected 5 fields `room 1 | room 2 | type | size | style`, found {}", f.len()));
+                self.problem(
+                    "doorways",
+                    None,
+                    line,
+                    format!(
+                        "expected 5 fields `room 1 | room 2 | type | size | style`, found {}",
+                        f.len()
+                    ),
+                );
                 continue;
             }
             let (Some(a), Some(b)) = (self.room_id(&f[0]), self.room_id(&f[1])) else {
-                self.problem("doorways", None, line, format!("`{}` or `{}` is not a room of the plan", f[0], f[1]));
+                self.problem(
+                    "doorways",
+                    None,
+                    line,
+                    format!("`{}` or `{}` is not a room of the plan", f[0], f[1]),
+                );
                 continue;
             };
             let kind = if a == "exterior" || b == "exterior" { "doorway" } else { f[2].as_str() };
@@ -275,11 +323,17 @@ impl<'a> Reader<'a> {
                 "open" => format!("door {a} -- {b} : open"),
                 "doorway" | "doorframe" => {
                     let size = if f[3] == "double" { "double" } else { "single" };
-                    let style = if f[4] == "n/a" { String::new() } else { format!(" {}", quote(&f[4])) };
+                    let style =
+                        if f[4] == "n/a" { String::new() } else { format!(" {}", quote(&f[4])) };
                     format!("door {a} -- {b} : {kind} {size}{style}")
                 }
                 other => {
-                    self.problem("doorways", None, line, format!("unknown connection type `{other}`"));
+                    self.problem(
+                        "doorways",
+                        None,
+                        line,
+                        format!("unknown connection type `{other}`"),
+                    );
                     continue;
                 }
             };
@@ -313,7 +367,12 @@ impl<'a> Reader<'a> {
             _ => None,
         };
         let Some(Value::Object(map)) = json else {
-            self.problem("objects", Some(label), 1, "expected one JSON object keyed by object name".into());
+            self.problem(
+                "objects",
+                Some(label),
+                1,
+                "expected one JSON object keyed by object name".into(),
+            );
             return;
         };
         for (name, record) in &map {
@@ -329,8 +388,11 @@ impl<'a> Reader<'a> {
                     a.iter()
                         .filter_map(|c| {
                             let name = c.get("object_name")?.as_str()?.to_string();
-                            let n = c.get("quantity").and_then(Value::as_u64).unwrap_or(1).clamp(1, 20) as u32;
-                            let varied = c.get("variance_type").and_then(Value::as_str) == Some("varied");
+                            let n =
+                                c.get("quantity").and_then(Value::as_u64).unwrap_or(1).clamp(1, 20)
+                                    as u32;
+                            let varied =
+                                c.get("variance_type").and_then(Value::as_str) == Some("varied");
                             Some((name, n, varied))
                         })
                         .collect()
@@ -361,13 +423,21 @@ impl<'a> Reader<'a> {
         let stage = if wall { "wall-constraints" } else { "floor-constraints" };
         let mut order = 0;
         for (line, f) in lines(answer) {
-            let Some((o, n)) = self.find(index, &f[0]).filter(|(o, _)| self.rooms[index].objects[*o].wall == wall) else {
-                self.problem(stage, Some(label), line, format!("`{}` is not an object of the room", f[0]));
+            let Some((o, n)) =
+                self.find(index, &f[0]).filter(|(o, _)| self.rooms[index].objects[*o].wall == wall)
+            else {
+                self.problem(
+                    stage,
+                    Some(label),
+                    line,
+                    format!("`{}` is not an object of the room", f[0]),
+                );
                 continue;
             };
             let mut list = Vec::new();
             if wall {
-                if let Some(target) = f.get(1).and_then(|t| t.strip_prefix("above,")).map(str::trim) {
+                if let Some(target) = f.get(1).and_then(|t| t.strip_prefix("above,")).map(str::trim)
+                {
                     if self.find(index, target).is_some() {
                         list.push(format!("above {target}"));
                     }
@@ -384,12 +454,20 @@ impl<'a> Reader<'a> {
                     match (name, target) {
                         ("n/a", _) => {}
                         ("edge" | "middle", _) => list.push(name.to_string()),
-                        (_, Some(t)) if self.find(index, t).and_then(|(to, _)| self.rooms[index].objects[to].order).is_some() || self.find(index, t) == Some((o, n)) => {
+                        (_, Some(t))
+                            if self
+                                .find(index, t)
+                                .and_then(|(to, _)| self.rooms[index].objects[to].order)
+                                .is_some()
+                                || self.find(index, t) == Some((o, n)) =>
+                        {
                             if self.find(index, t) != Some((o, n)) {
                                 list.push(format!("{name} {t}"));
                             }
                         }
-                        _ => self.problem(stage, Some(label), line, format!("cannot use `{field}`")),
+                        _ => {
+                            self.problem(stage, Some(label), line, format!("cannot use `{field}`"))
+                        }
                     }
                 }
             }
@@ -410,16 +488,31 @@ impl<'a> Reader<'a> {
         for (line, f) in lines(answer) {
             let receptacle = f[0].split('(').next().unwrap_or("").trim().to_string();
             let Some((o, _)) = self.find(index, &receptacle) else {
-                self.problem("small-objects", Some(label), line, format!("`{receptacle}` is not an object of the room"));
+                self.problem(
+                    "small-objects",
+                    Some(label),
+                    line,
+                    format!("`{receptacle}` is not an object of the room"),
+                );
                 continue;
             };
             for item in &f[1..] {
                 let parts: Vec<&str> = item.split(',').map(str::trim).collect();
                 if parts.len() == 3 {
-                    let n = numbers(parts[1]).first().copied().unwrap_or(1.0).clamp(1.0, 20.0) as u32;
-                    self.rooms[index].objects[o].on_top.push((parts[0].to_string(), n, parts[2] == "varied"));
+                    let n =
+                        numbers(parts[1]).first().copied().unwrap_or(1.0).clamp(1.0, 20.0) as u32;
+                    self.rooms[index].objects[o].on_top.push((
+                        parts[0].to_string(),
+                        n,
+                        parts[2] == "varied",
+                    ));
                 } else {
-                    self.problem("small-objects", Some(label), line, format!("expected `item, number, same|varied`, found `{item}`"));
+                    self.problem(
+                        "small-objects",
+                        Some(label),
+                        line,
+                        format!("expected `item, number, same|varied`, found `{item}`"),
+                    );
                 }
             }
         }
@@ -429,11 +522,16 @@ impl<'a> Reader<'a> {
         let mut out = String::new();
         let request = quote(&self.transcript.request);
         let height = self.wall_height.unwrap_or(DEFAULT_WALL_HEIGHT_M);
-        let _ = writeln!(out, "scene {request} {{\n  wall height {height} m\n  seed {}\n}}\n", self.transcript.seed);
+        let _ = writeln!(
+            out,
+            "scene {request} {{\n  wall height {height} m\n  seed {}\n}}\n",
+            self.transcript.seed
+        );
         for r in &self.rooms {
             let _ = writeln!(out, "room {} {} {{", r.id, quote(&r.label));
             let _ = writeln!(out, "  floor {}\n  walls {}", quote(&r.floor), quote(&r.walls));
-            let corners: Vec<String> = r.corners.iter().map(|(x, z)| format!("({x}, {z})")).collect();
+            let corners: Vec<String> =
+                r.corners.iter().map(|(x, z)| format!("({x}, {z})")).collect();
             let _ = writeln!(out, "  corners in m {}", corners.join(" "));
             for w in &r.windows {
                 let _ = writeln!(out, "  {w}");
@@ -448,10 +546,20 @@ impl<'a> Reader<'a> {
                     let _ = writeln!(out, "    size {l} cm x {w} cm x {h} cm");
                 }
                 if o.count > 1 {
-                    let _ = writeln!(out, "    count {} {}", o.count, if o.varied { "varied" } else { "same" });
+                    let _ = writeln!(
+                        out,
+                        "    count {} {}",
+                        o.count,
+                        if o.varied { "varied" } else { "same" }
+                    );
                 }
                 for (item, n, varied) in &o.on_top {
-                    let _ = writeln!(out, "    on top {} x{n} {}", quote(item), if *varied { "varied" } else { "same" });
+                    let _ = writeln!(
+                        out,
+                        "    on top {} x{n} {}",
+                        quote(item),
+                        if *varied { "varied" } else { "same" }
+                    );
                 }
                 for (n, list) in &o.constraints {
                     if o.count == 1 {

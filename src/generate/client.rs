@@ -327,15 +327,20 @@ fn retry_after(response: &reqwest::blocking::Response) -> Option<Duration> {
 
 /// Reads `choices[0].message.content` and `usage` from a chat completion.
 fn parse_completion(body: &str) -> Result<LlmAnswer, String> {
-    let value: Value = serde_json::from_str(body).map_err(|e| format!("the body is not JSON ({e})"))?;
+    let value: Value =
+        serde_json::from_str(body).map_err(|e| format!("the body is not JSON ({e})"))?;
     let text = value
         .pointer("/choices/0/message/content")
         .and_then(Value::as_str)
         .ok_or_else(|| "missing `choices[0].message.content`".to_string())?;
-    let count = |name: &str| value.pointer(&format!("/usage/{name}")).and_then(Value::as_u64).unwrap_or(0);
+    let count =
+        |name: &str| value.pointer(&format!("/usage/{name}")).and_then(Value::as_u64).unwrap_or(0);
     Ok(LlmAnswer {
         text: text.to_string(),
-        usage: Usage { prompt_tokens: count("prompt_tokens"), completion_tokens: count("completion_tokens") },
+        usage: Usage {
+            prompt_tokens: count("prompt_tokens"),
+            completion_tokens: count("completion_tokens"),
+        },
     })
 }
 
@@ -356,7 +361,10 @@ impl Llm for HttpLlm {
             }
             let wait = match builder.send() {
                 Err(error) if error.is_timeout() => {
-                    last = Some(LlmError::Timeout { seconds: self.options.timeout.as_secs_f64(), tries: n + 1 });
+                    last = Some(LlmError::Timeout {
+                        seconds: self.options.timeout.as_secs_f64(),
+                        tries: n + 1,
+                    });
                     self.options.backoff(n, None)
                 }
                 Err(error) => {
@@ -386,16 +394,20 @@ impl Llm for HttpLlm {
                         }
                         Err(error) => {
                             return Err(LlmError::InvalidResponse {
-                                reason: self.scrub(&format!("the body could not be read ({error})")),
+                                reason: self
+                                    .scrub(&format!("the body could not be read ({error})")),
                             })
                         }
                     };
                     match status {
                         200..=299 => {
-                            return parse_completion(&text)
-                                .map_err(|reason| LlmError::InvalidResponse { reason: self.scrub(&reason) })
+                            return parse_completion(&text).map_err(|reason| {
+                                LlmError::InvalidResponse { reason: self.scrub(&reason) }
+                            })
                         }
-                        401 | 403 => return Err(LlmError::Unauthorized { status, body: self.scrub(&text) }),
+                        401 | 403 => {
+                            return Err(LlmError::Unauthorized { status, body: self.scrub(&text) })
+                        }
                         404 => {
                             return Err(LlmError::NotFound {
                                 url,
@@ -404,10 +416,20 @@ impl Llm for HttpLlm {
                             })
                         }
                         429 | 500..=599 => {
-                            last = Some(LlmError::Server { status, tries: n + 1, body: self.scrub(&text) });
+                            last = Some(LlmError::Server {
+                                status,
+                                tries: n + 1,
+                                body: self.scrub(&text),
+                            });
                             self.options.backoff(n, after)
                         }
-                        _ => return Err(LlmError::Server { status, tries: n + 1, body: self.scrub(&text) }),
+                        _ => {
+                            return Err(LlmError::Server {
+                                status,
+                                tries: n + 1,
+                                body: self.scrub(&text),
+                            })
+                        }
                     }
                 }
             };

@@ -102,7 +102,11 @@ fn overlap(a: Run, b: Run) -> f64 {
 /// Length of the boundary two rooms share, metres.
 pub(crate) fn shared_length(a: &Room, b: &Room) -> f64 {
     let runs_b: Vec<Run> = edges(b).into_iter().filter_map(run).collect();
-    edges(a).into_iter().filter_map(run).map(|ra| runs_b.iter().map(|&rb| overlap(ra, rb)).sum::<f64>()).sum()
+    edges(a)
+        .into_iter()
+        .filter_map(run)
+        .map(|ra| runs_b.iter().map(|&rb| overlap(ra, rb)).sum::<f64>())
+        .sum()
 }
 
 /// The side of the room an edge lies on.
@@ -196,7 +200,11 @@ pub(crate) fn room_pairs(scene: &Scene) -> String {
     for r in &scene.rooms {
         if let Some(longest) = outside_walls(scene, r).iter().map(|w| w.1).reduce(f64::max) {
             if longest + EPS_M >= MIN_CONNECTION_M {
-                lines.push(format!("exterior | {} (outside wall up to {} m)", r.label, metres(longest)));
+                lines.push(format!(
+                    "exterior | {} (outside wall up to {} m)",
+                    r.label,
+                    metres(longest)
+                ));
             }
         }
     }
@@ -288,7 +296,8 @@ pub(crate) fn receptacles(scene: &Scene, room: &Room) -> String {
         .map(|o| {
             let planned: Vec<String> =
                 o.on_top.iter().map(|i| format!("{} x{}", i.item, i.count)).collect();
-            let planned = if planned.is_empty() { "nothing yet".to_string() } else { planned.join(", ") };
+            let planned =
+                if planned.is_empty() { "nothing yet".to_string() } else { planned.join(", ") };
             format!("{} ({}) [{planned}]", o.name, room.label)
         })
         .collect();

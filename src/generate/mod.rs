@@ -314,7 +314,12 @@ impl Run<'_> {
     }
 
     /// The values of every placeholder of a stage's template.
-    fn values(&self, stage: Stage, scene: &Scene, room: Option<&crate::check::Room>) -> BTreeMap<&'static str, String> {
+    fn values(
+        &self,
+        stage: Stage,
+        scene: &Scene,
+        room: Option<&crate::check::Room>,
+    ) -> BTreeMap<&'static str, String> {
         let mut values = BTreeMap::new();
         values.insert("request", self.request.text.clone());
         values.insert("requirements", self.requirements(stage));
@@ -336,11 +341,22 @@ impl Run<'_> {
 
     /// Asks one question, with repair rounds. `base` is the transcript the answer is imported
     /// against (with the room's own earlier exchanges for per-room stages).
-    fn ask(&self, stage: Stage, room: Option<&str>, values: &BTreeMap<&'static str, String>, base: &[Exchange]) -> Asked {
+    fn ask(
+        &self,
+        stage: Stage,
+        room: Option<&str>,
+        values: &BTreeMap<&'static str, String>,
+        base: &[Exchange],
+    ) -> Asked {
         let prompt = self.prompts.render(stage.template(), values);
+        let used: BTreeMap<&str, &String> = values
+            .iter()
+            .filter(|(name, _)| stage.template().placeholders().contains(name))
+            .map(|(name, value)| (*name, value))
+            .collect();
         let parameters: Value = json!({
             "template": stage.template().file_name(),
-            "values": values,
+            "values": used,
             "sampling": self.parameters,
         });
         let mut asked = Asked { exchanges: Vec::new(), diagnostics: Vec::new(), failed: false };
@@ -354,16 +370,28 @@ impl Run<'_> {
                 None => prompt.clone(),
                 Some((answer, problems)) => {
                     let repair = BTreeMap::from([
-                        ("prompt", prompt.clone()),
-                        ("answer", answer.clone()),
-                        ("problems", problems.join("\n")),
+                        ("prompt", prompt.trim_end().to_string()),
+                        ("answer", answer.trim().to_string()),
+                        (
+                            "problems",
+                            problems
+                                .iter()
+                                .map(|p| format!("- {p}"))
+                                .collect::<Vec<_>>()
+                                .join("\n"),
+                        ),
                     ]);
                     self.prompts.render(Template::Repair, &repair)
                 }
             };
             self.tell(&ProgressEvent::Asking { stage, room: room.map(str::to_string), attempt });
             let started = self.clock.elapsed();
-            let result = self.llm.complete(&LlmRequest { stage: stage.as_str(), room, attempt, prompt: &text });
+            let result = self.llm.complete(&LlmRequest {
+                stage: stage.as_str(),
+                room,
+                attempt,
+                prompt: &text,
+            });
             let duration = self.clock.elapsed().saturating_sub(started);
             let answer = match result {
                 Ok(answer) => answer,
@@ -371,7 +399,10 @@ impl Run<'_> {
                     self.cancelled.store(true, Ordering::SeqCst);
                     let mut d = error.to_diagnostic();
                     let room_note = room.map(|r| format!(", room `{r}`")).unwrap_or_default();
-                    d = d.with_note(format!("while asking stage `{}`{room_note}, attempt {attempt}", stage.as_str()));
+                    d = d.with_note(format!(
+                        "while asking stage `{}`{room_note}, attempt {attempt}",
+                        stage.as_str()
+                    ));
                     asked.diagnostics.push(d);
                     asked.failed = true;
                     return asked;
@@ -521,7 +552,9 @@ impl Run<'_> {
             let scene = self.scene(&own);
             let Some(room) = scene.rooms.iter().find(|r| r.label == label) else { break };
             let skip = match stage {
-                Stage::FloorConstraints | Stage::SmallObjects => !context::has_floor_objects(&scene, room),
+                Stage::FloorConstraints | Stage::SmallObjects => {
+                    !context::has_floor_objects(&scene, room)
+                }
                 Stage::WallConstraints => !context::has_wall_objects(&scene, room),
                 _ => false,
             };
@@ -549,12 +582,16 @@ impl Run<'_> {
             seconds: round3(costs.iter().map(|c| c.seconds).sum()),
         });
         let mut holo = String::new();
-        if !self.transcript.exchanges.is_empty() && !self.diagnostics.iter().any(|d| fatal(d.code)) {
+        if !self.transcript.exchanges.is_empty() && !self.diagnostics.iter().any(|d| fatal(d.code))
+        {
             let built = bridge::build(&self.transcript, &mut sources);
             holo = built.value;
             self.diagnostics.extend(built.diagnostics);
         }
-        Outcome::new(Generated { holo, transcript: self.transcript, sources, costs }, self.diagnostics)
+        Outcome::new(
+            Generated { holo, transcript: self.transcript, sources, costs },
+            self.diagnostics,
+        )
     }
 }
 

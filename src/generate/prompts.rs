@@ -156,13 +156,18 @@ fn scan(text: &str) -> Vec<Slot> {
 impl Prompts {
     /// Checks the templates: the embedded default for each, unless `overrides` holds a file of
     /// `sources` for it (read by the caller from a `--prompts` folder).
-    pub fn load(sources: &mut SourceMap, overrides: &BTreeMap<Template, FileId>) -> Outcome<Prompts> {
+    pub fn load(
+        sources: &mut SourceMap,
+        overrides: &BTreeMap<Template, FileId>,
+    ) -> Outcome<Prompts> {
         let mut diagnostics = Vec::new();
         let mut texts = BTreeMap::new();
         for template in Template::ALL {
             let file = match overrides.get(&template) {
                 Some(&file) if sources.try_get(file).is_some() => file,
-                _ => sources.add(format!("<prompts>/{}", template.file_name()), template.embedded()),
+                _ => {
+                    sources.add(format!("<prompts>/{}", template.file_name()), template.embedded())
+                }
             };
             let text = sources.get(file).text.clone();
             let slots = scan(&text);
@@ -173,18 +178,28 @@ impl Prompts {
                     diagnostics.push(
                         Diagnostic::new(
                             Code::E0801,
-                            format!("placeholder without a name or closing `}}}}` in `{}`", template.file_name()),
+                            format!(
+                                "placeholder without a name or closing `}}}}` in `{}`",
+                                template.file_name()
+                            ),
                         )
                         .with_primary(span, "not a `{{name}}` placeholder")
                         .with_help(format!("write one of {}", list(allowed))),
                     );
                 } else if !allowed.contains(&slot.name.as_str()) {
-                    let help = suggest::did_you_mean(&suggest::closest(&slot.name, allowed.iter().copied()))
-                        .unwrap_or_else(|| format!("this template can use {}", list(allowed)));
+                    let help = suggest::did_you_mean(&suggest::closest(
+                        &slot.name,
+                        allowed.iter().copied(),
+                    ))
+                    .unwrap_or_else(|| format!("this template can use {}", list(allowed)));
                     diagnostics.push(
                         Diagnostic::new(
                             Code::E0801,
-                            format!("unknown placeholder `{}` in `{}`", slot.name, template.file_name()),
+                            format!(
+                                "unknown placeholder `{}` in `{}`",
+                                slot.name,
+                                template.file_name()
+                            ),
                         )
                         .with_primary(span, "the stage does not fill this in")
                         .with_help(help),

@@ -166,10 +166,7 @@ mod tests {
                          {"stage":"windows","room":"Bedroom","answer":"c"}]}"#;
         let t: Transcript = serde_json::from_str(json).expect("valid transcript");
         assert_eq!(t.latest("floor-plan", None).map(|e| e.answer.as_str()), Some("b"));
-        assert_eq!(
-            t.latest("windows", Some("Bedroom")).map(|e| e.answer.as_str()),
-            Some("c")
-        );
+        assert_eq!(t.latest("windows", Some("Bedroom")).map(|e| e.answer.as_str()), Some("c"));
         assert!(t.latest("windows", None).is_none());
     }
 }
