@@ -196,7 +196,8 @@ const KEYWORDS: &[&str] = &[
 /// of `_`; prefixed `r_` when it starts with a digit, is empty or is a keyword.
 pub(crate) fn room_id(label: &str) -> String {
     let s = slug(label);
-    if s.is_empty() || s.starts_with(|c: char| c.is_ascii_digit()) || KEYWORDS.contains(&s.as_str()) {
+    if s.is_empty() || s.starts_with(|c: char| c.is_ascii_digit()) || KEYWORDS.contains(&s.as_str())
+    {
         format!("r_{s}").trim_end_matches('_').to_string()
     } else {
         s
@@ -206,7 +207,8 @@ pub(crate) fn room_id(label: &str) -> String {
 /// The id of an object group from its normalised key, by the same rule (prefix `o_`).
 pub(crate) fn object_id(key: &str) -> String {
     let s = slug(key);
-    if s.is_empty() || s.starts_with(|c: char| c.is_ascii_digit()) || KEYWORDS.contains(&s.as_str()) {
+    if s.is_empty() || s.starts_with(|c: char| c.is_ascii_digit()) || KEYWORDS.contains(&s.as_str())
+    {
         format!("o_{s}").trim_end_matches('_').to_string()
     } else {
         s

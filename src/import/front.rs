@@ -62,11 +62,8 @@ impl Line {
 
 /// A comment holding a raw line, made safe to print on one line.
 pub(crate) fn raw_comment(stage: &str, raw: &str) -> String {
-    let clean: String = raw
-        .chars()
-        .map(|c| if c.is_control() { ' ' } else { c })
-        .take(300)
-        .collect();
+    let clean: String =
+        raw.chars().map(|c| if c.is_control() { ' ' } else { c }).take(300).collect();
     let clean = clean.trim_end();
     format!("// raw {stage}: {clean}")
 }
@@ -217,7 +214,9 @@ fn quantity_of(pair: pest::iterators::Pair<'_, Rule>) -> Option<Num> {
 pub(crate) fn number(text: &str) -> Option<Num> {
     let pairs = LlmParser::parse(Rule::quantity_field, text.trim()).ok()?;
     let field = pairs.into_iter().next()?;
-    let q = field.into_inner().find(|p| matches!(p.as_rule(), Rule::quantity | Rule::comma_quantity))?;
+    let q = field
+        .into_inner()
+        .find(|p| matches!(p.as_rule(), Rule::quantity | Rule::comma_quantity))?;
     quantity_of(q)
 }
 
@@ -262,12 +261,14 @@ pub(crate) fn first_number(text: &str) -> Option<(Num, usize, usize)> {
     let mut i = 0;
     while i < bytes.len() {
         let c = bytes[i];
-        let starts = c.is_ascii_digit()
-            || (c == b'-' && bytes.get(i + 1).is_some_and(u8::is_ascii_digit));
+        let starts =
+            c.is_ascii_digit() || (c == b'-' && bytes.get(i + 1).is_some_and(u8::is_ascii_digit));
         let after_word = i > 0 && (bytes[i - 1].is_ascii_alphanumeric() || bytes[i - 1] == b'.');
         if starts && !after_word {
             let mut j = i + 1;
-            while j < bytes.len() && (bytes[j].is_ascii_digit() || bytes[j] == b'.' || bytes[j] == b',') {
+            while j < bytes.len()
+                && (bytes[j].is_ascii_digit() || bytes[j] == b'.' || bytes[j] == b',')
+            {
                 j += 1;
             }
             // Take the unit, if any.

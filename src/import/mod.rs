@@ -97,7 +97,10 @@ impl Stage {
     pub fn per_room(self) -> bool {
         matches!(
             self,
-            Stage::Objects | Stage::FloorConstraints | Stage::WallConstraints | Stage::AbsoluteLayout
+            Stage::Objects
+                | Stage::FloorConstraints
+                | Stage::WallConstraints
+                | Stage::AbsoluteLayout
         )
     }
 }
@@ -160,7 +163,11 @@ impl ImportContext {
         self.draft
             .find_room(room_label)
             .map(|r| {
-                r.objects.iter().filter(|o| o.wall == wall).flat_map(draft::DObject::instance_names).collect()
+                r.objects
+                    .iter()
+                    .filter(|o| o.wall == wall)
+                    .flat_map(draft::DObject::instance_names)
+                    .collect()
             })
             .unwrap_or_default()
     }

@@ -40,8 +40,19 @@ pub(crate) fn run(stage: Stage, text: &str, file: FileId, ctx: &mut ImportContex
 
 /// Layout constraint names.
 pub(crate) const CONSTRAINTS: &[&str] = &[
-    "edge", "middle", "near", "far", "in front of", "behind", "side of", "left of", "right of",
-    "around", "center aligned", "face to", "face same as",
+    "edge",
+    "middle",
+    "near",
+    "far",
+    "in front of",
+    "behind",
+    "side of",
+    "left of",
+    "right of",
+    "around",
+    "center aligned",
+    "face to",
+    "face same as",
 ];
 
 /// Near-miss constraint names and what they mean. `beside` is `near`, never `behind`;
@@ -139,8 +150,12 @@ const VARIANCES: &[&str] = &["same", "varied"];
 const VARIANCE_SYNONYMS: &[(&str, &str)] =
     &[("identical", "same"), ("different", "varied"), ("various", "varied"), ("vary", "varied")];
 const LOCATIONS: &[&str] = &["floor", "wall"];
-const LOCATION_SYNONYMS: &[(&str, &str)] =
-    &[("ground", "floor"), ("on the floor", "floor"), ("on the wall", "wall"), ("wall-mounted", "wall")];
+const LOCATION_SYNONYMS: &[(&str, &str)] = &[
+    ("ground", "floor"),
+    ("on the floor", "floor"),
+    ("on the wall", "wall"),
+    ("wall-mounted", "wall"),
+];
 
 enum Found {
     Exact(&'static str),
@@ -200,7 +215,9 @@ fn bad_line(line: &Line, message: String, expected: &str, d: &mut Diags) {
 }
 
 fn bad_value(span: Span, message: String, label: &str, help: &str, d: &mut Diags) {
-    d.push(Diagnostic::new(Code::E0702, message).with_primary(span, label.to_string()).with_help(help));
+    d.push(
+        Diagnostic::new(Code::E0702, message).with_primary(span, label.to_string()).with_help(help),
+    );
 }
 
 /// Reports units and decimal commas that were converted.
@@ -208,8 +225,11 @@ fn converted(n: &Num, span: Span, to: &str, d: &mut Diags) {
     if n.comma || n.unit.is_some_and(|u| u != to) {
         let what = if n.comma { "decimal comma" } else { "unit" };
         d.push(
-            Diagnostic::new(Code::W0703, format!("converted a value written with a {what} to {to}"))
-                .with_primary(span, "converted"),
+            Diagnostic::new(
+                Code::W0703,
+                format!("converted a value written with a {what} to {to}"),
+            )
+            .with_primary(span, "converted"),
         );
     }
 }
@@ -277,9 +297,12 @@ fn current_room(ctx: &mut ImportContext, file: FileId, d: &mut Diags) -> String 
         if has_plan(ctx) {
             let names = ctx.draft.room_names();
             d.push(
-                Diagnostic::new(Code::E0703, format!("the answer is for room `{label}`, which the floor plan does not have"))
-                    .with_primary(Span::new(file, 0, 0), "answer for this room")
-                    .with_help_opt(did_you_mean(&closest(&label, names.iter().map(String::as_str)))),
+                Diagnostic::new(
+                    Code::E0703,
+                    format!("the answer is for room `{label}`, which the floor plan does not have"),
+                )
+                .with_primary(Span::new(file, 0, 0), "answer for this room")
+                .with_help_opt(did_you_mean(&closest(&label, names.iter().map(String::as_str)))),
             );
         }
         return ctx.draft.implicit_room(&label);
@@ -316,9 +339,13 @@ fn wall_height(text: &str, file: FileId, ctx: &mut ImportContext, d: &mut Diags)
             Diagnostic::new(Code::E0702, "the wall-height answer holds no number")
                 .with_primary(Span::new(file, 0, text.len().min(200)), "no number here")
                 .with_help("answer with a bare number of metres, e.g. `3.0`")
-                .with_note("the original picks a random height in 2.5–4.5 m; holoc leaves it unset"),
+                .with_note(
+                    "the original picks a random height in 2.5–4.5 m; holoc leaves it unset",
+                ),
         );
-        ctx.draft.comments.push(front::raw_comment("wall-height", trimmed.lines().next().unwrap_or("")));
+        ctx.draft
+            .comments
+            .push(front::raw_comment("wall-height", trimmed.lines().next().unwrap_or("")));
         return;
     };
     let span = Span::new(file, at, end);
@@ -327,7 +354,13 @@ fn wall_height(text: &str, file: FileId, ctx: &mut ImportContext, d: &mut Diags)
         Some("mm") => n.value / 1000.0,
         Some("m") => n.value,
         Some(_) => {
-            bad_value(span, "the wall height is not a length".into(), "not metres", "write metres, e.g. `3.0`", d);
+            bad_value(
+                span,
+                "the wall height is not a length".into(),
+                "not metres",
+                "write metres, e.g. `3.0`",
+                d,
+            );
             return;
         }
         None if n.value > 10.0 => {
@@ -345,8 +378,11 @@ fn wall_height(text: &str, file: FileId, ctx: &mut ImportContext, d: &mut Diags)
     let clamped = metres.clamp(2.0, 4.5);
     if clamped != metres {
         d.push(
-            Diagnostic::new(Code::W0707, format!("clamped the wall height {metres} m to {clamped} m"))
-                .with_primary(span, "outside 2.0–4.5 m"),
+            Diagnostic::new(
+                Code::W0707,
+                format!("clamped the wall height {metres} m to {clamped} m"),
+            )
+            .with_primary(span, "outside 2.0–4.5 m"),
         );
     }
     ctx.draft.wall_height = Some(clamped);
@@ -364,13 +400,21 @@ fn floor_plan(text: &str, file: FileId, ctx: &mut ImportContext, d: &mut Diags) 
         if !line.content.chars().any(|c| c.is_ascii_digit()) {
             // A table header or prose with `|`: nothing to read.
             d.push(
-                Diagnostic::new(Code::W0701, "ignored a `|` line without coordinates (a table header or prose)")
-                    .with_primary(line.span(), "ignored"),
+                Diagnostic::new(
+                    Code::W0701,
+                    "ignored a `|` line without coordinates (a table header or prose)",
+                )
+                .with_primary(line.span(), "ignored"),
             );
             continue;
         }
         if fields.len() != 4 {
-            bad_line(&line, format!("a floor-plan line has {} fields, not 4", fields.len()), FLOOR_SHAPE, d);
+            bad_line(
+                &line,
+                format!("a floor-plan line has {} fields, not 4", fields.len()),
+                FLOOR_SHAPE,
+                d,
+            );
             ctx.draft.comments.push(line.raw_comment(stage));
             continue;
         }
@@ -383,8 +427,11 @@ fn floor_plan(text: &str, file: FileId, ctx: &mut ImportContext, d: &mut Diags) 
         let (id, dup) = ctx.draft.fresh_room_id(&label);
         if dup {
             d.push(
-                Diagnostic::new(Code::W0704, format!("room `{label}` is declared twice; this one is `{id}`"))
-                    .with_primary(fields[0].span, format!("renamed `{id}`")),
+                Diagnostic::new(
+                    Code::W0704,
+                    format!("room `{label}` is declared twice; this one is `{id}`"),
+                )
+                .with_primary(fields[0].span, format!("renamed `{id}`")),
             );
         }
         let mut room = super::draft::DRoom { id, label, ..Default::default() };
@@ -407,12 +454,19 @@ fn floor_plan(text: &str, file: FileId, ctx: &mut ImportContext, d: &mut Diags) 
                     room.corners = points
                         .iter()
                         .map(|(x, z)| {
-                            let m = |n: &Num| if n.unit.is_none() { n.value } else { to_cm(n) / 100.0 };
+                            let m =
+                                |n: &Num| if n.unit.is_none() { n.value } else { to_cm(n) / 100.0 };
                             (m(x), m(z))
                         })
                         .collect();
                 } else {
-                    bad_value(fields[3].span, "a corner is more than 1 km from the origin".into(), "too large", "coordinates are metres", d);
+                    bad_value(
+                        fields[3].span,
+                        "a corner is more than 1 km from the origin".into(),
+                        "too large",
+                        "coordinates are metres",
+                        d,
+                    );
                     room.comments.push(line.raw_comment(stage));
                 }
             }
@@ -467,7 +521,12 @@ fn doorways(text: &str, file: FileId, ctx: &mut ImportContext, d: &mut Diags) {
     for line in start_lines(text, file, d, Stage::Doorways) {
         let fields = line.fields();
         if !(3..=5).contains(&fields.len()) {
-            bad_line(&line, format!("a doorway line has {} fields, not 5", fields.len()), DOOR_SHAPE, d);
+            bad_line(
+                &line,
+                format!("a doorway line has {} fields, not 5", fields.len()),
+                DOOR_SHAPE,
+                d,
+            );
             ctx.draft.comments.push(line.raw_comment(stage));
             continue;
         }
@@ -479,7 +538,12 @@ fn doorways(text: &str, file: FileId, ctx: &mut ImportContext, d: &mut Diags) {
             continue;
         };
         if fields.len() < 5 && kind != "open" {
-            bad_line(&line, format!("a doorway line has {} fields, not 5", fields.len()), DOOR_SHAPE, d);
+            bad_line(
+                &line,
+                format!("a doorway line has {} fields, not 5", fields.len()),
+                DOOR_SHAPE,
+                d,
+            );
             ctx.draft.comments.push(line.raw_comment(stage));
             continue;
         }
@@ -494,8 +558,11 @@ fn doorways(text: &str, file: FileId, ctx: &mut ImportContext, d: &mut Diags) {
         }
         if (a == "exterior" || b == "exterior") && kind == "open" {
             d.push(
-                Diagnostic::new(Code::W0706, "an open connection to the exterior was made a doorway")
-                    .with_primary(fields[2].span, "read as `doorway`"),
+                Diagnostic::new(
+                    Code::W0706,
+                    "an open connection to the exterior was made a doorway",
+                )
+                .with_primary(fields[2].span, "read as `doorway`"),
             );
             kind = "doorway";
         }
@@ -503,7 +570,8 @@ fn doorways(text: &str, file: FileId, ctx: &mut ImportContext, d: &mut Diags) {
         if kind != "open" {
             match fields.get(3) {
                 Some(f) if !f.is_na() => {
-                    size = word(f, "door size", DOOR_SIZES, DOOR_SIZE_SYNONYMS, d).map(str::to_string);
+                    size =
+                        word(f, "door size", DOOR_SIZES, DOOR_SIZE_SYNONYMS, d).map(str::to_string);
                     if size.is_none() {
                         ctx.draft.comments.push(line.raw_comment(stage));
                         continue;
@@ -512,19 +580,29 @@ fn doorways(text: &str, file: FileId, ctx: &mut ImportContext, d: &mut Diags) {
                 other => {
                     let span = other.map_or(line.span(), |f| f.span);
                     d.push(
-                        Diagnostic::new(Code::W0707, format!("a {kind} without a size was made `single`"))
-                            .with_primary(span, "no size"),
+                        Diagnostic::new(
+                            Code::W0707,
+                            format!("a {kind} without a size was made `single`"),
+                        )
+                        .with_primary(span, "no size"),
                     );
                     size = Some("single".into());
                 }
             }
         }
         let style = fields.get(4).filter(|f| !f.is_na() && kind != "open").map(|f| f.text.clone());
-        let dup = ctx.draft.doors.iter().any(|x| (x.from == a && x.to == b) || (x.from == b && x.to == a));
+        let dup = ctx
+            .draft
+            .doors
+            .iter()
+            .any(|x| (x.from == a && x.to == b) || (x.from == b && x.to == a));
         if dup {
             d.push(
-                Diagnostic::new(Code::W0706, format!("a second connection between `{a}` and `{b}` was ignored"))
-                    .with_primary(line.span(), "duplicate"),
+                Diagnostic::new(
+                    Code::W0706,
+                    format!("a second connection between `{a}` and `{b}` was ignored"),
+                )
+                .with_primary(line.span(), "duplicate"),
             );
             ctx.draft.comments.push(line.raw_comment(stage));
             continue;
@@ -544,14 +622,20 @@ fn doorways(text: &str, file: FileId, ctx: &mut ImportContext, d: &mut Diags) {
 // ---------------------------------------------------------------------------------------------
 // Windows.
 
-const WINDOW_SHAPE: &str = "room | wall direction | fixed/hung/slider | (width, height) | quantity | base height cm";
+const WINDOW_SHAPE: &str =
+    "room | wall direction | fixed/hung/slider | (width, height) | quantity | base height cm";
 
 fn windows(text: &str, file: FileId, ctx: &mut ImportContext, d: &mut Diags) {
     let stage = "windows";
     for line in start_lines(text, file, d, Stage::Windows) {
         let fields = line.fields();
         if fields.len() != 6 {
-            bad_line(&line, format!("a window line has {} fields, not 6", fields.len()), WINDOW_SHAPE, d);
+            bad_line(
+                &line,
+                format!("a window line has {} fields, not 6", fields.len()),
+                WINDOW_SHAPE,
+                d,
+            );
             ctx.draft.comments.push(line.raw_comment(stage));
             continue;
         }
@@ -560,13 +644,22 @@ fn windows(text: &str, file: FileId, ctx: &mut ImportContext, d: &mut Diags) {
         let kind = word(&fields[2], "window type", WINDOW_TYPES, WINDOW_SYNONYMS, d);
         let size = front::size_pair(&fields[3].text);
         if size.is_none() {
-            bad_value(fields[3].span, "the window size cannot be read".into(), "not `(width, height)`", "write `(130, 130)` (cm)", d);
+            bad_value(
+                fields[3].span,
+                "the window size cannot be read".into(),
+                "not `(width, height)`",
+                "write `(130, 130)` (cm)",
+                d,
+            );
         }
         let count = count_field(&fields[4], d);
         let sill = front::number(&fields[5].text).or_else(|| {
             let n = front::first_number(&fields[5].text).map(|x| x.0);
             if n.is_some() {
-                d.push(Diagnostic::new(Code::W0701, "read the base height from text").with_primary(fields[5].span, "first number"));
+                d.push(
+                    Diagnostic::new(Code::W0701, "read the base height from text")
+                        .with_primary(fields[5].span, "first number"),
+                );
             }
             n
         });
@@ -576,11 +669,23 @@ fn windows(text: &str, file: FileId, ctx: &mut ImportContext, d: &mut Diags) {
                 Some(to_cm(&n))
             }
             Some(_) => {
-                bad_value(fields[5].span, "the base height must be between 0 and 1000 cm".into(), "out of range", "write the height of the window's bottom in cm", d);
+                bad_value(
+                    fields[5].span,
+                    "the base height must be between 0 and 1000 cm".into(),
+                    "out of range",
+                    "write the height of the window's bottom in cm",
+                    d,
+                );
                 None
             }
             None => {
-                bad_value(fields[5].span, "the base height cannot be read".into(), "not a number", "write the height of the window's bottom in cm", d);
+                bad_value(
+                    fields[5].span,
+                    "the base height cannot be read".into(),
+                    "not a number",
+                    "write the height of the window's bottom in cm",
+                    d,
+                );
                 None
             }
         };
@@ -591,7 +696,13 @@ fn windows(text: &str, file: FileId, ctx: &mut ImportContext, d: &mut Diags) {
                 converted(&w, fields[3].span, "cm", d);
                 dims = Some((w_cm, h_cm));
             } else {
-                bad_value(fields[3].span, "the window size is not a positive size below 20 m".into(), "out of range", "write `(130, 130)` (cm)", d);
+                bad_value(
+                    fields[3].span,
+                    "the window size is not a positive size below 20 m".into(),
+                    "out of range",
+                    "write `(130, 130)` (cm)",
+                    d,
+                );
             }
         }
         let (Some(room), Some(dir), Some(kind), Some((w, h)), Some(count), Some(sill_cm)) =
@@ -600,12 +711,22 @@ fn windows(text: &str, file: FileId, ctx: &mut ImportContext, d: &mut Diags) {
             room_comment(ctx, room.as_deref(), line.raw_comment(stage));
             continue;
         };
-        let win = DWindow { wall: dir.into(), kind: kind.into(), width_cm: w, height_cm: h, count, sill_cm };
+        let win = DWindow {
+            wall: dir.into(),
+            kind: kind.into(),
+            width_cm: w,
+            height_cm: h,
+            count,
+            sill_cm,
+        };
         let Some(r) = ctx.draft.room_mut(&room) else { continue };
         if r.windows.iter().any(|x| x.wall == win.wall) {
             d.push(
-                Diagnostic::new(Code::W0706, format!("a second window row for the {dir} wall of `{room}` was ignored"))
-                    .with_primary(line.span(), "duplicate"),
+                Diagnostic::new(
+                    Code::W0706,
+                    format!("a second window row for the {dir} wall of `{room}` was ignored"),
+                )
+                .with_primary(line.span(), "duplicate"),
             );
             r.comments.push(line.raw_comment(stage));
             continue;
@@ -619,19 +740,31 @@ fn count_field(f: &Field, d: &mut Diags) -> Option<u32> {
     let n = front::number(&f.text).or_else(|| {
         let n = front::first_number(&f.text).map(|x| x.0);
         if n.is_some() {
-            d.push(Diagnostic::new(Code::W0701, "read the quantity from text").with_primary(f.span, "first number"));
+            d.push(
+                Diagnostic::new(Code::W0701, "read the quantity from text")
+                    .with_primary(f.span, "first number"),
+            );
         }
         n
     });
     match n {
         Some(n) if n.value >= 1.0 && n.value <= 100.0 && n.unit.is_none() => {
             if n.value.fract() != 0.0 {
-                d.push(Diagnostic::new(Code::W0707, "rounded a fractional quantity").with_primary(f.span, "rounded"));
+                d.push(
+                    Diagnostic::new(Code::W0707, "rounded a fractional quantity")
+                        .with_primary(f.span, "rounded"),
+                );
             }
             Some(n.value.round() as u32)
         }
         _ => {
-            bad_value(f.span, format!("`{}` is not a quantity from 1 to 100", f.text), "not a quantity", "write a whole number, e.g. `2`", d);
+            bad_value(
+                f.span,
+                format!("`{}` is not a quantity from 1 to 100", f.text),
+                "not a quantity",
+                "write a whole number, e.g. `2`",
+                d,
+            );
             None
         }
     }
@@ -651,7 +784,10 @@ impl<'de> serde::Deserialize<'de> for Ordered {
             fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
                 f.write_str("a JSON object")
             }
-            fn visit_map<A: serde::de::MapAccess<'de>>(self, mut map: A) -> Result<Ordered, A::Error> {
+            fn visit_map<A: serde::de::MapAccess<'de>>(
+                self,
+                mut map: A,
+            ) -> Result<Ordered, A::Error> {
                 let mut out = Vec::new();
                 while let Some((k, v)) = map.next_entry::<String, serde_json::Value>()? {
                     out.push((k, v));
@@ -674,9 +810,12 @@ fn extract_json<T: serde::de::DeserializeOwned>(
 ) -> Option<(T, Span)> {
     let (Some(a), Some(b)) = (text.find(open), text.rfind(close)) else {
         d.push(
-            Diagnostic::new(Code::E0706, format!("the {stage} answer holds no JSON (no `{open}` … `{close}`)"))
-                .with_primary(Span::new(file, 0, text.len().min(200)), "no JSON here")
-                .with_help("answer with one JSON value; prose around it is fine"),
+            Diagnostic::new(
+                Code::E0706,
+                format!("the {stage} answer holds no JSON (no `{open}` … `{close}`)"),
+            )
+            .with_primary(Span::new(file, 0, text.len().min(200)), "no JSON here")
+            .with_help("answer with one JSON value; prose around it is fine"),
         );
         return None;
     };
@@ -701,17 +840,23 @@ fn extract_json<T: serde::de::DeserializeOwned>(
         Err(e1) => match json5::from_str::<T>(body) {
             Ok(v) => {
                 d.push(
-                    Diagnostic::new(Code::W0701, "read the answer as JSON5 (quotes or commas are not strict JSON)")
-                        .with_primary(span, "lenient JSON"),
+                    Diagnostic::new(
+                        Code::W0701,
+                        "read the answer as JSON5 (quotes or commas are not strict JSON)",
+                    )
+                    .with_primary(span, "lenient JSON"),
                 );
                 Some((v, span))
             }
             Err(_) => {
                 let at = Span::new(file, a, b + close.len_utf8());
                 d.push(
-                    Diagnostic::new(Code::E0706, format!("the {stage} answer is not valid JSON: {e1}"))
-                        .with_primary(at, "cannot be read")
-                        .with_help("answer with one complete JSON value"),
+                    Diagnostic::new(
+                        Code::E0706,
+                        format!("the {stage} answer is not valid JSON: {e1}"),
+                    )
+                    .with_primary(at, "cannot be read")
+                    .with_help("answer with one complete JSON value"),
                 );
                 None
             }
@@ -746,18 +891,27 @@ fn json_word(
 ) -> &'static str {
     let Some(s) = v.and_then(serde_json::Value::as_str) else {
         if v.is_some() {
-            d.push(Diagnostic::new(Code::W0707, format!("{what} is not a string; `{default}` used")).with_primary(span, "defaulted"));
+            d.push(
+                Diagnostic::new(Code::W0707, format!("{what} is not a string; `{default}` used"))
+                    .with_primary(span, "defaulted"),
+            );
         }
         return default;
     };
     match lookup(s, vocab, syn) {
         Found::Exact(w) => w,
         Found::Synonym(w) => {
-            d.push(Diagnostic::new(Code::W0702, format!("read {what} `{s}` as `{w}`")).with_primary(span, "synonym"));
+            d.push(
+                Diagnostic::new(Code::W0702, format!("read {what} `{s}` as `{w}`"))
+                    .with_primary(span, "synonym"),
+            );
             w
         }
         Found::Unknown(_) => {
-            d.push(Diagnostic::new(Code::W0707, format!("unknown {what} `{s}`; `{default}` used")).with_primary(span, "defaulted"));
+            d.push(
+                Diagnostic::new(Code::W0707, format!("unknown {what} `{s}`; `{default}` used"))
+                    .with_primary(span, "defaulted"),
+            );
             default
         }
     }
@@ -765,12 +919,22 @@ fn json_word(
 
 fn objects_json(text: &str, file: FileId, ctx: &mut ImportContext, d: &mut Diags) {
     let room = current_room(ctx, file, d);
-    let Some((Ordered(entries), whole)) = extract_json::<Ordered>(text, file, '{', '}', Stage::Objects, d) else {
-        room_comment(ctx, Some(&room), front::raw_comment("objects", text.lines().next().unwrap_or("")));
+    let Some((Ordered(entries), whole)) =
+        extract_json::<Ordered>(text, file, '{', '}', Stage::Objects, d)
+    else {
+        room_comment(
+            ctx,
+            Some(&room),
+            front::raw_comment("objects", text.lines().next().unwrap_or("")),
+        );
         return;
     };
     if entries.is_empty() {
-        d.push(Diagnostic::new(Code::E0708, "the object selection is empty").with_primary(whole, "no objects").with_help("select at least one object"));
+        d.push(
+            Diagnostic::new(Code::E0708, "the object selection is empty")
+                .with_primary(whole, "no objects")
+                .with_help("select at least one object"),
+        );
     }
     let mut seen: Vec<String> = Vec::new();
     for (key, value) in entries {
@@ -781,10 +945,15 @@ fn objects_json(text: &str, file: FileId, ctx: &mut ImportContext, d: &mut Diags
                     .with_primary(span, "expected `{\"description\": …, \"location\": …, …}`")
                     .with_help("give each object a JSON object with description, location, size, quantity, variance_type, objects_on_top"),
             );
-            room_comment(ctx, Some(&room), front::raw_comment("objects", &format!("{key}: {value}")));
+            room_comment(
+                ctx,
+                Some(&room),
+                front::raw_comment("objects", &format!("{key}: {value}")),
+            );
             continue;
         };
-        let rec: Vec<(String, serde_json::Value)> = rec.into_iter().map(|(k, v)| (key_norm(&k), v)).collect();
+        let rec: Vec<(String, serde_json::Value)> =
+            rec.into_iter().map(|(k, v)| (key_norm(&k), v)).collect();
         let get = |k: &str| rec.iter().find(|(n, _)| n == k).map(|(_, v)| v);
         let category = key.trim().to_string();
         let base = object_id(&key_norm(&key));
@@ -795,25 +964,64 @@ fn objects_json(text: &str, file: FileId, ctx: &mut ImportContext, d: &mut Diags
             n += 1;
         }
         if id != base {
-            d.push(Diagnostic::new(Code::W0704, format!("object `{key}` is selected twice; this one is `{id}`")).with_primary(span, "renamed"));
+            d.push(
+                Diagnostic::new(
+                    Code::W0704,
+                    format!("object `{key}` is selected twice; this one is `{id}`"),
+                )
+                .with_primary(span, "renamed"),
+            );
         }
         seen.push(id.clone());
         let mut o = DObject { id, category, count: 1, ..DObject::default() };
         match get("description") {
             Some(serde_json::Value::String(s)) => o.describe = Some(s.clone()),
-            _ => d.push(Diagnostic::new(Code::W0707, format!("object `{key}` has no description")).with_primary(span, "no description")),
+            _ => d.push(
+                Diagnostic::new(Code::W0707, format!("object `{key}` has no description"))
+                    .with_primary(span, "no description"),
+            ),
         }
-        o.wall = json_word(get("location"), "location", LOCATIONS, LOCATION_SYNONYMS, "floor", span, d) == "wall";
+        o.wall =
+            json_word(get("location"), "location", LOCATIONS, LOCATION_SYNONYMS, "floor", span, d)
+                == "wall";
         if let Some(v) = get("size").filter(|v| !v.is_null()) {
-            let nums: Option<Vec<f64>> = v.as_array().map(|a| a.iter().map(json_number).collect::<Option<Vec<_>>>()).unwrap_or(None);
+            let nums: Option<Vec<f64>> = v
+                .as_array()
+                .map(|a| a.iter().map(json_number).collect::<Option<Vec<_>>>())
+                .unwrap_or(None);
             match nums.as_deref() {
-                Some(&[l, w, h]) if [l, w, h].iter().all(|x| *x > 0.0 && *x < 10_000.0) => o.size = Some([l, w, h]),
-                Some(&[_, _, _]) => bad_value(span, format!("the size of `{key}` is not three positive numbers below 10000 cm"), "size ignored", "write `[length, width, height]` in cm", d),
-                _ => d.push(Diagnostic::new(Code::W0707, format!("the size of `{key}` is not `[length, width, height]`; ignored")).with_primary(span, "size ignored")),
+                Some(&[l, w, h]) if [l, w, h].iter().all(|x| *x > 0.0 && *x < 10_000.0) => {
+                    o.size = Some([l, w, h])
+                }
+                Some(&[_, _, _]) => bad_value(
+                    span,
+                    format!("the size of `{key}` is not three positive numbers below 10000 cm"),
+                    "size ignored",
+                    "write `[length, width, height]` in cm",
+                    d,
+                ),
+                _ => d.push(
+                    Diagnostic::new(
+                        Code::W0707,
+                        format!("the size of `{key}` is not `[length, width, height]`; ignored"),
+                    )
+                    .with_primary(span, "size ignored"),
+                ),
             }
         }
         o.count = json_quantity(get("quantity"), &key, span, d);
-        o.variance = Some(json_word(get("variance_type"), "variance type", VARIANCES, VARIANCE_SYNONYMS, "same", span, d).to_string());
+        o.variance = Some(
+            json_word(
+                get("variance_type"),
+                "variance type",
+                VARIANCES,
+                VARIANCE_SYNONYMS,
+                "same",
+                span,
+                d,
+            )
+            .to_string(),
+        );
         if o.count <= 1 && o.variance.as_deref() == Some("same") {
             o.variance = None;
         }
@@ -821,19 +1029,43 @@ fn objects_json(text: &str, file: FileId, ctx: &mut ImportContext, d: &mut Diags
             match tops.as_array() {
                 Some(list) => {
                     for child in list {
-                        let name = child.get("object_name").or_else(|| child.get("object name")).and_then(serde_json::Value::as_str);
+                        let name = child
+                            .get("object_name")
+                            .or_else(|| child.get("object name"))
+                            .and_then(serde_json::Value::as_str);
                         let Some(name) = name.filter(|n| !n.trim().is_empty()) else {
                             bad_value(span, format!("a child of `{key}` has no `object_name`"), "child ignored", "write `{\"object_name\": \"book\", \"quantity\": 2, \"variance_type\": \"varied\"}`", d);
                             o.comments.push(front::raw_comment("objects", &child.to_string()));
                             continue;
                         };
                         let count = json_quantity(child.get("quantity"), name, span, d);
-                        let variance = json_word(child.get("variance_type"), "variance type", VARIANCES, VARIANCE_SYNONYMS, "same", span, d);
-                        o.on_top.push(DOnTop { item: name.trim().to_string(), count, variance: Some(variance.into()), asset: None, at: None, facing: None });
+                        let variance = json_word(
+                            child.get("variance_type"),
+                            "variance type",
+                            VARIANCES,
+                            VARIANCE_SYNONYMS,
+                            "same",
+                            span,
+                            d,
+                        );
+                        o.on_top.push(DOnTop {
+                            item: name.trim().to_string(),
+                            count,
+                            variance: Some(variance.into()),
+                            asset: None,
+                            at: None,
+                            facing: None,
+                        });
                     }
                 }
                 None if tops.is_null() => {}
-                None => d.push(Diagnostic::new(Code::W0707, format!("`objects_on_top` of `{key}` is not a list; ignored")).with_primary(span, "ignored")),
+                None => d.push(
+                    Diagnostic::new(
+                        Code::W0707,
+                        format!("`objects_on_top` of `{key}` is not a list; ignored"),
+                    )
+                    .with_primary(span, "ignored"),
+                ),
             }
         }
         o.fit();
@@ -849,7 +1081,10 @@ fn objects_json(text: &str, file: FileId, ctx: &mut ImportContext, d: &mut Diags
 fn json_quantity(v: Option<&serde_json::Value>, name: &str, span: Span, d: &mut Diags) -> u32 {
     let q = match v {
         None => {
-            d.push(Diagnostic::new(Code::W0707, format!("`{name}` has no quantity; 1 used")).with_primary(span, "quantity 1"));
+            d.push(
+                Diagnostic::new(Code::W0707, format!("`{name}` has no quantity; 1 used"))
+                    .with_primary(span, "quantity 1"),
+            );
             return 1;
         }
         Some(v) => json_number(v),
@@ -858,12 +1093,24 @@ fn json_quantity(v: Option<&serde_json::Value>, name: &str, span: Span, d: &mut 
         Some(q) if q >= 1.0 => {
             let r = q.round().min(10.0);
             if r != q {
-                d.push(Diagnostic::new(Code::W0707, format!("quantity {q} of `{name}` became {r} (whole, at most 10)")).with_primary(span, "adjusted"));
+                d.push(
+                    Diagnostic::new(
+                        Code::W0707,
+                        format!("quantity {q} of `{name}` became {r} (whole, at most 10)"),
+                    )
+                    .with_primary(span, "adjusted"),
+                );
             }
             r as u32
         }
         _ => {
-            d.push(Diagnostic::new(Code::W0707, format!("the quantity of `{name}` is not a positive number; 1 used")).with_primary(span, "quantity 1"));
+            d.push(
+                Diagnostic::new(
+                    Code::W0707,
+                    format!("the quantity of `{name}` is not a positive number; 1 used"),
+                )
+                .with_primary(span, "quantity 1"),
+            );
             1
         }
     }
@@ -879,7 +1126,12 @@ fn objects_pipe(text: &str, file: FileId, ctx: &mut ImportContext, d: &mut Diags
             [r, l, c, de, q] => (r, Some(l), c, de, q),
             [r, c, de, q] => (r, None, c, de, q),
             _ => {
-                bad_line(&line, format!("an object line has {} fields, not 4 or 5", fields.len()), PIPE_SHAPE, d);
+                bad_line(
+                    &line,
+                    format!("an object line has {} fields, not 4 or 5", fields.len()),
+                    PIPE_SHAPE,
+                    d,
+                );
                 ctx.draft.comments.push(line.raw_comment(stage));
                 continue;
             }
@@ -906,7 +1158,13 @@ fn objects_pipe(text: &str, file: FileId, ctx: &mut ImportContext, d: &mut Diags
             continue;
         };
         let variance = match parts.next().map(str::trim).filter(|v| !v.is_empty()) {
-            Some(v) => word(&Field { text: v.to_string(), span: qty.span }, "variance type", VARIANCES, VARIANCE_SYNONYMS, d),
+            Some(v) => word(
+                &Field { text: v.to_string(), span: qty.span },
+                "variance type",
+                VARIANCES,
+                VARIANCE_SYNONYMS,
+                d,
+            ),
             None => None,
         };
         let key = key_norm(&cat.text);
@@ -919,7 +1177,13 @@ fn objects_pipe(text: &str, file: FileId, ctx: &mut ImportContext, d: &mut Diags
             n += 1;
         }
         if id != base {
-            d.push(Diagnostic::new(Code::W0704, format!("object `{}` is selected twice; this one is `{id}`", cat.text)).with_primary(cat.span, "renamed"));
+            d.push(
+                Diagnostic::new(
+                    Code::W0704,
+                    format!("object `{}` is selected twice; this one is `{id}`", cat.text),
+                )
+                .with_primary(cat.span, "renamed"),
+            );
         }
         let count = count.min(10);
         let mut o = DObject {
@@ -943,7 +1207,12 @@ fn objects_pipe(text: &str, file: FileId, ctx: &mut ImportContext, d: &mut Diags
 type Inst = (usize, usize);
 
 fn inst_norm(name: &str) -> String {
-    name.trim().trim_matches(['\'', '"']).to_lowercase().split_whitespace().collect::<Vec<_>>().join("_")
+    name.trim()
+        .trim_matches(['\'', '"'])
+        .to_lowercase()
+        .split_whitespace()
+        .collect::<Vec<_>>()
+        .join("_")
 }
 
 fn find_inst(ctx: &ImportContext, room: &str, name: &str, wall: Option<bool>) -> Option<Inst> {
@@ -980,7 +1249,9 @@ fn all_insts(ctx: &ImportContext, room: &str, wall: Option<bool>) -> Vec<String>
 fn declare_inst(ctx: &mut ImportContext, room: &str, name: &str, wall: bool) -> Option<Inst> {
     let n = inst_norm(name);
     let (group, index) = match n.rsplit_once('-') {
-        Some((g, i)) if i.parse::<usize>().is_ok() => (g.to_string(), i.parse::<usize>().unwrap_or(0)),
+        Some((g, i)) if i.parse::<usize>().is_ok() => {
+            (g.to_string(), i.parse::<usize>().unwrap_or(0))
+        }
         _ => (n.clone(), 0),
     };
     if index > 50 {
@@ -991,7 +1262,13 @@ fn declare_inst(ctx: &mut ImportContext, room: &str, name: &str, wall: bool) -> 
     let oi = match r.objects.iter().position(|o| o.id == id) {
         Some(oi) => oi,
         None => {
-            r.objects.push(DObject { id: id.clone(), category: group.replace('_', " "), wall, count: 1, ..DObject::default() });
+            r.objects.push(DObject {
+                id: id.clone(),
+                category: group.replace('_', " "),
+                wall,
+                count: 1,
+                ..DObject::default()
+            });
             r.objects.len() - 1
         }
     };
@@ -1004,30 +1281,47 @@ fn declare_inst(ctx: &mut ImportContext, room: &str, name: &str, wall: bool) -> 
     Some((oi, index))
 }
 
-fn inst_mut<'a>(ctx: &'a mut ImportContext, room: &str, (oi, ii): Inst) -> Option<&'a mut DInstance> {
+fn inst_mut<'a>(
+    ctx: &'a mut ImportContext,
+    room: &str,
+    (oi, ii): Inst,
+) -> Option<&'a mut DInstance> {
     let o = ctx.draft.room_mut(room)?.objects.get_mut(oi)?;
     o.fit();
     o.instances.get_mut(ii)
 }
 
 fn inst_name(ctx: &ImportContext, room: &str, (oi, ii): Inst) -> String {
-    ctx.draft.room(room).and_then(|r| r.objects.get(oi)).map_or_else(String::new, |o| format!("{}-{ii}", o.id))
+    ctx.draft
+        .room(room)
+        .and_then(|r| r.objects.get(oi))
+        .map_or_else(String::new, |o| format!("{}-{ii}", o.id))
 }
 
-fn unknown_inst(ctx: &ImportContext, room: &str, f: &Field, wall: Option<bool>, what: &str, d: &mut Diags) {
+fn unknown_inst(
+    ctx: &ImportContext,
+    room: &str,
+    f: &Field,
+    wall: Option<bool>,
+    what: &str,
+    d: &mut Diags,
+) {
     let names = all_insts(ctx, room, wall);
     let n = inst_norm(&f.text);
     d.push(
         Diagnostic::new(Code::E0704, format!("unknown {what} `{}`", f.text))
             .with_primary(f.span, format!("not a {what} of the room"))
             .with_help_opt(did_you_mean(&closest(&n, names.iter().map(String::as_str))))
-            .with_note(if names.is_empty() { "the room has none".to_string() } else { format!("known: {}", names.join(", ")) }),
+            .with_note(if names.is_empty() {
+                "the room has none".to_string()
+            } else {
+                format!("known: {}", names.join(", "))
+            }),
     );
 }
 
 // ---------------------------------------------------------------------------------------------
 // Floor constraints.
-
 
 struct Pending {
     from: Inst,
@@ -1046,7 +1340,8 @@ fn split_constraint(text: &str) -> (String, Option<String>) {
     }
     // `near sofa-0`: the longest known name that starts the field.
     let n = norm(text);
-    let mut names: Vec<&str> = CONSTRAINTS.iter().copied().chain(CONSTRAINT_SYNONYMS.iter().map(|(s, _)| *s)).collect();
+    let mut names: Vec<&str> =
+        CONSTRAINTS.iter().copied().chain(CONSTRAINT_SYNONYMS.iter().map(|(s, _)| *s)).collect();
     names.sort_by_key(|s| std::cmp::Reverse(s.len()));
     for name in names {
         if let Some(rest) = n.strip_prefix(name) {
@@ -1067,17 +1362,40 @@ fn floor_constraints(text: &str, file: FileId, ctx: &mut ImportContext, d: &mut 
     for (pos, line) in start_lines(text, file, d, Stage::FloorConstraints).into_iter().enumerate() {
         let fields = line.fields();
         let head = &fields[0];
-        let found = find_inst(ctx, &room, &head.text, Some(false))
-            .or_else(|| if implicit { declare_inst(ctx, &room, &head.text, false) } else { None });
+        let found = find_inst(ctx, &room, &head.text, Some(false)).or_else(|| {
+            if implicit {
+                declare_inst(ctx, &room, &head.text, false)
+            } else {
+                None
+            }
+        });
         let Some(me) = found else {
             if find_inst(ctx, &room, &head.text, Some(true)).is_some() {
                 d.push(
-                    Diagnostic::new(Code::E0704, format!("`{}` is a wall object; floor constraints are for floor objects", head.text))
-                        .with_primary(head.span, "a wall object")
-                        .with_help("give wall objects `above` and a height in the wall-constraint answer"),
+                    Diagnostic::new(
+                        Code::E0704,
+                        format!(
+                            "`{}` is a wall object; floor constraints are for floor objects",
+                            head.text
+                        ),
+                    )
+                    .with_primary(head.span, "a wall object")
+                    .with_help(
+                        "give wall objects `above` and a height in the wall-constraint answer",
+                    ),
                 );
-            } else if !norm(&head.text).chars().any(|c| c.is_ascii_digit()) && fields.len() > 1 && fields[1..].iter().all(|f| !f.text.contains(',')) && !implicit {
-                d.push(Diagnostic::new(Code::W0701, "ignored a `|` line that names no object (a table header or prose)").with_primary(line.span(), "ignored"));
+            } else if !norm(&head.text).chars().any(|c| c.is_ascii_digit())
+                && fields.len() > 1
+                && fields[1..].iter().all(|f| !f.text.contains(','))
+                && !implicit
+            {
+                d.push(
+                    Diagnostic::new(
+                        Code::W0701,
+                        "ignored a `|` line that names no object (a table header or prose)",
+                    )
+                    .with_primary(line.span(), "ignored"),
+                );
                 continue;
             } else {
                 unknown_inst(ctx, &room, head, Some(false), "floor object", d);
@@ -1087,8 +1405,11 @@ fn floor_constraints(text: &str, file: FileId, ctx: &mut ImportContext, d: &mut 
         };
         if seen.contains(&me) {
             d.push(
-                Diagnostic::new(Code::W0706, format!("a second line for `{}` replaces the first", head.text))
-                    .with_primary(line.span(), "replaces the earlier line"),
+                Diagnostic::new(
+                    Code::W0706,
+                    format!("a second line for `{}` replaces the first", head.text),
+                )
+                .with_primary(line.span(), "replaces the earlier line"),
             );
             pending.retain(|p| p.from != me);
         } else {
@@ -1111,7 +1432,8 @@ fn floor_constraints(text: &str, file: FileId, ctx: &mut ImportContext, d: &mut 
             }
             let (name, target) = split_constraint(&f.text);
             let name_field = Field { text: name.clone(), span: f.span };
-            let Some(canon) = word(&name_field, "constraint", CONSTRAINTS, CONSTRAINT_SYNONYMS, d) else {
+            let Some(canon) = word(&name_field, "constraint", CONSTRAINTS, CONSTRAINT_SYNONYMS, d)
+            else {
                 if let Some(i) = inst_mut(ctx, &room, me) {
                     i.comments.push(front::raw_comment(stage, &f.text));
                 }
@@ -1120,9 +1442,12 @@ fn floor_constraints(text: &str, file: FileId, ctx: &mut ImportContext, d: &mut 
             if matches!(canon, "edge" | "middle") {
                 if has_global {
                     d.push(
-                        Diagnostic::new(Code::W0706, format!("a second global constraint `{canon}` was ignored"))
-                            .with_primary(f.span, "ignored")
-                            .with_help("an object is at the `edge` or in the `middle`, not both"),
+                        Diagnostic::new(
+                            Code::W0706,
+                            format!("a second global constraint `{canon}` was ignored"),
+                        )
+                        .with_primary(f.span, "ignored")
+                        .with_help("an object is at the `edge` or in the `middle`, not both"),
                     );
                     if let Some(i) = inst_mut(ctx, &room, me) {
                         i.comments.push(front::raw_comment(stage, &f.text));
@@ -1151,21 +1476,40 @@ fn floor_constraints(text: &str, file: FileId, ctx: &mut ImportContext, d: &mut 
             let problem = match to {
                 None => {
                     let names = all_insts(ctx, &room, Some(false));
-                    Some((format!("constraint `{canon}` names unknown object `{target}`"), did_you_mean(&closest(&inst_norm(&target), names.iter().map(String::as_str)))))
+                    Some((
+                        format!("constraint `{canon}` names unknown object `{target}`"),
+                        did_you_mean(&closest(
+                            &inst_norm(&target),
+                            names.iter().map(String::as_str),
+                        )),
+                    ))
                 }
-                Some(t) if t == me => Some((format!("`{me_name}` cannot be `{canon}` itself"), Some("name another object".to_string()))),
+                Some(t) if t == me => Some((
+                    format!("`{me_name}` cannot be `{canon}` itself"),
+                    Some("name another object".to_string()),
+                )),
                 Some(_) => None,
             };
             let _ = tfield;
             if let Some((msg, help)) = problem {
-                d.push(Diagnostic::new(Code::E0707, msg).with_primary(f.span, "dropped").with_help_opt(help));
+                d.push(
+                    Diagnostic::new(Code::E0707, msg)
+                        .with_primary(f.span, "dropped")
+                        .with_help_opt(help),
+                );
                 if let Some(i) = inst_mut(ctx, &room, me) {
                     i.comments.push(front::raw_comment(stage, &f.text));
                 }
                 continue;
             }
             if let Some(to) = to {
-                pending.push(Pending { from: me, to, name: canon.to_string(), span: f.span, raw: f.text.clone() });
+                pending.push(Pending {
+                    from: me,
+                    to,
+                    name: canon.to_string(),
+                    span: f.span,
+                    raw: f.text.clone(),
+                });
             }
         }
     }
@@ -1187,9 +1531,14 @@ fn floor_constraints(text: &str, file: FileId, ctx: &mut ImportContext, d: &mut 
         } else {
             let target = inst_name(ctx, &room, p.to);
             d.push(
-                Diagnostic::new(Code::E0707, format!("constraint `{}` names `{target}`, which is placed later", p.name))
-                    .with_primary(p.span, "dropped")
-                    .with_help(format!("constrain `{target}` first, or move this constraint to `{target}`")),
+                Diagnostic::new(
+                    Code::E0707,
+                    format!("constraint `{}` names `{target}`, which is placed later", p.name),
+                )
+                .with_primary(p.span, "dropped")
+                .with_help(format!(
+                    "constrain `{target}` first, or move this constraint to `{target}`"
+                )),
             );
             if let Some(i) = inst_mut(ctx, &room, p.from) {
                 i.comments.push(front::raw_comment(stage, &p.raw));
@@ -1206,8 +1555,14 @@ pub(crate) fn no_constraints(ctx: &ImportContext, room: &str, span: Span, d: &mu
         for (i, inst) in o.instances.iter().enumerate().take(o.count.max(1) as usize) {
             if inst.order.is_none() && inst.at.is_none() {
                 d.push(
-                    Diagnostic::new(Code::W0705, format!("`{}-{i}` in `{}` has no constraints; it will be placed at an edge", o.id, r.label))
-                        .with_primary(span, "not mentioned by the constraint answer"),
+                    Diagnostic::new(
+                        Code::W0705,
+                        format!(
+                            "`{}-{i}` in `{}` has no constraints; it will be placed at an edge",
+                            o.id, r.label
+                        ),
+                    )
+                    .with_primary(span, "not mentioned by the constraint answer"),
                 );
             }
         }
@@ -1228,20 +1583,36 @@ fn wall_constraints(text: &str, file: FileId, ctx: &mut ImportContext, d: &mut D
     for line in start_lines(text, file, d, Stage::WallConstraints) {
         let fields = line.fields();
         if !(2..=3).contains(&fields.len()) {
-            bad_line(&line, format!("a wall-constraint line has {} fields, not 3", fields.len()), WALL_SHAPE, d);
+            bad_line(
+                &line,
+                format!("a wall-constraint line has {} fields, not 3", fields.len()),
+                WALL_SHAPE,
+                d,
+            );
             room_comment(ctx, Some(&room), line.raw_comment(stage));
             continue;
         }
         let head = &fields[0];
-        let found = find_inst(ctx, &room, &head.text, Some(true))
-            .or_else(|| if implicit { declare_inst(ctx, &room, &head.text, true) } else { None });
+        let found = find_inst(ctx, &room, &head.text, Some(true)).or_else(|| {
+            if implicit {
+                declare_inst(ctx, &room, &head.text, true)
+            } else {
+                None
+            }
+        });
         let Some(me) = found else {
             unknown_inst(ctx, &room, head, Some(true), "wall object", d);
             room_comment(ctx, Some(&room), line.raw_comment(stage));
             continue;
         };
         if seen.contains(&me) {
-            d.push(Diagnostic::new(Code::W0706, format!("a second line for `{}` replaces the first", head.text)).with_primary(line.span(), "replaces"));
+            d.push(
+                Diagnostic::new(
+                    Code::W0706,
+                    format!("a second line for `{}` replaces the first", head.text),
+                )
+                .with_primary(line.span(), "replaces"),
+            );
         } else {
             seen.push(me);
         }
@@ -1249,24 +1620,38 @@ fn wall_constraints(text: &str, file: FileId, ctx: &mut ImportContext, d: &mut D
         let loc = &fields[1];
         if !loc.is_na() {
             let n = norm(loc.text.trim_start_matches(['*', ' ']));
-            let rest = ["above", "over", "on top of", "on the wall above"]
-                .iter()
-                .find_map(|w| n.strip_prefix(w).map(|r| (*w, r.trim_start_matches([',', ':', ' ']).trim().to_string())));
+            let rest = ["above", "over", "on top of", "on the wall above"].iter().find_map(|w| {
+                n.strip_prefix(w)
+                    .map(|r| (*w, r.trim_start_matches([',', ':', ' ']).trim().to_string()))
+            });
             match rest {
                 Some((w, target)) if !target.is_empty() => {
                     if w != "above" {
-                        d.push(Diagnostic::new(Code::W0702, format!("read `{w}` as `above`")).with_primary(loc.span, "synonym of `above`"));
+                        d.push(
+                            Diagnostic::new(Code::W0702, format!("read `{w}` as `above`"))
+                                .with_primary(loc.span, "synonym of `above`"),
+                        );
                     }
-                    let to = find_inst(ctx, &room, &target, Some(false))
-                        .or_else(|| if implicit_floor { declare_inst(ctx, &room, &target, false) } else { None });
+                    let to = find_inst(ctx, &room, &target, Some(false)).or_else(|| {
+                        if implicit_floor {
+                            declare_inst(ctx, &room, &target, false)
+                        } else {
+                            None
+                        }
+                    });
                     match to {
                         Some(t) => above = Some(inst_name(ctx, &room, t)),
                         None => {
                             let names = all_insts(ctx, &room, Some(false));
                             d.push(
-                                Diagnostic::new(Code::E0707, format!("`above` names unknown floor object `{target}`"))
-                                    .with_primary(loc.span, "dropped")
-                                    .with_help_opt(did_you_mean(&closest(&inst_norm(&target), names.iter().map(String::as_str)))),
+                                Diagnostic::new(
+                                    Code::E0707,
+                                    format!("`above` names unknown floor object `{target}`"),
+                                )
+                                .with_primary(loc.span, "dropped")
+                                .with_help_opt(did_you_mean(
+                                    &closest(&inst_norm(&target), names.iter().map(String::as_str)),
+                                )),
                             );
                             if let Some(i) = inst_mut(ctx, &room, me) {
                                 i.comments.push(front::raw_comment(stage, &loc.text));
@@ -1276,9 +1661,12 @@ fn wall_constraints(text: &str, file: FileId, ctx: &mut ImportContext, d: &mut D
                 }
                 _ => {
                     d.push(
-                        Diagnostic::new(Code::E0705, format!("unknown wall placement `{}`", loc.text))
-                            .with_primary(loc.span, "expected `above, <floor object>` or `N/A`")
-                            .with_help("only `above` is understood"),
+                        Diagnostic::new(
+                            Code::E0705,
+                            format!("unknown wall placement `{}`", loc.text),
+                        )
+                        .with_primary(loc.span, "expected `above, <floor object>` or `N/A`")
+                        .with_help("only `above` is understood"),
                     );
                     if let Some(i) = inst_mut(ctx, &room, me) {
                         i.comments.push(front::raw_comment(stage, &loc.text));
@@ -1291,7 +1679,10 @@ fn wall_constraints(text: &str, file: FileId, ctx: &mut ImportContext, d: &mut D
             let n = front::number(&h.text).or_else(|| {
                 let n = front::first_number(&h.text).map(|x| x.0);
                 if n.is_some() {
-                    d.push(Diagnostic::new(Code::W0701, "read the height from text").with_primary(h.span, "first number"));
+                    d.push(
+                        Diagnostic::new(Code::W0701, "read the height from text")
+                            .with_primary(h.span, "first number"),
+                    );
                 }
                 n
             });
@@ -1300,7 +1691,13 @@ fn wall_constraints(text: &str, file: FileId, ctx: &mut ImportContext, d: &mut D
                     converted(&n, h.span, "cm", d);
                     height = Some(to_cm(&n));
                 }
-                _ => bad_value(h.span, format!("the height `{}` is not a number of cm from 0 to 1000", h.text), "height left out", "write the height of the bottom of the object in cm, e.g. `160`", d),
+                _ => bad_value(
+                    h.span,
+                    format!("the height `{}` is not a number of cm from 0 to 1000", h.text),
+                    "height left out",
+                    "write the height of the bottom of the object in cm, e.g. `160`",
+                    d,
+                ),
             }
         }
         if let Some(i) = inst_mut(ctx, &room, me) {
@@ -1326,7 +1723,10 @@ fn small_objects(text: &str, file: FileId, ctx: &mut ImportContext, d: &mut Diag
         }
         let head = &fields[0];
         let (rec_name, room_name) = match (head.text.rfind('('), head.text.ends_with(')')) {
-            (Some(a), true) => (head.text[..a].trim().to_string(), Some(head.text[a + 1..head.text.len() - 1].trim().to_string())),
+            (Some(a), true) => (
+                head.text[..a].trim().to_string(),
+                Some(head.text[a + 1..head.text.len() - 1].trim().to_string()),
+            ),
             _ => (head.text.clone(), None),
         };
         let room = match room_name {
@@ -1338,10 +1738,22 @@ fn small_objects(text: &str, file: FileId, ctx: &mut ImportContext, d: &mut Diag
             continue;
         };
         let implicit = all_insts(ctx, &room, None).is_empty();
-        let found = find_inst(ctx, &room, &rec_name, None)
-            .or_else(|| if implicit { declare_inst(ctx, &room, &rec_name, false) } else { None });
+        let found = find_inst(ctx, &room, &rec_name, None).or_else(|| {
+            if implicit {
+                declare_inst(ctx, &room, &rec_name, false)
+            } else {
+                None
+            }
+        });
         let Some(me) = found else {
-            unknown_inst(ctx, &room, &Field { text: rec_name, span: head.span }, None, "receptacle", d);
+            unknown_inst(
+                ctx,
+                &room,
+                &Field { text: rec_name, span: head.span },
+                None,
+                "receptacle",
+                d,
+            );
             room_comment(ctx, Some(&room), line.raw_comment(stage));
             continue;
         };
@@ -1355,7 +1767,9 @@ fn small_objects(text: &str, file: FileId, ctx: &mut ImportContext, d: &mut Diag
             let mut name_end = parts.len();
             if parts.len() >= 2 {
                 let last = parts[parts.len() - 1];
-                if let Found::Exact(v) | Found::Synonym(v) = lookup(last, VARIANCES, VARIANCE_SYNONYMS) {
+                if let Found::Exact(v) | Found::Synonym(v) =
+                    lookup(last, VARIANCES, VARIANCE_SYNONYMS)
+                {
                     variance = Some(v.to_string());
                     name_end -= 1;
                 }
@@ -1377,11 +1791,24 @@ fn small_objects(text: &str, file: FileId, ctx: &mut ImportContext, d: &mut Diag
             }
             let name = parts[..name_end].join(", ");
             if name.is_empty() {
-                bad_value(f.span, "a small object has no name".into(), "no name", "write `item, quantity, same`", d);
+                bad_value(
+                    f.span,
+                    "a small object has no name".into(),
+                    "no name",
+                    "write `item, quantity, same`",
+                    d,
+                );
                 continue;
             }
             if let Some(i) = inst_mut(ctx, &room, me) {
-                i.on_top.push(DOnTop { item: name, count, variance, asset: None, at: None, facing: None });
+                i.on_top.push(DOnTop {
+                    item: name,
+                    count,
+                    variance,
+                    asset: None,
+                    at: None,
+                    facing: None,
+                });
             }
         }
     }
@@ -1395,7 +1822,12 @@ fn ceiling(text: &str, file: FileId, ctx: &mut ImportContext, d: &mut Diags) {
     for line in start_lines(text, file, d, Stage::Ceiling) {
         let fields = line.fields();
         if fields.len() != 2 {
-            bad_line(&line, format!("a ceiling line has {} fields, not 2", fields.len()), "room | ceiling object description", d);
+            bad_line(
+                &line,
+                format!("a ceiling line has {} fields, not 2", fields.len()),
+                "room | ceiling object description",
+                d,
+            );
             ctx.draft.comments.push(line.raw_comment(stage));
             continue;
         }
@@ -1404,12 +1836,21 @@ fn ceiling(text: &str, file: FileId, ctx: &mut ImportContext, d: &mut Diags) {
             continue;
         };
         if fields[1].is_na() {
-            d.push(Diagnostic::new(Code::W0706, "a room without a ceiling object").with_primary(fields[1].span, "ignored"));
+            d.push(
+                Diagnostic::new(Code::W0706, "a room without a ceiling object")
+                    .with_primary(fields[1].span, "ignored"),
+            );
             continue;
         }
         let Some(r) = ctx.draft.room_mut(&room) else { continue };
         if r.ceiling.is_some() {
-            d.push(Diagnostic::new(Code::W0706, format!("a second ceiling object for `{}` was ignored", r.label)).with_primary(line.span(), "the first line wins"));
+            d.push(
+                Diagnostic::new(
+                    Code::W0706,
+                    format!("a second ceiling object for `{}` was ignored", r.label),
+                )
+                .with_primary(line.span(), "the first line wins"),
+            );
             r.comments.push(line.raw_comment(stage));
             continue;
         }
@@ -1423,12 +1864,20 @@ fn ceiling(text: &str, file: FileId, ctx: &mut ImportContext, d: &mut Diags) {
 fn absolute_layout(text: &str, file: FileId, ctx: &mut ImportContext, d: &mut Diags) {
     let stage = "absolute-layout";
     let room = current_room(ctx, file, d);
-    let Some((list, whole)) = extract_json::<Vec<serde_json::Value>>(text, file, '[', ']', Stage::AbsoluteLayout, d) else {
-        room_comment(ctx, Some(&room), front::raw_comment(stage, text.lines().next().unwrap_or("")));
+    let Some((list, whole)) =
+        extract_json::<Vec<serde_json::Value>>(text, file, '[', ']', Stage::AbsoluteLayout, d)
+    else {
+        room_comment(
+            ctx,
+            Some(&room),
+            front::raw_comment(stage, text.lines().next().unwrap_or("")),
+        );
         return;
     };
     let (min_x, min_z) = ctx.draft.room(&room).map_or((0.0, 0.0), |r| {
-        r.corners.iter().fold((f64::INFINITY, f64::INFINITY), |(a, b), (x, z)| (a.min(*x), b.min(*z)))
+        r.corners
+            .iter()
+            .fold((f64::INFINITY, f64::INFINITY), |(a, b), (x, z)| (a.min(*x), b.min(*z)))
     });
     let (min_x, min_z) = if min_x.is_finite() { (min_x, min_z) } else { (0.0, 0.0) };
     let implicit = all_insts(ctx, &room, Some(false)).is_empty();
@@ -1443,17 +1892,34 @@ fn absolute_layout(text: &str, file: FileId, ctx: &mut ImportContext, d: &mut Di
             continue;
         };
         let span = find_span(text, file, &name, whole);
-        let found = find_inst(ctx, &room, &name, Some(false))
-            .or_else(|| if implicit { declare_inst(ctx, &room, &name, false) } else { None });
+        let found = find_inst(ctx, &room, &name, Some(false)).or_else(|| {
+            if implicit {
+                declare_inst(ctx, &room, &name, false)
+            } else {
+                None
+            }
+        });
         let Some(me) = found else {
-            unknown_inst(ctx, &room, &Field { text: name.clone(), span }, Some(false), "floor object", d);
+            unknown_inst(
+                ctx,
+                &room,
+                &Field { text: name.clone(), span },
+                Some(false),
+                "floor object",
+                d,
+            );
             room_comment(ctx, Some(&room), front::raw_comment(stage, &entry.to_string()));
             continue;
         };
         let pos = get(&entry, "position");
         let x = pos.as_ref().and_then(|p| get(p, "x")).as_ref().and_then(json_number);
-        let y = pos.as_ref().and_then(|p| get(p, "y").or_else(|| get(p, "z"))).as_ref().and_then(json_number);
-        let rot = get(&entry, "rotation").and_then(|r| json_number(&r).or_else(|| get(&r, "y").as_ref().and_then(json_number)));
+        let y = pos
+            .as_ref()
+            .and_then(|p| get(p, "y").or_else(|| get(p, "z")))
+            .as_ref()
+            .and_then(json_number);
+        let rot = get(&entry, "rotation")
+            .and_then(|r| json_number(&r).or_else(|| get(&r, "y").as_ref().and_then(json_number)));
         match (x, y) {
             (Some(x), Some(y)) if x.abs() < 100_000.0 && y.abs() < 100_000.0 => {
                 let facing = rot.filter(|r| r.abs() < 100_000.0).map(|r| r.rem_euclid(360.0));
@@ -1463,7 +1929,13 @@ fn absolute_layout(text: &str, file: FileId, ctx: &mut ImportContext, d: &mut Di
                 }
             }
             _ => {
-                bad_value(span, format!("the position of `{name}` is not `{{\"X\": cm, \"Y\": cm}}`"), "no position", "write `\"position\": {\"X\": 100, \"Y\": 50}` (cm from the room's min corner)", d);
+                bad_value(
+                    span,
+                    format!("the position of `{name}` is not `{{\"X\": cm, \"Y\": cm}}`"),
+                    "no position",
+                    "write `\"position\": {\"X\": 100, \"Y\": 50}` (cm from the room's min corner)",
+                    d,
+                );
                 room_comment(ctx, Some(&room), front::raw_comment(stage, &entry.to_string()));
             }
         }
