@@ -18,3 +18,9 @@ pub fn check_file(sources: &SourceMap, file: FileId) -> Outcome<Option<Scene>> {
     let scene = (!parse_failed).then_some(checked.value);
     Outcome::new(scene, diagnostics)
 }
+
+/// Runs every stage on one file as far as it gets and returns all diagnostics (what an editor
+/// shows, and what the diagnostics catalogue's examples are checked against).
+pub fn diagnose(sources: &SourceMap, file: FileId) -> Vec<crate::diag::Diagnostic> {
+    check_file(sources, file).diagnostics
+}

@@ -46,14 +46,14 @@ macro_rules! stage_settings {
 #[test]
 fn parse_corpus() {
     stage_settings!("parse", {
-        insta::glob!("corpus/parse", "**/*.holo", |path| check_parse(path));
+        insta::glob!("corpus/parse", "**/*.holo", check_parse);
     });
 }
 
 #[test]
 fn check_corpus() {
     stage_settings!("check", {
-        insta::glob!("corpus/check", "**/*.holo", |path| check_check(path));
+        insta::glob!("corpus/check", "**/*.holo", check_check);
     });
 }
 

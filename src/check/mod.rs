@@ -773,7 +773,7 @@ impl Checker {
                     }
                 }
                 ast::ObjectStmt::Asset(s, _) => {
-                    obj.asset = Some(Pinned { id: s.value.clone(), span: s.span })
+                    obj.asset = Some(Pinned { id: s.value.clone(), span: s.span });
                 }
                 ast::ObjectStmt::Constraint(c) => {
                     if is_wall {
@@ -852,7 +852,7 @@ impl Checker {
                     }
                 }
                 ast::ObjectStmt::Facing(q, _) => {
-                    obj.facing_deg = angle_deg(q, "the facing angle", &mut self.diagnostics)
+                    obj.facing_deg = angle_deg(q, "the facing angle", &mut self.diagnostics);
                 }
                 ast::ObjectStmt::OnTop(t) => {
                     if let Some(item) = self.on_top(t) {
@@ -907,7 +907,7 @@ impl Checker {
         for stmt in &t.body {
             match stmt {
                 ast::ObjectStmt::Asset(s, _) => {
-                    item.asset = Some(Pinned { id: s.value.clone(), span: s.span })
+                    item.asset = Some(Pinned { id: s.value.clone(), span: s.span });
                 }
                 ast::ObjectStmt::At(qs, span) => {
                     if qs.len() != 3 {
@@ -927,7 +927,7 @@ impl Checker {
                     }
                 }
                 ast::ObjectStmt::Facing(q, _) => {
-                    item.facing_deg = angle_deg(q, "the facing angle", &mut self.diagnostics)
+                    item.facing_deg = angle_deg(q, "the facing angle", &mut self.diagnostics);
                 }
                 ast::ObjectStmt::Comment(_)
                 | ast::ObjectStmt::Error(_)
@@ -1205,7 +1205,7 @@ impl Checker {
         for stmt in &c.body {
             match stmt {
                 ast::ObjectStmt::Asset(s, _) => {
-                    ceiling.asset = Some(Pinned { id: s.value.clone(), span: s.span })
+                    ceiling.asset = Some(Pinned { id: s.value.clone(), span: s.span });
                 }
                 ast::ObjectStmt::Above(t, _) => {
                     if let Some(id) = self.resolve_target(t, room, names, &probe, true) {
@@ -1409,14 +1409,14 @@ fn object_stmt_span(stmt: &ast::ObjectStmt) -> Span {
         | ast::ObjectStmt::Above(_, s)
         | ast::ObjectStmt::Height(_, s)
         | ast::ObjectStmt::At(_, s)
-        | ast::ObjectStmt::Facing(_, s) => *s,
+        | ast::ObjectStmt::Facing(_, s)
+        | ast::ObjectStmt::Blank(s) => *s,
         ast::ObjectStmt::Size(s) => s.span,
         ast::ObjectStmt::Constraint(c) => c.span,
         ast::ObjectStmt::OnTop(t) => t.span,
         ast::ObjectStmt::Instance(i) => i.span,
         ast::ObjectStmt::Comment(c) => c.span,
         ast::ObjectStmt::Error(e) => e.span,
-        ast::ObjectStmt::Blank(s) => *s,
     }
 }
 

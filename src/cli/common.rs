@@ -56,6 +56,10 @@ pub fn exit_for(diagnostics: &[Diagnostic]) -> ExitCode {
 }
 
 /// Reads a file into the source map, or returns the diagnostic (E0001, E0003).
+#[allow(
+    clippy::result_large_err,
+    reason = "the error is printed at once; it is rare and never propagated far"
+)]
 pub fn read_source(sources: &mut SourceMap, path: &Path) -> Result<FileId, Diagnostic> {
     let bytes = std::fs::read(path).map_err(|e| {
         Diagnostic::new(Code::E0001, format!("cannot read `{}`: {e}", path.display()))
@@ -120,6 +124,10 @@ pub fn emit_plain(d: &Diagnostic) {
 
 /// Writes `contents` to `path` atomically: a temporary file in the same folder, then a rename.
 /// On failure the existing file is untouched.
+#[allow(
+    clippy::result_large_err,
+    reason = "the error is printed at once; it is rare and never propagated far"
+)]
 pub fn write_atomic(path: &Path, contents: &[u8]) -> Result<(), Diagnostic> {
     let dir = match path.parent() {
         Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
@@ -138,6 +146,10 @@ pub fn write_atomic(path: &Path, contents: &[u8]) -> Result<(), Diagnostic> {
 
 /// Writes a product to `-o PATH` atomically, or to stdout when no path is given.
 #[allow(clippy::print_stdout, reason = "the CLI is the only place that prints")]
+#[allow(
+    clippy::result_large_err,
+    reason = "the error is printed at once; it is rare and never propagated far"
+)]
 pub fn write_output(path: Option<&Path>, contents: &str) -> Result<(), Diagnostic> {
     match path {
         Some(p) if p.as_os_str() != "-" => write_atomic(p, contents.as_bytes()),

@@ -16,6 +16,7 @@ use crate::source::{FileId, SourceMap, Span};
 use grammar::{HoloParser, Rule};
 use pest::iterators::Pair;
 use pest::Parser as _;
+use std::fmt::Write as _;
 
 /// The block a line belongs to; it decides which statements may start the line.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -515,7 +516,9 @@ pub fn escape(value: &str) -> String {
             '\n' => out.push_str("\\n"),
             '\t' => out.push_str("\\t"),
             '\r' => out.push_str("\\u{d}"),
-            c if c.is_control() => out.push_str(&format!("\\u{{{:x}}}", c as u32)),
+            c if c.is_control() => {
+                let _ = write!(out, "\\u{{{:x}}}", c as u32);
+            }
             c => out.push(c),
         }
     }

@@ -3,6 +3,7 @@ use crate::diag::{Diagnostic, Severity};
 use crate::source::SourceMap;
 use miette::{GraphicalReportHandler, GraphicalTheme, LabeledSpan, NamedSource, SourceSpan};
 use std::fmt;
+use std::fmt::Write as _;
 
 /// How human diagnostics are drawn.
 #[derive(Clone, Copy, Debug)]
@@ -117,7 +118,7 @@ pub fn render_human(
     for d in diagnostics {
         let r = report(sources, d);
         if handler.render_report(&mut out, &r).is_err() {
-            out.push_str(&format!("{}[{}]: {}\n", d.severity.as_str(), d.code.as_str(), d.message));
+            let _ = writeln!(out, "{}[{}]: {}", d.severity.as_str(), d.code.as_str(), d.message);
         }
     }
     out
