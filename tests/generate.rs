@@ -52,7 +52,7 @@ type Script = dyn Fn(&Asked, usize) -> Reply + Send + Sync;
 /// A loopback chat-completions server; stops when dropped.
 struct Server {
     base_url: String,
-    server: Arc<tiny_http::Server>,
+    http: Arc<tiny_http::Server>,
     calls: Arc<AtomicUsize>,
     threads: Vec<std::thread::JoinHandle<()>>,
 }
@@ -140,7 +140,7 @@ impl Server {
                 }
             }));
         }
-        Server { base_url: format!("http://127.0.0.1:{port}/v1"), server, calls, threads }
+        Server { base_url: format!("http://127.0.0.1:{port}/v1"), http: server, calls, threads }
     }
 
     fn calls(&self) -> usize {
@@ -151,7 +151,7 @@ impl Server {
 impl Drop for Server {
     fn drop(&mut self) {
         for _ in &self.threads {
-            self.server.unblock();
+            self.http.unblock();
         }
         for t in self.threads.drain(..) {
             let _ = t.join();

@@ -159,6 +159,10 @@ fn usage(message: String, help: &str) -> ExitCode {
     ExitCode::from(2)
 }
 
+#[allow(
+    clippy::result_large_err,
+    reason = "the error is printed at once; it is rare and never propagated far"
+)]
 fn read_text(path: &Path) -> Result<String, Diagnostic> {
     let mut sources = SourceMap::new();
     let id = common::read_source(&mut sources, path)?;
