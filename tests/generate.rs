@@ -268,7 +268,7 @@ fn clean_run() {
         assert_eq!(asked.authorization.as_deref(), Some(format!("Bearer {KEY}").as_str()));
         clean_answer(asked)
     }));
-    let outcome = generate(&request(), &client(&server), &options(), None);
+    let outcome = generate(&request(), &client(&server), &options());
     assert!(!outcome.has_errors(), "{:#?}", outcome.diagnostics);
     let generated = &outcome.value;
     // 4 whole-scene questions, 4 for the living room, 3 for the bedroom (no wall objects), 1 ceiling.
@@ -289,7 +289,7 @@ fn clean_run() {
 #[test]
 fn replay_rebuilds_the_same_scene_without_network() {
     let server = Server::start(Arc::new(|asked: &Asked, _| clean_answer(asked)));
-    let first = generate(&request(), &client(&server), &options(), None);
+    let first = generate(&request(), &client(&server), &options());
     assert!(!first.has_errors(), "{:#?}", first.diagnostics);
     drop(server);
     let json = serde_json::to_string(&first.value.transcript).expect("serializes");
@@ -301,7 +301,7 @@ fn replay_rebuilds_the_same_scene_without_network() {
         parameters: BTreeMap::new(),
     };
     let replay = ReplayLlm::new(recorded_answers(&transcript), info);
-    let again = generate(&request(), &replay, &options(), None);
+    let again = generate(&request(), &replay, &options());
     assert!(!again.has_errors(), "{:#?}", again.diagnostics);
     assert_eq!(again.value.holo, first.value.holo);
     assert_eq!(again.value.transcript.exchanges.len(), first.value.transcript.exchanges.len());
@@ -320,7 +320,7 @@ fn broken_floor_plan_is_repaired() {
             clean_answer(asked)
         }
     }));
-    let outcome = generate(&request(), &client(&server), &options(), None);
+    let outcome = generate(&request(), &client(&server), &options());
     assert!(!outcome.has_errors(), "{:#?}", outcome.diagnostics);
     assert_eq!(codes(&outcome.diagnostics), vec!["W0801"]);
     let floor: Vec<_> =
@@ -344,7 +344,7 @@ fn unrepaired_answer_is_an_error() {
         }
     }));
     let options = GenerateOptions { repair_rounds: 1, ..options() };
-    let outcome = generate(&request(), &client(&server), &options, None);
+    let outcome = generate(&request(), &client(&server), &options);
     assert!(codes(&outcome.diagnostics).contains(&"E0809"), "{:#?}", outcome.diagnostics);
     let floor =
         outcome.value.transcript.exchanges.iter().filter(|e| e.stage == "floor-plan").count();
@@ -362,7 +362,7 @@ fn rate_limit_then_success() {
             clean_answer(asked)
         }
     }));
-    let outcome = generate(&request(), &client(&server), &options(), None);
+    let outcome = generate(&request(), &client(&server), &options());
     assert!(!outcome.has_errors(), "{:#?}", outcome.diagnostics);
     assert_eq!(server.calls(), 13);
     assert_eq!(outcome.value.transcript.exchanges.len(), 12);
@@ -377,7 +377,7 @@ fn server_error_storm_keeps_the_transcript() {
             clean_answer(asked)
         }
     }));
-    let outcome = generate(&request(), &client(&server), &options(), None);
+    let outcome = generate(&request(), &client(&server), &options());
     assert_eq!(codes(&outcome.diagnostics), vec!["E0807"]);
     let d = &outcome.diagnostics[0];
     assert!(d.message.contains("HTTP 503 after 4 tries"), "{}", d.message);
@@ -400,7 +400,7 @@ fn timeout_is_reported() {
     options_http.timeout = Duration::from_millis(150);
     options_http.retries = 1;
     options_http.base_delay = Duration::from_millis(1);
-    let outcome = generate(&request(), &HttpLlm::new(options_http), &options(), None);
+    let outcome = generate(&request(), &HttpLlm::new(options_http), &options());
     assert_eq!(codes(&outcome.diagnostics), vec!["E0806"]);
     assert!(
         outcome.diagnostics[0].message.contains("2 tries"),
@@ -421,7 +421,7 @@ fn unauthorized_does_not_leak_the_key() {
             ),
         )
     }));
-    let outcome = generate(&request(), &client(&server), &options(), None);
+    let outcome = generate(&request(), &client(&server), &options());
     assert_eq!(codes(&outcome.diagnostics), vec!["E0803"]);
     assert_eq!(server.calls(), 1, "401 is not retried");
     let text = everything(&outcome);
@@ -434,7 +434,7 @@ fn wrong_path_is_not_found() {
     let server = Server::start(Arc::new(|asked: &Asked, _| clean_answer(asked)));
     let mut options_http = HttpOptions::new(server.base_url.replace("/v1", "/v2"), "test-model");
     options_http.retries = 0;
-    let outcome = generate(&request(), &HttpLlm::new(options_http), &options(), None);
+    let outcome = generate(&request(), &HttpLlm::new(options_http), &options());
     assert_eq!(codes(&outcome.diagnostics), vec!["E0804"]);
 }
 
@@ -445,7 +445,7 @@ fn unreachable_server() {
         listener.local_addr().expect("address").port()
     };
     let options_http = HttpOptions::new(format!("http://127.0.0.1:{port}/v1"), "test-model");
-    let outcome = generate(&request(), &HttpLlm::new(options_http), &options(), None);
+    let outcome = generate(&request(), &HttpLlm::new(options_http), &options());
     assert_eq!(codes(&outcome.diagnostics), vec!["E0805"]);
     assert!(outcome.value.transcript.exchanges.is_empty());
 }
@@ -458,7 +458,7 @@ fn prompt_template_errors_stop_before_any_request() {
         holoc::generate::Template::WallHeight,
         ("mine/wall_height.txt".into(), "How tall for {{requets}}?".into()),
     );
-    let outcome = generate(&request(), &client(&server), &options, None);
+    let outcome = generate(&request(), &client(&server), &options);
     assert_eq!(codes(&outcome.diagnostics), vec!["E0801", "E0802"]);
     assert_eq!(server.calls(), 0);
 }
@@ -495,7 +495,7 @@ fn per_room_stages_run_concurrently() {
         }
         reply
     }));
-    let outcome = generate(&request(), &client(&server), &options(), None);
+    let outcome = generate(&request(), &client(&server), &options());
     assert!(!outcome.has_errors(), "{:#?}", outcome.diagnostics);
     let objects: Vec<_> =
         outcome.value.transcript.exchanges.iter().filter(|e| e.stage == "objects").collect();
@@ -529,6 +529,50 @@ fn llm_trait_is_object_safe_and_shared() {
         },
     );
     takes(&replay);
-    let outcome = generate(&request(), &replay, &options(), None);
+    let outcome = generate(&request(), &replay, &options());
     assert_eq!(outcome.diagnostics.iter().map(|d| d.code).collect::<Vec<_>>(), vec![Code::E0810]);
+}
+
+/// Records progress events.
+#[derive(Default)]
+struct Recorder(std::sync::Mutex<Vec<String>>);
+
+impl holoc::generate::Progress for Recorder {
+    fn event(&self, event: &holoc::generate::ProgressEvent) {
+        use holoc::generate::ProgressEvent as E;
+        let line = match event {
+            E::StageStarted { stage, questions } => {
+                format!("start {} x{questions}", stage.as_str())
+            }
+            E::Asking { .. } => return,
+            E::Answered { stage, room, attempt, errors } => {
+                format!("answer {} {room:?} #{attempt} errors={errors}", stage.as_str())
+            }
+            E::StageFinished { stage } => format!("done {}", stage.as_str()),
+        };
+        if let Ok(mut lines) = self.0.lock() {
+            lines.push(line);
+        }
+    }
+}
+
+#[test]
+fn progress_events_are_reported() {
+    let server = Server::start(Arc::new(|asked: &Asked, _| clean_answer(asked)));
+    let recorder = Arc::new(Recorder::default());
+    let options = GenerateOptions {
+        jobs: 1,
+        progress: Some(Arc::clone(&recorder) as Arc<dyn holoc::generate::Progress + Send>),
+        ..options()
+    };
+    let outcome = generate(&request(), &client(&server), &options);
+    assert!(!outcome.has_errors(), "{:#?}", outcome.diagnostics);
+    let lines = recorder.0.lock().expect("not poisoned").clone();
+    assert_eq!(lines.iter().filter(|l| l.starts_with("answer")).count(), 12);
+    assert_eq!(lines.first().map(String::as_str), Some("start floor-plan x1"));
+    assert_eq!(lines.last().map(String::as_str), Some("done ceiling"));
+    assert!(
+        lines.contains(&"answer objects Some(\"bedroom\") #0 errors=0".to_string()),
+        "{lines:#?}"
+    );
 }

@@ -13,7 +13,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
-use std::sync::Mutex;
+use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
 /// The server used when neither `--base-url` nor `HOLOC_BASE_URL` is given.
@@ -292,6 +292,7 @@ pub fn run(args: &GenerateArgs) -> ExitCode {
         &http
     };
 
+    let bar = (!args.quiet).then(|| Arc::new(Bar::new()));
     let options = GenerateOptions {
         jobs: args.jobs,
         repair_rounds: args.repair_rounds,
@@ -299,18 +300,17 @@ pub fn run(args: &GenerateArgs) -> ExitCode {
         single_room: args.single_room,
         small_objects: !args.no_small_objects,
         ceiling: !args.no_ceiling,
+        progress: bar.clone().map(|b| b as Arc<dyn Progress + Send>),
     };
     let request = Request { text: args.request.clone(), seed: args.seed };
-    let bar = (!args.quiet).then(Bar::new);
-    let outcome =
-        generate::generate(&request, llm, &options, bar.as_ref().map(|b| b as &dyn Progress));
+    let outcome = generate::generate(&request, llm, &options);
     if let Some(bar) = &bar {
         bar.bar.finish_and_clear();
     }
     let generated = &outcome.value;
 
     let mut io_failed = false;
-    if let Some(path) = record_path(args) {
+    if let Some(path) = record_path(args).filter(|_| !generated.transcript.exchanges.is_empty()) {
         match serde_json::to_string_pretty(&generated.transcript) {
             Ok(mut json) => {
                 json.push('\n');

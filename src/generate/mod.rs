@@ -32,7 +32,7 @@ use crate::source::{FileId, SourceMap};
 use serde_json::{json, Value};
 use std::collections::BTreeMap;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
-use std::sync::Mutex;
+use std::sync::{Arc, Mutex};
 use std::time::Instant;
 
 /// The questions, in pipeline order.
@@ -169,7 +169,7 @@ pub trait Progress: Sync {
 }
 
 /// How to run the pipeline.
-#[derive(Clone, Debug)]
+#[derive(Clone)]
 pub struct GenerateOptions {
     /// How many per-room questions may be in flight at once (at least 1).
     pub jobs: usize,
@@ -183,6 +183,22 @@ pub struct GenerateOptions {
     pub small_objects: bool,
     /// Ask the ceiling question.
     pub ceiling: bool,
+    /// Where progress events go (the CLI draws them on stderr); `None` for silence.
+    pub progress: Option<Arc<dyn Progress + Send>>,
+}
+
+impl std::fmt::Debug for GenerateOptions {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("GenerateOptions")
+            .field("jobs", &self.jobs)
+            .field("repair_rounds", &self.repair_rounds)
+            .field("prompt_overrides", &self.prompt_overrides.keys().collect::<Vec<_>>())
+            .field("single_room", &self.single_room)
+            .field("small_objects", &self.small_objects)
+            .field("ceiling", &self.ceiling)
+            .field("progress", &self.progress.is_some())
+            .finish()
+    }
 }
 
 impl Default for GenerateOptions {
@@ -194,6 +210,7 @@ impl Default for GenerateOptions {
             single_room: false,
             small_objects: true,
             ceiling: true,
+            progress: None,
         }
     }
 }
@@ -228,12 +245,7 @@ pub struct Generated {
 }
 
 /// Runs the whole pipeline against a model.
-pub fn generate(
-    request: &Request,
-    llm: &dyn Llm,
-    options: &GenerateOptions,
-    progress: Option<&dyn Progress>,
-) -> Outcome<Generated> {
+pub fn generate(request: &Request, llm: &dyn Llm, options: &GenerateOptions) -> Outcome<Generated> {
     let mut sources = SourceMap::new();
     let overrides: BTreeMap<Template, FileId> = options
         .prompt_overrides
@@ -246,7 +258,7 @@ pub fn generate(
         request,
         llm,
         options,
-        progress,
+        progress: options.progress.as_deref().map(|p| p as &dyn Progress),
         prompts: prompts.value,
         clock: Instant::now(),
         cancelled: AtomicBool::new(false),
