@@ -160,9 +160,11 @@ fn every_corpus_snapshot_has_its_input() {
                 stack.push(path);
                 continue;
             }
-            if path.extension().is_some_and(|e| e == "new") {
-                panic!("{}: a pending snapshot was left behind; review it", path.display());
-            }
+            assert!(
+                path.extension().is_none_or(|e| e != "new"),
+                "{}: a pending snapshot was left behind; review it",
+                path.display()
+            );
             let text = std::fs::read_to_string(&path).expect("readable snapshot");
             if let Some(line) = text.lines().take(6).find(|l| l.starts_with("input_file: ")) {
                 let input = line.trim_start_matches("input_file: ").trim();
