@@ -111,7 +111,7 @@ pub(crate) fn shared_length(a: &Room, b: &Room) -> f64 {
 
 /// The side of the room an edge lies on.
 fn side(room: &Room, r: Run) -> &'static str {
-    let mid = (r.lo + r.hi) / 2.0;
+    let mid = f64::midpoint(r.lo, r.hi);
     let probe = 0.01;
     if r.along_x {
         if inside(&room.corners, [mid, r.at - probe]) {
