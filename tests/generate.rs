@@ -282,6 +282,14 @@ fn clean_run() {
     let reparsed = holoc::parse::parse_str(&generated.holo);
     assert!(reparsed.diagnostics.is_empty());
     assert_eq!(holoc::fmt::print(&reparsed.value), generated.holo);
+    // `holoc import TRANSCRIPT` rebuilds the same scene without any network.
+    let mut sources = holoc::source::SourceMap::new();
+    let imported = holoc::import::import_transcript(
+        &generated.transcript,
+        &mut sources,
+        &holoc::import::ImportOptions::default(),
+    );
+    assert_eq!(holoc::fmt::print(&imported.value), generated.holo);
     snapshot("clean_run.holo", &generated.holo);
     snapshot("clean_run.transcript", &redacted_transcript(generated, &server.base_url));
 }
