@@ -158,8 +158,11 @@ fn real_holodeck_scenes_import_and_check() {
             let out = import::import_holodeck_scene(&value, &mut sources, &options);
             // The model's answers in these files have real mistakes (e.g. a curtain of depth 0
             // in `a_sad_room`): those are reported as E0702 and the rest is imported.
-            let unexpected: Vec<_> =
-                out.diagnostics.iter().filter(|d| d.is_error() && d.code.as_str() != "E0702").collect();
+            let unexpected: Vec<_> = out
+                .diagnostics
+                .iter()
+                .filter(|d| d.is_error() && d.code.as_str() != "E0702")
+                .collect();
             assert!(
                 unexpected.is_empty(),
                 "{}: import errors\n{}",

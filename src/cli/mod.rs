@@ -9,6 +9,7 @@ pub mod check;
 pub mod common;
 pub mod explain;
 pub mod fmt;
+pub mod generate;
 pub mod import;
 pub mod validate;
 
@@ -37,6 +38,8 @@ pub enum Command {
     Fmt(fmt::FmtArgs),
     /// Explain a diagnostic code.
     Explain(explain::ExplainArgs),
+    /// Ask a language model the paper's questions and write the scene.
+    Generate(generate::GenerateArgs),
     /// Turn LLM answers, a transcript or an original Holodeck scene into `.holo`.
     Import(import::ImportArgs),
     /// Check house JSON files against the schema and the geometric rules.
@@ -51,6 +54,7 @@ pub fn run(cli: Cli) -> ExitCode {
         Command::Check(args) => check::run(args),
         Command::Fmt(args) => fmt::run(args),
         Command::Explain(args) => explain::run(args),
+        Command::Generate(args) => generate::run(args),
         Command::Import(args) => import::run(args),
         Command::Validate(args) => validate::run(args),
     }

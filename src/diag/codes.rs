@@ -144,6 +144,17 @@ codes! {
     E0502 "unusable-object" "an object's size, height or reference cannot be used by the solver";
     W0501 "unplaceable-object" "an object cannot be placed without breaking a hard rule and is left out";
     W0502 "pinned-pose-breaks-rule" "a pinned pose breaks a hard layout rule and is kept as pinned";
+    E0801 "unknown-placeholder" "a prompt template uses a placeholder its stage does not fill in";
+    E0802 "missing-placeholder" "a prompt template leaves out a placeholder its answer depends on";
+    E0803 "model-unauthorized" "the model server refused the API key";
+    E0804 "model-not-found" "the model server does not know the address or the model";
+    E0805 "model-unreachable" "the model server could not be reached";
+    E0806 "model-timeout" "the model server did not answer in time";
+    E0807 "model-server-error" "the model server kept failing after every retry";
+    E0808 "invalid-model-response" "the model server's reply is not a chat completion";
+    E0809 "unrepaired-answer" "an answer still has errors after every repair round";
+    E0810 "replay-answer-missing" "the replayed transcript has no answer for a question";
+    W0801 "answer-repaired" "an answer had errors and a repair round fixed it";
 }
 
 impl Code {

@@ -1,0 +1,546 @@
+//! The model side: the [`Llm`] trait, the OpenAI-compatible HTTP client and the replay client.
+//!
+//! The HTTP client speaks the chat-completions API (`POST {base_url}/chat/completions` with one
+//! user message), which OpenAI, Azure-style gateways, vLLM, the llama.cpp server and Ollama all
+//! serve. It retries 429 and 5xx answers and timeouts with a deterministic, capped exponential
+//! backoff that honours `Retry-After`. The API key is kept out of every string it produces.
+
+use crate::diag::{Code, Diagnostic};
+use serde_json::{json, Value};
+use std::collections::BTreeMap;
+use std::fmt;
+use std::time::Duration;
+
+/// One question sent to the model.
+#[derive(Clone, Copy, Debug)]
+pub struct LlmRequest<'a> {
+    /// The stage name (`floor-plan`, `objects`, …).
+    pub stage: &'a str,
+    /// The room label for per-room stages.
+    pub room: Option<&'a str>,
+    /// 0 for the first question, `n` for the `n`-th repair round.
+    pub attempt: u32,
+    /// The whole prompt, sent as one user message.
+    pub prompt: &'a str,
+}
+
+/// Token counts reported by the server (0 when it reports none).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Usage {
+    /// Tokens of the prompt.
+    pub prompt_tokens: u64,
+    /// Tokens of the answer.
+    pub completion_tokens: u64,
+}
+
+/// The model's answer to one question.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LlmAnswer {
+    /// The text of the answer.
+    pub text: String,
+    /// Token counts.
+    pub usage: Usage,
+}
+
+/// What is recorded about the model in a transcript.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ModelInfo {
+    /// The server address (without `/chat/completions`).
+    pub base_url: String,
+    /// The model name.
+    pub model: String,
+    /// The sampling temperature.
+    pub temperature: f64,
+    /// The sampling parameters sent with every request, as recorded in each exchange.
+    pub parameters: BTreeMap<String, Value>,
+}
+
+/// Why a question got no answer. The facts only; [`LlmError::to_diagnostic`] words them.
+#[derive(Clone, Debug, PartialEq)]
+pub enum LlmError {
+    /// 401 or 403.
+    Unauthorized {
+        /// The HTTP status.
+        status: u16,
+        /// The start of the body (key removed).
+        body: String,
+    },
+    /// 404.
+    NotFound {
+        /// The URL asked.
+        url: String,
+        /// The model asked for.
+        model: String,
+        /// The start of the body (key removed).
+        body: String,
+    },
+    /// No connection.
+    Unreachable {
+        /// The server address.
+        base_url: String,
+        /// What the connection layer said (key removed).
+        reason: String,
+    },
+    /// No answer in time, on every try.
+    Timeout {
+        /// The time limit per try.
+        seconds: f64,
+        /// How many tries were made.
+        tries: u32,
+    },
+    /// 429 or 5xx on every try, or another 4xx.
+    Server {
+        /// The last HTTP status.
+        status: u16,
+        /// How many tries were made.
+        tries: u32,
+        /// The start of the last body (key removed).
+        body: String,
+    },
+    /// A 200 whose body is not a chat completion.
+    InvalidResponse {
+        /// What is missing or wrong.
+        reason: String,
+    },
+    /// A replayed transcript has no answer for this question.
+    MissingReplay {
+        /// The stage.
+        stage: String,
+        /// The room, if any.
+        room: Option<String>,
+        /// The attempt.
+        attempt: u32,
+    },
+}
+
+impl LlmError {
+    /// The diagnostic for this error.
+    pub fn to_diagnostic(&self) -> Diagnostic {
+        match self {
+            LlmError::Unauthorized { status, body } => Diagnostic::new(
+                Code::E0803,
+                format!("the model server refused the API key (HTTP {status})"),
+            )
+            .with_help("set `HOLOC_API_KEY` (or `OPENAI_API_KEY`) to a key this server accepts")
+            .with_note_opt(body_note(body)),
+            LlmError::NotFound { url, model, body } => Diagnostic::new(
+                Code::E0804,
+                format!("the model server has no `POST {url}` for model `{model}` (HTTP 404)"),
+            )
+            .with_help("check `--base-url` (the part before `/chat/completions`, often ending in `/v1`) and `--model`")
+            .with_note_opt(body_note(body)),
+            LlmError::Unreachable { base_url, reason } => Diagnostic::new(
+                Code::E0805,
+                format!("the model server at `{base_url}` could not be reached"),
+            )
+            .with_help("check that the server is running and that `--base-url` is right")
+            .with_note(reason.clone()),
+            LlmError::Timeout { seconds, tries } => Diagnostic::new(
+                Code::E0806,
+                format!("the model server did not answer within {seconds} s ({tries} {})", plural(*tries, "try", "tries")),
+            )
+            .with_help("raise `--timeout`, or use a faster model"),
+            LlmError::Server { status, tries, body } => Diagnostic::new(
+                Code::E0807,
+                format!("the model server kept failing: HTTP {status} after {tries} {}", plural(*tries, "try", "tries")),
+            )
+            .with_help("wait and run again, raise `--retries`, or lower `--jobs`")
+            .with_note_opt(body_note(body)),
+            LlmError::InvalidResponse { reason } => Diagnostic::new(
+                Code::E0808,
+                format!("the model server's reply is not a chat completion: {reason}"),
+            )
+            .with_help("check that `--base-url` points at an OpenAI-compatible API"),
+            LlmError::MissingReplay { stage, room, attempt } => {
+                let room = room.as_ref().map(|r| format!(", room `{r}`")).unwrap_or_default();
+                Diagnostic::new(
+                    Code::E0810,
+                    format!("the replayed transcript has no answer for stage `{stage}`{room}, attempt {attempt}"),
+                )
+                .with_help("replay with the prompts and options the transcript was recorded with, or use `holoc import`")
+            }
+        }
+    }
+}
+
+trait NoteOpt {
+    fn with_note_opt(self, note: Option<String>) -> Self;
+}
+
+impl NoteOpt for Diagnostic {
+    fn with_note_opt(self, note: Option<String>) -> Diagnostic {
+        match note {
+            Some(n) => self.with_note(n),
+            None => self,
+        }
+    }
+}
+
+fn body_note(body: &str) -> Option<String> {
+    (!body.trim().is_empty()).then(|| format!("the server said: {}", body.trim()))
+}
+
+fn plural(n: u32, one: &'static str, many: &'static str) -> &'static str {
+    if n == 1 {
+        one
+    } else {
+        many
+    }
+}
+
+/// A language model that answers one question at a time. Implementations must be usable from
+/// several threads at once (per-room stages run in parallel).
+pub trait Llm: Sync {
+    /// Answers one question.
+    fn complete(&self, request: &LlmRequest<'_>) -> Result<LlmAnswer, LlmError>;
+
+    /// What the transcript records about the model.
+    fn info(&self) -> ModelInfo;
+}
+
+/// Settings of the HTTP client.
+#[derive(Clone)]
+pub struct HttpOptions {
+    /// The address before `/chat/completions`, e.g. `https://api.openai.com/v1`.
+    pub base_url: String,
+    /// The model name.
+    pub model: String,
+    /// The API key, sent as a bearer token; `None` sends no `Authorization` header.
+    pub api_key: Option<String>,
+    /// The sampling temperature.
+    pub temperature: f64,
+    /// The sampling seed passed to the server (servers that ignore it are fine).
+    pub seed: Option<u64>,
+    /// The longest answer, in tokens (`None`: the server's default).
+    pub max_tokens: Option<u32>,
+    /// Time limit for one try.
+    pub timeout: Duration,
+    /// How many times a failed try (429, 5xx, timeout) is repeated.
+    pub retries: u32,
+    /// The wait before the first retry; it doubles for each further retry.
+    pub base_delay: Duration,
+    /// The longest wait between two tries, `Retry-After` included.
+    pub max_delay: Duration,
+}
+
+impl fmt::Debug for HttpOptions {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("HttpOptions")
+            .field("base_url", &self.base_url)
+            .field("model", &self.model)
+            .field("api_key", &self.api_key.as_ref().map(|_| "[redacted]"))
+            .field("temperature", &self.temperature)
+            .field("seed", &self.seed)
+            .field("max_tokens", &self.max_tokens)
+            .field("timeout", &self.timeout)
+            .field("retries", &self.retries)
+            .field("base_delay", &self.base_delay)
+            .field("max_delay", &self.max_delay)
+            .finish()
+    }
+}
+
+impl HttpOptions {
+    /// Defaults for a server and a model: temperature 0, 120 s per try, 3 retries starting at
+    /// 1 s and capped at 30 s.
+    pub fn new(base_url: impl Into<String>, model: impl Into<String>) -> HttpOptions {
+        HttpOptions {
+            base_url: base_url.into(),
+            model: model.into(),
+            api_key: None,
+            temperature: 0.0,
+            seed: None,
+            max_tokens: None,
+            timeout: Duration::from_secs(120),
+            retries: 3,
+            base_delay: Duration::from_secs(1),
+            max_delay: Duration::from_secs(30),
+        }
+    }
+
+    /// The wait before retry number `retry` (0-based): `base_delay · 2^retry`, or the server's
+    /// `Retry-After`, capped at `max_delay`.
+    pub fn backoff(&self, retry: u32, retry_after: Option<Duration>) -> Duration {
+        let doubled = self.base_delay.saturating_mul(1u32 << retry.min(20));
+        retry_after.unwrap_or(doubled).min(self.max_delay)
+    }
+}
+
+/// The OpenAI-compatible chat-completions client (blocking reqwest).
+pub struct HttpLlm {
+    options: HttpOptions,
+    client: Result<reqwest::blocking::Client, String>,
+}
+
+impl fmt::Debug for HttpLlm {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("HttpLlm").field("options", &self.options).finish_non_exhaustive()
+    }
+}
+
+impl HttpLlm {
+    /// A client with these settings.
+    pub fn new(options: HttpOptions) -> HttpLlm {
+        let client = reqwest::blocking::Client::builder()
+            .timeout(options.timeout)
+            .connect_timeout(options.timeout.min(Duration::from_secs(30)))
+            .user_agent(concat!("holoc/", env!("CARGO_PKG_VERSION")))
+            .build()
+            .map_err(|e| e.to_string());
+        HttpLlm { options, client }
+    }
+
+    fn url(&self) -> String {
+        format!("{}/chat/completions", self.options.base_url.trim_end_matches('/'))
+    }
+
+    /// Removes the API key from a text that came from the network.
+    fn scrub(&self, text: &str) -> String {
+        let mut text: String = text.chars().take(300).collect();
+        if let Some(key) = self.options.api_key.as_deref().filter(|k| !k.is_empty()) {
+            text = text.replace(key, "[redacted]");
+        }
+        text
+    }
+
+    fn body(&self, prompt: &str) -> Value {
+        let mut body = json!({
+            "model": self.options.model,
+            "messages": [{"role": "user", "content": prompt}],
+            "temperature": self.options.temperature,
+        });
+        if let Some(seed) = self.options.seed {
+            body["seed"] = json!(seed);
+        }
+        if let Some(max) = self.options.max_tokens {
+            body["max_tokens"] = json!(max);
+        }
+        body
+    }
+}
+
+fn retry_after(response: &reqwest::blocking::Response) -> Option<Duration> {
+    let value = response.headers().get(reqwest::header::RETRY_AFTER)?.to_str().ok()?;
+    let seconds: f64 = value.trim().parse().ok()?;
+    (seconds.is_finite() && seconds >= 0.0).then(|| Duration::from_secs_f64(seconds.min(3600.0)))
+}
+
+/// Reads `choices[0].message.content` and `usage` from a chat completion.
+fn parse_completion(body: &str) -> Result<LlmAnswer, String> {
+    let value: Value =
+        serde_json::from_str(body).map_err(|e| format!("the body is not JSON ({e})"))?;
+    let text = value
+        .pointer("/choices/0/message/content")
+        .and_then(Value::as_str)
+        .ok_or_else(|| "missing `choices[0].message.content`".to_string())?;
+    let count =
+        |name: &str| value.pointer(&format!("/usage/{name}")).and_then(Value::as_u64).unwrap_or(0);
+    Ok(LlmAnswer {
+        text: text.to_string(),
+        usage: Usage {
+            prompt_tokens: count("prompt_tokens"),
+            completion_tokens: count("completion_tokens"),
+        },
+    })
+}
+
+impl Llm for HttpLlm {
+    fn complete(&self, request: &LlmRequest<'_>) -> Result<LlmAnswer, LlmError> {
+        let client = self.client.as_ref().map_err(|reason| LlmError::Unreachable {
+            base_url: self.options.base_url.clone(),
+            reason: self.scrub(reason),
+        })?;
+        let url = self.url();
+        let body = self.body(request.prompt);
+        let tries = self.options.retries.saturating_add(1);
+        let mut last = None;
+        for n in 0..tries {
+            let mut builder = client.post(&url).json(&body);
+            if let Some(key) = self.options.api_key.as_deref().filter(|k| !k.is_empty()) {
+                builder = builder.bearer_auth(key);
+            }
+            let wait = match builder.send() {
+                Err(error) if error.is_timeout() => {
+                    last = Some(LlmError::Timeout {
+                        seconds: self.options.timeout.as_secs_f64(),
+                        tries: n + 1,
+                    });
+                    self.options.backoff(n, None)
+                }
+                Err(error) => {
+                    let mut reason = error.to_string();
+                    let mut source = std::error::Error::source(&error);
+                    while let Some(cause) = source {
+                        reason = format!("{reason}: {cause}");
+                        source = cause.source();
+                    }
+                    return Err(LlmError::Unreachable {
+                        base_url: self.options.base_url.clone(),
+                        reason: self.scrub(&reason),
+                    });
+                }
+                Ok(response) => {
+                    let status = response.status().as_u16();
+                    let after = retry_after(&response);
+                    let text = match response.text() {
+                        Ok(text) => text,
+                        Err(error) if error.is_timeout() => {
+                            last = Some(LlmError::Timeout {
+                                seconds: self.options.timeout.as_secs_f64(),
+                                tries: n + 1,
+                            });
+                            std::thread::sleep(self.options.backoff(n, None));
+                            continue;
+                        }
+                        Err(error) => {
+                            return Err(LlmError::InvalidResponse {
+                                reason: self
+                                    .scrub(&format!("the body could not be read ({error})")),
+                            })
+                        }
+                    };
+                    match status {
+                        200..=299 => {
+                            return parse_completion(&text).map_err(|reason| {
+                                LlmError::InvalidResponse { reason: self.scrub(&reason) }
+                            })
+                        }
+                        401 | 403 => {
+                            return Err(LlmError::Unauthorized { status, body: self.scrub(&text) })
+                        }
+                        404 => {
+                            return Err(LlmError::NotFound {
+                                url,
+                                model: self.options.model.clone(),
+                                body: self.scrub(&text),
+                            })
+                        }
+                        429 | 500..=599 => {
+                            last = Some(LlmError::Server {
+                                status,
+                                tries: n + 1,
+                                body: self.scrub(&text),
+                            });
+                            self.options.backoff(n, after)
+                        }
+                        _ => {
+                            return Err(LlmError::Server {
+                                status,
+                                tries: n + 1,
+                                body: self.scrub(&text),
+                            })
+                        }
+                    }
+                }
+            };
+            if n + 1 < tries {
+                std::thread::sleep(wait);
+            }
+        }
+        Err(last.unwrap_or(LlmError::Server { status: 0, tries, body: String::new() }))
+    }
+
+    fn info(&self) -> ModelInfo {
+        let mut parameters = BTreeMap::new();
+        parameters.insert("temperature".to_string(), json!(self.options.temperature));
+        if let Some(seed) = self.options.seed {
+            parameters.insert("seed".to_string(), json!(seed));
+        }
+        if let Some(max) = self.options.max_tokens {
+            parameters.insert("max_tokens".to_string(), json!(max));
+        }
+        ModelInfo {
+            base_url: self.options.base_url.clone(),
+            model: self.options.model.clone(),
+            temperature: self.options.temperature,
+            parameters,
+        }
+    }
+}
+
+/// One recorded answer for [`ReplayLlm`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct RecordedAnswer {
+    /// The stage name.
+    pub stage: String,
+    /// The room label, if any.
+    pub room: Option<String>,
+    /// The attempt.
+    pub attempt: u32,
+    /// The answer text.
+    pub answer: String,
+    /// Token counts as recorded.
+    pub usage: Usage,
+}
+
+/// A model that answers from a recorded transcript, without any network.
+#[derive(Clone, Debug)]
+pub struct ReplayLlm {
+    answers: BTreeMap<(String, Option<String>, u32), (String, Usage)>,
+    info: ModelInfo,
+}
+
+impl ReplayLlm {
+    /// A replay of these answers; a later answer for the same question replaces an earlier one.
+    pub fn new(answers: Vec<RecordedAnswer>, info: ModelInfo) -> ReplayLlm {
+        let answers = answers
+            .into_iter()
+            .map(|a| ((a.stage, a.room, a.attempt), (a.answer, a.usage)))
+            .collect();
+        ReplayLlm { answers, info }
+    }
+}
+
+impl Llm for ReplayLlm {
+    fn complete(&self, request: &LlmRequest<'_>) -> Result<LlmAnswer, LlmError> {
+        let key = (request.stage.to_string(), request.room.map(str::to_string), request.attempt);
+        match self.answers.get(&key) {
+            Some((text, usage)) => Ok(LlmAnswer { text: text.clone(), usage: *usage }),
+            None => Err(LlmError::MissingReplay {
+                stage: request.stage.to_string(),
+                room: request.room.map(str::to_string),
+                attempt: request.attempt,
+            }),
+        }
+    }
+
+    fn info(&self) -> ModelInfo {
+        self.info.clone()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn backoff_doubles_and_is_capped() {
+        let mut options = HttpOptions::new("http://x", "m");
+        options.base_delay = Duration::from_millis(100);
+        options.max_delay = Duration::from_millis(350);
+        assert_eq!(options.backoff(0, None), Duration::from_millis(100));
+        assert_eq!(options.backoff(1, None), Duration::from_millis(200));
+        assert_eq!(options.backoff(2, None), Duration::from_millis(350));
+        assert_eq!(options.backoff(40, None), Duration::from_millis(350));
+        assert_eq!(options.backoff(0, Some(Duration::from_secs(9))), Duration::from_millis(350));
+    }
+
+    #[test]
+    fn debug_hides_the_key() {
+        let mut options = HttpOptions::new("http://x", "m");
+        options.api_key = Some("sk-secret-123".into());
+        let client = HttpLlm::new(options);
+        assert!(!format!("{client:?}").contains("sk-secret-123"));
+        assert_eq!(client.scrub("echo sk-secret-123!"), "echo [redacted]!");
+    }
+
+    #[test]
+    fn completion_parsing() {
+        let ok = r#"{"choices":[{"message":{"role":"assistant","content":"3.0"}}],"usage":{"prompt_tokens":5,"completion_tokens":1}}"#;
+        let answer = parse_completion(ok).expect("a valid completion");
+        assert_eq!(answer.text, "3.0");
+        assert_eq!(answer.usage, Usage { prompt_tokens: 5, completion_tokens: 1 });
+        assert!(parse_completion("{}").is_err());
+        assert!(parse_completion("<html>").is_err());
+    }
+}

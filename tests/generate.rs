@@ -1,0 +1,587 @@
+//! `holoc generate` against a real HTTP server on loopback (tiny_http on 127.0.0.1:0) that
+//! serves recorded answers in the chat-completions wire format. Nothing here reaches the
+//! internet.
+
+use holoc::diag::{Code, Diagnostic, Outcome};
+use holoc::generate::{
+    generate, recorded_answers, GenerateOptions, Generated, HttpLlm, HttpOptions, Llm, ModelInfo,
+    ReplayLlm, Request,
+};
+use std::collections::BTreeMap;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Arc;
+use std::time::Duration;
+
+const KEY: &str = "sk-test-SECRET-0123456789";
+
+/// One reply of the fake server.
+struct Reply {
+    status: u16,
+    body: String,
+    retry_after: Option<&'static str>,
+    delay_ms: u64,
+}
+
+impl Reply {
+    fn answer(text: &str) -> Reply {
+        let body = serde_json::json!({
+            "id": "chatcmpl-test",
+            "object": "chat.completion",
+            "choices": [{"index": 0, "message": {"role": "assistant", "content": text}, "finish_reason": "stop"}],
+            "usage": {"prompt_tokens": text.len() / 4 + 100, "completion_tokens": text.len() / 4},
+        });
+        Reply { status: 200, body: body.to_string(), retry_after: None, delay_ms: 0 }
+    }
+
+    fn status(status: u16, body: &str) -> Reply {
+        Reply { status, body: body.to_string(), retry_after: None, delay_ms: 0 }
+    }
+}
+
+/// What a request asked for, as the fake server reads it from the prompt.
+#[derive(Debug)]
+struct Asked {
+    stage: &'static str,
+    room: Option<String>,
+    repair: bool,
+    authorization: Option<String>,
+}
+
+type Script = dyn Fn(&Asked, usize) -> Reply + Send + Sync;
+
+/// A loopback chat-completions server; stops when dropped.
+struct Server {
+    base_url: String,
+    http: Arc<tiny_http::Server>,
+    calls: Arc<AtomicUsize>,
+    threads: Vec<std::thread::JoinHandle<()>>,
+}
+
+fn between(text: &str, before: &str, after: &str) -> Option<String> {
+    let start = text.find(before)? + before.len();
+    let end = text[start..].find(after)? + start;
+    Some(text[start..end].to_string())
+}
+
+fn read_asked(prompt: &str, authorization: Option<String>) -> Asked {
+    let repair = prompt.contains("Your previous answer was:");
+    let (stage, room) = if prompt.contains("planning the floor plan") {
+        ("floor-plan", None)
+    } else if prompt.contains("How high, in metres") {
+        ("wall-height", None)
+    } else if prompt.contains("how the rooms of a floor plan connect") {
+        ("doorways", None)
+    } else if prompt.contains("choosing the windows") {
+        ("windows", None)
+    } else if prompt.contains("You are furnishing one room") {
+        ("objects", between(prompt, "The room is the ", ". Its floor"))
+    } else if prompt.contains("arranging the furniture of the ") {
+        ("floor-constraints", between(prompt, "arranging the furniture of the ", ", whose"))
+    } else if prompt.contains("hanging the wall objects of the ") {
+        ("wall-constraints", between(prompt, "hanging the wall objects of the ", ", whose"))
+    } else if prompt.contains("You are dressing the ") {
+        ("small-objects", between(prompt, "You are dressing the ", " for this request"))
+    } else if prompt.contains("one ceiling object") {
+        ("ceiling", None)
+    } else {
+        ("unknown", None)
+    };
+    Asked { stage, room, repair, authorization }
+}
+
+impl Server {
+    fn start(script: Arc<Script>) -> Server {
+        let server = Arc::new(tiny_http::Server::http("127.0.0.1:0").expect("bind loopback"));
+        let port = server.server_addr().to_ip().expect("an IP address").port();
+        let calls = Arc::new(AtomicUsize::new(0));
+        let mut threads = Vec::new();
+        for _ in 0..6 {
+            let server = Arc::clone(&server);
+            let script = Arc::clone(&script);
+            let calls = Arc::clone(&calls);
+            threads.push(std::thread::spawn(move || {
+                while let Ok(mut request) = server.recv() {
+                    let n = calls.fetch_add(1, Ordering::SeqCst);
+                    let mut body = String::new();
+                    let _ = std::io::Read::read_to_string(request.as_reader(), &mut body);
+                    let value: serde_json::Value = serde_json::from_str(&body).unwrap_or_default();
+                    let prompt = value
+                        .pointer("/messages/0/content")
+                        .and_then(serde_json::Value::as_str)
+                        .unwrap_or_default()
+                        .to_string();
+                    let authorization = request
+                        .headers()
+                        .iter()
+                        .find(|h| h.field.equiv("Authorization"))
+                        .map(|h| h.value.to_string());
+                    let asked = read_asked(&prompt, authorization);
+                    let reply = if request.url() == "/v1/chat/completions" {
+                        script(&asked, n)
+                    } else {
+                        Reply::status(404, "{\"error\": \"no such route\"}")
+                    };
+                    if reply.delay_ms > 0 {
+                        std::thread::sleep(Duration::from_millis(reply.delay_ms));
+                    }
+                    let mut response = tiny_http::Response::from_string(reply.body)
+                        .with_status_code(reply.status)
+                        .with_header(
+                            tiny_http::Header::from_bytes("Content-Type", "application/json")
+                                .expect("a valid header"),
+                        );
+                    if let Some(after) = reply.retry_after {
+                        response = response.with_header(
+                            tiny_http::Header::from_bytes("Retry-After", after)
+                                .expect("a valid header"),
+                        );
+                    }
+                    let _ = request.respond(response);
+                }
+            }));
+        }
+        Server { base_url: format!("http://127.0.0.1:{port}/v1"), http: server, calls, threads }
+    }
+
+    fn calls(&self) -> usize {
+        self.calls.load(Ordering::SeqCst)
+    }
+}
+
+impl Drop for Server {
+    fn drop(&mut self) {
+        for _ in &self.threads {
+            self.http.unblock();
+        }
+        for t in self.threads.drain(..) {
+            let _ = t.join();
+        }
+    }
+}
+
+fn client(server: &Server) -> HttpLlm {
+    let mut options = HttpOptions::new(server.base_url.clone(), "test-model");
+    options.api_key = Some(KEY.to_string());
+    options.seed = Some(7);
+    options.timeout = Duration::from_secs(10);
+    options.retries = 3;
+    options.base_delay = Duration::from_millis(5);
+    options.max_delay = Duration::from_millis(20);
+    HttpLlm::new(options)
+}
+
+const FLOOR_PLAN: &str = "Here is the plan:\n\
+1. living room | oak hardwood, matte | light grey plaster, smooth | [(0, 0), (0, 6), (5, 6), (5, 0)]\n\
+2. bedroom | beige carpet, soft | pale blue paint, matte | [(5, 0), (5, 4), (9, 4), (9, 0)]\n";
+
+const LIVING_OBJECTS: &str = r#"The room needs a place to sit and read.
+{"sofa": {"description": "light grey fabric sofa", "location": "floor", "size": [200, 90, 80], "quantity": 1, "variance_type": "same", "objects_on_top": [{"object_name": "cushion", "quantity": 2, "variance_type": "varied"}]},
+ "coffee table": {"description": "low oak coffee table", "location": "floor", "size": [100, 60, 45], "quantity": 1, "variance_type": "same", "objects_on_top": []},
+ "painting": {"description": "abstract painting, blue tones", "location": "wall", "size": [90, 3, 60], "quantity": 1, "variance_type": "same", "objects_on_top": []}}"#;
+
+const BEDROOM_OBJECTS: &str = r#"{"bed": {"description": "double bed with white sheets", "location": "floor", "size": [200, 160, 50], "quantity": 1, "variance_type": "same", "objects_on_top": []},
+ "nightstand": {"description": "small walnut nightstand", "location": "floor", "size": [45, 40, 55], "quantity": 2, "variance_type": "same", "objects_on_top": []}}"#;
+
+/// The answers of a clean two-room run.
+fn clean_answer(asked: &Asked) -> Reply {
+    let room = asked.room.as_deref().unwrap_or("");
+    let text = match (asked.stage, room) {
+        ("floor-plan", _) => FLOOR_PLAN,
+        ("wall-height", _) => "2.7",
+        ("doorways", _) => {
+            "exterior | living room | doorway | double | dark brown metal door\n\
+             living room | bedroom | doorway | single | white wooden door"
+        }
+        ("windows", _) => "living room | west | fixed | (150, 120) | 2 | 90",
+        ("objects", "living room") => LIVING_OBJECTS,
+        ("objects", _) => BEDROOM_OBJECTS,
+        ("floor-constraints", "living room") => {
+            "sofa-0 | edge\ncoffee_table-0 | middle | near, sofa-0 | in front of, sofa-0 | face to, sofa-0"
+        }
+        ("floor-constraints", _) => {
+            "bed-0 | edge\nnightstand-0 | edge | near, bed-0 | side of, bed-0\nnightstand-1 | edge | near, bed-0 | side of, bed-0"
+        }
+        ("wall-constraints", _) => "painting-0 | above, sofa-0 | 160",
+        ("small-objects", "living room") => "coffee_table-0 (living room) | book, 2, varied",
+        ("small-objects", _) => "nightstand-0 (bedroom) | table lamp, 1, same",
+        ("ceiling", _) => "living room | flush mount ceiling light\nbedroom | small ceiling fan",
+        _ => "I do not know this question.",
+    };
+    Reply::answer(text)
+}
+
+fn request() -> Request {
+    Request { text: "a 1b1b apartment of a researcher who has a cat".into(), seed: 7 }
+}
+
+fn options() -> GenerateOptions {
+    GenerateOptions { jobs: 4, repair_rounds: 2, ..GenerateOptions::default() }
+}
+
+/// The codes of the generate band (E08xx, W08xx); import warnings about tolerated noise in the
+/// recorded answers are not what these tests are about.
+fn codes(diagnostics: &[Diagnostic]) -> Vec<&'static str> {
+    diagnostics.iter().map(|d| d.code.as_str()).filter(|c| &c[1..3] == "08").collect()
+}
+
+/// The transcript as JSON with the timings, the port and the timing-based totals redacted.
+fn redacted_transcript(generated: &Generated, base_url: &str) -> String {
+    let mut value = serde_json::to_value(&generated.transcript).expect("a transcript serializes");
+    if let Some(exchanges) = value.get_mut("exchanges").and_then(serde_json::Value::as_array_mut) {
+        for e in exchanges {
+            e["started_ms"] = serde_json::json!("[ms]");
+            e["duration_ms"] = serde_json::json!("[ms]");
+        }
+    }
+    if let Some(totals) = value.get_mut("totals") {
+        totals["seconds"] = serde_json::json!("[s]");
+    }
+    serde_json::to_string_pretty(&value)
+        .expect("json prints")
+        .replace(base_url, "http://[server]/v1")
+}
+
+/// Every text a run produces: the `.holo`, the transcript and every diagnostic.
+fn everything(outcome: &Outcome<Generated>) -> String {
+    let mut all = outcome.value.holo.clone();
+    all.push_str(
+        &serde_json::to_string(&outcome.value.transcript).expect("a transcript serializes"),
+    );
+    all.push_str(&holoc::diag::format::render_human(
+        &outcome.value.sources,
+        &outcome.diagnostics,
+        holoc::diag::format::HumanOptions::default(),
+    ));
+    let debug = format!("{:?}", outcome.diagnostics);
+    all.push_str(&debug);
+    all
+}
+
+fn snapshot(name: &str, text: &str) {
+    insta::with_settings!({snapshot_path => "../snapshots/generate", prepend_module_to_snapshot => false}, {
+        insta::assert_snapshot!(name, text);
+    });
+}
+
+#[test]
+fn clean_run() {
+    let server = Server::start(Arc::new(|asked: &Asked, _| {
+        assert_eq!(asked.authorization.as_deref(), Some(format!("Bearer {KEY}").as_str()));
+        clean_answer(asked)
+    }));
+    let outcome = generate(&request(), &client(&server), &options());
+    assert!(!outcome.has_errors(), "{:#?}", outcome.diagnostics);
+    let generated = &outcome.value;
+    // 4 whole-scene questions, 4 for the living room, 3 for the bedroom (no wall objects), 1 ceiling.
+    assert_eq!(server.calls(), 12);
+    assert_eq!(generated.transcript.exchanges.len(), 12);
+    let totals = generated.transcript.totals.as_ref().expect("totals are recorded");
+    assert_eq!(totals.calls, 12);
+    assert!(totals.prompt_tokens > 0 && totals.completion_tokens > 0);
+    assert!(!everything(&outcome).contains(KEY), "the API key leaked");
+    // The output is canonical and checks.
+    let reparsed = holoc::parse::parse_str(&generated.holo);
+    assert!(reparsed.diagnostics.is_empty());
+    assert_eq!(holoc::fmt::print(&reparsed.value), generated.holo);
+    // `holoc import TRANSCRIPT` rebuilds the same scene without any network.
+    let mut sources = holoc::source::SourceMap::new();
+    let imported = holoc::import::import_transcript(
+        &generated.transcript,
+        &mut sources,
+        &holoc::import::ImportOptions::default(),
+    );
+    assert_eq!(holoc::fmt::print(&imported.value), generated.holo);
+    snapshot("clean_run.holo", &generated.holo);
+    snapshot("clean_run.transcript", &redacted_transcript(generated, &server.base_url));
+}
+
+#[test]
+fn replay_rebuilds_the_same_scene_without_network() {
+    let server = Server::start(Arc::new(|asked: &Asked, _| clean_answer(asked)));
+    let first = generate(&request(), &client(&server), &options());
+    assert!(!first.has_errors(), "{:#?}", first.diagnostics);
+    drop(server);
+    let json = serde_json::to_string(&first.value.transcript).expect("serializes");
+    let transcript: holoc::import::Transcript = serde_json::from_str(&json).expect("reads back");
+    let info = ModelInfo {
+        base_url: "replay".into(),
+        model: "test-model".into(),
+        temperature: 0.0,
+        parameters: BTreeMap::new(),
+    };
+    let replay = ReplayLlm::new(recorded_answers(&transcript), info);
+    let again = generate(&request(), &replay, &options());
+    assert!(!again.has_errors(), "{:#?}", again.diagnostics);
+    assert_eq!(again.value.holo, first.value.holo);
+    assert_eq!(again.value.transcript.exchanges.len(), first.value.transcript.exchanges.len());
+}
+
+#[test]
+fn broken_floor_plan_is_repaired() {
+    let server = Server::start(Arc::new(|asked: &Asked, _| {
+        if asked.stage == "floor-plan" && !asked.repair {
+            // The model forgot the wall design of the bedroom.
+            Reply::answer(
+                "living room | oak hardwood, matte | light grey plaster, smooth | [(0, 0), (0, 6), (5, 6), (5, 0)]\n\
+                 bedroom | beige carpet, soft | [(5, 0), (5, 4), (9, 4), (9, 0)]",
+            )
+        } else {
+            clean_answer(asked)
+        }
+    }));
+    let outcome = generate(&request(), &client(&server), &options());
+    assert!(!outcome.has_errors(), "{:#?}", outcome.diagnostics);
+    assert_eq!(codes(&outcome.diagnostics), vec!["W0801"]);
+    let floor: Vec<_> =
+        outcome.value.transcript.exchanges.iter().filter(|e| e.stage == "floor-plan").collect();
+    assert_eq!(floor.len(), 2);
+    assert_eq!((floor[0].attempt, floor[1].attempt), (0, 1));
+    assert!(floor[0].diagnostics > 0);
+    assert!(floor[1].prompt.contains("Your previous answer was:"));
+    assert!(floor[1].prompt.contains("line 2"), "{}", floor[1].prompt);
+    assert!(outcome.value.holo.contains("room bedroom \"bedroom\""));
+    snapshot("repair.prompt", &floor[1].prompt);
+}
+
+#[test]
+fn unrepaired_answer_is_an_error() {
+    let server = Server::start(Arc::new(|asked: &Asked, _| {
+        if asked.stage == "floor-plan" {
+            Reply::answer("living room | oak | [(0, 0), (0, 6), (5, 6), (5, 0)]")
+        } else {
+            clean_answer(asked)
+        }
+    }));
+    let options = GenerateOptions { repair_rounds: 1, ..options() };
+    let outcome = generate(&request(), &client(&server), &options);
+    assert!(codes(&outcome.diagnostics).contains(&"E0809"), "{:#?}", outcome.diagnostics);
+    let floor =
+        outcome.value.transcript.exchanges.iter().filter(|e| e.stage == "floor-plan").count();
+    assert_eq!(floor, 2);
+}
+
+#[test]
+fn rate_limit_then_success() {
+    let server = Server::start(Arc::new(|asked: &Asked, n| {
+        if n == 0 {
+            let mut reply = Reply::status(429, "{\"error\": {\"message\": \"slow down\"}}");
+            reply.retry_after = Some("0");
+            reply
+        } else {
+            clean_answer(asked)
+        }
+    }));
+    let outcome = generate(&request(), &client(&server), &options());
+    assert!(!outcome.has_errors(), "{:#?}", outcome.diagnostics);
+    assert_eq!(server.calls(), 13);
+    assert_eq!(outcome.value.transcript.exchanges.len(), 12);
+}
+
+#[test]
+fn server_error_storm_keeps_the_transcript() {
+    let server = Server::start(Arc::new(|asked: &Asked, _| {
+        if asked.stage == "doorways" {
+            Reply::status(503, "{\"error\": \"overloaded\"}")
+        } else {
+            clean_answer(asked)
+        }
+    }));
+    let outcome = generate(&request(), &client(&server), &options());
+    assert_eq!(codes(&outcome.diagnostics), vec!["E0807"]);
+    let d = &outcome.diagnostics[0];
+    assert!(d.message.contains("HTTP 503 after 4 tries"), "{}", d.message);
+    // Floor plan and wall height were answered and are kept; nothing was written as a scene.
+    let stages: Vec<&str> =
+        outcome.value.transcript.exchanges.iter().map(|e| e.stage.as_str()).collect();
+    assert_eq!(stages, vec!["floor-plan", "wall-height"]);
+    assert!(outcome.value.holo.is_empty());
+    assert_eq!(server.calls(), 2 + 4);
+}
+
+#[test]
+fn timeout_is_reported() {
+    let server = Server::start(Arc::new(|asked: &Asked, _| {
+        let mut reply = clean_answer(asked);
+        reply.delay_ms = 600;
+        reply
+    }));
+    let mut options_http = HttpOptions::new(server.base_url.clone(), "test-model");
+    options_http.timeout = Duration::from_millis(150);
+    options_http.retries = 1;
+    options_http.base_delay = Duration::from_millis(1);
+    let outcome = generate(&request(), &HttpLlm::new(options_http), &options());
+    assert_eq!(codes(&outcome.diagnostics), vec!["E0806"]);
+    assert!(
+        outcome.diagnostics[0].message.contains("2 tries"),
+        "{}",
+        outcome.diagnostics[0].message
+    );
+}
+
+#[test]
+fn unauthorized_does_not_leak_the_key() {
+    // The server echoes the Authorization header back, as some gateways do.
+    let server = Server::start(Arc::new(|asked: &Asked, _| {
+        Reply::status(
+            401,
+            &format!(
+                "{{\"error\": \"bad key {}\"}}",
+                asked.authorization.clone().unwrap_or_default()
+            ),
+        )
+    }));
+    let outcome = generate(&request(), &client(&server), &options());
+    assert_eq!(codes(&outcome.diagnostics), vec!["E0803"]);
+    assert_eq!(server.calls(), 1, "401 is not retried");
+    let text = everything(&outcome);
+    assert!(!text.contains(KEY), "the API key leaked: {text}");
+    assert!(text.contains("[redacted]"));
+}
+
+#[test]
+fn wrong_path_is_not_found() {
+    let server = Server::start(Arc::new(|asked: &Asked, _| clean_answer(asked)));
+    let mut options_http = HttpOptions::new(server.base_url.replace("/v1", "/v2"), "test-model");
+    options_http.retries = 0;
+    let outcome = generate(&request(), &HttpLlm::new(options_http), &options());
+    assert_eq!(codes(&outcome.diagnostics), vec!["E0804"]);
+}
+
+#[test]
+fn unreachable_server() {
+    let port = {
+        let listener = std::net::TcpListener::bind("127.0.0.1:0").expect("bind");
+        listener.local_addr().expect("address").port()
+    };
+    let options_http = HttpOptions::new(format!("http://127.0.0.1:{port}/v1"), "test-model");
+    let outcome = generate(&request(), &HttpLlm::new(options_http), &options());
+    assert_eq!(codes(&outcome.diagnostics), vec!["E0805"]);
+    assert!(outcome.value.transcript.exchanges.is_empty());
+}
+
+#[test]
+fn prompt_template_errors_stop_before_any_request() {
+    let server = Server::start(Arc::new(|asked: &Asked, _| clean_answer(asked)));
+    let mut options = options();
+    options.prompt_overrides.insert(
+        holoc::generate::Template::WallHeight,
+        ("mine/wall_height.txt".into(), "How tall for {{requets}}?".into()),
+    );
+    let outcome = generate(&request(), &client(&server), &options);
+    assert_eq!(codes(&outcome.diagnostics), vec!["E0801", "E0802"]);
+    assert_eq!(server.calls(), 0);
+}
+
+/// The four rooms of a request ask their per-room questions at the same time.
+#[test]
+fn per_room_stages_run_concurrently() {
+    let server = Server::start(Arc::new(|asked: &Asked, _| {
+        let text = match asked.stage {
+            "floor-plan" => {
+                "office a | grey carpet | white paint | [(0, 0), (0, 4), (4, 4), (4, 0)]\n\
+                 office b | grey carpet | white paint | [(4, 0), (4, 4), (8, 4), (8, 0)]\n\
+                 office c | grey carpet | white paint | [(0, 4), (0, 8), (4, 8), (4, 4)]\n\
+                 office d | grey carpet | white paint | [(4, 4), (4, 8), (8, 8), (8, 4)]"
+                    .to_string()
+            }
+            "wall-height" => "3".to_string(),
+            "doorways" => "exterior | office a | doorway | single | glass door\n\
+                 office a | office b | doorway | single | wooden door\n\
+                 office a | office c | doorway | single | wooden door\n\
+                 office c | office d | doorway | single | wooden door"
+                .to_string(),
+            "windows" => "office b | east | slider | (120, 120) | 1 | 90".to_string(),
+            "objects" => r#"{"desk": {"description": "white desk", "location": "floor", "size": [140, 70, 75], "quantity": 1, "variance_type": "same", "objects_on_top": []}}"#.to_string(),
+            "floor-constraints" => "desk-0 | edge".to_string(),
+            "small-objects" => {
+                format!("desk-0 ({}) | monitor, 1, same", asked.room.clone().unwrap_or_default())
+            }
+            _ => "office a | ceiling panel light".to_string(),
+        };
+        let mut reply = Reply::answer(&text);
+        if asked.stage == "objects" {
+            reply.delay_ms = 300;
+        }
+        reply
+    }));
+    let outcome = generate(&request(), &client(&server), &options());
+    assert!(!outcome.has_errors(), "{:#?}", outcome.diagnostics);
+    let objects: Vec<_> =
+        outcome.value.transcript.exchanges.iter().filter(|e| e.stage == "objects").collect();
+    assert_eq!(objects.len(), 4);
+    // Recorded in room order, whatever order they finished in.
+    let rooms: Vec<&str> = objects.iter().filter_map(|e| e.room.as_deref()).collect();
+    assert_eq!(rooms, vec!["office a", "office b", "office c", "office d"]);
+    let overlapping = objects.iter().enumerate().any(|(i, a)| {
+        objects[i + 1..].iter().any(|b| {
+            a.started_ms < b.started_ms + b.duration_ms
+                && b.started_ms < a.started_ms + a.duration_ms
+        })
+    });
+    assert!(
+        overlapping,
+        "per-room questions did not overlap: {:?}",
+        objects.iter().map(|e| (e.started_ms, e.duration_ms)).collect::<Vec<_>>()
+    );
+}
+
+#[test]
+fn llm_trait_is_object_safe_and_shared() {
+    fn takes(_: &dyn Llm) {}
+    let replay = ReplayLlm::new(
+        Vec::new(),
+        ModelInfo {
+            base_url: String::new(),
+            model: String::new(),
+            temperature: 0.0,
+            parameters: BTreeMap::new(),
+        },
+    );
+    takes(&replay);
+    let outcome = generate(&request(), &replay, &options());
+    assert_eq!(outcome.diagnostics.iter().map(|d| d.code).collect::<Vec<_>>(), vec![Code::E0810]);
+}
+
+/// Records progress events.
+#[derive(Default)]
+struct Recorder(std::sync::Mutex<Vec<String>>);
+
+impl holoc::generate::Progress for Recorder {
+    fn event(&self, event: &holoc::generate::ProgressEvent) {
+        use holoc::generate::ProgressEvent as E;
+        let line = match event {
+            E::StageStarted { stage, questions } => {
+                format!("start {} x{questions}", stage.as_str())
+            }
+            E::Asking { .. } => return,
+            E::Answered { stage, room, attempt, errors } => {
+                format!("answer {} {room:?} #{attempt} errors={errors}", stage.as_str())
+            }
+            E::StageFinished { stage } => format!("done {}", stage.as_str()),
+        };
+        if let Ok(mut lines) = self.0.lock() {
+            lines.push(line);
+        }
+    }
+}
+
+#[test]
+fn progress_events_are_reported() {
+    let server = Server::start(Arc::new(|asked: &Asked, _| clean_answer(asked)));
+    let recorder = Arc::new(Recorder::default());
+    let options = GenerateOptions {
+        jobs: 1,
+        progress: Some(Arc::clone(&recorder) as Arc<dyn holoc::generate::Progress + Send>),
+        ..options()
+    };
+    let outcome = generate(&request(), &client(&server), &options);
+    assert!(!outcome.has_errors(), "{:#?}", outcome.diagnostics);
+    let lines = recorder.0.lock().expect("not poisoned").clone();
+    assert_eq!(lines.iter().filter(|l| l.starts_with("answer")).count(), 12);
+    assert_eq!(lines.first().map(String::as_str), Some("start floor-plan x1"));
+    assert_eq!(lines.last().map(String::as_str), Some("done ceiling"));
+    assert!(
+        lines.contains(&"answer objects Some(\"bedroom\") #0 errors=0".to_string()),
+        "{lines:#?}"
+    );
+}
