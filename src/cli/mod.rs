@@ -11,6 +11,7 @@ pub mod explain;
 pub mod fmt;
 pub mod generate;
 pub mod import;
+pub mod render;
 pub mod validate;
 
 use clap::{Parser, Subcommand};
@@ -42,6 +43,8 @@ pub enum Command {
     Generate(generate::GenerateArgs),
     /// Turn LLM answers, a transcript or an original Holodeck scene into `.holo`.
     Import(import::ImportArgs),
+    /// Build a scene and draw its plan as SVG.
+    Render(render::RenderArgs),
     /// Check house JSON files against the schema and the geometric rules.
     Validate(validate::ValidateArgs),
 }
@@ -56,6 +59,7 @@ pub fn run(cli: Cli) -> ExitCode {
         Command::Explain(args) => explain::run(args),
         Command::Generate(args) => generate::run(args),
         Command::Import(args) => import::run(args),
+        Command::Render(args) => render::run(args),
         Command::Validate(args) => validate::run(args),
     }
 }

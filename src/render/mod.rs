@@ -3,11 +3,15 @@
 //! [`render_svg`] draws a [`Drawing`]: rooms with their labels, walls, doors with their swing,
 //! windows, every object's footprint with its name and a mark on its front, the keep-out zones
 //! in front of doors, and violated constraints as red lines between the objects involved.
-//! The drawing is built from the floor plan and the layout by the driver; this module knows
-//! nothing of the stages and does no I/O.
+//! [`drawing`] makes the drawing from a finished build (its floor plan and layout);
+//! [`render_svg`] itself knows nothing of the stages. Neither does I/O.
 //!
 //! **Invariant:** the output depends only on the drawing: numbers are printed with two decimals,
 //! elements in the drawing's order.
+
+mod scene;
+
+pub use scene::drawing;
 
 use std::fmt::Write as _;
 use svg::node::element::{Circle, Group, Line, Path, Polygon, Rectangle, Text, Title};

@@ -1,0 +1,74 @@
+//! `holoc render SCENE.holo -o plan.svg`: build the scene and draw its plan.
+
+use super::common::{self, ColorChoice, DiagFormat};
+use crate::compile::BuildOptions;
+use crate::plan::PlanOptions;
+use crate::solve::Solver;
+use crate::source::SourceMap;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+/// Arguments of `holoc render`.
+#[derive(Debug, clap::Args)]
+pub struct RenderArgs {
+    /// The `.holo` scene.
+    pub file: PathBuf,
+    /// Where to write the SVG (stdout when absent or `-`); written atomically.
+    #[arg(short, long)]
+    pub output: Option<PathBuf>,
+    /// Overrides the scene's seed.
+    #[arg(long)]
+    pub seed: Option<u64>,
+    /// The floor solver.
+    #[arg(long, value_enum, default_value_t = super::build::SolverArg::Dfs)]
+    pub solver: super::build::SolverArg,
+    /// User asset catalogs.
+    #[command(flatten)]
+    pub catalogs: super::assets::CatalogArgs,
+    /// How to print diagnostics.
+    #[arg(long, value_enum, default_value_t = DiagFormat::Human)]
+    pub format: DiagFormat,
+    /// When to colour human diagnostics.
+    #[arg(long, value_enum, default_value_t = ColorChoice::Auto)]
+    pub color: ColorChoice,
+}
+
+/// Runs `holoc render`.
+pub fn run(args: &RenderArgs) -> ExitCode {
+    let mut sources = SourceMap::new();
+    let file = match common::read_source(&mut sources, &args.file) {
+        Ok(id) => id,
+        Err(d) => {
+            common::emit_plain(&d);
+            return ExitCode::from(2);
+        }
+    };
+    let loaded = args.catalogs.load(&mut sources);
+    if loaded.has_errors() {
+        common::emit(&sources, &loaded.diagnostics, args.format, args.color);
+        return ExitCode::from(1);
+    }
+    let catalog = loaded.value;
+    let options = BuildOptions {
+        seed: args.seed,
+        plan: PlanOptions::default(),
+        catalog: &catalog,
+        solver: match args.solver {
+            super::build::SolverArg::Dfs => Solver::Dfs,
+            super::build::SolverArg::Milp => Solver::Milp,
+        },
+        node_budget: None,
+    };
+    let mut built = crate::compile::build(&sources, file, &options);
+    built.diagnostics.splice(0..0, loaded.diagnostics);
+    common::emit(&sources, &built.diagnostics, args.format, args.color);
+    let Some(product) = built.value else {
+        return common::exit_for(&built.diagnostics);
+    };
+    let svg = crate::render::render_svg(&crate::render::drawing(&product));
+    if let Err(d) = common::write_output(args.output.as_deref(), &svg) {
+        common::emit_plain(&d);
+        return ExitCode::from(2);
+    }
+    common::exit_for(&built.diagnostics)
+}
