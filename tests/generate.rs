@@ -291,6 +291,31 @@ fn clean_run() {
         &holoc::import::ImportOptions::default(),
     );
     assert_eq!(holoc::fmt::print(&imported.value), generated.holo);
+    // `holoc check` accepts it and `holoc build` turns it into a house that validates.
+    let mut build_sources = holoc::source::SourceMap::new();
+    let file = build_sources.add("generated.holo", generated.holo.clone());
+    let catalog = holoc::resolve::Catalog::embedded();
+    let built = holoc::compile::build(
+        &build_sources,
+        file,
+        &holoc::compile::BuildOptions {
+            seed: None,
+            plan: holoc::plan::PlanOptions::default(),
+            catalog: &catalog,
+            solver: holoc::solve::Solver::Dfs,
+            node_budget: None,
+        },
+    );
+    let errors: Vec<_> = built.diagnostics.iter().filter(|d| d.is_error()).collect();
+    assert!(errors.is_empty(), "the generated scene does not build: {errors:#?}");
+    let house = built.value.expect("a house").house.to_json_string();
+    let house_file = build_sources.add("house.json", house);
+    let validated = holoc::lower::validate::validate(
+        &build_sources,
+        house_file,
+        holoc::resolve::structure::StructureCatalog::builtin(),
+    );
+    assert!(!validated.has_errors(), "{:#?}", validated.diagnostics);
     snapshot("clean_run.holo", &generated.holo);
     snapshot("clean_run.transcript", &redacted_transcript(generated, &server.base_url));
 }

@@ -184,13 +184,23 @@ fn the_book_summary_links_every_page_and_only_existing_ones() {
     let mut linked = BTreeSet::new();
     for part in summary.split("](").skip(1) {
         let target = part.split(')').next().unwrap_or_default();
-        assert!(Path::new("book/src").join(target).exists(), "SUMMARY.md links the missing page `{target}`");
+        assert!(
+            Path::new("book/src").join(target).exists(),
+            "SUMMARY.md links the missing page `{target}`"
+        );
         linked.insert(target.to_string());
     }
     for path in markdown_files(Path::new("book/src")) {
-        let relative = path.strip_prefix("book/src").expect("inside the book").to_string_lossy().replace('\\', "/");
+        let relative = path
+            .strip_prefix("book/src")
+            .expect("inside the book")
+            .to_string_lossy()
+            .replace('\\', "/");
         if relative != "SUMMARY.md" {
-            assert!(linked.contains(&relative), "book/src/{relative} is not linked from SUMMARY.md");
+            assert!(
+                linked.contains(&relative),
+                "book/src/{relative} is not linked from SUMMARY.md"
+            );
         }
     }
 }
