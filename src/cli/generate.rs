@@ -30,7 +30,7 @@ pub struct GenerateArgs {
     #[arg(short, long)]
     pub output: Option<PathBuf>,
     /// The OpenAI-compatible server, before `/chat/completions` [env: HOLOC_BASE_URL;
-    /// default: https://api.openai.com/v1].
+    /// default: `https://api.openai.com/v1`].
     #[arg(long)]
     pub base_url: Option<String>,
     /// The model name [env: HOLOC_MODEL; default: gpt-4o].
@@ -66,7 +66,7 @@ pub struct GenerateArgs {
     /// A folder of prompt templates (`floor_plan.txt`, …) replacing the embedded ones.
     #[arg(long, value_name = "DIR")]
     pub prompts: Option<PathBuf>,
-    /// Where to write the transcript [default: `<output>.transcript.json`].
+    /// Where to write the transcript (default: `<output>.transcript.json`).
     #[arg(long, value_name = "FILE")]
     pub record: Option<PathBuf>,
     /// Do not write a transcript.

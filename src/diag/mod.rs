@@ -3,7 +3,7 @@
 //! A [`Diagnostic`] has a [`Code`] (its stage, its name and its page in the book), a severity, a
 //! message, a primary [`Label`], secondary labels, at most one help sentence and notes. Stages
 //! build them from their own error facts in one place per stage (`<stage>/errors.rs`). Only
-//! [`format`] and [`lsp`] know how they are printed or serialized.
+//! [`mod@format`] and [`lsp`] know how they are printed or serialized.
 
 pub mod codes;
 pub mod format;

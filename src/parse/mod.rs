@@ -3,7 +3,7 @@
 //! The grammar (`grammar/holo.pest`) reads every block line by line and ends each block body
 //! with a catch-all `bad_line`. The parser turns the pest tree into the AST; each bad line
 //! becomes an [`ast::ErrorNode`] (so its text is kept) and one diagnostic, made by re-reading the
-//! line with the rule its first word names ([`errors`]).
+//! line with the rule its first word names (`errors.rs`).
 //!
 //! **Invariant:** pest types do not leave this module.
 

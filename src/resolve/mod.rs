@@ -1,6 +1,6 @@
 //! The `resolve` stage: object descriptions → catalog assets.
 //!
-//! [`resolve`] chooses, for every object instance of a checked [`Scene`], an asset of a
+//! [`resolve`] chooses, for every object instance of a checked [`Scene`](crate::check::Scene), an asset of a
 //! [`Catalog`]: a pinned one when the file pins it (checked for existence and placement kind),
 //! otherwise the best-ranked asset of the right placement kind (see [`rank`] and the book's
 //! `design/catalog-matching.md`). Small objects on top of receptacles and ceiling objects are

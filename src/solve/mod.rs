@@ -142,7 +142,7 @@ pub struct WallObject {
     pub size: [f64; 3],
     /// The floor object (index in [`RoomProblem::objects`]) it hangs above.
     pub above: Option<usize>,
-    /// Height of its bottom above the floor, metres (default [`others::DEFAULT_WALL_HEIGHT_M`]).
+    /// Height of its bottom above the floor, metres (default 1.5 m, `others::DEFAULT_WALL_HEIGHT_M`).
     pub height_m: Option<f64>,
     /// Where the object is declared.
     pub span: Option<Span>,
