@@ -88,27 +88,22 @@ pub fn run(args: &BuildArgs) -> ExitCode {
     if matches!(args.emit, Emit::Ast | Emit::Scene) {
         return emit_front(&sources, file, args);
     }
-    let loaded = args.catalogs.load(&mut sources);
-    if loaded.has_errors() {
-        common::emit(&sources, &loaded.diagnostics, args.format, args.color);
-        return ExitCode::from(1);
-    }
-    let catalog = loaded.value;
-    let options = BuildOptions {
-        seed: args.seed,
-        plan: PlanOptions { add_doors: args.add_doors },
-        catalog: &catalog,
-        solver: match args.solver {
-            SolverArg::Dfs => Solver::Dfs,
-            SolverArg::Milp => Solver::Milp,
-        },
-        node_budget: args.node_budget,
+    let solver = match args.solver {
+        SolverArg::Dfs => Solver::Dfs,
+        SolverArg::Milp => Solver::Milp,
     };
-    let mut built = crate::compile::build(&sources, file, &options);
-    built.diagnostics.splice(0..0, loaded.diagnostics);
-    common::emit(&sources, &built.diagnostics, args.format, args.color);
-    let Some(product) = built.value else {
-        return common::exit_for(&built.diagnostics);
+    let request = BuildRequest {
+        catalogs: &args.catalogs,
+        seed: args.seed,
+        add_doors: args.add_doors,
+        solver,
+        node_budget: args.node_budget,
+        format: args.format,
+        color: args.color,
+    };
+    let (product, catalog, diagnostics) = match run_build(&mut sources, file, &request) {
+        Ok(built) => built,
+        Err(code) => return code,
     };
     let text = match args.emit {
         Emit::Plan => product.plan.dump(&product.scene),
@@ -129,7 +124,7 @@ pub fn run(args: &BuildArgs) -> ExitCode {
         common::emit_plain(&d);
         return ExitCode::from(2);
     }
-    common::exit_for(&built.diagnostics)
+    common::exit_for(&diagnostics)
 }
 
 /// `--emit ast` and `--emit scene`: the front end only.
@@ -154,5 +149,46 @@ fn emit_front(sources: &SourceMap, file: crate::source::FileId, args: &BuildArgs
         ExitCode::from(1)
     } else {
         ExitCode::SUCCESS
+    }
+}
+
+/// What `holoc build` and `holoc render` ask of the pipeline.
+pub(crate) struct BuildRequest<'a> {
+    pub catalogs: &'a super::assets::CatalogArgs,
+    pub seed: Option<u64>,
+    pub add_doors: bool,
+    pub solver: Solver,
+    pub node_budget: Option<u64>,
+    pub format: DiagFormat,
+    pub color: ColorChoice,
+}
+
+/// Loads the catalogs, builds the file and prints the diagnostics. On success: the build, the
+/// catalog it used and every diagnostic; otherwise the exit code.
+pub(crate) fn run_build(
+    sources: &mut SourceMap,
+    file: crate::source::FileId,
+    request: &BuildRequest<'_>,
+) -> Result<(crate::compile::Built, crate::resolve::Catalog, Vec<crate::diag::Diagnostic>), ExitCode>
+{
+    let loaded = request.catalogs.load(sources);
+    if loaded.has_errors() {
+        common::emit(sources, &loaded.diagnostics, request.format, request.color);
+        return Err(ExitCode::from(1));
+    }
+    let catalog = loaded.value;
+    let options = BuildOptions {
+        seed: request.seed,
+        plan: PlanOptions { add_doors: request.add_doors },
+        catalog: &catalog,
+        solver: request.solver,
+        node_budget: request.node_budget,
+    };
+    let mut built = crate::compile::build(sources, file, &options);
+    built.diagnostics.splice(0..0, loaded.diagnostics);
+    common::emit(sources, &built.diagnostics, request.format, request.color);
+    match built.value {
+        Some(product) => Ok((product, catalog, built.diagnostics)),
+        None => Err(common::exit_for(&built.diagnostics)),
     }
 }

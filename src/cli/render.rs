@@ -1,8 +1,6 @@
 //! `holoc render SCENE.holo -o plan.svg`: build the scene and draw its plan.
 
 use super::common::{self, ColorChoice, DiagFormat};
-use crate::compile::BuildOptions;
-use crate::plan::PlanOptions;
 use crate::solve::Solver;
 use crate::source::SourceMap;
 use std::path::PathBuf;
@@ -43,32 +41,26 @@ pub fn run(args: &RenderArgs) -> ExitCode {
             return ExitCode::from(2);
         }
     };
-    let loaded = args.catalogs.load(&mut sources);
-    if loaded.has_errors() {
-        common::emit(&sources, &loaded.diagnostics, args.format, args.color);
-        return ExitCode::from(1);
-    }
-    let catalog = loaded.value;
-    let options = BuildOptions {
+    let request = super::build::BuildRequest {
+        catalogs: &args.catalogs,
         seed: args.seed,
-        plan: PlanOptions::default(),
-        catalog: &catalog,
+        add_doors: false,
         solver: match args.solver {
             super::build::SolverArg::Dfs => Solver::Dfs,
             super::build::SolverArg::Milp => Solver::Milp,
         },
         node_budget: None,
+        format: args.format,
+        color: args.color,
     };
-    let mut built = crate::compile::build(&sources, file, &options);
-    built.diagnostics.splice(0..0, loaded.diagnostics);
-    common::emit(&sources, &built.diagnostics, args.format, args.color);
-    let Some(product) = built.value else {
-        return common::exit_for(&built.diagnostics);
+    let (product, _, diagnostics) = match super::build::run_build(&mut sources, file, &request) {
+        Ok(built) => built,
+        Err(code) => return code,
     };
     let svg = crate::render::render_svg(&crate::render::drawing(&product));
     if let Err(d) = common::write_output(args.output.as_deref(), &svg) {
         common::emit_plain(&d);
         return ExitCode::from(2);
     }
-    common::exit_for(&built.diagnostics)
+    common::exit_for(&diagnostics)
 }

@@ -198,49 +198,30 @@ impl Layout {
         let mut out = Vec::new();
         for solved in &self.rooms {
             let label = &plan.room(solved.room).thor_id;
-            let by_name: BTreeMap<&str, usize> = solved
-                .problem
-                .objects
-                .iter()
-                .enumerate()
-                .map(|(i, o)| (o.id.as_str(), i))
-                .collect();
-            for placed in &solved.layout.floor_world {
-                let Some(&index) = by_name.get(placed.id.as_str()) else { continue };
-                let id = solved.floor_ids[index];
-                let Some(choice) = resolved.object(id) else { continue };
-                let name = &scene.object(id).name;
-                out.push(LoweredObject {
-                    id: format!("{name} ({label})"),
-                    asset_id: choice.asset_id.clone(),
-                    room: solved.room,
-                    position_m: position(placed.position_m),
-                    rotation_deg: [0.0, placed.rotation_deg, 0.0],
-                    kinematic: true,
-                    object_name: name.clone(),
-                });
-            }
-            let wall_index: BTreeMap<&str, usize> = solved
-                .problem
-                .wall_objects
-                .iter()
-                .enumerate()
-                .map(|(i, o)| (o.id.as_str(), i))
-                .collect();
-            for placed in &solved.layout.wall {
-                let Some(&index) = wall_index.get(placed.id.as_str()) else { continue };
-                let id = solved.wall_ids[index];
-                let Some(choice) = resolved.object(id) else { continue };
-                let name = &scene.object(id).name;
-                out.push(LoweredObject {
-                    id: format!("{name} ({label})"),
-                    asset_id: choice.asset_id.clone(),
-                    room: solved.room,
-                    position_m: position(placed.position_m),
-                    rotation_deg: [0.0, placed.rotation_deg, 0.0],
-                    kinematic: true,
-                    object_name: name.clone(),
-                });
+            // Floor and wall objects: the placed ones, matched to the scene by instance name.
+            let floor_names: Vec<&str> =
+                solved.problem.objects.iter().map(|o| o.id.as_str()).collect();
+            let wall_names: Vec<&str> =
+                solved.problem.wall_objects.iter().map(|o| o.id.as_str()).collect();
+            for (placed_list, names, ids) in [
+                (&solved.layout.floor_world, &floor_names, &solved.floor_ids),
+                (&solved.layout.wall, &wall_names, &solved.wall_ids),
+            ] {
+                for placed in placed_list {
+                    let Some(index) = names.iter().position(|n| *n == placed.id) else { continue };
+                    let id = ids[index];
+                    let Some(choice) = resolved.object(id) else { continue };
+                    let name = &scene.object(id).name;
+                    out.push(LoweredObject {
+                        id: format!("{name} ({label})"),
+                        asset_id: choice.asset_id.clone(),
+                        room: solved.room,
+                        position_m: position(placed.position_m),
+                        rotation_deg: [0.0, placed.rotation_deg, 0.0],
+                        kinematic: true,
+                        object_name: name.clone(),
+                    });
+                }
             }
             // Small objects: the problem lists them in the order of `small_keys`; ids may repeat
             // (two `on top` lines naming the same item), so they are matched in order.
