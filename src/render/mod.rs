@@ -124,6 +124,11 @@ fn n(v: f64) -> String {
     s
 }
 
+/// A line between two drawing points.
+fn line(a: (f64, f64), b: (f64, f64)) -> Line {
+    Line::new().set("x1", n(a.0)).set("y1", n(a.1)).set("x2", n(b.0)).set("y2", n(b.1))
+}
+
 /// Converts a plan point (metres, z north) to drawing coordinates (pixels, y down).
 fn px(p: [f64; 2], min: [f64; 2], max_z: f64) -> (f64, f64) {
     ((p[0] - min[0] + MARGIN_M) * SCALE, (max_z - p[1] + MARGIN_M) * SCALE)
@@ -223,11 +228,7 @@ pub fn render_svg(drawing: &Drawing) -> String {
         let (x1, y1) = px(w.a, min, max_z);
         let (x2, y2) = px(w.b, min, max_z);
         walls = walls.add(
-            Line::new()
-                .set("x1", n(x1))
-                .set("y1", n(y1))
-                .set("x2", n(x2))
-                .set("y2", n(y2))
+            line((x1, y1), (x2, y2))
                 .set("stroke", "#333333")
                 .set("stroke-width", 6)
                 .set("stroke-linecap", "square"),
@@ -239,15 +240,8 @@ pub fn render_svg(drawing: &Drawing) -> String {
     for w in &drawing.windows {
         let (x1, y1) = px(w.a, min, max_z);
         let (x2, y2) = px(w.b, min, max_z);
-        windows = windows.add(
-            Line::new()
-                .set("x1", n(x1))
-                .set("y1", n(y1))
-                .set("x2", n(x2))
-                .set("y2", n(y2))
-                .set("stroke", "#6fb7e9")
-                .set("stroke-width", 6),
-        );
+        windows =
+            windows.add(line((x1, y1), (x2, y2)).set("stroke", "#6fb7e9").set("stroke-width", 6));
     }
     doc = doc.add(windows);
 
@@ -255,15 +249,7 @@ pub fn render_svg(drawing: &Drawing) -> String {
     for d in &drawing.doors {
         let (x1, y1) = px(d.opening.a, min, max_z);
         let (x2, y2) = px(d.opening.b, min, max_z);
-        doors = doors.add(
-            Line::new()
-                .set("x1", n(x1))
-                .set("y1", n(y1))
-                .set("x2", n(x2))
-                .set("y2", n(y2))
-                .set("stroke", "#ffffff")
-                .set("stroke-width", 8),
-        );
+        doors = doors.add(line((x1, y1), (x2, y2)).set("stroke", "#ffffff").set("stroke-width", 8));
         if let Some(s) = d.swing {
             // The leaf, opened at 90° from the hinge (end a), and its swing arc.
             let len = (d.opening.b[0] - d.opening.a[0]).hypot(d.opening.b[1] - d.opening.a[1]);
@@ -275,15 +261,7 @@ pub fn render_svg(drawing: &Drawing) -> String {
             let cross = (tx - x1) * (y2 - y1) - (ty - y1) * (x2 - x1);
             let sweep = u8::from(cross > 0.0);
             doors = doors
-                .add(
-                    Line::new()
-                        .set("x1", n(x1))
-                        .set("y1", n(y1))
-                        .set("x2", n(tx))
-                        .set("y2", n(ty))
-                        .set("stroke", "#8a5a2b")
-                        .set("stroke-width", 2),
-                )
+                .add(line((x1, y1), (tx, ty)).set("stroke", "#8a5a2b").set("stroke-width", 2))
                 .add(
                     Path::new()
                         .set(
@@ -401,11 +379,7 @@ pub fn render_svg(drawing: &Drawing) -> String {
         let (x1, y1) = px(v.from, min, max_z);
         let (x2, y2) = px(v.to, min, max_z);
         bad = bad.add(
-            Line::new()
-                .set("x1", n(x1))
-                .set("y1", n(y1))
-                .set("x2", n(x2))
-                .set("y2", n(y2))
+            line((x1, y1), (x2, y2))
                 .set("stroke", "#d62728")
                 .set("stroke-width", 2)
                 .set("stroke-dasharray", "6 3")
