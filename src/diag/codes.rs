@@ -183,9 +183,10 @@ impl Code {
         }
     }
 
-    /// The address of the code's page in the published book.
+    /// Where the code's page is: its path in the book's sources (`holoc explain CODE` prints
+    /// the same page). holoc has no published web address, so none is made up here.
     pub fn url(self) -> String {
-        format!("https://holoc.dev/book/diagnostics/{}.html", self.as_str())
+        format!("book/src/diagnostics/{}.md", self.as_str())
     }
 
     /// Looks a code up by its text (`E0201`, case-insensitive) or its name (`unknown-object`).
