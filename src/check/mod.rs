@@ -173,11 +173,9 @@ impl Checker {
                 ast::SceneStmt::Seed(_, span) => ("seed", *span),
                 _ => continue,
             };
-            if let Some(first) = seen.get(key) {
-                self.duplicate_setting(key, span, *first);
+            if !self.first_setting(&mut seen, key, span) {
                 continue;
             }
-            seen.insert(key, span);
             match stmt {
                 ast::SceneStmt::WallHeight(q, _) => {
                     if let Some(h) = length_m(q, None, "the wall height", &mut self.diagnostics) {
@@ -222,6 +220,23 @@ impl Checker {
         }
     }
 
+    /// Records a setting that a block takes once; reports it (E0213) and returns `false` when the
+    /// block already gave it.
+    fn first_setting<'k>(
+        &mut self,
+        seen: &mut BTreeMap<&'k str, Span>,
+        key: &'k str,
+        span: Span,
+    ) -> bool {
+        if let Some(first) = seen.get(key) {
+            let first = *first;
+            self.duplicate_setting(key, span, first);
+            return false;
+        }
+        seen.insert(key, span);
+        true
+    }
+
     fn duplicate_setting(&mut self, key: &str, span: Span, first: Span) {
         self.push(
             Diagnostic::new(Code::E0213, format!("`{key}` is given twice"))
@@ -263,11 +278,9 @@ impl Checker {
                 _ => None,
             };
             if let Some((key, span)) = single {
-                if let Some(first) = seen.get(key) {
-                    self.duplicate_setting(key, span, *first);
+                if !self.first_setting(&mut seen, key, span) {
                     continue;
                 }
-                seen.insert(key, span);
             }
             match stmt {
                 ast::RoomStmt::FloorDesign(s, _) => checked.floor_design = Some(s.value.clone()),
@@ -738,11 +751,9 @@ impl Checker {
                 _ => None,
             };
             if let Some((key, span)) = single {
-                if let Some(first) = seen.get(key) {
-                    self.duplicate_setting(key, span, *first);
+                if !self.first_setting(seen, key, span) {
                     continue;
                 }
-                seen.insert(key, span);
             }
             match stmt {
                 ast::ObjectStmt::Describe(s, _) => obj.description = Some(s.value.clone()),
