@@ -211,14 +211,19 @@ impl Rect {
     pub fn gap(&self, o: &Rect) -> f64 {
         let dx = (o.min_x - self.max_x).max(self.min_x - o.max_x).max(0.0);
         let dz = (o.min_z - self.max_z).max(self.min_z - o.max_z).max(0.0);
-        dx.hypot(dz)
+        (dx * dx + dz * dz).sqrt()
     }
 
     /// Distance from a point to the rectangle (0 inside).
     pub fn distance_to_point(&self, p: [f64; 2]) -> f64 {
+        self.distance_sq_to_point(p).sqrt()
+    }
+
+    /// The squared distance from a point to the rectangle (0 inside).
+    pub fn distance_sq_to_point(&self, p: [f64; 2]) -> f64 {
         let dx = (self.min_x - p[0]).max(p[0] - self.max_x).max(0.0);
         let dz = (self.min_z - p[1]).max(p[1] - self.max_z).max(0.0);
-        dx.hypot(dz)
+        dx * dx + dz * dz
     }
 }
 
@@ -476,6 +481,62 @@ fn side_measure(me: &Rect, target: &Rect, axis: [f64; 2]) -> (f64, bool) {
     (m_min - t_max, c >= t_lo - EPS && c <= t_hi + EPS)
 }
 
+/// Where an object that must be `kind` of a target (in front of, behind, left of, right of,
+/// side of) could stand: squares of side `side` centred on the target's axis on that side,
+/// one after the other, at gaps from the target's footprint within `gaps` (metres; what the
+/// object's other relations to the target allow) and inside `limit` (the room's bounds).
+/// Empty for the other relations. The search uses these zones to look ahead: a pose of the target
+/// that leaves none of them free cannot satisfy the relation later, and an object that covers
+/// all of them breaks it in advance.
+pub fn side_zones(
+    kind: RelationKind,
+    target: &Pose,
+    target_size: [f64; 2],
+    side: f64,
+    gaps: (f64, f64),
+    limit: &Rect,
+) -> Vec<Rect> {
+    let front = target.rot.front();
+    let right = target.rot.right();
+    let axes: &[[f64; 2]] = match kind {
+        RelationKind::InFrontOf => &[front],
+        RelationKind::Behind => &[[-front[0], -front[1]]],
+        RelationKind::RightOf => &[right],
+        RelationKind::LeftOf => &[[-right[0], -right[1]]],
+        RelationKind::SideOf => &[right, [-right[0], -right[1]]],
+        _ => &[],
+    };
+    let tf = footprint(target, target_size);
+    let half = [tf.width() / 2.0, tf.depth() / 2.0];
+    let mut out = Vec::new();
+    if side <= EPS {
+        return out;
+    }
+    for a in axes {
+        let start = half[0] * a[0].abs() + half[1] * a[1].abs() + gaps.0 + side / 2.0;
+        for n in 0..MAX_SIDE_ZONES {
+            let gap = gaps.0 + side * n as f64;
+            if gap > gaps.1 + EPS {
+                break;
+            }
+            let reach = start + side * n as f64;
+            let c = [target.x + a[0] * reach, target.z + a[1] * reach];
+            let z = Rect::from_corners(
+                [c[0] - side / 2.0, c[1] - side / 2.0],
+                [c[0] + side / 2.0, c[1] + side / 2.0],
+            );
+            if !limit.contains(&z) {
+                break;
+            }
+            out.push(z);
+        }
+    }
+    out
+}
+
+/// The most zones [`side_zones`] lists on one side.
+const MAX_SIDE_ZONES: usize = 64;
+
 /// Whether the ray from the pose's centre along its facing direction meets the rectangle.
 pub fn faces(pose: &Pose, target: &Rect) -> bool {
     let [fx, fz] = pose.rot.front();
@@ -508,26 +569,54 @@ pub fn relation(
     target: &Pose,
     target_size: [f64; 2],
 ) -> Measure {
+    measure_relation::<true>(kind, me, my_size, target, target_size)
+}
+
+/// [`relation`] without the measured value where it costs more than the test (the angle of
+/// `face to` is left at 0): what the search needs at every candidate, by the same definition.
+pub fn relation_fit(
+    kind: RelationKind,
+    me: &Pose,
+    my_size: [f64; 2],
+    target: &Pose,
+    target_size: [f64; 2],
+) -> Measure {
+    measure_relation::<false>(kind, me, my_size, target, target_size)
+}
+
+fn measure_relation<const VALUE: bool>(
+    kind: RelationKind,
+    me: &Pose,
+    my_size: [f64; 2],
+    target: &Pose,
+    target_size: [f64; 2],
+) -> Measure {
     let mf = footprint(me, my_size);
     let tf = footprint(target, target_size);
-    let gap = mf.gap(&tf);
+    let gap = || mf.gap(&tf);
     let front = target.rot.front();
     let right = target.rot.right();
     let back = [-front[0], -front[1]];
     let left = [-right[0], -right[1]];
     match kind {
-        RelationKind::Near => Measure {
-            satisfied: gap <= NEAR_MAX_M + EPS,
-            score: (1.0 - gap / NEAR_MAX_M).clamp(0.0, 1.0),
-            value: gap,
-            unit: "m",
-        },
-        RelationKind::Far => Measure {
-            satisfied: gap >= FAR_MIN_M - EPS,
-            score: (gap / FAR_MIN_M).clamp(0.0, 1.0),
-            value: gap,
-            unit: "m",
-        },
+        RelationKind::Near => {
+            let gap = gap();
+            Measure {
+                satisfied: gap <= NEAR_MAX_M + EPS,
+                score: (1.0 - gap / NEAR_MAX_M).clamp(0.0, 1.0),
+                value: gap,
+                unit: "m",
+            }
+        }
+        RelationKind::Far => {
+            let gap = gap();
+            Measure {
+                satisfied: gap >= FAR_MIN_M - EPS,
+                score: (gap / FAR_MIN_M).clamp(0.0, 1.0),
+                value: gap,
+                unit: "m",
+            }
+        }
         RelationKind::InFrontOf
         | RelationKind::Behind
         | RelationKind::LeftOf
@@ -549,6 +638,7 @@ pub fn relation(
         }
         RelationKind::Around => {
             let facing = faces(me, &tf);
+            let gap = gap();
             let close = gap <= AROUND_MAX_M + EPS;
             let near_part = (1.0 - gap / (2.0 * AROUND_MAX_M)).clamp(0.0, 1.0);
             let score = 0.5 * near_part + if facing { 0.5 } else { 0.0 };
@@ -564,7 +654,8 @@ pub fn relation(
             Measure::yes_no(d <= ALIGN_TOLERANCE_M + EPS, d, "m")
         }
         RelationKind::FaceTo => {
-            Measure::yes_no(faces(me, &tf), angle_to(me, [target.x, target.z]), "deg")
+            let angle = if VALUE { angle_to(me, [target.x, target.z]) } else { 0.0 };
+            Measure::yes_no(faces(me, &tf), angle, "deg")
         }
         RelationKind::FaceSameAs => {
             let diff = (me.rot.deg() - target.rot.deg()).rem_euclid(360.0);
@@ -701,9 +792,16 @@ pub struct ReachGrid {
     nz: usize,
     /// Cells whose agent disk fits inside the room.
     open: Vec<bool>,
-    /// Cells inside a door keep-out zone (where the agent enters).
-    source: Vec<bool>,
+    /// The open cells inside a door zone, where the flood starts.
+    sources: Vec<usize>,
 }
+
+/// A cell of a flood that an agent cannot stand on.
+const BLOCKED: u8 = 0;
+/// A cell of a flood where an agent fits but that it does not reach from a door.
+const FREE: u8 = 1;
+/// A cell of a flood that an agent reaches from a door.
+const REACHED: u8 = 2;
 
 impl ReachGrid {
     /// Builds the grid of a room with its door keep-out zones.
@@ -725,50 +823,92 @@ impl ReachGrid {
                 source[i * nz + j] = doors.iter().any(|d| d.contains_point(c));
             }
         }
-        ReachGrid { origin: [b.min_x, b.min_z], nx, nz, open, source }
+        let sources = (0..nx * nz).filter(|&k| source[k] && open[k]).collect();
+        ReachGrid { origin: [b.min_x, b.min_z], nx, nz, open, sources }
     }
 
     /// Whether there is any door to start from.
     pub fn has_sources(&self) -> bool {
-        self.source.iter().zip(&self.open).any(|(s, o)| *s && *o)
+        !self.sources.is_empty()
     }
 
-    /// Free cells (agent fits, no footprint) and which of them an agent entering through a door
-    /// reaches.
-    fn flood(&self, footprints: &[Rect]) -> (Vec<bool>, Vec<bool>) {
-        let (nx, nz) = (self.nx, self.nz);
-        let mut free = self.open.clone();
+    /// An empty occupancy for this grid (no footprint on the floor).
+    pub fn occupancy(&self) -> Occupancy {
+        Occupancy { blocked: vec![0; self.nx * self.nz] }
+    }
+
+    /// Adds (`delta = 1`) or removes (`delta = -1`) one footprint: every cell whose centre is
+    /// closer than [`AGENT_RADIUS_M`] to it is blocked for the agent.
+    pub fn mark(&self, occupancy: &mut Occupancy, fp: &Rect, delta: i16) {
+        let r = AGENT_RADIUS_M - 1e-3;
+        let (i0, i1, j0, j1) = self.cell_range(&fp.grow(r));
+        for i in i0..=i1 {
+            for j in j0..=j1 {
+                if fp.distance_sq_to_point(self.cell_center(i, j)) < r * r {
+                    let b = &mut occupancy.blocked[i * self.nz + j];
+                    *b = b.saturating_add_signed(delta);
+                }
+            }
+        }
+    }
+
+    /// The occupancy of a set of footprints.
+    fn occupancy_of(&self, footprints: &[Rect]) -> Occupancy {
+        let mut occ = self.occupancy();
         for fp in footprints {
-            let (i0, i1, j0, j1) = self.cell_range(&fp.grow(AGENT_RADIUS_M - 1e-3));
-            for i in i0..=i1 {
-                for j in j0..=j1 {
-                    if fp.distance_to_point(self.cell_center(i, j)) < AGENT_RADIUS_M - 1e-3 {
-                        free[i * nz + j] = false;
-                    }
-                }
-            }
+            self.mark(&mut occ, fp, 1);
         }
-        let mut seen = vec![false; nx * nz];
-        let mut stack: Vec<usize> = (0..nx * nz).filter(|&k| free[k] && self.source[k]).collect();
-        for &k in &stack {
-            seen[k] = true;
-        }
+        occ
+    }
+
+    /// The number of free cells (agent fits, no footprint) and which of them an agent entering
+    /// through a door reaches.
+    /// Floods the free cells (agent fits, no footprint) from the doors. Returns the number of
+    /// free cells, the number reached, and per cell [`BLOCKED`], [`FREE`] or [`REACHED`].
+    fn flood(&self, occ: &Occupancy) -> (usize, usize, Vec<u8>) {
+        let (nx, nz) = (self.nx, self.nz);
+        let mut cell: Vec<u8> = self
+            .open
+            .iter()
+            .zip(&occ.blocked)
+            .map(|(o, b)| if *o && *b == 0 { FREE } else { BLOCKED })
+            .collect();
+        let n_free = self.open.iter().zip(&occ.blocked).filter(|(o, b)| **o && **b == 0).count();
+        let mut n_seen = 0;
+        // Span filling: a seed grows into the run of free cells along z that contains it, and
+        // the runs next to that run in the neighbouring x columns become seeds.
+        let mut stack: Vec<usize> = self.sources.clone();
         while let Some(k) = stack.pop() {
+            if cell[k] != FREE {
+                continue;
+            }
             let (i, j) = (k / nz, k % nz);
-            let next = [
-                (i > 0).then(|| k - nz),
-                (i + 1 < nx).then_some(k + nz),
-                (j > 0).then(|| k - 1),
-                (j + 1 < nz).then_some(k + 1),
-            ];
-            for kk in next.into_iter().flatten() {
-                if free[kk] && !seen[kk] {
-                    seen[kk] = true;
-                    stack.push(kk);
+            let row = i * nz;
+            let (mut a, mut b) = (j, j);
+            while a > 0 && cell[row + a - 1] == FREE {
+                a -= 1;
+            }
+            while b + 1 < nz && cell[row + b + 1] == FREE {
+                b += 1;
+            }
+            cell[row + a..=row + b].fill(REACHED);
+            n_seen += b - a + 1;
+            for ni in [i.wrapping_sub(1), i + 1] {
+                if ni >= nx {
+                    continue;
+                }
+                let first = ni * nz + a;
+                let mut in_run = false;
+                for (t, c) in cell[first..=first + (b - a)].iter().enumerate() {
+                    let open = *c == FREE;
+                    if open && !in_run {
+                        stack.push(first + t);
+                    }
+                    in_run = open;
                 }
             }
         }
-        (free, seen)
+        (n_free, n_seen, cell)
     }
 
     fn cell_center(&self, i: usize, j: usize) -> [f64; 2] {
@@ -791,21 +931,16 @@ impl ReachGrid {
         )
     }
 
-    fn unreachable_in(&self, footprints: &[Rect], seen: &[bool]) -> Vec<usize> {
+    /// Whether an agent standing on a reached cell is close enough to touch the footprint.
+    fn reached(&self, fp: &Rect, cells: &[u8]) -> bool {
         let reach = AGENT_RADIUS_M + 1.5 * REACH_CELL_M;
-        let mut out = Vec::new();
-        for (n, fp) in footprints.iter().enumerate() {
-            let (i0, i1, j0, j1) = self.cell_range(&fp.grow(reach));
-            let ok = (i0..=i1).any(|i| {
-                (j0..=j1).any(|j| {
-                    seen[i * self.nz + j] && fp.distance_to_point(self.cell_center(i, j)) <= reach
-                })
-            });
-            if !ok {
-                out.push(n);
-            }
-        }
-        out
+        let (i0, i1, j0, j1) = self.cell_range(&fp.grow(reach));
+        (i0..=i1).any(|i| {
+            (j0..=j1).any(|j| {
+                cells[i * self.nz + j] == REACHED
+                    && fp.distance_sq_to_point(self.cell_center(i, j)) <= reach * reach
+            })
+        })
     }
 
     /// The footprints (indices into `footprints`) that no agent coming in through a door can
@@ -814,25 +949,36 @@ impl ReachGrid {
         if !self.has_sources() || footprints.is_empty() {
             return Vec::new();
         }
-        let (_, seen) = self.flood(footprints);
-        self.unreachable_in(footprints, &seen)
+        let (_, _, cells) = self.flood(&self.occupancy_of(footprints));
+        (0..footprints.len()).filter(|&n| !self.reached(&footprints[n], &cells)).collect()
     }
 
     /// The reachability rule: every footprint is reachable, and at least
     /// [`MIN_REACHABLE_FRACTION`] of the free floor is reachable from a door (so that a door is
     /// never boxed in by a wall of furniture). Always true for a room with no door.
     pub fn ok(&self, footprints: &[Rect]) -> bool {
+        self.ok_with(&self.occupancy_of(footprints), footprints)
+    }
+
+    /// [`ReachGrid::ok`] for footprints whose occupancy the caller keeps up to date with
+    /// [`ReachGrid::mark`] (the search adds and removes one footprint per step instead of
+    /// rebuilding the grid).
+    pub fn ok_with(&self, occupancy: &Occupancy, footprints: &[Rect]) -> bool {
         if !self.has_sources() || footprints.is_empty() {
             return true;
         }
-        let (free, seen) = self.flood(footprints);
-        let n_free = free.iter().filter(|f| **f).count();
-        let n_seen = seen.iter().filter(|f| **f).count();
+        let (n_free, n_seen, cells) = self.flood(occupancy);
         if (n_seen as f64) < MIN_REACHABLE_FRACTION * n_free as f64 {
             return false;
         }
-        self.unreachable_in(footprints, &seen).is_empty()
+        footprints.iter().all(|fp| self.reached(fp, &cells))
     }
+}
+
+/// How many footprints block each cell of a [`ReachGrid`].
+#[derive(Clone, Debug)]
+pub struct Occupancy {
+    blocked: Vec<u16>,
 }
 
 #[cfg(test)]

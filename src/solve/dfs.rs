@@ -14,14 +14,25 @@ use rand::seq::SliceRandom;
 use rand_chacha::rand_core::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
-use super::constraints::{self, footprint, half_extents, static_rules, HardRule, Pose, Rect, Rot};
+use super::constraints::{
+    self, footprint, half_extents, static_rules, HardRule, Occupancy, Pose, Rect, Rot,
+};
 use super::{measure_object, PlacedFloor, Prepared, RoomLayout, SolveOptions, Unplaced};
-use crate::check::scene::GlobalKind;
+use crate::check::scene::{GlobalKind, RelationKind};
 
 /// The most reachability checks per node before the object counts as boxed in.
 const REACH_TRIES: usize = 24;
 /// The largest discrepancy tried (number of non-best choices on one path).
 const MAX_DISCREPANCY: usize = 3;
+/// The ordering bonus per side of a footprint touching a wall or a placed footprint (less than
+/// any satisfied relation is worth; it only breaks near-ties in favour of compact layouts).
+const CONTACT_BONUS: f64 = 0.1;
+/// The ordering bonus per side relation of a later object that finds a free zone right next
+/// to its target (and the penalty for covering such a zone): it keeps chairs next to their
+/// desks instead of a row of desks later.
+const ROOM_NEXT_TO_BONUS: f64 = 0.5;
+/// How close (metres) a side must be to a wall or a footprint to count as touching it.
+const CONTACT_M: f64 = 0.02;
 
 /// A candidate pose with its footprint.
 #[derive(Clone, Copy, Debug)]
@@ -140,8 +151,10 @@ pub(crate) fn static_candidates(
 }
 
 fn dedup_cands(v: &mut Vec<Cand>) {
-    let key =
-        |c: &Cand| ((c.pose.x * 1e4).round() as i64, (c.pose.z * 1e4).round() as i64, c.pose.rot);
+    // Coordinates to a tenth of a millimetre, rounded half up (the offset keeps the value
+    // positive so that the cast truncates like `floor`, which is cheaper than `round`).
+    let q = |v: f64| (v * 1e4 + 1e9 + 0.5) as i64;
+    let key = |c: &Cand| (q(c.pose.x), q(c.pose.z), c.pose.rot);
     v.sort_by_key(key);
     v.dedup_by_key(|c| key(c));
 }
@@ -166,10 +179,15 @@ pub(crate) fn derived_candidates(
             continue;
         };
         let tf = footprint(tp, t.size);
+        let gaps = target_gaps(prep, k, c.target);
         for rot in Rot::ALL {
             let h = half_extents(obj.size, rot);
-            let tx = [tp.x, tf.min_x - h[0], tf.max_x + h[0], tf.min_x + h[0], tf.max_x - h[0]];
-            let tz = [tp.z, tf.min_z - h[1], tf.max_z + h[1], tf.min_z + h[1], tf.max_z - h[1]];
+            let mut tx = vec![tp.x, tf.min_x + h[0], tf.max_x - h[0]];
+            let mut tz = vec![tp.z, tf.min_z + h[1], tf.max_z - h[1]];
+            for g in &gaps {
+                tx.extend([tf.min_x - h[0] - g, tf.max_x + h[0] + g]);
+                tz.extend([tf.min_z - h[1] - g, tf.max_z + h[1] + g]);
+            }
             let (fx, fz) = flush_values(prep, h);
             let xs: Vec<f64> = tx.iter().chain(fx.iter()).copied().collect();
             let zs: Vec<f64> = tz.iter().chain(fz.iter()).copied().collect();
@@ -200,6 +218,24 @@ pub(crate) fn derived_candidates(
     out
 }
 
+/// The gaps at which derived candidates of object `k` stand off a side of `target`: flush
+/// (0), and the smaller side of each other object that has a relation to the same target (the
+/// room a chair needs behind its desk, say), so that `k` can leave that room.
+fn target_gaps(prep: &Prepared<'_>, k: usize, target: usize) -> Vec<f64> {
+    let mut gaps = vec![0.0];
+    for (j, other) in prep.problem.objects.iter().enumerate() {
+        if j != k && other.constraints.iter().any(|c| c.target == target) {
+            gaps.push(other.size[0].min(other.size[1]));
+        }
+    }
+    dedup(&mut gaps);
+    gaps.truncate(MAX_TARGET_GAPS);
+    gaps
+}
+
+/// The most stand-off gaps [`target_gaps`] gives (the smallest ones).
+const MAX_TARGET_GAPS: usize = 3;
+
 /// The search value of object `k` at a pose: `sat_value` per satisfied relation plus the
 /// weighted soft score.
 pub(crate) fn fast_score(
@@ -214,11 +250,78 @@ pub(crate) fn fast_score(
     for c in &obj.constraints {
         if let (Some(Some(tp)), Some(t)) = (poses.get(c.target), prep.problem.objects.get(c.target))
         {
-            let m = constraints::relation(c.kind, pose, obj.size, tp, t.size);
+            let m = constraints::relation_fit(c.kind, pose, obj.size, tp, t.size);
             s += constraints::weight(c.kind) * m.score + if m.satisfied { sat_value } else { 0.0 };
         }
     }
     s
+}
+
+/// A side relation of a later object to an earlier one, looked ahead at.
+#[derive(Clone, Copy, Debug)]
+struct Dependent {
+    /// The later object.
+    object: usize,
+    kind: RelationKind,
+    /// The gaps (metres) its other relations to the same target allow: `near` caps it,
+    /// `far` sets a floor.
+    gaps: (f64, f64),
+}
+
+/// A side relation of a later object to a placed one that can still be kept: its free zones
+/// and, among them, those right next to the target.
+struct Promise {
+    zones: Vec<Rect>,
+    next_to: Vec<Rect>,
+}
+
+/// The static candidates of one object with what the search asks of them at every node.
+struct StaticSet {
+    cands: Vec<Cand>,
+    /// Indices into `cands` sorted by the footprint's `min_x`, and those `min_x` values.
+    by_min_x: Vec<usize>,
+    min_xs: Vec<f64>,
+    /// The widest footprint along x.
+    max_width: f64,
+    /// Per candidate, the sides (bits: −x, +x, −z, +z) that touch a wall.
+    wall_touch: Vec<u8>,
+}
+
+impl StaticSet {
+    fn new(prep: &Prepared<'_>, cands: Vec<Cand>) -> StaticSet {
+        let mut by_min_x: Vec<usize> = (0..cands.len()).collect();
+        by_min_x.sort_by(|&a, &b| cands[a].fp.min_x.total_cmp(&cands[b].fp.min_x).then(a.cmp(&b)));
+        let min_xs = by_min_x.iter().map(|&i| cands[i].fp.min_x).collect();
+        let max_width = cands.iter().map(|c| c.fp.width()).fold(0.0, f64::max);
+        let wall_touch =
+            cands.iter().map(|c| touching(&c.fp, |m| !prep.room.contains_rect(m))).collect();
+        StaticSet { cands, by_min_x, min_xs, max_width, wall_touch }
+    }
+
+    /// The candidates whose footprint can overlap `r` (a superset, in `by_min_x` order).
+    fn near(&self, r: &Rect) -> &[usize] {
+        let lo = self.min_xs.partition_point(|&x| x <= r.min_x - self.max_width);
+        let hi = self.min_xs.partition_point(|&x| x < r.max_x);
+        &self.by_min_x[lo..hi.max(lo)]
+    }
+}
+
+/// A footprint moved by [`CONTACT_M`] towards −x, +x, −z and +z.
+fn nudged(fp: &Rect) -> [Rect; 4] {
+    let d = CONTACT_M;
+    [
+        Rect { min_x: fp.min_x - d, max_x: fp.max_x - d, ..*fp },
+        Rect { min_x: fp.min_x + d, max_x: fp.max_x + d, ..*fp },
+        Rect { min_z: fp.min_z - d, max_z: fp.max_z - d, ..*fp },
+        Rect { min_z: fp.min_z + d, max_z: fp.max_z + d, ..*fp },
+    ]
+}
+
+/// The sides of a footprint (bits: −x, +x, −z, +z) for which `blocked` holds of the footprint
+/// moved by [`CONTACT_M`] that way: with "leaves the room", the sides touching a wall; with
+/// "overlaps a footprint", the sides touching it.
+fn touching(fp: &Rect, blocked: impl Fn(&Rect) -> bool) -> u8 {
+    nudged(fp).iter().enumerate().filter(|(_, m)| blocked(m)).fold(0, |acc, (i, _)| acc | (1 << i))
 }
 
 /// Why an object has no pose: the rule and the words.
@@ -229,6 +332,8 @@ type Reason = (HardRule, String);
 struct State {
     poses: Vec<Option<Pose>>,
     fps: Vec<Rect>,
+    /// The reachability grid's occupancy by `fps`.
+    occ: Occupancy,
     value: f64,
     fails: Vec<Option<(HardRule, String)>>,
     by: Vec<&'static str>,
@@ -238,9 +343,12 @@ struct Search<'p, 'a> {
     prep: &'p Prepared<'a>,
     placed_value: f64,
     sat_value: f64,
-    statics: Vec<Vec<Cand>>,
+    statics: Vec<StaticSet>,
     static_fails: Vec<BTreeMap<HardRule, usize>>,
     remaining_max: Vec<f64>,
+    /// Per object, the later objects' side relations (`in front of`, `behind`, …) that target
+    /// it, with the gaps the later object's other relations to it allow.
+    dependents: Vec<Vec<Dependent>>,
     budget: u64,
     nodes: u64,
     best: Option<State>,
@@ -292,9 +400,9 @@ impl Search<'_, '_> {
                 }
             }
             let s = fast_score(self.prep, k, &pin, &st.poses, self.sat_value);
-            Self::place(k, pin, fp, self.placed_value + s, "pin", st);
+            self.place(k, pin, fp, self.placed_value + s, "pin", st);
             self.visit(k + 1, disc, st);
-            Self::unplace(k, self.placed_value + s, st);
+            self.unplace(k, self.placed_value + s, st);
             return;
         }
         let (cands, reason) = self.candidates(k, st);
@@ -307,25 +415,28 @@ impl Search<'_, '_> {
         let mut tried = 0usize;
         let mut pruned = false;
         for (reach_checks, (c, s)) in cands.iter().enumerate() {
-            if let Some(b) = &self.best {
-                if st.value + self.placed_value + s + self.remaining_max[k + 1] <= b.value + 1e-9 {
-                    pruned = true;
-                    break;
-                }
-            }
             if tried > disc || reach_checks >= REACH_TRIES {
                 break;
             }
+            if let Some(b) = &self.best {
+                if st.value + self.placed_value + s + self.remaining_max[k + 1] <= b.value + 1e-9 {
+                    pruned = true;
+                    continue;
+                }
+            }
+            let reach = &self.prep.reach;
+            reach.mark(&mut st.occ, &c.fp, 1);
             st.fps.push(c.fp);
-            let boxed = !self.prep.reach.ok(&st.fps);
+            let boxed = !reach.ok_with(&st.occ, &st.fps);
             st.fps.pop();
+            reach.mark(&mut st.occ, &c.fp, -1);
             if boxed {
                 continue;
             }
             let v = self.placed_value + s;
-            Self::place(k, c.pose, c.fp, v, "dfs", st);
+            self.place(k, c.pose, c.fp, v, "dfs", st);
             self.visit(k + 1, disc - tried, st);
-            Self::unplace(k, v, st);
+            self.unplace(k, v, st);
             tried += 1;
             if self.out_of_budget() {
                 break;
@@ -342,34 +453,142 @@ impl Search<'_, '_> {
         }
     }
 
-    fn place(k: usize, pose: Pose, fp: Rect, v: f64, by: &'static str, st: &mut State) {
+    fn place(&self, k: usize, pose: Pose, fp: Rect, v: f64, by: &'static str, st: &mut State) {
         st.poses[k] = Some(pose);
+        self.prep.reach.mark(&mut st.occ, &fp, 1);
         st.fps.push(fp);
         st.value += v;
         st.by[k] = by;
     }
 
-    fn unplace(k: usize, v: f64, st: &mut State) {
+    fn unplace(&self, k: usize, v: f64, st: &mut State) {
         st.poses[k] = None;
-        st.fps.pop();
+        if let Some(fp) = st.fps.pop() {
+            self.prep.reach.mark(&mut st.occ, &fp, -1);
+        }
         st.value -= v;
+    }
+
+    /// The zones where the later object of a side relation could stand next to its target at
+    /// `pose` (see [`constraints::side_zones`]), and which of them touch the target.
+    fn zones_of(&self, d: &Dependent, pose: &Pose, size: [f64; 2]) -> (Vec<Rect>, Vec<Rect>) {
+        let dep = &self.prep.problem.objects[d.object];
+        let side = dep.size[0].min(dep.size[1]);
+        let bounds = &self.prep.room.bounds;
+        let all = constraints::side_zones(d.kind, pose, size, side, d.gaps, bounds);
+        let next_to =
+            constraints::side_zones(d.kind, pose, size, side, (d.gaps.0, d.gaps.0), bounds);
+        (all, next_to)
+    }
+
+    /// What candidate `c` of object `k` leaves for the side relations later objects have to
+    /// `k`: how many still find a free zone, and how many find one right next to `k`.
+    fn room_left_for_dependents(&self, k: usize, c: &Cand, placed: &[Rect]) -> (usize, usize) {
+        let size = self.prep.problem.objects[k].size;
+        let (mut kept, mut close) = (0, 0);
+        for d in &self.dependents[k] {
+            let (all, next_to) = self.zones_of(d, &c.pose, size);
+            if all.iter().any(|z| self.zone_free(z, placed)) {
+                kept += 1;
+            }
+            if next_to.iter().any(|z| self.zone_free(z, placed)) {
+                close += 1;
+            }
+        }
+        (kept, close)
+    }
+
+    /// The side relations that objects after `k` have to objects already placed and that can
+    /// still be kept, with their free zones. A pose of `k` that covers all of a promise's
+    /// zones breaks the relation in advance; one that covers its free zones next to the target
+    /// pushes the later object away.
+    fn open_promises(&self, k: usize, st: &State) -> Vec<Promise> {
+        let prep = self.prep;
+        let mut out = Vec::new();
+        for (t, deps) in self.dependents.iter().enumerate().take(k) {
+            let Some(tp) = st.poses[t] else { continue };
+            let t_size = prep.problem.objects[t].size;
+            for d in deps.iter().filter(|d| d.object > k) {
+                let (all, next_to) = self.zones_of(d, &tp, t_size);
+                let free = |v: Vec<Rect>| -> Vec<Rect> {
+                    v.into_iter().filter(|z| self.zone_free(z, &st.fps)).collect()
+                };
+                let promise = Promise { zones: free(all), next_to: free(next_to) };
+                if !promise.zones.is_empty() {
+                    out.push(promise);
+                }
+            }
+        }
+        out
+    }
+
+    /// Whether a zone is inside the room, outside the door zones and free of footprints.
+    fn zone_free(&self, z: &Rect, placed: &[Rect]) -> bool {
+        self.prep.room.contains_rect(z)
+            && !self.prep.keep_out.iter().any(|o| o.overlaps(z))
+            && !placed.iter().any(|f| f.overlaps(z))
     }
 
     /// Scored candidates of object `k` (best first), or why there are none.
     fn candidates(&self, k: usize, st: &State) -> (Vec<(Cand, f64)>, Option<Reason>) {
         let prep = self.prep;
         let derived = derived_candidates(prep, k, &st.poses);
-        if self.statics[k].is_empty() && derived.is_empty() {
+        if self.statics[k].cands.is_empty() && derived.is_empty() {
             return (Vec::new(), Some(static_reason(&self.static_fails[k])));
         }
+        let set = &self.statics[k];
+        let n_static = set.cands.len();
+        // For the static candidates, which placed footprint each first overlaps (lowest index)
+        // and which of its sides touch a wall or a footprint, found by sweeping each placed
+        // footprint over the candidates sorted by x instead of testing every pair.
+        let mut blocker = vec![usize::MAX; n_static];
+        let mut touch = set.wall_touch.clone();
+        for (fi, fp) in st.fps.iter().enumerate() {
+            let grown = fp.grow(CONTACT_M);
+            for &ci in set.near(&grown) {
+                let c = &set.cands[ci].fp;
+                if c.overlaps(fp) {
+                    blocker[ci] = blocker[ci].min(fi);
+                } else if c.overlaps(&grown) {
+                    touch[ci] |= touching(c, |m| m.overlaps(fp));
+                }
+            }
+        }
         let mut blockers: BTreeMap<usize, usize> = BTreeMap::new();
-        let mut scored = Vec::new();
-        for &c in self.statics[k].iter().chain(derived.iter()) {
-            if let Some(i) = st.fps.iter().position(|f| f.overlaps(&c.fp)) {
-                *blockers.entry(i).or_insert(0) += 1;
+        // (ordering key, position: statics then derived, score). The key is the score plus
+        // what the pose leaves for later objects (room for the side relations that target this
+        // object, and a small bonus per side touching a wall or a placed object); the score
+        // alone is what the layout is worth. Only the best `REACH_TRIES` keys are ever visited,
+        // so they are selected and sorted instead of the whole list. Ties go to the earlier
+        // position, which is the seeded order.
+        let promises = self.open_promises(k, st);
+        let mut scored: Vec<(f64, usize, f64)> = Vec::new();
+        let all = set.cands.iter().chain(derived.iter());
+        for (i, c) in all.enumerate() {
+            let (first, sides) = if i < n_static {
+                (blocker[i], touch[i])
+            } else {
+                let first = st.fps.iter().position(|f| f.overlaps(&c.fp)).unwrap_or(usize::MAX);
+                let sides = touching(&c.fp, |m| {
+                    !prep.room.contains_rect(m) || st.fps.iter().any(|f| f.overlaps(m))
+                });
+                (first, sides)
+            };
+            if first != usize::MAX {
+                *blockers.entry(first).or_insert(0) += 1;
                 continue;
             }
-            scored.push((c, fast_score(prep, k, &c.pose, &st.poses, self.sat_value)));
+            let s = fast_score(prep, k, &c.pose, &st.poses, self.sat_value);
+            let (kept, close) = self.room_left_for_dependents(k, c, &st.fps);
+            let covers = |zones: &[Rect]| zones.iter().all(|z| z.overlaps(&c.fp));
+            let broken = promises.iter().filter(|p| covers(&p.zones)).count();
+            let crowded =
+                promises.iter().filter(|p| !p.next_to.is_empty() && covers(&p.next_to)).count();
+            let key = s
+                + self.sat_value * (kept as f64 - broken as f64)
+                + ROOM_NEXT_TO_BONUS * (close as f64 - crowded as f64)
+                + CONTACT_BONUS * f64::from(sides.count_ones());
+            scored.push((key, i, s));
         }
         if scored.is_empty() {
             let placed: Vec<usize> = (0..k).filter(|&i| st.poses[i].is_some()).collect();
@@ -389,8 +608,15 @@ impl Search<'_, '_> {
                 )),
             );
         }
-        scored.sort_by(|a, b| b.1.total_cmp(&a.1));
-        (scored, None)
+        let order =
+            |a: &(f64, usize, f64), b: &(f64, usize, f64)| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1));
+        if scored.len() > REACH_TRIES {
+            scored.select_nth_unstable_by(REACH_TRIES - 1, order);
+            scored.truncate(REACH_TRIES);
+        }
+        scored.sort_unstable_by(order);
+        let pick = |i: usize| if i < n_static { set.cands[i] } else { derived[i - n_static] };
+        (scored.into_iter().map(|(_, i, s)| (pick(i), s)).collect(), None)
     }
 }
 
@@ -437,11 +663,38 @@ pub(crate) fn run(
         remaining_max[k] =
             remaining_max[k + 1] + placed_value + sat_value * obj.constraints.len() as f64;
     }
+    let mut dependents: Vec<Vec<Dependent>> = vec![Vec::new(); n];
+    for (j, obj) in prep.problem.objects.iter().enumerate() {
+        for c in &obj.constraints {
+            let side = matches!(
+                c.kind,
+                RelationKind::InFrontOf
+                    | RelationKind::Behind
+                    | RelationKind::LeftOf
+                    | RelationKind::RightOf
+                    | RelationKind::SideOf
+            );
+            if !side || c.target >= j {
+                continue;
+            }
+            let mut gaps = (0.0, f64::INFINITY);
+            for other in obj.constraints.iter().filter(|o| o.target == c.target) {
+                match other.kind {
+                    RelationKind::Near => gaps.1 = gaps.1.min(constraints::NEAR_MAX_M),
+                    RelationKind::Around => gaps.1 = gaps.1.min(constraints::AROUND_MAX_M),
+                    RelationKind::Far => gaps.0 = f64::max(gaps.0, constraints::FAR_MIN_M),
+                    _ => {}
+                }
+            }
+            dependents[c.target].push(Dependent { object: j, kind: c.kind, gaps });
+        }
+    }
     let mut search = Search {
+        dependents,
         prep,
         placed_value,
         sat_value,
-        statics,
+        statics: statics.into_iter().map(|c| StaticSet::new(prep, c)).collect(),
         static_fails,
         remaining_max,
         budget: options.node_budget,
@@ -452,6 +705,7 @@ pub(crate) fn run(
     let mut st = State {
         poses: vec![None; n],
         fps: Vec::new(),
+        occ: prep.reach.occupancy(),
         value: 0.0,
         fails: vec![None; n],
         by: vec!["dfs"; n],
