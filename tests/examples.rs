@@ -68,9 +68,16 @@ fn every_example_builds_validates_and_is_deterministic() {
                 &house_sources,
                 house,
                 StructureCatalog::builtin(),
+                &Catalog::embedded(),
             );
-            let errors: Vec<_> =
-                validated.diagnostics.iter().filter(|d| d.is_error()).cloned().collect();
+            // No errors, and none of the footprint warnings: every floor object stays in its
+            // room and no two overlap, judged by `holoc validate` from the house file alone.
+            let errors: Vec<_> = validated
+                .diagnostics
+                .iter()
+                .filter(|d| d.is_error() || matches!(d.code.as_str(), "W0608" | "W0609"))
+                .cloned()
+                .collect();
             assert!(
                 errors.is_empty(),
                 "{}: validate rejects the house:\n{}",

@@ -314,6 +314,7 @@ fn clean_run() {
         &build_sources,
         house_file,
         holoc::resolve::structure::StructureCatalog::builtin(),
+        &holoc::resolve::Catalog::embedded(),
     );
     assert!(!validated.has_errors(), "{:#?}", validated.diagnostics);
     snapshot("clean_run.holo", &generated.holo);

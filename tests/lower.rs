@@ -67,7 +67,12 @@ fn outputs_validate() {
         let json = build_json(&path);
         let mut sources = SourceMap::new();
         let id = sources.add("house.json", json);
-        let outcome = validate(&sources, id, StructureCatalog::builtin());
+        let outcome = validate(
+            &sources,
+            id,
+            StructureCatalog::builtin(),
+            &holoc::resolve::Catalog::embedded(),
+        );
         assert!(
             outcome.diagnostics.is_empty(),
             "{}: {}",
@@ -102,7 +107,8 @@ fn objects_get_their_room_layer() {
     let json = house.to_json_string();
     let mut sources = SourceMap::new();
     let id = sources.add("house.json", json);
-    let outcome = validate(&sources, id, StructureCatalog::builtin());
+    let outcome =
+        validate(&sources, id, StructureCatalog::builtin(), &holoc::resolve::Catalog::embedded());
     let codes: Vec<&str> = outcome.diagnostics.iter().map(|d| d.code.as_str()).collect();
     assert!(codes.iter().all(|c| *c == "W0601"), "{codes:?}");
 }

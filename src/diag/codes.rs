@@ -117,8 +117,9 @@ codes! {
     E0605 "several-holes-in-wall" "a wall has more than one door or window hole";
     E0606 "room-not-closed" "a room's floor polygon is not a closed outline with an area";
     E0607 "object-outside-room" "an object stands outside every room";
-    E0608 "objects-overlap" "two floor objects overlap";
     W0601 "unknown-asset" "an asset id is not one of AI2-THOR's built-in assets";
+    W0608 "objects-overlap" "the footprints of two floor objects overlap";
+    W0609 "object-crosses-wall" "a floor object's footprint reaches through a wall of its room";
     E0401 "unknown-asset" "a pinned asset id is in no catalog";
     E0402 "asset-kind-mismatch" "a pinned asset cannot be placed the way the object is";
     E0403 "invalid-catalog" "a catalog file cannot be read or is not a catalog";

@@ -3,9 +3,10 @@
 //!
 //! Rules: ids are unique and every reference names an existing room or wall; each door or
 //! window hole lies inside its wall and no wall has two holes; each room's floor polygon is a
-//! closed outline with an area; objects stand inside their room; floor objects with known
-//! footprints (Holodeck's `vertices`) do not overlap; asset ids that are not built-in AI2-THOR
-//! assets get a warning. Diagnostics point at the id in the file where one can be found.
+//! closed outline with an area; objects stand inside their room; the footprints of floor
+//! objects (their asset's box from the object catalog, turned by their rotation) stay inside
+//! their room and do not overlap (warnings: AI2-THOR loads such houses); asset ids that are
+//! not built-in AI2-THOR assets get a warning. Diagnostics point at the id in the file where one can be found.
 
 use std::collections::{BTreeMap, BTreeSet};
 
@@ -14,7 +15,11 @@ use serde_json::Value;
 use crate::diag::{Code, Diagnostic, Outcome};
 use crate::geometry::{self as geo, Aabb, Point};
 use crate::resolve::structure::StructureCatalog;
+use crate::resolve::Catalog;
 use crate::source::{FileId, SourceMap, Span};
+use nalgebra::{Isometry2, Point2, Vector2};
+use parry2d::query::intersection_test;
+use parry2d::shape::{Cuboid, Segment};
 
 /// The house schema, embedded.
 pub const HOUSE_SCHEMA: &str = include_str!("../../data/house.schema.json");
@@ -124,6 +129,7 @@ pub fn validate(
     sources: &SourceMap,
     file: FileId,
     catalog: &StructureCatalog,
+    objects_catalog: &Catalog,
 ) -> Outcome<ValidationReport> {
     let text = sources.get(file).text.as_str();
     let mut ctx = Ctx { text, file, diags: Vec::new() };
@@ -327,10 +333,9 @@ pub fn validate(
             polygons.insert(id, poly);
         }
     }
-    // Objects inside rooms; floor footprints not overlapping.
-    let floor_ids: BTreeSet<&str> =
-        arr(&value, "floor_objects").iter().filter_map(|o| s(o, "id")).collect();
-    let mut footprints: Vec<(&str, Option<&str>, Aabb)> = Vec::new();
+    // Objects inside rooms; floor footprints inside their room and not overlapping.
+    let mut footprints: Vec<Footprint<'_>> = Vec::new();
+    let mut sizeless = 0usize;
     for o in objects {
         let id = s(o, "id").unwrap_or("?");
         let Some(pos) = o.get("position").and_then(floor_point) else { continue };
@@ -341,7 +346,8 @@ pub fn validate(
                         <= VALIDATE_TOLERANCE_M
                 })
         };
-        let ok = match s(o, "roomId").and_then(|r| polygons.get(r)) {
+        let room_poly = s(o, "roomId").and_then(|r| polygons.get(r));
+        let ok = match room_poly {
             Some(poly) => inside(poly),
             None => polygons.values().any(inside),
         };
@@ -357,44 +363,86 @@ pub fn validate(
                 .with_primary(span, "outside its room")
                 .with_help("move the object into the room"),
             );
+            continue;
         }
-        if floor_ids.contains(id) {
-            let pts: Vec<Point> = arr(o, "vertices")
-                .iter()
-                .filter_map(|p| {
-                    let p = p.as_array()?;
-                    Some([p.first()?.as_f64()? / 100.0, p.get(1)?.as_f64()? / 100.0])
-                })
-                .collect();
-            if pts.len() >= 3 {
-                footprints.push((id, s(o, "roomId"), Aabb::of(&pts)));
+        match floor_footprint(o, pos, objects_catalog) {
+            Some(fp) => footprints.push(Footprint { id, room: s(o, "roomId"), ..fp }),
+            None if o
+                .get("assetId")
+                .and_then(Value::as_str)
+                .is_some_and(|a| objects_catalog.get(a).is_none()) =>
+            {
+                sizeless += 1;
             }
+            None => {}
+        }
+    }
+    // A footprint reaching through a wall of its room.
+    for fp in &footprints {
+        let Some(poly) = fp.room.and_then(|r| polygons.get(r)) else { continue };
+        let (iso, shape) = fp.shape();
+        let crosses = (0..poly.len()).any(|i| {
+            let (a, b) = (poly[i], poly[(i + 1) % poly.len()]);
+            let seg = Segment::new(
+                Point2::new(a[0] as f32, a[1] as f32),
+                Point2::new(b[0] as f32, b[1] as f32),
+            );
+            intersection_test(&iso, &shape, &Isometry2::identity(), &seg).unwrap_or(false)
+        });
+        if crosses {
+            let span = ctx.span_of("id", fp.id, 0);
+            ctx.push(
+                Diagnostic::new(
+                    Code::W0609,
+                    format!("floor object `{}` reaches through a wall of its room", fp.id),
+                )
+                .with_primary(
+                    span,
+                    format!(
+                        "its {:.2} m × {:.2} m footprint crosses the room's outline",
+                        2.0 * fp.half[0],
+                        2.0 * fp.half[1]
+                    ),
+                )
+                .with_help("move or turn the object so that its footprint stays inside the room"),
+            );
         }
     }
     for i in 0..footprints.len() {
         for j in i + 1..footprints.len() {
             let (a, b) = (&footprints[i], &footprints[j]);
-            if a.1 != b.1 {
+            if a.room != b.room {
                 continue;
             }
-            let overlap_x = a.2.max[0].min(b.2.max[0]) - a.2.min[0].max(b.2.min[0]);
-            let overlap_z = a.2.max[1].min(b.2.max[1]) - a.2.min[1].max(b.2.min[1]);
-            if overlap_x > VALIDATE_TOLERANCE_M && overlap_z > VALIDATE_TOLERANCE_M {
-                let span = ctx.span_of("id", b.0, 0);
-                let other = ctx.span_of("id", a.0, 0);
-                ctx.push(
-                    Diagnostic::new(
-                        Code::E0608,
-                        format!("floor objects `{}` and `{}` overlap", a.0, b.0),
-                    )
-                    .with_primary(
-                        span,
-                        format!("overlaps `{}` by {overlap_x:.2} m × {overlap_z:.2} m", a.0),
-                    )
-                    .with_secondary(other, "this one")
-                    .with_help("move one of them"),
-                );
+            let ((ia, sa), (ib, sb)) = (a.shape(), b.shape());
+            if !intersection_test(&ia, &sa, &ib, &sb).unwrap_or(false) {
+                continue;
             }
+            let (ba, bb) = (a.bounds(), b.bounds());
+            let overlap_x = ba.max[0].min(bb.max[0]) - ba.min[0].max(bb.min[0]);
+            let overlap_z = ba.max[1].min(bb.max[1]) - ba.min[1].max(bb.min[1]);
+            let span = ctx.span_of("id", b.id, 0);
+            let other = ctx.span_of("id", a.id, 0);
+            ctx.push(
+                Diagnostic::new(
+                    Code::W0608,
+                    format!("floor objects `{}` and `{}` overlap", a.id, b.id),
+                )
+                .with_primary(
+                    span,
+                    if a.square() && b.square() {
+                        format!("overlaps `{}` by {overlap_x:.2} m × {overlap_z:.2} m", a.id)
+                    } else {
+                        format!(
+                            "overlaps `{}` (turned boxes whose bounds share {overlap_x:.2} m × {overlap_z:.2} m)",
+                            a.id
+                        )
+                    },
+                )
+                .with_secondary(other, "this one")
+                .with_note("AI2-THOR loads overlapping objects (ProcTHOR tucks chairs under tables), but holoc's layouts never overlap")
+                .with_help("move one of them"),
+            );
         }
     }
     // Assets.
@@ -425,6 +473,13 @@ pub fn validate(
             )
             .with_primary(span, "not a built-in asset")
             .with_note(format!("for example {}", list.join(", ")))
+            .with_note(if sizeless == 0 {
+                "the object catalog knows their sizes".to_owned()
+            } else {
+                format!(
+                    "{sizeless} of the objects using them have no known size, so their footprints are not checked against walls or each other (`--catalog` gives their sizes)"
+                )
+            })
             .with_help("these load only where the assets are installed (e.g. Objaverse assets with a user catalog)"),
         );
     }
@@ -436,6 +491,71 @@ pub fn validate(
         objects: objects.len(),
     };
     Outcome::new(report, ctx.diags)
+}
+
+/// How far above the floor (metres) the bottom of an object may be and still count as standing
+/// on the floor.
+const FLOOR_TOLERANCE_M: f64 = 0.05;
+
+/// The footprint of a floor object: its box seen from above.
+struct Footprint<'v> {
+    id: &'v str,
+    room: Option<&'v str>,
+    centre: Point,
+    /// Half width and half depth before the rotation.
+    half: [f64; 2],
+    /// The rotation about the vertical axis, degrees (AI2-THOR: clockwise seen from above).
+    angle_deg: f64,
+}
+
+impl Footprint<'_> {
+    /// The footprint as a parry2d box, shrunk by half the tolerance on every side so that
+    /// touching footprints and overlaps within [`VALIDATE_TOLERANCE_M`] do not count.
+    fn shape(&self) -> (Isometry2<f32>, Cuboid) {
+        let shrink = VALIDATE_TOLERANCE_M / 2.0;
+        let half = Vector2::new(
+            (self.half[0] - shrink).max(1e-3) as f32,
+            (self.half[1] - shrink).max(1e-3) as f32,
+        );
+        // Clockwise seen from above is a negative angle in the (x, z) plane.
+        let iso = Isometry2::new(
+            Vector2::new(self.centre[0] as f32, self.centre[1] as f32),
+            (-self.angle_deg.to_radians()) as f32,
+        );
+        (iso, Cuboid::new(half))
+    }
+
+    /// Whether the footprint is turned by a multiple of 90° (its bounds are the footprint).
+    fn square(&self) -> bool {
+        let r = self.angle_deg.rem_euclid(90.0);
+        r < 1e-6 || 90.0 - r < 1e-6
+    }
+
+    /// The axis-aligned bounds of the (rotated) footprint.
+    fn bounds(&self) -> Aabb {
+        let (sin, cos) = self.angle_deg.to_radians().sin_cos();
+        let corners: Vec<Point> = [[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]]
+            .iter()
+            .map(|[sx, sz]| {
+                let (x, z) = (sx * self.half[0], sz * self.half[1]);
+                [self.centre[0] + x * cos + z * sin, self.centre[1] - x * sin + z * cos]
+            })
+            .collect();
+        Aabb::of(&corners)
+    }
+}
+
+/// The footprint of a top-level object that stands on the floor, from its asset's size in the
+/// catalog; `None` for objects off the floor (on walls, hanging) and assets of unknown size.
+fn floor_footprint<'v>(o: &'v Value, centre: Point, catalog: &Catalog) -> Option<Footprint<'v>> {
+    let asset = catalog.get(s(o, "assetId")?)?;
+    let [w, h, d] = asset.bbox_m;
+    let y = o.get("position").and_then(|p| num(p, "y"))?;
+    if (y - h / 2.0).abs() > FLOOR_TOLERANCE_M {
+        return None;
+    }
+    let angle_deg = o.get("rotation").and_then(|r| num(r, "y")).unwrap_or(0.0);
+    Some(Footprint { id: "", room: None, centre, half: [w / 2.0, d / 2.0], angle_deg })
 }
 
 fn byte_offset(text: &str, line: usize, column: usize) -> usize {
