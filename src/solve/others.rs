@@ -258,21 +258,43 @@ fn place_small(prep: &Prepared<'_>, layout: &mut RoomLayout) {
         for i in order {
             let s = &problem.small_objects[i];
             let [w, d, h] = s.size;
-            if w > top_w + 1e-9 || d > top_d + 1e-9 {
-                reasons[i] = Some(format!("it is larger than the top of `{}`", rec.id));
+            // As it is, or turned a quarter on the top when that is what fits.
+            let turns: Vec<(f64, f64, f64)> = [(w, d, 0.0), (d, w, 90.0)]
+                .into_iter()
+                .filter(|&(sw, sd, _)| sw <= top_w + 1e-9 && sd <= top_d + 1e-9)
+                .collect();
+            if turns.is_empty() {
+                reasons[i] = Some(format!(
+                    "it is larger than the top of `{}` ({:.2} m × {:.2} m against {:.2} m × {:.2} m, either way round)",
+                    rec.id,
+                    w,
+                    d,
+                    top_w.max(0.0),
+                    top_d.max(0.0)
+                ));
                 continue;
             }
-            if u + w > top_w + 1e-9 {
-                u = 0.0;
-                v += row_d + SMALL_GAP_M;
-                row_d = 0.0;
-            }
-            if v + d > top_d + 1e-9 {
-                reasons[i] = Some(format!("the top of `{}` is full", rec.id));
-                continue;
-            }
-            let lu = -top_w / 2.0 + u + w / 2.0;
-            let lv = top_d / 2.0 - v - d / 2.0;
+            // In the current row if it fits there either way round, else in a new row.
+            let in_row =
+                turns.iter().find(|&&(sw, sd, _)| u + sw <= top_w + 1e-9 && v + sd <= top_d + 1e-9);
+            let next_v = v + row_d + SMALL_GAP_M;
+            let (sw, sd, turn) = match in_row {
+                Some(&t) => t,
+                None => match turns.iter().find(|&&(_, sd, _)| next_v + sd <= top_d + 1e-9) {
+                    Some(&t) => {
+                        u = 0.0;
+                        v = next_v;
+                        row_d = 0.0;
+                        t
+                    }
+                    None => {
+                        reasons[i] = Some(format!("the top of `{}` is full", rec.id));
+                        continue;
+                    }
+                },
+            };
+            let lu = -top_w / 2.0 + u + sw / 2.0;
+            let lv = top_d / 2.0 - v - sd / 2.0;
             let f = rp.pose.rot.front();
             let rt = rp.pose.rot.right();
             let x = rp.pose.x + rt[0] * lu + f[0] * lv;
@@ -280,11 +302,11 @@ fn place_small(prep: &Prepared<'_>, layout: &mut RoomLayout) {
             results[i] = Some(PlacedObject {
                 id: s.id.clone(),
                 position_m: [x, rec.height + h / 2.0, z],
-                rotation_deg: rp.pose.rot.deg(),
+                rotation_deg: (rp.pose.rot.deg() + turn).rem_euclid(360.0),
                 on: Some(r),
             });
-            u += w + SMALL_GAP_M;
-            row_d = row_d.max(d);
+            u += sw + SMALL_GAP_M;
+            row_d = row_d.max(sd);
         }
     }
     for (i, res) in results.into_iter().enumerate() {
