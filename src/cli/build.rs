@@ -57,7 +57,7 @@ pub struct BuildArgs {
     /// The floor solver.
     #[arg(long, value_enum, default_value_t = SolverArg::Dfs)]
     pub solver: SolverArg,
-    /// The search budget per room (poses tried); the search never looks at the clock.
+    /// The search budget per room in nodes (default 1000); the search never looks at the clock.
     #[arg(long)]
     pub node_budget: Option<u64>,
     /// Add a doorway for every room that cannot be reached from outside (warning W0302)

@@ -75,7 +75,7 @@ impl Default for SolveOptions {
 pub const MAX_ROOM_SIDE_M: f64 = 100.0;
 
 /// The default node budget per room.
-pub const DEFAULT_NODE_BUDGET: u64 = 200;
+pub const DEFAULT_NODE_BUDGET: u64 = 1000;
 
 /// A hole in a wall: a door or a window.
 #[derive(Clone, Copy, Debug, PartialEq)]
