@@ -285,15 +285,26 @@ fn solve_one(
             RelationKind::FaceSameAs => {}
         }
     }
-    // A small pull towards the room's centroid makes the optimum unique and keeps objects
-    // from crowding into one corner.
+    // A small pull makes the optimum unique: free-standing objects towards the room's
+    // centroid, objects against a wall away from it, into the corners, which keeps the
+    // walls' length for the objects that come later (the DFS's contact term does the same).
     let centre = prep.room.centroid();
     let (cu, cv) = (m.vars.add(variable().min(0.0)), m.vars.add(variable().min(0.0)));
-    m.cons.push(constraint!(cu >= x - centre[0]));
-    m.cons.push(constraint!(cu >= centre[0] - x));
-    m.cons.push(constraint!(cv >= z - centre[1]));
-    m.cons.push(constraint!(cv >= centre[1] - z));
-    m.objective += -1e-3 * (cu + cv);
+    if obj.global == GlobalKind::Edge {
+        // cu ≤ |x − cx| through one sign binary per axis (maximised, so it reaches it).
+        let (sx, sz) = (m.binary(), m.binary());
+        m.cons.push(constraint!(cu <= x - centre[0] + big * sx));
+        m.cons.push(constraint!(cu <= centre[0] - x + big * (1.0 - sx)));
+        m.cons.push(constraint!(cv <= z - centre[1] + big * sz));
+        m.cons.push(constraint!(cv <= centre[1] - z + big * (1.0 - sz)));
+        m.objective += 1e-3 * (cu + cv);
+    } else {
+        m.cons.push(constraint!(cu >= x - centre[0]));
+        m.cons.push(constraint!(cu >= centre[0] - x));
+        m.cons.push(constraint!(cv >= z - centre[1]));
+        m.cons.push(constraint!(cv >= centre[1] - z));
+        m.objective += -1e-3 * (cu + cv);
+    }
     let Model { vars, cons, objective } = m;
     let mut problem = backend(vars.maximise(objective));
     for c in cons {
