@@ -14,9 +14,7 @@ use rand::seq::SliceRandom;
 use rand_chacha::rand_core::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
-use super::constraints::{
-    self, footprint, half_extents, static_rules, HardRule, Occupancy, Pose, Rect, Rot,
-};
+use super::constraints::{self, footprint, half_extents, HardRule, Occupancy, Pose, Rect, Rot};
 use super::{measure_object, PlacedFloor, Prepared, RoomLayout, SolveOptions, Unplaced};
 use crate::check::scene::{GlobalKind, RelationKind};
 
@@ -130,15 +128,7 @@ pub(crate) fn static_candidates(
         }
         for (x, z) in points {
             let pose = Pose { x, z, rot };
-            match static_rules(
-                &pose,
-                obj.size,
-                obj.height,
-                obj.global,
-                &prep.room,
-                &prep.keep_out,
-                &prep.windows,
-            ) {
+            match prep.static_rule(k, &pose) {
                 None => out.push(Cand { pose, fp: footprint(&pose, obj.size) }),
                 Some(rule) => *fails.entry(rule).or_insert(0) += 1,
             }
@@ -197,17 +187,7 @@ pub(crate) fn derived_candidates(
                         continue;
                     }
                     let pose = Pose { x, z, rot };
-                    if static_rules(
-                        &pose,
-                        obj.size,
-                        obj.height,
-                        obj.global,
-                        &prep.room,
-                        &prep.keep_out,
-                        &prep.windows,
-                    )
-                    .is_none()
-                    {
+                    if prep.static_rule(k, &pose).is_none() {
                         out.push(Cand { pose, fp: footprint(&pose, obj.size) });
                     }
                 }
@@ -384,16 +364,10 @@ impl Search<'_, '_> {
         let obj = &self.prep.problem.objects[k];
         if let Some(pin) = obj.pin {
             let fp = footprint(&pin, obj.size);
-            if let Some(rule) = static_rules(
-                &pin,
-                obj.size,
-                obj.height,
-                obj.global,
-                &self.prep.room,
-                &self.prep.keep_out,
-                &self.prep.windows,
-            )
-            .or_else(|| st.fps.iter().any(|f| f.overlaps(&fp)).then_some(HardRule::NoOverlap))
+            if let Some(rule) = self
+                .prep
+                .static_rule(k, &pin)
+                .or_else(|| st.fps.iter().any(|f| f.overlaps(&fp)).then_some(HardRule::NoOverlap))
             {
                 if !self.pin_breaks.iter().any(|(i, _)| *i == k) {
                     self.pin_breaks.push((k, rule));

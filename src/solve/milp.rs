@@ -14,7 +14,7 @@ use good_lp::{
     constraint, variable, Expression, ProblemVariables, Solution, SolverModel, Variable,
 };
 
-use super::constraints::{self, footprint, half_extents, static_rules, HardRule, Pose, Rect, Rot};
+use super::constraints::{self, footprint, half_extents, HardRule, Pose, Rect, Rot};
 use super::dfs::{derived_candidates, fast_score, static_candidates};
 use super::{measure_object, PlacedFloor, Prepared, RoomLayout, SolveOptions, Unplaced};
 use crate::check::scene::{GlobalKind, RelationKind};
@@ -347,17 +347,7 @@ fn place_milp(
                 obstacles.extend(hit);
                 continue;
             }
-            if static_rules(
-                &pose,
-                obj.size,
-                obj.height,
-                obj.global,
-                &prep.room,
-                &prep.keep_out,
-                &prep.windows,
-            )
-            .is_some()
-            {
+            if prep.static_rule(k, &pose).is_some() {
                 break;
             }
             let mut all = fps.to_vec();
@@ -427,16 +417,9 @@ pub(crate) fn solve(prep: &Prepared<'_>, options: &SolveOptions) -> RoomLayout {
         layout.nodes += 1;
         if let Some(pin) = obj.pin {
             let fp = footprint(&pin, obj.size);
-            if let Some(rule) = static_rules(
-                &pin,
-                obj.size,
-                obj.height,
-                obj.global,
-                &prep.room,
-                &prep.keep_out,
-                &prep.windows,
-            )
-            .or_else(|| fps.iter().any(|f| f.overlaps(&fp)).then_some(HardRule::NoOverlap))
+            if let Some(rule) = prep
+                .static_rule(k, &pin)
+                .or_else(|| fps.iter().any(|f| f.overlaps(&fp)).then_some(HardRule::NoOverlap))
             {
                 layout.pinned_breaks.push((k, rule));
             }

@@ -298,6 +298,23 @@ pub(crate) struct Prepared<'a> {
     pub walls: Vec<([f64; 2], [f64; 2], [f64; 2])>,
 }
 
+impl Prepared<'_> {
+    /// The static hard rule (inside the room, global, door zones, front clearance, windows)
+    /// that floor object `k` breaks at `pose`, if any.
+    pub(crate) fn static_rule(&self, k: usize, pose: &Pose) -> Option<constraints::HardRule> {
+        let obj = &self.problem.objects[k];
+        constraints::static_rules(
+            pose,
+            obj.size,
+            obj.height,
+            obj.global,
+            &self.room,
+            &self.keep_out,
+            &self.windows,
+        )
+    }
+}
+
 /// Places every object of one room.
 pub fn solve_room(problem: &RoomProblem, options: &SolveOptions) -> Outcome<RoomLayout> {
     let mut diags: Vec<Diagnostic> = Vec::new();
