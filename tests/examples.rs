@@ -132,3 +132,119 @@ fn golden_apartment_house_and_plan() {
         insta::assert_snapshot!("golden_apartment_plan_svg", holoc::render::render_svg(&holoc::render::drawing(&built)));
     });
 }
+
+/// The plan draws exactly the house: one footprint per object of the house, with its name at
+/// its position, and nothing else; what the scene asked for and the house lacks is listed as
+/// left out.
+#[test]
+fn every_plan_draws_exactly_the_house() {
+    for path in examples() {
+        let (_, built, _) = build_example(&path, Solver::Dfs);
+        let built = built.expect("every example builds");
+        let drawing = holoc::render::drawing(&built);
+        let round = |v: f64| (v * 1000.0).round() as i64;
+        let mut drawn: Vec<(String, i64, i64)> = drawing
+            .objects
+            .iter()
+            .map(|o| (o.name.clone(), round(o.center[0]), round(o.center[1])))
+            .collect();
+        let mut house: Vec<(String, i64, i64)> = built
+            .house
+            .all_objects()
+            .iter()
+            .map(|o| (o.object_name.clone(), round(o.position.x), round(o.position.z)))
+            .collect();
+        drawn.sort();
+        house.sort();
+        assert_eq!(drawn, house, "{}: the plan's objects differ from the house's", path.display());
+        let svg = holoc::render::render_svg(&drawing);
+        assert_eq!(
+            svg.matches("class=\"object\"").count(),
+            built.house.object_count(),
+            "{}: the SVG draws another number of objects than the house holds",
+            path.display()
+        );
+        let summary = holoc::report::Summary::of(&built);
+        assert_eq!(
+            drawing.left_out.len(),
+            summary.left_out(),
+            "{}: the plan lists {:?} as left out, the build summary counts {}",
+            path.display(),
+            drawing.left_out.iter().map(|l| &l.name).collect::<Vec<_>>(),
+            summary.left_out()
+        );
+        for needle in ["id=\"legend\"", "id=\"scale-bar\"", "id=\"north-arrow\"", " m²"] {
+            assert!(svg.contains(needle), "{}: the plan lacks {needle}", path.display());
+        }
+    }
+}
+
+/// What an example's leading comment says about its build, checked: `// builds: <summary>`
+/// (the closing line of `holoc build` without its time), `// claim: NAME left out`,
+/// `// claim: NAME placed` and `// claim: NAME against the DIRECTION wall`.
+#[test]
+fn example_comments_say_what_the_build_does() {
+    for path in examples() {
+        let text = std::fs::read_to_string(&path).expect("readable");
+        let (_, built, _) = build_example(&path, Solver::Dfs);
+        let built = built.expect("every example builds");
+        let drawing = holoc::render::drawing(&built);
+        let mut builds_line = false;
+        for line in text.lines().take_while(|l| l.trim_start().starts_with("//")) {
+            let line = line.trim_start().trim_start_matches("//").trim();
+            if let Some(summary) = line.strip_prefix("builds:") {
+                builds_line = true;
+                let actual = holoc::report::Summary::of(&built).to_string();
+                assert_eq!(
+                    summary.trim(),
+                    actual,
+                    "{}: `// builds:` is not what it builds",
+                    path.display()
+                );
+                continue;
+            }
+            let Some(claim) = line.strip_prefix("claim:") else { continue };
+            let words: Vec<&str> = claim.split_whitespace().collect();
+            let name = words.first().copied().unwrap_or_default();
+            let drawn = drawing.objects.iter().find(|o| o.name == name);
+            match &words[1..] {
+                ["left", "out"] => assert!(
+                    drawn.is_none() && drawing.left_out.iter().any(|l| l.name == name),
+                    "{}: claims {name} is left out",
+                    path.display()
+                ),
+                ["placed"] => {
+                    assert!(drawn.is_some(), "{}: claims {name} is placed", path.display());
+                }
+                ["against", "the", dir, "wall"] => {
+                    let o =
+                        drawn.unwrap_or_else(|| panic!("{}: {name} is not placed", path.display()));
+                    let turned = (o.facing_deg / 90.0).round() as i64 % 2 != 0;
+                    let (w, d) =
+                        if turned { (o.size[1], o.size[0]) } else { (o.size[0], o.size[1]) };
+                    let room = drawing
+                        .rooms
+                        .iter()
+                        .find(|r| holoc::geometry::point_in_or_on_polygon(o.center, &r.polygon))
+                        .expect("the object stands in a room");
+                    let xs = room.polygon.iter().map(|p| p[0]);
+                    let zs = room.polygon.iter().map(|p| p[1]);
+                    let gap = match *dir {
+                        "north" => zs.fold(f64::NEG_INFINITY, f64::max) - (o.center[1] + d / 2.0),
+                        "south" => (o.center[1] - d / 2.0) - zs.fold(f64::INFINITY, f64::min),
+                        "east" => xs.fold(f64::NEG_INFINITY, f64::max) - (o.center[0] + w / 2.0),
+                        "west" => (o.center[0] - w / 2.0) - xs.fold(f64::INFINITY, f64::min),
+                        other => panic!("{}: unknown direction {other}", path.display()),
+                    };
+                    assert!(
+                        gap.abs() < 0.05,
+                        "{}: claims {name} stands against the {dir} wall; it is {gap:.2} m from it",
+                        path.display()
+                    );
+                }
+                _ => panic!("{}: unreadable claim `{claim}`", path.display()),
+            }
+        }
+        assert!(builds_line, "{}: the leading comment has no `// builds:` line", path.display());
+    }
+}

@@ -132,12 +132,13 @@ fn import_corpus() {
 /// root; skipped with a message when absent) import to `.holo` files that `check` accepts,
 /// with and without `--keep-layout`, deterministically.
 #[test]
-#[allow(clippy::print_stdout, reason = "say why the test did nothing")]
 fn real_holodeck_scenes_import_and_check() {
-    let dir = Path::new("../shared/data/real-scenes");
-    let Ok(entries) = std::fs::read_dir(dir) else {
-        println!("skipped: {} is absent", dir.display());
+    let Some(dir) = common::shared("data/real-scenes", "real_holodeck_scenes_import_and_check")
+    else {
         return;
+    };
+    let Ok(entries) = std::fs::read_dir(&dir) else {
+        panic!("{} is not a readable folder", dir.display());
     };
     let mut paths: Vec<_> = entries
         .filter_map(Result::ok)

@@ -127,6 +127,8 @@ fn book_snippets_check_without_errors() {
         }
         let text = std::fs::read_to_string(&path).expect("readable");
         for (info, body) in code_blocks(&text) {
+            // `holo excerpt` marks a piece of a larger file (the tutorial's transcripts test
+            // checks that it is one); every other `holo` block is a whole file.
             if info != "holo" {
                 continue;
             }

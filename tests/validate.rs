@@ -170,11 +170,9 @@ fn not_json_points_at_the_error() {
 #[test]
 #[allow(clippy::print_stdout, reason = "the test says why it skips and what it found")]
 fn real_scenes() {
-    let dir = std::path::Path::new("../shared/data/real-scenes");
-    if !dir.is_dir() {
-        println!("skipping: {} is absent", dir.display());
+    let Some(dir) = common::shared("data/real-scenes", "real_scenes") else {
         return;
-    }
+    };
     let mut names: Vec<_> = std::fs::read_dir(dir)
         .expect("folder")
         .filter_map(|e| e.ok().map(|e| e.path()))

@@ -73,10 +73,14 @@ pub struct BuildArgs {
     /// When to colour human diagnostics.
     #[arg(long, value_enum, default_value_t = ColorChoice::Auto)]
     pub color: ColorChoice,
+    /// Print no summary line at the end (diagnostics are still printed).
+    #[arg(short, long)]
+    pub quiet: bool,
 }
 
 /// Runs `holoc build`.
 pub fn run(args: &BuildArgs) -> ExitCode {
+    let started = std::time::Instant::now();
     let mut sources = SourceMap::new();
     let file = match common::read_source(&mut sources, &args.file) {
         Ok(id) => id,
@@ -123,6 +127,17 @@ pub fn run(args: &BuildArgs) -> ExitCode {
     if let Err(d) = common::write_output(args.output.as_deref(), &text) {
         common::emit_plain(&d);
         return ExitCode::from(2);
+    }
+    if !args.quiet {
+        let summary = crate::report::Summary::of(&product);
+        let target = match args.output.as_deref() {
+            Some(p) if p.as_os_str() != "-" => p.display().to_string(),
+            _ => "stdout".to_string(),
+        };
+        common::emit_status(&format!(
+            "built {target}: {summary}, in {} ms",
+            started.elapsed().as_millis()
+        ));
     }
     common::exit_for(&diagnostics)
 }

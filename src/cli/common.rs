@@ -46,6 +46,12 @@ impl ColorChoice {
     }
 }
 
+/// Prints one status line on stderr (a command's closing summary).
+#[allow(clippy::print_stderr, reason = "only the CLI prints; this is its status line")]
+pub fn emit_status(line: &str) {
+    eprintln!("{line}");
+}
+
 /// The exit code for a set of diagnostics: 1 if any is an error, else 0.
 pub fn exit_for(diagnostics: &[Diagnostic]) -> ExitCode {
     if diagnostics.iter().any(Diagnostic::is_error) {

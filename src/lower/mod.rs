@@ -56,6 +56,16 @@ impl HouseJson {
         s.push('\n');
         s
     }
+
+    /// Every object of the house, receptacles before the items on them, in the house's order.
+    pub fn all_objects(&self) -> Vec<&thor::Object> {
+        self.house.objects.iter().collect()
+    }
+
+    /// How many objects the house holds.
+    pub fn object_count(&self) -> usize {
+        self.all_objects().len()
+    }
 }
 
 fn v3(p: [f64; 2], y: f64) -> Vec3 {

@@ -1,13 +1,15 @@
 //! The SVG plan: a top-down drawing of a built scene.
 //!
-//! [`render_svg`] draws a [`Drawing`]: rooms with their labels, walls, doors with their swing,
-//! windows, every object's footprint with its name and a mark on its front, the keep-out zones
-//! in front of doors, and violated constraints as red lines between the objects involved.
-//! [`drawing`] makes the drawing from a finished build (its floor plan and layout);
-//! [`render_svg`] itself knows nothing of the stages. Neither does I/O.
+//! [`render_svg`] draws a [`Drawing`]: rooms with their label and area, walls, doors with their
+//! swing, windows, every object's footprint with its name (or a number and a key where names
+//! would overlap) and a mark on its front, the keep-out zones in front of doors, violated
+//! relations as red lines between the objects involved, a scale bar and a north arrow; a panel
+//! beside the plan holds the legend, the key, the objects left out and the relations not kept.
+//! [`drawing`] makes the drawing from a finished build (the house's objects, sized by the
+//! layout); [`render_svg`] itself knows nothing of the stages. Neither does I/O.
 //!
 //! **Invariant:** the output depends only on the drawing: numbers are printed with two decimals,
-//! elements in the drawing's order.
+//! elements in the drawing's order, labels placed by a fixed greedy order.
 
 mod scene;
 
@@ -40,10 +42,19 @@ pub struct Drawing {
     pub keep_out: Vec<Vec<[f64; 2]>>,
     /// Placed objects.
     pub objects: Vec<DrawObject>,
-    /// Violated constraints.
+    /// Violated relations and placements.
     pub violations: Vec<DrawViolation>,
-    /// Objects that could not be placed, with the reason, listed under the plan.
-    pub unplaced: Vec<String>,
+    /// Objects the scene asks for that are not in the house, with the reason.
+    pub left_out: Vec<LeftOut>,
+}
+
+/// An object the scene asks for that is not in the house.
+#[derive(Clone, Debug)]
+pub struct LeftOut {
+    /// Its name, e.g. `piano-0` or `book on shelf-0`.
+    pub name: String,
+    /// Why, in words.
+    pub reason: String,
 }
 
 /// A room's floor.
@@ -104,13 +115,13 @@ pub struct DrawObject {
     pub level: ObjectLevel,
 }
 
-/// A constraint that the layout does not keep.
+/// A relation (or global placement) that the layout does not keep.
 #[derive(Clone, Debug)]
 pub struct DrawViolation {
     /// The constrained object's centre.
     pub from: [f64; 2],
-    /// The target's centre.
-    pub to: [f64; 2],
+    /// The target's centre (`None` for a global placement such as `edge`).
+    pub to: Option<[f64; 2]>,
     /// What is violated, e.g. `near sofa-0 (1.9 m)`.
     pub text: String,
 }
@@ -163,6 +174,137 @@ fn rotate(d: [f64; 2], facing_deg: f64) -> [f64; 2] {
     }
 }
 
+/// Width of the panel beside the plan (legend, key, left-out objects), pixels.
+const PANEL_W: f64 = 330.0;
+/// Font size of object labels, pixels.
+const LABEL_FONT: f64 = 9.0;
+/// The average advance of a sans-serif character, as a fraction of the font size (an estimate
+/// that errs wide, so that labels estimated apart are apart).
+const CHAR_EM: f64 = 0.58;
+/// How many characters a line of the panel holds.
+const PANEL_CHARS: usize = 52;
+/// Height of a line of the panel, pixels.
+const PANEL_LINE: f64 = 15.0;
+
+/// How many steps the search for a room label's place makes along each side of the room.
+const LABEL_GRID_STEPS: usize = 24;
+
+/// A box on the drawing, pixels.
+#[derive(Clone, Copy, Debug)]
+struct PxBox {
+    x0: f64,
+    y0: f64,
+    x1: f64,
+    y1: f64,
+}
+
+impl PxBox {
+    /// The box of a text centred at `x` with its baseline at `y`.
+    fn text(x: f64, y: f64, text: &str, font: f64) -> PxBox {
+        let half = text.chars().count() as f64 * font * CHAR_EM / 2.0;
+        PxBox { x0: x - half, y0: y - font * 0.85, x1: x + half, y1: y + font * 0.25 }
+    }
+
+    fn overlaps(&self, other: &PxBox) -> bool {
+        self.x0 < other.x1 && other.x0 < self.x1 && self.y0 < other.y1 && other.y0 < self.y1
+    }
+}
+
+/// The point inside a room where its label reads best: the grid point farthest from its walls
+/// (the area centroid of an L-shaped room may lie outside it).
+fn label_point(poly: &[[f64; 2]]) -> [f64; 2] {
+    let count = poly.len().max(1) as f64;
+    let average = [
+        poly.iter().map(|p| p[0]).sum::<f64>() / count,
+        poly.iter().map(|p| p[1]).sum::<f64>() / count,
+    ];
+    if poly.len() < 3 {
+        return average;
+    }
+    let aabb = crate::geometry::Aabb::of(poly);
+    let centroid = crate::geometry::area_centroid(poly);
+    let clearance = |p: [f64; 2]| {
+        (0..poly.len())
+            .map(|i| crate::geometry::distance_to_segment(p, poly[i], poly[(i + 1) % poly.len()]))
+            .fold(f64::INFINITY, f64::min)
+    };
+    let mut best: Option<([f64; 2], f64)> = None;
+    if crate::geometry::point_in_polygon(centroid, poly) {
+        best = Some((centroid, clearance(centroid)));
+    }
+    for i in 1..LABEL_GRID_STEPS {
+        for j in 1..LABEL_GRID_STEPS {
+            let p = [
+                aabb.min[0] + aabb.width() * i as f64 / LABEL_GRID_STEPS as f64,
+                aabb.min[1] + aabb.depth() * j as f64 / LABEL_GRID_STEPS as f64,
+            ];
+            if !crate::geometry::point_in_polygon(p, poly) {
+                continue;
+            }
+            let c = clearance(p);
+            // The centroid keeps its place unless a point is clearly better.
+            if best.is_none_or(|(_, b)| c > b * 1.25 + 1e-9) {
+                best = Some((p, c));
+            }
+        }
+    }
+    best.map_or(average, |(p, _)| p)
+}
+
+/// Splits a text into lines of at most `width` characters, at spaces where it can.
+fn wrap(text: &str, width: usize) -> Vec<String> {
+    let mut lines = Vec::new();
+    let mut line = String::new();
+    for word in text.split_whitespace() {
+        let needed = line.chars().count() + usize::from(!line.is_empty()) + word.chars().count();
+        if !line.is_empty() && needed > width {
+            lines.push(std::mem::take(&mut line));
+        }
+        if !line.is_empty() {
+            line.push(' ');
+        }
+        line.push_str(word);
+        while line.chars().count() > width {
+            let cut: String = line.chars().take(width).collect();
+            let rest: String = line.chars().skip(width).collect();
+            lines.push(cut);
+            line = rest;
+        }
+    }
+    if !line.is_empty() {
+        lines.push(line);
+    }
+    lines
+}
+
+fn text(x: f64, y: f64, size: f64, fill: &str, content: impl Into<String>) -> Text {
+    Text::new("")
+        .set("x", n(x))
+        .set("y", n(y))
+        .set("font-size", n(size))
+        .set("fill", fill.to_string())
+        .add(TextNode::new(content.into()))
+}
+
+/// The fill, stroke and dash pattern of an object's footprint.
+fn object_style(level: ObjectLevel) -> (&'static str, &'static str, &'static str) {
+    match level {
+        ObjectLevel::Floor => ("#cfe0c3", "#4d7a35", "none"),
+        ObjectLevel::Wall => ("#e3d3f0", "#7a4d9a", "none"),
+        ObjectLevel::Small => ("#fbe7a8", "#a8842a", "none"),
+        ObjectLevel::Ceiling => ("none", "#888888", "5 3"),
+    }
+}
+
+/// The length of the scale bar: a round number of metres near a fifth of the plan's width.
+fn scale_bar_m(plan_width_m: f64) -> f64 {
+    [0.5, 1.0, 2.0, 5.0, 10.0, 20.0, 50.0]
+        .into_iter()
+        .rev()
+        .find(|&l| l <= plan_width_m / 4.0)
+        .unwrap_or(0.5)
+}
+
 /// Draws the plan as an SVG document.
 pub fn render_svg(drawing: &Drawing) -> String {
     let mut xs: Vec<f64> = Vec::new();
@@ -171,6 +313,16 @@ pub fn render_svg(drawing: &Drawing) -> String {
         for p in &r.polygon {
             xs.push(p[0]);
             zs.push(p[1]);
+        }
+    }
+    // A door leaf that swings out of the house stays on the drawing.
+    for d in &drawing.doors {
+        if let Some(s) = d.swing {
+            let len = (d.opening.b[0] - d.opening.a[0]).hypot(d.opening.b[1] - d.opening.a[1]);
+            for end in [d.opening.a, d.opening.b] {
+                xs.push(end[0] + s[0] * len);
+                zs.push(end[1] + s[1] * len);
+            }
         }
     }
     let fold = |v: &[f64], f: fn(f64, f64) -> f64, init: f64| v.iter().copied().fold(init, f);
@@ -185,9 +337,203 @@ pub fn render_svg(drawing: &Drawing) -> String {
         (fold(&zs, f64::min, f64::INFINITY), fold(&zs, f64::max, f64::NEG_INFINITY))
     };
     let min = [min_x, min_z];
-    let legend_lines = drawing.unplaced.len() + drawing.violations.len();
-    let width = (max_x - min_x + 2.0 * MARGIN_M) * SCALE;
-    let height = (max_z - min_z + 2.0 * MARGIN_M) * SCALE + 20.0 * (legend_lines as f64 + 1.0);
+    let plan_w = (max_x - min_x + 2.0 * MARGIN_M) * SCALE;
+    let plan_h = (max_z - min_z + 2.0 * MARGIN_M) * SCALE;
+
+    // Labels first (they decide the key), then the panel (it decides the height).
+    let mut taken: Vec<PxBox> = Vec::new();
+    let mut room_labels = Group::new().set("id", "room-labels");
+    for r in &drawing.rooms {
+        if r.polygon.is_empty() {
+            continue;
+        }
+        let (x, y) = px(label_point(&r.polygon), min, max_z);
+        let area = crate::geometry::signed_area(&r.polygon).abs();
+        let area_text = format!("{area:.1} m²");
+        taken.push(PxBox::text(x, y, &r.label, 16.0));
+        taken.push(PxBox::text(x, y + 15.0, &area_text, 11.0));
+        room_labels = room_labels
+            .add(
+                text(x, y, 16.0, "#9c8f78", r.label.clone())
+                    .set("font-weight", "bold")
+                    .set("text-anchor", "middle"),
+            )
+            .add(text(x, y + 15.0, 11.0, "#9c8f78", area_text).set("text-anchor", "middle"));
+    }
+
+    let mut key: Vec<(usize, String)> = Vec::new();
+    let mut objects = Group::new().set("id", "objects");
+    // Names go above every footprint, so that no later footprint covers them.
+    let mut names = Group::new().set("id", "object-labels");
+    for o in &drawing.objects {
+        let half = [o.size[0] / 2.0, o.size[1] / 2.0];
+        let corners: Vec<[f64; 2]> =
+            [[-half[0], -half[1]], [-half[0], half[1]], [half[0], half[1]], [half[0], -half[1]]]
+                .iter()
+                .map(|d| {
+                    let r = rotate(*d, o.facing_deg);
+                    [o.center[0] + r[0], o.center[1] + r[1]]
+                })
+                .collect();
+        let (fill, stroke, dash) = object_style(o.level);
+        let front = rotate([0.0, half[1]], o.facing_deg);
+        let (fx, fy) = px([o.center[0] + front[0], o.center[1] + front[1]], min, max_z);
+        let (cx, cy) = px(o.center, min, max_z);
+        let mut g = Group::new()
+            .set("class", "object")
+            .set("data-name", o.name.clone())
+            .set("data-level", format!("{:?}", o.level).to_lowercase())
+            .add(Title::new(o.name.clone()))
+            .add(
+                Polygon::new()
+                    .set("points", points(&corners, min, max_z))
+                    .set("fill", fill)
+                    .set("fill-opacity", "0.8")
+                    .set("stroke", stroke)
+                    .set("stroke-width", 1.5)
+                    .set("stroke-dasharray", dash),
+            );
+        if o.level != ObjectLevel::Ceiling {
+            g = g.add(
+                Circle::new().set("cx", n(fx)).set("cy", n(fy)).set("r", 3).set("fill", stroke),
+            );
+        }
+        // The name at the centre, or just above or below the footprint; where all three
+        // would cover another label, a number that the key beside the plan explains.
+        let ys: Vec<f64> = corners.iter().map(|c| px(*c, min, max_z).1).collect();
+        let top = ys.iter().copied().fold(f64::INFINITY, f64::min);
+        let bottom = ys.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        let spots = [cy + 3.0, top - 3.0, bottom + LABEL_FONT + 1.0];
+        let free = spots
+            .iter()
+            .map(|&y| (y, PxBox::text(cx, y, &o.name, LABEL_FONT)))
+            .find(|(_, b)| !taken.iter().any(|t| t.overlaps(b)));
+        match free {
+            Some((y, b)) => {
+                taken.push(b);
+                names = names.add(
+                    text(cx, y, LABEL_FONT, "#222222", o.name.clone()).set("text-anchor", "middle"),
+                );
+            }
+            None => {
+                let number = key.len() + 1;
+                key.push((number, o.name.clone()));
+                let label = number.to_string();
+                taken.push(PxBox::text(cx, cy + 3.0, &label, LABEL_FONT));
+                names = names.add(
+                    text(cx, cy + 3.0, LABEL_FONT, "#222222", label)
+                        .set("text-anchor", "middle")
+                        .set("font-weight", "bold"),
+                );
+            }
+        }
+        objects = objects.add(g);
+    }
+
+    // The panel: title, legend, key, left-out objects, relations not kept.
+    let x0 = plan_w + 12.0;
+    let mut panel = Group::new().set("id", "panel");
+    let mut y = 22.0;
+    let title = if drawing.title.is_empty() { "plan".to_string() } else { drawing.title.clone() };
+    for line in wrap(&title, 34) {
+        panel = panel.add(text(x0, y, 14.0, "#222222", line).set("font-weight", "bold"));
+        y += 18.0;
+    }
+    y += 6.0;
+    panel = panel.add(text(x0, y, 12.0, "#222222", "Legend").set("font-weight", "bold"));
+    y += 8.0;
+    let mut legend = Group::new().set("id", "legend");
+    for (level, what) in [
+        (ObjectLevel::Floor, "floor object (dot: its front)"),
+        (ObjectLevel::Wall, "wall object"),
+        (ObjectLevel::Small, "item on top of another object"),
+        (ObjectLevel::Ceiling, "ceiling object"),
+    ] {
+        let (fill, stroke, dash) = object_style(level);
+        legend = legend
+            .add(
+                Rectangle::new()
+                    .set("x", n(x0))
+                    .set("y", n(y))
+                    .set("width", 22)
+                    .set("height", 11)
+                    .set("fill", fill)
+                    .set("stroke", stroke)
+                    .set("stroke-dasharray", dash),
+            )
+            .add(text(x0 + 30.0, y + 10.0, 11.0, "#222222", what));
+        y += PANEL_LINE;
+    }
+    legend = legend
+        .add(
+            Rectangle::new()
+                .set("x", n(x0))
+                .set("y", n(y))
+                .set("width", 22)
+                .set("height", 11)
+                .set("fill", "#f6c6c6")
+                .set("stroke", "#d98080")
+                .set("stroke-dasharray", "4 3"),
+        )
+        .add(text(x0 + 30.0, y + 10.0, 11.0, "#222222", "keep-out zone (door, open connection)"));
+    y += PANEL_LINE;
+    for (stroke, width, dash, what) in [
+        ("#333333", 6.0, "none", "wall"),
+        ("#6fb7e9", 6.0, "none", "window"),
+        ("#8a5a2b", 2.0, "3 3", "door: leaf and swing"),
+        ("#d62728", 2.0, "6 3", "relation not kept"),
+    ] {
+        legend = legend
+            .add(
+                line((x0, y + 6.0), (x0 + 22.0, y + 6.0))
+                    .set("stroke", stroke)
+                    .set("stroke-width", n(width))
+                    .set("stroke-dasharray", dash),
+            )
+            .add(text(x0 + 30.0, y + 10.0, 11.0, "#222222", what));
+        y += PANEL_LINE;
+    }
+    panel = panel.add(legend);
+    let list = |panel: Group, y: &mut f64, heading: String, items: Vec<String>, fill: &str| {
+        let mut g = panel;
+        if items.is_empty() {
+            return g;
+        }
+        *y += 10.0;
+        g = g.add(text(x0, *y, 12.0, "#222222", heading).set("font-weight", "bold"));
+        *y += PANEL_LINE;
+        for item in items {
+            for (i, line) in wrap(&item, PANEL_CHARS).into_iter().enumerate() {
+                let indent = if i == 0 { 0.0 } else { 12.0 };
+                g = g.add(text(x0 + indent, *y, 10.5, fill, line));
+                *y += PANEL_LINE - 1.0;
+            }
+        }
+        g
+    };
+    panel = list(
+        panel,
+        &mut y,
+        "Key".to_string(),
+        key.iter().map(|(k, name)| format!("{k}  {name}")).collect(),
+        "#222222",
+    );
+    panel = list(
+        panel,
+        &mut y,
+        format!("Left out ({})", drawing.left_out.len()),
+        drawing.left_out.iter().map(|l| format!("{}: {}", l.name, l.reason)).collect(),
+        "#d62728",
+    );
+    panel = list(
+        panel,
+        &mut y,
+        format!("Not kept ({})", drawing.violations.len()),
+        drawing.violations.iter().map(|v| v.text.clone()).collect(),
+        "#d62728",
+    );
+    let width = plan_w + PANEL_W;
+    let height = plan_h.max(y + 10.0);
 
     let mut doc = Document::new()
         .set("xmlns", "http://www.w3.org/2000/svg")
@@ -290,129 +636,83 @@ pub fn render_svg(drawing: &Drawing) -> String {
             max_z,
         );
         doors = doors.add(
-            Text::new("")
-                .set("x", n(label_at.0))
-                .set("y", n(label_at.1 - 6.0))
-                .set("font-size", 9)
-                .set("fill", "#8a5a2b")
-                .set("text-anchor", "middle")
-                .add(TextNode::new(d.label.clone())),
+            text(label_at.0, label_at.1 - 6.0, 9.0, "#8a5a2b", d.label.clone())
+                .set("text-anchor", "middle"),
         );
     }
     doc = doc.add(doors);
-
-    let mut objects = Group::new().set("id", "objects");
-    for o in &drawing.objects {
-        let half = [o.size[0] / 2.0, o.size[1] / 2.0];
-        let corners: Vec<[f64; 2]> =
-            [[-half[0], -half[1]], [-half[0], half[1]], [half[0], half[1]], [half[0], -half[1]]]
-                .iter()
-                .map(|d| {
-                    let r = rotate(*d, o.facing_deg);
-                    [o.center[0] + r[0], o.center[1] + r[1]]
-                })
-                .collect();
-        let (fill, stroke, dash) = match o.level {
-            ObjectLevel::Floor => ("#cfe0c3", "#4d7a35", "none"),
-            ObjectLevel::Wall => ("#e3d3f0", "#7a4d9a", "none"),
-            ObjectLevel::Small => ("#fbe7a8", "#a8842a", "none"),
-            ObjectLevel::Ceiling => ("none", "#888888", "5 3"),
-        };
-        let front = rotate([0.0, half[1]], o.facing_deg);
-        let front_pt = [o.center[0] + front[0], o.center[1] + front[1]];
-        let (fx, fy) = px(front_pt, min, max_z);
-        let (cx, cy) = px(o.center, min, max_z);
-        let mut g = Group::new().set("class", "object").add(Title::new(o.name.clone())).add(
-            Polygon::new()
-                .set("points", points(&corners, min, max_z))
-                .set("fill", fill)
-                .set("fill-opacity", "0.8")
-                .set("stroke", stroke)
-                .set("stroke-width", 1.5)
-                .set("stroke-dasharray", dash),
-        );
-        if o.level != ObjectLevel::Ceiling {
-            g = g.add(
-                Circle::new().set("cx", n(fx)).set("cy", n(fy)).set("r", 3).set("fill", stroke),
-            );
-        }
-        g = g.add(
-            Text::new("")
-                .set("x", n(cx))
-                .set("y", n(cy + 3.0))
-                .set("font-size", 9)
-                .set("text-anchor", "middle")
-                .set("fill", "#222222")
-                .add(TextNode::new(o.name.clone())),
-        );
-        objects = objects.add(g);
-    }
     doc = doc.add(objects);
-
-    let mut labels = Group::new().set("id", "room-labels");
-    for r in &drawing.rooms {
-        if r.polygon.is_empty() {
-            continue;
-        }
-        let count = r.polygon.len() as f64;
-        let c = [
-            r.polygon.iter().map(|p| p[0]).sum::<f64>() / count,
-            r.polygon.iter().map(|p| p[1]).sum::<f64>() / count,
-        ];
-        let (x, y) = px(c, min, max_z);
-        labels = labels.add(
-            Text::new("")
-                .set("x", n(x))
-                .set("y", n(y))
-                .set("font-size", 16)
-                .set("font-weight", "bold")
-                .set("fill", "#9c8f78")
-                .set("fill-opacity", "0.8")
-                .set("text-anchor", "middle")
-                .add(TextNode::new(r.label.clone())),
-        );
-    }
-    doc = doc.add(labels);
+    doc = doc.add(room_labels);
+    doc = doc.add(names);
 
     let mut bad = Group::new().set("id", "violations");
     for v in &drawing.violations {
         let (x1, y1) = px(v.from, min, max_z);
-        let (x2, y2) = px(v.to, min, max_z);
-        bad = bad.add(
-            line((x1, y1), (x2, y2))
+        let mark = match v.to {
+            Some(to) => {
+                let (x2, y2) = px(to, min, max_z);
+                line((x1, y1), (x2, y2))
+                    .set("stroke", "#d62728")
+                    .set("stroke-width", 2)
+                    .set("stroke-dasharray", "6 3")
+                    .add(Title::new(v.text.clone()))
+            }
+            // A placement not kept: a short red cross on the object.
+            None => line((x1 - 6.0, y1 - 6.0), (x1 + 6.0, y1 + 6.0))
                 .set("stroke", "#d62728")
                 .set("stroke-width", 2)
-                .set("stroke-dasharray", "6 3")
                 .add(Title::new(v.text.clone())),
-        );
+        };
+        bad = bad.add(mark);
     }
     doc = doc.add(bad);
 
-    let mut legend = Group::new().set("id", "legend");
-    let mut y = (max_z - min_z + 2.0 * MARGIN_M) * SCALE + 14.0;
-    for v in &drawing.violations {
-        legend = legend.add(
-            Text::new("")
-                .set("x", 10)
-                .set("y", n(y))
-                .set("font-size", 11)
-                .set("fill", "#d62728")
-                .add(TextNode::new(format!("violated: {}", v.text))),
-        );
-        y += 20.0;
-    }
-    for u in &drawing.unplaced {
-        legend = legend.add(
-            Text::new("")
-                .set("x", 10)
-                .set("y", n(y))
-                .set("font-size", 11)
-                .set("fill", "#d62728")
-                .add(TextNode::new(format!("not placed: {u}"))),
-        );
-        y += 20.0;
-    }
-    doc = doc.add(legend);
+    // The scale bar (bottom left) and the north arrow (top left), in the margin.
+    let bar_m = scale_bar_m(max_x - min_x);
+    let bar_px = bar_m * SCALE;
+    let (bx, by) = (MARGIN_M * SCALE, plan_h - MARGIN_M * SCALE / 2.0);
+    let bar_label =
+        if bar_m < 1.0 { format!("{} cm", bar_m * 100.0) } else { format!("{bar_m} m") };
+    let scale = Group::new()
+        .set("id", "scale-bar")
+        .add(line((bx, by), (bx + bar_px, by)).set("stroke", "#222222").set("stroke-width", 2))
+        .add(line((bx, by - 5.0), (bx, by + 5.0)).set("stroke", "#222222").set("stroke-width", 2))
+        .add(
+            line((bx + bar_px, by - 5.0), (bx + bar_px, by + 5.0))
+                .set("stroke", "#222222")
+                .set("stroke-width", 2),
+        )
+        .add(text(bx, by - 8.0, 10.0, "#222222", "0").set("text-anchor", "middle"))
+        .add(text(bx + bar_px, by - 8.0, 10.0, "#222222", bar_label).set("text-anchor", "middle"));
+    doc = doc.add(scale);
+    let (nx, ny) = (MARGIN_M * SCALE / 2.0, MARGIN_M * SCALE / 2.0 + 8.0);
+    let north = Group::new()
+        .set("id", "north-arrow")
+        .add(
+            Polygon::new()
+                .set(
+                    "points",
+                    format!(
+                        "{},{} {},{} {},{}",
+                        n(nx),
+                        n(ny - 22.0),
+                        n(nx - 7.0),
+                        n(ny),
+                        n(nx + 7.0),
+                        n(ny)
+                    ),
+                )
+                .set("fill", "#222222"),
+        )
+        .add(
+            text(nx, ny + 13.0, 12.0, "#222222", "N")
+                .set("text-anchor", "middle")
+                .set("font-weight", "bold"),
+        )
+        .add(Title::new("north is +z"));
+    doc = doc.add(north);
+    doc = doc.add(panel);
+
     let mut out = doc.to_string();
     out.push('\n');
     out
@@ -445,12 +745,18 @@ mod tests {
                 facing_deg: 90.0,
                 level: ObjectLevel::Floor,
             }],
-            violations: vec![DrawViolation {
-                from: [1.0, 2.0],
-                to: [3.0, 3.0],
-                text: "near tv-0 (2.1 m)".into(),
+            violations: vec![
+                DrawViolation {
+                    from: [1.0, 2.0],
+                    to: Some([3.0, 3.0]),
+                    text: "sofa-0: near tv-0 (2.1 m)".into(),
+                },
+                DrawViolation { from: [1.0, 2.0], to: None, text: "sofa-0: edge".into() },
+            ],
+            left_out: vec![LeftOut {
+                name: "lamp-0".into(),
+                reason: "no free spot by the wall".into(),
             }],
-            unplaced: vec!["lamp-0: no free spot by the wall".into()],
         };
         let a = render_svg(&drawing);
         assert_eq!(a, render_svg(&drawing));
@@ -458,8 +764,14 @@ mod tests {
             "living room",
             "sofa-0",
             "doorway",
-            "violated: near tv-0",
-            "not placed: lamp-0",
+            "sofa-0: near tv-0",
+            "sofa-0: edge",
+            "Left out (1)",
+            "lamp-0: no free spot by the wall",
+            "Legend",
+            "20.0 m²",
+            "id=\"scale-bar\"",
+            "id=\"north-arrow\"",
             "<circle",
         ] {
             assert!(a.contains(needle), "the drawing lacks {needle}");

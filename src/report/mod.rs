@@ -103,3 +103,65 @@ pub fn report(built: &Built, catalog: &Catalog) -> Value {
         "layout": rooms,
     })
 }
+
+/// What a build made, in the counts `holoc build` prints on its last line.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Summary {
+    /// Rooms in the house.
+    pub rooms: usize,
+    /// Objects the scene asks for: floor and wall objects, items on top, ceiling objects.
+    pub asked: usize,
+    /// Objects in the house.
+    pub placed: usize,
+    /// Relations (and global placements) the layout keeps.
+    pub relations_kept: usize,
+    /// Relations (and global placements) of every placed floor object.
+    pub relations_total: usize,
+}
+
+impl Summary {
+    /// Counts a finished build.
+    pub fn of(built: &Built) -> Summary {
+        let resolved = &built.resolved;
+        let asked = resolved.objects.len()
+            + resolved.ceilings.len()
+            + resolved.small.values().map(Vec::len).sum::<usize>();
+        let (relations_kept, relations_total) = built
+            .layout
+            .rooms
+            .iter()
+            .map(|r| r.layout.constraint_tally(&r.problem))
+            .fold((0, 0), |(a, b), (c, d)| (a + c, b + d));
+        Summary {
+            rooms: built.house.house.rooms.len(),
+            asked,
+            placed: built.house.object_count(),
+            relations_kept,
+            relations_total,
+        }
+    }
+
+    /// Objects asked for that are not in the house.
+    pub fn left_out(&self) -> usize {
+        self.asked.saturating_sub(self.placed)
+    }
+}
+
+impl std::fmt::Display for Summary {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let plural =
+            |n: usize, one: &'static str, many: &'static str| if n == 1 { one } else { many };
+        write!(
+            f,
+            "{} {}, {} of {} objects placed",
+            self.rooms,
+            plural(self.rooms, "room", "rooms"),
+            self.placed,
+            self.asked
+        )?;
+        if self.left_out() > 0 {
+            write!(f, " ({} left out)", self.left_out())?;
+        }
+        write!(f, ", {} of {} relations kept", self.relations_kept, self.relations_total)
+    }
+}

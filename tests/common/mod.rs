@@ -87,3 +87,36 @@ pub fn corpus_name(path: &Path) -> String {
     let s = path.to_string_lossy().replace('\\', "/");
     s.split("tests/corpus/").nth(1).unwrap_or(&s).to_string()
 }
+
+/// Says that a test did not run and why, where a person sees it: on the terminal even though
+/// the harness captures the test's output (the message goes straight to stderr, past the
+/// capture), and as one line in the file `HOLOC_SKIPPED_LOG` names, which CI counts for its
+/// closing line.
+pub fn skip(test: &str, reason: &str) {
+    use std::io::Write as _;
+    let line = format!("SKIPPED {test}: {reason}\n");
+    let _ = std::io::stderr().write_all(line.as_bytes());
+    if let Some(log) = std::env::var_os("HOLOC_SKIPPED_LOG") {
+        if let Ok(mut file) = std::fs::OpenOptions::new().create(true).append(true).open(log) {
+            let _ = file.write_all(line.as_bytes());
+        }
+    }
+}
+
+/// The folder `../shared/<rel>` of the reference data, or `None` after [`skip`] said that
+/// `test` does not run without it.
+pub fn shared(rel: &str, test: &str) -> Option<std::path::PathBuf> {
+    let path = Path::new("../shared").join(rel);
+    if path.exists() {
+        Some(path)
+    } else {
+        skip(
+            test,
+            &format!(
+                "{} is absent (the reference data is not beside the checkout)",
+                path.display()
+            ),
+        );
+        None
+    }
+}
