@@ -71,9 +71,13 @@ fn every_page_example_produces_its_code_and_no_other() {
     for code in Code::ALL {
         let blocks = code_blocks(code.page());
         let Some((_, example)) = blocks.iter().find(|(info, _)| info == "holo") else {
-            // Codes about files and the command line have `text` examples of a session.
+            // Codes about files and the command line have examples of a session: a `console`
+            // transcript (run by tests/transcripts.rs) that shows the code, or a `text` one.
             assert!(
-                blocks.iter().any(|(info, _)| info == "text" || info == "json"),
+                blocks.iter().any(|(info, body)| (info == "console"
+                    && body.contains(code.as_str()))
+                    || info == "text"
+                    || info == "json"),
                 "{}: the page has no example",
                 code.as_str()
             );
@@ -128,7 +132,8 @@ fn book_snippets_check_without_errors() {
         let text = std::fs::read_to_string(&path).expect("readable");
         for (info, body) in code_blocks(&text) {
             // `holo excerpt` marks a piece of a larger file (the tutorial's transcripts test
-            // checks that it is one); every other `holo` block is a whole file.
+            // checks that it is one) and `holo broken` a file shown for its errors (its
+            // transcript shows them); every other `holo` block is a whole, valid file.
             if info != "holo" {
                 continue;
             }
