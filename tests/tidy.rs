@@ -74,10 +74,11 @@ fn every_page_example_produces_its_code_and_no_other() {
             // Codes about files and the command line have examples of a session: a `console`
             // transcript (run by tests/transcripts.rs) that shows the code, or a `text` one.
             assert!(
-                blocks.iter().any(|(info, body)| (info == "console"
-                    && body.contains(code.as_str()))
-                    || info == "text"
-                    || info == "json"),
+                blocks
+                    .iter()
+                    .any(|(info, body)| (info == "console" && body.contains(code.as_str()))
+                        || info == "text"
+                        || info == "json"),
                 "{}: the page has no example",
                 code.as_str()
             );
