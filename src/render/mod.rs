@@ -443,13 +443,14 @@ pub fn render_svg(drawing: &Drawing) -> String {
     panel = panel.add(text(x0, y, 12.0, "#222222", "Legend").set("font-weight", "bold"));
     y += 8.0;
     let mut legend = Group::new().set("id", "legend");
-    for (level, what) in [
-        (ObjectLevel::Floor, "floor object (dot: its front)"),
-        (ObjectLevel::Wall, "wall object"),
-        (ObjectLevel::Small, "item on top of another object"),
-        (ObjectLevel::Ceiling, "ceiling object"),
+    let swatch = |level: ObjectLevel| object_style(level);
+    for ((fill, stroke, dash), what) in [
+        (swatch(ObjectLevel::Floor), "floor object (dot: its front)"),
+        (swatch(ObjectLevel::Wall), "wall object"),
+        (swatch(ObjectLevel::Small), "item on top of another object"),
+        (swatch(ObjectLevel::Ceiling), "ceiling object"),
+        (("#f6c6c6", "#d98080", "4 3"), "keep-out zone (door, open connection)"),
     ] {
-        let (fill, stroke, dash) = object_style(level);
         legend = legend
             .add(
                 Rectangle::new()
@@ -464,19 +465,6 @@ pub fn render_svg(drawing: &Drawing) -> String {
             .add(text(x0 + 30.0, y + 10.0, 11.0, "#222222", what));
         y += PANEL_LINE;
     }
-    legend = legend
-        .add(
-            Rectangle::new()
-                .set("x", n(x0))
-                .set("y", n(y))
-                .set("width", 22)
-                .set("height", 11)
-                .set("fill", "#f6c6c6")
-                .set("stroke", "#d98080")
-                .set("stroke-dasharray", "4 3"),
-        )
-        .add(text(x0 + 30.0, y + 10.0, 11.0, "#222222", "keep-out zone (door, open connection)"));
-    y += PANEL_LINE;
     for (stroke, width, dash, what) in [
         ("#333333", 6.0, "none", "wall"),
         ("#6fb7e9", 6.0, "none", "window"),
