@@ -99,7 +99,9 @@ pub fn build(
         return Outcome::new(None, diagnostics);
     }
     let layout = solved.value;
-    let objects = layout.lowered(&scene, &plan, &resolved);
+    let mut plan = plan;
+    plan.agent = crate::lower::agent_start(&plan, &layout);
+    let objects = crate::lower::objects(&layout, &scene, &plan, &resolved);
     let house = crate::lower::lower(&scene, &plan, &objects);
     Outcome::new(Some(Built { scene, plan, resolved, layout, objects, house }), diagnostics)
 }

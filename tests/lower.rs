@@ -99,6 +99,7 @@ fn objects_get_their_room_layer() {
         rotation_deg: [0.0, 90.0, 0.0],
         kinematic: true,
         object_name: "desk-0".into(),
+        parent: None,
     };
     let house = lower(&scene, &planned.value, &[object]);
     let o = &house.house.objects[0];
@@ -111,4 +112,63 @@ fn objects_get_their_room_layer() {
         validate(&sources, id, StructureCatalog::builtin(), &holoc::resolve::Catalog::embedded());
     let codes: Vec<&str> = outcome.diagnostics.iter().map(|d| d.code.as_str()).collect();
     assert!(codes.iter().all(|c| *c == "W0601"), "{codes:?}");
+}
+
+/// Items on a receptacle are written among its `children` and left to physics, as ProcTHOR
+/// writes them.
+#[test]
+fn items_on_a_receptacle_are_its_children() {
+    let text = std::fs::read_to_string("tests/corpus/plan/ok/hallway_three_offices.holo")
+        .expect("fixture");
+    let mut sources = SourceMap::new();
+    let id = sources.add("hall.holo", text);
+    let scene = holoc::compile::check_file(&sources, id).value.expect("no syntax errors");
+    let planned = plan(&scene, StructureCatalog::builtin());
+    let room = holoc::check::scene::RoomId(2);
+    let desk = holoc::lower::LoweredObject {
+        id: "desk-0 (office-2)".into(),
+        asset_id: "Desk_301_1".into(),
+        room,
+        position_m: [6.0, 0.4, 4.0],
+        rotation_deg: [0.0, 90.0, 0.0],
+        kinematic: true,
+        object_name: "desk-0".into(),
+        parent: None,
+    };
+    let laptop = holoc::lower::LoweredObject {
+        id: "laptop-0|desk-0 (office-2)".into(),
+        asset_id: "Laptop_1".into(),
+        room,
+        position_m: [6.0, 0.8, 4.0],
+        rotation_deg: [0.0, 90.0, 0.0],
+        kinematic: false,
+        object_name: "laptop-0".into(),
+        parent: Some("desk-0 (office-2)".into()),
+    };
+    let house = lower(&scene, &planned.value, &[desk, laptop]);
+    assert_eq!(house.house.objects.len(), 1, "only the desk is at the top level");
+    let children = &house.house.objects[0].children;
+    assert_eq!(children.len(), 1);
+    assert_eq!(children[0].id, "laptop-0|desk-0 (office-2)");
+    assert!(!children[0].kinematic);
+    assert_eq!(house.object_count(), 2);
+    let json: serde_json::Value = serde_json::from_str(&house.to_json_string()).expect("json");
+    assert_eq!(json["objects"][0]["children"][0]["assetId"], "Laptop_1");
+}
+
+#[test]
+fn room_labels_map_to_procthor_room_types() {
+    for (label, want) in [
+        ("living room", "LivingRoom"),
+        ("Kitchen", "Kitchen"),
+        ("kitchen and living room", "Kitchen"),
+        ("master bedroom", "Bedroom"),
+        ("guest bathroom", "Bathroom"),
+        ("powder room", "Bathroom"),
+        ("nursery", "Bedroom"),
+        ("office", "office"),
+        ("music room", "music room"),
+    ] {
+        assert_eq!(holoc::lower::room_type(label), want, "{label}");
+    }
 }

@@ -6,8 +6,13 @@
 //! degrees. Every float is rounded to 1e-6 before printing ([`crate::geometry::round6`]), so the
 //! same input and seed give the same bytes.
 
+mod agent;
+mod objects;
 pub mod thor;
 pub mod validate;
+
+pub use agent::{agent_start, AGENT_RADIUS_M};
+pub use objects::objects;
 
 use std::collections::BTreeMap;
 
@@ -38,6 +43,8 @@ pub struct LoweredObject {
     pub kinematic: bool,
     /// The instance name, e.g. `sofa-0`.
     pub object_name: String,
+    /// The id of the receptacle it stands on (it is written among that object's `children`).
+    pub parent: Option<String>,
 }
 
 /// The lowered house, ready to print.
@@ -59,13 +66,51 @@ impl HouseJson {
 
     /// Every object of the house, receptacles before the items on them, in the house's order.
     pub fn all_objects(&self) -> Vec<&thor::Object> {
-        self.house.objects.iter().collect()
+        let mut out = Vec::new();
+        let mut pending: Vec<&thor::Object> = self.house.objects.iter().rev().collect();
+        while let Some(o) = pending.pop() {
+            out.push(o);
+            pending.extend(o.children.iter().rev());
+        }
+        out
     }
 
     /// How many objects the house holds.
     pub fn object_count(&self) -> usize {
         self.all_objects().len()
     }
+}
+
+/// ProcTHOR's room types, with the words of a room label that mean each, in the order they are
+/// tried (a "kitchen and living room" is a kitchen; a "bathroom" is never a bedroom).
+const ROOM_TYPES: [(&str, &[&str]); 4] = [
+    (
+        "Bathroom",
+        &[
+            "bathroom", "bath", "toilet", "restroom", "washroom", "wc", "lavatory", "powder",
+            "shower", "ensuite",
+        ],
+    ),
+    ("Kitchen", &["kitchen", "kitchenette", "pantry", "galley", "scullery"]),
+    ("Bedroom", &["bedroom", "nursery", "guest", "dorm", "dormitory", "sleeping", "bunk"]),
+    (
+        "LivingRoom",
+        &["living", "lounge", "family", "den", "sitting", "parlor", "parlour", "great", "common"],
+    ),
+];
+
+/// The `roomType` of a room: one of ProcTHOR's types (`Kitchen`, `LivingRoom`, `Bedroom`,
+/// `Bathroom`) when a word of the label means it, else the label itself. AI2-THOR does nothing
+/// with the field; ProcTHOR-based code keys on those four. The label always survives in the
+/// room's `id`.
+pub fn room_type(label: &str) -> String {
+    let lower = label.to_lowercase();
+    let words: Vec<&str> =
+        lower.split(|c: char| !c.is_alphanumeric()).filter(|w| !w.is_empty()).collect();
+    ROOM_TYPES
+        .iter()
+        .find(|(_, keys)| words.iter().any(|w| keys.contains(w)))
+        .map_or_else(|| label.to_owned(), |(t, _)| (*t).to_owned())
 }
 
 fn v3(p: [f64; 2], y: f64) -> Vec3 {
@@ -96,7 +141,7 @@ pub fn lower(scene: &Scene, plan: &FloorPlan, objects: &[LoweredObject]) -> Hous
             room_type: scene
                 .rooms
                 .get(r.id.0)
-                .map_or_else(|| r.thor_id.clone(), |s| s.label.clone()),
+                .map_or_else(|| r.thor_id.clone(), |s| room_type(&s.label)),
             floor_polygon: r.polygon.iter().map(|&p| v3(p, 0.0)).collect(),
             floor_material: thor::Material { name: r.floor_material.clone(), color: None },
             ceilings: Vec::new(),
@@ -167,19 +212,27 @@ pub fn lower(scene: &Scene, plan: &FloorPlan, objects: &[LoweredObject]) -> Hous
             layer: layer(w.room),
         })
         .collect();
-    let objects = objects
-        .iter()
-        .map(|o| thor::Object {
-            id: o.id.clone(),
-            asset_id: o.asset_id.clone(),
-            kinematic: o.kinematic,
-            position: Vec3::new(o.position_m[0], o.position_m[1], o.position_m[2]),
-            rotation: Vec3::new(o.rotation_deg[0], o.rotation_deg[1], o.rotation_deg[2]),
-            layer: layer(o.room),
-            room_id: room_id(o.room),
-            object_name: o.object_name.clone(),
-        })
-        .collect();
+    let thor_object = |o: &LoweredObject| thor::Object {
+        id: o.id.clone(),
+        asset_id: o.asset_id.clone(),
+        kinematic: o.kinematic,
+        position: Vec3::new(o.position_m[0], o.position_m[1], o.position_m[2]),
+        rotation: Vec3::new(o.rotation_deg[0], o.rotation_deg[1], o.rotation_deg[2]),
+        layer: layer(o.room),
+        room_id: room_id(o.room),
+        object_name: o.object_name.clone(),
+        children: Vec::new(),
+    };
+    // Items on a receptacle go into its `children`, as ProcTHOR writes them.
+    let mut top: Vec<thor::Object> = Vec::new();
+    for o in objects {
+        let parent = o.parent.as_ref().and_then(|p| top.iter_mut().find(|t| t.id == *p));
+        match parent {
+            Some(receptacle) => receptacle.children.push(thor_object(o)),
+            None => top.push(thor_object(o)),
+        }
+    }
+    let objects = top;
     thor_house(plan, rooms, walls, doors, windows, objects)
 }
 

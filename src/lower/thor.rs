@@ -179,6 +179,9 @@ pub struct Object {
     /// The instance name (Holodeck extra key).
     #[serde(rename = "object_name")]
     pub object_name: String,
+    /// The objects standing on it, as ProcTHOR nests them (AI2-THOR spawns them with it).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub children: Vec<Object>,
 }
 
 /// Shadow settings of a light.

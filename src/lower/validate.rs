@@ -190,16 +190,19 @@ pub fn validate(
     let walls = arr(&value, "walls");
     let doors = arr(&value, "doors");
     let windows = arr(&value, "windows");
-    let objects = arr(&value, "objects");
+    let top_objects = arr(&value, "objects");
+    // Every object, receptacles before the items nested in their `children`.
+    let mut objects: Vec<&Value> = Vec::new();
+    let mut pending: Vec<&Value> = top_objects.iter().rev().collect();
+    while let Some(o) = pending.pop() {
+        objects.push(o);
+        pending.extend(arr(o, "children").iter().rev());
+    }
 
     // Unique ids, per kind.
     let mut seen_ids: BTreeMap<String, usize> = BTreeMap::new();
     let mut all: Vec<&Value> = rooms.iter().chain(walls).chain(doors).chain(windows).collect();
-    let mut stack: Vec<&Value> = objects.iter().collect();
-    while let Some(o) = stack.pop() {
-        all.push(o);
-        stack.extend(arr(o, "children"));
-    }
+    all.extend(objects.iter().copied());
     for v in &all {
         if let Some(id) = s(v, "id") {
             let n = seen_ids.entry(id.to_owned()).or_insert(0);
@@ -336,7 +339,7 @@ pub fn validate(
     // Objects inside rooms; floor footprints inside their room and not overlapping.
     let mut footprints: Vec<Footprint<'_>> = Vec::new();
     let mut sizeless = 0usize;
-    for o in objects {
+    for &o in &objects {
         let id = s(o, "id").unwrap_or("?");
         let Some(pos) = o.get("position").and_then(floor_point) else { continue };
         let inside = |poly: &Vec<Point>| {

@@ -82,7 +82,7 @@ pub(crate) fn run(
     } else {
         AgentPose { room: RoomId(0), position: [0.0, 0.0], rotation_deg: 0.0 }
     };
-    let ceiling_material = ctx.rooms.first().map(|r| r.wall_material.clone()).unwrap_or_default();
+    let ceiling_material = ceiling_material(ctx.rooms.first().map(|r| r.wall_material.as_str()));
     let plan = FloorPlan {
         seed: scene.seed,
         wall_height_m: scene.wall_height_m,
@@ -97,6 +97,21 @@ pub(crate) fn run(
         agent,
     };
     Outcome::new(plan, ctx.diags)
+}
+
+/// The material every ceiling falls back on: a painted white drywall.
+pub const DEFAULT_CEILING_MATERIAL: &str = "EggshellDrywall";
+
+/// The house's ceiling: the first room's wall material when it is a painted finish (drywall or
+/// plaster), so ceiling and walls match; otherwise (brick, tile, marble, wood panelling…) a
+/// painted white drywall, as real ceilings are.
+fn ceiling_material(first_wall: Option<&str>) -> String {
+    match first_wall {
+        Some(m) if ["drywall", "plaster"].iter().any(|w| m.to_lowercase().contains(w)) => {
+            m.to_owned()
+        }
+        _ => DEFAULT_CEILING_MATERIAL.to_owned(),
+    }
 }
 
 /// Removes repeated and straight-through corners, makes the outline clockwise and starts it at
@@ -791,7 +806,12 @@ impl Ctx<'_> {
             DoorSide::Exterior => wall.exterior_id(),
             DoorSide::Room(_) => wall.neighbour.as_ref().map(|n| n.1.clone()).unwrap_or_default(),
         };
-        let (wall0, wall1, start0, segment) = if matches!(from, DoorSide::Room(r) if r == room) {
+        // A door to the exterior is written as ProcTHOR writes it: the room on both sides and
+        // its own wall first, whichever way the scene named it (AI2-THOR orients the door and
+        // its `openFromRoomId` from `wall0`/`room0`).
+        let exterior = matches!(from, DoorSide::Exterior) || matches!(to, DoorSide::Exterior);
+        let room_first = exterior || matches!(from, DoorSide::Room(r) if r == room);
+        let (wall0, wall1, start0, segment) = if room_first {
             (room_wall, other_wall, s_int, (p1, p2))
         } else {
             (other_wall, room_wall, reverse_start, (p2, p1))
@@ -801,14 +821,19 @@ impl Ctx<'_> {
         let hole_max = [start0 + width - off[0], asset.bbox_m[1] - off[1]];
         let asset_position =
             [hole_min[0] + off[0] + width / 2.0, hole_min[1] + off[1] + asset.bbox_m[1] / 2.0];
-        let exterior = matches!(from, DoorSide::Exterior) || matches!(to, DoorSide::Exterior);
         let openable = kind == DoorKind::Doorway && !exterior;
+        let (room0, room1) = if exterior {
+            (self.thor_name(DoorSide::Room(room)), self.thor_name(DoorSide::Room(room)))
+        } else {
+            (self.thor_name(from), self.thor_name(to))
+        };
         self.doors.push(PlacedDoor {
             id: format!("door|{}|{}|{}", index, self.thor_name(from), self.thor_name(to)),
             kind,
             asset_id: asset.asset_id.clone(),
-            room0: self.thor_name(from),
-            room1: self.thor_name(to),
+            room0,
+            room1,
+            exterior,
             wall0,
             wall1,
             hole_min,
@@ -846,7 +871,8 @@ impl Ctx<'_> {
         let mut edges: Vec<(Option<usize>, Option<usize>)> = Vec::new();
         let side = |s: &str| self.rooms.iter().position(|r| r.thor_id == s);
         for d in &self.doors {
-            edges.push((side(&d.room0), side(&d.room1)));
+            let outside = if d.exterior { None } else { side(&d.room1) };
+            edges.push((side(&d.room0), outside));
         }
         for o in &self.open {
             edges.push((Some(o.rooms.0 .0), Some(o.rooms.1 .0)));
@@ -1277,13 +1303,7 @@ impl Ctx<'_> {
             .doors
             .iter()
             .find_map(|d| {
-                if d.room0 == "exterior" {
-                    self.rooms.iter().position(|r| r.thor_id == d.room1)
-                } else if d.room1 == "exterior" {
-                    self.rooms.iter().position(|r| r.thor_id == d.room0)
-                } else {
-                    None
-                }
+                d.exterior.then(|| self.rooms.iter().position(|r| r.thor_id == d.room0)).flatten()
             })
             .unwrap_or(0);
         let room = &self.rooms[start];

@@ -190,6 +190,8 @@ pub struct PlacedDoor {
     pub room0: String,
     /// Second side.
     pub room1: String,
+    /// Whether it leads outside (then `room0` and `room1` both name its room, as in ProcTHOR).
+    pub exterior: bool,
     /// The wall on the first side (the exterior copy when that side is `exterior`).
     pub wall0: String,
     /// The wall on the second side.

@@ -1,6 +1,6 @@
 //! The solve stage over a whole scene: builds one [`RoomProblem`] per room from the checked
-//! scene, the floor plan and the resolved assets, solves it, and turns the poses into the
-//! objects the house is lowered with.
+//! scene, the floor plan and the resolved assets, and solves it; `lower` turns the poses into
+//! the objects of the house.
 //!
 //! Objects whose asset could not be resolved are left out of the problems (the resolve stage has
 //! reported them), so they take no space and constraints naming them are dropped.
@@ -8,10 +8,8 @@
 use super::{room_problem, RoomLayout, RoomProblem, Sizes, SolveOptions, WallHole, WallSegment};
 use crate::check::scene::{ObjectId, RoomId, Scene, SmallItem};
 use crate::diag::Outcome;
-use crate::lower::LoweredObject;
 use crate::plan::{FloorPlan, HoleKind};
 use crate::resolve::{Resolution, Resolved};
-use std::collections::BTreeMap;
 
 /// The solved layout of every room.
 #[derive(Clone, Debug)]
@@ -180,100 +178,6 @@ fn round6(v: f64) -> f64 {
         0.0
     } else {
         r
-    }
-}
-
-fn position(p: [f64; 3]) -> [f64; 3] {
-    [round6(p[0]), round6(p[1]), round6(p[2])]
-}
-
-impl Layout {
-    /// The objects of the house: floor, wall, small and ceiling objects, room by room.
-    pub fn lowered(
-        &self,
-        scene: &Scene,
-        plan: &FloorPlan,
-        resolved: &Resolved,
-    ) -> Vec<LoweredObject> {
-        let mut out = Vec::new();
-        for solved in &self.rooms {
-            let label = &plan.room(solved.room).thor_id;
-            // Floor and wall objects: the placed ones, matched to the scene by instance name.
-            let floor_names: Vec<&str> =
-                solved.problem.objects.iter().map(|o| o.id.as_str()).collect();
-            let wall_names: Vec<&str> =
-                solved.problem.wall_objects.iter().map(|o| o.id.as_str()).collect();
-            for (placed_list, names, ids) in [
-                (&solved.layout.floor_world, &floor_names, &solved.floor_ids),
-                (&solved.layout.wall, &wall_names, &solved.wall_ids),
-            ] {
-                for placed in placed_list {
-                    let Some(index) = names.iter().position(|n| *n == placed.id) else { continue };
-                    let id = ids[index];
-                    let Some(choice) = resolved.object(id) else { continue };
-                    let name = &scene.object(id).name;
-                    out.push(LoweredObject {
-                        id: format!("{name} ({label})"),
-                        asset_id: choice.asset_id.clone(),
-                        room: solved.room,
-                        position_m: position(placed.position_m),
-                        rotation_deg: [0.0, placed.rotation_deg, 0.0],
-                        kinematic: true,
-                        object_name: name.clone(),
-                    });
-                }
-            }
-            // Small objects: the problem lists them in the order of `small_keys`; ids may repeat
-            // (two `on top` lines naming the same item), so they are matched in order.
-            let mut by_id: BTreeMap<&str, Vec<usize>> = BTreeMap::new();
-            for (i, s) in solved.problem.small_objects.iter().enumerate().rev() {
-                by_id.entry(s.id.as_str()).or_default().push(i);
-            }
-            for placed in &solved.layout.small {
-                let Some(index) = by_id.get_mut(placed.id.as_str()).and_then(Vec::pop) else {
-                    continue;
-                };
-                let (receptacle, line, copy) = solved.small_keys[index];
-                let Some(choice) = resolved
-                    .small
-                    .get(&(receptacle, line))
-                    .and_then(|v| v.get(copy as usize))
-                    .and_then(Resolution::choice)
-                else {
-                    continue;
-                };
-                let receptacle_name = &scene.object(receptacle).name;
-                let b = choice.bbox_m;
-                let small = b[0] <= 0.25 && b[1] <= 0.25 && b[2] <= 0.25;
-                out.push(LoweredObject {
-                    id: format!(
-                        "{}|{receptacle_name} ({label})",
-                        placed.id.split('|').next().unwrap_or(&placed.id)
-                    ),
-                    asset_id: choice.asset_id.clone(),
-                    room: solved.room,
-                    position_m: position(placed.position_m),
-                    rotation_deg: [0.0, placed.rotation_deg, 0.0],
-                    kinematic: !small,
-                    object_name: placed.id.split('|').next().unwrap_or(&placed.id).to_string(),
-                });
-            }
-            if let (Some(placed), Some(choice)) = (
-                &solved.layout.ceiling,
-                resolved.ceilings.get(&solved.room).and_then(Resolution::choice),
-            ) {
-                out.push(LoweredObject {
-                    id: format!("ceiling ({label})"),
-                    asset_id: choice.asset_id.clone(),
-                    room: solved.room,
-                    position_m: position(placed.position_m),
-                    rotation_deg: [0.0, placed.rotation_deg, 0.0],
-                    kinematic: true,
-                    object_name: "ceiling".to_string(),
-                });
-            }
-        }
-        out
     }
 }
 

@@ -1,0 +1,140 @@
+//! Where the agent starts: on free floor of the plan's start room, clear of every wall and
+//! footprint by the agent's radius, and reachable from a door of that room.
+//!
+//! The plan stage picks the room (the one with the first exterior door) before anything stands
+//! in it; this runs after the layout, on a 5 cm grid: the free cells are those whose distance to
+//! the walls and to every floor footprint is at least the radius plus a margin, outside the
+//! doors' keep-out zones; the cells reachable from a door (by a flood through free cells) are
+//! the candidates; among them the one with the most room around it (up to 0.8 m) and then the
+//! nearest to the room's centre wins. No cell is free: the plan's pose is kept.
+
+use crate::geometry::{self as geo, Aabb, Point};
+use crate::plan::{AgentPose, FloorPlan};
+use crate::solve::{Layout, Rect};
+use std::collections::VecDeque;
+
+/// The agent's radius, metres (AI2-THOR's default agent).
+pub const AGENT_RADIUS_M: f64 = 0.25;
+/// Free floor kept around the agent beyond its radius, metres.
+const MARGIN_M: f64 = 0.05;
+/// The grid step, metres.
+const STEP_M: f64 = 0.05;
+/// More clearance than this does not make a start better.
+const ENOUGH_CLEARANCE_M: f64 = 0.8;
+/// A cell this close to a door's opening is where the agent comes in.
+const DOOR_REACH_M: f64 = 0.8;
+
+fn distance_to_rect(p: Point, r: &Rect) -> f64 {
+    let dx = (r.min_x - p[0]).max(0.0).max(p[0] - r.max_x);
+    let dz = (r.min_z - p[1]).max(0.0).max(p[1] - r.max_z);
+    dx.hypot(dz)
+}
+
+/// The agent's start on free floor (see the module's description).
+pub fn agent_start(plan: &FloorPlan, layout: &Layout) -> AgentPose {
+    let pose = plan.agent;
+    let Some(room) = plan.rooms.get(pose.room.0) else { return pose };
+    let poly = &room.polygon;
+    if poly.len() < 3 {
+        return pose;
+    }
+    let footprints: Vec<Rect> = layout
+        .rooms
+        .iter()
+        .filter(|r| r.room == pose.room)
+        .flat_map(|r| r.layout.floor.iter().map(|p| p.footprint))
+        .collect();
+    let doors: Vec<(Point, Point)> = plan
+        .doors
+        .iter()
+        .filter(|d| d.room0 == room.thor_id || d.room1 == room.thor_id)
+        .map(|d| d.segment)
+        .collect();
+    let bbox = Aabb::of(poly);
+    let nx = (bbox.width() / STEP_M).floor() as usize + 1;
+    let nz = (bbox.depth() / STEP_M).floor() as usize + 1;
+    let point = |i: usize, j: usize| -> Point {
+        [bbox.min[0] + (i as f64 + 0.5) * STEP_M, bbox.min[1] + (j as f64 + 0.5) * STEP_M]
+    };
+    let need = AGENT_RADIUS_M + MARGIN_M;
+    let mut clearance = vec![f64::NEG_INFINITY; nx * nz];
+    for j in 0..nz {
+        for i in 0..nx {
+            let p = point(i, j);
+            if !geo::point_in_polygon(p, poly)
+                || room
+                    .door_keep_out
+                    .iter()
+                    .chain(&room.open_boxes)
+                    .any(|b| geo::point_in_or_on_polygon(p, b))
+            {
+                continue;
+            }
+            let walls = (0..poly.len())
+                .map(|k| geo::distance_to_segment(p, poly[k], poly[(k + 1) % poly.len()]))
+                .fold(f64::INFINITY, f64::min);
+            let things =
+                footprints.iter().map(|r| distance_to_rect(p, r)).fold(f64::INFINITY, f64::min);
+            clearance[j * nx + i] = walls.min(things);
+        }
+    }
+    let free = |c: usize| clearance[c] >= need;
+    // Flood from the free cells next to a door; without a door, every free cell counts.
+    let mut reached = vec![false; nx * nz];
+    let mut queue = VecDeque::new();
+    for (c, r) in reached.iter_mut().enumerate() {
+        let p = point(c % nx, c / nx);
+        if free(c)
+            && doors.iter().any(|&(a, b)| geo::distance_to_segment(p, a, b) <= DOOR_REACH_M + need)
+        {
+            *r = true;
+            queue.push_back(c);
+        }
+    }
+    if queue.is_empty() {
+        for (c, r) in reached.iter_mut().enumerate() {
+            *r = free(c);
+        }
+    }
+    while let Some(c) = queue.pop_front() {
+        let (i, j) = (c % nx, c / nx);
+        let mut next = Vec::with_capacity(4);
+        if i > 0 {
+            next.push(c - 1);
+        }
+        if i + 1 < nx {
+            next.push(c + 1);
+        }
+        if j > 0 {
+            next.push(c - nx);
+        }
+        if j + 1 < nz {
+            next.push(c + nx);
+        }
+        for n in next {
+            if !reached[n] && free(n) {
+                reached[n] = true;
+                queue.push_back(n);
+            }
+        }
+    }
+    let mut best: Option<(f64, f64, Point)> = None;
+    for c in (0..nx * nz).filter(|&c| reached[c]) {
+        let p = point(c % nx, c / nx);
+        let room_around = clearance[c].min(ENOUGH_CLEARANCE_M);
+        let to_centre = geo::distance(p, room.centroid);
+        let better = match best {
+            None => true,
+            Some((r, d, _)) => {
+                room_around > r + 1e-9 || ((room_around - r).abs() <= 1e-9 && to_centre < d - 1e-9)
+            }
+        };
+        if better {
+            best = Some((room_around, to_centre, p));
+        }
+    }
+    match best {
+        Some((_, _, p)) => AgentPose { position: [geo::round6(p[0]), geo::round6(p[1])], ..pose },
+        None => pose,
+    }
+}

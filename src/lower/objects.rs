@@ -1,0 +1,116 @@
+//! From the solver's [`Layout`] to the objects of the house: one [`LoweredObject`] per placed
+//! floor, wall, small and ceiling object that has an asset, with its AI2-THOR id, pose,
+//! `kinematic` flag and, for an item on top of another object, the receptacle it is nested under.
+//!
+//! Floor, wall and ceiling objects are kinematic (they stay where the layout put them, as
+//! ProcTHOR's furniture does); items on a receptacle are not (ProcTHOR leaves them to physics,
+//! so an agent can pick them up).
+
+use super::LoweredObject;
+use crate::check::scene::Scene;
+use crate::plan::FloorPlan;
+use crate::resolve::{Resolution, Resolved};
+use crate::solve::Layout;
+use std::collections::BTreeMap;
+
+fn round6(v: f64) -> f64 {
+    let r = (v * 1e6).round() / 1e6;
+    if r == 0.0 {
+        0.0
+    } else {
+        r
+    }
+}
+
+fn position(p: [f64; 3]) -> [f64; 3] {
+    [round6(p[0]), round6(p[1]), round6(p[2])]
+}
+
+/// The objects of the house: floor, wall, small and ceiling objects, room by room.
+pub fn objects(
+    layout: &Layout,
+    scene: &Scene,
+    plan: &FloorPlan,
+    resolved: &Resolved,
+) -> Vec<LoweredObject> {
+    let mut out = Vec::new();
+    for solved in &layout.rooms {
+        let label = &plan.room(solved.room).thor_id;
+        // Floor and wall objects: the placed ones, matched to the scene by instance name.
+        let floor_names: Vec<&str> = solved.problem.objects.iter().map(|o| o.id.as_str()).collect();
+        let wall_names: Vec<&str> =
+            solved.problem.wall_objects.iter().map(|o| o.id.as_str()).collect();
+        for (placed_list, names, ids) in [
+            (&solved.layout.floor_world, &floor_names, &solved.floor_ids),
+            (&solved.layout.wall, &wall_names, &solved.wall_ids),
+        ] {
+            for placed in placed_list {
+                let Some(index) = names.iter().position(|n| *n == placed.id) else { continue };
+                let id = ids[index];
+                let Some(choice) = resolved.object(id) else { continue };
+                let name = &scene.object(id).name;
+                out.push(LoweredObject {
+                    id: format!("{name} ({label})"),
+                    asset_id: choice.asset_id.clone(),
+                    room: solved.room,
+                    position_m: position(placed.position_m),
+                    rotation_deg: [0.0, placed.rotation_deg, 0.0],
+                    kinematic: true,
+                    object_name: name.clone(),
+                    parent: None,
+                });
+            }
+        }
+        // Small objects: the problem lists them in the order of `small_keys`; ids may repeat
+        // (two `on top` lines naming the same item), so they are matched in order.
+        let mut by_id: BTreeMap<&str, Vec<usize>> = BTreeMap::new();
+        for (i, s) in solved.problem.small_objects.iter().enumerate().rev() {
+            by_id.entry(s.id.as_str()).or_default().push(i);
+        }
+        for placed in &solved.layout.small {
+            let Some(index) = by_id.get_mut(placed.id.as_str()).and_then(Vec::pop) else {
+                continue;
+            };
+            let (receptacle, line, copy) = solved.small_keys[index];
+            let Some(choice) = resolved
+                .small
+                .get(&(receptacle, line))
+                .and_then(|v| v.get(copy as usize))
+                .and_then(Resolution::choice)
+            else {
+                continue;
+            };
+            let receptacle_name = &scene.object(receptacle).name;
+            out.push(LoweredObject {
+                id: format!(
+                    "{}|{receptacle_name} ({label})",
+                    placed.id.split('|').next().unwrap_or(&placed.id)
+                ),
+                asset_id: choice.asset_id.clone(),
+                room: solved.room,
+                position_m: position(placed.position_m),
+                rotation_deg: [0.0, placed.rotation_deg, 0.0],
+                // As ProcTHOR: what stands on a receptacle is left to physics.
+                kinematic: false,
+                object_name: placed.id.split('|').next().unwrap_or(&placed.id).to_string(),
+                parent: Some(format!("{receptacle_name} ({label})")),
+            });
+        }
+        if let (Some(placed), Some(choice)) = (
+            &solved.layout.ceiling,
+            resolved.ceilings.get(&solved.room).and_then(Resolution::choice),
+        ) {
+            out.push(LoweredObject {
+                id: format!("ceiling ({label})"),
+                asset_id: choice.asset_id.clone(),
+                room: solved.room,
+                position_m: position(placed.position_m),
+                rotation_deg: [0.0, placed.rotation_deg, 0.0],
+                kinematic: true,
+                object_name: "ceiling".to_string(),
+                parent: None,
+            });
+        }
+    }
+    out
+}
