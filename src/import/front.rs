@@ -65,7 +65,12 @@ pub(crate) fn raw_comment(stage: &str, raw: &str) -> String {
     let clean: String =
         raw.chars().map(|c| if c.is_control() { ' ' } else { c }).take(300).collect();
     let clean = clean.trim_end();
-    format!("// raw {stage}: {clean}")
+    if clean.is_empty() {
+        // No trailing space: the formatter would remove it, and the output must be canonical.
+        format!("// raw {stage}:")
+    } else {
+        format!("// raw {stage}: {clean}")
+    }
 }
 
 /// A `|`-separated field.

@@ -12,6 +12,7 @@ use std::collections::{BTreeMap, BTreeSet};
 
 use serde_json::Value;
 
+use crate::diag::suggest;
 use crate::diag::{Code, Diagnostic, Outcome};
 use crate::geometry::{self as geo, Aabb, Point};
 use crate::resolve::structure::StructureCatalog;
@@ -69,6 +70,15 @@ impl Ctx<'_> {
             from = at + quoted.len().max(1);
         }
         Span::new(self.file, 0, self.text.len().min(1))
+    }
+
+    /// The span of the first `"key"` of the file (whole file start if not found).
+    fn span_of_key(&self, key: &str) -> Span {
+        let quoted = format!("\"{key}\"");
+        self.text.find(&quoted).map_or_else(
+            || Span::new(self.file, 0, self.text.len().min(1)),
+            |at| Span::new(self.file, at, at + quoted.len()),
+        )
     }
 
     fn push(&mut self, d: Diagnostic) {
@@ -338,7 +348,6 @@ pub fn validate(
     }
     // Objects inside rooms; floor footprints inside their room and not overlapping.
     let mut footprints: Vec<Footprint<'_>> = Vec::new();
-    let mut sizeless = 0usize;
     for &o in &objects {
         let id = s(o, "id").unwrap_or("?");
         let Some(pos) = o.get("position").and_then(floor_point) else { continue };
@@ -368,16 +377,9 @@ pub fn validate(
             );
             continue;
         }
-        match floor_footprint(o, pos, objects_catalog) {
-            Some(fp) => footprints.push(Footprint { id, room: s(o, "roomId"), ..fp }),
-            None if o
-                .get("assetId")
-                .and_then(Value::as_str)
-                .is_some_and(|a| objects_catalog.get(a).is_none()) =>
-            {
-                sizeless += 1;
-            }
-            None => {}
+        // Objects of unknown size (E0614 below) have no footprint to check.
+        if let Some(fp) = floor_footprint(o, pos, objects_catalog) {
+            footprints.push(Footprint { id, room: s(o, "roomId"), ..fp });
         }
     }
     // A footprint reaching through a wall of its room.
@@ -448,17 +450,24 @@ pub fn validate(
             );
         }
     }
-    // Assets.
-    let mut unknown: BTreeMap<&str, usize> = BTreeMap::new();
-    for v in doors
-        .iter()
-        .chain(windows)
-        .chain(all.iter().copied().filter(|v| v.get("position").is_some()))
-    {
-        if let Some(a) = s(v, "assetId") {
-            if !catalog.is_thor_asset(a) {
-                *unknown.entry(a).or_insert(0) += 1;
+    // Assets: every door, window and object asset must be one AI2-THOR can spawn, a built-in
+    // one or one of a catalog given with `--catalog` (CreateHouse fails on any other).
+    let known = |a: &str| catalog.is_thor_asset(a) || objects_catalog.get(a).is_some();
+    for (kind, list) in [("door", doors), ("window", windows)] {
+        for v in list {
+            if let Some(a) = s(v, "assetId").filter(|a| !known(a)) {
+                ctx.push(
+                    Diagnostic::new(Code::E0614, format!("the {kind} asset `{a}` is not an AI2-THOR asset"))
+                        .with_primary(ctx.span_of("assetId", a, 0), format!("unknown {kind} asset"))
+                        .with_help(format!("use one of the {kind} assets of `holoc assets list`, or give the catalog that has it with `--catalog`")),
+                );
             }
+        }
+    }
+    let mut unknown: BTreeMap<&str, usize> = BTreeMap::new();
+    for &v in &objects {
+        if let Some(a) = s(v, "assetId").filter(|a| !known(a)) {
+            *unknown.entry(a).or_insert(0) += 1;
         }
     }
     if !unknown.is_empty() {
@@ -467,25 +476,24 @@ pub fn validate(
         let list: Vec<String> = unknown.keys().take(5).map(|a| format!("`{a}`")).collect();
         ctx.push(
             Diagnostic::new(
-                Code::W0601,
+                Code::E0614,
                 if unknown.len() == 1 {
-                    "1 asset id is not a built-in AI2-THOR asset".to_owned()
+                    "1 object asset is not an AI2-THOR asset".to_owned()
                 } else {
-                    format!("{} asset ids are not built-in AI2-THOR assets", unknown.len())
+                    format!("{} object assets are not AI2-THOR assets", unknown.len())
                 },
             )
-            .with_primary(span, "not a built-in asset")
+            .with_primary(span, "unknown object asset")
             .with_note(format!("for example {}", list.join(", ")))
-            .with_note(if sizeless == 0 {
-                "the object catalog knows their sizes".to_owned()
-            } else {
-                format!(
-                    "{sizeless} of the objects using them have no known size, so their footprints are not checked against walls or each other (`--catalog` gives their sizes)"
-                )
-            })
-            .with_help("these load only where the assets are installed (e.g. Objaverse assets with a user catalog)"),
+            .with_note(format!(
+                "{} objects use them; CreateHouse cannot spawn them unless they are installed",
+                unknown.values().sum::<usize>()
+            ))
+            .with_help("give the catalog they come from with `--catalog` (e.g. the objathor annotations of Objaverse assets) if they are installed where the house is loaded"),
         );
     }
+    procthor_checks(&mut ctx, &value, catalog);
+    resting_checks(&mut ctx, top_objects, objects_catalog, &value);
     let report = ValidationReport {
         rooms: rooms.len(),
         walls: walls.len(),
@@ -495,6 +503,224 @@ pub fn validate(
     };
     Outcome::new(report, ctx.diags)
 }
+
+/// The checks of what CreateHouse reads beyond the schema: the schema version, materials as
+/// `{"name": …}` objects with known names, a known skybox, and doors to the outside oriented
+/// from their room.
+fn procthor_checks(ctx: &mut Ctx<'_>, value: &Value, catalog: &StructureCatalog) {
+    let schema = value.get("metadata").and_then(|m| s(m, "schema"));
+    if schema != Some(super::SCHEMA_VERSION) {
+        let (span, what) = match schema {
+            Some(v) => (ctx.span_of("schema", v, 0), format!("`{v}`")),
+            None => (Span::new(ctx.file, 0, ctx.text.len().min(1)), "missing".to_owned()),
+        };
+        ctx.push(
+            Diagnostic::new(
+                Code::E0610,
+                format!(
+                    "the house's `metadata.schema` is {what}; AI2-THOR reads schema {}",
+                    super::SCHEMA_VERSION
+                ),
+            )
+            .with_primary(span, "schema version")
+            .with_help(format!(
+                "write houses of schema {} (ProcTHOR's house upgrader turns older ones into it)",
+                super::SCHEMA_VERSION
+            )),
+        );
+    }
+    let mut materials: Vec<(&str, &Value)> = Vec::new();
+    for r in arr(value, "rooms") {
+        for key in ["floorMaterial", "wallMaterial"] {
+            if let Some(m) = r.get(key) {
+                materials.push((key, m));
+            }
+        }
+    }
+    for w in arr(value, "walls") {
+        if let Some(m) = w.get("material") {
+            materials.push(("material", m));
+        }
+    }
+    if let Some(m) = value.get("proceduralParameters").and_then(|p| p.get("ceilingMaterial")) {
+        materials.push(("ceilingMaterial", m));
+    }
+    let mut plain = 0usize;
+    let mut first_plain: Option<(&str, &str)> = None;
+    let mut unknown: BTreeMap<&str, &str> = BTreeMap::new();
+    for (key, m) in materials {
+        let name = match m {
+            Value::String(name) => {
+                plain += 1;
+                first_plain.get_or_insert((key, name.as_str()));
+                name.as_str()
+            }
+            Value::Object(_) => match s(m, "name") {
+                Some(name) => name,
+                None => continue,
+            },
+            _ => continue,
+        };
+        if catalog.material(name).is_none() {
+            unknown.entry(name).or_insert(key);
+        }
+    }
+    if let Some((key, name)) = first_plain {
+        ctx.push(
+            Diagnostic::new(
+                Code::E0611,
+                format!("{plain} material(s) are plain strings; AI2-THOR reads a material as an object `{{\"name\": …}}`"),
+            )
+            .with_primary(ctx.span_of(key, name, 0), "a string, not an object")
+            .with_help(format!("write `\"{key}\": {{\"name\": \"{name}\"}}`")),
+        );
+    }
+    for (name, key) in unknown {
+        let near = suggest::did_you_mean(&suggest::closest(
+            name,
+            catalog.materials.iter().map(|m| m.name.as_str()),
+        ));
+        ctx.push(
+            Diagnostic::new(
+                Code::E0612,
+                format!("the material `{name}` is not an AI2-THOR material"),
+            )
+            .with_primary(ctx.span_of("name", name, 0), format!("unknown material (in `{key}`)"))
+            .with_help(near.unwrap_or_else(|| {
+                "use a material of the ProcTHOR material database (`data/catalog/materials.tsv`)"
+                    .to_owned()
+            })),
+        );
+    }
+    if let Some(sky) = value.get("proceduralParameters").and_then(|p| s(p, "skyboxId")) {
+        if !catalog.skyboxes.iter().any(|k| k.name == sky) {
+            let near = suggest::did_you_mean(&suggest::closest(
+                sky,
+                catalog.skyboxes.iter().map(|k| k.name.as_str()),
+            ));
+            ctx.push(
+                Diagnostic::new(
+                    Code::E0613,
+                    format!("the skybox `{sky}` is not an AI2-THOR skybox"),
+                )
+                .with_primary(ctx.span_of("skyboxId", sky, 0), "unknown skybox")
+                .with_help(
+                    near.unwrap_or_else(|| {
+                        "use a skybox of `data/catalog/skyboxes.tsv`".to_owned()
+                    }),
+                ),
+            );
+        }
+    }
+    for d in arr(value, "doors") {
+        let (Some(id), Some(wall0)) = (s(d, "id"), s(d, "wall0")) else { continue };
+        if wall0.ends_with("|exterior") || s(d, "room0") == Some("exterior") {
+            ctx.push(
+                Diagnostic::new(Code::W0610, format!("the door `{id}` to the outside is written from outside its room"))
+                    .with_primary(ctx.span_of("wall0", wall0, 0), "the exterior side")
+                    .with_note("AI2-THOR places the door and opens it from `wall0`/`room0`; ProcTHOR writes the room's own wall there and the room as both `room0` and `room1`")
+                    .with_help("swap `wall0` and `wall1`, and name the room in `room0`"),
+            );
+        }
+    }
+}
+
+/// Whether objects stand where they can: floor objects not sunk into the floor, items nested on
+/// a receptacle resting on its top, the agent not inside a footprint.
+fn resting_checks(ctx: &mut Ctx<'_>, top: &[Value], objects_catalog: &Catalog, value: &Value) {
+    // The catalog's box is the asset upright; an object tipped about x or z (a bat lying on its
+    // side) has another height, so it is not checked.
+    let upright = |o: &Value| {
+        let r = o.get("rotation");
+        ["x", "z"].iter().all(|k| r.and_then(|r| num(r, k)).is_none_or(|a| a.abs() < 1.0))
+    };
+    let size = |o: &Value| {
+        s(o, "assetId")
+            .and_then(|a| objects_catalog.get(a))
+            .map(|a| a.bbox_m)
+            .filter(|_| upright(o))
+    };
+    let y_of = |o: &Value| o.get("position").and_then(|p| num(p, "y"));
+    let mut floor_boxes: Vec<(Point, [f64; 2], f64)> = Vec::new();
+    for o in top {
+        let (Some([w, h, d]), Some(y), Some(id)) = (size(o), y_of(o), s(o, "id")) else { continue };
+        let bottom = y - h / 2.0;
+        if bottom < -FLOOR_TOLERANCE_M {
+            ctx.push(
+                Diagnostic::new(
+                    Code::W0611,
+                    format!("object `{id}` is sunk {:.2} m into the floor", -bottom),
+                )
+                .with_primary(ctx.span_of("id", id, 0), "its bottom is under the floor")
+                .with_help(format!("raise it to y = {:.3} (half its height)", h / 2.0)),
+            );
+        }
+        if bottom.abs() <= FLOOR_TOLERANCE_M {
+            if let Some(p) = o.get("position").and_then(floor_point) {
+                let angle = o.get("rotation").and_then(|r| num(r, "y")).unwrap_or(0.0);
+                floor_boxes.push((p, [w / 2.0, d / 2.0], angle));
+            }
+        }
+        for c in arr(o, "children") {
+            let (Some([_, ch, _]), Some(cy), Some(cid)) = (size(c), y_of(c), s(c, "id")) else {
+                continue;
+            };
+            // An item stands on the receptacle's top or on a surface inside it (a shelf, a
+            // drawer): its bottom between the receptacle's bottom and a little above its top.
+            let bottom_item = cy - ch / 2.0;
+            let above = bottom_item - (y + h / 2.0);
+            let below = (y - h / 2.0) - bottom_item;
+            if above > FLOAT_TOLERANCE_M || below > RESTING_TOLERANCE_M {
+                let (what, by) = if above > 0.0 {
+                    ("floats", format!("{above:.2} m above the top of"))
+                } else {
+                    ("hangs", format!("{below:.2} m below the bottom of"))
+                };
+                ctx.push(
+                    Diagnostic::new(
+                        Code::W0612,
+                        format!("`{cid}` {what} {by} `{id}`, the receptacle it is nested on"),
+                    )
+                    .with_primary(ctx.span_of("id", cid, 0), "not resting on its receptacle")
+                    .with_help(format!("put its centre at y = {:.3}", y + h / 2.0 + ch / 2.0)),
+                );
+            }
+        }
+    }
+    let agent = value
+        .get("metadata")
+        .and_then(|m| m.get("agent"))
+        .and_then(|a| a.get("position"))
+        .and_then(floor_point);
+    if let Some(p) = agent {
+        let inside = floor_boxes.iter().find(|(c, half, angle)| {
+            // The agent's centre in the box's frame.
+            let (sn, cs) = angle.to_radians().sin_cos();
+            let (dx, dz) = (p[0] - c[0], p[1] - c[1]);
+            let lx = dx * cs - dz * sn;
+            let lz = dx * sn + dz * cs;
+            let ox = (lx.abs() - half[0]).max(0.0);
+            let oz = (lz.abs() - half[1]).max(0.0);
+            ox.hypot(oz) < super::AGENT_RADIUS_M - VALIDATE_TOLERANCE_M
+        });
+        if inside.is_some() {
+            ctx.push(
+                Diagnostic::new(Code::W0613, "the agent starts inside or against a floor object")
+                    .with_primary(
+                        ctx.span_of_key("agent"),
+                        format!("starts at ({:.2}, {:.2})", p[0], p[1]),
+                    )
+                    .with_note(format!("the agent's radius is {} m", super::AGENT_RADIUS_M))
+                    .with_help("move `metadata.agent` and `agentPoses` to free floor"),
+            );
+        }
+    }
+}
+
+/// How far (metres) an item nested on a receptacle may reach under the receptacle's bottom.
+const RESTING_TOLERANCE_M: f64 = 0.05;
+/// How far (metres) an item nested on a receptacle may hover over its top (physics drops it).
+const FLOAT_TOLERANCE_M: f64 = 0.1;
 
 /// How far above the floor (metres) the bottom of an object may be and still count as standing
 /// on the floor.
