@@ -248,3 +248,103 @@ fn example_comments_say_what_the_build_does() {
         assert!(builds_line, "{}: the leading comment has no `// builds:` line", path.display());
     }
 }
+
+/// The examples' houses have every field a ProcTHOR house has, kind by kind (rooms, walls,
+/// doors, windows, objects, their children, the procedural parameters, lights, metadata, the
+/// agent), with the same JSON types, so that ProcTHOR-based code reads them. Reads the ProcTHOR
+/// houses of `../shared/data/real-scenes` (schema 1.0.0); skipped with a message when absent.
+/// Only the optional state flags of objects (`isDirty`, `openness`, `isOn`) and `children` (on
+/// objects with nothing on them) may be missing.
+#[test]
+fn example_houses_have_the_fields_of_procthor_houses() {
+    use serde_json::Value;
+    use std::collections::{BTreeMap, BTreeSet};
+    let Some(dir) =
+        common::shared("data/real-scenes", "example_houses_have_the_fields_of_procthor_houses")
+    else {
+        return;
+    };
+    let kind_of = |v: &Value| match v {
+        Value::Null => "null",
+        Value::Bool(_) => "bool",
+        Value::Number(_) => "number",
+        Value::String(_) => "string",
+        Value::Array(_) => "array",
+        Value::Object(_) => "object",
+    };
+    // kind → key → JSON types seen.
+    let fields = |house: &Value| {
+        let mut out: BTreeMap<&'static str, BTreeMap<String, BTreeSet<&'static str>>> =
+            BTreeMap::new();
+        let objects = house["objects"].as_array().cloned().unwrap_or_default();
+        let children: Vec<Value> = objects
+            .iter()
+            .flat_map(|o| o["children"].as_array().cloned().unwrap_or_default())
+            .collect();
+        let one = |v: &Value| vec![v.clone()];
+        let list = |v: &Value| v.as_array().cloned().unwrap_or_default();
+        for (kind, items) in [
+            ("house", one(house)),
+            ("rooms", list(&house["rooms"])),
+            ("walls", list(&house["walls"])),
+            ("doors", list(&house["doors"])),
+            ("windows", list(&house["windows"])),
+            ("objects", objects.clone()),
+            ("children", children),
+            ("proceduralParameters", one(&house["proceduralParameters"])),
+            ("lights", list(&house["proceduralParameters"]["lights"])),
+            ("metadata", one(&house["metadata"])),
+            ("agent", one(&house["metadata"]["agent"])),
+        ] {
+            for item in items {
+                for (k, v) in item.as_object().into_iter().flatten() {
+                    out.entry(kind).or_default().entry(k.clone()).or_default().insert(kind_of(v));
+                }
+            }
+        }
+        out
+    };
+    // As in ProcTHOR, `children` is written only on objects that have some.
+    let optional = ["isDirty", "openness", "isOn", "children"];
+    let mut procthor = Vec::new();
+    for entry in std::fs::read_dir(&dir).expect("folder").flatten() {
+        let name = entry.file_name().to_string_lossy().to_string();
+        if !name.starts_with("procthor-") {
+            continue;
+        }
+        let house: Value =
+            serde_json::from_str(&std::fs::read_to_string(entry.path()).expect("readable"))
+                .expect("json");
+        if house["metadata"]["schema"] == "1.0.0" {
+            procthor.push((name, fields(&house)));
+        }
+    }
+    assert!(!procthor.is_empty(), "no ProcTHOR house of schema 1.0.0 in {}", dir.display());
+    for path in examples() {
+        let (_, built, _) = build_example(&path, Solver::Dfs);
+        let house: Value =
+            serde_json::from_str(&built.expect("builds").house.to_json_string()).expect("json");
+        let ours = fields(&house);
+        for (name, theirs) in &procthor {
+            for (kind, keys) in theirs {
+                let Some(mine) = ours.get(kind) else {
+                    // The example has no such thing (e.g. no windows, nothing on a receptacle).
+                    continue;
+                };
+                for (key, types) in keys {
+                    if optional.contains(&key.as_str()) && !mine.contains_key(key) {
+                        continue;
+                    }
+                    let got = mine.get(key).unwrap_or_else(|| {
+                        panic!("{}: {kind} lack `{key}`, which {name} has", path.display())
+                    });
+                    assert!(
+                        got.is_subset(types) || types.contains("null"),
+                        "{}: {kind}.{key} is {got:?} here, {types:?} in {name}",
+                        path.display()
+                    );
+                }
+            }
+        }
+    }
+}

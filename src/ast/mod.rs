@@ -211,6 +211,10 @@ pub enum SceneStmt {
     WallHeight(Quantity, Span),
     /// `seed 42`.
     Seed(Quantity, Span),
+    /// `ceiling material "EggshellDrywall"`.
+    CeilingMaterial(Str, Span),
+    /// `ceiling "white plaster"`.
+    CeilingDesign(Str, Span),
     /// A comment.
     Comment(Comment),
     /// An empty line kept between two statements (at most one is kept).

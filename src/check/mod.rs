@@ -77,6 +77,8 @@ impl Checker {
             rooms: Vec::new(),
             doors: Vec::new(),
             objects: Vec::new(),
+            ceiling_material: None,
+            ceiling_design: None,
         };
         let mut scene_span: Option<Span> = None;
         for item in &file.items {
@@ -171,6 +173,9 @@ impl Checker {
             let (key, span) = match stmt {
                 ast::SceneStmt::WallHeight(_, span) => ("wall height", *span),
                 ast::SceneStmt::Seed(_, span) => ("seed", *span),
+                // One ceiling setting: a pinned material or a design.
+                ast::SceneStmt::CeilingMaterial(_, span)
+                | ast::SceneStmt::CeilingDesign(_, span) => ("ceiling", *span),
                 _ => continue,
             };
             if !self.first_setting(&mut seen, key, span) {
@@ -215,6 +220,10 @@ impl Checker {
                         scene.seed = q.value as u64;
                     }
                 }
+                ast::SceneStmt::CeilingMaterial(m, _) => {
+                    scene.ceiling_material = Some(Pinned { id: m.value.clone(), span: m.span });
+                }
+                ast::SceneStmt::CeilingDesign(d, _) => scene.ceiling_design = Some(d.value.clone()),
                 _ => {}
             }
         }

@@ -31,6 +31,10 @@ pub struct Scene {
     pub doors: Vec<Door>,
     /// Every object instance (floor and wall), rooms in order, declarations in order.
     pub objects: Vec<Object>,
+    /// The material of every ceiling, pinned by name (`ceiling material "…"`).
+    pub ceiling_material: Option<Pinned>,
+    /// The ceiling design, a material query (`ceiling "…"` in the scene block).
+    pub ceiling_design: Option<String>,
 }
 
 impl Scene {

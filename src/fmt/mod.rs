@@ -124,6 +124,10 @@ impl Printer {
             match stmt {
                 ast::SceneStmt::WallHeight(q, _) => p.line(&format!("wall height {}", quantity(q))),
                 ast::SceneStmt::Seed(q, _) => p.line(&format!("seed {}", quantity(q))),
+                ast::SceneStmt::CeilingMaterial(m, _) => {
+                    p.line(&format!("ceiling material {}", string(m)));
+                }
+                ast::SceneStmt::CeilingDesign(d, _) => p.line(&format!("ceiling {}", string(d))),
                 ast::SceneStmt::Comment(c) => p.comment(c, first),
                 ast::SceneStmt::Error(e) => p.line(&e.text),
                 ast::SceneStmt::Blank(_) => p.blank_line(),

@@ -346,6 +346,8 @@ mod tests {
             ],
             doors: Vec::new(),
             objects: Vec::new(),
+            ceiling_material: None,
+            ceiling_design: None,
         }
     }
 

@@ -15,7 +15,11 @@ fn statements(context: Context) -> &'static [(&'static str, &'static str)] {
             ("room", "room bedroom \"bedroom\" { ... }"),
             ("door", "door exterior -- bedroom : doorway single \"white wooden door\""),
         ],
-        Context::Scene => &[("wall", "wall height 2.7 m"), ("seed", "seed 42")],
+        Context::Scene => &[
+            ("wall", "wall height 2.7 m"),
+            ("seed", "seed 42"),
+            ("ceiling", "ceiling \"white plaster\"  or  ceiling material \"EggshellDrywall\""),
+        ],
         Context::Room => &[
             ("floor", "floor \"oak parquet\"  or  floor material \"WoodFloorsCross\""),
             ("walls", "walls \"white plaster\""),

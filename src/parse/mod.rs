@@ -204,10 +204,21 @@ impl Builder<'_> {
                         |b, s| {
                             let span = b.span(&s);
                             let rule = s.as_rule();
-                            let q = b.quantity(children(s).next()?);
-                            match rule {
-                                Rule::wall_height => Some(ast::SceneStmt::WallHeight(q, span)),
-                                Rule::seed => Some(ast::SceneStmt::Seed(q, span)),
+                            let value = children(s)
+                                .find(|c| matches!(c.as_rule(), Rule::quantity | Rule::string))?;
+                            match (rule, value.as_rule()) {
+                                (Rule::wall_height, Rule::quantity) => {
+                                    Some(ast::SceneStmt::WallHeight(b.quantity(value), span))
+                                }
+                                (Rule::seed, Rule::quantity) => {
+                                    Some(ast::SceneStmt::Seed(b.quantity(value), span))
+                                }
+                                (Rule::ceiling_material, Rule::string) => {
+                                    Some(ast::SceneStmt::CeilingMaterial(b.string(value), span))
+                                }
+                                (Rule::ceiling_design, Rule::string) => {
+                                    Some(ast::SceneStmt::CeilingDesign(b.string(value), span))
+                                }
                                 _ => None,
                             }
                         },

@@ -82,7 +82,7 @@ pub(crate) fn run(
     } else {
         AgentPose { room: RoomId(0), position: [0.0, 0.0], rotation_deg: 0.0 }
     };
-    let ceiling_material = ceiling_material(ctx.rooms.first().map(|r| r.wall_material.as_str()));
+    let ceiling_material = ctx.ceiling_material();
     let plan = FloorPlan {
         seed: scene.seed,
         wall_height_m: scene.wall_height_m,
@@ -99,13 +99,17 @@ pub(crate) fn run(
     Outcome::new(plan, ctx.diags)
 }
 
+/// Words of material names no ceiling is made of.
+const UNLIKELY_CEILINGS: [&str; 8] =
+    ["countertop", "marble", "tile", "carpet", "fabric", "granite", "rug", "grass"];
+
 /// The material every ceiling falls back on: a painted white drywall.
 pub const DEFAULT_CEILING_MATERIAL: &str = "EggshellDrywall";
 
-/// The house's ceiling: the first room's wall material when it is a painted finish (drywall or
+/// The default ceiling: the first room's wall material when it is a painted finish (drywall or
 /// plaster), so ceiling and walls match; otherwise (brick, tile, marble, wood panelling…) a
 /// painted white drywall, as real ceilings are.
-fn ceiling_material(first_wall: Option<&str>) -> String {
+fn default_ceiling_material(first_wall: Option<&str>) -> String {
     match first_wall {
         Some(m) if ["drywall", "plaster"].iter().any(|w| m.to_lowercase().contains(w)) => {
             m.to_owned()
@@ -1201,6 +1205,38 @@ impl Ctx<'_> {
                 self.walls.splice(wi..=wi, pieces);
             }
         }
+    }
+
+    /// The material of every ceiling: the scene's pinned `ceiling material` (E0320 when it is
+    /// unknown), else its `ceiling` design resolved like a wall design, else the default.
+    fn ceiling_material(&mut self) -> String {
+        let first_wall = self.rooms.first().map(|r| r.wall_material.clone());
+        if let Some(pin) = &self.scene.ceiling_material {
+            if self.catalog.material(&pin.id).is_some() {
+                return pin.id.clone();
+            }
+            let names: Vec<&str> = self.catalog.materials.iter().map(|m| m.name.as_str()).collect();
+            self.diags.push(
+                Diagnostic::new(Code::E0320, format!("`{}` is not a known material", pin.id))
+                    .with_primary(pin.span, "not in the material database")
+                    .with_help_opt(did_you_mean(&closest(&pin.id, names))),
+            );
+        } else if let Some(design) = &self.scene.ceiling_design {
+            // The best-ranked wall material that a ceiling can be made of.
+            let fits = |name: &str| {
+                let lower = name.to_lowercase();
+                !UNLIKELY_CEILINGS.iter().any(|w| lower.contains(w))
+            };
+            if let Some((m, _)) = self
+                .catalog
+                .rank_materials(design, Surface::Wall)
+                .into_iter()
+                .find(|(m, score)| *score >= 1.0 && fits(&m.name))
+            {
+                return m.name.clone();
+            }
+        }
+        default_ceiling_material(first_wall.as_deref())
     }
 
     fn materials(&mut self) {
