@@ -104,6 +104,7 @@ pub fn run(args: &BuildArgs) -> ExitCode {
         node_budget: args.node_budget,
         format: args.format,
         color: args.color,
+        stdout_taken: args.output.as_deref().is_none_or(|p| p.as_os_str() == "-"),
     };
     let (product, catalog, diagnostics) = match run_build(&mut sources, file, &request) {
         Ok(built) => built,
@@ -144,13 +145,14 @@ pub fn run(args: &BuildArgs) -> ExitCode {
 
 /// `--emit ast` and `--emit scene`: the front end only.
 fn emit_front(sources: &SourceMap, file: crate::source::FileId, args: &BuildArgs) -> ExitCode {
+    let stdout_taken = args.output.as_deref().is_none_or(|p| p.as_os_str() == "-");
     let parsed = crate::parse::parse(sources, file);
     let text = if args.emit == Emit::Ast {
-        common::emit(sources, &parsed.diagnostics, args.format, args.color);
+        common::emit_beside(sources, &parsed.diagnostics, args.format, args.color, stdout_taken);
         format!("{:#?}\n", parsed.value.items)
     } else {
         let checked = crate::compile::check_file(sources, file);
-        common::emit(sources, &checked.diagnostics, args.format, args.color);
+        common::emit_beside(sources, &checked.diagnostics, args.format, args.color, stdout_taken);
         match &checked.value {
             Some(scene) if !checked.has_errors() => crate::check::dump(scene),
             _ => return common::exit_for(&checked.diagnostics),
@@ -176,6 +178,8 @@ pub(crate) struct BuildRequest<'a> {
     pub node_budget: Option<u64>,
     pub format: DiagFormat,
     pub color: ColorChoice,
+    /// Whether the product goes to stdout (then json and lsp diagnostics go to stderr).
+    pub stdout_taken: bool,
 }
 
 /// Loads the catalogs, builds the file and prints the diagnostics. On success: the build, the
@@ -188,7 +192,13 @@ pub(crate) fn run_build(
 {
     let loaded = request.catalogs.load(sources);
     if loaded.has_errors() {
-        common::emit(sources, &loaded.diagnostics, request.format, request.color);
+        common::emit_beside(
+            sources,
+            &loaded.diagnostics,
+            request.format,
+            request.color,
+            request.stdout_taken,
+        );
         return Err(ExitCode::from(1));
     }
     let catalog = loaded.value;
@@ -201,7 +211,13 @@ pub(crate) fn run_build(
     };
     let mut built = crate::compile::build(sources, file, &options);
     built.diagnostics.splice(0..0, loaded.diagnostics);
-    common::emit(sources, &built.diagnostics, request.format, request.color);
+    common::emit_beside(
+        sources,
+        &built.diagnostics,
+        request.format,
+        request.color,
+        request.stdout_taken,
+    );
     match built.value {
         Some(product) => Ok((product, catalog, built.diagnostics)),
         None => Err(common::exit_for(&built.diagnostics)),

@@ -46,10 +46,32 @@ impl ColorChoice {
     }
 }
 
+/// Writes text to stdout. When the reader has gone away (`holoc assets list | head -2`), the
+/// command stops quietly with status 0, as a filter should; any other write error is reported
+/// (E0001) and ends the command with status 2.
+pub fn out(text: &str) {
+    use std::io::Write as _;
+    let mut stdout = std::io::stdout().lock();
+    if let Err(e) = stdout.write_all(text.as_bytes()).and_then(|()| stdout.flush()) {
+        if e.kind() == std::io::ErrorKind::BrokenPipe {
+            std::process::exit(0);
+        }
+        err(&format!("error[E0001]: cannot write to stdout: {e}\n"));
+        std::process::exit(2);
+    }
+}
+
+/// Writes text to stderr; nothing is left to say anything with when stderr itself is closed,
+/// so its errors are ignored.
+pub fn err(text: &str) {
+    use std::io::Write as _;
+    let mut stderr = std::io::stderr().lock();
+    let _ = stderr.write_all(text.as_bytes()).and_then(|()| stderr.flush());
+}
+
 /// Prints one status line on stderr (a command's closing summary).
-#[allow(clippy::print_stderr, reason = "only the CLI prints; this is its status line")]
 pub fn emit_status(line: &str) {
-    eprintln!("{line}");
+    err(&format!("{line}\n"));
 }
 
 /// The exit code for a set of diagnostics: 1 if any is an error, else 0.
@@ -86,17 +108,25 @@ pub fn read_source(sources: &mut SourceMap, path: &Path) -> Result<FileId, Diagn
 }
 
 /// Prints diagnostics in the chosen format: human and short to stderr, json and lsp to stdout.
-#[allow(
-    clippy::print_stdout,
-    clippy::print_stderr,
-    reason = "the CLI is the only place that prints"
-)]
 pub fn emit(
     sources: &SourceMap,
     diagnostics: &[Diagnostic],
     format: DiagFormat,
     color: ColorChoice,
 ) {
+    emit_beside(sources, diagnostics, format, color, false);
+}
+
+/// Like [`emit`]; when the command's product goes to stdout (`stdout_taken`), json and lsp
+/// diagnostics go to stderr instead, so that stdout holds exactly one document.
+pub fn emit_beside(
+    sources: &SourceMap,
+    diagnostics: &[Diagnostic],
+    format: DiagFormat,
+    color: ColorChoice,
+    stdout_taken: bool,
+) {
+    let data = |text: String| if stdout_taken { err(&text) } else { out(&text) };
     let mut sorted = diagnostics.to_vec();
     diag::sort(&mut sorted);
     match format {
@@ -106,42 +136,74 @@ pub fn emit(
                 &sorted,
                 HumanOptions { color: color.enabled(), width: 100 },
             );
-            eprint!("{text}");
+            err(&text);
             let errors = sorted.iter().filter(|d| d.is_error()).count();
             let warnings = sorted.len() - errors;
             if errors + warnings > 0 {
-                eprintln!("{errors} error(s), {warnings} warning(s)");
+                err(&format!("{errors} error(s), {warnings} warning(s)\n"));
             }
         }
-        DiagFormat::Short => eprint!("{}", diag::format::render_short(sources, &sorted)),
-        DiagFormat::Json => print!("{}", diag::format::render_json(sources, &sorted)),
-        DiagFormat::Lsp => print!("{}", diag::lsp::render_lsp(sources, &sorted)),
+        DiagFormat::Short => err(&diag::format::render_short(sources, &sorted)),
+        DiagFormat::Json => data(diag::format::render_json(sources, &sorted)),
+        DiagFormat::Lsp => data(diag::lsp::render_lsp(sources, &sorted)),
     }
 }
 
 /// Prints one diagnostic that has no source (I/O, usage) to stderr.
-#[allow(clippy::print_stderr, reason = "the CLI is the only place that prints")]
 pub fn emit_plain(d: &Diagnostic) {
-    eprintln!("{}[{}]: {}", d.severity.as_str(), d.code.as_str(), d.message);
-    if let Some(help) = &d.help {
-        eprintln!("  help: {help}");
-    }
+    let help = d.help.as_ref().map(|h| format!("  help: {h}\n")).unwrap_or_default();
+    err(&format!("{}[{}]: {}\n{help}", d.severity.as_str(), d.code.as_str(), d.message));
 }
 
-/// Writes `contents` to `path` atomically: a temporary file in the same folder, then a rename.
-/// On failure the existing file is untouched.
+/// Writes `contents` to `path`.
+///
+/// A regular file (or a new one) is replaced atomically: a temporary file in the same folder,
+/// synced, then renamed over it, so a reader or a crash sees the old file or the whole new one.
+/// A symbolic link keeps being a link: the file it points to is what gets replaced. A device,
+/// FIFO or socket (`/dev/null`, `/dev/stdout`, a named pipe) is written in place, since renaming
+/// over it would replace the device with a file. A folder is an error (E0001). On failure an
+/// existing file is untouched.
 #[allow(
     clippy::result_large_err,
     reason = "the error is printed at once; it is rare and never propagated far"
 )]
 pub fn write_atomic(path: &Path, contents: &[u8]) -> Result<(), Diagnostic> {
-    let dir = match path.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
-        _ => std::path::PathBuf::from("."),
-    };
     let io = |e: std::io::Error| {
         Diagnostic::new(Code::E0001, format!("cannot write `{}`: {e}", path.display()))
             .with_help("check that the folder exists and is writable")
+    };
+    // Follow a symbolic link to the file it names (which may not exist yet).
+    let mut target = path.to_path_buf();
+    for _ in 0..40 {
+        match std::fs::symlink_metadata(&target) {
+            Ok(m) if m.file_type().is_symlink() => {
+                let link = std::fs::read_link(&target).map_err(io)?;
+                target = match target.parent() {
+                    Some(dir) if link.is_relative() => dir.join(link),
+                    _ => link,
+                };
+            }
+            _ => break,
+        }
+    }
+    match std::fs::metadata(&target) {
+        Ok(m) if m.is_dir() => {
+            return Err(Diagnostic::new(
+                Code::E0001,
+                format!("cannot write `{}`: it is a folder", path.display()),
+            )
+            .with_help("name a file inside it, e.g. `-o folder/house.json`"));
+        }
+        Ok(m) if !m.is_file() => {
+            // A device, FIFO or socket: written in place.
+            let mut f = std::fs::OpenOptions::new().write(true).open(&target).map_err(io)?;
+            return f.write_all(contents).and_then(|()| f.flush()).map_err(io);
+        }
+        _ => {}
+    }
+    let dir = match target.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+        _ => std::path::PathBuf::from("."),
     };
     let mut tmp = tempfile::NamedTempFile::new_in(&dir).map_err(io)?;
     tmp.write_all(contents).map_err(io)?;
@@ -151,15 +213,14 @@ pub fn write_atomic(path: &Path, contents: &[u8]) -> Result<(), Diagnostic> {
     #[cfg(unix)]
     {
         use std::os::unix::fs::PermissionsExt as _;
-        let mode = std::fs::metadata(path).map_or(0o644, |m| m.permissions().mode() & 0o7777);
+        let mode = std::fs::metadata(&target).map_or(0o644, |m| m.permissions().mode() & 0o7777);
         std::fs::set_permissions(tmp.path(), std::fs::Permissions::from_mode(mode)).map_err(io)?;
     }
-    tmp.persist(path).map_err(|e| io(e.error))?;
+    tmp.persist(&target).map_err(|e| io(e.error))?;
     Ok(())
 }
 
 /// Writes a product to `-o PATH` atomically, or to stdout when no path is given.
-#[allow(clippy::print_stdout, reason = "the CLI is the only place that prints")]
 #[allow(
     clippy::result_large_err,
     reason = "the error is printed at once; it is rare and never propagated far"
@@ -168,7 +229,7 @@ pub fn write_output(path: Option<&Path>, contents: &str) -> Result<(), Diagnosti
     match path {
         Some(p) if p.as_os_str() != "-" => write_atomic(p, contents.as_bytes()),
         _ => {
-            print!("{contents}");
+            out(contents);
             Ok(())
         }
     }

@@ -1,5 +1,6 @@
 //! `holoc explain CODE`: print a code's page from the diagnostics catalogue.
 
+use super::common;
 use crate::diag::{Code, Diagnostic};
 use std::process::ExitCode;
 
@@ -15,18 +16,17 @@ pub struct ExplainArgs {
 }
 
 /// Runs `holoc explain`.
-#[allow(clippy::print_stdout, reason = "the CLI is the only place that prints")]
 pub fn run(args: &ExplainArgs) -> ExitCode {
     if args.list {
         for code in Code::ALL {
-            println!("{}  {:<28} {}", code.as_str(), code.name(), code.summary());
+            common::out(&format!("{}  {:<28} {}\n", code.as_str(), code.name(), code.summary()));
         }
         return ExitCode::SUCCESS;
     }
     let text = args.code.as_deref().unwrap_or_default();
     match Code::parse(text) {
         Some(code) => {
-            print!("{}", code.page());
+            common::out(code.page());
             ExitCode::SUCCESS
         }
         None => {

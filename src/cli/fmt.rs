@@ -42,7 +42,7 @@ pub fn run(args: &FmtArgs) -> ExitCode {
         let parsed = crate::parse::parse(&sources, id);
         if parsed.has_errors() {
             common::emit(&sources, &parsed.diagnostics, DiagFormat::Human, args.color);
-            eprintln!("not formatting `{}`: it has syntax errors", path.display());
+            common::err(&format!("not formatting `{}`: it has syntax errors\n", path.display()));
             status = ExitCode::from(1);
             continue;
         }
@@ -50,7 +50,7 @@ pub fn run(args: &FmtArgs) -> ExitCode {
         let original = &sources.get(id).text;
         if args.check {
             if &printed != original {
-                println!("{}", path.display());
+                common::out(&format!("{}\n", path.display()));
                 status = ExitCode::from(1);
             }
         } else if args.write {
@@ -61,7 +61,7 @@ pub fn run(args: &FmtArgs) -> ExitCode {
                 }
             }
         } else {
-            print!("{printed}");
+            common::out(&printed);
         }
     }
     status

@@ -191,7 +191,6 @@ fn record_path(args: &GenerateArgs) -> Option<PathBuf> {
 }
 
 /// Runs `holoc generate`.
-#[allow(clippy::print_stderr, reason = "the CLI is the only place that prints")]
 pub fn run(args: &GenerateArgs) -> ExitCode {
     if !(args.timeout.is_finite() && args.timeout > 0.0) {
         return usage(
@@ -336,16 +335,24 @@ pub fn run(args: &GenerateArgs) -> ExitCode {
     common::emit(&generated.sources, &outcome.diagnostics, common::DiagFormat::Human, args.color);
     if !args.quiet {
         for cost in &generated.costs {
-            eprintln!(
-                "{:>18}: {:>2} call(s), {:>6} prompt + {:>5} answer tokens, {:>6.1} s",
-                cost.stage, cost.calls, cost.prompt_tokens, cost.completion_tokens, cost.seconds
-            );
+            common::err(&format!(
+                "{:>18}: {:>2} call(s), {:>6} prompt + {:>5} answer tokens, {:>6.1} s\n",
+                cost.stage,
+                cost.calls,
+                cost.prompt_tokens,
+                cost.completion_tokens,
+                cost.seconds.abs()
+            ));
         }
         if let Some(t) = &generated.transcript.totals {
-            eprintln!(
-                "{:>18}: {:>2} call(s), {:>6} prompt + {:>5} answer tokens, {:>6.1} s",
-                "total", t.calls, t.prompt_tokens, t.completion_tokens, t.seconds
-            );
+            common::err(&format!(
+                "{:>18}: {:>2} call(s), {:>6} prompt + {:>5} answer tokens, {:>6.1} s\n",
+                "total",
+                t.calls,
+                t.prompt_tokens,
+                t.completion_tokens,
+                t.seconds.abs()
+            ));
         }
     }
     let mut build_failed = false;

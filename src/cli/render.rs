@@ -52,6 +52,7 @@ pub fn run(args: &RenderArgs) -> ExitCode {
         node_budget: None,
         format: args.format,
         color: args.color,
+        stdout_taken: args.output.as_deref().is_none_or(|p| p.as_os_str() == "-"),
     };
     let (product, _, diagnostics) = match super::build::run_build(&mut sources, file, &request) {
         Ok(built) => built,

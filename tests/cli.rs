@@ -1,0 +1,102 @@
+//! What the command line does with its outputs: a closed pipe ends a command quietly, `-o`
+//! replaces regular files atomically, writes devices and FIFOs in place, follows symbolic
+//! links and refuses folders, and machine-readable stdout holds exactly one document.
+
+use std::io::Read as _;
+use std::process::{Command, Stdio};
+
+fn holoc() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_holoc"))
+}
+
+fn scratch(name: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("holoc-cli-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("scratch folder");
+    dir
+}
+
+#[test]
+fn a_closed_pipe_ends_a_command_quietly() {
+    for args in [&["assets", "list"][..], &["explain", "--list"][..]] {
+        let mut child = holoc()
+            .args(args)
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .expect("holoc starts");
+        // Read a little, then hang up, as `| head -2` does.
+        let mut stdout = child.stdout.take().expect("stdout");
+        let mut first = [0u8; 64];
+        let _ = stdout.read(&mut first).expect("some output");
+        drop(stdout);
+        let mut stderr = String::new();
+        child.stderr.take().expect("stderr").read_to_string(&mut stderr).expect("stderr");
+        let status = child.wait().expect("holoc ends");
+        assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
+        assert_eq!(status.code(), Some(0), "{args:?}: {stderr}");
+    }
+}
+
+#[test]
+fn build_json_to_stdout_is_one_document() {
+    let out = holoc()
+        .args(["build", "examples/bedroom.holo", "--format", "json", "-q"])
+        .output()
+        .expect("holoc runs");
+    assert!(out.status.success());
+    let house: serde_json::Value =
+        serde_json::from_slice(&out.stdout).expect("stdout is one JSON document");
+    assert!(house.get("rooms").is_some(), "stdout holds the house");
+    let diags: serde_json::Value =
+        serde_json::from_slice(&out.stderr).expect("stderr is the diagnostics document");
+    assert!(diags.get("diagnostics").is_some());
+}
+
+#[test]
+fn outputs_replace_files_follow_links_write_fifos_and_refuse_folders() {
+    let dir = scratch("outputs");
+    let build = |target: &std::path::Path| {
+        holoc()
+            .args(["build", "examples/bedroom.holo", "-q", "--format", "short", "-o"])
+            .arg(target)
+            .output()
+            .expect("holoc runs")
+    };
+    // A symbolic link stays a link; the file it names gets the house.
+    let real = dir.join("real.json");
+    std::fs::write(&real, "old").expect("writable");
+    #[cfg(unix)]
+    {
+        let link = dir.join("link.json");
+        std::os::unix::fs::symlink("real.json", &link).expect("symlink");
+        assert!(build(&link).status.success());
+        assert!(std::fs::symlink_metadata(&link).expect("link").file_type().is_symlink());
+        assert!(std::fs::read_to_string(&real).expect("real").contains("\"rooms\""));
+    }
+    // A folder is a clear error, exit 2.
+    let folder = dir.join("folder");
+    std::fs::create_dir_all(&folder).expect("folder");
+    let out = build(&folder);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("it is a folder"));
+    assert!(folder.is_dir());
+    // A FIFO is written in place, not replaced by a file.
+    #[cfg(unix)]
+    {
+        let fifo = dir.join("pipe");
+        let made = Command::new("mkfifo").arg(&fifo).status();
+        if made.is_ok_and(|s| s.success()) {
+            let reader = {
+                let fifo = fifo.clone();
+                std::thread::spawn(move || std::fs::read(&fifo).expect("the FIFO can be read"))
+            };
+            assert!(build(&fifo).status.success());
+            let bytes = reader.join().expect("reader");
+            assert!(String::from_utf8_lossy(&bytes).contains("\"rooms\""));
+            use std::os::unix::fs::FileTypeExt as _;
+            assert!(std::fs::metadata(&fifo).expect("fifo").file_type().is_fifo());
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
