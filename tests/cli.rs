@@ -94,8 +94,9 @@ fn outputs_replace_files_follow_links_write_fifos_and_refuse_folders() {
             assert!(build(&fifo).status.success());
             let bytes = reader.join().expect("reader");
             assert!(String::from_utf8_lossy(&bytes).contains("\"rooms\""));
-            use std::os::unix::fs::FileTypeExt as _;
-            assert!(std::fs::metadata(&fifo).expect("fifo").file_type().is_fifo());
+            assert!(std::os::unix::fs::FileTypeExt::is_fifo(
+                &std::fs::metadata(&fifo).expect("fifo").file_type()
+            ));
         }
     }
     let _ = std::fs::remove_dir_all(&dir);
