@@ -282,3 +282,22 @@ mod fuzz {
         import_all(&"{".repeat(10_000));
     }
 }
+
+/// A lone carriage return ends a line, as `\n` and `\r\n` do: the three spellings of one answer
+/// import to the same `.holo`, and a long answer whose lines end in `\r` is read line by line.
+#[test]
+fn every_line_end_spelling_imports_the_same() {
+    let lines = ["sofa-0 | edge", "coffee_table-0 | middle | near, sofa-0", "tv_stand-0 | edge"];
+    let import_with = |sep: &str| {
+        let mut sources = SourceMap::new();
+        let id = sources.add("answer", lines.join(sep));
+        let out =
+            import::import_answer(Stage::FloorConstraints, &sources, id, &ImportContext::new());
+        assert!(!out.has_errors(), "{sep:?}: {}", render(&sources, &out.diagnostics));
+        holoc::fmt::print(&out.value.fragment)
+    };
+    let unix = import_with("\n");
+    assert_eq!(import_with("\r\n"), unix);
+    assert_eq!(import_with("\r"), unix);
+    assert!(unix.contains("coffee_table"), "{unix}");
+}

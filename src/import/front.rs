@@ -119,15 +119,39 @@ impl Lines {
     }
 }
 
+/// The lines of a text with the byte offset of each: `\n`, `\r\n` and a lone `\r` (old Mac
+/// line ends, which some servers send) each end a line.
+pub(crate) fn split_lines(text: &str) -> Vec<(usize, &str)> {
+    let bytes = text.as_bytes();
+    let mut out = Vec::new();
+    let mut start = 0;
+    let mut i = 0;
+    while i < bytes.len() {
+        match bytes[i] {
+            b'\n' => {
+                out.push((start, &text[start..i]));
+                start = i + 1;
+            }
+            b'\r' => {
+                out.push((start, &text[start..i]));
+                if bytes.get(i + 1) == Some(&b'\n') {
+                    i += 1;
+                }
+                start = i + 1;
+            }
+            _ => {}
+        }
+        i += 1;
+    }
+    out.push((start, &text[start..]));
+    out
+}
+
 /// Splits an answer into lines, removes decoration, and drops blank lines, code fences and
 /// (when `pipe` is set) lines without a `|`, noting each kind of noise once.
 pub(crate) fn lines(text: &str, file: FileId, pipe: bool) -> Lines {
     let mut out = Lines { lines: Vec::new(), noise: Vec::new() };
-    let mut start = 0;
-    for raw_line in text.split('\n') {
-        let line_start = start;
-        start += raw_line.len() + 1;
-        let raw = raw_line.strip_suffix('\r').unwrap_or(raw_line);
+    for (line_start, raw) in split_lines(text) {
         let span = Span::new(file, line_start, line_start + raw.len());
         let trimmed = raw.trim();
         if trimmed.is_empty() {
