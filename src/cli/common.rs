@@ -161,8 +161,8 @@ pub fn emit_plain(d: &Diagnostic) {
 /// synced, then renamed over it, so a reader or a crash sees the old file or the whole new one.
 /// A symbolic link keeps being a link: the file it points to is what gets replaced. A device,
 /// FIFO or socket (`/dev/null`, `/dev/stdout`, a named pipe) is written in place, since renaming
-/// over it would replace the device with a file. A folder is an error (E0001). On failure an
-/// existing file is untouched.
+/// over it would replace the device with a file. A folder is an error (E0001); missing folders
+/// on the way are made. On failure an existing file is untouched.
 #[allow(
     clippy::result_large_err,
     reason = "the error is printed at once; it is rare and never propagated far"
@@ -205,6 +205,8 @@ pub fn write_atomic(path: &Path, contents: &[u8]) -> Result<(), Diagnostic> {
         Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
         _ => std::path::PathBuf::from("."),
     };
+    // A missing folder is made, as `-o out/house.json` on a fresh clone expects.
+    std::fs::create_dir_all(&dir).map_err(io)?;
     let mut tmp = tempfile::NamedTempFile::new_in(&dir).map_err(io)?;
     tmp.write_all(contents).map_err(io)?;
     tmp.as_file().sync_all().map_err(io)?;

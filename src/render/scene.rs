@@ -182,6 +182,9 @@ pub fn drawing(built: &Built) -> Drawing {
         }
     }
     for (room, r) in &built.resolved.ceilings {
+        if built.resolved.ceiling_lights.contains_key(room) {
+            continue;
+        }
         if let Some(reason) = unresolved(r) {
             d.left_out.push(LeftOut {
                 name: format!("ceiling of {}", built.scene.room(*room).name),

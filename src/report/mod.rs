@@ -90,6 +90,10 @@ pub fn report(built: &Built, catalog: &Catalog) -> Value {
             "small_objects": others(&solved.layout.small),
             "ceiling": solved.layout.ceiling.as_ref().map(|c| others(std::slice::from_ref(c))),
             "not_placed": unplaced,
+            "ceiling_light": built.resolved.ceiling_lights.get(&solved.room).map(|d| json!({
+                "description": d,
+                "served_by": format!("light|{}", built.plan.room(solved.room).thor_id),
+            })),
             "constraints_satisfied": satisfied,
             "constraints_total": total,
             "search_nodes": solved.layout.nodes,
@@ -117,15 +121,19 @@ pub struct Summary {
     pub relations_kept: usize,
     /// Relations (and global placements) of every placed floor object.
     pub relations_total: usize,
+    /// Ceiling lights without an asset that the rooms' lights stand for.
+    pub lights: usize,
 }
 
 impl Summary {
     /// Counts a finished build.
     pub fn of(built: &Built) -> Summary {
         let resolved = &built.resolved;
+        let lights = resolved.ceiling_lights.len();
         let asked = resolved.objects.len()
             + resolved.ceilings.len()
-            + resolved.small.values().map(Vec::len).sum::<usize>();
+            + resolved.small.values().map(Vec::len).sum::<usize>()
+            - lights;
         let (relations_kept, relations_total) = built
             .layout
             .rooms
@@ -138,6 +146,7 @@ impl Summary {
             placed: built.house.object_count(),
             relations_kept,
             relations_total,
+            lights,
         }
     }
 
@@ -162,6 +171,11 @@ impl std::fmt::Display for Summary {
         if self.left_out() > 0 {
             write!(f, " ({} left out)", self.left_out())?;
         }
-        write!(f, ", {} of {} relations kept", self.relations_kept, self.relations_total)
+        write!(f, ", {} of {} relations kept", self.relations_kept, self.relations_total)?;
+        match self.lights {
+            0 => Ok(()),
+            1 => write!(f, ", 1 ceiling light as its room's light"),
+            n => write!(f, ", {n} ceiling lights as their rooms' lights"),
+        }
     }
 }

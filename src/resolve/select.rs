@@ -74,6 +74,9 @@ pub struct Resolved {
     pub objects: Vec<Resolution>,
     /// Per room with a ceiling object.
     pub ceilings: BTreeMap<RoomId, Resolution>,
+    /// Rooms whose ceiling object is a light that no asset serves: the room's light of the
+    /// house stands for it (its description is kept for the report).
+    pub ceiling_lights: BTreeMap<RoomId, String>,
     /// Per object and `on top` line index: one resolution per small-object instance.
     pub small: BTreeMap<(ObjectId, usize), Vec<Resolution>>,
 }
@@ -109,7 +112,9 @@ impl Resolved {
                     }
                 }
             }
-            if let Some(res) = self.ceilings.get(&room.id) {
+            if self.ceiling_lights.contains_key(&room.id) {
+                let _ = writeln!(out, "  ceiling [ceiling] the room's light (no ceiling asset)");
+            } else if let Some(res) = self.ceilings.get(&room.id) {
                 let _ = writeln!(out, "  ceiling [ceiling] {}", dump_resolution(res, catalog));
             }
         }
@@ -255,14 +260,51 @@ pub fn resolve(scene: &Scene, catalog: &Catalog, seed: u64) -> Outcome<Resolved>
                 span: ceiling.span,
                 room: room.id,
             };
+            let reported = state.diagnostics.len();
             let mut results =
                 state.choose(&what, &query, Variance::Same, &[ceiling.asset.as_ref()], false);
             if let Some(res) = results.pop() {
+                // A ceiling light with no asset is not lost: the house's light of the room, at
+                // the ceiling over the room, stands for it (AI2-THOR's own assets have no
+                // ceiling lamps).
+                if res.choice().is_none()
+                    && ceiling.asset.is_none()
+                    && is_light(&ceiling.description)
+                {
+                    state.diagnostics.truncate(reported);
+                    resolved.ceiling_lights.insert(room.id, ceiling.description.clone());
+                }
                 resolved.ceilings.insert(room.id, res);
             }
         }
     }
     Outcome::new(resolved, state.diagnostics)
+}
+
+/// Words that make a ceiling object a light.
+const LIGHT_WORDS: [&str; 14] = [
+    "light",
+    "lights",
+    "lamp",
+    "chandelier",
+    "pendant",
+    "lantern",
+    "fixture",
+    "sconce",
+    "bulb",
+    "led",
+    "fluorescent",
+    "spotlight",
+    "downlight",
+    "luminaire",
+];
+
+/// Whether a ceiling object's description names a light.
+pub fn is_light(description: &str) -> bool {
+    description
+        .to_lowercase()
+        .split(|c: char| !c.is_alphanumeric())
+        .any(|w| LIGHT_WORDS.contains(&w))
 }
 
 /// What is being resolved, for messages.
