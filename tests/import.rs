@@ -301,3 +301,21 @@ fn every_line_end_spelling_imports_the_same() {
     assert_eq!(import_with("\r"), unix);
     assert!(unix.contains("coffee_table"), "{unix}");
 }
+
+/// A wall height given in prose is the number with a length unit and the words around it, not
+/// the first number of the answer (`1b1b` is part of a word).
+#[test]
+fn wall_height_is_read_from_prose() {
+    for (answer, want) in [
+        ("For a 1b1b apartment, a wall height of 2.7 m works well.", "wall height 2.7 m"),
+        ("Ceilings about 280 cm high suit a studio of 2 rooms", "wall height 2.8 m"),
+        ("In 2024 homes, 2.5", "wall height 2.5 m"),
+        ("3.0", "wall height 3 m"),
+    ] {
+        let mut sources = SourceMap::new();
+        let id = sources.add("answer", answer.to_string());
+        let out = import::import_answer(Stage::WallHeight, &sources, id, &ImportContext::new());
+        let holo = holoc::fmt::print(&out.value.fragment);
+        assert!(holo.contains(want), "{answer:?} gives\n{holo}");
+    }
+}

@@ -286,6 +286,13 @@ pub(crate) fn size_pair(text: &str) -> Option<(Num, Num)> {
 
 /// The first number with an optional unit anywhere in a text (for prose answers).
 pub(crate) fn first_number(text: &str) -> Option<(Num, usize, usize)> {
+    numbers(text).into_iter().next().map(|(n, a, e, _)| (n, a, e))
+}
+
+/// Every number of a prose text, in order, with its span and whether letters are glued to it
+/// (`1b1b`, `3rd`: part of a word, not a quantity).
+pub(crate) fn numbers(text: &str) -> Vec<(Num, usize, usize, bool)> {
+    let mut out = Vec::new();
     let bytes = text.as_bytes();
     let mut i = 0;
     while i < bytes.len() {
@@ -317,14 +324,15 @@ pub(crate) fn first_number(text: &str) -> Option<(Num, usize, usize)> {
                 num_text.to_string()
             };
             if let Some(n) = number(&candidate) {
-                return Some((n, i, j));
+                let glued = k == j && e > k && unit_of(unit_text).is_none();
+                out.push((n, i, j, glued));
             }
             i = j;
         } else {
             i += text[i..].chars().next().map_or(1, char::len_utf8);
         }
     }
-    None
+    out
 }
 
 #[cfg(test)]

@@ -346,15 +346,47 @@ fn room_comment(ctx: &mut ImportContext, room: Option<&str>, comment: String) {
 // ---------------------------------------------------------------------------------------------
 // Wall height.
 
+/// Words that, shortly before a number, say it is the wall height.
+const HEIGHT_WORDS: [&str; 5] = ["height", "high", "tall", "ceiling", "ceilings"];
+
+/// The wall height in a prose answer ("For a 1b1b apartment, a wall height of 2.7 m works
+/// well."): of the numbers that are not part of a word (`1b1b`), the one with a length unit,
+/// then the one after a word such as "height", then one that is a plausible height in metres;
+/// the first such number wins a tie.
+fn height_in_prose(text: &str) -> Option<(front::Num, usize, usize)> {
+    front::numbers(text)
+        .into_iter()
+        .filter(|(_, _, _, glued)| !glued)
+        .map(|(n, a, e, _)| {
+            // The 30 characters before the number (spans are byte offsets into `text`).
+            let from = text[..a].char_indices().rev().nth(29).map_or(0, |(i, _)| i);
+            let before = text[from..a].to_lowercase();
+            let metres = match n.unit {
+                Some("cm") => n.value / 100.0,
+                Some("mm") => n.value / 1000.0,
+                _ => n.value,
+            };
+            let score = 4 * u8::from(matches!(n.unit, Some("m" | "cm" | "mm")))
+                + 2 * u8::from(HEIGHT_WORDS.iter().any(|w| before.contains(w)))
+                + u8::from((2.0..=6.0).contains(&metres));
+            (score, n, a, e)
+        })
+        .fold(None, |best: Option<(u8, front::Num, usize, usize)>, c| match best {
+            Some(b) if b.0 >= c.0 => Some(b),
+            _ => Some(c),
+        })
+        .map(|(_, n, a, e)| (n, a, e))
+}
+
 fn wall_height(text: &str, file: FileId, ctx: &mut ImportContext, d: &mut Diags) {
     let trimmed = text.trim();
     let lead = text.len() - text.trim_start().len();
     let (n, at, end) = if let Some(n) = front::number(trimmed.trim_end_matches('.')) {
         (n, lead, lead + trimmed.len())
-    } else if let Some((n, a, e)) = front::first_number(text) {
+    } else if let Some((n, a, e)) = height_in_prose(text) {
         d.push(
             Diagnostic::new(Code::W0701, "read the wall height from prose")
-                .with_primary(Span::new(file, a, e), "the first number of the answer"),
+                .with_primary(Span::new(file, a, e), "the height the answer gives"),
         );
         (n, a, e)
     } else {
