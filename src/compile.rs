@@ -25,6 +25,50 @@ pub fn check_file(sources: &SourceMap, file: FileId) -> Outcome<Option<Scene>> {
     Outcome::new(scene, diagnostics)
 }
 
+/// The last stage `holoc check` runs.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord)]
+pub enum CheckStage {
+    /// The grammar only.
+    Parse,
+    /// Names, references, units and kinds.
+    Check,
+    /// The floor plan: outlines, walls, doors, windows, reachability.
+    Plan,
+    /// Assets and materials (everything before the layout solver).
+    #[default]
+    Resolve,
+}
+
+/// Runs every stage up to `last` that does not need the layout solver, each only when the ones
+/// before it produced no error, and returns every diagnostic: what `holoc check` and an editor
+/// show. Floor-plan, door, window and asset problems that `build` would stop on appear here.
+pub fn check_stages(
+    sources: &SourceMap,
+    file: FileId,
+    catalog: &Catalog,
+    last: CheckStage,
+) -> Vec<Diagnostic> {
+    if last == CheckStage::Parse {
+        return crate::parse::parse(sources, file).diagnostics;
+    }
+    let checked = check_file(sources, file);
+    let mut diagnostics = checked.diagnostics;
+    let Some(scene) = checked.value.filter(|_| !has_errors(&diagnostics)) else {
+        return diagnostics;
+    };
+    if last == CheckStage::Check {
+        return diagnostics;
+    }
+    let planned =
+        crate::plan::plan_with(&scene, StructureCatalog::builtin(), PlanOptions::default());
+    diagnostics.extend(planned.diagnostics);
+    if last == CheckStage::Plan || has_errors(&diagnostics) {
+        return diagnostics;
+    }
+    diagnostics.extend(crate::resolve::resolve(&scene, catalog, scene.seed).diagnostics);
+    diagnostics
+}
+
 /// How to build.
 #[derive(Clone, Copy, Debug)]
 pub struct BuildOptions<'a> {
@@ -38,6 +82,9 @@ pub struct BuildOptions<'a> {
     pub solver: Solver,
     /// The search budget per room (`None`: the solver's default).
     pub node_budget: Option<u64>,
+    /// Whether assets of another type that do the same job stand in for things the catalog
+    /// lacks (W0403); `--no-stand-ins` turns it off.
+    pub stand_ins: bool,
 }
 
 /// Everything a build produced, stage by stage.
@@ -82,7 +129,12 @@ pub fn build(
         return Outcome::new(None, diagnostics);
     }
     let plan = planned.value;
-    let resolved = crate::resolve::resolve(&scene, options.catalog, scene.seed);
+    let resolved = crate::resolve::resolve_with(
+        &scene,
+        options.catalog,
+        scene.seed,
+        &crate::resolve::ResolveOptions { stand_ins: options.stand_ins },
+    );
     diagnostics.extend(resolved.diagnostics);
     if has_errors(&diagnostics) {
         return Outcome::new(None, diagnostics);
@@ -117,6 +169,7 @@ pub fn diagnose(sources: &SourceMap, file: FileId) -> Vec<Diagnostic> {
         catalog: &catalog,
         solver: Solver::Dfs,
         node_budget: None,
+        stand_ins: true,
     };
     build(sources, file, &options).diagnostics
 }

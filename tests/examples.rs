@@ -37,6 +37,7 @@ fn build_example(
         catalog: &catalog,
         solver,
         node_budget: None,
+        stand_ins: true,
     };
     let out = build(&sources, id, &options);
     (sources, out.value, out.diagnostics)

@@ -304,6 +304,7 @@ fn clean_run() {
             catalog: &catalog,
             solver: holoc::solve::Solver::Dfs,
             node_budget: None,
+            stand_ins: true,
         },
     );
     let errors: Vec<_> = built.diagnostics.iter().filter(|d| d.is_error()).collect();

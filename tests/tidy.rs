@@ -212,3 +212,13 @@ fn the_book_summary_links_every_page_and_only_existing_ones() {
         }
     }
 }
+
+/// The book's table of stand-ins is the table the resolver uses.
+#[test]
+fn the_book_lists_every_stand_in() {
+    let page = std::fs::read_to_string("book/src/design/catalog-matching.md").expect("page");
+    for line in holoc::resolve::standins::STAND_INS {
+        let row = format!("| {} | {} | {} |", line.key, line.types.join(", "), line.reason);
+        assert!(page.contains(&row), "the book lacks the stand-in row `{row}`");
+    }
+}

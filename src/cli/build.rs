@@ -76,6 +76,10 @@ pub struct BuildArgs {
     /// Print no summary line at the end (diagnostics are still printed).
     #[arg(short, long)]
     pub quiet: bool,
+    /// Leave out things the catalog lacks instead of letting an asset of another type that does
+    /// the same job stand in (W0403).
+    #[arg(long)]
+    pub no_stand_ins: bool,
 }
 
 /// Runs `holoc build`.
@@ -105,6 +109,7 @@ pub fn run(args: &BuildArgs) -> ExitCode {
         format: args.format,
         color: args.color,
         stdout_taken: args.output.as_deref().is_none_or(|p| p.as_os_str() == "-"),
+        stand_ins: !args.no_stand_ins,
     };
     let (product, catalog, diagnostics) = match run_build(&mut sources, file, &request) {
         Ok(built) => built,
@@ -180,6 +185,8 @@ pub(crate) struct BuildRequest<'a> {
     pub color: ColorChoice,
     /// Whether the product goes to stdout (then json and lsp diagnostics go to stderr).
     pub stdout_taken: bool,
+    /// Whether stand-ins fill in for things the catalog lacks.
+    pub stand_ins: bool,
 }
 
 /// Loads the catalogs, builds the file and prints the diagnostics. On success: the build, the
@@ -208,6 +215,7 @@ pub(crate) fn run_build(
         catalog: &catalog,
         solver: request.solver,
         node_budget: request.node_budget,
+        stand_ins: request.stand_ins,
     };
     let mut built = crate::compile::build(sources, file, &options);
     built.diagnostics.splice(0..0, loaded.diagnostics);

@@ -393,6 +393,7 @@ fn build_house(holo: &str, output: Option<&std::path::Path>, color: ColorChoice)
         catalog: &catalog,
         solver: crate::solve::Solver::Dfs,
         node_budget: None,
+        stand_ins: true,
     };
     let built = crate::compile::build(&sources, file, &options);
     common::emit(&sources, &built.diagnostics, common::DiagFormat::Human, color);

@@ -23,6 +23,9 @@ pub struct RenderArgs {
     /// User asset catalogs.
     #[command(flatten)]
     pub catalogs: super::assets::CatalogArgs,
+    /// Leave out things the catalog lacks instead of letting stand-ins fill in (W0403).
+    #[arg(long)]
+    pub no_stand_ins: bool,
     /// How to print diagnostics.
     #[arg(long, value_enum, default_value_t = DiagFormat::Human)]
     pub format: DiagFormat,
@@ -53,6 +56,7 @@ pub fn run(args: &RenderArgs) -> ExitCode {
         format: args.format,
         color: args.color,
         stdout_taken: args.output.as_deref().is_none_or(|p| p.as_os_str() == "-"),
+        stand_ins: !args.no_stand_ins,
     };
     let (product, _, diagnostics) = match super::build::run_build(&mut sources, file, &request) {
         Ok(built) => built,

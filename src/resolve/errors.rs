@@ -65,6 +65,24 @@ pub(crate) fn wrong_kind(
     )
 }
 
+/// W0403: an asset of another type stands in for a thing the catalog lacks.
+pub(crate) fn stand_in(
+    what: &Subject,
+    asset: &Asset,
+    line: &super::standins::StandIn,
+) -> Diagnostic {
+    Diagnostic::new(
+        Code::W0403,
+        format!(
+            "no asset of its own for `{}` (\"{}\"); a {} (`{}`) stands in",
+            what.name, what.description, asset.object_type, asset.id
+        ),
+    )
+    .with_primary(what.span, format!("a {} stands in", asset.object_type))
+    .with_note(format!("a {} for a {}: {}", asset.object_type, line.key, line.reason))
+    .with_help("pin an asset with `asset \"…\"`, add a catalog that has one with `--catalog`, or build with `--no-stand-ins` to leave it out")
+}
+
 /// W0401: nothing in the catalog is good enough.
 pub(crate) fn no_match(
     what: &Subject,

@@ -14,6 +14,7 @@ mod errors;
 mod index;
 mod report;
 mod select;
+pub mod standins;
 pub mod structure;
 mod text;
 
@@ -23,7 +24,7 @@ pub use index::{
     RELEVANCE_WEIGHT, SIZE_WEIGHT,
 };
 pub use report::{candidate_json, report};
-pub use select::{resolve, Choice, Resolution, Resolved, Unresolved};
+pub use select::{resolve, resolve_with, Choice, Resolution, ResolveOptions, Resolved, Unresolved};
 
 /// Ranks the catalog for a free-text query, as `holoc assets search` does: the whole text is
 /// the category (its last word the head), with an optional desired size and placement kind.

@@ -37,7 +37,17 @@ fn resolution(res: &Resolution, catalog: &Catalog, mut head: Map<String, Value>)
     match res {
         Resolution::Chosen(c) => {
             let source = &catalog.sources()[c.source.min(catalog.sources().len() - 1)];
-            head.insert("status".into(), json!(if c.pinned { "pinned" } else { "chosen" }));
+            let status = if c.pinned {
+                "pinned"
+            } else if c.stand_in.is_some() {
+                "stand-in"
+            } else {
+                "chosen"
+            };
+            head.insert("status".into(), json!(status));
+            if let Some(reason) = &c.stand_in {
+                head.insert("standIn".into(), json!(reason));
+            }
             head.insert("assetId".into(), json!(c.asset_id));
             head.insert("objectType".into(), json!(c.object_type));
             head.insert("catalog".into(), json!(source.name));

@@ -6,6 +6,7 @@ use std::fmt::Write as _;
 use super::catalog::{Catalog, PlacementKind};
 use super::errors;
 use super::index::{rank_top, Candidate, Query};
+use super::standins;
 
 /// How many ranked candidates resolution looks at (enough for the largest varied group and
 /// for avoiding assets used in other rooms).
@@ -33,6 +34,8 @@ pub struct Choice {
     pub parts: Option<Candidate>,
     /// The best other candidate, if any.
     pub runner_up: Option<Candidate>,
+    /// When the asset stands in for a thing the catalog lacks: why a person accepts it.
+    pub stand_in: Option<String>,
 }
 
 /// Why nothing was chosen.
@@ -169,9 +172,34 @@ pub(crate) fn parts_text(c: &Candidate) -> String {
 /// avoided where an alternative exists, and objects with things on top prefer receptacles.
 /// Exact ties are broken by the seed.
 pub fn resolve(scene: &Scene, catalog: &Catalog, seed: u64) -> Outcome<Resolved> {
+    resolve_with(scene, catalog, seed, &ResolveOptions::default())
+}
+
+/// How to resolve.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ResolveOptions {
+    /// Whether an asset of another type that does the same job stands in for a thing the
+    /// catalog lacks (the stand-in table of `resolve::standins`); on by default.
+    pub stand_ins: bool,
+}
+
+impl Default for ResolveOptions {
+    fn default() -> Self {
+        ResolveOptions { stand_ins: true }
+    }
+}
+
+/// [`resolve`] with options.
+pub fn resolve_with(
+    scene: &Scene,
+    catalog: &Catalog,
+    seed: u64,
+    options: &ResolveOptions,
+) -> Outcome<Resolved> {
     let mut state = State {
         catalog,
         seed,
+        options: *options,
         used: BTreeMap::new(),
         diagnostics: Vec::new(),
         reported: BTreeSet::new(),
@@ -318,6 +346,7 @@ pub(crate) struct Subject {
 struct State<'a> {
     catalog: &'a Catalog,
     seed: u64,
+    options: ResolveOptions,
     /// Asset id → rooms it is used in.
     used: BTreeMap<String, BTreeSet<RoomId>>,
     diagnostics: Vec<Diagnostic>,
@@ -377,6 +406,10 @@ impl State<'_> {
                 continue;
             }
             if pool.is_empty() {
+                if let Some(res) = self.stand_in(what, query, kind) {
+                    out.push(res);
+                    continue;
+                }
                 let nearest: Vec<Candidate> = ranked.iter().take(3).cloned().collect();
                 let d = errors::no_match(what, kind, &nearest, self.catalog);
                 self.report_once(what.span, d);
@@ -406,9 +439,38 @@ impl State<'_> {
                 pinned: false,
                 parts: Some(pick.clone()),
                 runner_up,
+                stand_in: None,
             }));
         }
         out
+    }
+
+    /// An asset of another type that does the same job, from the stand-in table, with its
+    /// warning (W0403, once per declaration); `None` when stand-ins are off or none fits.
+    fn stand_in(
+        &mut self,
+        what: &Subject,
+        query: &Query,
+        kind: PlacementKind,
+    ) -> Option<Resolution> {
+        if !self.options.stand_ins {
+            return None;
+        }
+        let line = standins::lookup(&query.category).or_else(|| standins::lookup(&what.name))?;
+        let asset = standins::pick(self.catalog, line, kind, query.size_m)?;
+        self.report_once(what.span, errors::stand_in(what, asset, line));
+        self.used.entry(asset.id.clone()).or_default().insert(what.room);
+        Some(Resolution::Chosen(Choice {
+            asset_id: asset.id.clone(),
+            object_type: asset.object_type.clone(),
+            bbox_m: asset.bbox_m,
+            receptacle: asset.receptacle,
+            source: asset.source,
+            pinned: false,
+            parts: None,
+            runner_up: None,
+            stand_in: Some(line.reason.to_owned()),
+        }))
     }
 
     fn pinned(
@@ -452,6 +514,7 @@ impl State<'_> {
                     pinned: true,
                     parts: None,
                     runner_up: ranked.iter().find(|c| c.asset_id != asset.id).cloned(),
+                    stand_in: None,
                 })
             }
         }

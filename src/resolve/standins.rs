@@ -1,0 +1,270 @@
+//! Stand-ins: when no asset is good enough for an object, an asset of another AI2-THOR type
+//! that does the same job in the room takes its place, so the room keeps its furniture.
+//!
+//! The table is written by hand, one line per kind of thing, each with the types that may
+//! stand in and the reason a person would accept it (a wardrobe and a dresser both store
+//! clothes). Only what is in the table stands in: a thing with no entry (a piano, a treadmill)
+//! stays out and is reported, never filled with something unrelated. Keys are read from the
+//! object's category: a two-word key (`console table`) before the head word (`wardrobe`).
+
+use super::catalog::{Asset, Catalog, PlacementKind};
+
+/// One line of the table.
+pub struct StandIn {
+    /// The words of the category it applies to (one or two words).
+    pub key: &'static str,
+    /// The AI2-THOR object types that may stand in, best first.
+    pub types: &'static [&'static str],
+    /// Why a person accepts it.
+    pub reason: &'static str,
+}
+
+/// The stand-in table.
+pub const STAND_INS: &[StandIn] = &[
+    // Storage.
+    StandIn {
+        key: "wardrobe",
+        types: &["Dresser"],
+        reason: "both store clothes in a tall case with doors or drawers",
+    },
+    StandIn { key: "armoire", types: &["Dresser"], reason: "both store clothes in a tall case" },
+    StandIn {
+        key: "closet",
+        types: &["Dresser"],
+        reason: "a free-standing closet stores clothes like a dresser",
+    },
+    StandIn { key: "chest", types: &["Dresser"], reason: "a chest of drawers is a dresser" },
+    StandIn { key: "bureau", types: &["Dresser"], reason: "a bureau is a chest of drawers" },
+    StandIn { key: "tallboy", types: &["Dresser"], reason: "a tallboy is a tall chest of drawers" },
+    StandIn { key: "highboy", types: &["Dresser"], reason: "a highboy is a tall chest of drawers" },
+    StandIn {
+        key: "sideboard",
+        types: &["Dresser", "TVStand"],
+        reason: "a low storage cabinet against a wall",
+    },
+    StandIn {
+        key: "buffet",
+        types: &["Dresser", "TVStand"],
+        reason: "a low storage cabinet against a wall",
+    },
+    StandIn {
+        key: "credenza",
+        types: &["Dresser", "TVStand"],
+        reason: "a low storage cabinet against a wall",
+    },
+    StandIn {
+        key: "cabinet",
+        types: &["Dresser", "ShelvingUnit"],
+        reason: "storage with doors or drawers",
+    },
+    StandIn { key: "cupboard", types: &["Dresser", "ShelvingUnit"], reason: "storage with doors" },
+    StandIn { key: "locker", types: &["Dresser"], reason: "storage for personal things" },
+    StandIn { key: "bookcase", types: &["ShelvingUnit"], reason: "shelves that hold books" },
+    StandIn { key: "bookshelf", types: &["ShelvingUnit"], reason: "shelves that hold books" },
+    StandIn { key: "shelf", types: &["ShelvingUnit"], reason: "a shelf is a shelving unit" },
+    StandIn { key: "shelves", types: &["ShelvingUnit"], reason: "shelves are a shelving unit" },
+    StandIn { key: "etagere", types: &["ShelvingUnit"], reason: "open shelves" },
+    // Tables.
+    StandIn {
+        key: "console table",
+        types: &["SideTable"],
+        reason: "a narrow table against a wall",
+    },
+    StandIn { key: "hall table", types: &["SideTable"], reason: "a narrow table against a wall" },
+    StandIn { key: "entry table", types: &["SideTable"], reason: "a narrow table against a wall" },
+    StandIn { key: "end table", types: &["SideTable"], reason: "an end table is a side table" },
+    StandIn { key: "accent table", types: &["SideTable"], reason: "a small table beside seating" },
+    StandIn { key: "nightstand", types: &["SideTable"], reason: "a bedside table is a side table" },
+    StandIn {
+        key: "bedside table",
+        types: &["SideTable"],
+        reason: "a bedside table is a side table",
+    },
+    StandIn {
+        key: "conference table",
+        types: &["DiningTable"],
+        reason: "a large table to sit around",
+    },
+    StandIn { key: "meeting table", types: &["DiningTable"], reason: "a table to sit around" },
+    StandIn {
+        key: "bistro table",
+        types: &["DiningTable", "SideTable"],
+        reason: "a small table to sit at",
+    },
+    StandIn { key: "kitchen table", types: &["DiningTable"], reason: "a table to eat at" },
+    StandIn { key: "breakfast table", types: &["DiningTable"], reason: "a table to eat at" },
+    StandIn { key: "work table", types: &["Desk", "DiningTable"], reason: "a table to work at" },
+    StandIn { key: "writing table", types: &["Desk"], reason: "a table to write at is a desk" },
+    StandIn {
+        key: "kitchen island",
+        types: &["CounterTop"],
+        reason: "an island is a free-standing counter",
+    },
+    StandIn { key: "island", types: &["CounterTop"], reason: "a kitchen island is a counter" },
+    StandIn { key: "media console", types: &["TVStand"], reason: "a low cabinet for a screen" },
+    StandIn { key: "entertainment center", types: &["TVStand"], reason: "a cabinet for a screen" },
+    StandIn { key: "vanity", types: &["Sink"], reason: "a bathroom vanity is a sink cabinet" },
+    // Seats and beds.
+    StandIn { key: "loveseat", types: &["Sofa"], reason: "a loveseat is a small sofa" },
+    StandIn { key: "couch", types: &["Sofa"], reason: "a couch is a sofa" },
+    StandIn { key: "settee", types: &["Sofa"], reason: "a settee is a small sofa" },
+    StandIn { key: "futon", types: &["Sofa"], reason: "a futon is a sofa bed" },
+    StandIn {
+        key: "recliner",
+        types: &["ArmChair"],
+        reason: "a recliner is an upholstered armchair",
+    },
+    StandIn { key: "pouf", types: &["Ottoman", "Footstool"], reason: "a low upholstered seat" },
+    StandIn { key: "pouffe", types: &["Ottoman", "Footstool"], reason: "a low upholstered seat" },
+    StandIn { key: "hassock", types: &["Ottoman", "Footstool"], reason: "a low upholstered seat" },
+    StandIn { key: "barstool", types: &["Stool"], reason: "a bar stool is a stool" },
+    StandIn { key: "crib", types: &["Bed"], reason: "a crib is a child's bed" },
+    StandIn { key: "cot", types: &["Bed"], reason: "a cot is a small bed" },
+    StandIn { key: "daybed", types: &["Bed", "Sofa"], reason: "a daybed is a bed used as a seat" },
+    // Things people keep and show.
+    StandIn { key: "plant", types: &["HousePlant"], reason: "a potted plant" },
+    StandIn { key: "succulent", types: &["HousePlant"], reason: "a potted plant" },
+    StandIn { key: "succulents", types: &["HousePlant"], reason: "potted plants" },
+    StandIn { key: "cactus", types: &["HousePlant"], reason: "a potted plant" },
+    StandIn { key: "fern", types: &["HousePlant"], reason: "a potted plant" },
+    StandIn { key: "bonsai", types: &["HousePlant"], reason: "a potted plant" },
+    StandIn { key: "orchid", types: &["HousePlant"], reason: "a potted plant" },
+    StandIn { key: "sculpture", types: &["Statue"], reason: "a decorative figure" },
+    StandIn { key: "statuette", types: &["Statue"], reason: "a small statue" },
+    StandIn { key: "figurine", types: &["Statue"], reason: "a small statue" },
+    StandIn { key: "bust", types: &["Statue"], reason: "a sculpted head is a statue" },
+    StandIn { key: "poster", types: &["Painting"], reason: "a picture on the wall" },
+    StandIn { key: "print", types: &["Painting"], reason: "a picture on the wall" },
+    StandIn { key: "artwork", types: &["Painting"], reason: "a picture on the wall" },
+    StandIn { key: "picture", types: &["Painting"], reason: "a picture on the wall" },
+    StandIn { key: "novel", types: &["Book"], reason: "a novel is a book" },
+    StandIn { key: "notebook", types: &["Book"], reason: "a bound notebook looks like a book" },
+    StandIn { key: "journal", types: &["Book"], reason: "a bound journal looks like a book" },
+    StandIn { key: "textbook", types: &["Book"], reason: "a textbook is a book" },
+    StandIn { key: "magazine", types: &["Newspaper", "Book"], reason: "printed pages to read" },
+    StandIn { key: "wristwatch", types: &["Watch"], reason: "a wristwatch is a watch" },
+    StandIn { key: "cushion", types: &["Pillow"], reason: "a cushion is a pillow" },
+    StandIn { key: "blanket", types: &["Cloth"], reason: "a textile" },
+    StandIn { key: "throw", types: &["Cloth"], reason: "a throw is a blanket" },
+    StandIn {
+        key: "monitor",
+        types: &["Desktop", "Laptop"],
+        reason: "a computer screen on a desk",
+    },
+    StandIn { key: "computer", types: &["Desktop", "Laptop"], reason: "a computer" },
+    StandIn { key: "teacup", types: &["Cup", "Mug"], reason: "a cup" },
+    StandIn { key: "tumbler", types: &["Cup"], reason: "a drinking cup" },
+    StandIn { key: "wastebasket", types: &["GarbageCan"], reason: "a bin for waste" },
+    StandIn { key: "hamper", types: &["LaundryHamper"], reason: "a basket for laundry" },
+    StandIn {
+        key: "towel rack",
+        types: &["TowelHolder", "HandTowelHolder"],
+        reason: "a rack for towels",
+    },
+    StandIn {
+        key: "towel bar",
+        types: &["TowelHolder", "HandTowelHolder"],
+        reason: "a bar for towels",
+    },
+    StandIn {
+        key: "towel rail",
+        types: &["TowelHolder", "HandTowelHolder"],
+        reason: "a rail for towels",
+    },
+    StandIn {
+        key: "paper holder",
+        types: &["ToiletPaperHanger"],
+        reason: "a holder for the toilet roll",
+    },
+    StandIn { key: "refrigerator", types: &["Fridge"], reason: "a refrigerator is a fridge" },
+    StandIn { key: "washer", types: &["WashingMachine"], reason: "a washer is a washing machine" },
+    StandIn { key: "dryer", types: &["ClothesDryer"], reason: "a clothes dryer" },
+];
+
+/// The words of a category, lower-case, without punctuation, plural `s` kept.
+fn words(text: &str) -> Vec<String> {
+    text.to_lowercase()
+        .split(|c: char| !c.is_alphanumeric())
+        .filter(|w| !w.is_empty())
+        .map(str::to_owned)
+        .collect()
+}
+
+/// The table line for a category: a two-word key of adjacent words first (`console table`),
+/// then the last word that has a line (`tall white wardrobe`), then a plural made singular.
+pub fn lookup(category: &str) -> Option<&'static StandIn> {
+    let w = words(category);
+    let pairs: Vec<String> = w.windows(2).map(|p| format!("{} {}", p[0], p[1])).collect();
+    for pair in pairs.iter().rev() {
+        if let Some(s) = STAND_INS.iter().find(|s| s.key == pair) {
+            return Some(s);
+        }
+    }
+    for word in w.iter().rev() {
+        let singular = word.strip_suffix('s').unwrap_or(word);
+        if let Some(s) = STAND_INS.iter().find(|s| s.key == word || s.key == singular) {
+            return Some(s);
+        }
+    }
+    None
+}
+
+/// The asset that stands in: of the line's types in order, the asset of the right placement
+/// kind whose sorted size is closest to the wanted one (or the first in catalog order without a
+/// wanted size). `None` when the catalog has none of them.
+pub fn pick<'c>(
+    catalog: &'c Catalog,
+    line: &StandIn,
+    kind: PlacementKind,
+    size_m: Option<[f64; 3]>,
+) -> Option<&'c Asset> {
+    let sorted = |mut v: [f64; 3]| {
+        v.sort_by(f64::total_cmp);
+        v
+    };
+    for ty in line.types {
+        let mut best: Option<(f64, &Asset)> = None;
+        for asset in catalog.assets().iter().filter(|a| a.object_type == *ty && a.allows(kind)) {
+            let diff = size_m.map_or(0.0, |want| {
+                let (a, b) = (sorted(asset.bbox_m), sorted(want));
+                (0..3).map(|i| (a[i] - b[i]).abs()).sum::<f64>() / 3.0
+            });
+            if best.is_none_or(|(d, _)| diff < d - 1e-12) {
+                best = Some((diff, asset));
+            }
+        }
+        if let Some((_, asset)) = best {
+            return Some(asset);
+        }
+    }
+    None
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn keys_are_read_from_the_category() {
+        assert_eq!(lookup("tall white wardrobe").map(|s| s.key), Some("wardrobe"));
+        assert_eq!(lookup("oak console table").map(|s| s.key), Some("console table"));
+        assert_eq!(lookup("succulents").map(|s| s.key), Some("succulents"));
+        assert_eq!(lookup("pouffes").map(|s| s.key), Some("pouffe"));
+        assert!(lookup("grand piano").is_none());
+        assert!(lookup("treadmill").is_none());
+    }
+
+    #[test]
+    fn every_type_of_the_table_is_in_the_embedded_catalog() {
+        let catalog = Catalog::embedded();
+        for line in STAND_INS {
+            for ty in line.types {
+                assert!(
+                    catalog.assets().iter().any(|a| a.object_type == *ty),
+                    "{}: no {ty} in the catalog",
+                    line.key
+                );
+            }
+        }
+    }
+}
