@@ -3,6 +3,8 @@
 //!
 //! Everything read here is in the repository (`tests/`, `examples/`); nothing outside it.
 
+mod common;
+
 use holoc::check::Scene;
 use holoc::diag::format::{render_human, HumanOptions};
 use holoc::diag::Diagnostic;
@@ -327,4 +329,174 @@ fn diagnostic_page_examples_produce_their_code() {
             .collect();
         assert_eq!(codes, vec![code], "{code}");
     }
+}
+
+/// The asset cases of the shared reference data (`../shared/data/asset-cases.json`: object
+/// descriptions as models write them, each with the AI2-THOR types a careful person accepts),
+/// through the path a build takes (object name + `describe`): prints the table of right types,
+/// objects left out and wrong fills by placement kind, and holds the figures reached so far.
+/// Skipped with a message when the shared data is absent.
+#[test]
+#[allow(clippy::print_stdout, reason = "the test prints its table")]
+fn asset_cases_table() {
+    use serde_json::Value;
+    use std::fmt::Write as _;
+    let Some(dir) = common::shared("data", "asset_cases_table") else { return };
+    let cases: Vec<Value> = serde_json::from_str(
+        &std::fs::read_to_string(dir.join("asset-cases.json")).expect("cases"),
+    )
+    .expect("json");
+    let quote = |s: &str| s.replace(['"', '\\'], " ");
+    // One scene: each floor and wall case an object of one room, on-object cases on one host,
+    // each ceiling case its own room.
+    let mut holo = String::from("scene \"cases\" { seed 1 }\n\nroom cases \"cases\" {\n  corners in m (0, 0) (0, 40) (40, 40) (40, 0)\n  object host \"table\" {\n    middle\n");
+    let mut on_top = Vec::new();
+    for (i, c) in cases.iter().enumerate() {
+        if c["kind"] == "on-object" {
+            let _ = writeln!(
+                holo,
+                "    on top \"{}\" x1 same",
+                quote(c["text"].as_str().unwrap_or("thing"))
+            );
+            on_top.push(i);
+        }
+    }
+    holo.push_str("  }\n");
+    for (i, c) in cases.iter().enumerate() {
+        let name = quote(c["name"].as_str().unwrap_or("thing"));
+        let text = quote(c["text"].as_str().unwrap_or(""));
+        let size = c["size_cm"].as_array().filter(|s| s.len() == 3).map(|s| {
+            let v: Vec<f64> = s.iter().map(|x| x.as_f64().unwrap_or(50.0).max(1.0)).collect();
+            format!("    size {} cm x {} cm x {} cm\n", v[0], v[1], v[2])
+        });
+        match c["kind"].as_str() {
+            Some("floor") => {
+                let _ = write!(
+                    holo,
+                    "  object c{i} \"{name}\" {{\n    describe \"{text}\"\n{}    middle\n  }}\n",
+                    size.unwrap_or_default()
+                );
+            }
+            Some("wall") => {
+                let _ = write!(
+                    holo,
+                    "  wall object c{i} \"{name}\" {{\n    describe \"{text}\"\n  }}\n"
+                );
+            }
+            _ => {}
+        }
+    }
+    holo.push_str("}\n");
+    let mut ceilings = Vec::new();
+    for (i, c) in cases.iter().enumerate() {
+        if c["kind"] == "ceiling" {
+            let x = 40 + 4 * ceilings.len();
+            let _ = write!(
+                holo,
+                "\nroom r{i} \"r{i}\" {{\n  corners in m ({x}, 0) ({x}, 4) ({}, 4) ({}, 0)\n  ceiling \"{}\"\n}}\n",
+                x + 4,
+                x + 4,
+                quote(c["text"].as_str().unwrap_or(""))
+            );
+            ceilings.push(i);
+        }
+    }
+    let mut sources = SourceMap::new();
+    let id = sources.add("cases.holo", holo);
+    let scene = holoc::compile::check_file(&sources, id).value.expect("the case scene checks");
+    let catalog = Catalog::embedded();
+    let mut figures = Vec::new();
+    for stand_ins in [false, true] {
+        let options = resolve::ResolveOptions { stand_ins };
+        let resolved = resolve::resolve_with(&scene, &catalog, scene.seed, &options).value;
+        // What each case got: Some(type), None (left out), or "light" for a ceiling light.
+        let mut got: Vec<Option<String>> = vec![None; cases.len()];
+        for o in &scene.objects {
+            if let Some(i) =
+                o.name.strip_prefix('c').and_then(|n| n.split('-').next()?.parse::<usize>().ok())
+            {
+                got[i] = resolved.object(o.id).map(|c| c.object_type.clone());
+            }
+        }
+        let host = scene.objects.iter().find(|o| o.name == "host-0").expect("host");
+        for (k, &i) in on_top.iter().enumerate() {
+            got[i] = resolved
+                .small
+                .get(&(host.id, k))
+                .and_then(|v| v.first())
+                .and_then(|r| r.choice())
+                .map(|c| c.object_type.clone());
+        }
+        for (room, &i) in scene.rooms.iter().skip(1).zip(&ceilings) {
+            got[i] = match resolved.ceilings.get(&room.id).and_then(|r| r.choice()) {
+                Some(c) => Some(c.object_type.clone()),
+                None if resolved.ceiling_lights.contains_key(&room.id) => Some("light".into()),
+                None => None,
+            };
+        }
+        println!("stand-ins {}", if stand_ins { "on" } else { "off" });
+        println!("kind        cases  right  left out  wrong | no-match  wrong fills");
+        let mut totals = [0usize; 6];
+        for kind in ["floor", "wall", "on-object", "ceiling"] {
+            let mut row = [0usize; 6];
+            for (c, g) in cases.iter().zip(&got).filter(|(c, _)| c["kind"] == kind) {
+                let types: Vec<&str> =
+                    c["types"].as_array().into_iter().flatten().filter_map(Value::as_str).collect();
+                if types.is_empty() {
+                    row[4] += 1;
+                    if g.as_deref().is_some_and(|t| t != "light") {
+                        row[5] += 1;
+                    }
+                } else {
+                    row[0] += 1;
+                    match g.as_deref() {
+                        Some(t) if types.contains(&t) => row[1] += 1,
+                        Some("light") if types.iter().any(|t| t.contains("Light")) => row[1] += 1,
+                        None => row[2] += 1,
+                        Some(_) => row[3] += 1,
+                    }
+                }
+            }
+            println!(
+                "{kind:<10} {:>6} {:>6} {:>9} {:>6} | {:>8} {:>12}",
+                row[0], row[1], row[2], row[3], row[4], row[5]
+            );
+            for (t, r) in totals.iter_mut().zip(row) {
+                *t += r;
+            }
+        }
+        let pct = |a: usize, b: usize| 100.0 * a as f64 / b.max(1) as f64;
+        println!(
+            "all        {:>6} {:>5.1}% {:>8.1}% {:>5.1}% | {:>8} {:>11.1}%",
+            totals[0],
+            pct(totals[1], totals[0]),
+            pct(totals[2], totals[0]),
+            pct(totals[3], totals[0]),
+            totals[4],
+            pct(totals[5], totals[4])
+        );
+        if stand_ins {
+            for (c, g) in cases.iter().zip(&got) {
+                let types: Vec<&str> =
+                    c["types"].as_array().into_iter().flatten().filter_map(Value::as_str).collect();
+                let wrong = g.as_deref().is_some_and(|t| t != "light" && !types.contains(&t));
+                if wrong {
+                    println!(
+                        "  wrong: {} ({}) -> {:?}, accepted {types:?}",
+                        c["name"], c["text"], g
+                    );
+                }
+            }
+        }
+        figures.push((
+            pct(totals[1], totals[0]),
+            pct(totals[2], totals[0]),
+            pct(totals[5], totals[4]),
+        ));
+    }
+    let (right, _, wrong_fills) = figures[1];
+    // The figures reached so far (the issue's targets are 90 %, 5 % and 3 %): a change that
+    // makes resolution worse fails here.
+    assert!(right >= 75.0, "right type fell below 75 %");
+    assert!(wrong_fills <= 11.0, "wrong fills rose above 11 %");
 }
