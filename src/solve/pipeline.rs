@@ -99,7 +99,6 @@ pub fn solve(
         keep_out.extend(plan_room.open_boxes.iter().cloned());
         let walls: Vec<WallSegment> = plan
             .room_walls(room.id)
-            .filter(|w| !w.exterior)
             .map(|w| {
                 let mut holes = Vec::new();
                 if let Some(h) = &w.hole {
