@@ -75,3 +75,16 @@ fn examples_check_clean() {
         }
     }
 }
+
+/// A file of unbalanced braces (what an editor holds while someone types) is read in linear
+/// time: the recovery rule for a broken block no longer tries every way of pairing `{`s (30
+/// braces took over 10 s). Not timed here; an exponential parser would not finish.
+#[test]
+fn unbalanced_braces_are_read_in_linear_time() {
+    for text in ["{".repeat(10_000), format!("room a \"a\" {{\n{}", "  {\n".repeat(3_000))] {
+        let mut sources = holoc::source::SourceMap::new();
+        let id = sources.add("braces.holo", text);
+        let diagnostics = holoc::compile::check_file(&sources, id).diagnostics;
+        assert!(diagnostics.iter().any(holoc::diag::Diagnostic::is_error));
+    }
+}
