@@ -612,3 +612,65 @@ fn progress_events_are_reported() {
         "{lines:#?}"
     );
 }
+
+/// The command line: a run whose windows answer is refused (E0809 after its repair round)
+/// leaves the user's existing scene and house byte for byte as they were and puts the scene so
+/// far beside them; a clean run with `--build -o scene.json` writes the house to
+/// `scene.house.json`, never over the scene; `--build` without `-o` is a usage error.
+#[test]
+fn the_command_never_replaces_files_on_failure() {
+    let dir = std::env::temp_dir().join(format!("holoc-generate-cli-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("scratch folder");
+    let scene = dir.join("scene.holo");
+    let house = dir.join("scene.json");
+    std::fs::write(&scene, "// the user's scene\n").expect("writable");
+    std::fs::write(&house, "{\"the user's\": \"house\"}\n").expect("writable");
+    let server = Server::start(Arc::new(|asked: &Asked, _| {
+        if asked.stage == "windows" {
+            Reply::answer("I'm sorry, I cannot help with that.")
+        } else {
+            clean_answer(asked)
+        }
+    }));
+    let run = |extra: &[&str]| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_holoc"))
+            .args(["generate", "a 1b1b apartment", "--model", "test-model", "--base-url"])
+            .arg(&server.base_url)
+            .args(["--repair-rounds", "1", "--no-record", "-q"])
+            .args(extra)
+            .env("HOLOC_API_KEY", KEY)
+            .output()
+            .expect("holoc runs")
+    };
+    let out = run(&["-o", scene.to_str().expect("utf-8 path"), "--build"]);
+    assert!(!out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert_eq!(std::fs::read_to_string(&scene).expect("scene"), "// the user's scene\n");
+    assert_eq!(std::fs::read_to_string(&house).expect("house"), "{\"the user's\": \"house\"}\n");
+    assert!(dir.join("scene.partial.holo").exists(), "the scene so far is kept beside");
+    assert!(String::from_utf8_lossy(&out.stderr).contains("is left as it was"));
+
+    let clean = Server::start(Arc::new(|asked: &Asked, _| clean_answer(asked)));
+    let json_out = dir.join("out.json");
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_holoc"))
+        .args(["generate", "a 1b1b apartment", "--model", "test-model", "--base-url"])
+        .arg(&clean.base_url)
+        .args(["--no-record", "-q", "--build", "-o"])
+        .arg(&json_out)
+        .env("HOLOC_API_KEY", KEY)
+        .output()
+        .expect("holoc runs");
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(std::fs::read_to_string(&json_out).expect("scene").contains("room "));
+    assert!(std::fs::read_to_string(dir.join("out.house.json"))
+        .expect("house")
+        .contains("\"rooms\""));
+    assert!(out.stderr.is_empty(), "-q prints nothing: {}", String::from_utf8_lossy(&out.stderr));
+
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_holoc"))
+        .args(["generate", "a flat", "--build"])
+        .output()
+        .expect("holoc runs");
+    assert_eq!(out.status.code(), Some(2), "{}", String::from_utf8_lossy(&out.stderr));
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -84,10 +84,12 @@ pub struct GenerateArgs {
     /// Skip the ceiling question.
     #[arg(long)]
     pub no_ceiling: bool,
-    /// Also build the house JSON next to the output (`<output>.json`).
-    #[arg(long)]
+    /// Also build the house JSON next to the output: `<output>` with the extension `.json`
+    /// (`scene.holo` → `scene.json`), or `<stem>.house.json` when the output already ends in
+    /// `.json`. Needs `-o`.
+    #[arg(long, requires = "output")]
     pub build: bool,
-    /// No progress and no cost summary on stderr.
+    /// No progress, no cost summary and no warnings on stderr (errors are still printed).
     #[arg(long, short)]
     pub quiet: bool,
     /// When to colour diagnostics.
@@ -326,13 +328,32 @@ pub fn run(args: &GenerateArgs) -> ExitCode {
             }
         }
     }
+    // A run with errors never replaces the user's files: its scene goes beside them.
+    let failed = outcome.diagnostics.iter().any(Diagnostic::is_error);
+    let mut written_to: Option<PathBuf> = None;
     if !generated.holo.is_empty() {
-        if let Err(d) = common::write_output(args.output.as_deref(), &generated.holo) {
+        let target = match args.output.as_deref() {
+            Some(p) if p.as_os_str() != "-" && failed => Some(partial_path(p)),
+            Some(p) if p.as_os_str() != "-" => Some(p.to_path_buf()),
+            _ => None,
+        };
+        if let Err(d) = common::write_output(target.as_deref(), &generated.holo) {
             common::emit_plain(&d);
             io_failed = true;
+        } else {
+            written_to = target;
         }
     }
-    common::emit(&generated.sources, &outcome.diagnostics, common::DiagFormat::Human, args.color);
+    let shown: Vec<Diagnostic> =
+        outcome.diagnostics.iter().filter(|d| !args.quiet || d.is_error()).cloned().collect();
+    common::emit(&generated.sources, &shown, common::DiagFormat::Human, args.color);
+    if let (true, Some(out), Some(partial)) = (failed, args.output.as_deref(), &written_to) {
+        common::err(&format!(
+            "the run had errors: `{}` is left as it was; the scene so far is in `{}`\n",
+            out.display(),
+            partial.display()
+        ));
+    }
     if !args.quiet {
         for cost in &generated.costs {
             common::err(&format!(
@@ -356,8 +377,9 @@ pub fn run(args: &GenerateArgs) -> ExitCode {
         }
     }
     let mut build_failed = false;
-    if args.build && !generated.holo.is_empty() {
-        build_failed = !build_house(&generated.holo, args.output.as_deref(), args.color);
+    if args.build && !generated.holo.is_empty() && !failed {
+        build_failed =
+            !build_house(&generated.holo, args.output.as_deref(), args.color, args.quiet);
     }
     let model_failed = outcome.diagnostics.iter().any(|d| {
         matches!(
@@ -380,9 +402,33 @@ pub fn run(args: &GenerateArgs) -> ExitCode {
     common::exit_for(&outcome.diagnostics)
 }
 
-/// `--build`: compiles the generated scene and writes the house next to the output
-/// (`<output>.json`, or `scene.json` when the scene went to stdout). Returns whether it worked.
-fn build_house(holo: &str, output: Option<&std::path::Path>, color: ColorChoice) -> bool {
+/// Where a failed run puts its scene: `<stem>.partial.holo` beside the output.
+fn partial_path(output: &std::path::Path) -> PathBuf {
+    let stem =
+        output.file_stem().map_or_else(|| "scene".into(), |s| s.to_string_lossy().into_owned());
+    output.with_file_name(format!("{stem}.partial.holo"))
+}
+
+/// Where `--build` puts the house: the output with the extension `.json`, or
+/// `<stem>.house.json` when the output already ends in `.json` (never the scene itself).
+pub fn house_path(output: &std::path::Path) -> PathBuf {
+    let stem =
+        output.file_stem().map_or_else(|| "scene".into(), |s| s.to_string_lossy().into_owned());
+    if output.extension().is_some_and(|e| e.eq_ignore_ascii_case("json")) {
+        output.with_file_name(format!("{stem}.house.json"))
+    } else {
+        output.with_extension("json")
+    }
+}
+
+/// `--build`: compiles the generated scene and writes the house next to the output (see
+/// [`house_path`]). Returns whether it worked.
+fn build_house(
+    holo: &str,
+    output: Option<&std::path::Path>,
+    color: ColorChoice,
+    quiet: bool,
+) -> bool {
     let mut sources = crate::source::SourceMap::new();
     let name = output.map_or_else(|| "<generated>.holo".to_string(), |p| p.display().to_string());
     let file = sources.add(name, holo.to_string());
@@ -396,12 +442,18 @@ fn build_house(holo: &str, output: Option<&std::path::Path>, color: ColorChoice)
         stand_ins: true,
     };
     let built = crate::compile::build(&sources, file, &options);
-    common::emit(&sources, &built.diagnostics, common::DiagFormat::Human, color);
+    let shown: Vec<Diagnostic> =
+        built.diagnostics.iter().filter(|d| !quiet || d.is_error()).cloned().collect();
+    common::emit(&sources, &shown, common::DiagFormat::Human, color);
     let Some(product) = built.value else { return false };
-    let path = match output {
-        Some(p) if p.as_os_str() != "-" => p.with_extension("json"),
-        _ => std::path::PathBuf::from("scene.json"),
+    let Some(output) = output.filter(|p| p.as_os_str() != "-") else {
+        common::emit_plain(&Diagnostic::new(
+            Code::E0004,
+            "`--build` needs `-o FILE` to know where the house goes",
+        ));
+        return false;
     };
+    let path = house_path(output);
     match common::write_atomic(&path, product.house.to_json_string().as_bytes()) {
         Ok(()) => true,
         Err(d) => {
