@@ -674,3 +674,21 @@ fn the_command_never_replaces_files_on_failure() {
     assert_eq!(out.status.code(), Some(2), "{}", String::from_utf8_lossy(&out.stderr));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A server that echoes the key inside successful answers (in prose the importer reports as
+/// noise, and in a line it cannot read): the key is in no scene, transcript or diagnostic.
+#[test]
+fn a_key_echoed_in_answers_is_redacted_everywhere() {
+    let server = Server::start(Arc::new(|asked: &Asked, _| {
+        let key = asked.authorization.clone().unwrap_or_default().replace("Bearer ", "");
+        let Reply { body, .. } = clean_answer(asked);
+        let value: serde_json::Value = serde_json::from_str(&body).expect("json reply");
+        let text =
+            value.pointer("/choices/0/message/content").and_then(|v| v.as_str()).unwrap_or("");
+        Reply::answer(&format!("Your key is {key}.\n{text}\n{key} | {key}"))
+    }));
+    let outcome = generate(&request(), &client(&server), &options());
+    let text = everything(&outcome);
+    assert!(!text.contains(KEY), "the API key leaked: {text}");
+    assert!(text.contains("[redacted]"));
+}

@@ -294,13 +294,20 @@ impl HttpLlm {
         format!("{}/chat/completions", self.options.base_url.trim_end_matches('/'))
     }
 
-    /// Removes the API key from a text that came from the network.
+    /// Removes the API key from a text that came from the network, and cuts it to 300
+    /// characters (for error messages).
     fn scrub(&self, text: &str) -> String {
-        let mut text: String = text.chars().take(300).collect();
-        if let Some(key) = self.options.api_key.as_deref().filter(|k| !k.is_empty()) {
-            text = text.replace(key, "[redacted]");
+        let text: String = text.chars().take(300).collect();
+        self.redact(&text)
+    }
+
+    /// Removes the API key from a whole text that came from the network (an answer): a server
+    /// that echoes it must not put it into the scene, the transcript or any excerpt.
+    fn redact(&self, text: &str) -> String {
+        match self.options.api_key.as_deref().filter(|k| !k.is_empty()) {
+            Some(key) => text.replace(key, "[redacted]"),
+            None => text.to_owned(),
         }
-        text
     }
 
     fn body(&self, prompt: &str) -> Value {
@@ -401,7 +408,7 @@ impl Llm for HttpLlm {
                     };
                     match status {
                         200..=299 => {
-                            return parse_completion(&text).map_err(|reason| {
+                            return parse_completion(&self.redact(&text)).map_err(|reason| {
                                 LlmError::InvalidResponse { reason: self.scrub(&reason) }
                             })
                         }
