@@ -174,3 +174,26 @@ fn room_labels_map_to_procthor_room_types() {
         assert_eq!(holoc::lower::room_type(label), want, "{label}");
     }
 }
+
+/// Two `on top` lines naming the same item (a small-objects answer that repeats what the object
+/// selection already put on the desk) give objects with different ids, which `validate` accepts.
+#[test]
+fn repeated_items_on_a_receptacle_get_their_own_ids() {
+    let text = "scene \"t\" { seed 1 }\n\nroom a \"a\" {\n  corners in m (0, 0) (0, 4) (4, 4) (4, 0)\n  object desk \"desk\" {\n    edge\n    on top \"desk lamp\" x1 same\n    on top \"desk lamp\" x1 same\n  }\n}\n\ndoor exterior -- a : doorway single\n";
+    let mut sources = SourceMap::new();
+    let id = sources.add("t.holo", text.to_string());
+    let catalog = holoc::resolve::Catalog::embedded();
+    let options = holoc::compile::BuildOptions {
+        seed: None,
+        plan: holoc::plan::PlanOptions::default(),
+        catalog: &catalog,
+        solver: holoc::solve::Solver::Dfs,
+        node_budget: None,
+        stand_ins: true,
+    };
+    let built = holoc::compile::build(&sources, id, &options).value.expect("builds");
+    let ids: Vec<&str> = built.house.all_objects().iter().map(|o| o.id.as_str()).collect();
+    let unique: std::collections::BTreeSet<&str> = ids.iter().copied().collect();
+    assert_eq!(ids.len(), unique.len(), "{ids:?}");
+    assert!(ids.contains(&"desk lamp-1|desk-0 (a)"), "{ids:?}");
+}

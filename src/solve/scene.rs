@@ -85,8 +85,16 @@ pub fn room_problem(
                     span: Some(o.name_span),
                 });
                 let on = objects.len() - 1;
+                // Instances are numbered per item over every `on top` line of the receptacle,
+                // so two lines naming the same item (an answer that repeats one) never give
+                // two objects one id.
+                let mut next: std::collections::BTreeMap<&str, u32> =
+                    std::collections::BTreeMap::new();
                 for item in &o.on_top {
-                    for i in 0..item.count {
+                    for _ in 0..item.count {
+                        let n = next.entry(item.item.as_str()).or_insert(0);
+                        let i = *n;
+                        *n += 1;
                         small_objects.push(SmallObject {
                             id: format!("{}-{i}|{}", item.item, o.name),
                             size: sizes.small(item),
