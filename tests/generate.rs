@@ -692,3 +692,20 @@ fn a_key_echoed_in_answers_is_redacted_everywhere() {
     assert!(!text.contains(KEY), "the API key leaked: {text}");
     assert!(text.contains("[redacted]"));
 }
+
+/// Writes `examples/transcripts/apartment.transcript.json`, the transcript the book's tutorial
+/// replays offline: a clean run of the loopback server's answers. Run by hand after a change of
+/// the prompts or the transcript format:
+/// `cargo test --test generate write_example_transcript -- --ignored`.
+#[test]
+#[ignore = "rewrites a file of the repository; run by hand"]
+fn write_example_transcript() {
+    let server = Server::start(Arc::new(|asked: &Asked, _| clean_answer(asked)));
+    let outcome = generate(&request(), &client(&server), &options());
+    assert!(!outcome.has_errors(), "{:#?}", outcome.diagnostics);
+    let mut json = serde_json::to_string_pretty(&outcome.value.transcript).expect("json");
+    json = json.replace(&server.base_url, "http://127.0.0.1:8000/v1");
+    json.push('\n');
+    std::fs::create_dir_all("examples/transcripts").expect("folder");
+    std::fs::write("examples/transcripts/apartment.transcript.json", json).expect("writable");
+}
