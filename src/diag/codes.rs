@@ -109,6 +109,8 @@ codes! {
     W0301 "corner-snapped" "a corner nearly met another room's corner and was moved onto it";
     W0302 "door-added" "a doorway was added so that every room can be reached";
     W0303 "layer-conflict" "two neighbouring rooms had to share a lighting layer";
+    W0304 "windows-fitted" "windows that do not fit their wall were narrowed or fewer were written";
+    W0305 "sill-lowered" "a window's sill was lowered so that its top stays under the wall's margin";
 
     E0601 "invalid-house-json" "a house file is not JSON or does not follow the house schema";
     E0602 "duplicate-id" "two entities of a house share an id";

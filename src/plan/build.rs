@@ -1082,7 +1082,7 @@ impl Ctx<'_> {
                     );
                     continue;
                 };
-                let asset = if let Some(pin) = &row.asset {
+                let mut asset = if let Some(pin) = &row.asset {
                     if let Some(a) = self.catalog.window(&pin.id) {
                         a.clone()
                     } else {
@@ -1109,18 +1109,101 @@ impl Ctx<'_> {
                     continue;
                 };
                 let wall = self.walls[wi].clone();
-                let n = row.count.max(1) as usize;
+                let mut n = row.count.max(1) as usize;
+                let room_for = |n: usize| wall.width_m / n as f64 - 2.0 * WINDOW_MARGIN_M;
+                let top_room = h_wall - WINDOW_TOP_MARGIN_M;
+                // Where the asked windows do not fit, holoc fits them as the original system
+                // does, and says what it changed: first a narrower window of the same type (not
+                // for a pinned asset), then as many windows as the wall holds.
+                if asset.hole_m[0] > room_for(n) + EPS_M {
+                    let before = (asset.asset_id.clone(), asset.hole_m[0], n);
+                    let narrower = (row.asset.is_none())
+                        .then(|| {
+                            self.catalog
+                                .windows
+                                .iter()
+                                .filter(|w| w.kind == Some(row.kind))
+                                .filter(|w| w.hole_m[0] <= room_for(n) + EPS_M)
+                                .filter(|w| w.hole_m[1] <= top_room + EPS_M)
+                                .max_by(|a, b| {
+                                    a.hole_m[0]
+                                        .total_cmp(&b.hole_m[0])
+                                        .then(b.asset_id.cmp(&a.asset_id))
+                                })
+                                .cloned()
+                        })
+                        .flatten();
+                    if let Some(w) = narrower {
+                        asset = w;
+                    } else {
+                        let fits = (wall.width_m / (asset.hole_m[0] + 2.0 * WINDOW_MARGIN_M)
+                            + EPS_M)
+                            .floor() as usize;
+                        if fits >= 1 {
+                            n = fits.min(n);
+                        }
+                    }
+                    if asset.hole_m[0] <= room_for(n) + EPS_M {
+                        self.diags.push(
+                            Diagnostic::new(
+                                Code::W0304,
+                                format!(
+                                    "{} window{} {} m wide {} not fit on the {} wall of `{}` ({} m long); {} {} m wide {} written instead",
+                                    before.2,
+                                    if before.2 == 1 { "" } else { "s" },
+                                    m(before.1),
+                                    if before.2 == 1 { "does" } else { "do" },
+                                    row.wall.as_str(),
+                                    room.name,
+                                    m(wall.width_m),
+                                    n,
+                                    m(asset.hole_m[0]),
+                                    if n == 1 { "is" } else { "are" }
+                                ),
+                            )
+                            .with_primary(row.span, format!("{n} × `{}`", asset.asset_id))
+                            .with_note(format!(
+                                "each window keeps {} m of wall at both ends of its share of the wall; was `{}`",
+                                m(WINDOW_MARGIN_M),
+                                before.0
+                            ))
+                            .with_help("ask for fewer or narrower windows to choose yourself"),
+                        );
+                    }
+                }
                 let piece = wall.width_m / n as f64;
                 let [hx, hy] = asset.hole_m;
+                let mut sill = row.sill_m;
+                if sill + hy > top_room + EPS_M && hy <= top_room + EPS_M {
+                    // The highest sill that keeps the top under the wall's margin, in whole cm.
+                    let lowered = ((top_room - hy) * 100.0 + 1e-6).floor() / 100.0;
+                    self.diags.push(
+                        Diagnostic::new(
+                            Code::W0305,
+                            format!(
+                                "the window's top at {:.3} m is above the wall height of {} m less {} m; the sill is lowered from {} m to {} m",
+                                sill + hy,
+                                m(h_wall),
+                                m(WINDOW_TOP_MARGIN_M),
+                                m(sill),
+                                m(lowered)
+                            ),
+                        )
+                        .with_primary(row.span, format!("sill {} m", m(lowered)))
+                        .with_help(format!("write `sill {} cm` or less to choose yourself", (lowered * 100.0).round())),
+                    );
+                    sill = lowered.max(0.0);
+                }
                 if piece + EPS_M < hx + 2.0 * WINDOW_MARGIN_M {
                     self.diags.push(
                         Diagnostic::new(
                             Code::E0317,
                             format!(
-                                "{} window{} {} m wide do not fit on the {} wall of `{}` ({} m long)",
+                                "{} window{} {} m wide {} not fit on the {} wall of `{}` ({} m long)",
                                 n,
                                 if n == 1 { "" } else { "s" },
                                 m(hx),
+                                if n == 1 { "does" } else { "do" },
                                 row.wall.as_str(),
                                 room.name,
                                 m(wall.width_m)
@@ -1131,23 +1214,23 @@ impl Ctx<'_> {
                     );
                     continue;
                 }
-                if row.sill_m + hy > h_wall - WINDOW_TOP_MARGIN_M + EPS_M {
+                if sill + hy > top_room + EPS_M {
+                    // The window itself is taller than the wall allows.
                     self.diags.push(
                         Diagnostic::new(
                             Code::E0318,
                             format!(
-                                "the window's top at {} m is above the wall height of {} m",
-                                m(row.sill_m + hy),
-                                m(h_wall)
+                                "the window is {} m high; a {} m wall holds windows up to {} m high (it keeps {} m under the ceiling)",
+                                m(hy),
+                                m(h_wall),
+                                m(top_room),
+                                m(WINDOW_TOP_MARGIN_M)
                             ),
                         )
-                        .with_primary(
-                            row.span,
-                            format!("sill {} m + height {} m", m(row.sill_m), m(hy)),
-                        )
+                        .with_primary(row.span, format!("sill {} m + height {} m", m(sill), m(hy)))
                         .with_help(format!(
-                            "lower the sill to at most {} m",
-                            m(h_wall - WINDOW_TOP_MARGIN_M - hy)
+                            "use a window at most {} cm high, or raise the wall height",
+                            ((top_room * 100.0) + 1e-6).floor()
                         )),
                     );
                     continue;
@@ -1174,12 +1257,12 @@ impl Ctx<'_> {
                         kind: HoleKind::Window,
                         start_m: start,
                         end_m: start + hx,
-                        bottom_m: row.sill_m,
-                        top_m: row.sill_m + hy,
+                        bottom_m: sill,
+                        top_m: sill + hy,
                     });
                     let off = asset.offset_m;
-                    let hole_min = [start - off[0], row.sill_m];
-                    let hole_max = [start + hx - off[0], row.sill_m + hy - off[1]];
+                    let hole_min = [start - off[0], sill];
+                    let hole_max = [start + hx - off[0], sill + hy - off[1]];
                     let asset_position = [
                         hole_min[0] + off[0] + asset.bbox_m[0] / 2.0,
                         hole_min[1] + off[1] + asset.bbox_m[1] / 2.0,
