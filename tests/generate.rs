@@ -709,3 +709,26 @@ fn write_example_transcript() {
     std::fs::create_dir_all("examples/transcripts").expect("folder");
     std::fs::write("examples/transcripts/apartment.transcript.json", json).expect("writable");
 }
+
+/// A floor plan whose rooms overlap is a plan-stage error: it goes into the floor plan's repair
+/// round, and when the model keeps answering it, the run ends there: no later question is
+/// asked.
+#[test]
+fn a_plan_that_fails_ends_the_run_after_its_repair_rounds() {
+    const OVERLAPPING: &str =
+        "living room | oak hardwood | white plaster | [(0, 0), (0, 6), (5, 6), (5, 0)]\n\
+        bedroom | beige carpet | pale blue paint | [(4, 0), (4, 4), (9, 4), (9, 0)]";
+    let server = Server::start(Arc::new(|asked: &Asked, _| {
+        if asked.stage == "floor-plan" {
+            Reply::answer(OVERLAPPING)
+        } else {
+            clean_answer(asked)
+        }
+    }));
+    let options = GenerateOptions { repair_rounds: 1, ..options() };
+    let outcome = generate(&request(), &client(&server), &options);
+    assert!(codes(&outcome.diagnostics).contains(&"E0809"), "{:#?}", outcome.diagnostics);
+    assert_eq!(server.calls(), 2, "the floor plan and its one repair round, nothing after");
+    let repair = &outcome.value.transcript.exchanges[1].prompt;
+    assert!(repair.contains("in the floor plan this gives"), "{repair}");
+}

@@ -17,6 +17,10 @@ pub(crate) struct Problems {
     pub count: usize,
     /// One line per error, for the repair prompt: `line 3: expected 4 fields ... (help: ...)`.
     pub errors: Vec<String>,
+    /// How many of the errors the floor plan built so far has (overlapping rooms, a door
+    /// between rooms that share no wall, a window that cannot be placed…): a plan that fails
+    /// will never build, so the run stops when they remain after the repair rounds.
+    pub plan_errors: usize,
 }
 
 /// The import context after every answer of `transcript`.
@@ -49,7 +53,7 @@ pub(crate) fn answer_problems(
     context: &Transcript,
 ) -> Problems {
     let Some(import_stage) = Stage::parse(stage) else {
-        return Problems { count: 0, errors: Vec::new() };
+        return Problems { count: 0, errors: Vec::new(), plan_errors: 0 };
     };
     let mut earlier = context.clone();
     earlier.exchanges.retain(|e| !(e.stage == stage && e.room.as_deref() == room));
@@ -59,7 +63,7 @@ pub(crate) fn answer_problems(
     ctx.set_room(room);
     let outcome = import::import_answer(import_stage, &sources, file, &ctx);
     let source = sources.get(file);
-    let errors = outcome
+    let mut errors: Vec<String> = outcome
         .diagnostics
         .iter()
         .filter(|d| d.is_error())
@@ -73,7 +77,59 @@ pub(crate) fn answer_problems(
             format!("{place}{}{help}", d.message)
         })
         .collect();
-    Problems { count: outcome.diagnostics.len(), errors }
+    let mut plan_errors = 0;
+    if errors.is_empty()
+        && matches!(import_stage, Stage::FloorPlan | Stage::Doorways | Stage::Windows)
+    {
+        for d in plan_problems(import_stage, room, answer, &earlier) {
+            let help = d.help.as_ref().map(|h| format!(" ({h})")).unwrap_or_default();
+            errors.push(format!("in the floor plan this gives: {}{help}", d.message));
+            plan_errors += 1;
+        }
+    }
+    Problems { count: outcome.diagnostics.len() + plan_errors, errors, plan_errors }
+}
+
+/// The errors of the plan stage on the scene so far with this answer: what `holoc build` would
+/// stop on. After the floor-plan answer alone every room is still closed off, so doors and
+/// reachability (E0314, E0315) are only judged from the doorways answer on.
+fn plan_problems(
+    stage: Stage,
+    room: Option<&str>,
+    answer: &str,
+    earlier: &Transcript,
+) -> Vec<crate::diag::Diagnostic> {
+    let mut with = earlier.clone();
+    with.exchanges.push(crate::import::transcript::Exchange {
+        stage: stage.as_str().to_string(),
+        room: room.map(str::to_string),
+        attempt: 0,
+        prompt: String::new(),
+        answer: answer.to_string(),
+        parameters: None,
+        started_ms: 0,
+        duration_ms: 0,
+        usage: None,
+        diagnostics: 0,
+    });
+    let scene = scene(&with);
+    if scene.rooms.is_empty() {
+        return Vec::new();
+    }
+    let planned = crate::plan::plan_with(
+        &scene,
+        crate::resolve::structure::StructureCatalog::builtin(),
+        crate::plan::PlanOptions::default(),
+    );
+    planned
+        .diagnostics
+        .into_iter()
+        .filter(|d| d.is_error())
+        .filter(|d| {
+            stage != Stage::FloorPlan
+                || !matches!(d.code, crate::diag::Code::E0314 | crate::diag::Code::E0315)
+        })
+        .collect()
 }
 
 /// The whole `.holo` text of a transcript, canonical, with the diagnostics of importing and

@@ -475,6 +475,11 @@ impl Run<'_> {
                     d = d.with_note(problem.clone());
                 }
                 asked.diagnostics.push(d);
+                // A floor plan that cannot be read, or a plan that fails, will never build:
+                // no later question is asked.
+                if found.plan_errors > 0 || stage == Stage::FloorPlan {
+                    asked.failed = true;
+                }
                 return asked;
             }
             previous = Some((answer.text, found.errors));
