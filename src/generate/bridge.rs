@@ -124,7 +124,7 @@ fn plan_problems(
     planned
         .diagnostics
         .into_iter()
-        .filter(|d| d.is_error())
+        .filter(crate::diag::Diagnostic::is_error)
         .filter(|d| {
             stage != Stage::FloorPlan
                 || !matches!(d.code, crate::diag::Code::E0314 | crate::diag::Code::E0315)
