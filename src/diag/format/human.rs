@@ -20,6 +20,13 @@ impl Default for HumanOptions {
     }
 }
 
+/// How many lines from the main label a secondary label may be and still be drawn in the
+/// excerpt; farther ones are listed under it with their line and column.
+const NEAR_LINES: usize = 6;
+
+/// A main label over more lines than this is drawn on its first line only.
+const LONG_LABEL_LINES: usize = 10;
+
 /// A diagnostic paired with its source, in the shape miette renders.
 struct Report<'a> {
     diagnostic: &'a Diagnostic,
@@ -85,12 +92,38 @@ fn report<'a>(sources: &SourceMap, d: &'a Diagnostic) -> Report<'a> {
         if let Some(file) = sources.try_get(primary.span.file) {
             source = Some(NamedSource::new(file.name.clone(), file.text.clone()));
             let to_span = |s: crate::source::Span| SourceSpan::from((s.start as usize, s.len()));
+            let line_of = |offset: u32| file.line_col(offset as usize).line;
+            // A label over a whole block points at its first line (the header): the excerpt
+            // stays a few lines long however long the block is.
+            let mut head = primary.span;
+            let last_line = line_of(head.end.saturating_sub(1).max(head.start));
+            if last_line > line_of(head.start) + LONG_LABEL_LINES {
+                if let Some(i) = file.text[head.start as usize..head.end as usize].find('\n') {
+                    footer_lines.push(format!("(the marked text runs on to line {last_line})"));
+                    head.end = head.start + i as u32;
+                }
+            }
             let text = (!primary.text.is_empty()).then(|| primary.text.clone());
-            labels.push(LabeledSpan::new_primary_with_span(text, to_span(primary.span)));
+            labels.push(LabeledSpan::new_primary_with_span(text, to_span(head)));
+            let primary_line = line_of(head.start);
             for l in &d.secondary {
-                if l.span.file == primary.span.file {
+                // Places far from the main one are named, not drawn: an excerpt between them
+                // would show every line in between.
+                let near = l.span.file == primary.span.file
+                    && line_of(l.span.start).abs_diff(primary_line) <= NEAR_LINES;
+                if near {
+                    let mut span = l.span;
+                    if line_of(span.end.saturating_sub(1).max(span.start))
+                        > line_of(span.start) + LONG_LABEL_LINES
+                    {
+                        if let Some(i) =
+                            file.text[span.start as usize..span.end as usize].find('\n')
+                        {
+                            span.end = span.start + i as u32;
+                        }
+                    }
                     let text = (!l.text.is_empty()).then(|| l.text.clone());
-                    labels.push(LabeledSpan::new_with_span(text, to_span(l.span)));
+                    labels.push(LabeledSpan::new_with_span(text, to_span(span)));
                 } else if let Some(p) = place(sources, l.span) {
                     footer_lines.push(format!("{}:{}:{}: {}", p.file, p.line, p.column, l.text));
                 }
