@@ -343,6 +343,9 @@ fn room_comment(ctx: &mut ImportContext, room: Option<&str>, comment: String) {
     }
 }
 
+/// The extent, in cm, that a zero extent of an object's size is read as.
+const THINNEST_CM: f64 = 1.0;
+
 // ---------------------------------------------------------------------------------------------
 // Wall height.
 
@@ -1062,6 +1065,22 @@ fn objects_json(text: &str, file: FileId, ctx: &mut ImportContext, d: &mut Diags
                     if [l, w, h].iter().all(|x| (0.0..10_000.0).contains(x) && *x != 0.0) =>
                 {
                     o.size = Some([l, w, h]);
+                }
+                Some(&[l, w, h]) if [l, w, h].iter().all(|x| (0.0..10_000.0).contains(x)) => {
+                    // A zero extent (a curtain or a poster written as `[200, 0, 250]`): the
+                    // thinnest sensible size, 1 cm, as the original system placed it.
+                    let thin = |x: f64| if x == 0.0 { THINNEST_CM } else { x };
+                    o.size = Some([thin(l), thin(w), thin(h)]);
+                    d.push(
+                        Diagnostic::new(
+                            Code::W0707,
+                            format!(
+                                "the size of `{key}` has a zero extent; it is read as {THINNEST_CM} cm"
+                            ),
+                        )
+                        .with_primary(span, format!("read as {:?} cm", [thin(l), thin(w), thin(h)]))
+                        .with_help("give every extent in cm, at least 1"),
+                    );
                 }
                 Some(&[_, _, _]) => bad_value(
                     span,
