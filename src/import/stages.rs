@@ -88,6 +88,7 @@ pub(crate) const CONSTRAINT_SYNONYMS: &[(&str, &str)] = &[
     ("center align", "center aligned"),
     ("aligned center", "center aligned"),
     ("aligned", "center aligned"),
+    ("alignment", "center aligned"),
     ("aligned with", "center aligned"),
     ("align", "center aligned"),
     ("at the edge", "edge"),
