@@ -150,9 +150,38 @@ pub fn render_human(
     let mut out = String::new();
     for d in diagnostics {
         let r = report(sources, d);
-        if handler.render_report(&mut out, &r).is_err() {
-            let _ = writeln!(out, "{}[{}]: {}", d.severity.as_str(), d.code.as_str(), d.message);
+        // A diagnostic the renderer cannot draw (miette has panicked on odd spans) is printed
+        // plainly: one bad excerpt never costs the user the other diagnostics.
+        DRAWING.with(|f| f.set(true));
+        let drawn = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            let mut text = String::new();
+            handler.render_report(&mut text, &r).map(|()| text)
+        }));
+        DRAWING.with(|f| f.set(false));
+        match drawn {
+            Ok(Ok(text)) => out.push_str(&text),
+            _ => {
+                let _ =
+                    writeln!(out, "{}[{}]: {}", d.severity.as_str(), d.code.as_str(), d.message);
+                if let Some(p) = d.primary.as_ref().and_then(|l| place(sources, l.span)) {
+                    let _ = writeln!(out, "  at {}:{}:{}", p.file, p.line, p.column);
+                }
+                if let Some(help) = &d.help {
+                    let _ = writeln!(out, "  help: {help}");
+                }
+            }
         }
     }
     out
+}
+
+thread_local! {
+    /// Set while a diagnostic is drawn, so that the program's panic hook stays quiet about a
+    /// panic the renderer catches.
+    static DRAWING: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+}
+
+/// Whether this thread is drawing a diagnostic (a panic now is caught and drawn plainly).
+pub fn is_drawing() -> bool {
+    DRAWING.with(std::cell::Cell::get)
 }

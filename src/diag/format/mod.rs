@@ -4,7 +4,7 @@ mod human;
 mod json;
 mod short;
 
-pub use human::{render_human, HumanOptions};
+pub use human::{is_drawing, render_human, HumanOptions};
 pub use json::render_json;
 pub use short::render_short;
 
