@@ -166,8 +166,11 @@ fn rank_with(
     scores: &mut [f64],
 ) -> Vec<Candidate> {
     let index = &catalog.index;
-    let category = text::normalize(&query.category);
-    let description = query.description.as_deref().map(text::normalize).unwrap_or_default();
+    // The noun phrase names the thing; what follows it (`with drawers`) only describes it.
+    let (noun_phrase, rest) = text::split_phrase(&query.category);
+    let category = text::normalize(&noun_phrase);
+    let mut description = query.description.as_deref().map(text::normalize).unwrap_or_default();
+    description.extend(text::normalize(&rest));
     let head = text::head(&category).map(str::to_string);
     let modifiers: Vec<&str> = category
         .iter()

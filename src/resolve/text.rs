@@ -247,6 +247,77 @@ const GENERIC_HEADS: &[&str] = &[
     "ball",
 ];
 
+/// Words that end the noun phrase of a category (`writing desk with drawers`: the thing is a
+/// desk; `side tables to complement the sofa`: side tables).
+const PHRASE_ENDS: &[&str] = &[
+    "with",
+    "for",
+    "of",
+    "to",
+    "on",
+    "in",
+    "from",
+    "near",
+    "by",
+    "that",
+    "which",
+    "and",
+    "featuring",
+    "including",
+    "under",
+    "above",
+    "beside",
+    "next",
+];
+
+/// Words that, before `of`, count a thing rather than name it (`stack of books`: books).
+const COUNTING_NOUNS: &[&str] = &[
+    "stack",
+    "stacks",
+    "pile",
+    "piles",
+    "set",
+    "sets",
+    "pair",
+    "pairs",
+    "bar",
+    "bunch",
+    "collection",
+    "row",
+    "rows",
+    "couple",
+    "handful",
+    "assortment",
+    "selection",
+    "variety",
+];
+
+/// Splits a category the way a person reads it: the noun phrase that names the thing, and the
+/// rest (what it has, what it is for), which only describes it. `writing desk with drawers` →
+/// (`writing desk`, `with drawers`); `stack of books` → (`books`, `stack of`).
+pub(crate) fn split_phrase(text: &str) -> (String, String) {
+    let words: Vec<&str> = text.split_whitespace().collect();
+    let clean = |w: &str| w.trim_matches(|c: char| !c.is_alphanumeric()).to_lowercase();
+    let Some(i) = words.iter().position(|w| PHRASE_ENDS.contains(&clean(w).as_str())) else {
+        return (text.to_string(), String::new());
+    };
+    if clean(words[i]) == "of" && i > 0 && COUNTING_NOUNS.contains(&clean(words[i - 1]).as_str()) {
+        let after = &words[i + 1..];
+        let end = after
+            .iter()
+            .position(|w| PHRASE_ENDS.contains(&clean(w).as_str()))
+            .unwrap_or(after.len());
+        if end > 0 {
+            let rest: Vec<&str> = words[..=i].iter().chain(&after[end..]).copied().collect();
+            return (after[..end].join(" "), rest.join(" "));
+        }
+    }
+    if i == 0 {
+        return (text.to_string(), String::new());
+    }
+    (words[..i].join(" "), words[i..].join(" "))
+}
+
 /// Lower-cases, splits on anything that is not a letter or digit, drops stopwords,
 /// singularizes and applies the synonym table.
 pub(crate) fn normalize(text: &str) -> Vec<String> {
@@ -289,11 +360,25 @@ pub(crate) fn camel_words(name: &str) -> String {
 
 fn singular(word: &str) -> String {
     let n = word.chars().count();
-    if n <= 3 || !word.is_ascii() {
+    if !word.is_ascii() {
+        return word.to_string();
+    }
+    // Plural abbreviations: `cds`, `tvs` (no vowel before the `s`).
+    if n == 3 && word.ends_with('s') && !word[..2].contains(['a', 'e', 'i', 'o', 'u', 'y']) {
+        return word[..2].to_string();
+    }
+    if n <= 3 {
         return word.to_string();
     }
     if let Some(stem) = word.strip_suffix("ies") {
         return format!("{stem}y");
+    }
+    // `tomatoes`, `potatoes`, `mangoes`, `heroes`: the `e` belongs to the plural.
+    if n > 5
+        && ["toes", "goes", "roes", "does"].iter().any(|s| word.ends_with(s))
+        && !word.ends_with("shoes")
+    {
+        return word[..word.len() - 2].to_string();
     }
     for suffix in ["sses", "shes", "ches", "xes"] {
         if word.ends_with(suffix) {
@@ -428,6 +513,33 @@ mod tests {
         assert_eq!(camel_words("TVStand"), "tv stand");
         assert_eq!(camel_words("Sofa_1"), "sofa 1");
         assert_eq!(camel_words("ArmChair"), "arm chair");
+    }
+
+    #[test]
+    fn the_noun_phrase_names_the_thing() {
+        let split = |t: &str| {
+            let (a, b) = split_phrase(t);
+            (a, b)
+        };
+        assert_eq!(
+            split("writing desk with drawers"),
+            ("writing desk".into(), "with drawers".into())
+        );
+        assert_eq!(split("kitchen island with sink").0, "kitchen island");
+        assert_eq!(split("side tables to complement the sofa").0, "side tables");
+        assert_eq!(split("stack of books"), ("books".into(), "stack of".into()));
+        assert_eq!(split("bar of soap on the sink").0, "soap");
+        assert_eq!(split("grey sofa").0, "grey sofa");
+        assert_eq!(split("with love").0, "with love");
+    }
+
+    #[test]
+    fn plurals_that_end_in_oes_or_are_abbreviations() {
+        assert_eq!(singular("tomatoes"), "tomato");
+        assert_eq!(singular("potatoes"), "potato");
+        assert_eq!(singular("cds"), "cd");
+        assert_eq!(singular("shoes"), "shoe");
+        assert_eq!(singular("bus"), "bus");
     }
 
     #[test]
