@@ -139,11 +139,82 @@ pub fn text_words(text: &str) -> Vec<String> {
         .collect()
 }
 
-/// How well one query word matches one name word: exact, or one contains the other.
+/// Whether a query word names a name word: the same word, or its plural (`tile`, `tiles`), or
+/// a long compound name word that holds it whole (`greygranite` holds `granite`). A short word
+/// inside a longer one is another word: `wall` is not `wallpaper`, `tile` is not `tiled` (a
+/// texture that repeats).
 fn word_match(query: &str, name: &str) -> bool {
+    let bare = |w: &str| w.strip_suffix('s').map_or_else(|| w.to_owned(), str::to_owned);
     query == name
-        || (name.len() >= 4 && query.contains(name))
-        || (query.len() >= 4 && name.contains(query))
+        || bare(query) == bare(name)
+        || (query.len() >= 5 && name.len() >= query.len() + 3 && name.contains(query))
+}
+
+/// Kinds of material a person names, with the words that name each (in a design text or in a
+/// material's name). A design that names a kind ranks the materials of that kind up and the
+/// materials of another kind down, so `walnut parquet` is a wood, never a fabric.
+const MATERIAL_KINDS: &[(&str, &[&str])] = &[
+    (
+        "wood",
+        &[
+            "wood",
+            "wooden",
+            "hardwood",
+            "parquet",
+            "plank",
+            "planks",
+            "laminate",
+            "oak",
+            "walnut",
+            "maple",
+            "pine",
+            "cherry",
+            "birch",
+            "ash",
+            "teak",
+            "mahogany",
+            "beech",
+            "bamboo",
+            "cedar",
+            "timber",
+            "woodfloors",
+            "floorboards",
+        ],
+    ),
+    (
+        "stone",
+        &[
+            "stone",
+            "marble",
+            "granite",
+            "greygranite",
+            "slate",
+            "concrete",
+            "cement",
+            "terrazzo",
+            "travertine",
+            "limestone",
+            "sandstone",
+            "quartz",
+            "brick",
+            "bricks",
+        ],
+    ),
+    ("tile", &["tile", "tiles", "ceramic", "porcelain", "vinyl", "linoleum", "mosaic"]),
+    ("carpet", &["carpet", "rug", "wool", "carpeted"]),
+    ("fabric", &["fabric", "cloth", "satin", "velvet", "linen", "cotton", "upholstery"]),
+    ("paint", &["drywall", "plaster", "paint", "painted", "stucco", "wallpaper", "eggshell"]),
+    ("metal", &["metal", "steel", "iron", "aluminium", "aluminum", "brass", "copper"]),
+];
+
+/// The kinds a list of words names.
+fn kinds_of<'a>(words: impl IntoIterator<Item = &'a str>) -> Vec<&'static str> {
+    let words: Vec<&str> = words.into_iter().collect();
+    MATERIAL_KINDS
+        .iter()
+        .filter(|(_, keys)| words.iter().any(|w| keys.contains(w)))
+        .map(|(kind, _)| *kind)
+        .collect()
 }
 
 /// Finish words say little about which material it is; they count for less.
@@ -273,6 +344,7 @@ impl StructureCatalog {
     pub fn rank_materials(&self, design: &str, surface: Surface) -> Vec<(&Material, f64)> {
         let query = text_words(design);
         let lower = design.to_lowercase();
+        let asked = kinds_of(query.iter().map(String::as_str));
         let mut ranked: Vec<(&Material, f64)> = self
             .materials
             .iter()
@@ -283,8 +355,23 @@ impl StructureCatalog {
                     Surface::Wall => g == "Wall",
                 });
                 let sim = strsim::normalized_levenshtein(&lower, &m.name.to_lowercase());
-                let score =
-                    overlap_score(&query, &m.words) + if suits { 0.25 } else { 0.0 } + 0.1 * sim;
+                // The kind the design names: up for a material of that kind, down for one of
+                // another kind only (a carpet for a tile floor).
+                let mut own = kinds_of(m.words.iter().map(String::as_str));
+                if own.is_empty() && m.groups.iter().any(|g| g == "Fabric") {
+                    own.push("fabric");
+                }
+                let kind = if asked.is_empty() || own.is_empty() {
+                    0.0
+                } else if own.iter().any(|k| asked.contains(k)) {
+                    0.6
+                } else {
+                    -1.5
+                };
+                let score = overlap_score(&query, &m.words)
+                    + kind
+                    + if suits { 0.25 } else { 0.0 }
+                    + 0.1 * sim;
                 (m, score)
             })
             .collect();
