@@ -197,3 +197,30 @@ fn repeated_items_on_a_receptacle_get_their_own_ids() {
     assert_eq!(ids.len(), unique.len(), "{ids:?}");
     assert!(ids.contains(&"desk lamp-1|desk-0 (a)"), "{ids:?}");
 }
+
+/// Objects placed by their position relative to an object that is left out follow it out
+/// (W0503) and are listed as left out; one that only faces it stays.
+#[test]
+fn objects_placed_around_a_missing_object_are_left_out() {
+    let text = "scene \"t\" { seed 1 }\n\nroom music \"music room\" {\n  corners in m (0, 0) (0, 5) (5, 5) (5, 0)\n  object piano \"grand piano\" {\n    describe \"black lacquered grand piano\"\n    edge\n  }\n  object stool \"stool\" {\n    middle\n    in front of piano-0\n    near piano-0\n  }\n  object sofa \"sofa\" {\n    edge\n    face to piano-0\n  }\n}\n\ndoor exterior -- music : doorway single\n";
+    let mut sources = SourceMap::new();
+    let id = sources.add("t.holo", text.to_string());
+    let catalog = holoc::resolve::Catalog::embedded();
+    let options = holoc::compile::BuildOptions {
+        seed: None,
+        plan: holoc::plan::PlanOptions::default(),
+        catalog: &catalog,
+        solver: holoc::solve::Solver::Dfs,
+        node_budget: None,
+        stand_ins: true,
+    };
+    let out = holoc::compile::build(&sources, id, &options);
+    let codes: Vec<&str> = out.diagnostics.iter().map(|d| d.code.as_str()).collect();
+    assert!(codes.contains(&"W0503"), "{codes:?}");
+    let built = out.value.expect("builds");
+    let names: Vec<&str> =
+        built.house.all_objects().iter().map(|o| o.object_name.as_str()).collect();
+    assert_eq!(names, ["sofa-0"], "the stool follows the piano out; the sofa stays");
+    let drawing = holoc::render::drawing(&built);
+    assert!(drawing.left_out.iter().any(|l| l.name == "stool-0"));
+}

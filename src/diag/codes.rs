@@ -156,6 +156,7 @@ codes! {
     E0502 "unusable-object" "an object's size, height or reference cannot be used by the solver";
     W0501 "unplaceable-object" "an object cannot be placed without breaking a hard rule and is left out";
     W0502 "pinned-pose-breaks-rule" "a pinned pose breaks a hard layout rule and is kept as pinned";
+    W0503 "dependent-left-out" "an object whose every relation names an object left out is left out too";
     E0801 "unknown-placeholder" "a prompt template uses a placeholder its stage does not fill in";
     E0802 "missing-placeholder" "a prompt template leaves out a placeholder its answer depends on";
     E0803 "model-unauthorized" "the model server refused the API key";

@@ -83,6 +83,17 @@ pub(crate) fn check_objects(problem: &RoomProblem, diags: &mut Vec<Diagnostic>) 
     diags.len() == before
 }
 
+/// W0503: an object whose every relation names an object left out is left out too.
+pub(crate) fn dependent_left_out(u: &Unplaced, span: Option<crate::source::Span>) -> Diagnostic {
+    let d = Diagnostic::new(Code::W0503, format!("`{}` is left out with what it relates to", u.id))
+        .with_note(u.reason.clone())
+        .with_help("give it a relation to an object that is placed, or make the other object available (an asset, `--catalog`)");
+    match span {
+        Some(s) => d.with_primary(s, "every relation names an object left out"),
+        None => d,
+    }
+}
+
 /// W0501: an object was left out.
 pub(crate) fn unplaced(problem: &RoomProblem, u: &Unplaced) -> Diagnostic {
     let span = match u.kind {

@@ -6,7 +6,7 @@
 //! reported them), so they take no space and constraints naming them are dropped.
 
 use super::{room_problem, RoomLayout, RoomProblem, Sizes, SolveOptions, WallHole, WallSegment};
-use crate::check::scene::{ObjectId, RoomId, Scene, SmallItem};
+use crate::check::scene::{ObjectId, RelationKind, RoomId, Scene, SmallItem};
 use crate::diag::Outcome;
 use crate::plan::{FloorPlan, HoleKind};
 use crate::resolve::{Resolution, Resolved};
@@ -90,6 +90,49 @@ pub fn solve(
     for room in &mut kept.rooms {
         room.objects.retain(|id| resolved.object(*id).is_some());
     }
+    // Objects whose every relation names an object left out follow it out (chairs around a
+    // table that has no asset are not placed around nothing); the chain is followed.
+    let mut dependents: Vec<(RoomId, String, String)> = Vec::new();
+    loop {
+        let mut dropped = Vec::new();
+        for room in &kept.rooms {
+            for &id in &room.objects {
+                let crate::check::scene::Placement::Floor { constraints, .. } =
+                    &kept.object(id).placement
+                else {
+                    continue;
+                };
+                // Only relations that place an object by the target's position make it depend
+                // on the target (`around`, `in front of`, `near`…); a sofa that faces a missing
+                // piano still stands against its wall.
+                let positional = constraints.iter().any(|c| {
+                    !matches!(
+                        c.kind,
+                        RelationKind::Far
+                            | RelationKind::FaceTo
+                            | RelationKind::FaceSameAs
+                            | RelationKind::CenterAligned
+                    )
+                });
+                if positional && constraints.iter().all(|c| !room.objects.contains(&c.target)) {
+                    let targets: Vec<String> = constraints
+                        .iter()
+                        .map(|c| format!("`{}`", scene.object(c.target).name))
+                        .collect::<std::collections::BTreeSet<_>>()
+                        .into_iter()
+                        .collect();
+                    dropped.push((room.id, id, targets.join(", ")));
+                }
+            }
+        }
+        if dropped.is_empty() {
+            break;
+        }
+        for (room, id, targets) in dropped {
+            kept.rooms[room.0].objects.retain(|o| *o != id);
+            dependents.push((room, kept.object(id).name.clone(), targets));
+        }
+    }
     let sizes = ResolvedSizes { scene: &kept, resolved };
     let mut diagnostics = Vec::new();
     let mut rooms = Vec::new();
@@ -157,8 +200,30 @@ pub fn solve(
             seed: options.seed ^ (room.id.0 as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15),
             ..*options
         };
-        let solved = super::solve_room(&problem, &room_options);
+        let mut solved = super::solve_room(&problem, &room_options);
         diagnostics.extend(solved.diagnostics);
+        for (_, name, targets) in dependents.iter().filter(|(r, ..)| *r == room.id) {
+            let u = super::Unplaced {
+                id: name.clone(),
+                kind: "floor",
+                rule: None,
+                reason: format!("every relation of `{name}` names {targets}, which is left out"),
+            };
+            let object = scene.objects.iter().find(|o| o.name == *name);
+            diagnostics.push(super::errors::dependent_left_out(&u, object.map(|o| o.name_span)));
+            solved.value.unplaced.push(u);
+            // What stands on it goes with it.
+            for item in object.map(|o| o.on_top.as_slice()).unwrap_or_default() {
+                for i in 0..item.count {
+                    solved.value.unplaced.push(super::Unplaced {
+                        id: format!("{}-{i}|{name}", item.item),
+                        kind: "small",
+                        rule: None,
+                        reason: format!("its receptacle `{name}` is left out"),
+                    });
+                }
+            }
+        }
         rooms.push(SolvedRoom {
             room: room.id,
             problem,
