@@ -852,11 +852,14 @@ impl Ctx<'_> {
     }
 
     fn place_doors(&mut self) {
+        // Doors between two rooms that do not fit (E0310), by their diagnostic's index.
+        let mut unfit = Vec::new();
         for door in &self.scene.doors {
             if door.kind == DoorKind::Open {
                 continue;
             }
-            self.place_door(
+            let before = self.diags.len();
+            let placed = self.place_door(
                 door.index,
                 door.from,
                 door.to,
@@ -867,6 +870,33 @@ impl Ctx<'_> {
                 Some(door.span),
                 door.side_spans,
             );
+            let between_rooms =
+                matches!((door.from, door.to), (DoorSide::Room(_), DoorSide::Room(_)));
+            if !placed
+                && between_rooms
+                && self.diags.len() == before + 1
+                && self.diags[before].code == Code::E0310
+            {
+                unfit.push(before);
+            }
+        }
+        // As the original system does, a door that does not fit is left out when every room
+        // can still be reached without it; the error becomes a warning that says so.
+        if unfit.is_empty() {
+            return;
+        }
+        let (has_exterior, seen) = self.reached();
+        if has_exterior && seen.iter().all(|s| *s) {
+            for i in unfit {
+                let d = &mut self.diags[i];
+                d.code = Code::W0306;
+                d.severity = crate::diag::Severity::Warning;
+                d.message =
+                    format!("{}; it is left out, every room is reached without it", d.message);
+                d.help = Some(
+                    "use a single door, or make the shared wall longer, to have it".to_owned(),
+                );
+            }
         }
     }
 
