@@ -224,3 +224,28 @@ fn objects_placed_around_a_missing_object_are_left_out() {
     let drawing = holoc::render::drawing(&built);
     assert!(drawing.left_out.iter().any(|l| l.name == "stool-0"));
 }
+
+/// An item on top that no asset matches is reported once (W0401) and takes no room: it is not
+/// also called "the top is full" (W0501).
+#[test]
+fn items_without_an_asset_take_no_room_on_their_receptacle() {
+    let text = "scene \"t\" { seed 1 }\n\nroom gym \"gym\" {\n  corners in m (0, 0) (0, 4) (4, 4) (4, 0)\n  object bench \"coffee table\" {\n    middle\n    on top \"kettlebell\" x3 same\n    on top \"book\" x1 same\n  }\n}\n\ndoor exterior -- gym : doorway single\n";
+    let mut sources = SourceMap::new();
+    let id = sources.add("t.holo", text.to_string());
+    let catalog = holoc::resolve::Catalog::embedded();
+    let options = holoc::compile::BuildOptions {
+        seed: None,
+        plan: holoc::plan::PlanOptions::default(),
+        catalog: &catalog,
+        solver: holoc::solve::Solver::Dfs,
+        node_budget: None,
+        stand_ins: true,
+    };
+    let out = holoc::compile::build(&sources, id, &options);
+    let codes: Vec<&str> = out.diagnostics.iter().map(|d| d.code.as_str()).collect();
+    assert_eq!(codes, ["W0401"], "{codes:?}");
+    let built = out.value.expect("builds");
+    let names: Vec<&str> =
+        built.house.all_objects().iter().map(|o| o.object_name.as_str()).collect();
+    assert_eq!(names, ["bench-0", "book-0"]);
+}

@@ -184,16 +184,25 @@ pub fn solve(
                 }
             }
         }
-        // Each copy of a small object has its own asset, hence its own size.
-        for (small, &(receptacle, line, copy)) in problem.small_objects.iter_mut().zip(&small_keys)
-        {
-            if let Some(choice) = resolved
+        // Each copy of a small object has its own asset, hence its own size; a copy without an
+        // asset (reported by resolve, W0401) takes no room on its receptacle.
+        let choice = |&(receptacle, line, copy): &(ObjectId, usize, u32)| {
+            resolved
                 .small
                 .get(&(receptacle, line))
                 .and_then(|v| v.get(copy as usize))
                 .and_then(Resolution::choice)
-            {
-                small.size = bbox_to_size(choice.bbox_m);
+        };
+        let has_asset: Vec<bool> = small_keys.iter().map(|k| choice(k).is_some()).collect();
+        let mut n = 0;
+        problem.small_objects.retain(|_| {
+            n += 1;
+            has_asset.get(n - 1).copied().unwrap_or(false)
+        });
+        small_keys.retain(|k| choice(k).is_some());
+        for (small, key) in problem.small_objects.iter_mut().zip(&small_keys) {
+            if let Some(c) = choice(key) {
+                small.size = bbox_to_size(c.bbox_m);
             }
         }
         let room_options = SolveOptions {
