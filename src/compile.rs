@@ -87,6 +87,21 @@ pub struct BuildOptions<'a> {
     pub stand_ins: bool,
 }
 
+impl<'a> BuildOptions<'a> {
+    /// The defaults of `holoc build` with this catalog: the scene's seed, no added doors, the
+    /// DFS with its default budget, stand-ins on.
+    pub fn new(catalog: &'a Catalog) -> BuildOptions<'a> {
+        BuildOptions {
+            seed: None,
+            plan: PlanOptions::default(),
+            catalog,
+            solver: Solver::Dfs,
+            node_budget: None,
+            stand_ins: true,
+        }
+    }
+}
+
 /// Everything a build produced, stage by stage.
 #[derive(Clone, Debug)]
 pub struct Built {
@@ -163,13 +178,6 @@ pub fn build(
 /// against).
 pub fn diagnose(sources: &SourceMap, file: FileId) -> Vec<Diagnostic> {
     let catalog = Catalog::embedded();
-    let options = BuildOptions {
-        seed: None,
-        plan: PlanOptions::default(),
-        catalog: &catalog,
-        solver: Solver::Dfs,
-        node_budget: None,
-        stand_ins: true,
-    };
+    let options = BuildOptions::new(&catalog);
     build(sources, file, &options).diagnostics
 }

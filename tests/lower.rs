@@ -180,18 +180,8 @@ fn room_labels_map_to_procthor_room_types() {
 #[test]
 fn repeated_items_on_a_receptacle_get_their_own_ids() {
     let text = "scene \"t\" { seed 1 }\n\nroom a \"a\" {\n  corners in m (0, 0) (0, 4) (4, 4) (4, 0)\n  object desk \"desk\" {\n    edge\n    on top \"desk lamp\" x1 same\n    on top \"desk lamp\" x1 same\n  }\n}\n\ndoor exterior -- a : doorway single\n";
-    let mut sources = SourceMap::new();
-    let id = sources.add("t.holo", text.to_string());
-    let catalog = holoc::resolve::Catalog::embedded();
-    let options = holoc::compile::BuildOptions {
-        seed: None,
-        plan: holoc::plan::PlanOptions::default(),
-        catalog: &catalog,
-        solver: holoc::solve::Solver::Dfs,
-        node_budget: None,
-        stand_ins: true,
-    };
-    let built = holoc::compile::build(&sources, id, &options).value.expect("builds");
+    let (_, out) = build_text(text);
+    let built = out.value.expect("builds");
     let ids: Vec<&str> = built.house.all_objects().iter().map(|o| o.id.as_str()).collect();
     let unique: std::collections::BTreeSet<&str> = ids.iter().copied().collect();
     assert_eq!(ids.len(), unique.len(), "{ids:?}");
@@ -203,18 +193,7 @@ fn repeated_items_on_a_receptacle_get_their_own_ids() {
 #[test]
 fn objects_placed_around_a_missing_object_are_left_out() {
     let text = "scene \"t\" { seed 1 }\n\nroom music \"music room\" {\n  corners in m (0, 0) (0, 5) (5, 5) (5, 0)\n  object piano \"grand piano\" {\n    describe \"black lacquered grand piano\"\n    edge\n  }\n  object stool \"stool\" {\n    middle\n    in front of piano-0\n    near piano-0\n  }\n  object sofa \"sofa\" {\n    edge\n    face to piano-0\n  }\n}\n\ndoor exterior -- music : doorway single\n";
-    let mut sources = SourceMap::new();
-    let id = sources.add("t.holo", text.to_string());
-    let catalog = holoc::resolve::Catalog::embedded();
-    let options = holoc::compile::BuildOptions {
-        seed: None,
-        plan: holoc::plan::PlanOptions::default(),
-        catalog: &catalog,
-        solver: holoc::solve::Solver::Dfs,
-        node_budget: None,
-        stand_ins: true,
-    };
-    let out = holoc::compile::build(&sources, id, &options);
+    let (_, out) = build_text(text);
     let codes: Vec<&str> = out.diagnostics.iter().map(|d| d.code.as_str()).collect();
     assert!(codes.contains(&"W0503"), "{codes:?}");
     let built = out.value.expect("builds");
@@ -230,22 +209,20 @@ fn objects_placed_around_a_missing_object_are_left_out() {
 #[test]
 fn items_without_an_asset_take_no_room_on_their_receptacle() {
     let text = "scene \"t\" { seed 1 }\n\nroom gym \"gym\" {\n  corners in m (0, 0) (0, 4) (4, 4) (4, 0)\n  object bench \"coffee table\" {\n    middle\n    on top \"kettlebell\" x3 same\n    on top \"book\" x1 same\n  }\n}\n\ndoor exterior -- gym : doorway single\n";
-    let mut sources = SourceMap::new();
-    let id = sources.add("t.holo", text.to_string());
-    let catalog = holoc::resolve::Catalog::embedded();
-    let options = holoc::compile::BuildOptions {
-        seed: None,
-        plan: holoc::plan::PlanOptions::default(),
-        catalog: &catalog,
-        solver: holoc::solve::Solver::Dfs,
-        node_budget: None,
-        stand_ins: true,
-    };
-    let out = holoc::compile::build(&sources, id, &options);
+    let (_, out) = build_text(text);
     let codes: Vec<&str> = out.diagnostics.iter().map(|d| d.code.as_str()).collect();
     assert_eq!(codes, ["W0401"], "{codes:?}");
     let built = out.value.expect("builds");
     let names: Vec<&str> =
         built.house.all_objects().iter().map(|o| o.object_name.as_str()).collect();
     assert_eq!(names, ["bench-0", "book-0"]);
+}
+
+/// Builds a scene given as text with the defaults of `holoc build`.
+fn build_text(text: &str) -> (SourceMap, holoc::diag::Outcome<Option<holoc::compile::Built>>) {
+    let mut sources = SourceMap::new();
+    let id = sources.add("t.holo", text.to_string());
+    let catalog = holoc::resolve::Catalog::embedded();
+    let out = holoc::compile::build(&sources, id, &holoc::compile::BuildOptions::new(&catalog));
+    (sources, out)
 }

@@ -433,14 +433,7 @@ fn build_house(
     let name = output.map_or_else(|| "<generated>.holo".to_string(), |p| p.display().to_string());
     let file = sources.add(name, holo.to_string());
     let catalog = crate::resolve::Catalog::embedded();
-    let options = crate::compile::BuildOptions {
-        seed: None,
-        plan: crate::plan::PlanOptions::default(),
-        catalog: &catalog,
-        solver: crate::solve::Solver::Dfs,
-        node_budget: None,
-        stand_ins: true,
-    };
+    let options = crate::compile::BuildOptions::new(&catalog);
     let built = crate::compile::build(&sources, file, &options);
     let shown: Vec<Diagnostic> =
         built.diagnostics.iter().filter(|d| !quiet || d.is_error()).cloned().collect();
