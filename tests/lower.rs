@@ -84,23 +84,8 @@ fn outputs_validate() {
 
 #[test]
 fn objects_get_their_room_layer() {
-    let text = std::fs::read_to_string("tests/corpus/plan/ok/hallway_three_offices.holo")
-        .expect("fixture");
-    let mut sources = SourceMap::new();
-    let id = sources.add("hall.holo", text);
-    let scene = holoc::compile::check_file(&sources, id).value.expect("no syntax errors");
-    let planned = plan(&scene, StructureCatalog::builtin());
-    let room = holoc::check::scene::RoomId(2);
-    let object = holoc::lower::LoweredObject {
-        id: "desk-0 (office-2)".into(),
-        asset_id: "Desk_301_1".into(),
-        room,
-        position_m: [6.0, 0.4, 4.0],
-        rotation_deg: [0.0, 90.0, 0.0],
-        kinematic: true,
-        object_name: "desk-0".into(),
-        parent: None,
-    };
+    let (scene, planned, object) = hallway_with_a_desk();
+    let room = object.room;
     let house = lower(&scene, &planned.value, &[object]);
     let o = &house.house.objects[0];
     assert_eq!(o.layer, planned.value.layer_name(room));
@@ -120,23 +105,8 @@ fn objects_get_their_room_layer() {
 /// writes them.
 #[test]
 fn items_on_a_receptacle_are_its_children() {
-    let text = std::fs::read_to_string("tests/corpus/plan/ok/hallway_three_offices.holo")
-        .expect("fixture");
-    let mut sources = SourceMap::new();
-    let id = sources.add("hall.holo", text);
-    let scene = holoc::compile::check_file(&sources, id).value.expect("no syntax errors");
-    let planned = plan(&scene, StructureCatalog::builtin());
-    let room = holoc::check::scene::RoomId(2);
-    let desk = holoc::lower::LoweredObject {
-        id: "desk-0 (office-2)".into(),
-        asset_id: "Desk_301_1".into(),
-        room,
-        position_m: [6.0, 0.4, 4.0],
-        rotation_deg: [0.0, 90.0, 0.0],
-        kinematic: true,
-        object_name: "desk-0".into(),
-        parent: None,
-    };
+    let (scene, planned, desk) = hallway_with_a_desk();
+    let room = desk.room;
     let laptop = holoc::lower::LoweredObject {
         id: "laptop-0|desk-0 (office-2)".into(),
         asset_id: "Laptop_1".into(),
@@ -225,4 +195,27 @@ fn build_text(text: &str) -> (SourceMap, holoc::diag::Outcome<Option<holoc::comp
     let catalog = holoc::resolve::Catalog::embedded();
     let out = holoc::compile::build(&sources, id, &holoc::compile::BuildOptions::new(&catalog));
     (sources, out)
+}
+
+/// The hallway with three offices of the plan corpus, planned, and a desk in its third room.
+fn hallway_with_a_desk(
+) -> (holoc::check::Scene, holoc::diag::Outcome<holoc::plan::FloorPlan>, holoc::lower::LoweredObject)
+{
+    let text = std::fs::read_to_string("tests/corpus/plan/ok/hallway_three_offices.holo")
+        .expect("fixture");
+    let mut sources = SourceMap::new();
+    let id = sources.add("hall.holo", text);
+    let scene = holoc::compile::check_file(&sources, id).value.expect("no syntax errors");
+    let planned = plan(&scene, StructureCatalog::builtin());
+    let desk = holoc::lower::LoweredObject {
+        id: "desk-0 (office-2)".into(),
+        asset_id: "Desk_301_1".into(),
+        room: holoc::check::scene::RoomId(2),
+        position_m: [6.0, 0.4, 4.0],
+        rotation_deg: [0.0, 90.0, 0.0],
+        kinematic: true,
+        object_name: "desk-0".into(),
+        parent: None,
+    };
+    (scene, planned, desk)
 }

@@ -38,6 +38,23 @@ pub struct Choice {
     pub stand_in: Option<String>,
 }
 
+impl Choice {
+    /// The choice of an asset, with no ranking parts, runner-up, pin or stand-in yet.
+    fn of(asset: &super::catalog::Asset) -> Choice {
+        Choice {
+            asset_id: asset.id.clone(),
+            object_type: asset.object_type.clone(),
+            bbox_m: asset.bbox_m,
+            receptacle: asset.receptacle,
+            source: asset.source,
+            pinned: false,
+            parts: None,
+            runner_up: None,
+            stand_in: None,
+        }
+    }
+}
+
 /// Why nothing was chosen.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Unresolved {
@@ -431,15 +448,9 @@ impl State<'_> {
             let asset = self.catalog.asset_at(pick.idx);
             self.used.entry(asset.id.clone()).or_default().insert(what.room);
             out.push(Resolution::Chosen(Choice {
-                asset_id: asset.id.clone(),
-                object_type: asset.object_type.clone(),
-                bbox_m: asset.bbox_m,
-                receptacle: asset.receptacle,
-                source: asset.source,
-                pinned: false,
                 parts: Some(pick.clone()),
                 runner_up,
-                stand_in: None,
+                ..Choice::of(asset)
             }));
         }
         out
@@ -461,15 +472,8 @@ impl State<'_> {
         self.report_once(what.span, errors::stand_in(what, asset, line));
         self.used.entry(asset.id.clone()).or_default().insert(what.room);
         Some(Resolution::Chosen(Choice {
-            asset_id: asset.id.clone(),
-            object_type: asset.object_type.clone(),
-            bbox_m: asset.bbox_m,
-            receptacle: asset.receptacle,
-            source: asset.source,
-            pinned: false,
-            parts: None,
-            runner_up: None,
             stand_in: Some(line.reason.to_owned()),
+            ..Choice::of(asset)
         }))
     }
 
@@ -506,15 +510,9 @@ impl State<'_> {
             Some(asset) => {
                 self.used.entry(asset.id.clone()).or_default().insert(what.room);
                 Resolution::Chosen(Choice {
-                    asset_id: asset.id.clone(),
-                    object_type: asset.object_type.clone(),
-                    bbox_m: asset.bbox_m,
-                    receptacle: asset.receptacle,
-                    source: asset.source,
                     pinned: true,
-                    parts: None,
                     runner_up: ranked.iter().find(|c| c.asset_id != asset.id).cloned(),
-                    stand_in: None,
+                    ..Choice::of(asset)
                 })
             }
         }
