@@ -178,7 +178,7 @@ fn objects_placed_around_a_missing_object_are_left_out() {
 /// also called "the top is full" (W0501).
 #[test]
 fn items_without_an_asset_take_no_room_on_their_receptacle() {
-    let text = "scene \"t\" { seed 1 }\n\nroom gym \"gym\" {\n  corners in m (0, 0) (0, 4) (4, 4) (4, 0)\n  object bench \"coffee table\" {\n    middle\n    on top \"kettlebell\" x3 same\n    on top \"book\" x1 same\n  }\n}\n\ndoor exterior -- gym : doorway single\n";
+    let text = "scene \"t\" { seed 1 }\n\nroom gym \"gym\" {\n  corners in m (0, 0) (0, 4) (4, 4) (4, 0)\n  object bench \"coffee table\" {\n    middle\n    on top \"metronome\" x3 same\n    on top \"book\" x1 same\n  }\n}\n\ndoor exterior -- gym : doorway single\n";
     let (_, out) = build_text(text);
     let codes: Vec<&str> = out.diagnostics.iter().map(|d| d.code.as_str()).collect();
     assert_eq!(codes, ["W0401"], "{codes:?}");

@@ -78,8 +78,16 @@ impl KindArg {
 /// Arguments of `holoc assets search`.
 #[derive(Debug, clap::Args)]
 pub struct SearchArgs {
-    /// The description, e.g. "light grey sectional sofa" (its last word names the thing).
+    /// The description, e.g. "light grey sectional sofa", read as a build reads an object's
+    /// name: its noun phrase names the thing (`writing desk with drawers` is a desk).
     pub query: String,
+    /// The object's name, as in `object NAME "…"` with the text as its `describe`: the name
+    /// then says what the thing is and the text how it looks.
+    #[arg(long, value_name = "NAME")]
+    pub name: Option<String>,
+    /// Do not let an asset of another type stand in (as `holoc build --no-stand-ins`).
+    #[arg(long)]
+    pub no_stand_ins: bool,
     /// Desired size, width x depth x height with a unit: `200x100x80cm`, `2x1x0.8m`.
     #[arg(long, value_name = "WxDxH")]
     pub size: Option<String>,
@@ -183,12 +191,55 @@ fn search(args: &SearchArgs) -> ExitCode {
     let Some(catalog) = load(&args.catalog, args.color) else {
         return ExitCode::from(2);
     };
-    let candidates = resolve::search(&catalog, &args.query, size, args.kind.map(KindArg::kind));
+    let kind = args.kind.map(KindArg::kind);
+    let query = match &args.name {
+        Some(name) => resolve::Query {
+            category: name.clone(),
+            description: Some(args.query.clone()),
+            size_m: size,
+            kind,
+        },
+        None => {
+            resolve::Query { category: args.query.clone(), description: None, size_m: size, kind }
+        }
+    };
+    let candidates = resolve::rank(&catalog, &query, 0);
+    let options = resolve::ResolveOptions { stand_ins: !args.no_stand_ins };
+    let resolution = resolve::resolve_query(
+        &catalog,
+        &resolve::Query { kind: Some(kind.unwrap_or(PlacementKind::Floor)), ..query.clone() },
+        0,
+        &options,
+    )
+    .value;
     let shown = &candidates[..candidates.len().min(args.limit)];
+    // What a build would choose when no ranked candidate is good enough: the kind the thing
+    // is, a stand-in or another placement.
+    let fallback = resolution.choice().filter(|c| c.parts.is_none());
     let text = match args.format {
         AssetsFormat::Json => {
-            let list: Vec<serde_json::Value> =
-                shown.iter().map(|c| resolve::candidate_json(c, &catalog)).collect();
+            let mut list: Vec<serde_json::Value> = Vec::new();
+            if let Some(c) = fallback {
+                list.push(serde_json::json!({
+                    "assetId": c.asset_id,
+                    "objectType": c.object_type,
+                    "catalog": catalog.sources().get(c.source).map(|s| s.name.clone()),
+                    "bboxM": c.bbox_m,
+                    "accepted": true,
+                    "standIn": c.stand_in.is_some(),
+                    "standInReason": c.stand_in,
+                    "kindOf": c.kind_of,
+                    "placedAs": c.placed_as,
+                }));
+            }
+            list.extend(shown.iter().map(|c| {
+                let mut v = resolve::candidate_json(c, &catalog);
+                if let Some(map) = v.as_object_mut() {
+                    map.insert("accepted".into(), c.is_good_enough().into());
+                    map.insert("standIn".into(), false.into());
+                }
+                v
+            }));
             let mut s = serde_json::to_string_pretty(&list).unwrap_or_else(|_| "[]".into());
             s.push('\n');
             s
@@ -200,6 +251,25 @@ fn search(args: &SearchArgs) -> ExitCode {
                 "{:>4}  {:<32} {:<16} {:>7}  {:>9}  {:>4}  {:>5}  {:>7}  bbox m",
                 "rank", "asset", "type", "score", "relevance", "head", "text", "size Δ"
             );
+            if let Some(c) = fallback {
+                let how = c
+                    .kind_of
+                    .clone()
+                    .or_else(|| c.stand_in.as_ref().map(|r| format!("stands in: {r}")))
+                    .unwrap_or_default();
+                let way = c.placed_as.as_ref().map(|w| format!(", placed {w}")).unwrap_or_default();
+                let _ = writeln!(
+                    s,
+                    "{:>4}  {:<32} {:<16} {}{way}  {}",
+                    "→",
+                    c.asset_id,
+                    c.object_type,
+                    how,
+                    f3(c.bbox_m)
+                );
+            } else if resolution.choice().is_none() {
+                s.push_str("   →  nothing: a build leaves it out (W0401)\n");
+            }
             for (i, c) in shown.iter().enumerate() {
                 let good = if c.is_good_enough() { "" } else { "  (below threshold)" };
                 let _ = writeln!(

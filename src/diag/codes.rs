@@ -137,6 +137,7 @@ codes! {
     W0401 "no-matching-asset" "no catalog asset matches an object well enough";
     W0402 "invalid-catalog-entry" "a catalog entry is malformed and is skipped";
     W0403 "stand-in-asset" "an asset of another type that does the same job stands in for a thing the catalog lacks";
+    W0404 "placed-otherwise" "an object is placed in a way its catalog type does not list, as people place such things";
     E0701 "unreadable-line" "a line of an answer does not have the shape its stage expects";
     E0702 "invalid-value" "a field of an answer holds a value that cannot be used";
     E0703 "unknown-answer-room" "an answer names a room the floor plan does not have";

@@ -82,9 +82,23 @@ pub fn report(built: &Built, catalog: &Catalog) -> Value {
             })
             .collect();
         let (satisfied, total) = solved.layout.constraint_tally(&solved.problem);
+        let planned = built.plan.room(solved.room);
+        let structure = crate::resolve::structure::StructureCatalog::builtin();
+        let material = |pin: &Option<crate::check::Pinned>, design: &Option<String>, name: &str| {
+            json!({
+                "design": design,
+                "pinned": pin.is_some(),
+                "material": name,
+                "words": design.as_deref().map_or_else(Vec::new, |d| structure.deciding_words(d, name)),
+            })
+        };
         rooms.push(json!({
             "room": room.name,
             "label": room.label,
+            "materials": {
+                "floor": material(&room.floor_material, &room.floor_design, &planned.floor_material),
+                "walls": material(&room.wall_material, &room.wall_design, &planned.wall_material),
+            },
             "floor_objects": floor,
             "wall_objects": others(&solved.layout.wall),
             "small_objects": others(&solved.layout.small),

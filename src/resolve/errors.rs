@@ -83,6 +83,58 @@ pub(crate) fn stand_in(
     .with_help("pin an asset with `asset \"…\"`, add a catalog that has one with `--catalog`, or build with `--no-stand-ins` to leave it out")
 }
 
+/// W0404: a thing placed in a way its catalog type does not list (a microwave on the wall).
+pub(crate) fn placed_otherwise(what: &Subject, asset: &Asset, kind: PlacementKind) -> Diagnostic {
+    Diagnostic::new(
+        Code::W0404,
+        format!(
+            "no asset for `{}` (\"{}\") can be placed {}; {} (`{}`) is placed {} anyway",
+            what.name,
+            what.description,
+            kind_phrase(kind),
+            with_article(&asset.object_type),
+            asset.id,
+            kind_phrase(kind)
+        ),
+    )
+    .with_primary(
+        what.span,
+        format!("{} placed {}", with_article(&asset.object_type), kind_phrase(kind)),
+    )
+    .with_note(format!(
+        "the catalog places `{}` only {}; people place {} {} too",
+        asset.id,
+        placements_phrase(asset.placements),
+        with_article(&asset.object_type),
+        kind_phrase(kind)
+    ))
+    .with_help("declare it where the catalog places it (e.g. `on top` of furniture), or pin an asset with `asset \"…\"`")
+}
+
+/// `a Sofa`, `an AlarmClock`.
+fn with_article(word: &str) -> String {
+    let vowel = word.chars().next().is_some_and(|c| "AEIOUaeiou".contains(c));
+    format!("{} {word}", if vowel { "an" } else { "a" })
+}
+
+/// The placements an asset allows, in words (`on the floor or on furniture`).
+fn placements_phrase(p: super::catalog::Placements) -> String {
+    let words: Vec<&str> = [
+        (p.on_floor, "on the floor"),
+        (p.on_wall, "on a wall"),
+        (p.on_object, "on furniture"),
+        (p.on_ceiling, "on the ceiling"),
+    ]
+    .into_iter()
+    .filter_map(|(on, w)| on.then_some(w))
+    .collect();
+    if words.is_empty() {
+        "nowhere".to_string()
+    } else {
+        words.join(" or ")
+    }
+}
+
 /// W0401: nothing in the catalog is good enough.
 pub(crate) fn no_match(
     what: &Subject,

@@ -27,6 +27,9 @@ pub(crate) struct TextIndex {
     doc_len: Vec<u32>,
     /// The head word of each asset's category.
     doc_head: Vec<String>,
+    /// The other words of each asset's category that say what kind of thing it is (`cell` of
+    /// `cell phone`), attribute words left out.
+    doc_kind_words: Vec<Vec<String>>,
     /// A hash of each asset's id, for seeded tie-breaking.
     id_hash: Vec<u64>,
     /// Bit `k` set when the asset may be placed as `PlacementKind::ALL[k]`.
@@ -54,7 +57,15 @@ impl TextIndex {
                 index.postings.entry(t.to_string()).or_default().push((i as u32, tf));
             }
             index.doc_len.push(len);
-            index.doc_head.push(text::head(&category).unwrap_or_default().to_string());
+            let head = text::head(&category).unwrap_or_default().to_string();
+            index.doc_kind_words.push(
+                category
+                    .iter()
+                    .filter(|t| **t != head && !text::is_attribute(t))
+                    .cloned()
+                    .collect(),
+            );
+            index.doc_head.push(head);
             index.id_hash.push(fnv1a(&asset.id));
             let mut bits = 0u8;
             for (k, kind) in PlacementKind::ALL.into_iter().enumerate() {
@@ -235,6 +246,9 @@ fn rank_with(
                     && (!text::is_generic_head(h)
                         || modifiers.is_empty()
                         || modifiers.iter().any(|m| index.contains(m, doc)))
+                    && !kinds_differ(&modifiers, &category, &index.doc_kind_words[d], |m| {
+                        index.contains(m, doc)
+                    })
             });
             let text = if ideal > 0.0 { (bm25 / ideal).min(1.0) } else { 0.0 };
             let relevance =
@@ -283,6 +297,21 @@ fn rank_with(
             }
         })
         .collect()
+}
+
+/// Whether the query and an asset with the same head name different kinds of it: both say
+/// which kind (`conference phone`, `cell phone`) and neither's kind word is in the other
+/// (`office chair` is not an `arm chair`; `dining chair` is a `chair`).
+fn kinds_differ(
+    query_kind_words: &[&str],
+    query_category: &[String],
+    asset_kind_words: &[String],
+    asset_has: impl Fn(&str) -> bool,
+) -> bool {
+    !query_kind_words.is_empty()
+        && !asset_kind_words.is_empty()
+        && !query_kind_words.iter().any(|m| asset_has(m))
+        && !asset_kind_words.iter().any(|w| query_category.contains(w))
 }
 
 /// A candidate before its strings are copied.

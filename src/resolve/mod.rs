@@ -12,6 +12,7 @@
 mod catalog;
 mod errors;
 mod index;
+pub mod kinds;
 mod report;
 mod select;
 pub mod standins;
@@ -24,7 +25,10 @@ pub use index::{
     RELEVANCE_WEIGHT, SIZE_WEIGHT,
 };
 pub use report::{candidate_json, report};
-pub use select::{resolve, resolve_with, Choice, Resolution, ResolveOptions, Resolved, Unresolved};
+pub use select::{
+    resolve, resolve_query, resolve_with, Choice, Resolution, ResolveOptions, Resolved, Unresolved,
+    FLOOR_STANDING, ON_FURNITURE, WALL_MOUNTED,
+};
 
 /// Ranks the catalog for a free-text query, as `holoc assets search` does: the whole text is
 /// the category (its last word the head), with an optional desired size and placement kind.

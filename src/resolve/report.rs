@@ -48,6 +48,12 @@ fn resolution(res: &Resolution, catalog: &Catalog, mut head: Map<String, Value>)
             if let Some(reason) = &c.stand_in {
                 head.insert("standIn".into(), json!(reason));
             }
+            if let Some(why) = &c.kind_of {
+                head.insert("kindOf".into(), json!(why));
+            }
+            if let Some(way) = &c.placed_as {
+                head.insert("placedAs".into(), json!(way));
+            }
             head.insert("assetId".into(), json!(c.asset_id));
             head.insert("objectType".into(), json!(c.object_type));
             head.insert("catalog".into(), json!(source.name));

@@ -7,6 +7,33 @@ use super::catalog::{Catalog, PlacementKind};
 use super::errors;
 use super::index::{rank_top, Candidate, Query};
 use super::standins;
+use super::{kinds, text};
+
+/// Types the catalog has only as things on furniture that people also hang on a wall.
+pub const WALL_MOUNTED: &[&str] =
+    &["Television", "Microwave", "AlarmClock", "Painting", "Mirror", "LightSwitch", "Watch"];
+/// Types the catalog has only on the wall that people also stand on furniture (a framed
+/// photograph on a shelf).
+pub const ON_FURNITURE: &[&str] = &["Painting"];
+/// Types the catalog has only as things on furniture that also stand on the floor.
+pub const FLOOR_STANDING: &[&str] = &[
+    "Vase",
+    "Statue",
+    "HousePlant",
+    "Box",
+    "GarbageCan",
+    "LaundryHamper",
+    "Dumbbell",
+    "BasketBall",
+    "Boots",
+    "TeddyBear",
+    "Pot",
+    "WateringCan",
+    "Bottle",
+    "WineBottle",
+    "Television",
+    "Laptop",
+];
 
 /// How many ranked candidates resolution looks at (enough for the largest varied group and
 /// for avoiding assets used in other rooms).
@@ -36,6 +63,12 @@ pub struct Choice {
     pub runner_up: Option<Candidate>,
     /// When the asset stands in for a thing the catalog lacks: why a person accepts it.
     pub stand_in: Option<String>,
+    /// When the thing is a kind of the asset's type that no catalog word names (a `chaise
+    /// longue` is a sofa): the word that decided and where that came from.
+    pub kind_of: Option<String>,
+    /// When the asset is placed in another way than its catalog allows (a microwave hung on
+    /// the wall): that way, in words.
+    pub placed_as: Option<String>,
 }
 
 impl Choice {
@@ -51,6 +84,8 @@ impl Choice {
             parts: None,
             runner_up: None,
             stand_in: None,
+            kind_of: None,
+            placed_as: None,
         }
     }
 }
@@ -149,7 +184,15 @@ fn dump_resolution(res: &Resolution, catalog: &Catalog) -> String {
             let how = match &c.parts {
                 _ if c.pinned => "pinned".to_string(),
                 Some(p) => format!("score {}", parts_text(p)),
-                None => String::new(),
+                None => match (&c.kind_of, &c.stand_in) {
+                    (Some(k), _) => k.clone(),
+                    (None, Some(reason)) => format!("stand-in: {reason}"),
+                    (None, None) => String::new(),
+                },
+            };
+            let how = match &c.placed_as {
+                Some(way) => format!("{how}, placed {way}"),
+                None => how,
             };
             let runner = c
                 .runner_up
@@ -326,6 +369,38 @@ pub fn resolve_with(
     Outcome::new(resolved, state.diagnostics)
 }
 
+/// Resolves one query as a build resolves an object declared with it (the words, then the
+/// kind the thing is, then a stand-in, then another placement), as `holoc assets search`
+/// shows it. The diagnostics are the build's (W0401, W0403, W0404), without a place in a file.
+pub fn resolve_query(
+    catalog: &Catalog,
+    query: &Query,
+    seed: u64,
+    options: &ResolveOptions,
+) -> Outcome<Resolution> {
+    let mut state = State {
+        catalog,
+        seed,
+        options: *options,
+        used: BTreeMap::new(),
+        diagnostics: Vec::new(),
+        reported: BTreeSet::new(),
+        cache: BTreeMap::new(),
+    };
+    let what = Subject {
+        name: query.category.clone(),
+        description: query.description.clone().unwrap_or_else(|| query.category.clone()),
+        span: Span::default(),
+        room: RoomId(0),
+    };
+    let mut results = state.choose(&what, query, Variance::Same, &[None], false);
+    let res = results.pop().unwrap_or(Resolution::Unresolved(Unresolved {
+        reason: "not resolved".into(),
+        nearest: Vec::new(),
+    }));
+    Outcome::new(res, state.diagnostics)
+}
+
 /// Words that make a ceiling object a light.
 const LIGHT_WORDS: [&str; 14] = [
     "light",
@@ -423,7 +498,15 @@ impl State<'_> {
                 continue;
             }
             if pool.is_empty() {
+                if let Some(res) = self.kind_of(what, query, kind) {
+                    out.push(res);
+                    continue;
+                }
                 if let Some(res) = self.stand_in(what, query, kind) {
+                    out.push(res);
+                    continue;
+                }
+                if let Some(res) = self.placed_otherwise(what, query, kind) {
                     out.push(res);
                     continue;
                 }
@@ -454,6 +537,76 @@ impl State<'_> {
             }));
         }
         out
+    }
+
+    /// An asset of the type the thing is a kind of (`resolve::kinds`), read from its category's
+    /// noun phrase, else from its description's; `None` when neither names a known kind or the
+    /// catalog has no asset of those types for this placement.
+    fn kind_of(
+        &mut self,
+        what: &Subject,
+        query: &Query,
+        kind: PlacementKind,
+    ) -> Option<Resolution> {
+        let (category, _) = text::split_phrase(&query.category);
+        let description = query.description.as_deref().map(|d| text::split_phrase(d).0);
+        let row =
+            kinds::lookup(&category).or_else(|| description.as_deref().and_then(kinds::lookup))?;
+        let asset = standins::pick_of_types(self.catalog, &row.types, kind, query.size_m)?;
+        self.used.entry(asset.id.clone()).or_default().insert(what.room);
+        Some(Resolution::Chosen(Choice {
+            kind_of: Some(format!(
+                "`{}` is a kind of {} ({})",
+                row.word, asset.object_type, row.source
+            )),
+            ..Choice::of(asset)
+        }))
+    }
+
+    /// A thing asked for in a placement its type does not have in the catalog, placed the way
+    /// people place it anyway: a television, microwave, clock or mirror hung on the wall, a
+    /// vase, statue, plant or box stood on the floor, a framed picture stood on furniture
+    /// (the smallest one; W0404). `None` for anything else.
+    fn placed_otherwise(
+        &mut self,
+        what: &Subject,
+        query: &Query,
+        kind: PlacementKind,
+    ) -> Option<Resolution> {
+        let (allowed, from): (&[&str], PlacementKind) = match kind {
+            PlacementKind::Wall => (WALL_MOUNTED, PlacementKind::OnObject),
+            PlacementKind::Floor => (FLOOR_STANDING, PlacementKind::OnObject),
+            PlacementKind::OnObject => (ON_FURNITURE, PlacementKind::Wall),
+            PlacementKind::Ceiling => return None,
+        };
+        let tried = match kind {
+            PlacementKind::Wall => vec![from, PlacementKind::Floor],
+            _ => vec![from],
+        };
+        for other in tried {
+            let other_query = Query { kind: Some(other), ..query.clone() };
+            let ranked = self.ranked(&other_query);
+            let by_words = ranked
+                .iter()
+                .find(|c| c.is_good_enough() && allowed.contains(&c.object_type.as_str()))
+                .map(|c| self.catalog.asset_at(c.idx));
+            let asset = by_words.or_else(|| {
+                let (category, _) = text::split_phrase(&query.category);
+                let row = kinds::lookup(&category)?;
+                let types: Vec<&str> =
+                    row.types.iter().copied().filter(|t| allowed.contains(t)).collect();
+                standins::pick_of_types(self.catalog, &types, other, query.size_m)
+            });
+            if let Some(asset) = asset {
+                self.report_once(what.span, errors::placed_otherwise(what, asset, kind));
+                self.used.entry(asset.id.clone()).or_default().insert(what.room);
+                return Some(Resolution::Chosen(Choice {
+                    placed_as: Some(errors::kind_phrase(kind).to_string()),
+                    ..Choice::of(asset)
+                }));
+            }
+        }
+        None
     }
 
     /// An asset of another type that does the same job, from the stand-in table, with its

@@ -104,6 +104,28 @@ pub const STAND_INS: &[StandIn] = &[
     StandIn { key: "media console", types: &["TVStand"], reason: "a low cabinet for a screen" },
     StandIn { key: "entertainment center", types: &["TVStand"], reason: "a cabinet for a screen" },
     StandIn { key: "vanity", types: &["Sink"], reason: "a bathroom vanity is a sink cabinet" },
+    StandIn { key: "media unit", types: &["TVStand"], reason: "a low cabinet for a screen" },
+    StandIn { key: "media cabinet", types: &["TVStand"], reason: "a low cabinet for a screen" },
+    StandIn {
+        key: "entertainment unit",
+        types: &["TVStand"],
+        reason: "a low cabinet for a screen",
+    },
+    StandIn {
+        key: "wine rack",
+        types: &["ShelvingUnit"],
+        reason: "open shelving that holds bottles",
+    },
+    StandIn {
+        key: "card catalog",
+        types: &["Dresser"],
+        reason: "a cabinet of small drawers, like a chest of drawers",
+    },
+    StandIn {
+        key: "carrel",
+        types: &["Desk"],
+        reason: "a study carrel is a desk with side panels",
+    },
     // Seats and beds.
     StandIn { key: "loveseat", types: &["Sofa"], reason: "a loveseat is a small sofa" },
     StandIn { key: "couch", types: &["Sofa"], reason: "a couch is a sofa" },
@@ -118,6 +140,16 @@ pub const STAND_INS: &[StandIn] = &[
     StandIn { key: "pouffe", types: &["Ottoman", "Footstool"], reason: "a low upholstered seat" },
     StandIn { key: "hassock", types: &["Ottoman", "Footstool"], reason: "a low upholstered seat" },
     StandIn { key: "barstool", types: &["Stool"], reason: "a bar stool is a stool" },
+    StandIn {
+        key: "bench",
+        types: &["Ottoman", "Sofa"],
+        reason: "a backless seat for sitting down briefly, like an ottoman",
+    },
+    StandIn {
+        key: "booth",
+        types: &["Sofa"],
+        reason: "booth seating is an upholstered bench with a back, like a sofa",
+    },
     StandIn { key: "crib", types: &["Bed"], reason: "a crib is a child's bed" },
     StandIn { key: "cot", types: &["Bed"], reason: "a cot is a small bed" },
     StandIn { key: "daybed", types: &["Bed", "Sofa"], reason: "a daybed is a bed used as a seat" },
@@ -150,6 +182,16 @@ pub const STAND_INS: &[StandIn] = &[
     },
     StandIn { key: "computer", types: &["Desktop", "Laptop"], reason: "a computer" },
     StandIn { key: "teacup", types: &["Cup", "Mug"], reason: "a cup" },
+    StandIn {
+        key: "spice jar",
+        types: &["SaltShaker", "PepperShaker"],
+        reason: "a small container of seasoning by the stove",
+    },
+    StandIn {
+        key: "spice rack",
+        types: &["SaltShaker", "PepperShaker"],
+        reason: "small containers of seasoning by the stove",
+    },
     StandIn { key: "tumbler", types: &["Cup"], reason: "a drinking cup" },
     StandIn { key: "wastebasket", types: &["GarbageCan"], reason: "a bin for waste" },
     StandIn { key: "hamper", types: &["LaundryHamper"], reason: "a basket for laundry" },
@@ -193,7 +235,8 @@ pub fn lookup(category: &str) -> Option<&'static StandIn> {
     let w = words(category);
     let pairs: Vec<String> = w.windows(2).map(|p| format!("{} {}", p[0], p[1])).collect();
     for pair in pairs.iter().rev() {
-        if let Some(s) = STAND_INS.iter().find(|s| s.key == pair) {
+        let singular = pair.strip_suffix('s').unwrap_or(pair);
+        if let Some(s) = STAND_INS.iter().find(|s| s.key == pair || s.key == singular) {
             return Some(s);
         }
     }
@@ -215,11 +258,22 @@ pub fn pick<'c>(
     kind: PlacementKind,
     size_m: Option<[f64; 3]>,
 ) -> Option<&'c Asset> {
+    pick_of_types(catalog, line.types, kind, size_m)
+}
+
+/// Of `types` in order, the asset of the right placement kind whose sorted size is closest to
+/// the wanted one (or the first in catalog order without a wanted size).
+pub fn pick_of_types<'c>(
+    catalog: &'c Catalog,
+    types: &[&str],
+    kind: PlacementKind,
+    size_m: Option<[f64; 3]>,
+) -> Option<&'c Asset> {
     let sorted = |mut v: [f64; 3]| {
         v.sort_by(f64::total_cmp);
         v
     };
-    for ty in line.types {
+    for ty in types {
         let mut best: Option<(f64, &Asset)> = None;
         for asset in catalog.assets().iter().filter(|a| a.object_type == *ty && a.allows(kind)) {
             let diff = size_m.map_or(0.0, |want| {

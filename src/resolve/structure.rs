@@ -122,21 +122,54 @@ fn words(field: &str) -> Vec<String> {
     }
 }
 
-/// Splits free text into lower-case words, with a few spelling variants unified.
+/// Colours and woods that material names do not use, with the words they do use: a walnut
+/// floor is a dark wood, an aquamarine wall a blue-green one.
+const IMPLIED_WORDS: &[(&str, &[&str])] = &[
+    ("walnut", &["dark"]),
+    ("mahogany", &["dark", "red"]),
+    ("espresso", &["dark"]),
+    ("ebony", &["dark", "black"]),
+    ("wenge", &["dark"]),
+    ("cherry", &["red"]),
+    ("navy", &["blue", "dark"]),
+    ("aquamarine", &["blue", "green"]),
+    ("teal", &["blue", "green"]),
+    ("turquoise", &["blue", "green"]),
+    ("cyan", &["blue"]),
+    ("sage", &["green"]),
+    ("olive", &["green"]),
+    ("mint", &["green"]),
+    ("ivory", &["white", "cream"]),
+    ("charcoal", &["dark", "grey"]),
+    ("taupe", &["brown", "grey"]),
+    ("terracotta", &["orange", "red"]),
+    ("burgundy", &["red", "dark"]),
+    ("crimson", &["red"]),
+    ("lavender", &["purple"]),
+];
+
+/// Splits free text into lower-case words, with a few spelling variants unified and the words
+/// colours and woods imply added after them ([`IMPLIED_WORDS`]).
 pub fn text_words(text: &str) -> Vec<String> {
-    text.split(|c: char| !c.is_alphanumeric())
-        .filter(|w| w.len() > 1)
-        .map(|w| {
-            let w = w.to_lowercase();
-            match w.as_str() {
-                "gray" => "grey".to_owned(),
-                "colour" | "colored" | "coloured" => "color".to_owned(),
-                "wooden" => "wood".to_owned(),
-                "tiles" | "tiled" => "tile".to_owned(),
-                _ => w,
+    let mut out = Vec::new();
+    for w in text.split(|c: char| !c.is_alphanumeric()).filter(|w| w.len() > 1) {
+        let w = w.to_lowercase();
+        let w = match w.as_str() {
+            "gray" => "grey".to_owned(),
+            "colour" | "colored" | "coloured" => "color".to_owned(),
+            "wooden" => "wood".to_owned(),
+            "tiles" | "tiled" => "tile".to_owned(),
+            _ => w,
+        };
+        let implied = IMPLIED_WORDS.iter().find(|(k, _)| *k == w).map(|(_, v)| *v);
+        out.push(w);
+        for extra in implied.unwrap_or_default() {
+            if !out.iter().any(|o| o == extra) {
+                out.push((*extra).to_owned());
             }
-        })
-        .collect()
+        }
+    }
+    out
 }
 
 /// Whether a query word names a name word: the same word, or its plural (`tile`, `tiles`), or
@@ -202,7 +235,7 @@ const MATERIAL_KINDS: &[(&str, &[&str])] = &[
     ),
     ("tile", &["tile", "tiles", "ceramic", "porcelain", "vinyl", "linoleum", "mosaic"]),
     ("carpet", &["carpet", "rug", "wool", "carpeted"]),
-    ("fabric", &["fabric", "cloth", "satin", "velvet", "linen", "cotton", "upholstery"]),
+    ("fabric", &["fabric", "cloth", "velvet", "linen", "cotton", "upholstery"]),
     ("paint", &["drywall", "plaster", "paint", "painted", "stucco", "wallpaper", "eggshell"]),
     ("metal", &["metal", "steel", "iron", "aluminium", "aluminum", "brass", "copper"]),
 ];
@@ -344,7 +377,13 @@ impl StructureCatalog {
     pub fn rank_materials(&self, design: &str, surface: Surface) -> Vec<(&Material, f64)> {
         let query = text_words(design);
         let lower = design.to_lowercase();
-        let asked = kinds_of(query.iter().map(String::as_str));
+        // The material is named before the first comma (`walnut parquet, satin finish`);
+        // what follows is its finish or colour, so its kind words only count alone.
+        let head = text_words(design.split(',').next().unwrap_or(design));
+        let asked = match kinds_of(head.iter().map(String::as_str)) {
+            k if k.is_empty() => kinds_of(query.iter().map(String::as_str)),
+            k => k,
+        };
         let mut ranked: Vec<(&Material, f64)> = self
             .materials
             .iter()
@@ -368,15 +407,40 @@ impl StructureCatalog {
                 } else {
                     -1.5
                 };
-                let score = overlap_score(&query, &m.words)
-                    + kind
-                    + if suits { 0.25 } else { 0.0 }
-                    + 0.1 * sim;
+                // The surface's family (`Wood`/`Fabric` floors, `Wall` walls) only decides
+                // when no word of the design names a material.
+                let words = overlap_score(&query, &m.words);
+                let score =
+                    words + kind + if suits && words == 0.0 { 0.25 } else { 0.0 } + 0.1 * sim;
                 (m, score)
             })
             .collect();
         ranked.sort_by(|a, b| b.1.total_cmp(&a.1).then_with(|| a.0.name.cmp(&b.0.name)));
         ranked
+    }
+
+    /// The words of a design that decided for a material, as the build report lists them: each
+    /// design word found in the material's name (`oak`), and each word naming the kind of
+    /// material both are (`walnut → wood`). Empty when only the surface's family or the
+    /// spelling decided.
+    pub fn deciding_words(&self, design: &str, material: &str) -> Vec<String> {
+        let Some(m) = self.material(material) else { return Vec::new() };
+        let query = text_words(design);
+        let mut out: Vec<String> = Vec::new();
+        for q in query.iter().filter(|q| m.words.iter().any(|n| word_match(q, n))) {
+            if !out.contains(q) {
+                out.push(q.clone());
+            }
+        }
+        let own = kinds_of(m.words.iter().map(String::as_str));
+        for q in &query {
+            for kind in kinds_of([q.as_str()]) {
+                if own.contains(&kind) && !out.contains(q) {
+                    out.push(format!("{q} → {kind}"));
+                }
+            }
+        }
+        out
     }
 
     /// The best material for a design text: the first of the five best-ranked that is not in

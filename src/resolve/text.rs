@@ -65,8 +65,10 @@ const SYNONYMS: &[(&str, &str)] = &[
     ("dryer", "clothes dryer"),
     ("computer", "desktop"),
     ("pc", "desktop"),
-    ("monitor", "desktop"),
-    ("phone", "cell phone"),
+    ("computer monitor", "desktop"),
+    ("plant pot", "house plant"),
+    ("flower pot", "house plant"),
+    ("flowerpot", "house plant"),
     ("cellphone", "cell phone"),
     ("smartphone", "cell phone"),
     ("remote", "remote control"),
@@ -121,6 +123,7 @@ const SYNONYMS: &[(&str, &str)] = &[
     ("vacuum", "vacuum cleaner"),
     ("vacuum cleaner cleaner", "vacuum cleaner"),
     ("pet bed", "dog bed"),
+    ("cat bed", "dog bed"),
     ("magazine", "newspaper"),
     ("gray", "grey"),
     ("chandelier", "chandelier light"),
@@ -245,6 +248,8 @@ const GENERIC_HEADS: &[&str] = &[
     "piece",
     "cabinet",
     "ball",
+    "bar",
+    "panel",
 ];
 
 /// Words that end the noun phrase of a category (`writing desk with drawers`: the thing is a
@@ -290,6 +295,11 @@ const COUNTING_NOUNS: &[&str] = &[
     "assortment",
     "selection",
     "variety",
+    "head",
+    "heads",
+    "loaf",
+    "loaves",
+    "bouquet",
 ];
 
 /// Splits a category the way a person reads it: the noun phrase that names the thing, and the
@@ -299,6 +309,12 @@ pub(crate) fn split_phrase(text: &str) -> (String, String) {
     let words: Vec<&str> = text.split_whitespace().collect();
     let clean = |w: &str| w.trim_matches(|c: char| !c.is_alphanumeric()).to_lowercase();
     let Some(i) = words.iter().position(|w| PHRASE_ENDS.contains(&clean(w).as_str())) else {
+        // `paper cup stack`, `glass set`: a counting noun at the end counts what is before it.
+        if let [before @ .., last] = words.as_slice() {
+            if !before.is_empty() && COUNTING_NOUNS.contains(&clean(last).as_str()) {
+                return (before.join(" "), (*last).to_string());
+            }
+        }
         return (text.to_string(), String::new());
     };
     if clean(words[i]) == "of" && i > 0 && COUNTING_NOUNS.contains(&clean(words[i - 1]).as_str()) {
@@ -358,7 +374,7 @@ pub(crate) fn camel_words(name: &str) -> String {
     out.trim().to_string()
 }
 
-fn singular(word: &str) -> String {
+pub(crate) fn singular(word: &str) -> String {
     let n = word.chars().count();
     if !word.is_ascii() {
         return word.to_string();
