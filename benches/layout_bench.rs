@@ -30,9 +30,9 @@ fn median_time(problem: &RoomProblem, opts: &SolveOptions, runs: usize) -> Durat
 
 fn table(rooms: &[(String, RoomProblem)]) {
     println!(
-        "| room | objects | DFS median ms | nodes | placed | DFS sat | greedy ms | greedy sat | MILP ms | MILP placed | MILP sat | overlaps |"
+        "| room | objects | DFS median ms | nodes | placed | DFS sat | clearances kept | largest pocket m² | greedy ms | greedy sat | MILP ms | MILP placed | MILP sat | overlaps |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     for (name, p) in rooms {
         let dfs = SolveOptions::default();
         let milp = SolveOptions { solver: Solver::Milp, ..SolveOptions::default() };
@@ -52,8 +52,10 @@ fn table(rooms: &[(String, RoomProblem)]) {
             .flat_map(|(i, a)| out.floor[i + 1..].iter().map(move |b| (a, b)))
             .filter(|(a, b)| a.footprint.overlaps(&b.footprint))
             .count();
+        let (ck, ct) = solve::use_clearances_kept(p, &out);
+        let pocket = solve::largest_pocket_m2(p, &out, dfs.agent_radius_m);
         println!(
-            "| {name} | {} | {:.1} | {} | {}/{} | {ok}/{total} | {:.1} | {gok}/{total} | {:.0} | {}/{} | {mok}/{total} | {overlaps} |",
+            "| {name} | {} | {:.1} | {} | {}/{} | {ok}/{total} | {ck}/{ct} | {pocket:.2} | {:.1} | {gok}/{total} | {:.0} | {}/{} | {mok}/{total} | {overlaps} |",
             p.objects.len(),
             t.as_secs_f64() * 1000.0,
             out.nodes,

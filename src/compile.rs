@@ -82,6 +82,8 @@ pub struct BuildOptions<'a> {
     pub solver: Solver,
     /// The search budget per room (`None`: the solver's default).
     pub node_budget: Option<u64>,
+    /// The radius of the agent the layout must leave room for (`None`: 0.25 m).
+    pub agent_radius_m: Option<f64>,
     /// Whether assets of another type that do the same job stand in for things the catalog
     /// lacks (W0403); `--no-stand-ins` turns it off.
     pub stand_ins: bool,
@@ -97,6 +99,7 @@ impl<'a> BuildOptions<'a> {
             catalog,
             solver: Solver::Dfs,
             node_budget: None,
+            agent_radius_m: None,
             stand_ins: true,
         }
     }
@@ -159,6 +162,9 @@ pub fn build(
         SolveOptions { solver: options.solver, seed: scene.seed, ..SolveOptions::default() };
     if let Some(budget) = options.node_budget {
         solve_options.node_budget = budget;
+    }
+    if let Some(radius) = options.agent_radius_m {
+        solve_options.agent_radius_m = radius;
     }
     let solved = crate::solve::solve(&scene, &plan, &resolved, &solve_options);
     diagnostics.extend(solved.diagnostics);

@@ -295,18 +295,8 @@ fn clean_run() {
     let mut build_sources = holoc::source::SourceMap::new();
     let file = build_sources.add("generated.holo", generated.holo.clone());
     let catalog = holoc::resolve::Catalog::embedded();
-    let built = holoc::compile::build(
-        &build_sources,
-        file,
-        &holoc::compile::BuildOptions {
-            seed: None,
-            plan: holoc::plan::PlanOptions::default(),
-            catalog: &catalog,
-            solver: holoc::solve::Solver::Dfs,
-            node_budget: None,
-            stand_ins: true,
-        },
-    );
+    let built =
+        holoc::compile::build(&build_sources, file, &holoc::compile::BuildOptions::new(&catalog));
     let errors: Vec<_> = built.diagnostics.iter().filter(|d| d.is_error()).collect();
     assert!(errors.is_empty(), "the generated scene does not build: {errors:#?}");
     let house = built.value.expect("a house").house.to_json_string();

@@ -168,6 +168,7 @@ fn doors_are_never_boxed_in() {
             size: [1.0, 0.6],
             height: 1.2,
             global: GlobalKind::Middle,
+            role: holoc::solve::Role::Other,
             constraints: if k == 0 {
                 Vec::new()
             } else {
@@ -191,8 +192,11 @@ fn doors_are_never_boxed_in() {
     };
     let out = solve::solve_room(&problem, &SolveOptions::default());
     let room = solve::RoomShape::new(&problem.outline).expect("valid");
-    let grid =
-        solve::constraints::ReachGrid::new(&room, &[solve::Rect::bounding(&problem.keep_out[0])]);
+    let grid = solve::constraints::ReachGrid::new(
+        &room,
+        &[solve::Rect::bounding(&problem.keep_out[0])],
+        0.25,
+    );
     let fps: Vec<_> = out.value.floor.iter().map(|p| p.footprint).collect();
     assert!(grid.unreachable(&fps).is_empty());
     assert!(grid.ok(&fps));
@@ -207,6 +211,7 @@ fn random_problem(sizes: Vec<(f64, f64, bool)>, w: f64, d: f64) -> RoomProblem {
             size: [sw, sd],
             height: 0.8,
             global: if middle { GlobalKind::Middle } else { GlobalKind::Edge },
+            role: holoc::solve::Role::Other,
             constraints: if k == 0 {
                 Vec::new()
             } else {
@@ -299,4 +304,63 @@ fn unusable_rooms_and_objects_are_errors_not_panics() {
     problem.objects[1].constraints[0].target = 5;
     let out = solve::solve_room(&problem, &SolveOptions::default());
     assert_eq!(out.diagnostics.iter().filter(|d| d.code == Code::E0502).count(), 2);
+}
+
+/// The DFS keeps the floor connected for a 0.25 m agent (no closed pocket over 0.1 m²) and the
+/// use-clearances of every object in every corpus room; the crowded bedroom of 14 objects that
+/// all want a wall is fully placed (its `edge` is soft).
+#[test]
+fn corpus_floors_stay_connected_and_clearances_free() {
+    for (name, problem) in solve_corpus::load_all() {
+        let opts = SolveOptions::default();
+        let out = solve::solve_room(&problem, &opts).value;
+        let pocket = solve::largest_pocket_m2(&problem, &out, opts.agent_radius_m);
+        assert!(
+            pocket <= solve::constraints::MAX_POCKET_M2 + 1e-9,
+            "{name}: pocket of {pocket} m²"
+        );
+        let (kept, total) = solve::use_clearances_kept(&problem, &out);
+        assert_eq!(kept, total, "{name}: use-clearances");
+        if name == "crowded_bedroom_14" {
+            assert_eq!(out.floor.len(), problem.objects.len(), "{name}: {:?}", out.unplaced);
+        }
+    }
+}
+
+/// The meanings of the book's table: `near` is not touching, a coffee table stands 0.3–0.6 m
+/// before its sofa, a chair in front of a desk is within reach and faces it, a TV is across
+/// the room.
+#[test]
+fn relations_mean_their_documented_ranges() {
+    use solve::{Meaning, Pose, Role, Rot};
+    let near = Meaning::of(RelationKind::Near, Role::Other, Role::Other, false);
+    assert!(near.min_gap > 0.0 && near.max_gap <= 1.5);
+    let nightstand = Meaning::of(RelationKind::Near, Role::SideTable, Role::Bed, true);
+    assert_eq!(nightstand.min_gap, 0.0);
+    assert_eq!(Role::of("coffee table"), Role::LowTable);
+    assert_eq!(Role::of("office chair"), Role::Seat);
+    assert_eq!(Role::of("tv stand"), Role::Screen);
+    assert_eq!(Role::of("nightstand"), Role::SideTable);
+    let coffee = Meaning::of(RelationKind::InFrontOf, Role::LowTable, Role::Sofa, false);
+    assert_eq!((coffee.min_gap, coffee.max_gap), (0.3, 0.6));
+    let chair = Meaning::of(RelationKind::InFrontOf, Role::Seat, Role::Table, false);
+    assert!(chair.face && chair.max_gap <= 0.6);
+    let tv = Meaning::of(RelationKind::InFrontOf, Role::Screen, Role::Sofa, false);
+    assert!(tv.min_gap >= 1.0);
+    // A sofa against z = 0 facing +z, a coffee table touching it: in front, but not usable.
+    let sofa = Pose { x: 2.0, z: 0.45, rot: Rot::R0 };
+    let touching = Pose { x: 2.0, z: 1.15, rot: Rot::R0 };
+    let usable = Pose { x: 2.0, z: 1.6, rot: Rot::R0 };
+    let m = |p: &Pose| {
+        solve::constraints::relation_meant(
+            RelationKind::InFrontOf,
+            &coffee,
+            p,
+            [1.0, 0.5],
+            &sofa,
+            [2.0, 0.9],
+        )
+    };
+    assert!(!m(&touching).satisfied);
+    assert!(m(&usable).satisfied, "{:?}", m(&usable));
 }

@@ -60,6 +60,10 @@ pub struct BuildArgs {
     /// The search budget per room in nodes (default 1000); the search never looks at the clock.
     #[arg(long)]
     pub node_budget: Option<u64>,
+    /// The radius of the agent (metres) that must reach every object and all the free floor
+    /// from a door (default 0.25, AI2-THOR's agent).
+    #[arg(long, value_name = "METRES", value_parser = parse_radius)]
+    pub agent_radius: Option<f64>,
     /// Add a doorway for every room that cannot be reached from outside (warning W0302)
     /// instead of failing with E0314/E0315.
     #[arg(long)]
@@ -106,6 +110,7 @@ pub fn run(args: &BuildArgs) -> ExitCode {
         add_doors: args.add_doors,
         solver,
         node_budget: args.node_budget,
+        agent_radius_m: args.agent_radius,
         format: args.format,
         color: args.color,
         stdout_taken: args.output.as_deref().is_none_or(|p| p.as_os_str() == "-"),
@@ -174,6 +179,20 @@ fn emit_front(sources: &SourceMap, file: crate::source::FileId, args: &BuildArgs
     }
 }
 
+/// Reads `--agent-radius`: metres, between 0.05 and 1.
+pub(crate) fn parse_radius(text: &str) -> Result<f64, String> {
+    let v: f64 = text
+        .trim()
+        .trim_end_matches('m')
+        .trim()
+        .parse()
+        .map_err(|_| format!("`{text}` is not a number of metres"))?;
+    if !(0.05..=1.0).contains(&v) {
+        return Err(format!("the agent's radius must be between 0.05 and 1 m, not {v}"));
+    }
+    Ok(v)
+}
+
 /// What `holoc build` and `holoc render` ask of the pipeline.
 pub(crate) struct BuildRequest<'a> {
     pub catalogs: &'a super::assets::CatalogArgs,
@@ -181,6 +200,7 @@ pub(crate) struct BuildRequest<'a> {
     pub add_doors: bool,
     pub solver: Solver,
     pub node_budget: Option<u64>,
+    pub agent_radius_m: Option<f64>,
     pub format: DiagFormat,
     pub color: ColorChoice,
     /// Whether the product goes to stdout (then json and lsp diagnostics go to stderr).
@@ -215,6 +235,7 @@ pub(crate) fn run_build(
         catalog: &catalog,
         solver: request.solver,
         node_budget: request.node_budget,
+        agent_radius_m: request.agent_radius_m,
         stand_ins: request.stand_ins,
     };
     let mut built = crate::compile::build(sources, file, &options);

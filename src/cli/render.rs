@@ -26,6 +26,9 @@ pub struct RenderArgs {
     /// Leave out things the catalog lacks instead of letting stand-ins fill in (W0403).
     #[arg(long)]
     pub no_stand_ins: bool,
+    /// The radius of the agent (metres) the layout leaves room for (default 0.25).
+    #[arg(long, value_name = "METRES", value_parser = super::build::parse_radius)]
+    pub agent_radius: Option<f64>,
     /// How to print diagnostics.
     #[arg(long, value_enum, default_value_t = DiagFormat::Human)]
     pub format: DiagFormat,
@@ -53,6 +56,7 @@ pub fn run(args: &RenderArgs) -> ExitCode {
             super::build::SolverArg::Milp => Solver::Milp,
         },
         node_budget: None,
+        agent_radius_m: args.agent_radius,
         format: args.format,
         color: args.color,
         stdout_taken: args.output.as_deref().is_none_or(|p| p.as_os_str() == "-"),

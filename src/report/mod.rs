@@ -41,6 +41,7 @@ pub fn report(built: &Built, catalog: &Catalog) -> Value {
                         "measured": r4(c.measure.value),
                         "unit": c.measure.unit,
                         "score": r4(c.measure.score),
+                        "range": c.range.map(|(lo, hi)| json!([r4(lo), hi.is_finite().then(|| r4(hi))])),
                     })
                 })
                 .collect();

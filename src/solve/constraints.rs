@@ -26,10 +26,12 @@ pub const ALIGN_TOLERANCE_M: f64 = 0.05;
 pub const FRONT_CLEARANCE_M: f64 = 0.4;
 /// Depth of the zone in front of a window that tall floor objects must keep free, metres.
 pub const WINDOW_ZONE_M: f64 = 0.25;
-/// Radius of the agent used for the reachability rule, metres.
-pub const AGENT_RADIUS_M: f64 = 0.2;
-/// Share of the free floor that must stay reachable from a door.
-pub const MIN_REACHABLE_FRACTION: f64 = 0.6;
+/// Radius of the agent used for the reachability rule by default, metres (AI2-THOR's agent;
+/// `--agent-radius` changes it).
+pub const AGENT_RADIUS_M: f64 = 0.25;
+/// The largest closed pocket of free floor allowed, square metres: free floor an agent
+/// cannot reach from a door, counted where the agent's centre can stand.
+pub const MAX_POCKET_M2: f64 = 0.1;
 /// Cell size of the reachability grid, metres.
 pub const REACH_CELL_M: f64 = 0.1;
 
@@ -449,6 +451,220 @@ impl Measure {
     }
 }
 
+/// What an object is for, as the meanings of relations and the use-clearances need it; read
+/// from the words of its category (see [`Role::of`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Role {
+    /// A chair, stool, armchair or bench: someone sits on it.
+    Seat,
+    /// A sofa, couch or loveseat.
+    Sofa,
+    /// A bed.
+    Bed,
+    /// A table to sit at or work at (dining table, desk, counter, island).
+    Table,
+    /// A low table in front of seats (coffee table).
+    LowTable,
+    /// A small table beside a bed or a seat (nightstand, side table, end table).
+    SideTable,
+    /// A television, or the stand or unit that carries one.
+    Screen,
+    /// A fridge.
+    Fridge,
+    /// A dresser, wardrobe or chest of drawers.
+    Storage,
+    /// Anything else.
+    #[default]
+    Other,
+}
+
+impl Role {
+    /// The role named by a category's words: the last word that names a role decides
+    /// (`desk chair` is a seat, `coffee table` a low table, `tv stand` a screen).
+    pub fn of(category: &str) -> Role {
+        let words: Vec<String> = category
+            .to_lowercase()
+            .split(|c: char| !c.is_alphanumeric())
+            .filter(|w| !w.is_empty())
+            .map(|w| w.trim_end_matches('s').to_string())
+            .collect();
+        let has = |w: &str| words.iter().any(|x| x == w);
+        if has("tv") || has("television") || has("media") || has("entertainment") {
+            return Role::Screen;
+        }
+        if has("coffee") || has("cocktail") {
+            return Role::LowTable;
+        }
+        if (has("nightstand") || has("bedside") || has("night") || has("side") || has("end"))
+            && words.last().is_some_and(|w| w == "table" || w == "nightstand" || w == "stand")
+        {
+            return Role::SideTable;
+        }
+        for w in words.iter().rev() {
+            let role = match w.as_str() {
+                "chair" | "armchair" | "stool" | "seat" | "bench" | "recliner" | "barstool" => {
+                    Role::Seat
+                }
+                "sofa" | "couch" | "loveseat" | "sectional" | "settee" | "futon" => Role::Sofa,
+                "bed" | "bunk" | "crib" => Role::Bed,
+                "table" | "desk" | "counter" | "countertop" | "island" | "workbench" => Role::Table,
+                "nightstand" => Role::SideTable,
+                "fridge" | "refrigerator" | "freezer" => Role::Fridge,
+                "dresser" | "wardrobe" | "chest" | "drawer" | "armoire" | "closet" => Role::Storage,
+                _ => continue,
+            };
+            return role;
+        }
+        Role::Other
+    }
+
+    fn seats(self) -> bool {
+        matches!(self, Role::Seat | Role::Sofa)
+    }
+
+    /// The depth (metres) in front of the object that its use needs free: legroom before a
+    /// sofa, the pull-out space of a desk, the work aisle of a counter, the swing of a fridge
+    /// door, the drawers of a dresser (see the book's layout semantics for the sources).
+    pub fn front_clearance(self, height_m: f64) -> f64 {
+        match self {
+            Role::Sofa => SOFA_CLEARANCE_M,
+            Role::Table if height_m >= COUNTER_HEIGHT_M => COUNTER_CLEARANCE_M,
+            Role::Fridge => FRIDGE_CLEARANCE_M,
+            Role::Storage => STORAGE_CLEARANCE_M,
+            _ => 0.0,
+        }
+    }
+}
+
+/// Legroom kept free in front of a sofa (a coffee table stands 0.3–0.6 m away).
+pub const SOFA_CLEARANCE_M: f64 = 0.3;
+/// The work aisle kept free in front of a counter (kitchen planning: at least 0.9 m).
+pub const COUNTER_CLEARANCE_M: f64 = 0.9;
+/// A table at least this high is a counter (a dining table or desk is about 0.75 m).
+pub const COUNTER_HEIGHT_M: f64 = 0.85;
+/// The swing of a fridge door kept free.
+pub const FRIDGE_CLEARANCE_M: f64 = 0.8;
+/// The space to open a dresser's drawers.
+pub const STORAGE_CLEARANCE_M: f64 = 0.5;
+/// The access kept free along the open long sides of a bed.
+pub const BED_SIDE_CLEARANCE_M: f64 = 0.5;
+/// `near` means at least this gap (not touching), unless the pair touches by nature.
+pub const NEAR_MIN_M: f64 = 0.1;
+/// The farthest a side relation (`in front of`, `behind`, `left of`, `right of`, `side of`)
+/// reaches by default: beyond it, the thing is elsewhere in the room.
+pub const SIDE_MAX_M: f64 = 2.0;
+/// A seat in front of (or around) a table or desk is within reach of it: the seat's edge at
+/// most this far from it.
+pub const REACH_MAX_M: f64 = 0.6;
+/// A coffee table stands this far from the front of its seats (furniture practice: 30–60 cm).
+pub const LOW_TABLE_GAP_M: (f64, f64) = (0.3, 0.6);
+/// A screen faces its seats across the room: this range of gaps (about 1.2 m to 4.5 m for
+/// the screen sizes of AI2-THOR's televisions).
+pub const VIEWING_GAP_M: (f64, f64) = (1.2, 4.5);
+
+/// What a relation between two objects means in numbers: the range of the gap between their
+/// footprints and whether the object must face its target.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Meaning {
+    /// Smallest gap, metres.
+    pub min_gap: f64,
+    /// Largest gap, metres.
+    pub max_gap: f64,
+    /// Whether the object must face the target.
+    pub face: bool,
+}
+
+impl Meaning {
+    /// The meaning of `kind` for an object of role `me` towards a target of role `target`;
+    /// `contact` when the pair touches by nature (a nightstand beside a bed, an object also
+    /// `side of` its target). Written once here and shared by both solvers, the report, the
+    /// SVG and the book's table.
+    pub fn of(kind: RelationKind, me: Role, target: Role, contact: bool) -> Meaning {
+        let any = Meaning { min_gap: 0.0, max_gap: f64::INFINITY, face: false };
+        let table_like = |r: Role| matches!(r, Role::Table | Role::LowTable);
+        match kind {
+            RelationKind::Near => Meaning {
+                min_gap: if contact { 0.0 } else { NEAR_MIN_M },
+                max_gap: NEAR_MAX_M,
+                face: false,
+            },
+            RelationKind::Far => Meaning { min_gap: FAR_MIN_M, ..any },
+            RelationKind::InFrontOf => {
+                if me.seats() && table_like(target) {
+                    Meaning { min_gap: 0.0, max_gap: REACH_MAX_M, face: true }
+                } else if me == Role::LowTable && (target.seats() || target == Role::Bed) {
+                    Meaning { min_gap: LOW_TABLE_GAP_M.0, max_gap: LOW_TABLE_GAP_M.1, face: false }
+                } else if (me == Role::Screen && (target.seats() || target == Role::Bed))
+                    || ((me.seats() || me == Role::Bed) && target == Role::Screen)
+                {
+                    Meaning { min_gap: VIEWING_GAP_M.0, max_gap: VIEWING_GAP_M.1, face: false }
+                } else {
+                    Meaning { max_gap: SIDE_MAX_M, ..any }
+                }
+            }
+            // A seat behind a desk or table (a student's chair) is at it, within reach.
+            RelationKind::Behind if me.seats() && table_like(target) => {
+                Meaning { min_gap: 0.0, max_gap: REACH_MAX_M, face: true }
+            }
+            RelationKind::Behind
+            | RelationKind::LeftOf
+            | RelationKind::RightOf
+            | RelationKind::SideOf => Meaning { max_gap: SIDE_MAX_M, ..any },
+            RelationKind::Around => Meaning { min_gap: 0.0, max_gap: AROUND_MAX_M, face: true },
+            _ => any,
+        }
+    }
+}
+
+/// Whether two roles touch by nature when one is `near` the other.
+pub fn touch_by_nature(a: Role, b: Role) -> bool {
+    let pair = |x: Role, y: Role| (a == x && b == y) || (a == y && b == x);
+    pair(Role::SideTable, Role::Bed)
+        || pair(Role::SideTable, Role::Sofa)
+        || pair(Role::SideTable, Role::Seat)
+}
+
+/// The use-clearance of an object at a pose: the strips its use needs free of other
+/// furniture, and whether all of them must be free (the front of a sofa, desk, counter,
+/// fridge or dresser) or one is enough (one open long side of a bed). Empty for other roles.
+pub fn use_zones(role: Role, pose: &Pose, size: [f64; 2], height_m: f64) -> (Vec<Rect>, bool) {
+    if role == Role::Bed {
+        let fp = footprint(pose, size);
+        let d = BED_SIDE_CLEARANCE_M;
+        let right = pose.rot.right();
+        let strips = if right[0] == 0.0 {
+            // The bed's long sides face ±z.
+            vec![
+                Rect { min_z: fp.max_z, max_z: fp.max_z + d, ..fp },
+                Rect { min_z: fp.min_z - d, max_z: fp.min_z, ..fp },
+            ]
+        } else {
+            vec![
+                Rect { min_x: fp.max_x, max_x: fp.max_x + d, ..fp },
+                Rect { min_x: fp.min_x - d, max_x: fp.min_x, ..fp },
+            ]
+        };
+        return (strips, false);
+    }
+    let depth = role.front_clearance(height_m);
+    if depth <= EPS {
+        return (Vec::new(), true);
+    }
+    (vec![front_zone(pose, size, depth)], true)
+}
+
+/// Scores a gap against a range: 1 inside, falling linearly to 0 one metre outside (for
+/// `near` up to [`NEAR_MAX_M`] the score keeps the old slope, closer is better).
+fn gap_score(gap: f64, m: &Meaning) -> f64 {
+    if gap < m.min_gap - EPS {
+        (1.0 - (m.min_gap - gap)).clamp(0.0, 1.0)
+    } else if gap > m.max_gap + EPS {
+        (1.0 - (gap - m.max_gap)).clamp(0.0, 1.0)
+    } else {
+        1.0
+    }
+}
+
 /// The documented weight of a relation in the score.
 pub fn weight(kind: RelationKind) -> f64 {
     match kind {
@@ -569,23 +785,38 @@ pub fn relation(
     target: &Pose,
     target_size: [f64; 2],
 ) -> Measure {
-    measure_relation::<true>(kind, me, my_size, target, target_size)
+    let meaning = Meaning::of(kind, Role::Other, Role::Other, false);
+    measure_relation::<true>(kind, &meaning, me, my_size, target, target_size)
+}
+
+/// [`relation`] with the meaning the pair's roles give it.
+pub fn relation_meant(
+    kind: RelationKind,
+    meaning: &Meaning,
+    me: &Pose,
+    my_size: [f64; 2],
+    target: &Pose,
+    target_size: [f64; 2],
+) -> Measure {
+    measure_relation::<true>(kind, meaning, me, my_size, target, target_size)
 }
 
 /// [`relation`] without the measured value where it costs more than the test (the angle of
 /// `face to` is left at 0): what the search needs at every candidate, by the same definition.
 pub fn relation_fit(
     kind: RelationKind,
+    meaning: &Meaning,
     me: &Pose,
     my_size: [f64; 2],
     target: &Pose,
     target_size: [f64; 2],
 ) -> Measure {
-    measure_relation::<false>(kind, me, my_size, target, target_size)
+    measure_relation::<false>(kind, meaning, me, my_size, target, target_size)
 }
 
 fn measure_relation<const VALUE: bool>(
     kind: RelationKind,
+    meaning: &Meaning,
     me: &Pose,
     my_size: [f64; 2],
     target: &Pose,
@@ -601,9 +832,12 @@ fn measure_relation<const VALUE: bool>(
     match kind {
         RelationKind::Near => {
             let gap = gap();
+            let within = gap >= meaning.min_gap - EPS && gap <= meaning.max_gap + EPS;
+            // Inside the range closer is still a little better, so that `near` pulls.
+            let pull = (1.0 - 0.2 * (gap - meaning.min_gap).max(0.0) / NEAR_MAX_M).clamp(0.8, 1.0);
             Measure {
-                satisfied: gap <= NEAR_MAX_M + EPS,
-                score: (1.0 - gap / NEAR_MAX_M).clamp(0.0, 1.0),
+                satisfied: within,
+                score: if within { pull } else { 0.8 * gap_score(gap, meaning) },
                 value: gap,
                 unit: "m",
             }
@@ -628,19 +862,32 @@ fn measure_relation<const VALUE: bool>(
                 _ => right,
             };
             let (sep, within) = side_measure(&mf, &tf, axis);
-            Measure::yes_no(sep >= -EPS && within, sep, "m")
+            let facing = !meaning.face || faces(me, &tf);
+            let in_range = sep >= meaning.min_gap - EPS && sep <= meaning.max_gap + EPS;
+            let ok = sep >= -EPS && within && in_range && facing;
+            let score = if ok {
+                1.0
+            } else if sep >= -EPS && within {
+                0.5 * gap_score(sep, meaning) + if facing { 0.4 } else { 0.0 }
+            } else {
+                0.0
+            };
+            Measure { satisfied: ok, score, value: sep, unit: "m" }
         }
         RelationKind::SideOf => {
             let (sl, wl) = side_measure(&mf, &tf, left);
             let (sr, wr) = side_measure(&mf, &tf, right);
-            let ok = (sl >= -EPS && wl) || (sr >= -EPS && wr);
+            let fits = |sep: f64, w: bool| {
+                w && sep >= -EPS && sep >= meaning.min_gap - EPS && sep <= meaning.max_gap + EPS
+            };
+            let ok = fits(sl, wl) || fits(sr, wr);
             Measure::yes_no(ok, sl.max(sr), "m")
         }
         RelationKind::Around => {
             let facing = faces(me, &tf);
             let gap = gap();
-            let close = gap <= AROUND_MAX_M + EPS;
-            let near_part = (1.0 - gap / (2.0 * AROUND_MAX_M)).clamp(0.0, 1.0);
+            let close = gap <= meaning.max_gap + EPS;
+            let near_part = (1.0 - gap / (2.0 * meaning.max_gap)).clamp(0.0, 1.0);
             let score = 0.5 * near_part + if facing { 0.5 } else { 0.0 };
             Measure {
                 satisfied: facing && close,
@@ -715,6 +962,9 @@ pub enum HardRule {
     Window,
     /// The footprint overlaps no other placed footprint.
     NoOverlap,
+    /// The use-clearances (the front of a sofa, desk, counter, fridge or dresser, an open side
+    /// of a bed) stay free of unrelated furniture.
+    UseClearance,
     /// Every placed object stays reachable from a door.
     Reachable,
 }
@@ -729,6 +979,7 @@ impl HardRule {
             HardRule::FrontClearance => "front clearance",
             HardRule::Window => "window zones",
             HardRule::NoOverlap => "no overlap",
+            HardRule::UseClearance => "use-clearances",
             HardRule::Reachable => "reachability from a door",
         }
     }
@@ -749,12 +1000,13 @@ pub fn blocks_window(fp: &Rect, height_m: f64, w: &WindowZone) -> bool {
 }
 
 /// The static hard rules of a pose (everything but overlap and reachability): the first rule
-/// it breaks, if any.
+/// it breaks, if any. `global_kind: None` leaves the global constraint out (an `edge` object
+/// that no wall can take is placed elsewhere, its `edge` reported as not kept).
 pub fn static_rules(
     pose: &Pose,
     size: [f64; 2],
     height_m: f64,
-    global_kind: GlobalKind,
+    global_kind: Option<GlobalKind>,
     room: &RoomShape,
     keep_out: &[Rect],
     windows: &[WindowZone],
@@ -764,10 +1016,11 @@ pub fn static_rules(
         return Some(HardRule::InsideRoom);
     }
     let global_ok = match global_kind {
-        GlobalKind::Edge => {
+        Some(GlobalKind::Edge) => {
             room.distance_to_wall(back_center(pose, size)) <= EDGE_TOLERANCE_M + EPS
         }
-        GlobalKind::Middle => room.contains_rect(&fp.grow(MIDDLE_GAP_M)),
+        Some(GlobalKind::Middle) => room.contains_rect(&fp.grow(MIDDLE_GAP_M)),
+        None => true,
     };
     if !global_ok {
         return Some(HardRule::Global);
@@ -787,6 +1040,8 @@ pub fn static_rules(
 /// A grid over the room's floor for the reachability rule.
 #[derive(Clone, Debug)]
 pub struct ReachGrid {
+    /// The agent's radius, metres.
+    radius: f64,
     origin: [f64; 2],
     nx: usize,
     nz: usize,
@@ -804,8 +1059,9 @@ const FREE: u8 = 1;
 const REACHED: u8 = 2;
 
 impl ReachGrid {
-    /// Builds the grid of a room with its door keep-out zones.
-    pub fn new(room: &RoomShape, doors: &[Rect]) -> ReachGrid {
+    /// Builds the grid of a room with its door keep-out zones, for an agent of `radius` metres.
+    pub fn new(room: &RoomShape, doors: &[Rect], radius: f64) -> ReachGrid {
+        let radius = if radius.is_finite() && radius > 0.0 { radius } else { AGENT_RADIUS_M };
         let b = room.bounds;
         let nx = ((b.width() / REACH_CELL_M).ceil() as usize).max(1);
         let nz = ((b.depth() / REACH_CELL_M).ceil() as usize).max(1);
@@ -817,14 +1073,14 @@ impl ReachGrid {
                     b.min_x + (i as f64 + 0.5) * REACH_CELL_M,
                     b.min_z + (j as f64 + 0.5) * REACH_CELL_M,
                 ];
-                let disk = Rect { min_x: c[0], min_z: c[1], max_x: c[0], max_z: c[1] }
-                    .grow(AGENT_RADIUS_M - 1e-3);
+                let disk =
+                    Rect { min_x: c[0], min_z: c[1], max_x: c[0], max_z: c[1] }.grow(radius - 1e-3);
                 open[i * nz + j] = room.contains_rect(&disk);
                 source[i * nz + j] = doors.iter().any(|d| d.contains_point(c));
             }
         }
         let sources = (0..nx * nz).filter(|&k| source[k] && open[k]).collect();
-        ReachGrid { origin: [b.min_x, b.min_z], nx, nz, open, sources }
+        ReachGrid { radius, origin: [b.min_x, b.min_z], nx, nz, open, sources }
     }
 
     /// Whether there is any door to start from.
@@ -838,9 +1094,9 @@ impl ReachGrid {
     }
 
     /// Adds (`delta = 1`) or removes (`delta = -1`) one footprint: every cell whose centre is
-    /// closer than [`AGENT_RADIUS_M`] to it is blocked for the agent.
+    /// closer than the agent's radius to it is blocked for the agent.
     pub fn mark(&self, occupancy: &mut Occupancy, fp: &Rect, delta: i16) {
-        let r = AGENT_RADIUS_M - 1e-3;
+        let r = self.radius - 1e-3;
         let (i0, i1, j0, j1) = self.cell_range(&fp.grow(r));
         for i in i0..=i1 {
             for j in j0..=j1 {
@@ -933,7 +1189,7 @@ impl ReachGrid {
 
     /// Whether an agent standing on a reached cell is close enough to touch the footprint.
     fn reached(&self, fp: &Rect, cells: &[u8]) -> bool {
-        let reach = AGENT_RADIUS_M + 1.5 * REACH_CELL_M;
+        let reach = self.radius + 1.5 * REACH_CELL_M;
         let (i0, i1, j0, j1) = self.cell_range(&fp.grow(reach));
         (i0..=i1).any(|i| {
             (j0..=j1).any(|j| {
@@ -953,9 +1209,9 @@ impl ReachGrid {
         (0..footprints.len()).filter(|&n| !self.reached(&footprints[n], &cells)).collect()
     }
 
-    /// The reachability rule: every footprint is reachable, and at least
-    /// [`MIN_REACHABLE_FRACTION`] of the free floor is reachable from a door (so that a door is
-    /// never boxed in by a wall of furniture). Always true for a room with no door.
+    /// The reachability rule: every footprint is reachable, and no closed pocket of free floor
+    /// (free cells no agent coming through a door reaches, connected) is larger than
+    /// [`MAX_POCKET_M2`]. Always true for a room with no door.
     pub fn ok(&self, footprints: &[Rect]) -> bool {
         self.ok_with(&self.occupancy_of(footprints), footprints)
     }
@@ -967,11 +1223,71 @@ impl ReachGrid {
         if !self.has_sources() || footprints.is_empty() {
             return true;
         }
-        let (n_free, n_seen, cells) = self.flood(occupancy);
-        if (n_seen as f64) < MIN_REACHABLE_FRACTION * n_free as f64 {
+        let (n_free, n_seen, mut cells) = self.flood(occupancy);
+        if n_free > n_seen
+            && self.largest_pocket(&mut cells, Self::pocket_cells()) > Self::pocket_cells()
+        {
             return false;
         }
         footprints.iter().all(|fp| self.reached(fp, &cells))
+    }
+
+    /// The most cells a closed pocket may have.
+    fn pocket_cells() -> usize {
+        (MAX_POCKET_M2 / (REACH_CELL_M * REACH_CELL_M)).round() as usize
+    }
+
+    /// The size in cells of the largest closed pocket (connected free cells not reached),
+    /// counting no further than `stop_above + 1`. Marks the pockets' cells as blocked.
+    fn largest_pocket(&self, cells: &mut [u8], stop_above: usize) -> usize {
+        let (nx, nz) = (self.nx, self.nz);
+        let mut largest = 0;
+        let mut stack = Vec::new();
+        for start in 0..cells.len() {
+            if cells[start] != FREE {
+                continue;
+            }
+            cells[start] = BLOCKED;
+            stack.push(start);
+            let mut size = 0;
+            while let Some(k) = stack.pop() {
+                size += 1;
+                let (i, j) = (k / nz, k % nz);
+                let mut push = |n: usize| {
+                    if cells[n] == FREE {
+                        cells[n] = BLOCKED;
+                        stack.push(n);
+                    }
+                };
+                if i > 0 {
+                    push(k - nz);
+                }
+                if i + 1 < nx {
+                    push(k + nz);
+                }
+                if j > 0 {
+                    push(k - 1);
+                }
+                if j + 1 < nz {
+                    push(k + 1);
+                }
+            }
+            largest = largest.max(size);
+            if largest > stop_above {
+                break;
+            }
+        }
+        largest
+    }
+
+    /// The largest closed pocket of free floor, square metres, with these footprints on the
+    /// floor (0 for a room with no door): what the benchmark reports.
+    pub fn largest_pocket_m2(&self, footprints: &[Rect]) -> f64 {
+        if !self.has_sources() {
+            return 0.0;
+        }
+        let (_, _, mut cells) = self.flood(&self.occupancy_of(footprints));
+        self.largest_pocket(&mut cells, usize::MAX) as f64 * REACH_CELL_M * REACH_CELL_M
     }
 }
 
@@ -1040,7 +1356,7 @@ mod tests {
     fn boxed_in_object_is_unreachable() {
         let room = rect_room();
         let door = Rect::from_corners([2.0, 0.0], [3.0, 1.0]);
-        let grid = ReachGrid::new(&room, &[door]);
+        let grid = ReachGrid::new(&room, &[door], AGENT_RADIUS_M);
         let wall = Rect::from_corners([0.0, 1.5], [5.0, 2.0]);
         let behind = Rect::from_corners([2.0, 3.0], [3.0, 4.0]);
         assert_eq!(grid.unreachable(&[wall, behind]), vec![1]);

@@ -140,6 +140,30 @@ pub(crate) fn static_candidates(
     (out, fails)
 }
 
+/// Candidates of an `edge` object anywhere in the room (a grid of centres, four rotations),
+/// keeping every static hard rule but the global one.
+pub(crate) fn anywhere_candidates(prep: &Prepared<'_>, k: usize, seed: u64) -> Vec<Cand> {
+    let obj = &prep.problem.objects[k];
+    let b = prep.room.bounds;
+    let g = grid_step(&b);
+    let mut out = Vec::new();
+    for rot in Rot::ALL {
+        let h = half_extents(obj.size, rot);
+        for &x in &axis_values(b.min_x, b.max_x, h[0], g) {
+            for &z in &axis_values(b.min_z, b.max_z, h[1], g) {
+                let pose = Pose { x, z, rot };
+                if prep.static_rule_anywhere(k, &pose).is_none() {
+                    out.push(Cand { pose, fp: footprint(&pose, obj.size) });
+                }
+            }
+        }
+    }
+    dedup_cands(&mut out);
+    let mut rng = ChaCha8Rng::seed_from_u64(seed ^ (k as u64).wrapping_mul(0xD1B5_4A32_D192_ED03));
+    out.shuffle(&mut rng);
+    out
+}
+
 fn dedup_cands(v: &mut Vec<Cand>) {
     // Coordinates to a tenth of a millimetre, rounded half up (the offset keeps the value
     // positive so that the cast truncates like `floor`, which is cheaper than `round`).
@@ -169,7 +193,17 @@ pub(crate) fn derived_candidates(
             continue;
         };
         let tf = footprint(tp, t.size);
-        let gaps = target_gaps(prep, k, c.target);
+        let mut gaps = target_gaps(prep, k, c.target);
+        // The gaps the object's relations to this target mean (a coffee table 0.3–0.6 m in
+        // front of its sofa, `near` not touching): their ends and middle.
+        for d in obj.constraints.iter().filter(|d| d.target == c.target) {
+            let m = super::meaning_of(prep.problem, k, d);
+            gaps.push(m.min_gap);
+            if m.max_gap.is_finite() {
+                gaps.push(0.5 * (m.min_gap + m.max_gap.min(m.min_gap + 2.0)));
+            }
+        }
+        dedup(&mut gaps);
         for rot in Rot::ALL {
             let h = half_extents(obj.size, rot);
             let mut tx = vec![tp.x, tf.min_x + h[0], tf.max_x - h[0]];
@@ -230,7 +264,8 @@ pub(crate) fn fast_score(
     for c in &obj.constraints {
         if let (Some(Some(tp)), Some(t)) = (poses.get(c.target), prep.problem.objects.get(c.target))
         {
-            let m = constraints::relation_fit(c.kind, pose, obj.size, tp, t.size);
+            let meaning = super::meaning_of(prep.problem, k, c);
+            let m = constraints::relation_fit(c.kind, &meaning, pose, obj.size, tp, t.size);
             s += constraints::weight(c.kind) * m.score + if m.satisfied { sat_value } else { 0.0 };
         }
     }
@@ -304,6 +339,14 @@ fn touching(fp: &Rect, blocked: impl Fn(&Rect) -> bool) -> u8 {
     nudged(fp).iter().enumerate().filter(|(_, m)| blocked(m)).fold(0, |acc, (i, _)| acc | (1 << i))
 }
 
+/// The use-clearances around a node: placed footprints (with whether the object being placed
+/// relates to each) and the zones placed objects keep free from it (all of a list, or one of
+/// a bed's open sides).
+struct Clearances {
+    placed: Vec<(Rect, bool)>,
+    zones: Vec<(Vec<Rect>, bool)>,
+}
+
 /// Why an object has no pose: the rule and the words.
 type Reason = (HardRule, String);
 
@@ -330,6 +373,7 @@ struct Search<'p, 'a> {
     /// it, with the gaps the later object's other relations to it allow.
     dependents: Vec<Vec<Dependent>>,
     budget: u64,
+    seed: u64,
     nodes: u64,
     best: Option<State>,
     pin_breaks: Vec<(usize, HardRule)>,
@@ -496,6 +540,104 @@ impl Search<'_, '_> {
         out
     }
 
+    /// Places object `k` of a finished layout anywhere (ignoring its global constraint) at its
+    /// best-scored pose that keeps the other hard rules, if it has one.
+    fn place_anywhere(&self, k: usize, st: &mut State) {
+        let prep = self.prep;
+        let clearances = self.clearance_context(k, st);
+        let mut best: Option<(f64, Cand)> = None;
+        for c in anywhere_candidates(prep, k, self.seed) {
+            if st.fps.iter().any(|f| f.overlaps(&c.fp)) || !self.clearances_kept(k, &c, &clearances)
+            {
+                continue;
+            }
+            let s = fast_score(prep, k, &c.pose, &st.poses, self.sat_value);
+            if best.as_ref().is_some_and(|(b, _)| *b >= s) {
+                continue;
+            }
+            let reach = &prep.reach;
+            reach.mark(&mut st.occ, &c.fp, 1);
+            st.fps.push(c.fp);
+            let ok = reach.ok_with(&st.occ, &st.fps);
+            st.fps.pop();
+            reach.mark(&mut st.occ, &c.fp, -1);
+            if ok {
+                best = Some((s, c));
+            }
+        }
+        if let Some((s, c)) = best {
+            st.fails[k] = None;
+            self.place(k, c.pose, c.fp, self.placed_value + s, "dfs", st);
+        }
+    }
+
+    /// What the use-clearance rule needs at a node for object `k`: the placed footprints, the
+    /// placed objects' clearance zones, and which placed objects `k` relates to.
+    fn clearance_context(&self, k: usize, st: &State) -> Clearances {
+        let objects = &self.prep.problem.objects;
+        let related = |a: usize, b: usize| {
+            objects[a].constraints.iter().any(|x| x.target == b)
+                || objects[b].constraints.iter().any(|x| x.target == a)
+        };
+        let mut placed = Vec::new();
+        let mut zones = Vec::new();
+        for (i, o) in objects.iter().enumerate() {
+            let Some(p) = st.poses[i] else { continue };
+            if i == k {
+                continue;
+            }
+            let fp = footprint(&p, o.size);
+            let rel = related(i, k);
+            placed.push((fp, rel));
+            let (z, all) = constraints::use_zones(o.role, &p, o.size, o.height);
+            if z.is_empty() || rel {
+                continue;
+            }
+            // For a bed, the sides still open with the other placed furniture.
+            let z = if all {
+                z
+            } else {
+                z.into_iter()
+                    .filter(|r| {
+                        self.prep.room.contains_rect(r)
+                            && objects.iter().enumerate().all(|(j, oj)| {
+                                j == i
+                                    || j == k
+                                    || related(i, j)
+                                    || st.poses[j]
+                                        .is_none_or(|pj| !footprint(&pj, oj.size).overlaps(r))
+                            })
+                    })
+                    .collect()
+            };
+            zones.push((z, all));
+        }
+        Clearances { placed, zones }
+    }
+
+    /// Whether candidate `c` of object `k` keeps the use-clearances: its own (inside the room
+    /// and free of placed furniture it has no relation with) and those of the placed objects
+    /// (it does not stand in them unless it relates to that object: a chair at its desk, a
+    /// coffee table before its sofa, a nightstand by its bed).
+    fn clearances_kept(&self, k: usize, c: &Cand, ctx: &Clearances) -> bool {
+        let obj = &self.prep.problem.objects[k];
+        let (zones, all) = constraints::use_zones(obj.role, &c.pose, obj.size, obj.height);
+        let own_free = |z: &Rect| {
+            self.prep.room.contains_rect(z)
+                && ctx.placed.iter().all(|(fp, rel)| *rel || !z.overlaps(fp))
+        };
+        let own_ok = zones.is_empty()
+            || if all { zones.iter().all(own_free) } else { zones.iter().any(own_free) };
+        own_ok
+            && ctx.zones.iter().all(|(z, all)| {
+                if *all {
+                    z.iter().all(|r| !r.overlaps(&c.fp))
+                } else {
+                    z.is_empty() || z.iter().any(|r| !r.overlaps(&c.fp))
+                }
+            })
+    }
+
     /// Whether a zone is inside the room, outside the door zones and free of footprints.
     fn zone_free(&self, z: &Rect, placed: &[Rect]) -> bool {
         self.prep.room.contains_rect(z)
@@ -507,7 +649,10 @@ impl Search<'_, '_> {
     fn candidates(&self, k: usize, st: &State) -> (Vec<(Cand, f64)>, Option<Reason>) {
         let prep = self.prep;
         let derived = derived_candidates(prep, k, &st.poses);
-        if self.statics[k].cands.is_empty() && derived.is_empty() {
+        if self.statics[k].cands.is_empty()
+            && derived.is_empty()
+            && prep.problem.objects[k].global != GlobalKind::Edge
+        {
             return (Vec::new(), Some(static_reason(&self.static_fails[k])));
         }
         let set = &self.statics[k];
@@ -529,6 +674,8 @@ impl Search<'_, '_> {
             }
         }
         let mut blockers: BTreeMap<usize, usize> = BTreeMap::new();
+        let mut cleared_out = 0usize;
+        let clearances = self.clearance_context(k, st);
         // (ordering key, position: statics then derived, score). The key is the score plus
         // what the pose leaves for later objects (room for the side relations that target this
         // object, and a small bonus per side touching a wall or a placed object); the score
@@ -552,6 +699,10 @@ impl Search<'_, '_> {
                 *blockers.entry(first).or_insert(0) += 1;
                 continue;
             }
+            if !self.clearances_kept(k, c, &clearances) {
+                cleared_out += 1;
+                continue;
+            }
             let s = fast_score(prep, k, &c.pose, &st.poses, self.sat_value);
             let (kept, close) = self.room_left_for_dependents(k, c, &st.fps);
             let covers = |zones: &[Rect]| zones.iter().all(|z| z.overlaps(&c.fp));
@@ -563,6 +714,20 @@ impl Search<'_, '_> {
                 + ROOM_NEXT_TO_BONUS * (close as f64 - crowded as f64)
                 + CONTACT_BONUS * f64::from(sides.count_ones());
             scored.push((key, i, s));
+        }
+        if scored.is_empty() && n_static == 0 && derived.is_empty() {
+            return (Vec::new(), Some(static_reason(&self.static_fails[k])));
+        }
+        if scored.is_empty() && cleared_out > 0 && cleared_out >= blockers.values().sum() {
+            return (
+                Vec::new(),
+                Some((
+                    HardRule::UseClearance,
+                    "every pose left stands in the space another object needs for its use (or \
+                     blocks its own)"
+                        .to_string(),
+                )),
+            );
         }
         if scored.is_empty() {
             let placed: Vec<usize> = (0..k).filter(|&i| st.poses[i].is_some()).collect();
@@ -651,15 +816,17 @@ pub(crate) fn run(
             if !side || c.target >= j {
                 continue;
             }
+            // The gaps every relation of the object to this target means, intersected.
             let mut gaps = (0.0, f64::INFINITY);
             for other in obj.constraints.iter().filter(|o| o.target == c.target) {
-                match other.kind {
-                    RelationKind::Near => gaps.1 = gaps.1.min(constraints::NEAR_MAX_M),
-                    RelationKind::Around => gaps.1 = gaps.1.min(constraints::AROUND_MAX_M),
-                    RelationKind::Far => gaps.0 = f64::max(gaps.0, constraints::FAR_MIN_M),
-                    _ => {}
-                }
+                let m = super::meaning_of(prep.problem, j, other);
+                gaps.0 = f64::max(gaps.0, m.min_gap);
+                gaps.1 = gaps.1.min(m.max_gap);
             }
+            if gaps.1 < gaps.0 {
+                gaps.1 = gaps.0;
+            }
+            gaps.1 = gaps.1.min(constraints::SIDE_MAX_M.max(gaps.0));
             dependents[c.target].push(Dependent { object: j, kind: c.kind, gaps });
         }
     }
@@ -672,6 +839,7 @@ pub(crate) fn run(
         static_fails,
         remaining_max,
         budget: options.node_budget,
+        seed: options.seed,
         nodes: 0,
         best: None,
         pin_breaks: Vec::new(),
@@ -692,7 +860,17 @@ pub(crate) fn run(
     }
     let nodes = search.nodes;
     let pin_breaks = std::mem::take(&mut search.pin_breaks);
-    let best = search.best.unwrap_or(st);
+    let mut best = search.best.take().unwrap_or(st);
+    // `edge` is soft: an edge object that no wall pose could take is stood elsewhere, at its
+    // best-scored pose that keeps every hard rule, its `edge` reported as not kept.
+    for k in 0..n {
+        if best.poses[k].is_none()
+            && prep.problem.objects[k].global == GlobalKind::Edge
+            && prep.problem.objects[k].pin.is_none()
+        {
+            search.place_anywhere(k, &mut best);
+        }
+    }
     let mut layout = RoomLayout { nodes, ..RoomLayout::default() };
     for k in 0..n {
         let obj = &prep.problem.objects[k];

@@ -124,6 +124,9 @@ pub(crate) fn unplaced(problem: &RoomProblem, u: &Unplaced) -> Diagnostic {
         Some(HardRule::NoOverlap | HardRule::Reachable) => {
             "remove or shrink an earlier object, or declare this object earlier so it is placed first"
         }
+        Some(HardRule::UseClearance) => {
+            "give it a relation to the object whose space it needs (a chair `in front of` its desk), or free some floor"
+        }
         Some(HardRule::DoorKeepOut | HardRule::FrontClearance | HardRule::Window) => {
             "make the object smaller or move a door or window"
         }

@@ -21,7 +21,7 @@ use crate::check::scene::{GlobalKind, RelationKind};
 use crate::diag::{Diagnostic, Outcome};
 use crate::source::Span;
 
-pub use constraints::{HardRule, Measure, Pose, Rect, RoomShape, Rot};
+pub use constraints::{HardRule, Meaning, Measure, Pose, Rect, Role, RoomShape, Rot};
 pub use pipeline::{solve, Layout, SolvedRoom};
 pub use scene::{room_problem, Sizes, WrittenSizes};
 
@@ -55,7 +55,7 @@ impl Solver {
 }
 
 /// Settings of the solve stage.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SolveOptions {
     /// The floor solver.
     pub solver: Solver,
@@ -63,11 +63,18 @@ pub struct SolveOptions {
     pub seed: u64,
     /// The most search nodes (poses tried) per room; the search never looks at the clock.
     pub node_budget: u64,
+    /// The radius of the agent that must reach every object and all the free floor, metres.
+    pub agent_radius_m: f64,
 }
 
 impl Default for SolveOptions {
     fn default() -> SolveOptions {
-        SolveOptions { solver: Solver::Dfs, seed: 0, node_budget: DEFAULT_NODE_BUDGET }
+        SolveOptions {
+            solver: Solver::Dfs,
+            seed: 0,
+            node_budget: DEFAULT_NODE_BUDGET,
+            agent_radius_m: constraints::AGENT_RADIUS_M,
+        }
     }
 }
 
@@ -125,6 +132,9 @@ pub struct FloorObject {
     pub height: f64,
     /// `edge` (also when none is written) or `middle`.
     pub global: GlobalKind,
+    /// What it is for (from its category's words): decides what its relations mean and which
+    /// use-clearance it keeps.
+    pub role: constraints::Role,
     /// The relations to earlier objects.
     pub constraints: Vec<ProblemConstraint>,
     /// A pinned pose: used as it is (and reported if it breaks a hard rule).
@@ -208,6 +218,9 @@ pub struct ConstraintReport {
     pub text: String,
     /// The measurement.
     pub measure: Measure,
+    /// The documented range of the measured gap (metres) the relation means for this pair, if
+    /// it has one (`near`: 0.1–1.5 m, a coffee table in front of a sofa: 0.3–0.6 m…).
+    pub range: Option<(f64, f64)>,
 }
 
 /// A placed floor object.
@@ -307,7 +320,25 @@ impl Prepared<'_> {
             pose,
             obj.size,
             obj.height,
-            obj.global,
+            Some(obj.global),
+            &self.room,
+            &self.keep_out,
+            &self.windows,
+        )
+    }
+
+    /// [`Prepared::static_rule`] without the global constraint.
+    pub(crate) fn static_rule_anywhere(
+        &self,
+        k: usize,
+        pose: &Pose,
+    ) -> Option<constraints::HardRule> {
+        let obj = &self.problem.objects[k];
+        constraints::static_rules(
+            pose,
+            obj.size,
+            obj.height,
+            None,
             &self.room,
             &self.keep_out,
             &self.windows,
@@ -331,7 +362,7 @@ pub fn solve_room(problem: &RoomProblem, options: &SolveOptions) -> Outcome<Room
     let keep_out: Vec<Rect> =
         problem.keep_out.iter().filter(|p| !p.is_empty()).map(|p| Rect::bounding(p)).collect();
     let windows = others::window_zones(problem, &room);
-    let reach = constraints::ReachGrid::new(&room, &keep_out);
+    let reach = constraints::ReachGrid::new(&room, &keep_out, options.agent_radius_m);
     let walls = room.walls();
     let prep = Prepared { problem, room, keep_out, windows, reach, walls };
     let mut layout = match options.solver {
@@ -371,7 +402,8 @@ pub fn measure_object(
         GlobalKind::Edge => "edge",
         GlobalKind::Middle => "middle",
     };
-    let mut out = vec![ConstraintReport { kind: None, text: gname.to_string(), measure: g }];
+    let mut out =
+        vec![ConstraintReport { kind: None, text: gname.to_string(), measure: g, range: None }];
     let mut score = 0.0;
     for c in &obj.constraints {
         let text = format!(
@@ -380,14 +412,75 @@ pub fn measure_object(
             problem.objects.get(c.target).map_or("?", |t| t.id.as_str())
         );
         let target = poses.get(c.target).copied().flatten().zip(problem.objects.get(c.target));
+        let meaning = meaning_of(problem, index, c);
         let measure = match target {
-            Some((tp, t)) => constraints::relation(c.kind, pose, obj.size, &tp, t.size),
+            Some((tp, t)) => {
+                constraints::relation_meant(c.kind, &meaning, pose, obj.size, &tp, t.size)
+            }
             None => Measure { satisfied: false, score: 0.0, value: f64::NAN, unit: "m" },
         };
         score += constraints::weight(c.kind) * measure.score;
-        out.push(ConstraintReport { kind: Some(c.kind), text, measure });
+        let range = (meaning.min_gap > 0.0 || meaning.max_gap.is_finite())
+            .then_some((meaning.min_gap, meaning.max_gap));
+        out.push(ConstraintReport { kind: Some(c.kind), text, measure, range });
     }
     (out, score)
+}
+
+/// What constraint `c` of floor object `k` means for this pair of objects (their roles, and
+/// whether they touch by nature: a nightstand by a bed, or an object also beside its target).
+pub fn meaning_of(problem: &RoomProblem, k: usize, c: &ProblemConstraint) -> Meaning {
+    let obj = &problem.objects[k];
+    let target = problem.objects.get(c.target).map_or(Role::Other, |t| t.role);
+    let beside = obj.constraints.iter().any(|d| {
+        d.target == c.target
+            && matches!(d.kind, RelationKind::SideOf | RelationKind::LeftOf | RelationKind::RightOf)
+    });
+    let contact = beside || constraints::touch_by_nature(obj.role, target);
+    Meaning::of(c.kind, obj.role, target, contact)
+}
+
+/// How many of the placed floor objects that have a use-clearance keep it free (inside the
+/// room and clear of placed furniture they have no relation with; one open side for a bed),
+/// and how many have one: what the benchmark reports.
+pub fn use_clearances_kept(problem: &RoomProblem, layout: &RoomLayout) -> (usize, usize) {
+    let Some(room) = RoomShape::new(&problem.outline) else { return (0, 0) };
+    let related = |a: usize, b: usize| {
+        problem.objects[a].constraints.iter().any(|x| x.target == b)
+            || problem.objects[b].constraints.iter().any(|x| x.target == a)
+    };
+    let (mut kept, mut total) = (0, 0);
+    for p in &layout.floor {
+        let o = &problem.objects[p.index];
+        let (zones, all) = constraints::use_zones(o.role, &p.pose, o.size, o.height);
+        if zones.is_empty() {
+            continue;
+        }
+        total += 1;
+        let free = |z: &Rect| {
+            room.contains_rect(z)
+                && layout
+                    .floor
+                    .iter()
+                    .filter(|q| q.index != p.index && !related(p.index, q.index))
+                    .all(|q| !q.footprint.overlaps(z))
+        };
+        if if all { zones.iter().all(free) } else { zones.iter().any(free) } {
+            kept += 1;
+        }
+    }
+    (kept, total)
+}
+
+/// The largest closed pocket of free floor (square metres) an agent of `radius` coming
+/// through the room's doors leaves unreached in a layout: what the benchmark reports.
+pub fn largest_pocket_m2(problem: &RoomProblem, layout: &RoomLayout, radius: f64) -> f64 {
+    let Some(room) = RoomShape::new(&problem.outline) else { return 0.0 };
+    let keep_out: Vec<Rect> =
+        problem.keep_out.iter().filter(|p| !p.is_empty()).map(|p| Rect::bounding(p)).collect();
+    let grid = constraints::ReachGrid::new(&room, &keep_out, radius);
+    let fps: Vec<Rect> = layout.floor.iter().map(|p| p.footprint).collect();
+    grid.largest_pocket_m2(&fps)
 }
 
 /// The best score an object can reach: the sum of its relation weights.

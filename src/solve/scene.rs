@@ -71,6 +71,7 @@ pub fn room_problem(
                     size: [size[0], size[1]],
                     height: size[2],
                     global: global.map_or(GlobalKind::Edge, |g| g.kind),
+                    role: super::Role::of(&o.category),
                     constraints: constraints
                         .iter()
                         .filter_map(|c| {

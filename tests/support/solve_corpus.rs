@@ -111,6 +111,7 @@ pub fn load(path: &Path) -> RoomProblem {
             size: [o.size[0], o.size[1]],
             height: o.size[2],
             global: if o.global == "middle" { GlobalKind::Middle } else { GlobalKind::Edge },
+            role: holoc::solve::Role::of(o.id.rsplit_once('-').map_or(o.id.as_str(), |(a, _)| a)),
             constraints: o
                 .rel
                 .iter()

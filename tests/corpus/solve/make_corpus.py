@@ -196,6 +196,25 @@ room("crowded_room", rect(3, 3), [
     obj("plant-0", [0.4, 0.4, 1.0]),
 ], keep_out=[door(0, 0, 1, 1)])
 
+# A crowded bedroom whose objects all want a wall (the case where a hard `edge` left 4 of 14
+# out): the figure for "every feasible object placed".
+room("crowded_bedroom_14", rect(4, 4.5), [
+    obj("bed-0", [1.6, 2.0, 0.6]),
+    obj("nightstand-0", [0.45, 0.4, 0.55], "edge", [("left of", "bed-0"), ("near", "bed-0")]),
+    obj("nightstand-1", [0.45, 0.4, 0.55], "edge", [("right of", "bed-0"), ("near", "bed-0")]),
+    obj("wardrobe-0", [1.0, 0.6, 2.0], "edge", [("far", "bed-0")]),
+    obj("dresser-0", [0.9, 0.45, 0.9], "edge"),
+    obj("desk-0", [1.1, 0.55, 0.75], "edge"),
+    obj("chair-0", [0.5, 0.5, 0.9], "middle", [("in front of", "desk-0"), ("face to", "desk-0")]),
+    obj("bookshelf-0", [0.8, 0.3, 1.8], "edge"),
+    obj("armchair-0", [0.75, 0.75, 0.9], "edge"),
+    obj("floor_lamp-0", [0.35, 0.35, 1.6], "edge", [("near", "armchair-0")]),
+    obj("plant-0", [0.4, 0.4, 1.0], "edge"),
+    obj("laundry_hamper-0", [0.4, 0.35, 0.6], "edge"),
+    obj("ottoman-0", [0.5, 0.5, 0.4], "middle", [("in front of", "armchair-0"), ("near", "armchair-0")]),
+    obj("side_table-0", [0.45, 0.45, 0.55], "edge", [("near", "armchair-0")]),
+], keep_out=[door(0, 0, 1, 1)], holes=[{"wall": 2, "from": 1.5, "to": 2.7, "bottom": 0.9, "top": 2.1, "window": True}])
+
 room("infeasible", rect(2, 2), [
     obj("grand_piano-0", [1.5, 2.0, 1.0], "middle"),
     obj("stool-0", [0.4, 0.4, 0.5], "edge"),
