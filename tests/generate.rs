@@ -2,6 +2,8 @@
 //! serves recorded answers in the chat-completions wire format. Nothing here reaches the
 //! internet.
 
+mod common;
+
 use holoc::diag::{Code, Diagnostic, Outcome};
 use holoc::generate::{
     generate, recorded_answers, GenerateOptions, Generated, HttpLlm, HttpOptions, Llm, ModelInfo,
@@ -721,4 +723,159 @@ fn a_plan_that_fails_ends_the_run_after_its_repair_rounds() {
     assert_eq!(server.calls(), 2, "the floor plan and its one repair round, nothing after");
     let repair = &outcome.value.transcript.exchanges[1].prompt;
     assert!(repair.contains("in the floor plan this gives"), "{repair}");
+}
+
+/// The original system's eight houses (`../shared/data/real-scenes`; skipped without it),
+/// replayed through `generate` against the loopback server: the floor plan, doorways, windows,
+/// wall height and object selection are the recorded model answers; the layout questions are
+/// answered in the paper's formats from each house's own objects (every floor object `edge`,
+/// every wall object above the room's first floor object). Every house the original built is
+/// built; the table (printed) gives the objects kept and what holoc changed.
+#[test]
+#[allow(clippy::print_stdout, reason = "the test prints the issue's table")]
+fn the_original_houses_replay_through_generate() {
+    let Some(dir) =
+        common::shared("data/real-scenes", "the_original_houses_replay_through_generate")
+    else {
+        return;
+    };
+    let mut files: Vec<_> = std::fs::read_dir(&dir)
+        .expect("dir")
+        .filter_map(Result::ok)
+        .map(|e| e.path())
+        .filter(|p| {
+            p.extension().is_some_and(|e| e == "json")
+                && !p.file_name().is_some_and(|n| n.to_string_lossy().starts_with("procthor"))
+        })
+        .collect();
+    files.sort();
+    println!(
+        "| house | built | objects asked | objects in the house | changes |\n|---|---|---|---|---|"
+    );
+    let mut built_count = 0;
+    let (mut total_asked, mut total_kept) = (0, 0);
+    for path in &files {
+        let house: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(path).expect("read")).expect("json");
+        let selection = house["object_selection_plan"].clone();
+        let id = |name: &str| name.trim().to_lowercase().replace([' ', '-'], "_");
+        let answer_for = {
+            let house = house.clone();
+            move |asked: &Asked| -> String {
+                let room = asked.room.clone().unwrap_or_default().to_lowercase();
+                let objects = selection
+                    .as_object()
+                    .and_then(|m| m.iter().find(|(k, _)| k.to_lowercase() == room))
+                    .map_or(&serde_json::Value::Null, |(_, v)| v);
+                let floor_of = |want: &str| -> Vec<String> {
+                    objects
+                        .as_object()
+                        .map(|m| {
+                            m.iter()
+                                .filter(|(_, v)| v["location"] == want)
+                                .flat_map(|(k, v)| {
+                                    let n = v["quantity"].as_u64().unwrap_or(1).max(1);
+                                    (0..n).map(move |i| format!("{}-{i}", id(k)))
+                                })
+                                .collect()
+                        })
+                        .unwrap_or_default()
+                };
+                match asked.stage {
+                    "floor-plan" => house["raw_floor_plan"].as_str().unwrap_or("").to_string(),
+                    "wall-height" => house["wall_height"].to_string(),
+                    "doorways" => house["raw_doorway_plan"].as_str().unwrap_or("").to_string(),
+                    "windows" => house["raw_window_plan"].as_str().unwrap_or("").to_string(),
+                    "objects" => objects.to_string(),
+                    "floor-constraints" => floor_of("floor")
+                        .iter()
+                        .map(|o| format!("{o} | edge"))
+                        .collect::<Vec<_>>()
+                        .join("\n"),
+                    "wall-constraints" => {
+                        let first = floor_of("floor").first().cloned().unwrap_or_default();
+                        floor_of("wall")
+                            .iter()
+                            .map(|o| format!("{o} | above, {first} | 150"))
+                            .collect::<Vec<_>>()
+                            .join("\n")
+                    }
+                    "ceiling" => house["rooms"]
+                        .as_array()
+                        .map(|rooms| {
+                            rooms
+                                .iter()
+                                .filter_map(|r| r["roomType"].as_str())
+                                .map(|r| format!("{r} | flush mount ceiling light"))
+                                .collect::<Vec<_>>()
+                                .join("\n")
+                        })
+                        .unwrap_or_default(),
+                    _ => String::new(),
+                }
+            }
+        };
+        let server =
+            Server::start(Arc::new(move |asked: &Asked, _| Reply::answer(&answer_for(asked))));
+        let query = house["query"].as_str().unwrap_or("a house").to_string();
+        let opts = GenerateOptions { small_objects: false, ..options() };
+        let outcome = generate(&Request { text: query, seed: 7 }, &client(&server), &opts);
+        let count_of = |v: &serde_json::Value| v["quantity"].as_u64().unwrap_or(1);
+        let mut asked = 0u64;
+        for room in house["object_selection_plan"].as_object().into_iter().flat_map(|m| m.values())
+        {
+            for v in room.as_object().into_iter().flat_map(|m| m.values()) {
+                let on_top: u64 =
+                    v["objects_on_top"].as_array().into_iter().flatten().map(count_of).sum();
+                asked += count_of(v) * (1 + on_top);
+            }
+        }
+        let asked = asked as usize;
+        let mut changes: Vec<&str> = outcome
+            .diagnostics
+            .iter()
+            .map(|d| d.code.as_str())
+            .filter(|c| ["W0304", "W0305", "W0306", "W0403", "W0404"].contains(c))
+            .collect();
+        let mut sources = holoc::source::SourceMap::new();
+        let file = sources.add("generated.holo", outcome.value.holo.clone());
+        let catalog = holoc::resolve::Catalog::embedded();
+        let built =
+            holoc::compile::build(&sources, file, &holoc::compile::BuildOptions::new(&catalog));
+        changes.extend(built.diagnostics.iter().map(|d| d.code.as_str()).filter(|c| {
+            ["W0304", "W0305", "W0306", "W0403", "W0404", "W0401", "W0501", "W0503"].contains(c)
+        }));
+        let mut counted: std::collections::BTreeMap<&str, usize> =
+            std::collections::BTreeMap::new();
+        for c in changes {
+            *counted.entry(c).or_default() += 1;
+        }
+        let changes: Vec<String> = counted.iter().map(|(c, n)| format!("{c} ×{n}")).collect();
+        let name = path.file_stem().map(|s| s.to_string_lossy().to_string()).unwrap_or_default();
+        match built.value {
+            Some(b) if !outcome.has_errors() => {
+                built_count += 1;
+                let kept = b.house.all_objects().len();
+                total_asked += asked;
+                total_kept += kept;
+                println!("| {name} | yes | {asked} | {kept} | {} |", changes.join(", "));
+            }
+            _ => {
+                let errors: Vec<&str> = outcome
+                    .diagnostics
+                    .iter()
+                    .chain(&built.diagnostics)
+                    .filter(|d| d.is_error())
+                    .map(|d| d.code.as_str())
+                    .collect();
+                println!(
+                    "| {name} | no ({}) | {asked} | 0 | {} |",
+                    errors.join(", "),
+                    changes.join(", ")
+                );
+            }
+        }
+    }
+    println!("| all | {built_count} of {} | {total_asked} | {total_kept} | |", files.len());
+    assert_eq!(built_count, files.len(), "every house the original built is built");
 }

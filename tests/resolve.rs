@@ -574,3 +574,24 @@ fn real_scene_designs_get_materials_of_their_kind() {
     }
     assert!(rows.len() >= 10);
 }
+
+/// Things on top fit their receptacle: the television chosen for a narrow stand is no wider
+/// than the stand's asset while narrower televisions exist.
+#[test]
+fn things_on_top_fit_their_receptacle() {
+    let text = "scene \"t\" { seed 3 }\n\nroom a \"a\" {\n  corners in m (0, 0) (0, 5) (5, 5) (5, 0)\n  object stand \"tv stand\" {\n    size 90 cm x 40 cm x 50 cm\n    edge\n    on top \"large flat screen television\" x1 same\n  }\n}\n";
+    let mut sources = SourceMap::new();
+    let id = sources.add("t.holo", text.to_string());
+    let scene = holoc::compile::check_file(&sources, id).value.expect("checks");
+    let catalog = Catalog::embedded();
+    let resolved = resolve::resolve(&scene, &catalog, scene.seed).value;
+    let stand = resolved.object(scene.objects[0].id).expect("a stand");
+    let tv = resolved.small[&(scene.objects[0].id, 0)][0].choice().expect("a television");
+    let long = |b: [f64; 3]| b[0].max(b[2]);
+    assert!(
+        long(tv.bbox_m) <= long(stand.bbox_m) + 1e-9,
+        "a {:.2} m television on a {:.2} m stand",
+        long(tv.bbox_m),
+        long(stand.bbox_m)
+    );
+}

@@ -264,6 +264,7 @@ pub fn resolve_with(
         diagnostics: Vec::new(),
         reported: BTreeSet::new(),
         cache: BTreeMap::new(),
+        top: None,
     };
     let mut resolved = Resolved {
         objects: vec![
@@ -312,9 +313,14 @@ pub fn resolve_with(
                 resolved.objects[id.0] = res;
             }
         }
-        // Small objects on top, per instance and line.
+        // Small objects on top, per instance and line; each prefers assets that fit on the
+        // top of its receptacle's asset.
         for &id in &room.objects {
             let obj = scene.object(id);
+            state.top = resolved.object(id).map(|c| {
+                let (a, b) = (c.bbox_m[0], c.bbox_m[2]);
+                [a.min(b), a.max(b)]
+            });
             for (k, item) in obj.on_top.iter().enumerate() {
                 let query = Query {
                     category: item.item.clone(),
@@ -333,6 +339,7 @@ pub fn resolve_with(
                 resolved.small.insert((id, k), results);
             }
         }
+        state.top = None;
         if let Some(ceiling) = &room.ceiling {
             let category =
                 ceiling.description.rsplit(',').next().unwrap_or(&ceiling.description).to_string();
@@ -386,6 +393,7 @@ pub fn resolve_query(
         diagnostics: Vec::new(),
         reported: BTreeSet::new(),
         cache: BTreeMap::new(),
+        top: None,
     };
     let what = Subject {
         name: query.category.clone(),
@@ -446,6 +454,8 @@ struct State<'a> {
     reported: BTreeSet<(u32, u32, u32)>,
     /// Rankings already computed, by query text.
     cache: BTreeMap<(String, String, String, &'static str), Vec<Candidate>>,
+    /// While resolving things on top: the receptacle's top, `[short, long]` side in metres.
+    top: Option<[f64; 2]>,
 }
 
 impl State<'_> {
@@ -485,6 +495,15 @@ impl State<'_> {
         if wants_receptacle && good.iter().any(|c| self.catalog.asset_at(c.idx).receptacle) {
             // Stable: receptacles first, each part in rank order.
             good.sort_by_key(|c| !self.catalog.asset_at(c.idx).receptacle);
+        }
+        if let (Some(top), PlacementKind::OnObject) = (self.top, kind) {
+            // Things that fit on the receptacle's top first (a 1.22 m television is not put
+            // on a 1.20 m stand while narrower ones exist), each part in rank order.
+            let fits = |c: &Candidate| {
+                let (a, b) = (c.bbox_m[0], c.bbox_m[2]);
+                a.min(b) <= top[0] + 1e-9 && a.max(b) <= top[1] + 1e-9
+            };
+            good.sort_by_key(|c| !fits(c));
         }
         // Avoid assets used in other rooms where an alternative exists.
         let (fresh, used): (Vec<&Candidate>, Vec<&Candidate>) =

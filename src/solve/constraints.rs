@@ -698,7 +698,7 @@ fn side_measure(me: &Rect, target: &Rect, axis: [f64; 2]) -> (f64, bool) {
 }
 
 /// Where an object that must be `kind` of a target (in front of, behind, left of, right of,
-/// side of) could stand: squares of side `side` centred on the target's axis on that side,
+/// side of, around: any side) could stand: squares of side `side` centred on the target's axis on that side,
 /// one after the other, at gaps from the target's footprint within `gaps` (metres; what the
 /// object's other relations to the target allow) and inside `limit` (the room's bounds).
 /// Empty for the other relations. The search uses these zones to look ahead: a pose of the target
@@ -720,6 +720,7 @@ pub fn side_zones(
         RelationKind::RightOf => &[right],
         RelationKind::LeftOf => &[[-right[0], -right[1]]],
         RelationKind::SideOf => &[right, [-right[0], -right[1]]],
+        RelationKind::Around => &[front, [-front[0], -front[1]], right, [-right[0], -right[1]]],
         _ => &[],
     };
     let tf = footprint(target, target_size);

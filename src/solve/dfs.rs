@@ -812,6 +812,7 @@ pub(crate) fn run(
                     | RelationKind::LeftOf
                     | RelationKind::RightOf
                     | RelationKind::SideOf
+                    | RelationKind::Around
             );
             if !side || c.target >= j {
                 continue;
