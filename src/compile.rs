@@ -84,6 +84,8 @@ pub struct BuildOptions<'a> {
     pub node_budget: Option<u64>,
     /// The radius of the agent the layout must leave room for (`None`: 0.25 m).
     pub agent_radius_m: Option<f64>,
+    /// Whether a floor plan the plan stage rejects is first repaired geometrically (W0307).
+    pub repair: bool,
     /// Whether assets of another type that do the same job stand in for things the catalog
     /// lacks (W0403); `--no-stand-ins` turns it off.
     pub stand_ins: bool,
@@ -100,6 +102,7 @@ impl<'a> BuildOptions<'a> {
             solver: Solver::Dfs,
             node_budget: None,
             agent_radius_m: None,
+            repair: false,
             stand_ins: true,
         }
     }
@@ -141,8 +144,20 @@ pub fn build(
     if let Some(seed) = options.seed {
         scene.seed = seed;
     }
+    if options.repair {
+        let repaired = crate::plan::repair::repair(&scene, StructureCatalog::builtin());
+        if repaired.value.changed {
+            scene = crate::plan::repair::apply(&scene, &repaired.value);
+        }
+        diagnostics.extend(repaired.diagnostics);
+    }
     let planned = crate::plan::plan_with(&scene, StructureCatalog::builtin(), options.plan);
-    diagnostics.extend(planned.diagnostics);
+    if options.repair {
+        diagnostics
+            .extend(planned.diagnostics.into_iter().map(crate::plan::repair::explain_unrepaired));
+    } else {
+        diagnostics.extend(planned.diagnostics);
+    }
     if has_errors(&diagnostics) {
         return Outcome::new(None, diagnostics);
     }

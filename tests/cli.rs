@@ -101,3 +101,43 @@ fn outputs_replace_files_follow_links_write_fifos_and_refuse_folders() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `holoc repair --write` rewrites the corners in place, then finds nothing more to do;
+/// `build --repair` builds the broken plan that `build` rejects; the JSON diagnostics carry the
+/// fix that `--write` applied.
+#[test]
+fn repair_writes_the_corners_and_build_repair_builds() {
+    let dir = scratch("repair");
+    let scene = dir.join("overlap.holo");
+    std::fs::copy("tests/corpus/repair/overlap_small.holo", &scene).expect("copy");
+    let plain = holoc().args(["build", "-q"]).arg(&scene).output().expect("holoc runs");
+    assert_eq!(plain.status.code(), Some(1), "the plan does not build as written");
+    let repaired = holoc()
+        .args(["build", "--repair", "-q", "-o"])
+        .arg(dir.join("house.json"))
+        .arg(&scene)
+        .output()
+        .expect("holoc runs");
+    assert!(repaired.status.success(), "{}", String::from_utf8_lossy(&repaired.stderr));
+    assert!(String::from_utf8_lossy(&repaired.stderr).contains("W0307"));
+    let json = holoc()
+        .args(["repair", "--format", "json", "-o"])
+        .arg(dir.join("fixed.holo"))
+        .arg(&scene)
+        .output()
+        .expect("holoc runs");
+    let diags: serde_json::Value = serde_json::from_slice(&json.stdout).expect("one document");
+    let fix = &diags["diagnostics"][0]["fixes"][0];
+    assert_eq!(fix["replacement"], "m (4, 0) (4, 4) (8, 4) (8, 0)", "{diags:#}");
+    let written = holoc().args(["repair", "--write"]).arg(&scene).output().expect("holoc runs");
+    assert!(written.status.success());
+    let text = std::fs::read_to_string(&scene).expect("readable");
+    assert!(text.contains("room bedroom \"bedroom\" { corners in m (4, 0) (4, 4) (8, 4) (8, 0) }"));
+    assert_eq!(text, std::fs::read_to_string(dir.join("fixed.holo")).expect("readable"));
+    let again = holoc().args(["repair", "--write"]).arg(&scene).output().expect("holoc runs");
+    assert!(again.status.success());
+    assert!(again.stderr.is_empty() || !String::from_utf8_lossy(&again.stderr).contains("W0307"));
+    assert_eq!(std::fs::read_to_string(&scene).expect("readable"), text, "idempotent");
+    let built = holoc().args(["build", "-q", "-o"]).arg(dir.join("h2.json")).arg(&scene).output();
+    assert!(built.expect("holoc runs").status.success(), "the repaired file builds");
+}

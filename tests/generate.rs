@@ -879,3 +879,55 @@ fn the_original_houses_replay_through_generate() {
     println!("| all | {built_count} of {} | {total_asked} | {total_kept} | |", files.len());
     assert_eq!(built_count, files.len(), "every house the original built is built");
 }
+
+/// A floor plan whose rooms overlap by a few centimetres is repaired geometrically (W0307): no
+/// model is asked again, the transcript records the model's answer and the repaired one, the
+/// scene builds, and a replay without the server gives the same scene.
+#[test]
+fn a_slightly_overlapping_plan_is_repaired_without_asking_again() {
+    const OVERLAPPING: &str =
+        "living room | oak hardwood | white plaster | [(0, 0), (0, 6), (5.3, 6), (5.3, 0)]\n\
+        bedroom | beige carpet | pale blue paint | [(5, 0), (5, 4), (9, 4), (9, 0)]";
+    let server = Server::start(Arc::new(|asked: &Asked, _| {
+        if asked.stage == "floor-plan" {
+            Reply::answer(OVERLAPPING)
+        } else {
+            clean_answer(asked)
+        }
+    }));
+    let first = generate(&request(), &client(&server), &options());
+    assert!(!first.has_errors(), "{:#?}", first.diagnostics);
+    assert!(
+        first.diagnostics.iter().any(|d| d.code.as_str() == "W0307"),
+        "{:#?}",
+        first.diagnostics
+    );
+    let plans: Vec<_> =
+        first.value.transcript.exchanges.iter().filter(|e| e.stage == "floor-plan").collect();
+    assert_eq!(plans.len(), 2, "the model's answer and the repaired one");
+    assert_eq!(plans[0].answer, OVERLAPPING);
+    assert!(plans[1].prompt.contains("geometric repair"), "{}", plans[1].prompt);
+    assert!(plans[1].usage.is_none(), "no model was asked for the repair");
+    // The overlap goes to the earlier room: the bedroom's west wall moves onto the living room's.
+    assert!(
+        plans[1].answer.contains("[(5.3, 0), (5.3, 4), (9, 4), (9, 0)]"),
+        "{}",
+        plans[1].answer
+    );
+    let requests = server.calls();
+    drop(server);
+    let clean = Server::start(Arc::new(|asked: &Asked, _| clean_answer(asked)));
+    let reference = generate(&request(), &client(&clean), &options());
+    assert_eq!(requests, clean.calls(), "the repair cost no request");
+    assert!(!reference.has_errors());
+    let info = ModelInfo {
+        base_url: "replay".into(),
+        model: "test-model".into(),
+        temperature: 0.0,
+        parameters: BTreeMap::new(),
+    };
+    let replay = ReplayLlm::new(recorded_answers(&first.value.transcript), info);
+    let again = generate(&request(), &replay, &options());
+    assert!(!again.has_errors(), "{:#?}", again.diagnostics);
+    assert_eq!(again.value.holo, first.value.holo);
+}

@@ -73,14 +73,20 @@ fn plan_examples() {
 #[test]
 fn add_doors_repairs_reachability() {
     let text = std::fs::read_to_string("tests/corpus/plan/unreachable_room.holo").expect("fixture");
-    let (_, diagnostics, output) =
-        plan_text("unreachable_room.holo", &text, PlanOptions { add_doors: true });
+    let (_, diagnostics, output) = plan_text(
+        "unreachable_room.holo",
+        &text,
+        PlanOptions { add_doors: true, ..PlanOptions::default() },
+    );
     let codes: Vec<&str> = diagnostics.iter().map(|d| d.code.as_str()).collect();
     assert_eq!(codes, ["W0302"]);
     assert!(output.contains("door|1|a|b"), "{output}");
     let text = std::fs::read_to_string("tests/corpus/plan/no_exterior_door.holo").expect("fixture");
-    let (_, diagnostics, output) =
-        plan_text("no_exterior_door.holo", &text, PlanOptions { add_doors: true });
+    let (_, diagnostics, output) = plan_text(
+        "no_exterior_door.holo",
+        &text,
+        PlanOptions { add_doors: true, ..PlanOptions::default() },
+    );
     let codes: Vec<&str> = diagnostics.iter().map(|d| d.code.as_str()).collect();
     assert_eq!(codes, ["W0302"]);
     assert!(output.contains("door|1|exterior|a"), "{output}");

@@ -266,6 +266,7 @@ impl Checker {
             wall_material: None,
             corners: Vec::new(),
             corner_spans: Vec::new(),
+            corners_unit_span: None,
             windows: Vec::new(),
             objects: Vec::new(),
             ceiling: None,
@@ -382,6 +383,7 @@ impl Checker {
                 return;
             }
         }
+        room.corners_unit_span = c.unit.map(|(_, span)| span);
         let mut ok = true;
         for p in &c.points {
             let x = length_m(&p.x, default, "a corner coordinate", &mut self.diagnostics);

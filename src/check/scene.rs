@@ -75,6 +75,8 @@ pub struct Room {
     pub corners: Vec<[f64; 2]>,
     /// The span of each corner.
     pub corner_spans: Vec<Span>,
+    /// The span of the unit of `corners in UNIT ...`, when the corners are written that way.
+    pub corners_unit_span: Option<Span>,
     /// Windows in declaration order.
     pub windows: Vec<Window>,
     /// Object instances of the room (floor then wall objects), declaration order.

@@ -64,6 +64,10 @@ pub struct BuildArgs {
     /// from a door (default 0.25, AI2-THOR's agent).
     #[arg(long, value_name = "METRES", value_parser = parse_radius)]
     pub agent_radius: Option<f64>,
+    /// Repair a floor plan that does not build by moving room corners as little as possible
+    /// (W0307) before planning, as `holoc repair` does.
+    #[arg(long)]
+    pub repair: bool,
     /// Add a doorway for every room that cannot be reached from outside (warning W0302)
     /// instead of failing with E0314/E0315.
     #[arg(long)]
@@ -111,6 +115,7 @@ pub fn run(args: &BuildArgs) -> ExitCode {
         solver,
         node_budget: args.node_budget,
         agent_radius_m: args.agent_radius,
+        repair: args.repair,
         format: args.format,
         color: args.color,
         stdout_taken: args.output.as_deref().is_none_or(|p| p.as_os_str() == "-"),
@@ -201,6 +206,7 @@ pub(crate) struct BuildRequest<'a> {
     pub solver: Solver,
     pub node_budget: Option<u64>,
     pub agent_radius_m: Option<f64>,
+    pub repair: bool,
     pub format: DiagFormat,
     pub color: ColorChoice,
     /// Whether the product goes to stdout (then json and lsp diagnostics go to stderr).
@@ -231,11 +237,12 @@ pub(crate) fn run_build(
     let catalog = loaded.value;
     let options = BuildOptions {
         seed: request.seed,
-        plan: PlanOptions { add_doors: request.add_doors },
+        plan: PlanOptions { add_doors: request.add_doors, ..PlanOptions::default() },
         catalog: &catalog,
         solver: request.solver,
         node_budget: request.node_budget,
         agent_radius_m: request.agent_radius_m,
+        repair: request.repair,
         stand_ins: request.stand_ins,
     };
     let mut built = crate::compile::build(sources, file, &options);

@@ -12,6 +12,7 @@ pub mod fmt;
 pub mod generate;
 pub mod import;
 pub mod render;
+pub mod repair;
 pub mod validate;
 
 use clap::{Parser, Subcommand};
@@ -45,6 +46,8 @@ pub enum Command {
     Import(import::ImportArgs),
     /// Build a scene and draw its plan as SVG.
     Render(render::RenderArgs),
+    /// Move room corners, as little as possible, so that the floor plan builds.
+    Repair(repair::RepairArgs),
     /// Check house JSON files against the schema and the geometric rules.
     Validate(validate::ValidateArgs),
 }
@@ -60,6 +63,7 @@ pub fn run(cli: Cli) -> ExitCode {
         Command::Generate(args) => generate::run(args),
         Command::Import(args) => import::run(args),
         Command::Render(args) => render::run(args),
+        Command::Repair(args) => repair::run(args),
         Command::Validate(args) => validate::run(args),
     }
 }

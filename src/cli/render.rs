@@ -57,6 +57,7 @@ pub fn run(args: &RenderArgs) -> ExitCode {
         },
         node_budget: None,
         agent_radius_m: args.agent_radius,
+        repair: false,
         format: args.format,
         color: args.color,
         stdout_taken: args.output.as_deref().is_none_or(|p| p.as_os_str() == "-"),

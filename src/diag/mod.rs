@@ -69,6 +69,20 @@ pub struct Diagnostic {
     pub help: Option<String>,
     /// Further facts.
     pub notes: Vec<String>,
+    /// Edits that fix it (an editor offers them as code actions; `holoc repair --write`
+    /// applies the repair's).
+    pub fixes: Vec<Fix>,
+}
+
+/// A text edit that fixes a diagnostic.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Fix {
+    /// What it does, in a few words.
+    pub title: String,
+    /// The text replaced.
+    pub span: Span,
+    /// The new text.
+    pub replacement: String,
 }
 
 impl Diagnostic {
@@ -82,6 +96,7 @@ impl Diagnostic {
             secondary: Vec::new(),
             help: None,
             notes: Vec::new(),
+            fixes: Vec::new(),
         }
     }
 
@@ -119,6 +134,13 @@ impl Diagnostic {
     #[must_use]
     pub fn with_note(mut self, note: impl Into<String>) -> Diagnostic {
         self.notes.push(note.into());
+        self
+    }
+
+    /// Adds a fix.
+    #[must_use]
+    pub fn with_fix(mut self, fix: Fix) -> Diagnostic {
+        self.fixes.push(fix);
         self
     }
 
@@ -167,4 +189,29 @@ impl<T> Outcome<T> {
 pub fn sort(diagnostics: &mut [Diagnostic]) {
     diagnostics
         .sort_by_key(|d| d.primary.as_ref().map(|l| (l.span.file, l.span.start, l.span.end)));
+}
+
+/// The text of `file` with the fixes of `diagnostics` that edit it applied (last first, so
+/// that spans stay valid); a fix that overlaps one already applied, or whose span is not in the
+/// text, is skipped.
+pub fn apply_fixes(text: &str, file: crate::source::FileId, diagnostics: &[Diagnostic]) -> String {
+    let mut fixes: Vec<_> =
+        diagnostics.iter().flat_map(|d| &d.fixes).filter(|f| f.span.file == file).collect();
+    fixes.sort_by_key(|f| std::cmp::Reverse(f.span.start));
+    let mut out = text.to_string();
+    let mut last_start = usize::MAX;
+    for f in fixes {
+        let (start, end) = (f.span.start as usize, f.span.end as usize);
+        if end > last_start
+            || end > out.len()
+            || start > end
+            || !out.is_char_boundary(start)
+            || !out.is_char_boundary(end)
+        {
+            continue; // overlapping or stale edit
+        }
+        out.replace_range(start..end, &f.replacement);
+        last_start = start;
+    }
+    out
 }

@@ -132,6 +132,66 @@ fn plan_problems(
         .collect()
 }
 
+/// A floor-plan answer whose plan errors the geometric repair fixes (`plan::repair`), as the
+/// answer in the paper's format with the repaired corners, and what moved; `None` when the
+/// repair cannot make the plan build.
+pub(crate) fn repair_floor_plan(
+    answer: &str,
+    earlier: &Transcript,
+) -> Option<(String, Vec<String>)> {
+    let mut with = earlier.clone();
+    with.exchanges.retain(|e| e.stage != Stage::FloorPlan.as_str());
+    with.exchanges.push(crate::import::transcript::Exchange {
+        stage: Stage::FloorPlan.as_str().to_string(),
+        room: None,
+        attempt: 0,
+        prompt: String::new(),
+        answer: answer.to_string(),
+        parameters: None,
+        started_ms: 0,
+        duration_ms: 0,
+        usage: None,
+        diagnostics: 0,
+    });
+    let scene = scene(&with);
+    if scene.rooms.is_empty() {
+        return None;
+    }
+    let catalog = crate::resolve::structure::StructureCatalog::builtin();
+    let repaired = crate::plan::repair::repair(&scene, catalog);
+    if !repaired.value.changed {
+        return None;
+    }
+    let after = crate::plan::repair::apply(&scene, &repaired.value);
+    let still = crate::plan::plan(&after, catalog).diagnostics.into_iter().any(|d| {
+        d.is_error() && !matches!(d.code, crate::diag::Code::E0314 | crate::diag::Code::E0315)
+    });
+    if still {
+        return None;
+    }
+    let num = |v: f64| {
+        let r = (v * 1000.0).round() / 1000.0;
+        format!("{}", if r == 0.0 { 0.0 } else { r })
+    };
+    let lines: Vec<String> = after
+        .rooms
+        .iter()
+        .map(|r| {
+            let corners: Vec<String> =
+                r.corners.iter().map(|p| format!("({}, {})", num(p[0]), num(p[1]))).collect();
+            format!(
+                "{} | {} | {} | [{}]",
+                r.label,
+                r.floor_design.as_deref().unwrap_or("light oak wood floor"),
+                r.wall_design.as_deref().unwrap_or("white drywall"),
+                corners.join(", ")
+            )
+        })
+        .collect();
+    let notes = repaired.diagnostics.iter().map(|d| d.message.clone()).collect();
+    Some((lines.join("\n"), notes))
+}
+
 /// The whole `.holo` text of a transcript, canonical, with the diagnostics of importing and
 /// checking it. The answers and the `.holo` text are added to `sources`.
 pub(crate) fn build(transcript: &Transcript, sources: &mut SourceMap) -> Outcome<String> {

@@ -326,6 +326,7 @@ mod tests {
             wall_material: None,
             corners: corners.to_vec(),
             corner_spans: vec![span; corners.len()],
+            corners_unit_span: None,
             windows: Vec::new(),
             objects: Vec::new(),
             ceiling: None,

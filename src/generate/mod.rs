@@ -451,6 +451,39 @@ impl Run<'_> {
                 Some(r) => format!("the {} answer for room `{r}`", stage.as_str()),
                 None => format!("the {} answer", stage.as_str()),
             };
+            // A floor plan that only fails on its geometry is repaired by moving corners (no
+            // second request); the repaired answer is recorded as the next attempt.
+            if stage == Stage::FloorPlan
+                && found.plan_errors > 0
+                && found.plan_errors == found.errors.len()
+            {
+                let repair = bridge::repair_floor_plan(&answer.text, &context);
+                if let (Some((text, moves)), Some(model_exchange)) =
+                    (repair, asked.exchanges.last())
+                {
+                    let mut repaired = model_exchange.clone();
+                    repaired.attempt = attempt + 1;
+                    repaired.prompt = format!(
+                        "holoc: geometric repair (W0307) of attempt {attempt}; no model was asked"
+                    );
+                    repaired.answer = text;
+                    repaired.parameters = None;
+                    repaired.usage = None;
+                    repaired.duration_ms = 0;
+                    repaired.diagnostics = 0;
+                    asked.exchanges.push(repaired);
+                    let mut d = Diagnostic::new(
+                        Code::W0307,
+                        format!("{what} overlapped or left gaps; its corners were moved so that it builds"),
+                    )
+                    .with_help("review the corners in the `.holo` file");
+                    for m in moves {
+                        d = d.with_note(m);
+                    }
+                    asked.diagnostics.push(d);
+                    return asked;
+                }
+            }
             if found.errors.is_empty() {
                 if attempt > 0 {
                     asked.diagnostics.push(Diagnostic::new(

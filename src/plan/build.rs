@@ -72,7 +72,9 @@ pub(crate) fn run(
         ctx.place_doors();
         ctx.reachability();
         ctx.place_windows();
-        ctx.materials();
+        if !options.geometry_only {
+            ctx.materials();
+        }
         ctx.layers();
     }
     let sky_pick = rng(scene.seed, RNG_SKYBOX, 0).gen::<u64>();
@@ -82,7 +84,8 @@ pub(crate) fn run(
     } else {
         AgentPose { room: RoomId(0), position: [0.0, 0.0], rotation_deg: 0.0 }
     };
-    let ceiling_material = ctx.ceiling_material();
+    let ceiling_material =
+        if options.geometry_only { String::new() } else { ctx.ceiling_material() };
     let plan = FloorPlan {
         seed: scene.seed,
         wall_height_m: scene.wall_height_m,
@@ -1497,7 +1500,7 @@ impl Ctx<'_> {
 }
 
 /// Union-find root.
-fn find(g: &mut [usize], x: usize) -> usize {
+pub(super) fn find(g: &mut [usize], x: usize) -> usize {
     let mut r = x;
     while g[r] != r {
         r = g[r];

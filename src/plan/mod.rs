@@ -23,6 +23,7 @@
 mod build;
 mod dump;
 mod errors;
+pub mod repair;
 
 use crate::check::scene::{Direction, DoorKind, RoomId, Scene};
 use crate::diag::Outcome;
@@ -58,6 +59,9 @@ pub struct PlanOptions {
     /// Add a doorway for every room that cannot be reached from outside (and one to the outside
     /// when the house has none) instead of reporting an error.
     pub add_doors: bool,
+    /// Plan the geometry only (outlines, walls, doors, windows, reachability): no materials
+    /// are chosen and none is reported. Geometric repair checks its candidates this way.
+    pub geometry_only: bool,
 }
 
 /// The planned house structure.

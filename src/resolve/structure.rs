@@ -149,7 +149,7 @@ const IMPLIED_WORDS: &[(&str, &[&str])] = &[
 ];
 
 /// Splits free text into lower-case words, with a few spelling variants unified and the words
-/// colours and woods imply added after them ([`IMPLIED_WORDS`]).
+/// colours and woods imply added after them (the `IMPLIED_WORDS` table).
 pub fn text_words(text: &str) -> Vec<String> {
     let mut out = Vec::new();
     for w in text.split(|c: char| !c.is_alphanumeric()).filter(|w| w.len() > 1) {

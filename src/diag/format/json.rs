@@ -32,7 +32,7 @@ pub fn render_json(sources: &SourceMap, diagnostics: &[Diagnostic]) -> String {
                 labels.push(label_json(sources, l, true));
             }
             labels.extend(d.secondary.iter().map(|l| label_json(sources, l, false)));
-            json!({
+            let mut item = json!({
                 "code": d.code.as_str(),
                 "name": d.code.name(),
                 "severity": d.severity.as_str(),
@@ -48,7 +48,23 @@ pub fn render_json(sources: &SourceMap, diagnostics: &[Diagnostic]) -> String {
                 "help": d.help,
                 "notes": d.notes,
                 "url": d.code.url(),
-            })
+            });
+            if !d.fixes.is_empty() {
+                item["fixes"] = Value::Array(
+                    d.fixes
+                        .iter()
+                        .map(|f| {
+                            json!({
+                                "title": f.title,
+                                "start": f.span.start,
+                                "end": f.span.end,
+                                "replacement": f.replacement,
+                            })
+                        })
+                        .collect(),
+                );
+            }
+            item
         })
         .collect();
     let doc = json!({ "version": JSON_VERSION, "diagnostics": items });
