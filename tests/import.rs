@@ -316,3 +316,32 @@ fn wall_height_is_read_from_prose() {
         assert!(holo.contains(want), "{answer:?} gives\n{holo}");
     }
 }
+
+/// The model's order of lines is the placement order, even where instances of one object are
+/// grouped in one block: `counter-1 | near, stove-0` after `stove-0` keeps its relation, and
+/// the checked scene places counter-0, stove-0, counter-1 in that order.
+#[test]
+fn grouped_instances_keep_the_models_order() {
+    let answer =
+        "counter-0 | edge\nstove-0 | edge | near, counter-0\ncounter-1 | edge | near, stove-0\n";
+    let mut sources = SourceMap::new();
+    let id = sources.add("answer", answer.to_string());
+    let out = import::import_answer(Stage::FloorConstraints, &sources, id, &ImportContext::new());
+    assert!(!out.has_errors(), "{}", render(&sources, &out.diagnostics));
+    let mut holo = holoc::fmt::print(&out.value.fragment);
+    assert!(holo.contains("near stove-0"), "{holo}");
+    // Give the room an outline and check the scene: no error, and the placement order.
+    holo = holo.replacen("{\n", "{\n  corners in m (0, 0) (0, 4) (5, 4) (5, 0)\n", 1);
+    let mut sources = SourceMap::new();
+    let file = sources.add("scene.holo", holo.clone());
+    let checked = holoc::compile::check_file(&sources, file);
+    assert!(
+        !checked.diagnostics.iter().any(holoc::diag::Diagnostic::is_error),
+        "{holo}\n{}",
+        render(&sources, &checked.diagnostics)
+    );
+    let scene = checked.value.expect("a scene");
+    let order: Vec<&str> =
+        scene.rooms[0].objects.iter().map(|&o| scene.object(o).name.as_str()).collect();
+    assert_eq!(order, ["counter-0", "stove-0", "counter-1"]);
+}

@@ -361,7 +361,7 @@ impl Checker {
             ..scene.objects.len())
             .map(ObjectId)
             .collect();
-        self.check_constraint_order(&checked, scene);
+        self.check_constraint_order(&mut checked, scene);
         if let Some(c) = ceiling_decl {
             checked.ceiling = Some(self.ceiling(c, &checked, &names, scene));
         }
@@ -1108,9 +1108,12 @@ impl Checker {
         None
     }
 
-    /// Reports constraints whose target is declared after the object (forward references), and
-    /// circles among them.
-    fn check_constraint_order(&mut self, room: &Room, scene: &mut Scene) {
+    /// Puts the room's objects in placement order and reports circles. A constraint may name an
+    /// object declared later (the model's order of lines need not be the order of the object
+    /// blocks); the objects are then placed in declaration order except that an object comes
+    /// after every object its constraints name (a stable topological order). A constraint that
+    /// closes a circle is reported (E0205) and leaves the scene.
+    fn check_constraint_order(&mut self, room: &mut Room, scene: &mut Scene) {
         let ids: Vec<ObjectId> = room.objects.clone();
         let mut forward: Vec<(ObjectId, usize)> = Vec::new();
         for &id in &ids {
@@ -1137,57 +1140,68 @@ impl Checker {
         let mut in_cycle_reported: Vec<usize> = Vec::new();
         let mut drop: Vec<(ObjectId, usize)> = Vec::new();
         for &(id, k) in &forward {
-            let (target, span, target_span) = match &scene.objects[id.0].placement {
+            let (target, span) = match &scene.objects[id.0].placement {
                 Placement::Floor { constraints, .. } => {
-                    (constraints[k].target, constraints[k].span, constraints[k].target_span)
+                    (constraints[k].target, constraints[k].span)
                 }
                 Placement::Wall { .. } => continue,
             };
+            // Is there a path target → … → id? Then this constraint closes a circle: it leaves
+            // the graph (and the scene), and the circle is reported once.
+            let Some(path) = find_path(&edges, target.0, id.0) else { continue };
             drop.push((id, k));
-            // Is there a path target → … → id? Then the constraints form a circle.
-            if let Some(path) = find_path(&edges, target.0, id.0) {
-                if in_cycle_reported.contains(&id.0) || in_cycle_reported.contains(&target.0) {
-                    continue;
+            if let Some(out) = edges.get_mut(&id.0) {
+                if let Some(pos) = out.iter().position(|&(t, s)| t == target.0 && s == span) {
+                    out.remove(pos);
                 }
-                let mut d = Diagnostic::new(
-                    Code::E0205,
-                    format!(
-                        "constraints of `{}` and `{}` refer to each other in a circle",
-                        scene.objects[id.0].name, scene.objects[target.0].name
-                    ),
-                )
-                .with_primary(span, "this constraint closes the circle");
-                for (node, s) in &path {
-                    d = d.with_secondary(
-                        *s,
-                        format!("`{}` depends on the next object here", scene.objects[*node].name),
-                    );
-                    in_cycle_reported.push(*node);
-                }
-                in_cycle_reported.push(id.0);
-                self.push(d.with_help("remove one of these constraints; an object may only depend on objects before it"));
-            } else {
-                let target_obj = &scene.objects[target.0];
-                self.push(
-                    Diagnostic::new(
-                        Code::E0204,
-                        format!("`{}` is declared after `{}`, which refers to it", target_obj.name, scene.objects[id.0].name),
-                    )
-                    .with_primary(target_span, "declared later")
-                    .with_secondary(target_obj.name_span, "declared here")
-                    .with_help(format!(
-                        "move `{}` above `{}`; objects are placed in order and may only depend on earlier ones",
-                        target_obj.group, scene.objects[id.0].group
-                    )),
-                );
             }
+            if in_cycle_reported.contains(&id.0) || in_cycle_reported.contains(&target.0) {
+                continue;
+            }
+            let mut d = Diagnostic::new(
+                Code::E0205,
+                format!(
+                    "constraints of `{}` and `{}` refer to each other in a circle",
+                    scene.objects[id.0].name, scene.objects[target.0].name
+                ),
+            )
+            .with_primary(span, "this constraint closes the circle");
+            for (node, s) in &path {
+                d = d.with_secondary(
+                    *s,
+                    format!("`{}` depends on the next object here", scene.objects[*node].name),
+                );
+                in_cycle_reported.push(*node);
+            }
+            in_cycle_reported.push(id.0);
+            self.push(d.with_help(
+                "remove one of these constraints; objects are placed one after another, each \
+                 after the objects it names",
+            ));
         }
         // One cause, one diagnostic: the reported constraints leave the scene.
+        drop.sort_by_key(|&(id, k)| (id.0, k));
         for (id, k) in drop.into_iter().rev() {
             if let Placement::Floor { constraints, .. } = &mut scene.objects[id.0].placement {
                 constraints.remove(k);
             }
         }
+        // Placement order: declaration order, each object after the objects it names.
+        let mut placed: Vec<ObjectId> = Vec::with_capacity(ids.len());
+        let mut left: Vec<ObjectId> = ids;
+        while !left.is_empty() {
+            let ready = left.iter().position(|id| match &scene.objects[id.0].placement {
+                Placement::Floor { constraints, .. } => constraints
+                    .iter()
+                    .all(|c| placed.contains(&c.target) || !left.contains(&c.target)),
+                Placement::Wall { .. } => true,
+            });
+            // The circles are gone, so some object is always ready; the fallback keeps the
+            // declaration order should that ever not hold.
+            let next = ready.unwrap_or(0);
+            placed.push(left.remove(next));
+        }
+        room.objects = placed;
     }
 
     fn ceiling(

@@ -66,7 +66,6 @@ codes! {
     E0201 "unknown-object" "a reference names no object of the room";
     E0202 "unknown-room" "a reference names no room";
     E0203 "duplicate-definition" "two definitions use the same name";
-    E0204 "forward-reference" "a constraint refers to an object declared after it";
     E0205 "constraint-cycle" "constraints refer to each other in a circle";
     E0206 "self-reference" "an object's constraint targets the object itself";
     E0207 "wrong-target-kind" "a reference names something of the wrong kind";

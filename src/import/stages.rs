@@ -1601,17 +1601,16 @@ fn floor_constraints(text: &str, file: FileId, ctx: &mut ImportContext, d: &mut 
             }
         }
     }
-    // Targets must come earlier in the final order.
-    let key = |ctx: &ImportContext, (oi, ii): Inst| -> (usize, usize) {
+    // Targets must come earlier in the model's order of lines (the paper's placement order);
+    // the scene keeps that order even where instances of one object are grouped, since the
+    // checker places an object after the objects it names.
+    let key = |ctx: &ImportContext, (oi, ii): Inst| -> usize {
         let o = ctx.draft.room(&room).and_then(|r| r.objects.get(oi));
-        let go = o.and_then(|o| o.order).unwrap_or(usize::MAX);
-        let io = o.and_then(|o| o.instances.get(ii)).and_then(|i| i.order).unwrap_or(usize::MAX);
-        (go, io)
+        o.and_then(|o| o.instances.get(ii)).and_then(|i| i.order).unwrap_or(usize::MAX)
     };
     for p in pending {
         let (kf, kt) = (key(ctx, p.from), key(ctx, p.to));
-        let earlier = if p.from.0 == p.to.0 { kt.1 < kf.1 } else { kt.0 < kf.0 };
-        if earlier {
+        if kt < kf {
             let target = inst_name(ctx, &room, p.to);
             if let Some(i) = inst_mut(ctx, &room, p.from) {
                 i.constraints.push((p.name, Some(target)));
