@@ -27,6 +27,9 @@ use units::{angle_deg, count, length_m};
 pub const WALL_HEIGHT_RANGE_M: (f64, f64) = (2.0, 8.0);
 /// The largest number of instances in one object group.
 pub const MAX_GROUP_COUNT: u32 = 50;
+/// The most corners a room outline may have (real rooms have 4 to 20; the plan stage's checks
+/// grow with the square of the corners).
+pub const MAX_ROOM_CORNERS: usize = 200;
 /// The largest number of windows in one window row.
 pub const MAX_WINDOW_COUNT: u32 = 20;
 /// The largest number of small objects in one `on top` line.
@@ -384,6 +387,21 @@ impl Checker {
             }
         }
         room.corners_unit_span = c.unit.map(|(_, span)| span);
+        if c.points.len() > MAX_ROOM_CORNERS {
+            self.push(
+                Diagnostic::new(
+                    Code::E0220,
+                    format!(
+                        "room `{}` has {} corners; holoc accepts at most {MAX_ROOM_CORNERS}",
+                        room.name,
+                        c.points.len()
+                    ),
+                )
+                .with_primary(c.span, "too many corners")
+                .with_help("a room is a simple outline; split it into several rooms"),
+            );
+            return;
+        }
         let mut ok = true;
         for p in &c.points {
             let x = length_m(&p.x, default, "a corner coordinate", &mut self.diagnostics);

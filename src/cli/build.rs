@@ -57,8 +57,9 @@ pub struct BuildArgs {
     /// The floor solver.
     #[arg(long, value_enum, default_value_t = SolverArg::Dfs)]
     pub solver: SolverArg,
-    /// The search budget per room in nodes (default 1000); the search never looks at the clock.
-    #[arg(long)]
+    /// The search budget per room in nodes (default 1000, at most 10000); the search never
+    /// looks at the clock.
+    #[arg(long, value_parser = clap::value_parser!(u64).range(0..=crate::solve::MAX_NODE_BUDGET))]
     pub node_budget: Option<u64>,
     /// The radius of the agent (metres) that must reach every object and all the free floor
     /// from a door (default 0.25, AI2-THOR's agent).

@@ -89,10 +89,32 @@ pub fn exit_for(diagnostics: &[Diagnostic]) -> ExitCode {
     reason = "the error is printed at once; it is rare and never propagated far"
 )]
 pub fn read_source(sources: &mut SourceMap, path: &Path) -> Result<FileId, Diagnostic> {
-    let bytes = std::fs::read(path).map_err(|e| {
+    use std::io::Read as _;
+    let cannot = |e: &dyn std::fmt::Display| {
         Diagnostic::new(Code::E0001, format!("cannot read `{}`: {e}", path.display()))
             .with_help("check the path and the file's permissions")
-    })?;
+    };
+    let file = std::fs::File::open(path).map_err(|e| cannot(&e))?;
+    if file.metadata().is_ok_and(|m| m.is_dir()) {
+        return Err(cannot(&"it is a folder").with_help("give a file, not a folder"));
+    }
+    // Regular files, pipes and devices are read alike, up to the limit: `/dev/zero` or a
+    // runaway pipe ends with an error instead of filling the memory.
+    let mut bytes = Vec::new();
+    file.take(MAX_INPUT_BYTES + 1).read_to_end(&mut bytes).map_err(|e| cannot(&e))?;
+    if bytes.len() as u64 > MAX_INPUT_BYTES {
+        return Err(Diagnostic::new(
+            Code::E0001,
+            format!(
+                "`{}` is larger than {} MiB, the most holoc reads",
+                path.display(),
+                MAX_INPUT_BYTES / (1024 * 1024)
+            ),
+        )
+        .with_help(
+            "a scene, an answer or a house is far smaller; check that this is the right file",
+        ));
+    }
     let text = String::from_utf8(bytes).map_err(|e| {
         Diagnostic::new(
             Code::E0003,
@@ -106,6 +128,9 @@ pub fn read_source(sources: &mut SourceMap, path: &Path) -> Result<FileId, Diagn
     })?;
     Ok(sources.add(path.display().to_string(), text))
 }
+
+/// The largest input file holoc reads (a scene, an answer, a transcript, a house), bytes.
+pub const MAX_INPUT_BYTES: u64 = 32 * 1024 * 1024;
 
 /// Prints diagnostics in the chosen format: human and short to stderr, json and lsp to stdout.
 pub fn emit(

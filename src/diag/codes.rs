@@ -81,6 +81,7 @@ codes! {
     E0217 "misplaced-statement" "a statement is not allowed in this kind of block";
     E0218 "missing-target" "a relation names no object to relate to";
     E0219 "unexpected-target" "`edge` or `middle` is followed by an object name";
+    E0220 "too-many-corners" "a room outline has more corners than holoc accepts";
     W0201 "window-size-not-offered" "a window size is not one of the sizes of its type";
     W0202 "missing-global-constraint" "a floor object has neither `edge` nor `middle`";
     W0203 "empty-scene" "the scene declares no room";
@@ -159,6 +160,7 @@ codes! {
     W0501 "unplaceable-object" "an object cannot be placed without breaking a hard rule and is left out";
     W0502 "pinned-pose-breaks-rule" "a pinned pose breaks a hard layout rule and is kept as pinned";
     W0503 "dependent-left-out" "an object whose every relation names an object left out is left out too";
+    W0504 "room-object-limit" "a room has more floor objects than the solver places, and the rest are left out";
     E0801 "unknown-placeholder" "a prompt template uses a placeholder its stage does not fill in";
     E0802 "missing-placeholder" "a prompt template leaves out a placeholder its answer depends on";
     E0803 "model-unauthorized" "the model server refused the API key";

@@ -332,8 +332,9 @@ fn retry_after(response: &reqwest::blocking::Response) -> Option<Duration> {
     (seconds.is_finite() && seconds >= 0.0).then(|| Duration::from_secs_f64(seconds.min(3600.0)))
 }
 
-/// Reads `choices[0].message.content` and `usage` from a chat completion.
-fn parse_completion(body: &str) -> Result<LlmAnswer, String> {
+/// Reads `choices[0].message.content` and `usage` from the body of a chat completion (any
+/// text: a body that is not a completion is an error message, never a panic).
+pub fn parse_completion(body: &str) -> Result<LlmAnswer, String> {
     let value: Value =
         serde_json::from_str(body).map_err(|e| format!("the body is not JSON ({e})"))?;
     let text = value

@@ -231,35 +231,64 @@ impl Catalog {
         let mut diagnostics = Vec::new();
         for path in paths {
             let path = path.as_ref();
-            match read_catalog_text(path) {
-                Ok((bytes, text)) => {
-                    let name = path.display().to_string();
-                    let file = sources.add(name.clone(), text);
-                    let text = sources.get(file).text.clone();
-                    let source_idx = catalog.sources.len();
-                    let parsed = parse_catalog(&text, file, source_idx, &mut diagnostics);
-                    catalog.sources.push(CatalogSource {
-                        name: catalog_name(path),
-                        version: parsed.version,
-                        sha256: sha256_hex(&bytes),
-                        path: Some(name),
-                        n_assets: parsed.assets.len(),
-                    });
-                    for asset in parsed.assets {
-                        catalog.insert(asset);
-                    }
-                }
-                Err(message) => diagnostics.push(
-                    Diagnostic::new(
-                        Code::E0403,
-                        format!("cannot read catalog `{}`: {message}", path.display()),
-                    )
-                    .with_help("check the path given to `--catalog`"),
-                ),
+            let name = path.display().to_string();
+            match read_catalog_bytes(path) {
+                Ok(bytes) => catalog.add_source(&name, &bytes, sources, &mut diagnostics),
+                Err(message) => diagnostics.push(unreadable(&name, &message)),
             }
         }
         catalog.index = TextIndex::build(&catalog.assets);
         Outcome::new(catalog, diagnostics)
+    }
+
+    /// Reads one user catalog file (its bytes, JSON plain or gzip) without building a catalog:
+    /// the number of assets it gives, with the diagnostics `load` would report for it.
+    pub fn read_user_catalog(name: &str, bytes: &[u8], sources: &mut SourceMap) -> Outcome<usize> {
+        let mut diagnostics = Vec::new();
+        let count = match catalog_text(bytes) {
+            Ok(text) => {
+                let file = sources.add(name.to_string(), text);
+                let text = sources.get(file).text.clone();
+                parse_catalog(&text, file, 1, &mut diagnostics).assets.len()
+            }
+            Err(message) => {
+                diagnostics.push(unreadable(name, &message));
+                0
+            }
+        };
+        Outcome::new(count, diagnostics)
+    }
+
+    /// Adds the assets of one catalog file (its bytes) as a new source; the text index is
+    /// rebuilt by the caller.
+    fn add_source(
+        &mut self,
+        name: &str,
+        bytes: &[u8],
+        sources: &mut SourceMap,
+        diagnostics: &mut Vec<Diagnostic>,
+    ) {
+        let text = match catalog_text(bytes) {
+            Ok(text) => text,
+            Err(message) => {
+                diagnostics.push(unreadable(name, &message));
+                return;
+            }
+        };
+        let file = sources.add(name.to_string(), text);
+        let text = sources.get(file).text.clone();
+        let source_idx = self.sources.len();
+        let parsed = parse_catalog(&text, file, source_idx, diagnostics);
+        self.sources.push(CatalogSource {
+            name: catalog_name(Path::new(name)),
+            version: parsed.version,
+            sha256: sha256_hex(bytes),
+            path: Some(name.to_string()),
+            n_assets: parsed.assets.len(),
+        });
+        for asset in parsed.assets {
+            self.insert(asset);
+        }
     }
 
     /// A catalog of the given assets only (for tests and benchmarks), with one source.
@@ -345,19 +374,49 @@ fn catalog_name(path: &Path) -> String {
 }
 
 /// Reads a catalog file, decompressing gzip (by magic bytes), and checks it is UTF-8.
-fn read_catalog_text(path: &Path) -> Result<(Vec<u8>, String), String> {
-    let bytes = std::fs::read(path).map_err(|e| e.to_string())?;
+/// The largest catalog holoc reads, after decompression (bytes): objathor's 50,000 assets
+/// take about 150 MB; a gzip bomb stops here instead of filling the memory.
+pub const MAX_CATALOG_BYTES: u64 = 512 * 1024 * 1024;
+
+/// The bytes of a catalog file (at most one byte more than [`MAX_CATALOG_BYTES`] is read;
+/// [`catalog_text`] refuses that much).
+fn read_catalog_bytes(path: &Path) -> Result<Vec<u8>, String> {
+    let file = std::fs::File::open(path).map_err(|e| e.to_string())?;
+    if file.metadata().is_ok_and(|m| m.is_dir()) {
+        return Err("it is a folder".to_string());
+    }
+    let mut bytes = Vec::new();
+    file.take(MAX_CATALOG_BYTES + 1).read_to_end(&mut bytes).map_err(|e| e.to_string())?;
+    Ok(bytes)
+}
+
+/// E0403 for a catalog file that cannot be read.
+fn unreadable(name: &str, message: &str) -> Diagnostic {
+    Diagnostic::new(Code::E0403, format!("cannot read catalog `{name}`: {message}"))
+        .with_help("check the path given to `--catalog`")
+}
+
+/// The text of a catalog file's bytes: gzip is decompressed (at most [`MAX_CATALOG_BYTES`]),
+/// and the text must be UTF-8.
+fn catalog_text(bytes: &[u8]) -> Result<String, String> {
+    let too_large = || format!("it is larger than {} MiB", MAX_CATALOG_BYTES / (1024 * 1024));
+    if bytes.len() as u64 > MAX_CATALOG_BYTES {
+        return Err(too_large());
+    }
     let raw = if bytes.starts_with(&[0x1f, 0x8b]) {
         let mut out = Vec::new();
-        flate2::read::GzDecoder::new(&bytes[..])
+        flate2::read::GzDecoder::new(bytes)
+            .take(MAX_CATALOG_BYTES + 1)
             .read_to_end(&mut out)
             .map_err(|e| format!("bad gzip data: {e}"))?;
+        if out.len() as u64 > MAX_CATALOG_BYTES {
+            return Err(too_large());
+        }
         out
     } else {
-        bytes.clone()
+        bytes.to_vec()
     };
-    let text = String::from_utf8(raw).map_err(|_| "the file is not UTF-8 text".to_string())?;
-    Ok((bytes, text))
+    String::from_utf8(raw).map_err(|_| "the file is not UTF-8 text".to_string())
 }
 
 struct Parsed {

@@ -839,7 +839,7 @@ pub(crate) fn run(
         statics: statics.into_iter().map(|c| StaticSet::new(prep, c)).collect(),
         static_fails,
         remaining_max,
-        budget: options.node_budget,
+        budget: options.node_budget.min(super::MAX_NODE_BUDGET),
         seed: options.seed,
         nodes: 0,
         best: None,

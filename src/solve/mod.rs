@@ -83,6 +83,13 @@ pub const MAX_ROOM_SIDE_M: f64 = 100.0;
 
 /// The default node budget per room.
 pub const DEFAULT_NODE_BUDGET: u64 = 1000;
+/// The most floor objects the solver places in one room; the ones after them in placement
+/// order are left out (W0504). A real room holds a few dozen; the limit keeps a runaway scene
+/// (a room of 10,000 boxes) to seconds.
+pub const MAX_FLOOR_OBJECTS_PER_ROOM: usize = 100;
+/// The largest node budget the DFS takes (about 6 s in the slowest corpus room); `--node-budget`
+/// refuses more.
+pub const MAX_NODE_BUDGET: u64 = 10_000;
 
 /// A hole in a wall: a door or a window.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -133,6 +133,15 @@ pub fn solve(
             dependents.push((room, kept.object(id).name.clone(), targets));
         }
     }
+    // Floor objects beyond the room limit, in placement order, are left out.
+    let mut over_limit: Vec<(RoomId, ObjectId)> = Vec::new();
+    for room in &kept.rooms {
+        let floor = room.objects.iter().copied().filter(|id| kept.object(*id).is_floor());
+        over_limit.extend(floor.skip(super::MAX_FLOOR_OBJECTS_PER_ROOM).map(|id| (room.id, id)));
+    }
+    for &(room, id) in &over_limit {
+        kept.rooms[room.0].objects.retain(|o| *o != id);
+    }
     let sizes = ResolvedSizes { scene: &kept, resolved };
     let mut diagnostics = Vec::new();
     let mut rooms = Vec::new();
@@ -230,6 +239,47 @@ pub fn solve(
                         rule: None,
                         reason: format!("its receptacle `{name}` is left out"),
                     });
+                }
+            }
+        }
+        let beyond: Vec<ObjectId> =
+            over_limit.iter().filter(|(r, _)| *r == room.id).map(|&(_, id)| id).collect();
+        if let Some(&first) = beyond.first() {
+            let object = scene.object(first);
+            diagnostics.push(
+                crate::diag::Diagnostic::new(
+                    crate::diag::Code::W0504,
+                    format!(
+                        "room `{}` has {} floor objects; the {} after the first {} are left out",
+                        room.name,
+                        super::MAX_FLOOR_OBJECTS_PER_ROOM + beyond.len(),
+                        beyond.len(),
+                        super::MAX_FLOOR_OBJECTS_PER_ROOM
+                    ),
+                )
+                .with_primary(object.name_span, "the first object left out")
+                .with_help("split the room, or leave out objects; a real room holds a few dozen"),
+            );
+            for &id in &beyond {
+                let o = scene.object(id);
+                solved.value.unplaced.push(super::Unplaced {
+                    id: o.name.clone(),
+                    kind: "floor",
+                    rule: None,
+                    reason: format!(
+                        "the room holds more than {} floor objects",
+                        super::MAX_FLOOR_OBJECTS_PER_ROOM
+                    ),
+                });
+                for item in &o.on_top {
+                    for i in 0..item.count {
+                        solved.value.unplaced.push(super::Unplaced {
+                            id: format!("{}-{i}|{}", item.item, o.name),
+                            kind: "small",
+                            rule: None,
+                            reason: format!("its receptacle `{}` is left out", o.name),
+                        });
+                    }
                 }
             }
         }
