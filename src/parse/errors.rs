@@ -269,3 +269,109 @@ pub(super) fn from_pest(
     }
     d
 }
+
+/// The diagnostic for a block left open, when the text has one: braces are matched outside
+/// strings and comments, and a `}` closes the block whose opening line is indented as it is
+/// (so that `room a {` … `object c { edge` … `}` reports the object's `{`, not the room's). The
+/// diagnostic points at the `{` that is never closed and at the place it should have been
+/// closed: before the `}` that closed the enclosing block instead, or at the end of the file.
+pub(crate) fn unclosed_brace(file: FileId, text: &str) -> Option<Diagnostic> {
+    let indent_of = |at: usize| {
+        let line_start = text[..at].rfind('\n').map_or(0, |i| i + 1);
+        text[line_start..].chars().take_while(|c| *c == ' ' || *c == '\t').count()
+    };
+    // Open braces: (position, indentation of their line). The indentation of the current line
+    // is kept as the scan goes, so that the scan stays linear.
+    let mut open: Vec<(usize, usize)> = Vec::new();
+    // The first brace found unclosed, and where its block should have ended.
+    let mut unclosed: Option<(usize, usize)> = None;
+    let bytes = text.as_bytes();
+    let line_indent =
+        |from: usize| bytes[from..].iter().take_while(|b| **b == b' ' || **b == b'\t').count();
+    let mut indent = line_indent(0);
+    let mut i = 0;
+    while i < bytes.len() {
+        match bytes[i] {
+            b'\n' => indent = line_indent(i + 1),
+            b'"' => {
+                i += 1;
+                while i < bytes.len() && bytes[i] != b'"' && bytes[i] != b'\n' {
+                    i += if bytes[i] == b'\\' { 2 } else { 1 };
+                }
+                if bytes.get(i) == Some(&b'\n') {
+                    indent = line_indent(i + 1);
+                }
+            }
+            b'/' if bytes.get(i + 1) == Some(&b'/') => {
+                while i < bytes.len() && bytes[i] != b'\n' {
+                    i += 1;
+                }
+                if i < bytes.len() {
+                    indent = line_indent(i + 1);
+                }
+            }
+            b'{' => open.push((i, indent)),
+            b'}' => {
+                // Blocks opened deeper than this `}` and still open were never closed.
+                while open.len() > 1 && open.last().is_some_and(|&(_, k)| k > indent) {
+                    let (at, _) = open.pop().unwrap_or_default();
+                    if unclosed.is_none() {
+                        unclosed = Some((at, i));
+                    }
+                }
+                open.pop();
+            }
+            _ => {}
+        }
+        i += 1;
+    }
+    let (at, should_close) = match (unclosed, open.first()) {
+        (Some(found), _) => found,
+        (None, Some(&(at, _))) => (open.last().map_or(at, |&(a, _)| a), text.len()),
+        (None, None) => return None,
+    };
+    let header_start = text[..at].rfind('\n').map_or(0, |i| i + 1);
+    let header: String = {
+        let whole = text[header_start..at].trim();
+        let short: String = whole.chars().take(40).collect();
+        if short.len() < whole.len() {
+            format!("{short}…")
+        } else {
+            short
+        }
+    };
+    let mut d = Diagnostic::new(
+        Code::E0101,
+        format!(
+            "`{}{{` is never closed",
+            if header.is_empty() { String::new() } else { format!("{header} ") }
+        ),
+    )
+    .with_primary(Span::new(file, at, at + 1), "this block is never closed");
+    let close_at = if should_close >= text.len() {
+        // At the end of the file: before the first later line indented no deeper than the
+        // block's own line (the next statement of the enclosing block), else at the end.
+        let own_indent = indent_of(at);
+        let after_header = text[at..].find('\n').map_or(text.len(), |i| at + i + 1);
+        let mut last_content_end = text[..after_header].trim_end().len();
+        let mut found = None;
+        let mut pos = after_header;
+        for line in text[after_header..].split_inclusive('\n') {
+            let trimmed = line.trim();
+            let indent = line.len() - line.trim_start().len();
+            if !trimmed.is_empty() && !trimmed.starts_with("//") {
+                if indent <= own_indent && !trimmed.starts_with('}') {
+                    found = Some(last_content_end);
+                    break;
+                }
+                last_content_end = pos + line.trim_end().len();
+            }
+            pos += line.len();
+        }
+        found.unwrap_or_else(|| text.trim_end().len())
+    } else {
+        text[..should_close].rfind('\n').map_or(should_close, |i| i)
+    };
+    d = d.with_secondary(Span::new(file, close_at, close_at), "its `}` belongs here");
+    Some(d.with_help("add the missing `}` where the block ends"))
+}

@@ -42,7 +42,10 @@ pub fn parse(sources: &SourceMap, file: FileId) -> Outcome<ast::File> {
             builder.file(file_pair)
         }
         Err(error) => {
-            builder.diagnostics.push(errors::from_pest(file, 0, &error, Context::Top, text));
+            // A block left open makes the whole file fail at its end; say which block.
+            let diagnostic = errors::unclosed_brace(file, text)
+                .unwrap_or_else(|| errors::from_pest(file, 0, &error, Context::Top, text));
+            builder.diagnostics.push(diagnostic);
             ast::File {
                 items: vec![ast::Item::Error(ast::ErrorNode { text: text.clone(), span: whole })],
                 span: whole,
