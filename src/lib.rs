@@ -5,6 +5,7 @@
 //! `ARCHITECTURE.md` for the pipeline and the invariants of every module.
 
 pub mod ast;
+pub mod batch;
 pub mod check;
 pub mod cli;
 pub mod compile;

@@ -16,10 +16,7 @@ use std::process::ExitCode;
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
-/// The server used when neither `--base-url` nor `HOLOC_BASE_URL` is given.
-pub const DEFAULT_BASE_URL: &str = "https://api.openai.com/v1";
-/// The model used when neither `--model` nor `HOLOC_MODEL` is given.
-pub const DEFAULT_MODEL: &str = "gpt-4o";
+pub use crate::generate::client::{DEFAULT_BASE_URL, DEFAULT_MODEL};
 
 /// Arguments of `holoc generate`.
 #[derive(Debug, clap::Args)]

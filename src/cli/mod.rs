@@ -4,6 +4,7 @@
 //! an internal error.
 
 pub mod assets;
+pub mod batch;
 pub mod build;
 pub mod check;
 pub mod common;
@@ -44,6 +45,8 @@ pub enum Command {
     Generate(generate::GenerateArgs),
     /// Turn LLM answers, a transcript or an original Holodeck scene into `.holo`.
     Import(import::ImportArgs),
+    /// Build or generate every job of a manifest, resumable and sharded.
+    Batch(batch::BatchArgs),
     /// Build a scene and draw its plan as SVG.
     Render(render::RenderArgs),
     /// Move room corners, as little as possible, so that the floor plan builds.
@@ -62,6 +65,7 @@ pub fn run(cli: Cli) -> ExitCode {
         Command::Explain(args) => explain::run(args),
         Command::Generate(args) => generate::run(args),
         Command::Import(args) => import::run(args),
+        Command::Batch(args) => batch::run(args),
         Command::Render(args) => render::run(args),
         Command::Repair(args) => repair::run(args),
         Command::Validate(args) => validate::run(args),

@@ -332,6 +332,11 @@ fn retry_after(response: &reqwest::blocking::Response) -> Option<Duration> {
     (seconds.is_finite() && seconds >= 0.0).then(|| Duration::from_secs_f64(seconds.min(3600.0)))
 }
 
+/// The server used when neither `--base-url` nor `HOLOC_BASE_URL` is given.
+pub const DEFAULT_BASE_URL: &str = "https://api.openai.com/v1";
+/// The model used when neither `--model` nor `HOLOC_MODEL` is given.
+pub const DEFAULT_MODEL: &str = "gpt-4o";
+
 /// Reads `choices[0].message.content` and `usage` from the body of a chat completion (any
 /// text: a body that is not a completion is an error message, never a panic).
 pub fn parse_completion(body: &str) -> Result<LlmAnswer, String> {

@@ -273,7 +273,7 @@ fn start_lines(text: &str, file: FileId, d: &mut Diags, stage: Stage) -> Vec<Lin
     if l.lines.is_empty() {
         d.push(
             Diagnostic::new(Code::E0708, format!("the {stage} answer has no `|`-separated line"))
-                .with_primary(Span::new(file, 0, text.len().min(200)), "no list here")
+                .with_primary(Span::new(file, 0, prefix_end(text, 200)), "no list here")
                 .with_help("answer with one `|`-separated line per item"),
         );
     }
@@ -396,7 +396,7 @@ fn wall_height(text: &str, file: FileId, ctx: &mut ImportContext, d: &mut Diags)
     } else {
         d.push(
             Diagnostic::new(Code::E0702, "the wall-height answer holds no number")
-                .with_primary(Span::new(file, 0, text.len().min(200)), "no number here")
+                .with_primary(Span::new(file, 0, prefix_end(text, 200)), "no number here")
                 .with_help("answer with a bare number of metres, e.g. `3.0`")
                 .with_note(
                     "the original picks a random height in 2.5–4.5 m; holoc leaves it unset",
@@ -873,7 +873,7 @@ fn extract_json<T: serde::de::DeserializeOwned>(
                 Code::E0706,
                 format!("the {stage} answer holds no JSON (no `{open}` … `{close}`)"),
             )
-            .with_primary(Span::new(file, 0, text.len().min(200)), "no JSON here")
+            .with_primary(Span::new(file, 0, prefix_end(text, 200)), "no JSON here")
             .with_help("answer with one JSON value; prose around it is fine"),
         );
         return None;
@@ -2041,4 +2041,14 @@ fn absolute_layout(text: &str, file: FileId, ctx: &mut ImportContext, d: &mut Di
             }
         }
     }
+}
+
+/// The end of the first `max` bytes of `text`, moved back to a character boundary (a span must
+/// never end inside a character).
+fn prefix_end(text: &str, max: usize) -> usize {
+    let mut end = text.len().min(max);
+    while !text.is_char_boundary(end) {
+        end -= 1;
+    }
+    end
 }

@@ -1,0 +1,578 @@
+//! `holoc batch`: many scenes from a manifest, resumable and sharded.
+//!
+//! A manifest is JSON Lines, one job per line: a `.holo` file to build (`"build"`) or a request
+//! to generate (`"generate"`), with optional overrides. Each job's outputs go under a folder
+//! named by a content hash of the job (its settings, the bytes of its input and of its
+//! catalogs, the holoc version), written in a temporary folder and renamed into place with its
+//! completion marker, so a folder that exists is complete. A run skips the jobs whose folder
+//! exists, so a killed run resumes where it stopped and a changed job (a new hash) is redone.
+//! `--shard I/N` takes the jobs whose line number is I modulo N: disjoint slices that cover the
+//! manifest, the same on every machine.
+
+use crate::compile::{build, BuildOptions};
+use crate::diag::{Diagnostic, Outcome};
+use crate::generate::{
+    self, GenerateOptions, HttpLlm, HttpOptions, Llm, LlmAnswer, LlmError, LlmRequest, ModelInfo,
+    Request,
+};
+use crate::resolve::Catalog;
+use crate::solve::Solver;
+use crate::source::SourceMap;
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::sync::{Condvar, Mutex};
+use std::time::Instant;
+
+/// The name of the completion marker inside a job's folder.
+pub const DONE_MARKER: &str = "done";
+
+/// One line of a manifest, as written.
+#[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct JobSpec {
+    /// A name for the job in the summary (default: `line-<n>`); not part of the hash.
+    #[serde(default, skip_serializing)]
+    pub id: Option<String>,
+    /// A `.holo` file to build, relative to the manifest's folder.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub build: Option<String>,
+    /// A request to generate (then build).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub generate: Option<String>,
+    /// The scene type of a generated scene (recorded in the summary, e.g. `bedroom`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub scene_type: Option<String>,
+    /// The seed (build: instead of the scene's; generate: the request's, default 1).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub seed: Option<u64>,
+    /// `dfs` (default) or `milp`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub solver: Option<String>,
+    /// The DFS node budget per room.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub node_budget: Option<u64>,
+    /// User catalogs, relative to the manifest's folder.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub catalog: Vec<String>,
+    /// Whether stand-ins fill in (default true).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stand_ins: Option<bool>,
+    /// The model of a generate job (default: `HOLOC_MODEL`, else holoc's default).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub model: Option<String>,
+    /// The API of a generate job (default: `HOLOC_BASE_URL`, else holoc's default).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub base_url: Option<String>,
+    /// The sampling temperature of a generate job.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub temperature: Option<f64>,
+}
+
+/// A job of the manifest, ready to run.
+#[derive(Clone, Debug)]
+pub struct Job {
+    /// The line of the manifest (1-based).
+    pub line: usize,
+    /// The job's name.
+    pub id: String,
+    /// What the line asks for.
+    pub spec: JobSpec,
+    /// The content hash (hex, 16 characters): the job's folder name.
+    pub hash: String,
+    /// The `.holo` file of a build job.
+    pub input: Option<PathBuf>,
+    /// The catalogs, as paths.
+    pub catalogs: Vec<PathBuf>,
+}
+
+/// A manifest line that is not a job.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct ManifestError {
+    /// The line (1-based).
+    pub line: usize,
+    /// What is wrong.
+    pub message: String,
+}
+
+/// How a job ended.
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub enum Status {
+    /// Built now.
+    Done,
+    /// Its folder was complete already.
+    Skipped,
+    /// Failed; nothing was written for it.
+    Failed,
+}
+
+/// One job's line of the summary.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct JobResult {
+    /// The manifest line.
+    pub line: usize,
+    /// The job's name.
+    pub id: String,
+    /// The folder name.
+    pub hash: String,
+    /// How it ended.
+    pub status: Status,
+    /// The stage that failed (`manifest`, `input`, `catalog`, `generate`, `build`, `write`,
+    /// `panic`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stage: Option<String>,
+    /// The codes of the errors (failed) or warnings (done).
+    #[serde(default)]
+    pub codes: Vec<String>,
+    /// The first error's message, for a failed job.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub message: Option<String>,
+    /// Wall-clock seconds (not part of any output of the job).
+    pub seconds: f64,
+}
+
+/// The summary of a run (or of merged shards).
+#[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
+pub struct Summary {
+    /// The holoc version.
+    pub holoc: String,
+    /// The shards this summary covers, as `I/N` (empty: the whole manifest).
+    pub shards: Vec<String>,
+    /// Jobs by status.
+    pub done: usize,
+    /// Jobs skipped because their folder was complete.
+    pub skipped: usize,
+    /// Jobs that failed.
+    pub failed: usize,
+    /// Every job of the run, by manifest line.
+    pub jobs: Vec<JobResult>,
+}
+
+impl Summary {
+    /// A summary of these results.
+    pub fn of(mut jobs: Vec<JobResult>, shards: Vec<String>) -> Summary {
+        jobs.sort_by_key(|j| j.line);
+        let count = |s: Status| jobs.iter().filter(|j| j.status == s).count();
+        Summary {
+            holoc: env!("CARGO_PKG_VERSION").to_string(),
+            shards,
+            done: count(Status::Done),
+            skipped: count(Status::Skipped),
+            failed: count(Status::Failed),
+            jobs,
+        }
+    }
+
+    /// The shards' summaries as one (a job listed twice keeps its last result).
+    pub fn merge(parts: Vec<Summary>) -> Summary {
+        let mut by_line: BTreeMap<usize, JobResult> = BTreeMap::new();
+        let mut shards = Vec::new();
+        for part in parts {
+            shards.extend(part.shards);
+            for job in part.jobs {
+                by_line.insert(job.line, job);
+            }
+        }
+        shards.sort();
+        shards.dedup();
+        Summary::of(by_line.into_values().collect(), shards)
+    }
+}
+
+/// A slice of the manifest: jobs whose line number modulo `count` is `index`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Shard {
+    /// Which slice, from 0.
+    pub index: usize,
+    /// How many slices.
+    pub count: usize,
+}
+
+impl Shard {
+    /// Reads `I/N` (0 ≤ I < N).
+    pub fn parse(text: &str) -> Result<Shard, String> {
+        let (i, n) = text.split_once('/').ok_or_else(|| format!("`{text}` is not I/N"))?;
+        let index: usize = i.trim().parse().map_err(|_| format!("`{i}` is not a number"))?;
+        let count: usize = n.trim().parse().map_err(|_| format!("`{n}` is not a number"))?;
+        if count == 0 || index >= count {
+            return Err(format!("the shard must be I/N with 0 <= I < N, not {index}/{count}"));
+        }
+        Ok(Shard { index, count })
+    }
+
+    /// Whether the job of this manifest line belongs to the shard.
+    pub fn takes(self, line: usize) -> bool {
+        line % self.count == self.index
+    }
+}
+
+/// Reads a manifest: its jobs, and the lines that are not jobs. Blank lines and lines starting
+/// with `//` or `#` are skipped. Paths are relative to `base`.
+pub fn read_manifest(text: &str, base: &Path) -> (Vec<Job>, Vec<ManifestError>) {
+    let mut jobs = Vec::new();
+    let mut errors = Vec::new();
+    for (k, raw) in text.lines().enumerate() {
+        let line = k + 1;
+        let trimmed = raw.trim();
+        if trimmed.is_empty() || trimmed.starts_with("//") || trimmed.starts_with('#') {
+            continue;
+        }
+        let spec: JobSpec = match serde_json::from_str(trimmed) {
+            Ok(spec) => spec,
+            Err(e) => {
+                errors.push(ManifestError { line, message: format!("not a job: {e}") });
+                continue;
+            }
+        };
+        match (&spec.build, &spec.generate) {
+            (Some(_), Some(_)) | (None, None) => {
+                errors.push(ManifestError {
+                    line,
+                    message: "a job has exactly one of `build` and `generate`".into(),
+                });
+                continue;
+            }
+            _ => {}
+        }
+        if let Some(s) = &spec.solver {
+            if s != "dfs" && s != "milp" {
+                errors.push(ManifestError { line, message: format!("unknown solver `{s}`") });
+                continue;
+            }
+        }
+        if spec.node_budget.is_some_and(|b| b > crate::solve::MAX_NODE_BUDGET) {
+            errors.push(ManifestError {
+                line,
+                message: format!("the node budget is at most {}", crate::solve::MAX_NODE_BUDGET),
+            });
+            continue;
+        }
+        let input = spec.build.as_ref().map(|p| base.join(p));
+        let catalogs: Vec<PathBuf> = spec.catalog.iter().map(|c| base.join(c)).collect();
+        let id = spec.id.clone().unwrap_or_else(|| format!("line-{line}"));
+        jobs.push(Job { line, id, spec, hash: String::new(), input, catalogs });
+    }
+    (jobs, errors)
+}
+
+/// The job's content hash: its settings, the bytes of its input and catalogs, the holoc
+/// version. An input or catalog that cannot be read hashes as its path (the job then fails
+/// at that stage and is retried on every run).
+pub fn job_hash(job: &Job) -> String {
+    let file_hash = |p: &Path| match std::fs::read(p) {
+        Ok(bytes) => crate::resolve::sha256_hex(&bytes),
+        Err(_) => format!("unreadable:{}", p.display()),
+    };
+    let key = serde_json::json!({
+        "holoc": env!("CARGO_PKG_VERSION"),
+        "spec": job.spec,
+        "input": job.input.as_deref().map(file_hash),
+        "catalogs": job.catalogs.iter().map(|p| file_hash(p)).collect::<Vec<_>>(),
+    });
+    crate::resolve::sha256_hex(key.to_string().as_bytes())[..16].to_string()
+}
+
+/// Settings of a whole run.
+#[derive(Debug)]
+pub struct RunOptions {
+    /// The output folder.
+    pub out: PathBuf,
+    /// Redo jobs whose folder exists.
+    pub force: bool,
+    /// Generate requests in flight at once, over all jobs.
+    pub llm_concurrency: usize,
+    /// The API key of generate jobs (never written anywhere).
+    pub api_key: Option<String>,
+}
+
+/// A counting semaphore for model requests (std only).
+#[derive(Debug)]
+pub struct Permits {
+    free: Mutex<usize>,
+    freed: Condvar,
+}
+
+impl Permits {
+    /// `n` permits (at least one).
+    pub fn new(n: usize) -> Permits {
+        Permits { free: Mutex::new(n.max(1)), freed: Condvar::new() }
+    }
+
+    fn acquire(&self) {
+        let mut free = self.free.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+        while *free == 0 {
+            free = self.freed.wait(free).unwrap_or_else(std::sync::PoisonError::into_inner);
+        }
+        *free -= 1;
+    }
+
+    fn release(&self) {
+        let mut free = self.free.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+        *free += 1;
+        self.freed.notify_one();
+    }
+}
+
+/// A model that answers from a recorded transcript first and asks the live model only for
+/// what was not recorded, each live request holding one permit: a re-run never pays twice
+/// for the same answer, and the batch never has more than `--llm-concurrency` requests out.
+struct ReusingLlm<'a> {
+    recorded: BTreeMap<(String, Option<String>, u32), String>,
+    live: &'a dyn Llm,
+    permits: &'a Permits,
+}
+
+impl Llm for ReusingLlm<'_> {
+    fn complete(&self, request: &LlmRequest<'_>) -> Result<LlmAnswer, LlmError> {
+        let key = (request.stage.to_string(), request.room.map(str::to_string), request.attempt);
+        if let Some(text) = self.recorded.get(&key) {
+            return Ok(LlmAnswer { text: text.clone(), usage: generate::Usage::default() });
+        }
+        self.permits.acquire();
+        let answer = self.live.complete(request);
+        self.permits.release();
+        answer
+    }
+
+    fn info(&self) -> ModelInfo {
+        self.live.info()
+    }
+}
+
+/// The files a finished job writes, by name.
+type Files = Vec<(&'static str, String)>;
+
+/// The outcome of running one job's work (before it is written).
+struct Work {
+    files: Files,
+    diagnostics: Vec<Diagnostic>,
+    failed_stage: Option<&'static str>,
+}
+
+fn failed(stage: &'static str, diagnostics: Vec<Diagnostic>) -> Work {
+    Work { files: Vec::new(), diagnostics, failed_stage: Some(stage) }
+}
+
+fn solver_of(spec: &JobSpec) -> Solver {
+    if spec.solver.as_deref() == Some("milp") {
+        Solver::Milp
+    } else {
+        Solver::Dfs
+    }
+}
+
+/// Builds `.holo` text into the house and its report.
+fn build_text(name: &str, text: String, job: &Job, files: &mut Files) -> Work {
+    let mut sources = SourceMap::new();
+    let loaded = Catalog::load(&job.catalogs, &mut sources);
+    if loaded.has_errors() {
+        return failed("catalog", loaded.diagnostics);
+    }
+    let catalog = loaded.value;
+    let file = sources.add(name, text);
+    let options = BuildOptions {
+        seed: if job.spec.generate.is_some() { None } else { job.spec.seed },
+        solver: solver_of(&job.spec),
+        node_budget: job.spec.node_budget,
+        stand_ins: job.spec.stand_ins.unwrap_or(true),
+        ..BuildOptions::new(&catalog)
+    };
+    let built = build(&sources, file, &options);
+    let mut diagnostics = loaded.diagnostics;
+    diagnostics.extend(built.diagnostics);
+    let Some(product) = built.value else { return failed("build", diagnostics) };
+    let mut report = serde_json::to_string_pretty(&crate::report::report(&product, &catalog))
+        .unwrap_or_default();
+    report.push('\n');
+    files.push(("house.json", product.house.to_json_string()));
+    files.push(("report.json", report));
+    Work { files: std::mem::take(files), diagnostics, failed_stage: None }
+}
+
+fn run_build_job(job: &Job) -> Work {
+    let Some(path) = &job.input else { return failed("input", Vec::new()) };
+    let text = match std::fs::read_to_string(path) {
+        Ok(t) => t,
+        Err(e) => {
+            return failed(
+                "input",
+                vec![Diagnostic::new(
+                    crate::diag::Code::E0001,
+                    format!("cannot read `{}`: {e}", path.display()),
+                )],
+            )
+        }
+    };
+    build_text(&path.display().to_string(), text, job, &mut Vec::new())
+}
+
+fn run_generate_job(job: &Job, options: &RunOptions, permits: &Permits) -> Work {
+    let text = job.spec.generate.clone().unwrap_or_default();
+    let seed = job.spec.seed.unwrap_or(1);
+    let base_url = job
+        .spec
+        .base_url
+        .clone()
+        .or_else(|| std::env::var("HOLOC_BASE_URL").ok())
+        .unwrap_or_else(|| generate::client::DEFAULT_BASE_URL.to_string());
+    let model = job
+        .spec
+        .model
+        .clone()
+        .or_else(|| std::env::var("HOLOC_MODEL").ok())
+        .unwrap_or_else(|| generate::client::DEFAULT_MODEL.to_string());
+    let mut http = HttpOptions::new(base_url, model);
+    http.api_key.clone_from(&options.api_key);
+    http.seed = Some(seed);
+    if let Some(t) = job.spec.temperature {
+        http.temperature = t;
+    }
+    let live = HttpLlm::new(http);
+    // Answers recorded by an earlier run of this job that did not finish.
+    let partial = partial_transcript(&options.out, &job.hash);
+    let recorded = std::fs::read_to_string(&partial)
+        .ok()
+        .and_then(|t| serde_json::from_str::<crate::import::Transcript>(&t).ok())
+        .map(|t| {
+            generate::recorded_answers(&t)
+                .into_iter()
+                .map(|a| ((a.stage, a.room, a.attempt), a.answer))
+                .collect()
+        })
+        .unwrap_or_default();
+    let llm = ReusingLlm { recorded, live: &live, permits };
+    let request = Request { text, seed };
+    let options_g = GenerateOptions { jobs: 1, repair_rounds: 2, ..GenerateOptions::default() };
+    let outcome: Outcome<generate::Generated> = generate::generate(&request, &llm, &options_g);
+    let mut transcript =
+        serde_json::to_string_pretty(&outcome.value.transcript).unwrap_or_default();
+    transcript.push('\n');
+    if outcome.has_errors() {
+        // Keep what was paid for, for the next run.
+        if let Some(parent) = partial.parent() {
+            let _ = std::fs::create_dir_all(parent);
+        }
+        let tmp = partial.with_extension(format!("tmp-{}", std::process::id()));
+        if std::fs::write(&tmp, transcript.as_bytes()).is_ok() {
+            let _ = std::fs::rename(&tmp, &partial);
+        }
+        return failed("generate", outcome.diagnostics);
+    }
+    let mut files: Files =
+        vec![("scene.holo", outcome.value.holo.clone()), ("transcript.json", transcript)];
+    let mut work = build_text("scene.holo", outcome.value.holo, job, &mut files);
+    let mut diagnostics = outcome.diagnostics;
+    diagnostics.append(&mut work.diagnostics);
+    work.diagnostics = diagnostics;
+    work
+}
+
+/// Where a generate job that failed keeps its transcript for the next run.
+fn partial_transcript(out: &Path, hash: &str) -> PathBuf {
+    out.join(".partial").join(format!("{hash}.transcript.json"))
+}
+
+fn codes(diagnostics: &[Diagnostic], errors: bool) -> Vec<String> {
+    let mut codes: Vec<String> = diagnostics
+        .iter()
+        .filter(|d| d.is_error() == errors)
+        .map(|d| d.code.as_str().to_string())
+        .collect();
+    codes.sort();
+    codes.dedup();
+    codes
+}
+
+/// Writes a finished job's folder: a temporary folder with every file and the marker, renamed
+/// into place.
+fn write_job(
+    out: &Path,
+    job: &Job,
+    files: &Files,
+    diagnostics: &[Diagnostic],
+) -> std::io::Result<()> {
+    let target = out.join(&job.hash);
+    let tmp = out.join(".tmp").join(format!("{}-{}", job.hash, std::process::id()));
+    let _ = std::fs::remove_dir_all(&tmp);
+    std::fs::create_dir_all(&tmp)?;
+    for (name, text) in files {
+        std::fs::write(tmp.join(name), text)?;
+    }
+    let mut sources = SourceMap::new();
+    if let Some(input) = &job.input {
+        if let Ok(text) = std::fs::read_to_string(input) {
+            sources.add(input.display().to_string(), text);
+        }
+    }
+    let mut job_json = serde_json::to_string_pretty(&serde_json::json!({
+        "line": job.line, "id": job.id, "hash": job.hash, "spec": job.spec,
+        "warnings": codes(diagnostics, false),
+    }))
+    .unwrap_or_default();
+    job_json.push('\n');
+    std::fs::write(tmp.join("job.json"), job_json)?;
+    std::fs::write(tmp.join(DONE_MARKER), "")?;
+    if target.exists() {
+        std::fs::remove_dir_all(&target)?;
+    }
+    std::fs::rename(&tmp, &target)
+}
+
+/// Runs one job: skipped when its folder is complete (unless forced), else its work, written.
+/// A panic inside the job is caught and recorded as a failure of stage `panic`.
+pub fn run_job(job: &Job, options: &RunOptions, permits: &Permits) -> JobResult {
+    let started = Instant::now();
+    let mut result = JobResult {
+        line: job.line,
+        id: job.id.clone(),
+        hash: job.hash.clone(),
+        status: Status::Done,
+        stage: None,
+        codes: Vec::new(),
+        message: None,
+        seconds: 0.0,
+    };
+    if !options.force && options.out.join(&job.hash).join(DONE_MARKER).exists() {
+        result.status = Status::Skipped;
+        return result;
+    }
+    let work = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        if job.spec.generate.is_some() {
+            run_generate_job(job, options, permits)
+        } else {
+            run_build_job(job)
+        }
+    }));
+    match work {
+        Err(payload) => {
+            let message = payload
+                .downcast_ref::<String>()
+                .cloned()
+                .or_else(|| payload.downcast_ref::<&str>().map(|s| (*s).to_string()))
+                .unwrap_or_else(|| "a panic".into());
+            result.status = Status::Failed;
+            result.stage = Some("panic".into());
+            result.message = Some(message);
+        }
+        Ok(work) if work.failed_stage.is_some() => {
+            result.status = Status::Failed;
+            result.stage = work.failed_stage.map(str::to_string);
+            result.codes = codes(&work.diagnostics, true);
+            result.message =
+                work.diagnostics.iter().find(|d| d.is_error()).map(|d| d.message.clone());
+        }
+        Ok(work) => {
+            result.codes = codes(&work.diagnostics, false);
+            if let Err(e) = write_job(&options.out, job, &work.files, &work.diagnostics) {
+                result.status = Status::Failed;
+                result.stage = Some("write".into());
+                result.message = Some(e.to_string());
+            } else if job.spec.generate.is_some() {
+                let _ = std::fs::remove_file(partial_transcript(&options.out, &job.hash));
+            }
+        }
+    }
+    result.seconds = started.elapsed().as_secs_f64();
+    result
+}
