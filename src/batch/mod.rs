@@ -213,47 +213,56 @@ pub fn read_manifest(text: &str, base: &Path) -> (Vec<Job>, Vec<ManifestError>) 
     let mut jobs = Vec::new();
     let mut errors = Vec::new();
     for (k, raw) in text.lines().enumerate() {
-        let line = k + 1;
-        let trimmed = raw.trim();
-        if trimmed.is_empty() || trimmed.starts_with("//") || trimmed.starts_with('#') {
-            continue;
+        match read_line(k + 1, raw, base) {
+            Some(Ok(job)) => jobs.push(job),
+            Some(Err(e)) => errors.push(e),
+            None => {}
         }
-        let spec: JobSpec = match serde_json::from_str(trimmed) {
-            Ok(spec) => spec,
-            Err(e) => {
-                errors.push(ManifestError { line, message: format!("not a job: {e}") });
-                continue;
-            }
-        };
-        match (&spec.build, &spec.generate) {
-            (Some(_), Some(_)) | (None, None) => {
-                errors.push(ManifestError {
-                    line,
-                    message: "a job has exactly one of `build` and `generate`".into(),
-                });
-                continue;
-            }
-            _ => {}
-        }
-        if let Some(s) = &spec.solver {
-            if s != "dfs" && s != "milp" {
-                errors.push(ManifestError { line, message: format!("unknown solver `{s}`") });
-                continue;
-            }
-        }
-        if spec.node_budget.is_some_and(|b| b > crate::solve::MAX_NODE_BUDGET) {
-            errors.push(ManifestError {
-                line,
-                message: format!("the node budget is at most {}", crate::solve::MAX_NODE_BUDGET),
-            });
-            continue;
-        }
-        let input = spec.build.as_ref().map(|p| base.join(p));
-        let catalogs: Vec<PathBuf> = spec.catalog.iter().map(|c| base.join(c)).collect();
-        let id = spec.id.clone().unwrap_or_else(|| format!("line-{line}"));
-        jobs.push(Job { line, id, spec, hash: String::new(), input, catalogs });
     }
     (jobs, errors)
+}
+
+/// One line of a manifest (`line` is 1-based): a job, a line that is not one, or `None` for a
+/// blank or comment line.
+pub fn read_line(line: usize, raw: &str, base: &Path) -> Option<Result<Job, ManifestError>> {
+    let trimmed = raw.trim();
+    if trimmed.is_empty() || trimmed.starts_with("//") || trimmed.starts_with('#') {
+        return None;
+    }
+    let error = |message: String| Some(Err(ManifestError { line, message }));
+    let spec: JobSpec = match serde_json::from_str(trimmed) {
+        Ok(spec) => spec,
+        Err(e) => return error(format!("not a job: {e}")),
+    };
+    if spec.build.is_some() == spec.generate.is_some() {
+        return error("a job has exactly one of `build` and `generate`".into());
+    }
+    if let Some(s) = &spec.solver {
+        if s != "dfs" && s != "milp" {
+            return error(format!("unknown solver `{s}`"));
+        }
+    }
+    if spec.node_budget.is_some_and(|b| b > crate::solve::MAX_NODE_BUDGET) {
+        return error(format!("the node budget is at most {}", crate::solve::MAX_NODE_BUDGET));
+    }
+    let input = spec.build.as_ref().map(|p| base.join(p));
+    let catalogs: Vec<PathBuf> = spec.catalog.iter().map(|c| base.join(c)).collect();
+    let id = spec.id.clone().unwrap_or_else(|| format!("line-{line}"));
+    Some(Ok(Job { line, id, spec, hash: String::new(), input, catalogs }))
+}
+
+/// A failed result for a manifest line that is not a job.
+pub fn manifest_failure(e: &ManifestError) -> JobResult {
+    JobResult {
+        line: e.line,
+        id: format!("line-{}", e.line),
+        hash: String::new(),
+        status: Status::Failed,
+        stage: Some("manifest".into()),
+        codes: Vec::new(),
+        message: Some(e.message.clone()),
+        seconds: 0.0,
+    }
 }
 
 /// The job's content hash: its settings, the bytes of its input and catalogs, the holoc

@@ -87,12 +87,8 @@ pub fn run(args: &BatchArgs) -> ExitCode {
         }
     };
     let base = manifest.parent().unwrap_or(Path::new("."));
-    let (mut jobs, errors) = batch::read_manifest(&sources.get(file).text, base);
+    let text = &sources.get(file).text;
     let shard = args.shard;
-    jobs.retain(|j| shard.is_none_or(|s| s.takes(j.line)));
-    for job in &mut jobs {
-        job.hash = batch::job_hash(job);
-    }
     if let Err(e) = std::fs::create_dir_all(out) {
         return usage(&format!("cannot make the output folder `{}`: {e}", out.display()));
     }
@@ -109,55 +105,162 @@ pub fn run(args: &BatchArgs) -> ExitCode {
         .jobs
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, usize::from))
         .max(1);
-    let bar = progress(jobs.len() as u64, args.quiet);
-    let started = Instant::now();
     let pool = match rayon::ThreadPoolBuilder::new().num_threads(threads).build() {
         Ok(pool) => pool,
         Err(e) => return usage(&format!("cannot start {threads} threads: {e}")),
     };
-    let failed_so_far = std::sync::atomic::AtomicUsize::new(0);
-    let mut results: Vec<JobResult> = pool.install(|| {
-        jobs.par_iter()
-            .map(|job| {
-                let result = batch::run_job(job, &options, &permits);
-                if result.status == Status::Failed {
-                    failed_so_far.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-                }
-                bar.set_message(format!(
-                    "{} failed",
-                    failed_so_far.load(std::sync::atomic::Ordering::Relaxed)
-                ));
-                bar.inc(1);
-                result
-            })
-            .collect()
-    });
-    bar.finish_and_clear();
-    results.extend(errors.iter().filter(|e| shard.is_none_or(|s| s.takes(e.line))).map(|e| {
-        JobResult {
-            line: e.line,
-            id: format!("line-{}", e.line),
-            hash: String::new(),
-            status: Status::Failed,
-            stage: Some("manifest".into()),
-            codes: Vec::new(),
-            message: Some(e.message.clone()),
-            seconds: 0.0,
-        }
-    }));
+    let in_shard = |line: usize| shard.is_none_or(|s| s.takes(line));
+    let total = text
+        .lines()
+        .enumerate()
+        .filter(|(k, raw)| {
+            let t = raw.trim();
+            in_shard(k + 1) && !t.is_empty() && !t.starts_with('#') && !t.starts_with("//")
+        })
+        .count();
+    let bar = progress(total as u64, args.quiet);
+    let started = Instant::now();
     let shards = shard.map(|s| vec![format!("{}/{}", s.index, s.count)]).unwrap_or_default();
-    let summary = Summary::of(results, shards);
     let suffix = shard.map_or(String::new(), |s| format!(".shard-{}-of-{}", s.index, s.count));
-    if let Err(code) = write_summary(out, &suffix, &summary) {
-        return code;
+    // The results go to a scratch file as they come, chunk by chunk, so that memory does not
+    // grow with the manifest; the summary is written from it at the end.
+    let mut log = match ResultLog::create(out, &suffix) {
+        Ok(log) => log,
+        Err(e) => return usage(&format!("cannot write into `{}`: {e}", out.display())),
+    };
+    let failed_so_far = std::sync::atomic::AtomicUsize::new(0);
+    let lines: Vec<(usize, &str)> =
+        text.lines().enumerate().map(|(k, l)| (k + 1, l)).filter(|(n, _)| in_shard(*n)).collect();
+    for chunk in lines.chunks(CHUNK) {
+        let mut results: Vec<JobResult> = pool.install(|| {
+            chunk
+                .par_iter()
+                .filter_map(|&(line, raw)| batch::read_line(line, raw, base))
+                .map(|read| {
+                    let result = match read {
+                        Ok(mut job) => {
+                            job.hash = batch::job_hash(&job);
+                            batch::run_job(&job, &options, &permits)
+                        }
+                        Err(e) => batch::manifest_failure(&e),
+                    };
+                    if result.status == Status::Failed {
+                        failed_so_far.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                    }
+                    bar.set_message(format!(
+                        "{} failed",
+                        failed_so_far.load(std::sync::atomic::Ordering::Relaxed)
+                    ));
+                    bar.inc(1);
+                    result
+                })
+                .collect()
+        });
+        results.sort_by_key(|r| r.line);
+        if let Err(e) = log.append(&results) {
+            return usage(&format!("cannot write into `{}`: {e}", out.display()));
+        }
+    }
+    bar.finish_and_clear();
+    let counts = log.counts;
+    if let Err(e) = log.finish(&shards) {
+        return usage(&format!("cannot write the summary into `{}`: {e}", out.display()));
     }
     if !args.quiet {
+        let summary = std::fs::read_to_string(out.join(format!("summary{suffix}.json")))
+            .ok()
+            .and_then(|t| serde_json::from_str::<Summary>(&t).ok())
+            .unwrap_or_default();
         print_table(&summary, started.elapsed().as_secs_f64());
     }
-    if summary.failed > 0 {
+    if counts[2] > 0 {
         ExitCode::from(1)
     } else {
         ExitCode::SUCCESS
+    }
+}
+
+/// Jobs read and run at once; the results of a chunk are written before the next is read.
+const CHUNK: usize = 256;
+
+/// The results of a run as they come: job lines in a scratch file, failures in their file,
+/// and the counts.
+struct ResultLog {
+    out: PathBuf,
+    suffix: String,
+    jobs: std::io::BufWriter<std::fs::File>,
+    failures: std::io::BufWriter<std::fs::File>,
+    /// Done, skipped, failed.
+    counts: [usize; 3],
+}
+
+impl ResultLog {
+    fn scratch(out: &Path, suffix: &str, what: &str) -> PathBuf {
+        out.join(".tmp").join(format!("{what}{suffix}.{}", std::process::id()))
+    }
+
+    fn create(out: &Path, suffix: &str) -> std::io::Result<ResultLog> {
+        std::fs::create_dir_all(out.join(".tmp"))?;
+        let open = |what: &str| {
+            std::fs::File::create(Self::scratch(out, suffix, what)).map(std::io::BufWriter::new)
+        };
+        Ok(ResultLog {
+            out: out.to_path_buf(),
+            suffix: suffix.to_string(),
+            jobs: open("jobs")?,
+            failures: open("failures")?,
+            counts: [0; 3],
+        })
+    }
+
+    fn append(&mut self, results: &[JobResult]) -> std::io::Result<()> {
+        use std::io::Write as _;
+        for r in results {
+            let line = serde_json::to_string(r).unwrap_or_default();
+            writeln!(self.jobs, "{line}")?;
+            let slot = match r.status {
+                Status::Done => 0,
+                Status::Skipped => 1,
+                Status::Failed => 2,
+            };
+            self.counts[slot] += 1;
+            if r.status == Status::Failed {
+                writeln!(self.failures, "{line}")?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Writes `summary<suffix>.json` (streamed from the scratch file) and
+    /// `failures<suffix>.jsonl`, each by a rename.
+    fn finish(mut self, shards: &[String]) -> std::io::Result<()> {
+        use std::io::{BufRead as _, Write as _};
+        self.jobs.flush()?;
+        self.failures.flush()?;
+        let jobs_path = Self::scratch(&self.out, &self.suffix, "jobs");
+        let summary_tmp = Self::scratch(&self.out, &self.suffix, "summary");
+        {
+            let mut w = std::io::BufWriter::new(std::fs::File::create(&summary_tmp)?);
+            writeln!(w, "{{")?;
+            writeln!(w, "  \"holoc\": {},", serde_json::json!(env!("CARGO_PKG_VERSION")))?;
+            writeln!(w, "  \"shards\": {},", serde_json::json!(shards))?;
+            writeln!(w, "  \"done\": {},", self.counts[0])?;
+            writeln!(w, "  \"skipped\": {},", self.counts[1])?;
+            writeln!(w, "  \"failed\": {},", self.counts[2])?;
+            write!(w, "  \"jobs\": [")?;
+            let reader = std::io::BufReader::new(std::fs::File::open(&jobs_path)?);
+            for (k, line) in reader.lines().enumerate() {
+                write!(w, "{}\n    {}", if k == 0 { "" } else { "," }, line?)?;
+            }
+            writeln!(w, "\n  ]\n}}")?;
+            w.flush()?;
+        }
+        std::fs::rename(&summary_tmp, self.out.join(format!("summary{}.json", self.suffix)))?;
+        std::fs::rename(
+            Self::scratch(&self.out, &self.suffix, "failures"),
+            self.out.join(format!("failures{}.jsonl", self.suffix)),
+        )?;
+        std::fs::remove_file(jobs_path)
     }
 }
 
@@ -172,26 +275,6 @@ fn progress(len: u64, quiet: bool) -> ProgressBar {
         bar.set_style(style);
     }
     bar
-}
-
-/// Writes `summary<suffix>.json` and `failures<suffix>.jsonl` atomically.
-fn write_summary(out: &Path, suffix: &str, summary: &Summary) -> Result<(), ExitCode> {
-    let mut json = serde_json::to_string_pretty(summary).unwrap_or_default();
-    json.push('\n');
-    let mut failures = String::new();
-    for job in summary.jobs.iter().filter(|j| j.status == Status::Failed) {
-        failures.push_str(&serde_json::to_string(job).unwrap_or_default());
-        failures.push('\n');
-    }
-    for (name, text) in
-        [(format!("summary{suffix}.json"), json), (format!("failures{suffix}.jsonl"), failures)]
-    {
-        if let Err(d) = common::write_atomic(&out.join(name), text.as_bytes()) {
-            common::emit_plain(&d);
-            return Err(ExitCode::from(2));
-        }
-    }
-    Ok(())
 }
 
 fn print_table(summary: &Summary, seconds: f64) {
