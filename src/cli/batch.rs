@@ -166,6 +166,8 @@ pub fn run(args: &BatchArgs) -> ExitCode {
     if let Err(e) = log.finish(&shards) {
         return usage(&format!("cannot write the summary into `{}`: {e}", out.display()));
     }
+    // The scratch folder goes when nothing is left in it (another shard may still use it).
+    let _ = std::fs::remove_dir(out.join(".tmp"));
     if !args.quiet {
         let summary = std::fs::read_to_string(out.join(format!("summary{suffix}.json")))
             .ok()
