@@ -96,6 +96,15 @@ fn inputs_that_never_end_or_are_too_large_are_refused() {
         assert_eq!(out.status.code(), Some(2), "{}: {}", input.display(), stderr(&out));
         assert!(stderr(&out).contains("larger than 32 MiB"), "{}", stderr(&out));
     }
+    // A named pipe with no writer: refused at once, not waited on.
+    let fifo = dir.join("scene.fifo");
+    if Command::new("mkfifo").arg(&fifo).status().is_ok_and(|s| s.success()) {
+        let out = holoc().args(["check", "--format", "short"]).arg(&fifo).output().expect("runs");
+        assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+        assert!(stderr(&out).contains("it is a named pipe"), "{}", stderr(&out));
+    } else {
+        common::skip("inputs_that_never_end_or_are_too_large_are_refused (fifo)", "no mkfifo here");
+    }
     let folder = holoc().args(["check"]).arg(&dir).output().expect("runs");
     assert_eq!(folder.status.code(), Some(2));
     assert!(stderr(&folder).contains("it is a folder"), "{}", stderr(&folder));

@@ -94,6 +94,17 @@ pub fn read_source(sources: &mut SourceMap, path: &Path) -> Result<FileId, Diagn
         Diagnostic::new(Code::E0001, format!("cannot read `{}`: {e}", path.display()))
             .with_help("check the path and the file's permissions")
     };
+    // A named pipe is refused before it is opened (opening one waits for a writer); the pipe
+    // of a shell's `<(…)` is a link to an anonymous pipe and is read like a file.
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt as _;
+        if std::fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_fifo()) {
+            return Err(cannot(&"it is a named pipe").with_help(
+                "give a file; to read a stream, use `<(command)` or a file written first",
+            ));
+        }
+    }
     let file = std::fs::File::open(path).map_err(|e| cannot(&e))?;
     if file.metadata().is_ok_and(|m| m.is_dir()) {
         return Err(cannot(&"it is a folder").with_help("give a file, not a folder"));
