@@ -222,3 +222,81 @@ fn a_killed_build_leaves_the_old_output_or_the_new_one() {
         assert!(whole, "after {delay_ms} ms: {} bytes, neither old nor whole", now.len());
     }
 }
+
+/// `x 1000000` wherever a quantity is written: the `.holo` language refuses it at the number
+/// (E0208) without a cascade of unknown instances, and the importer either refuses the field
+/// with the answer's text kept (E0702) or, for the JSON objects answer, clamps it with a
+/// warning (W0707). Nothing expands a million of anything.
+#[test]
+fn quantities_of_a_million_are_refused_or_clamped() {
+    let dir = scratch("quantities");
+    let example = std::fs::read_to_string("examples/apartment_1b1b.holo").expect("example");
+    let scene = example
+        .replacen("count 2, sill 90 cm", "count 1000000, sill 90 cm", 1)
+        .replacen("\"book\" x2 varied", "\"book\" x1000000 varied", 1)
+        .replacen("count 2 same", "count 1000000 same", 1);
+    assert_eq!(scene.matches("1000000").count(), 3, "the example changed; update this test");
+    let path = dir.join("million.holo");
+    std::fs::write(&path, &scene).expect("write");
+    for command in ["check", "build"] {
+        let out = holoc()
+            .args([command, "--format", "short"])
+            .arg(&path)
+            .args(if command == "build" { vec!["-o", "-"] } else { vec![] })
+            .output()
+            .expect("holoc runs");
+        assert_eq!(out.status.code(), Some(1), "{command}: {}", stderr(&out));
+        let err = stderr(&out);
+        let errors: Vec<&str> = err.lines().filter(|l| l.contains(": error[")).collect();
+        assert_eq!(errors.len(), 3, "{command}: exactly the three counts: {err}");
+        assert!(errors.iter().all(|l| l.contains("error[E0208]")), "{err}");
+        assert!(
+            err.contains("the window count `1000000` is not a whole number from 1 to 20"),
+            "{err}"
+        );
+        assert!(err.contains("the number of items `1000000`"), "{err}");
+        assert!(
+            err.contains("the object count `1000000` is not a whole number from 1 to 50"),
+            "{err}"
+        );
+    }
+
+    let answers = [
+        ("windows", "living room | west | fixed | (150, 120) | 1000000 | 90\n"),
+        ("objects-pipe", "living room | floor | chair | a chair | 1000000, same\n"),
+        ("small-objects", "sofa-0 (living room) | cushion, 1000000, varied\n"),
+    ];
+    for (stage, answer) in answers {
+        let file = dir.join(format!("{stage}.txt"));
+        std::fs::write(&file, answer).expect("write");
+        let out = holoc()
+            .args(["import", "--format", "short", "--room", "living room", "--stage", stage])
+            .arg(&file)
+            .output()
+            .expect("holoc runs");
+        let err = stderr(&out);
+        assert!(
+            err.contains("error[E0702]: `1000000` is not a quantity from 1 to 100"),
+            "{stage}: {err}"
+        );
+        let holo = String::from_utf8_lossy(&out.stdout);
+        assert!(holo.contains("1000000"), "{stage}: the answer is kept in the output: {holo}");
+    }
+
+    let json = r#"{"chair": {"description": "a chair", "location": "floor", "size": [50, 50, 90], "quantity": 1000000, "variance_type": "same", "objects_on_top": [{"object_name": "book", "quantity": 1000000, "variance_type": "varied"}]}}"#;
+    let file = dir.join("objects.txt");
+    std::fs::write(&file, json).expect("write");
+    let out = holoc()
+        .args(["import", "--format", "short", "--room", "living room", "--stage", "objects"])
+        .arg(&file)
+        .output()
+        .expect("holoc runs");
+    let err = stderr(&out);
+    assert!(err.contains("warning[W0707]: quantity 1000000 of `chair` became 10"), "{err}");
+    assert!(err.contains("warning[W0707]: quantity 1000000 of `book` became 10"), "{err}");
+    let holo = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        holo.contains("count 10 same") && holo.contains("on top \"book\" x10 varied"),
+        "{holo}"
+    );
+}

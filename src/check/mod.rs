@@ -587,8 +587,14 @@ impl Checker {
                     continue;
                 }
                 seen = Some(*span);
+                // An out-of-range count is an error; the group still declares as many
+                // instances as it can hold, so references to them do not cascade.
                 n = count(q, "the object count", 1, MAX_GROUP_COUNT, &mut self.diagnostics)
-                    .unwrap_or(1);
+                    .unwrap_or(if q.value > f64::from(MAX_GROUP_COUNT) {
+                        MAX_GROUP_COUNT
+                    } else {
+                        1
+                    });
             }
         }
         n
