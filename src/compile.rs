@@ -39,6 +39,92 @@ pub enum CheckStage {
     Resolve,
 }
 
+/// What the stages before the layout solver made of one file: each product is there when its
+/// stage ran (the stages before it produced no error).
+#[derive(Clone, Debug)]
+pub struct Analysed {
+    /// The syntax tree (with error nodes where lines could not be read).
+    pub ast: crate::ast::File,
+    /// The checked scene, when the file has no syntax or checker errors.
+    pub scene: Option<Scene>,
+    /// The floor plan, when the plan stage ran without errors.
+    pub plan: Option<FloorPlan>,
+    /// The chosen assets, when the asset stage ran.
+    pub resolved: Option<Resolved>,
+    /// Every diagnostic, in the order the stages produced them.
+    pub diagnostics: Vec<Diagnostic>,
+}
+
+/// Runs every stage up to `last` that does not need the layout solver, each only when the ones
+/// before it produced no error, and keeps every product: what an editor reads for hover,
+/// go-to-definition and diagnostics.
+pub fn analyse(sources: &SourceMap, file: FileId, catalog: &Catalog, last: CheckStage) -> Analysed {
+    analyse_cached(sources, file, catalog, last, &mut AnalysisCache::default())
+}
+
+/// What an editor keeps between two analyses of one document: the parsed top-level items and
+/// the asset rankings, reused where the text and the queries have not changed.
+#[derive(Debug, Default)]
+pub struct AnalysisCache {
+    /// Top-level items by their text.
+    pub parse: crate::parse::ParseCache,
+    /// Asset rankings by query (for one catalog and seed).
+    pub ranks: crate::resolve::RankCache,
+}
+
+/// [`analyse`], reusing what `cache` holds of earlier versions of the document (the language
+/// server keeps one cache per document); the result is the same as without it.
+pub fn analyse_cached(
+    sources: &SourceMap,
+    file: FileId,
+    catalog: &Catalog,
+    last: CheckStage,
+    cache: &mut AnalysisCache,
+) -> Analysed {
+    let parsed = crate::parse::parse_cached(sources, file, &mut cache.parse);
+    let mut analysed = Analysed {
+        ast: parsed.value,
+        scene: None,
+        plan: None,
+        resolved: None,
+        diagnostics: parsed.diagnostics,
+    };
+    if last == CheckStage::Parse {
+        return analysed;
+    }
+    let parse_failed = has_errors(&analysed.diagnostics);
+    // The checker also runs on a file with syntax errors (the editor wants every problem);
+    // bad lines are error nodes that it skips.
+    let checked = crate::check::check(&analysed.ast);
+    analysed.diagnostics.extend(checked.diagnostics);
+    if parse_failed || has_errors(&analysed.diagnostics) || last == CheckStage::Check {
+        if !parse_failed && !has_errors(&analysed.diagnostics) {
+            analysed.scene = Some(checked.value);
+        }
+        return analysed;
+    }
+    let scene = checked.value;
+    let planned =
+        crate::plan::plan_with(&scene, StructureCatalog::builtin(), PlanOptions::default());
+    analysed.diagnostics.extend(planned.diagnostics);
+    if last == CheckStage::Plan || has_errors(&analysed.diagnostics) {
+        analysed.scene = Some(scene);
+        return analysed;
+    }
+    analysed.plan = Some(planned.value);
+    let resolved = crate::resolve::resolve_cached(
+        &scene,
+        catalog,
+        scene.seed,
+        &crate::resolve::ResolveOptions::default(),
+        &mut cache.ranks,
+    );
+    analysed.diagnostics.extend(resolved.diagnostics);
+    analysed.resolved = Some(resolved.value);
+    analysed.scene = Some(scene);
+    analysed
+}
+
 /// Runs every stage up to `last` that does not need the layout solver, each only when the ones
 /// before it produced no error, and returns every diagnostic: what `holoc check` and an editor
 /// show. Floor-plan, door, window and asset problems that `build` would stop on appear here.
@@ -48,25 +134,7 @@ pub fn check_stages(
     catalog: &Catalog,
     last: CheckStage,
 ) -> Vec<Diagnostic> {
-    if last == CheckStage::Parse {
-        return crate::parse::parse(sources, file).diagnostics;
-    }
-    let checked = check_file(sources, file);
-    let mut diagnostics = checked.diagnostics;
-    let Some(scene) = checked.value.filter(|_| !has_errors(&diagnostics)) else {
-        return diagnostics;
-    };
-    if last == CheckStage::Check {
-        return diagnostics;
-    }
-    let planned =
-        crate::plan::plan_with(&scene, StructureCatalog::builtin(), PlanOptions::default());
-    diagnostics.extend(planned.diagnostics);
-    if last == CheckStage::Plan || has_errors(&diagnostics) {
-        return diagnostics;
-    }
-    diagnostics.extend(crate::resolve::resolve(&scene, catalog, scene.seed).diagnostics);
-    diagnostics
+    analyse(sources, file, catalog, last).diagnostics
 }
 
 /// How to build.

@@ -15,6 +15,7 @@ pub mod generate;
 pub mod geometry;
 pub mod import;
 pub mod lower;
+pub mod lsp;
 pub mod parse;
 pub mod plan;
 pub mod render;

@@ -1,5 +1,6 @@
 //! Properties of the language front end over the whole corpus and the examples:
-//! formatting round-trips and is idempotent; no input makes the parser or checker panic.
+//! formatting round-trips and is idempotent; no input makes the parser or checker panic; the
+//! parser that reuses unchanged top-level items gives exactly what parsing at once gives.
 
 use proptest::prelude::*;
 use std::path::PathBuf;
@@ -148,5 +149,43 @@ proptest! {
         while !text.is_char_boundary(end) { end -= 1; }
         let mutated = format!("{}{}{}", &text[..at], insert, &text[end..]);
         front_end(&mutated);
+    }
+
+    #[test]
+    fn piecewise_parsing_equals_parsing_at_once(index in 0usize..64, at in 0usize..4000, cut in 0usize..40, insert in proptest::collection::vec(token(), 0..4), second in 0usize..4000) {
+        let files = holo_files();
+        let path = &files[index % files.len()];
+        let text = std::fs::read_to_string(path).expect("readable");
+        let mutate = |text: &str, at: usize, cut: usize, insert: &str| {
+            let mut at = at.min(text.len());
+            while !text.is_char_boundary(at) { at -= 1; }
+            let mut end = (at + cut).min(text.len());
+            while !text.is_char_boundary(end) { end -= 1; }
+            format!("{}{}{}", &text[..at], insert, &text[end..])
+        };
+        let once = mutate(&text, at, cut, &insert.join(" "));
+        let twice = mutate(&once, second, 1, "x");
+        // One cache across the original, the edit and a second edit, as an editor uses it.
+        let mut cache = holoc::parse::ParseCache::default();
+        for version in [text.as_str(), once.as_str(), twice.as_str()] {
+            let mut sources = holoc::source::SourceMap::new();
+            let file = sources.add("t.holo", version);
+            let piecewise = holoc::parse::parse_cached(&sources, file, &mut cache);
+            let whole = holoc::parse::parse_whole(&sources, file);
+            prop_assert_eq!(format!("{:?}", piecewise.value), format!("{:?}", whole.value));
+            prop_assert_eq!(format!("{:?}", piecewise.diagnostics), format!("{:?}", whole.diagnostics));
+        }
+    }
+
+    #[test]
+    fn piecewise_parsing_equals_parsing_at_once_on_token_streams(tokens in proptest::collection::vec(token(), 0..80)) {
+        // Tokens joined by newlines half of the time, so that many lines start at column 0.
+        let text: String = tokens.iter().enumerate().map(|(i, t)| if i % 2 == 0 { format!("{t}\n") } else { format!("{t} ") }).collect();
+        let mut sources = holoc::source::SourceMap::new();
+        let file = sources.add("t.holo", text.as_str());
+        let piecewise = holoc::parse::parse(&sources, file);
+        let whole = holoc::parse::parse_whole(&sources, file);
+        prop_assert_eq!(format!("{:?}", piecewise.value), format!("{:?}", whole.value));
+        prop_assert_eq!(format!("{:?}", piecewise.diagnostics), format!("{:?}", whole.diagnostics));
     }
 }

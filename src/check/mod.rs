@@ -446,7 +446,8 @@ impl Checker {
                 .with_help(
                     suggest::did_you_mean(&candidates)
                         .unwrap_or_else(|| format!("a {what} is one of {}", listed.join(", "))),
-                ),
+                )
+                .with_fixes(suggest::replacements(word.span, &candidates)),
         );
         None
     }
@@ -673,14 +674,13 @@ impl Checker {
                                     all.join(", ")
                                 ),
                             )
-                            .with_help_opt(
-                                suggest::did_you_mean(&candidates).or_else(|| {
-                                    Some(format!(
-                                        "raise `count` to declare more instances of `{}`",
-                                        o.id.name
-                                    ))
-                                }),
-                            ),
+                            .with_help_opt(suggest::did_you_mean(&candidates).or_else(|| {
+                                Some(format!(
+                                    "raise `count` to declare more instances of `{}`",
+                                    o.id.name
+                                ))
+                            }))
+                            .with_fixes(suggest::replacements(inst.id.span, &candidates)),
                         );
                     }
                 }
@@ -1127,7 +1127,8 @@ impl Checker {
         self.push(
             Diagnostic::new(Code::E0201, format!("unknown object `{name}`"))
                 .with_primary(target.span, format!("not declared in room `{}`", room.name))
-                .with_help_opt(suggest::did_you_mean(&candidates)),
+                .with_help_opt(suggest::did_you_mean(&candidates))
+                .with_fixes(suggest::replacements(target.span, &candidates)),
         );
         None
     }
@@ -1415,7 +1416,8 @@ impl Checker {
                 .with_primary(ident.span, "no room has this identifier")
                 .with_help_opt(suggest::did_you_mean(&candidates).or_else(|| {
                     Some("a door names two rooms, or a room and `exterior`".to_string())
-                })),
+                }))
+                .with_fixes(suggest::replacements(ident.span, &candidates)),
         );
         None
     }

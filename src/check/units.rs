@@ -1,7 +1,12 @@
 //! Units: converting written quantities to metres and degrees, reporting what is missing.
 
 use crate::ast::{Quantity, Unit};
-use crate::diag::{Code, Diagnostic};
+use crate::diag::{Code, Diagnostic, Fix};
+
+/// A fix that rewrites a quantity (number and unit) as `text`.
+fn rewrite(q: &Quantity, title: &str, text: String) -> Fix {
+    Fix { title: format!("{title}: `{text}`"), span: q.span, replacement: text }
+}
 
 /// Converts a length to metres, or reports why it cannot be one. `default` is a unit given for
 /// a whole list (`corners in m ...`).
@@ -18,16 +23,24 @@ pub(super) fn length_m(
             diagnostics.push(
                 Diagnostic::new(Code::E0105, format!("{what} `{}` has no unit", q.text))
                     .with_primary(q.span, "a length needs `m` or `cm`")
-                    .with_help(format!("add a unit, e.g. `{} m` or `{} cm`", q.text, q.text)),
+                    .with_help(format!("add a unit, e.g. `{} m` or `{} cm`", q.text, q.text))
+                    .with_fixes([
+                        rewrite(q, "add a unit", format!("{} m", q.text)),
+                        rewrite(q, "add a unit", format!("{} cm", q.text)),
+                    ]),
             );
             None
         }
         Some(unit) => {
-            let help = match unit {
-                Unit::Mm => format!("write `{} cm`", crate::ast::format_number(q.value / 10.0)),
-                Unit::Ft => format!("write `{} cm`", round2(q.value * 30.48)),
-                Unit::In => format!("write `{} cm`", round2(q.value * 2.54)),
-                _ => "a length is written in `m` or `cm`".to_string(),
+            let converted = match unit {
+                Unit::Mm => Some(format!("{} cm", crate::ast::format_number(q.value / 10.0))),
+                Unit::Ft => Some(format!("{} cm", round2(q.value * 30.48))),
+                Unit::In => Some(format!("{} cm", round2(q.value * 2.54))),
+                _ => None,
+            };
+            let help = match &converted {
+                Some(text) => format!("write `{text}`"),
+                None => "a length is written in `m` or `cm`".to_string(),
             };
             diagnostics.push(
                 Diagnostic::new(
@@ -38,7 +51,8 @@ pub(super) fn length_m(
                     ),
                 )
                 .with_primary(q.unit_span.unwrap_or(q.span), "expected `m` or `cm`")
-                .with_help(help),
+                .with_help(help)
+                .with_fixes(converted.map(|text| rewrite(q, "convert", text))),
             );
             None
         }
@@ -57,7 +71,8 @@ pub(super) fn angle_deg(
             diagnostics.push(
                 Diagnostic::new(Code::E0105, format!("{what} `{}` has no unit", q.text))
                     .with_primary(q.span, "an angle needs `deg`")
-                    .with_help(format!("add the unit: `{} deg`", q.text)),
+                    .with_help(format!("add the unit: `{} deg`", q.text))
+                    .with_fixes([rewrite(q, "add the unit", format!("{} deg", q.text))]),
             );
             return None;
         }
@@ -65,7 +80,12 @@ pub(super) fn angle_deg(
             diagnostics.push(
                 Diagnostic::new(Code::E0106, format!("{what} is written in radians"))
                     .with_primary(q.unit_span.unwrap_or(q.span), "expected `deg`")
-                    .with_help(format!("write `{} deg`", round2(q.value.to_degrees()))),
+                    .with_help(format!("write `{} deg`", round2(q.value.to_degrees())))
+                    .with_fixes([rewrite(
+                        q,
+                        "convert",
+                        format!("{} deg", round2(q.value.to_degrees())),
+                    )]),
             );
             return None;
         }
@@ -96,7 +116,8 @@ pub(super) fn count(
         diagnostics.push(
             Diagnostic::new(Code::E0106, format!("{what} takes no unit"))
                 .with_primary(q.unit_span.unwrap_or(q.span), format!("remove `{}`", unit.as_str()))
-                .with_help(format!("write `{}`", q.text)),
+                .with_help(format!("write `{}`", q.text))
+                .with_fixes([rewrite(q, "remove the unit", q.text.clone())]),
         );
         return None;
     }

@@ -12,6 +12,7 @@ pub mod explain;
 pub mod fmt;
 pub mod generate;
 pub mod import;
+pub mod lsp;
 pub mod render;
 pub mod repair;
 pub mod validate;
@@ -45,6 +46,8 @@ pub enum Command {
     Generate(generate::GenerateArgs),
     /// Turn LLM answers, a transcript or an original Holodeck scene into `.holo`.
     Import(import::ImportArgs),
+    /// Serve editors over the Language Server Protocol (stdio).
+    Lsp(lsp::LspArgs),
     /// Build or generate every job of a manifest, resumable and sharded.
     Batch(batch::BatchArgs),
     /// Build a scene and draw its plan as SVG.
@@ -65,6 +68,7 @@ pub fn run(cli: Cli) -> ExitCode {
         Command::Explain(args) => explain::run(args),
         Command::Generate(args) => generate::run(args),
         Command::Import(args) => import::run(args),
+        Command::Lsp(args) => lsp::run(args),
         Command::Batch(args) => batch::run(args),
         Command::Render(args) => render::run(args),
         Command::Repair(args) => repair::run(args),

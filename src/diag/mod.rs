@@ -100,6 +100,27 @@ impl Diagnostic {
         }
     }
 
+    /// Adds "did you mean" help for a string literal at `span` (quotes included) that names
+    /// nothing, with one fix per candidate near `written`.
+    #[must_use]
+    pub fn with_quoted_suggestions<'a>(
+        self,
+        span: crate::source::Span,
+        written: &str,
+        names: impl IntoIterator<Item = &'a str>,
+    ) -> Diagnostic {
+        let close = suggest::closest(written, names);
+        self.with_help_opt(suggest::did_you_mean(&close))
+            .with_fixes(suggest::quoted_replacements(span, &close))
+    }
+
+    /// Adds fixes.
+    #[must_use]
+    pub fn with_fixes(mut self, fixes: impl IntoIterator<Item = Fix>) -> Diagnostic {
+        self.fixes.extend(fixes);
+        self
+    }
+
     /// Sets the primary label.
     #[must_use]
     pub fn with_primary(mut self, span: Span, text: impl Into<String>) -> Diagnostic {

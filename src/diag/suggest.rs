@@ -42,6 +42,28 @@ pub fn did_you_mean(candidates: &[String]) -> Option<String> {
     }
 }
 
+/// One fix per candidate: replace the text at `span` with it (an editor's "did you mean"
+/// code actions).
+pub fn replacements(span: crate::source::Span, candidates: &[String]) -> Vec<super::Fix> {
+    candidates
+        .iter()
+        .map(|c| super::Fix { title: format!("replace with `{c}`"), span, replacement: c.clone() })
+        .collect()
+}
+
+/// One fix per candidate for a string literal at `span` (quotes included): replace it with
+/// the candidate in quotes.
+pub fn quoted_replacements(span: crate::source::Span, candidates: &[String]) -> Vec<super::Fix> {
+    candidates
+        .iter()
+        .map(|c| super::Fix {
+            title: format!("replace with \"{c}\""),
+            span,
+            replacement: format!("\"{}\"", crate::parse::escape(c)),
+        })
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -206,6 +206,12 @@ pub(super) fn bad_line(file: FileId, offset: usize, line: &str, context: Context
                 candidates = PHRASES.to_vec();
             }
             let mut suggestions = suggest::closest(&head, candidates.iter().copied());
+            // A one-word suggestion for the first word can replace it in place.
+            let word_fixes: Vec<String> = if first.is_empty() {
+                Vec::new()
+            } else {
+                suggestions.iter().filter(|s| !s.contains(' ')).cloned().collect()
+            };
             if words.len() >= 2 {
                 let two = words[..2].join(" ");
                 for s in suggest::closest(&two, candidates.iter().copied()) {
@@ -224,6 +230,10 @@ pub(super) fn bad_line(file: FileId, offset: usize, line: &str, context: Context
             .with_primary(Span::new(file, offset, head_end), "unknown statement")
             .with_help_opt(suggest::did_you_mean(&suggestions))
             .with_note(format!("{} takes: {}", block_name(context), listed.join(", ")))
+            .with_fixes(suggest::replacements(
+                Span::new(file, offset, offset + first.len()),
+                &word_fixes,
+            ))
         }
     }
 }

@@ -9,6 +9,7 @@
 
 mod errors;
 mod grammar;
+mod relocate;
 
 use crate::ast::{self, Ident, Quantity, Str, Unit};
 use crate::diag::{Code, Diagnostic, Outcome};
@@ -33,6 +34,156 @@ pub(crate) enum Context {
 
 /// Parses the file `file` of `sources`.
 pub fn parse(sources: &SourceMap, file: FileId) -> Outcome<ast::File> {
+    parse_cached(sources, file, &mut ParseCache::default())
+}
+
+/// Top-level items already parsed, by their text, with spans relative to their start: what the
+/// language server keeps between keystrokes so that only the item being edited is parsed again.
+#[derive(Clone, Debug, Default)]
+pub struct ParseCache {
+    chunks: std::collections::HashMap<String, std::rc::Rc<Chunk>>,
+}
+
+/// One top-level piece of text, parsed on its own.
+#[derive(Debug)]
+struct Chunk {
+    items: Vec<ast::Item>,
+    diagnostics: Vec<Diagnostic>,
+}
+
+/// Parses the file, reusing the items of `cache` whose text has not changed.
+///
+/// The text is cut before every line that starts, outside any block, string or comment, with a
+/// letter (`scene`, `room`, `door`, or a line that is none of these); each piece is parsed on its
+/// own and its spans moved into place. The result is the one parsing the whole text at once
+/// gives (the grammar reads the top level item by item); when the cut cannot be made safely (a
+/// brace that closes nothing, a block or comment left open, a string that runs to the end of
+/// its line) or a piece does not parse on its own, the whole text is parsed at once.
+pub fn parse_cached(
+    sources: &SourceMap,
+    file: FileId,
+    cache: &mut ParseCache,
+) -> Outcome<ast::File> {
+    let text = &sources.get(file).text;
+    let Some(starts) = chunk_starts(text) else { return parse_whole(sources, file) };
+    let mut used = std::collections::HashMap::new();
+    let mut items = Vec::new();
+    let mut diagnostics = Vec::new();
+    let mut previous_end: Option<usize> = None;
+    for (k, &start) in starts.iter().enumerate() {
+        let end = starts.get(k + 1).copied().unwrap_or(text.len());
+        let piece = &text[start..end];
+        let chunk = match cache.chunks.get(piece) {
+            Some(hit) => std::rc::Rc::clone(hit),
+            None => match parse_piece(piece) {
+                Some(chunk) => std::rc::Rc::new(chunk),
+                None => return parse_whole(sources, file),
+            },
+        };
+        let m = relocate::Move { file, delta: start as i64 };
+        let mut piece_items = chunk.items.clone();
+        relocate::Relocate::relocate(&mut piece_items, m);
+        if let (Some(end), Some(first)) = (previous_end, piece_items.first()) {
+            let first_start = item_span(first).start as usize;
+            if text.get(end..first_start).is_some_and(|gap| gap.matches('\n').count() >= 2) {
+                items.push(ast::Item::Blank(Span::new(file, first_start, first_start)));
+            }
+        }
+        previous_end = piece_items.last().map(|i| item_span(i).end as usize).or(previous_end);
+        items.extend(piece_items);
+        let mut piece_diagnostics = chunk.diagnostics.clone();
+        relocate::Relocate::relocate(&mut piece_diagnostics, m);
+        diagnostics.extend(piece_diagnostics);
+        used.insert(piece.to_string(), chunk);
+    }
+    // Only what the text still holds is kept.
+    cache.chunks = used;
+    Outcome::new(ast::File { items, span: Span::new(file, 0, text.len()) }, diagnostics)
+}
+
+fn item_span(item: &ast::Item) -> Span {
+    match item {
+        ast::Item::Scene(x) => x.span,
+        ast::Item::Room(x) => x.span,
+        ast::Item::Door(x) => x.span,
+        ast::Item::Comment(x) => x.span,
+        ast::Item::Blank(x) => *x,
+        ast::Item::Error(x) => x.span,
+    }
+}
+
+/// Parses one top-level piece on its own (file 0, spans from its start), or `None` when it
+/// does not parse as a whole or holds a brace that closes nothing.
+fn parse_piece(piece: &str) -> Option<Chunk> {
+    let mut pairs = HoloParser::parse(Rule::file, piece).ok()?;
+    let file = FileId(0);
+    let mut builder = Builder { file, text: piece, diagnostics: Vec::new() };
+    let parsed = builder.file(pairs.next()?);
+    if parsed.items.iter().any(|i| matches!(i, ast::Item::Error(e) if e.text == "}")) {
+        return None;
+    }
+    Some(Chunk { items: parsed.items, diagnostics: builder.diagnostics })
+}
+
+/// Where each top-level piece starts: line starts outside any block, string and comment whose
+/// first character is a letter (and 0). `None` when the braces, strings or comments of the text
+/// do not allow a safe cut.
+fn chunk_starts(text: &str) -> Option<Vec<usize>> {
+    let bytes = text.as_bytes();
+    let mut starts = vec![0];
+    let mut depth: i64 = 0;
+    let mut i = 0;
+    let mut line_start = true;
+    while i < bytes.len() {
+        let b = bytes[i];
+        if line_start && depth == 0 && i > 0 && b.is_ascii_alphabetic() {
+            starts.push(i);
+        }
+        line_start = false;
+        match b {
+            b'\n' => line_start = true,
+            b'{' => depth += 1,
+            b'}' => {
+                depth -= 1;
+                if depth < 0 {
+                    return None;
+                }
+            }
+            b'"' => {
+                // A string ends on its line.
+                i += 1;
+                loop {
+                    match bytes.get(i) {
+                        None | Some(b'\n' | b'\r') => return None,
+                        Some(b'\\') => i += 2,
+                        Some(b'"') => break,
+                        Some(_) => i += 1,
+                    }
+                }
+            }
+            b'/' if bytes.get(i + 1) == Some(&b'/') => {
+                while i + 1 < bytes.len() && bytes[i + 1] != b'\n' {
+                    i += 1;
+                }
+            }
+            b'/' if bytes.get(i + 1) == Some(&b'*') => {
+                let close = text.get(i + 2..)?.find("*/")?;
+                // A block comment that spans lines could hide a line start: parse at once.
+                if text[i..i + 2 + close].contains('\n') {
+                    return None;
+                }
+                i += 2 + close + 1;
+            }
+            _ => {}
+        }
+        i += 1;
+    }
+    (depth == 0).then_some(starts)
+}
+
+/// Parses the whole text at once, with no cache: what [`parse_cached`] falls back to, and the
+/// reference the tests hold it to.
+pub fn parse_whole(sources: &SourceMap, file: FileId) -> Outcome<ast::File> {
     let text = &sources.get(file).text;
     let mut builder = Builder { file, text, diagnostics: Vec::new() };
     let whole = Span::new(file, 0, text.len());

@@ -12,7 +12,6 @@ use super::{
     N_LAYERS, OPEN_BOX_DEPTH_M, SNAP_M, WINDOW_BOX_DEPTH_M, WINDOW_MARGIN_M, WINDOW_TOP_MARGIN_M,
 };
 use crate::check::scene::{Direction, DoorKind, DoorSide, DoorSize, RoomId, Scene};
-use crate::diag::suggest::{closest, did_you_mean};
 use crate::diag::{Code, Diagnostic, Outcome};
 use crate::geometry::{
     self as geo, add_scaled, area_centroid, box_beside, distance, near, near_point,
@@ -212,7 +211,18 @@ impl Ctx<'_> {
                             span,
                             format!("within {} of a coordinate written earlier", m(SNAP_M)),
                         )
-                        .with_help("write the same coordinate in both places"),
+                        .with_help("write the same coordinate in both places")
+                        .with_fixes(room.corner_spans.get(ci).map(
+                            |&span| crate::diag::Fix {
+                                title: format!("snap the corner to {}", pt(p)),
+                                span,
+                                replacement: format!(
+                                    "({} m, {} m)",
+                                    crate::ast::format_number(p[0]),
+                                    crate::ast::format_number(p[1])
+                                ),
+                            },
+                        )),
                     );
                 }
                 corners.push(p);
@@ -687,7 +697,7 @@ impl Ctx<'_> {
                 self.diags.push(
                     Diagnostic::new(Code::E0313, format!("`{}` is not a door asset", pin.id))
                         .with_primary(pin.span, "not in the door catalog")
-                        .with_help_opt(did_you_mean(&closest(&pin.id, names)))
+                        .with_quoted_suggestions(pin.span, &pin.id, names)
                         .with_note("door assets are `Doorway_*`, `Doorway_Double_*`, `Doorframe_*` and `Doorframe_Double_*`"),
                 );
                 return false;
@@ -1127,7 +1137,7 @@ impl Ctx<'_> {
                                 format!("`{}` is not a window asset", pin.id),
                             )
                             .with_primary(pin.span, "not in the window catalog")
-                            .with_help_opt(did_you_mean(&closest(&pin.id, names))),
+                            .with_quoted_suggestions(pin.span, &pin.id, names),
                         );
                         continue;
                     }
@@ -1335,7 +1345,7 @@ impl Ctx<'_> {
             self.diags.push(
                 Diagnostic::new(Code::E0320, format!("`{}` is not a known material", pin.id))
                     .with_primary(pin.span, "not in the material database")
-                    .with_help_opt(did_you_mean(&closest(&pin.id, names))),
+                    .with_quoted_suggestions(pin.span, &pin.id, names),
             );
         } else if let Some(design) = &self.scene.ceiling_design {
             // The best-ranked wall material that a ceiling can be made of.
@@ -1378,7 +1388,7 @@ impl Ctx<'_> {
                                 format!("`{}` is not a known material", pin.id),
                             )
                             .with_primary(pin.span, "not in the material database")
-                            .with_help_opt(did_you_mean(&closest(&pin.id, names))),
+                            .with_quoted_suggestions(pin.span, &pin.id, names),
                         );
                         continue;
                     }

@@ -38,6 +38,7 @@ pub(crate) fn unknown_asset(
     Diagnostic::new(Code::E0401, format!("unknown asset `{}`", pin.id))
         .with_primary(pin.span, "no catalog has this asset")
         .with_help_opt(help.or_else(|| Some("list assets with `holoc assets list`".into())))
+        .with_fixes(suggest::quoted_replacements(pin.span, &close))
 }
 
 /// E0402: a pinned asset cannot be placed the way the object is.

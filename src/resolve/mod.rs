@@ -26,9 +26,10 @@ pub use index::{
     RELEVANCE_WEIGHT, SIZE_WEIGHT,
 };
 pub use report::{candidate_json, report};
+pub(crate) use select::parts_text;
 pub use select::{
-    resolve, resolve_query, resolve_with, Choice, Resolution, ResolveOptions, Resolved, Unresolved,
-    FLOOR_STANDING, ON_FURNITURE, WALL_MOUNTED,
+    resolve, resolve_cached, resolve_query, resolve_with, Choice, RankCache, Resolution,
+    ResolveOptions, Resolved, Unresolved, FLOOR_STANDING, ON_FURNITURE, WALL_MOUNTED,
 };
 
 /// Ranks the catalog for a free-text query, as `holoc assets search` does: the whole text is

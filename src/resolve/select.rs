@@ -256,16 +256,53 @@ pub fn resolve_with(
     seed: u64,
     options: &ResolveOptions,
 ) -> Outcome<Resolved> {
+    resolve_cached(scene, catalog, seed, options, &mut RankCache::default())
+}
+
+type RankKey = (String, String, String, &'static str);
+
+/// Rankings of earlier resolutions, kept by an editor between keystrokes: the ranking of a
+/// query depends only on the catalog, the seed and the query, so a document resolved again
+/// ranks only the descriptions that changed. It holds what the last resolution asked, no more.
+#[derive(Debug, Default)]
+pub struct RankCache {
+    /// The catalog (by address and size) and seed the rankings were made with.
+    made_with: Option<(usize, usize, u64)>,
+    rankings: BTreeMap<RankKey, std::rc::Rc<Vec<Candidate>>>,
+}
+
+/// [`resolve_with`], reusing the rankings of `cache` (made with this catalog and seed).
+pub fn resolve_cached(
+    scene: &Scene,
+    catalog: &Catalog,
+    seed: u64,
+    options: &ResolveOptions,
+    cache: &mut RankCache,
+) -> Outcome<Resolved> {
+    let made_with = (std::ptr::from_ref(catalog) as usize, catalog.assets().len(), seed);
+    let earlier = if cache.made_with == Some(made_with) {
+        std::mem::take(&mut cache.rankings)
+    } else {
+        BTreeMap::new()
+    };
     let mut state = State {
         catalog,
         seed,
         options: *options,
-        used: BTreeMap::new(),
+        used: std::collections::HashMap::new(),
         diagnostics: Vec::new(),
         reported: BTreeSet::new(),
         cache: BTreeMap::new(),
+        earlier,
         top: None,
     };
+    let resolved = resolve_scene(scene, &mut state);
+    cache.made_with = Some(made_with);
+    cache.rankings = std::mem::take(&mut state.cache);
+    Outcome::new(resolved, state.diagnostics)
+}
+
+fn resolve_scene(scene: &Scene, state: &mut State<'_>) -> Resolved {
     let mut resolved = Resolved {
         objects: vec![
             Resolution::Unresolved(Unresolved {
@@ -373,7 +410,7 @@ pub fn resolve_with(
             }
         }
     }
-    Outcome::new(resolved, state.diagnostics)
+    resolved
 }
 
 /// Resolves one query as a build resolves an object declared with it (the words, then the
@@ -389,10 +426,11 @@ pub fn resolve_query(
         catalog,
         seed,
         options: *options,
-        used: BTreeMap::new(),
+        used: std::collections::HashMap::new(),
         diagnostics: Vec::new(),
         reported: BTreeSet::new(),
         cache: BTreeMap::new(),
+        earlier: BTreeMap::new(),
         top: None,
     };
     let what = Subject {
@@ -448,18 +486,22 @@ struct State<'a> {
     seed: u64,
     options: ResolveOptions,
     /// Asset id → rooms it is used in.
-    used: BTreeMap<String, BTreeSet<RoomId>>,
+    /// (Looked up once per candidate and object, never iterated: a hash map.)
+    used: std::collections::HashMap<String, BTreeSet<RoomId>>,
     diagnostics: Vec<Diagnostic>,
     /// Spans already reported (one cause, one diagnostic).
     reported: BTreeSet<(u32, u32, u32)>,
-    /// Rankings already computed, by query text.
-    cache: BTreeMap<(String, String, String, &'static str), Vec<Candidate>>,
+    /// Rankings already computed, by query text (shared, not copied, by every object that
+    /// asks the same question).
+    cache: BTreeMap<RankKey, std::rc::Rc<Vec<Candidate>>>,
+    /// Rankings of an earlier resolution with the same catalog and seed, taken when asked.
+    earlier: BTreeMap<RankKey, std::rc::Rc<Vec<Candidate>>>,
     /// While resolving things on top: the receptacle's top, `[short, long]` side in metres.
     top: Option<[f64; 2]>,
 }
 
 impl State<'_> {
-    fn ranked(&mut self, query: &Query) -> Vec<Candidate> {
+    fn ranked(&mut self, query: &Query) -> std::rc::Rc<Vec<Candidate>> {
         let key = (
             query.category.clone(),
             query.description.clone().unwrap_or_default(),
@@ -467,10 +509,14 @@ impl State<'_> {
             query.kind.map_or("", PlacementKind::as_str),
         );
         if let Some(hit) = self.cache.get(&key) {
-            return hit.clone();
+            return std::rc::Rc::clone(hit);
         }
-        let list = rank_top(self.catalog, query, self.seed, RANK_LIMIT);
-        self.cache.insert(key, list.clone());
+        if let Some(hit) = self.earlier.remove(&key) {
+            self.cache.insert(key, std::rc::Rc::clone(&hit));
+            return hit;
+        }
+        let list = std::rc::Rc::new(rank_top(self.catalog, query, self.seed, RANK_LIMIT));
+        self.cache.insert(key, std::rc::Rc::clone(&list));
         list
     }
 
@@ -506,8 +552,21 @@ impl State<'_> {
             good.sort_by_key(|c| !fits(c));
         }
         // Avoid assets used in other rooms where an alternative exists.
-        let (fresh, used): (Vec<&Candidate>, Vec<&Candidate>) =
-            good.iter().partition(|c| self.used.get(&c.asset_id).free_for(what.room));
+        // Only the first `pins.len()` picks are ever taken (`pool[i]` with `i < pins.len()`),
+        // so the scan stops once that many fresh assets are found: the pool's prefix is then
+        // the same as with every candidate sorted.
+        let need = pins.len().max(1);
+        let (mut fresh, mut used) = (Vec::with_capacity(need), Vec::new());
+        for c in &good {
+            if fresh.len() == need {
+                break;
+            }
+            if self.used.get(&c.asset_id).free_for(what.room) {
+                fresh.push(*c);
+            } else {
+                used.push(*c);
+            }
+        }
         let pool: Vec<&Candidate> = fresh.into_iter().chain(used).collect();
 
         let mut out = Vec::with_capacity(pins.len());

@@ -139,6 +139,26 @@ impl SourceFile {
         (line as u32, column as u32)
     }
 
+    /// The byte offset of an LSP position (0-based line, 0-based UTF-16 column), clamped to
+    /// the line's end and the text's end; a column inside a surrogate pair rounds down.
+    pub fn offset_of_lsp(&self, line: u32, column: u32) -> usize {
+        let Some(&start) = self.line_starts.get(line as usize) else { return self.text.len() };
+        let end = self.line_starts.get(line as usize + 1).map_or(self.text.len(), |&e| e - 1);
+        let mut units = 0u32;
+        for (i, c) in self.text[start..end].char_indices() {
+            if units + c.len_utf16() as u32 > column {
+                return start + i;
+            }
+            units += c.len_utf16() as u32;
+        }
+        end
+    }
+
+    /// The number of lines (a final line without a break counts).
+    pub fn line_count(&self) -> usize {
+        self.line_starts.len()
+    }
+
     /// The text of 1-based line `line`, without its line break.
     pub fn line_text(&self, line: usize) -> &str {
         let Some(&start) = self.line_starts.get(line.saturating_sub(1)) else { return "" };

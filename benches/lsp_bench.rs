@@ -1,0 +1,190 @@
+//! Language server benchmark: diagnostics after a one-character edit of a 5,000-line scene.
+//!
+//! `cargo bench --bench lsp_bench` runs the real server in memory (`Connection::memory()`),
+//! opens a generated scene of 5,000 lines (16 rooms of 5 m × 5 m, 52 objects each), then sends
+//! one-character edits (typing into and deleting from a description, alternately, so the scene
+//! stays valid) and waits after each for the diagnostics published with its version. It prints
+//! the latency of each edit (p50, p95, max) and the process's resident memory after opening,
+//! after the first 1,000 edits and at the end. The target (issue 13): p95 ≤ 20 ms on a 2-core
+//! machine, memory flat over 10,000 edits. `LSP_BENCH_EDITS` sets the number of edits.
+
+// The table is the point of this binary: it prints to stdout on purpose.
+#![allow(clippy::print_stdout, clippy::print_stderr)]
+
+use lsp_server::{Connection, Message, Notification, Request, RequestId};
+use serde_json::{json, Value};
+use std::fmt::Write as _;
+use std::time::{Duration, Instant};
+
+const URI: &str = "file:///nonexistent/holoc-lsp-bench/big.holo";
+
+/// A valid scene of about `lines` lines: rooms in a grid, each with many objects.
+fn big_scene(lines: usize) -> String {
+    let categories = [
+        ("sofa", "grey fabric three seat sofa", "200 cm x 90 cm x 80 cm"),
+        ("armchair", "leather armchair", "80 cm x 80 cm x 90 cm"),
+        ("bookshelf", "tall oak bookshelf", "90 cm x 30 cm x 190 cm"),
+        ("table", "round dining table", "120 cm x 120 cm x 75 cm"),
+        ("chair", "wooden dining chair", "45 cm x 50 cm x 90 cm"),
+        ("desk", "white writing desk", "120 cm x 60 cm x 75 cm"),
+        ("cabinet", "low storage cabinet", "100 cm x 45 cm x 80 cm"),
+        ("plant", "potted fern", "40 cm x 40 cm x 90 cm"),
+    ];
+    let mut text =
+        String::from("scene \"a large office floor\" {\n  wall height 2.7 m\n  seed 7\n}\n");
+    let mut room = 0;
+    while text.lines().count() < lines {
+        let (gx, gz) = (room % 4, room / 4);
+        let (x0, z0) = (gx as f64 * 5.0, gz as f64 * 5.0);
+        let _ = writeln!(
+            text,
+            "\nroom r{room} \"office {room}\" {{\n  floor \"grey carpet\"\n  walls \"white paint\"\n  corners in m ({x0}, {z0}) ({x0}, {}) ({}, {}) ({}, {z0})",
+            z0 + 5.0,
+            x0 + 5.0,
+            z0 + 5.0,
+            x0 + 5.0
+        );
+        for k in 0..52 {
+            let (category, description, size) = categories[k % categories.len()];
+            let _ = writeln!(
+                text,
+                "  object o{k} \"{category}\" {{\n    describe \"{description}\"\n    size {size}\n    edge"
+            );
+            if k > 0 {
+                let _ = writeln!(text, "    near o{}-0", k - 1);
+            }
+            text.push_str("  }\n");
+        }
+        text.push_str("}\n");
+        room += 1;
+    }
+    for r in 0..room {
+        let from = if r == 0 { "exterior".to_string() } else { format!("r{}", r - 1) };
+        let from = if r % 4 == 0 && r > 0 { format!("r{}", r - 4) } else { from };
+        let _ = writeln!(text, "door {from} -- r{r} : doorway single");
+    }
+    text
+}
+
+fn rss_kb() -> u64 {
+    std::fs::read_to_string("/proc/self/status")
+        .ok()
+        .and_then(|s| {
+            s.lines()
+                .find(|l| l.starts_with("VmRSS:"))
+                .and_then(|l| l.split_whitespace().nth(1).and_then(|v| v.parse().ok()))
+        })
+        .unwrap_or(0)
+}
+
+fn wait_version(client: &Connection, version: i32) {
+    loop {
+        let message =
+            client.receiver.recv_timeout(Duration::from_secs(60)).expect("the server answers");
+        if let Message::Notification(n) = message {
+            if n.method == "textDocument/publishDiagnostics" && n.params["version"] == version {
+                let errors = n.params["diagnostics"]
+                    .as_array()
+                    .map_or(0, |d| d.iter().filter(|d| d["severity"] == 1).count());
+                assert_eq!(errors, 0, "the scene stays valid: {}", n.params);
+                return;
+            }
+        }
+    }
+}
+
+fn percentile(sorted: &[Duration], p: f64) -> Duration {
+    let i = ((sorted.len() as f64 - 1.0) * p).round() as usize;
+    sorted[i.min(sorted.len() - 1)]
+}
+
+fn main() {
+    let edits: usize =
+        std::env::var("LSP_BENCH_EDITS").ok().and_then(|v| v.parse().ok()).unwrap_or(10_000);
+    let text = big_scene(5_000);
+    let line_count = text.lines().count();
+    let (server, client) = Connection::memory();
+    let thread = std::thread::spawn(move || {
+        holoc::lsp::serve(
+            &server,
+            holoc::lsp::ServerOptions { catalogs: Vec::new(), solve_on_save: false },
+        )
+    });
+    let send = |m: Message| client.sender.send(m).expect("the server listens");
+    send(Message::Request(Request::new(
+        RequestId::from(1),
+        "initialize".into(),
+        json!({"capabilities": {}}),
+    )));
+    let _ = client.receiver.recv().expect("initialize result");
+    send(Message::Notification(Notification::new("initialized".into(), json!({}))));
+    let started = Instant::now();
+    send(Message::Notification(Notification::new(
+        "textDocument/didOpen".into(),
+        json!({"textDocument": {"uri": URI, "languageId": "holo", "version": 1, "text": text}}),
+    )));
+    wait_version(&client, 1);
+    let open_time = started.elapsed();
+    let rss_open = rss_kb();
+    // Type `x` after `grey` in the middle room's first description, then delete it, and so on.
+    let middle = text.lines().count() / 2;
+    let (line, column) = text
+        .lines()
+        .enumerate()
+        .skip(middle)
+        .find_map(|(i, l)| l.find("describe \"").map(|c| (i, c + 10)))
+        .expect("a description");
+    let mut latencies = Vec::with_capacity(edits);
+    let mut rss_1000 = 0;
+    for k in 0..edits {
+        let version = k as i32 + 2;
+        let at = json!({"line": line, "character": column});
+        let change = if k % 2 == 0 {
+            json!({"range": {"start": at, "end": at}, "text": "x"})
+        } else {
+            json!({"range": {"start": at, "end": {"line": line, "character": column + 1}}, "text": ""})
+        };
+        let sent = Instant::now();
+        send(Message::Notification(Notification::new(
+            "textDocument/didChange".into(),
+            json!({"textDocument": {"uri": URI, "version": version}, "contentChanges": [change]}),
+        )));
+        wait_version(&client, version);
+        latencies.push(sent.elapsed());
+        if k + 1 == 1000.min(edits) {
+            rss_1000 = rss_kb();
+        }
+    }
+    let rss_end = rss_kb();
+    // Latency by block of 1,000 edits: flat if nothing builds up.
+    let blocks: Vec<String> = latencies
+        .chunks(1000)
+        .map(|block| {
+            let mut block = block.to_vec();
+            block.sort();
+            format!("{:.1}", percentile(&block, 0.95).as_secs_f64() * 1000.0)
+        })
+        .collect();
+    send(Message::Request(Request::new(RequestId::from(2), "shutdown".into(), Value::Null)));
+    send(Message::Notification(Notification::new("exit".into(), Value::Null)));
+    let _ = thread.join();
+    latencies.sort();
+    let ms = |d: Duration| d.as_secs_f64() * 1000.0;
+    println!(
+        "scene: {line_count} lines, {} bytes; open + first diagnostics {:.1} ms",
+        text.len(),
+        ms(open_time)
+    );
+    println!("p95 ms by block of 1,000 edits: {}", blocks.join(", "));
+    println!("| edits | p50 ms | p95 ms | max ms | RSS after open MB | after 1,000 edits MB | after {edits} edits MB |");
+    println!("|---|---|---|---|---|---|---|");
+    println!(
+        "| {edits} | {:.2} | {:.2} | {:.2} | {:.1} | {:.1} | {:.1} |",
+        ms(percentile(&latencies, 0.5)),
+        ms(percentile(&latencies, 0.95)),
+        ms(*latencies.last().unwrap_or(&Duration::ZERO)),
+        rss_open as f64 / 1024.0,
+        rss_1000 as f64 / 1024.0,
+        rss_end as f64 / 1024.0
+    );
+}

@@ -1,0 +1,34 @@
+//! `holoc lsp`: the language server, over stdin and stdout.
+
+use super::common;
+use std::process::ExitCode;
+
+/// Arguments of `holoc lsp`.
+#[derive(Debug, clap::Args)]
+pub struct LspArgs {
+    /// User asset catalogs, added to those of the initialization options and `holoc.toml`.
+    #[command(flatten)]
+    pub catalogs: super::assets::CatalogArgs,
+    /// Do not run a layout solve in the background on open and save (objects that cannot be
+    /// placed are then not reported while editing).
+    #[arg(long)]
+    pub no_solve: bool,
+    /// Accepted for editors that pass it; the server always speaks over stdin and stdout.
+    #[arg(long, hide = true)]
+    pub stdio: bool,
+}
+
+/// Runs `holoc lsp` until the client says `exit`.
+pub fn run(args: &LspArgs) -> ExitCode {
+    let options = crate::lsp::ServerOptions {
+        catalogs: args.catalogs.catalogs.clone(),
+        solve_on_save: !args.no_solve,
+    };
+    match crate::lsp::run_stdio(options) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(message) => {
+            common::err(&format!("holoc lsp: {message}\n"));
+            ExitCode::from(2)
+        }
+    }
+}

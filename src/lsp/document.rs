@@ -1,0 +1,168 @@
+//! An open document: its text, its version, and what the compiler made of it.
+
+use super::index::Index;
+use crate::compile::{Analysed, CheckStage};
+use crate::diag::Diagnostic;
+use crate::resolve::Catalog;
+use crate::source::{FileId, SourceFile, SourceMap, Span};
+use lsp_types::{Position, Range, TextDocumentContentChangeEvent};
+
+/// What a layout solve found for one version of a document (run in the background on save).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Solved {
+    /// The document version it was run on.
+    pub version: i32,
+    /// The solver's diagnostics (objects left out, relations that do not hold, ...).
+    pub diagnostics: Vec<Diagnostic>,
+    /// Each relation's outcome, by the span of the constraint as written.
+    pub relations: Vec<RelationOutcome>,
+}
+
+/// Whether a written relation holds in the solved layout.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RelationOutcome {
+    /// The constraint as written.
+    pub span: Span,
+    /// The instance it belongs to (`chair-1`).
+    pub object: String,
+    /// The relation in words (`near table-0`).
+    pub text: String,
+    /// Whether it holds.
+    pub satisfied: bool,
+    /// The measured value and its unit.
+    pub value: f64,
+    /// `m` or `deg`.
+    pub unit: &'static str,
+    /// The documented range of the measure, if the relation has one.
+    pub range: Option<(f64, f64)>,
+}
+
+/// An open document.
+#[derive(Debug)]
+pub struct Document {
+    /// The name diagnostics show (the file's path, or the URI).
+    pub name: String,
+    /// The version the client gave.
+    pub version: i32,
+    /// The current text.
+    pub text: String,
+    /// The analysis of the current text, or `None` when the text changed since.
+    pub analysis: Option<Analysis>,
+    /// The last background solve of this document, if its version is the current one.
+    pub solved: Option<Solved>,
+    /// What earlier versions' analyses keep for the next (parsed items, asset rankings).
+    pub cache: crate::compile::AnalysisCache,
+}
+
+/// The result of every stage before the layout solver on one version of a document.
+#[derive(Debug)]
+pub struct Analysis {
+    /// The document's text as a source map of one file.
+    pub sources: SourceMap,
+    /// Its file id.
+    pub file: FileId,
+    /// The stages' products and diagnostics.
+    pub analysed: Analysed,
+    /// Declarations and references.
+    pub index: Index,
+}
+
+impl Analysis {
+    /// Runs parse, check, plan and resolve on `text`, reusing the unchanged top-level items
+    /// of `cache`.
+    pub fn new(
+        name: &str,
+        text: &str,
+        catalog: &Catalog,
+        cache: &mut crate::compile::AnalysisCache,
+    ) -> Analysis {
+        let mut sources = SourceMap::new();
+        let file = sources.add(name, text);
+        let mut analysed =
+            crate::compile::analyse_cached(&sources, file, catalog, CheckStage::Resolve, cache);
+        crate::diag::sort(&mut analysed.diagnostics);
+        let index = Index::new(&analysed.ast);
+        Analysis { sources, file, analysed, index }
+    }
+
+    /// The source file.
+    pub fn source(&self) -> &SourceFile {
+        self.sources.get(self.file)
+    }
+
+    /// The byte offset of an LSP position.
+    pub fn offset(&self, position: Position) -> usize {
+        self.source().offset_of_lsp(position.line, position.character)
+    }
+
+    /// The LSP range of a span.
+    pub fn range(&self, span: Span) -> Range {
+        let (l0, c0) = self.source().lsp_position(span.start as usize);
+        let (l1, c1) = self.source().lsp_position(span.end as usize);
+        Range { start: Position::new(l0, c0), end: Position::new(l1, c1) }
+    }
+}
+
+impl Document {
+    /// A document as opened.
+    pub fn new(name: String, version: i32, text: String) -> Document {
+        Document {
+            name,
+            version,
+            text,
+            analysis: None,
+            solved: None,
+            cache: crate::compile::AnalysisCache::default(),
+        }
+    }
+
+    /// Applies one change (a whole new text, or a range replaced) and forgets the analysis.
+    /// A range outside the text is clamped to it, as clients expect.
+    pub fn apply(&mut self, change: TextDocumentContentChangeEvent) {
+        match change.range {
+            None => self.text = change.text,
+            Some(range) => {
+                let file = SourceFile::new("", std::mem::take(&mut self.text));
+                let start = file.offset_of_lsp(range.start.line, range.start.character);
+                let end = file.offset_of_lsp(range.end.line, range.end.character).max(start);
+                let mut text = file.text;
+                text.replace_range(start..end, &change.text);
+                self.text = text;
+            }
+        }
+        // The old analysis (a whole tree, scene and asset choices) is freed off the thread
+        // that answers the editor.
+        if let Some(old) = self.analysis.take() {
+            discard(old);
+        }
+        self.solved = None;
+    }
+
+    /// The analysis of the current text, computed if the text changed.
+    pub fn analysis(&mut self, catalog: &Catalog) -> &Analysis {
+        let (name, text, cache) = (&self.name, &self.text, &mut self.cache);
+        self.analysis.get_or_insert_with(|| Analysis::new(name, text, catalog, cache))
+    }
+}
+
+/// Frees a value on a background thread (started on first use; inline if it cannot start).
+fn discard(analysis: Analysis) {
+    use std::sync::mpsc::{channel, Sender};
+    use std::sync::{Mutex, OnceLock};
+    static BIN: OnceLock<Option<Mutex<Sender<Box<Analysis>>>>> = OnceLock::new();
+    let bin = BIN.get_or_init(|| {
+        let (tx, rx) = channel::<Box<Analysis>>();
+        std::thread::Builder::new()
+            .name("holoc-lsp-free".to_string())
+            .spawn(move || {
+                for old in rx {
+                    drop(old);
+                }
+            })
+            .ok()
+            .map(|_| Mutex::new(tx))
+    });
+    let sent = bin.as_ref().and_then(|tx| tx.lock().ok()).map(|tx| tx.send(Box::new(analysis)));
+    // Without the thread (or with its channel closed) the value is dropped here.
+    drop(sent);
+}

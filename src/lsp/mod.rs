@@ -1,0 +1,601 @@
+//! `holoc lsp`: a language server over stdio, built on `lsp-server` and `lsp-types`.
+//!
+//! One thread reads the client's messages and handles them strictly in order: a change is
+//! applied before anything that follows it is read, and a request always sees every change
+//! sent before it. Diagnostics are published with the document's version once no more
+//! messages are waiting, so a burst of keystrokes is analysed once, for its last version, and
+//! diagnostics of an older version are never sent. Every stage before the layout solver runs on
+//! each change ([`crate::compile::analyse`]); on open and on save a layout solve runs on a
+//! second thread, and its warnings (objects that cannot be placed) and relation outcomes are
+//! shown if the document has not changed meanwhile (a change cancels a solve not yet started
+//! and discards the result of one that is running).
+//!
+//! Catalogs come from the initialization options (`{"catalogs": ["a.json.gz"]}`) and from the
+//! nearest `holoc.toml` in the document's folder or above it (`catalogs = ["assets.json"]`,
+//! paths relative to the file).
+
+pub mod document;
+pub mod features;
+pub mod index;
+
+use crate::resolve::Catalog;
+use crossbeam_channel::{Receiver, Sender};
+use document::{Document, RelationOutcome, Solved};
+use lsp_server::{Connection, ErrorCode, Message, Notification, Request, Response};
+use lsp_types::notification::Notification as _;
+use lsp_types::request::Request as _;
+use lsp_types::{notification, request, Uri};
+use std::collections::{BTreeMap, BTreeSet, HashMap};
+use std::path::{Path, PathBuf};
+use std::str::FromStr;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+
+/// How the server is started.
+#[derive(Clone, Debug, Default)]
+pub struct ServerOptions {
+    /// Catalogs given on the command line (`holoc lsp --catalog FILE`).
+    pub catalogs: Vec<PathBuf>,
+    /// Whether layout solves run in the background on open and save.
+    pub solve_on_save: bool,
+}
+
+/// Runs the server on stdin and stdout until the client says `exit`.
+pub fn run_stdio(options: ServerOptions) -> Result<(), String> {
+    let (connection, io) = Connection::stdio();
+    serve(&connection, options)?;
+    drop(connection);
+    io.join().map_err(|e| e.to_string())
+}
+
+/// The server's capabilities.
+pub fn capabilities() -> lsp_types::ServerCapabilities {
+    use lsp_types::{
+        CodeActionKind, CodeActionOptions, CodeActionProviderCapability, CompletionOptions, OneOf,
+        RenameOptions, SaveOptions, ServerCapabilities, TextDocumentSyncCapability,
+        TextDocumentSyncKind, TextDocumentSyncOptions, TextDocumentSyncSaveOptions,
+    };
+    ServerCapabilities {
+        text_document_sync: Some(TextDocumentSyncCapability::Options(TextDocumentSyncOptions {
+            open_close: Some(true),
+            change: Some(TextDocumentSyncKind::INCREMENTAL),
+            save: Some(TextDocumentSyncSaveOptions::SaveOptions(SaveOptions {
+                include_text: Some(false),
+            })),
+            ..Default::default()
+        })),
+        hover_provider: Some(lsp_types::HoverProviderCapability::Simple(true)),
+        definition_provider: Some(OneOf::Left(true)),
+        references_provider: Some(OneOf::Left(true)),
+        rename_provider: Some(OneOf::Right(RenameOptions {
+            prepare_provider: Some(true),
+            work_done_progress_options: lsp_types::WorkDoneProgressOptions::default(),
+        })),
+        document_symbol_provider: Some(OneOf::Left(true)),
+        completion_provider: Some(CompletionOptions {
+            trigger_characters: Some(vec![" ".to_string()]),
+            ..Default::default()
+        }),
+        document_formatting_provider: Some(OneOf::Left(true)),
+        code_action_provider: Some(CodeActionProviderCapability::Options(CodeActionOptions {
+            code_action_kinds: Some(vec![CodeActionKind::QUICKFIX]),
+            ..Default::default()
+        })),
+        ..Default::default()
+    }
+}
+
+/// Serves one client on `connection`: the initialize handshake, then messages until `exit`.
+pub fn serve(connection: &Connection, options: ServerOptions) -> Result<(), String> {
+    let caps = serde_json::to_value(capabilities()).map_err(|e| e.to_string())?;
+    let init = connection.initialize(caps).map_err(|e| e.to_string())?;
+    let mut catalogs = options.catalogs.clone();
+    if let Some(paths) = init
+        .get("initializationOptions")
+        .and_then(|o| o.get("catalogs"))
+        .and_then(serde_json::Value::as_array)
+    {
+        catalogs.extend(paths.iter().filter_map(|p| p.as_str().map(PathBuf::from)));
+    }
+    let (jobs, results) = solve_worker();
+    let mut server = Server {
+        sender: connection.sender.clone(),
+        documents: BTreeMap::new(),
+        catalogs,
+        catalog_cache: HashMap::new(),
+        dirty: BTreeSet::new(),
+        jobs: options.solve_on_save.then_some(jobs),
+        cancel: BTreeMap::new(),
+        shutting_down: false,
+    };
+    loop {
+        crossbeam_channel::select! {
+            recv(connection.receiver) -> message => {
+                let Ok(message) = message else { return Ok(()) };
+                if server.handle(message) == Flow::Exit {
+                    return Ok(());
+                }
+            }
+            recv(results) -> solved => {
+                if let Ok((uri, solved)) = solved {
+                    server.solved(&uri, solved);
+                }
+            }
+        }
+        if connection.receiver.is_empty() {
+            server.publish_dirty();
+        }
+    }
+}
+
+#[derive(PartialEq, Eq)]
+enum Flow {
+    Continue,
+    Exit,
+}
+
+struct Server {
+    sender: Sender<Message>,
+    /// Open documents by URI.
+    documents: BTreeMap<String, Document>,
+    /// Catalogs of the command line and the initialization options.
+    catalogs: Vec<PathBuf>,
+    /// Loaded catalogs by their list of files.
+    catalog_cache: HashMap<Vec<PathBuf>, Arc<Catalog>>,
+    /// Documents whose diagnostics must be (re)published.
+    dirty: BTreeSet<String>,
+    /// The background solver's queue, when solving on save is on.
+    jobs: Option<Sender<SolveJob>>,
+    /// The cancel flag of each document's last solve job.
+    cancel: BTreeMap<String, Arc<AtomicBool>>,
+    shutting_down: bool,
+}
+
+impl Server {
+    fn send(&self, message: Message) {
+        // The client is gone when this fails; the reader thread ends the loop.
+        let _ = self.sender.send(message);
+    }
+
+    fn notify<N: lsp_types::notification::Notification>(&self, params: N::Params) {
+        self.send(Message::Notification(Notification::new(N::METHOD.to_string(), params)));
+    }
+
+    fn show(&self, kind: lsp_types::MessageType, message: String) {
+        self.notify::<notification::ShowMessage>(lsp_types::ShowMessageParams {
+            typ: kind,
+            message,
+        });
+    }
+
+    fn handle(&mut self, message: Message) -> Flow {
+        match message {
+            Message::Request(request) => {
+                if request.method == request::Shutdown::METHOD {
+                    self.shutting_down = true;
+                    self.send(Message::Response(Response::new_ok(request.id, ())));
+                    return Flow::Continue;
+                }
+                if self.shutting_down {
+                    self.send(Message::Response(Response::new_err(
+                        request.id,
+                        ErrorCode::InvalidRequest as i32,
+                        "the server is shutting down".to_string(),
+                    )));
+                    return Flow::Continue;
+                }
+                let id = request.id.clone();
+                let response = match self.request(request) {
+                    Ok(value) => Response { id, result: Some(value), error: None },
+                    Err((code, message)) => Response::new_err(id, code as i32, message),
+                };
+                self.send(Message::Response(response));
+            }
+            Message::Notification(n) => {
+                if n.method == notification::Exit::METHOD {
+                    return Flow::Exit;
+                }
+                self.notification(n);
+            }
+            Message::Response(_) => {}
+        }
+        Flow::Continue
+    }
+
+    fn notification(&mut self, n: Notification) {
+        match n.method.as_str() {
+            notification::DidOpenTextDocument::METHOD => {
+                let Ok(p) =
+                    serde_json::from_value::<lsp_types::DidOpenTextDocumentParams>(n.params)
+                else {
+                    return;
+                };
+                let uri = p.text_document.uri.as_str().to_string();
+                let name = document_name(&p.text_document.uri);
+                self.documents.insert(
+                    uri.clone(),
+                    Document::new(name, p.text_document.version, p.text_document.text),
+                );
+                self.dirty.insert(uri.clone());
+                self.schedule_solve(&uri);
+            }
+            notification::DidChangeTextDocument::METHOD => {
+                let Ok(p) =
+                    serde_json::from_value::<lsp_types::DidChangeTextDocumentParams>(n.params)
+                else {
+                    return;
+                };
+                let uri = p.text_document.uri.as_str().to_string();
+                if let Some(flag) = self.cancel.remove(&uri) {
+                    flag.store(true, Ordering::SeqCst);
+                }
+                let Some(doc) = self.documents.get_mut(&uri) else { return };
+                for change in p.content_changes {
+                    doc.apply(change);
+                }
+                doc.version = p.text_document.version;
+                self.dirty.insert(uri);
+            }
+            notification::DidSaveTextDocument::METHOD => {
+                let Ok(p) =
+                    serde_json::from_value::<lsp_types::DidSaveTextDocumentParams>(n.params)
+                else {
+                    return;
+                };
+                self.schedule_solve(p.text_document.uri.as_str());
+            }
+            notification::DidCloseTextDocument::METHOD => {
+                let Ok(p) =
+                    serde_json::from_value::<lsp_types::DidCloseTextDocumentParams>(n.params)
+                else {
+                    return;
+                };
+                let uri = p.text_document.uri;
+                let key = uri.as_str().to_string();
+                if let Some(flag) = self.cancel.remove(&key) {
+                    flag.store(true, Ordering::SeqCst);
+                }
+                self.documents.remove(&key);
+                self.dirty.remove(&key);
+                // Clear what the editor shows for a closed file.
+                self.notify::<notification::PublishDiagnostics>(
+                    lsp_types::PublishDiagnosticsParams {
+                        uri,
+                        diagnostics: Vec::new(),
+                        version: None,
+                    },
+                );
+            }
+            _ => {}
+        }
+    }
+
+    /// The catalog for a document: the server's catalogs and those of the nearest
+    /// `holoc.toml`, loaded once per list.
+    fn catalog_for(&mut self, uri: &str) -> Arc<Catalog> {
+        let mut paths = self.catalogs.clone();
+        let file = uri_path(uri);
+        if let Some(found) = file.as_deref().and_then(find_config) {
+            match read_config(&found) {
+                Ok(more) => paths.extend(more),
+                Err(message) => self.show(lsp_types::MessageType::WARNING, message),
+            }
+        }
+        if let Some(catalog) = self.catalog_cache.get(&paths) {
+            return Arc::clone(catalog);
+        }
+        let mut sources = crate::source::SourceMap::new();
+        let loaded = Catalog::load(&paths, &mut sources);
+        if !loaded.diagnostics.is_empty() {
+            let text = crate::diag::format::render_short(&sources, &loaded.diagnostics);
+            self.show(lsp_types::MessageType::WARNING, format!("holoc catalogs:\n{text}"));
+        }
+        let catalog = Arc::new(loaded.value);
+        self.catalog_cache.insert(paths, Arc::clone(&catalog));
+        catalog
+    }
+
+    /// The document at `uri`, analysed.
+    fn analysed(&mut self, uri: &str) -> Option<&mut Document> {
+        let catalog = self.catalog_for(uri);
+        let doc = self.documents.get_mut(uri)?;
+        doc.analysis(&catalog);
+        Some(doc)
+    }
+
+    fn publish_dirty(&mut self) {
+        let dirty = std::mem::take(&mut self.dirty);
+        for uri in dirty {
+            let Some(doc) = self.analysed(&uri) else { continue };
+            let version = doc.version;
+            let Some(analysis) = doc.analysis.as_ref() else { continue };
+            let diagnostics = features::diagnostics(analysis, doc.solved.as_ref());
+            let Ok(uri) = Uri::from_str(&uri) else { continue };
+            self.notify::<notification::PublishDiagnostics>(lsp_types::PublishDiagnosticsParams {
+                uri,
+                diagnostics,
+                version: Some(version),
+            });
+        }
+    }
+
+    fn schedule_solve(&mut self, uri: &str) {
+        if self.jobs.is_none() {
+            return;
+        }
+        let catalog = self.catalog_for(uri);
+        let Some(doc) = self.documents.get_mut(uri) else { return };
+        let analysis = doc.analysis(&catalog);
+        if analysis.analysed.diagnostics.iter().any(crate::diag::Diagnostic::is_error) {
+            return;
+        }
+        let cancel = Arc::new(AtomicBool::new(false));
+        if let Some(old) = self.cancel.insert(uri.to_string(), Arc::clone(&cancel)) {
+            old.store(true, Ordering::SeqCst);
+        }
+        let job = SolveJob {
+            uri: uri.to_string(),
+            name: doc.name.clone(),
+            version: doc.version,
+            text: doc.text.clone(),
+            catalog,
+            cancel,
+        };
+        if let Some(jobs) = &self.jobs {
+            let _ = jobs.send(job);
+        }
+    }
+
+    fn solved(&mut self, uri: &str, solved: Solved) {
+        let Some(doc) = self.documents.get_mut(uri) else { return };
+        if doc.version != solved.version {
+            return; // the document changed while it was solved
+        }
+        doc.solved = Some(solved);
+        self.dirty.insert(uri.to_string());
+    }
+
+    fn request(&mut self, request: Request) -> Result<serde_json::Value, (ErrorCode, String)> {
+        fn params<P: serde::de::DeserializeOwned>(r: Request) -> Result<P, (ErrorCode, String)> {
+            serde_json::from_value(r.params).map_err(|e| (ErrorCode::InvalidParams, e.to_string()))
+        }
+        fn json<T: serde::Serialize>(value: T) -> Result<serde_json::Value, (ErrorCode, String)> {
+            serde_json::to_value(value).map_err(|e| (ErrorCode::InternalError, e.to_string()))
+        }
+        let not_open =
+            |uri: &Uri| (ErrorCode::InvalidParams, format!("`{}` is not open", uri.as_str()));
+        match request.method.as_str() {
+            request::HoverRequest::METHOD => {
+                let p: lsp_types::HoverParams = params(request)?;
+                let at = p.text_document_position_params;
+                let uri = at.text_document.uri;
+                let solving = self.jobs.is_some();
+                let doc = self.analysed(uri.as_str()).ok_or_else(|| not_open(&uri))?;
+                let analysis = doc.analysis.as_ref().ok_or_else(|| not_open(&uri))?;
+                json(features::hover(analysis, doc.solved.as_ref(), solving, at.position))
+            }
+            request::GotoDefinition::METHOD => {
+                let p: lsp_types::GotoDefinitionParams = params(request)?;
+                let at = p.text_document_position_params;
+                let uri = at.text_document.uri;
+                let doc = self.analysed(uri.as_str()).ok_or_else(|| not_open(&uri))?;
+                let analysis = doc.analysis.as_ref().ok_or_else(|| not_open(&uri))?;
+                json(features::definition(analysis, at.position).map(|range| {
+                    lsp_types::GotoDefinitionResponse::Scalar(features::location(&uri, range))
+                }))
+            }
+            request::References::METHOD => {
+                let p: lsp_types::ReferenceParams = params(request)?;
+                let at = p.text_document_position;
+                let uri = at.text_document.uri;
+                let doc = self.analysed(uri.as_str()).ok_or_else(|| not_open(&uri))?;
+                let analysis = doc.analysis.as_ref().ok_or_else(|| not_open(&uri))?;
+                let ranges =
+                    features::references(analysis, at.position, p.context.include_declaration);
+                json(ranges.into_iter().map(|r| features::location(&uri, r)).collect::<Vec<_>>())
+            }
+            request::PrepareRenameRequest::METHOD => {
+                let p: lsp_types::TextDocumentPositionParams = params(request)?;
+                let uri = p.text_document.uri;
+                let doc = self.analysed(uri.as_str()).ok_or_else(|| not_open(&uri))?;
+                let analysis = doc.analysis.as_ref().ok_or_else(|| not_open(&uri))?;
+                json(features::prepare_rename(analysis, p.position))
+            }
+            request::Rename::METHOD => {
+                let p: lsp_types::RenameParams = params(request)?;
+                let at = p.text_document_position;
+                let uri = at.text_document.uri;
+                let doc = self.analysed(uri.as_str()).ok_or_else(|| not_open(&uri))?;
+                let analysis = doc.analysis.as_ref().ok_or_else(|| not_open(&uri))?;
+                let edit = features::rename(analysis, &uri, at.position, &p.new_name)
+                    .map_err(|m| (ErrorCode::RequestFailed, m))?;
+                json(edit)
+            }
+            request::DocumentSymbolRequest::METHOD => {
+                let p: lsp_types::DocumentSymbolParams = params(request)?;
+                let uri = p.text_document.uri;
+                let doc = self.analysed(uri.as_str()).ok_or_else(|| not_open(&uri))?;
+                let analysis = doc.analysis.as_ref().ok_or_else(|| not_open(&uri))?;
+                json(lsp_types::DocumentSymbolResponse::Nested(features::document_symbols(
+                    analysis,
+                )))
+            }
+            request::Completion::METHOD => {
+                let p: lsp_types::CompletionParams = params(request)?;
+                let at = p.text_document_position;
+                let uri = at.text_document.uri;
+                let doc = self.analysed(uri.as_str()).ok_or_else(|| not_open(&uri))?;
+                let analysis = doc.analysis.as_ref().ok_or_else(|| not_open(&uri))?;
+                json(lsp_types::CompletionResponse::Array(features::completion(
+                    analysis,
+                    at.position,
+                )))
+            }
+            request::Formatting::METHOD => {
+                let p: lsp_types::DocumentFormattingParams = params(request)?;
+                let uri = p.text_document.uri;
+                let doc = self.analysed(uri.as_str()).ok_or_else(|| not_open(&uri))?;
+                let analysis = doc.analysis.as_ref().ok_or_else(|| not_open(&uri))?;
+                let edits =
+                    features::formatting(analysis).map_err(|m| (ErrorCode::RequestFailed, m))?;
+                json(edits)
+            }
+            request::CodeActionRequest::METHOD => {
+                let p: lsp_types::CodeActionParams = params(request)?;
+                let uri = p.text_document.uri;
+                let doc = self.analysed(uri.as_str()).ok_or_else(|| not_open(&uri))?;
+                let analysis = doc.analysis.as_ref().ok_or_else(|| not_open(&uri))?;
+                json(features::code_actions(analysis, doc.solved.as_ref(), &uri, p.range))
+            }
+            other => Err((ErrorCode::MethodNotFound, format!("holoc does not answer `{other}`"))),
+        }
+    }
+}
+
+/// A layout solve to run in the background.
+struct SolveJob {
+    uri: String,
+    name: String,
+    version: i32,
+    text: String,
+    catalog: Arc<Catalog>,
+    cancel: Arc<AtomicBool>,
+}
+
+/// Starts the background solver: a thread that takes the newest job of each document, builds
+/// it, and sends back what the solve found unless the job was cancelled meanwhile.
+fn solve_worker() -> (Sender<SolveJob>, Receiver<(String, Solved)>) {
+    let (job_tx, job_rx) = crossbeam_channel::unbounded::<SolveJob>();
+    let (result_tx, result_rx) = crossbeam_channel::unbounded();
+    // Without the thread there is no background solve; every diagnostic before the solver
+    // is still published.
+    let _ = std::thread::Builder::new().name("holoc-lsp-solve".to_string()).spawn(move || {
+        while let Ok(first) = job_rx.recv() {
+            // Only the newest job of each document is worth running.
+            let mut newest: BTreeMap<String, SolveJob> = BTreeMap::new();
+            newest.insert(first.uri.clone(), first);
+            for job in job_rx.try_iter() {
+                newest.insert(job.uri.clone(), job);
+            }
+            for (uri, job) in newest {
+                if job.cancel.load(Ordering::SeqCst) {
+                    continue;
+                }
+                let solved = solve(&job);
+                if job.cancel.load(Ordering::SeqCst) {
+                    continue;
+                }
+                if result_tx.send((uri, solved)).is_err() {
+                    return;
+                }
+            }
+        }
+    });
+    (job_tx, result_rx)
+}
+
+/// Builds one version of a document and keeps what the solver says.
+fn solve(job: &SolveJob) -> Solved {
+    let mut sources = crate::source::SourceMap::new();
+    let file = sources.add(job.name.as_str(), job.text.as_str());
+    let options = crate::compile::BuildOptions::new(&job.catalog);
+    let built = crate::compile::build(&sources, file, &options);
+    let diagnostics: Vec<_> =
+        built.diagnostics.into_iter().filter(|d| d.code.as_str()[1..].starts_with("05")).collect();
+    let mut relations = Vec::new();
+    if let Some(built) = built.value {
+        relations = relation_outcomes(&built.layout);
+    }
+    Solved { version: job.version, diagnostics, relations }
+}
+
+/// Every relation of every placed object with its measure; relations of objects left out are
+/// reported as not holding.
+pub fn relation_outcomes(layout: &crate::solve::Layout) -> Vec<RelationOutcome> {
+    let mut out = Vec::new();
+    for room in &layout.rooms {
+        let mut placed = vec![false; room.problem.objects.len()];
+        for p in &room.layout.floor {
+            let Some(object) = room.problem.objects.get(p.index) else { continue };
+            placed[p.index] = true;
+            for (i, c) in object.constraints.iter().enumerate() {
+                let (Some(span), Some(report)) = (c.span, p.constraints.get(i + 1)) else {
+                    continue;
+                };
+                out.push(RelationOutcome {
+                    span,
+                    object: object.id.clone(),
+                    text: report.text.clone(),
+                    satisfied: report.measure.satisfied,
+                    value: report.measure.value,
+                    unit: report.measure.unit,
+                    range: report.range,
+                });
+            }
+        }
+        for (k, object) in room.problem.objects.iter().enumerate() {
+            if placed[k] {
+                continue;
+            }
+            for c in &object.constraints {
+                let Some(span) = c.span else { continue };
+                let target = room.problem.objects.get(c.target).map_or("?", |t| t.id.as_str());
+                out.push(RelationOutcome {
+                    span,
+                    object: object.id.clone(),
+                    text: format!("{} {target} (the object is left out)", c.kind.as_str()),
+                    satisfied: false,
+                    value: f64::NAN,
+                    unit: "m",
+                    range: None,
+                });
+            }
+        }
+    }
+    out
+}
+
+/// The name diagnostics show for a document: its path for a `file:` URI, else the URI.
+fn document_name(uri: &Uri) -> String {
+    uri_path(uri.as_str()).map_or_else(|| uri.as_str().to_string(), |p| p.display().to_string())
+}
+
+/// The path of a `file:` URI, percent-decoded.
+pub fn uri_path(uri: &str) -> Option<PathBuf> {
+    let rest = uri.strip_prefix("file://")?;
+    let rest = rest.strip_prefix("localhost").unwrap_or(rest);
+    let bytes = rest.as_bytes();
+    let mut out = Vec::with_capacity(bytes.len());
+    let mut i = 0;
+    while i < bytes.len() {
+        if bytes[i] == b'%' && i + 2 < bytes.len() {
+            if let Some(b) = rest.get(i + 1..i + 3).and_then(|h| u8::from_str_radix(h, 16).ok()) {
+                out.push(b);
+                i += 3;
+                continue;
+            }
+        }
+        out.push(bytes[i]);
+        i += 1;
+    }
+    String::from_utf8(out).ok().map(PathBuf::from)
+}
+
+/// The nearest `holoc.toml` in the file's folder or a folder above it.
+fn find_config(file: &Path) -> Option<PathBuf> {
+    file.ancestors().skip(1).map(|dir| dir.join("holoc.toml")).find(|p| p.is_file())
+}
+
+/// The catalogs a `holoc.toml` lists, relative to its folder.
+fn read_config(path: &Path) -> Result<Vec<PathBuf>, String> {
+    #[derive(serde::Deserialize)]
+    #[serde(deny_unknown_fields)]
+    struct Config {
+        #[serde(default)]
+        catalogs: Vec<PathBuf>,
+    }
+    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let config: Config = toml::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
+    let dir = path.parent().unwrap_or(Path::new("."));
+    Ok(config.catalogs.into_iter().map(|p| dir.join(p)).collect())
+}

@@ -1,0 +1,664 @@
+//! The language server in memory (`Connection::memory()`): every request it answers, in order,
+//! with snapshots of what an editor receives.
+
+use lsp_server::{Connection, Message, Notification, Request, RequestId, Response};
+use serde_json::{json, Value};
+use std::fmt::Write as _;
+use std::time::Duration;
+
+const URI: &str = "file:///nonexistent/holoc-lsp-test/bedroom.holo";
+const BEDROOM: &str = include_str!("../examples/bedroom.holo");
+
+/// One editor session against a server thread.
+struct Client {
+    conn: Connection,
+    server: Option<std::thread::JoinHandle<Result<(), String>>>,
+    next_id: i32,
+    /// Every `publishDiagnostics` received, in order.
+    published: Vec<Value>,
+    /// Every other notification received (`window/showMessage`, ...).
+    messages: Vec<Value>,
+}
+
+impl Client {
+    fn start(solve_on_save: bool) -> Client {
+        Client::with(holoc::lsp::ServerOptions { catalogs: Vec::new(), solve_on_save }, json!({}))
+    }
+
+    fn with(options: holoc::lsp::ServerOptions, initialization_options: Value) -> Client {
+        let (server_side, client_side) = Connection::memory();
+        let server = std::thread::spawn(move || holoc::lsp::serve(&server_side, options));
+        let mut client = Client {
+            conn: client_side,
+            server: Some(server),
+            next_id: 0,
+            published: Vec::new(),
+            messages: Vec::new(),
+        };
+        let caps = client.request(
+            "initialize",
+            json!({"capabilities": {}, "initializationOptions": initialization_options}),
+        );
+        assert!(caps["capabilities"]["hoverProvider"].as_bool().unwrap_or(false), "{caps}");
+        client.notify("initialized", json!({}));
+        client
+    }
+
+    fn notify(&self, method: &str, params: Value) {
+        self.conn
+            .sender
+            .send(Message::Notification(Notification::new(method.to_string(), params)))
+            .expect("the server is listening");
+    }
+
+    fn send_request(&mut self, method: &str, params: Value) -> RequestId {
+        self.next_id += 1;
+        let id = RequestId::from(self.next_id);
+        self.conn
+            .sender
+            .send(Message::Request(Request::new(id.clone(), method.to_string(), params)))
+            .expect("the server is listening");
+        id
+    }
+
+    /// Sends a request and returns its response, keeping the notifications that come first.
+    fn response(&mut self, method: &str, params: Value) -> Response {
+        let id = self.send_request(method, params);
+        loop {
+            match self.receive() {
+                Message::Response(r) if r.id == id => return r,
+                Message::Response(r) => panic!("a response to another request: {r:?}"),
+                Message::Request(r) => panic!("the server asked the client: {r:?}"),
+                Message::Notification(n) => self.keep(n),
+            }
+        }
+    }
+
+    fn request(&mut self, method: &str, params: Value) -> Value {
+        let response = self.response(method, params);
+        assert!(response.error.is_none(), "{method}: {:?}", response.error);
+        response.result.unwrap_or(Value::Null)
+    }
+
+    fn receive(&self) -> Message {
+        self.conn
+            .receiver
+            .recv_timeout(Duration::from_secs(120))
+            .expect("the server answers within two minutes")
+    }
+
+    fn keep(&mut self, n: Notification) {
+        if n.method == "textDocument/publishDiagnostics" {
+            self.published.push(n.params);
+        } else {
+            self.messages.push(n.params);
+        }
+    }
+
+    /// Waits for a publication that satisfies `wanted` (looking at those already received
+    /// first) and returns it.
+    fn wait_published(&mut self, wanted: impl Fn(&Value) -> bool) -> Value {
+        if let Some(p) = self.published.iter().find(|p| wanted(p)) {
+            return p.clone();
+        }
+        loop {
+            match self.receive() {
+                Message::Notification(n) => {
+                    let is_diag = n.method == "textDocument/publishDiagnostics";
+                    self.keep(n);
+                    if is_diag {
+                        let last = self.published.last().expect("just kept");
+                        if wanted(last) {
+                            return last.clone();
+                        }
+                    }
+                }
+                other => panic!("unexpected {other:?}"),
+            }
+        }
+    }
+
+    fn open(&self, uri: &str, text: &str) {
+        self.notify(
+            "textDocument/didOpen",
+            json!({"textDocument": {"uri": uri, "languageId": "holo", "version": 1, "text": text}}),
+        );
+    }
+
+    fn change(&self, uri: &str, version: i32, changes: Value) {
+        self.notify(
+            "textDocument/didChange",
+            json!({"textDocument": {"uri": uri, "version": version}, "contentChanges": changes}),
+        );
+    }
+
+    fn at(&mut self, method: &str, uri: &str, (line, character): (u32, u32)) -> Value {
+        self.request(
+            method,
+            json!({"textDocument": {"uri": uri}, "position": {"line": line, "character": character}}),
+        )
+    }
+
+    fn stop(mut self) {
+        self.request("shutdown", Value::Null);
+        self.notify("exit", Value::Null);
+        let result = self.server.take().expect("running").join().expect("the server thread ends");
+        assert_eq!(result, Ok(()));
+    }
+}
+
+/// The 0-based line and UTF-16 column of the `nth` occurrence of `needle` (plus `shift`).
+fn find(text: &str, needle: &str, nth: usize, shift: usize) -> (u32, u32) {
+    let offset = text.match_indices(needle).nth(nth).expect("the needle is in the text").0 + shift;
+    let line_start = text[..offset].rfind('\n').map_or(0, |i| i + 1);
+    let line = text[..offset].matches('\n').count();
+    let column: usize = text[line_start..offset].chars().map(char::len_utf16).sum();
+    (line as u32, column as u32)
+}
+
+/// Diagnostics as short lines: `line:col code message` (the first line of the message).
+fn diagnostics_text(published: &Value) -> String {
+    let mut out = format!("version {}\n", published["version"]);
+    for d in published["diagnostics"].as_array().expect("an array") {
+        let message = d["message"].as_str().unwrap_or_default().lines().next().unwrap_or_default();
+        let _ = writeln!(
+            out,
+            "{}:{} {} {}",
+            d["range"]["start"]["line"],
+            d["range"]["start"]["character"],
+            d["code"].as_str().unwrap_or_default(),
+            message
+        );
+    }
+    out
+}
+
+/// What `holoc check` says of `text`, in the same short form (the server must agree with it).
+fn check_text(text: &str, version: i32) -> String {
+    let mut sources = holoc::source::SourceMap::new();
+    let file = sources.add("/nonexistent/holoc-lsp-test/bedroom.holo", text);
+    let catalog = holoc::resolve::Catalog::embedded();
+    let mut diagnostics =
+        holoc::compile::check_stages(&sources, file, &catalog, holoc::compile::CheckStage::Resolve);
+    holoc::diag::sort(&mut diagnostics);
+    let lsp: Vec<Value> = holoc::diag::lsp::to_lsp(&sources, &diagnostics)
+        .into_iter()
+        .map(|(_, d)| serde_json::to_value(d).expect("serializes"))
+        .collect();
+    diagnostics_text(&json!({"version": version, "diagnostics": lsp}))
+}
+
+fn snapshot(name: &str, value: &str) {
+    insta::with_settings!({snapshot_path => "../snapshots/lsp", prepend_module_to_snapshot => false, omit_expression => true}, {
+        insta::assert_snapshot!(name, value);
+    });
+}
+
+/// Applies a `WorkspaceEdit`'s or a `TextEdit[]`'s edits (for `URI`) to `text`.
+fn apply_edits(text: &str, edits: &Value) -> String {
+    let edits = edits.get("changes").map_or(edits, |c| &c[URI]);
+    let mut edits: Vec<&Value> = edits.as_array().expect("edits").iter().collect();
+    let offset = |p: &Value| {
+        let file = holoc::source::SourceFile::new("", text);
+        file.offset_of_lsp(
+            p["line"].as_u64().expect("line") as u32,
+            p["character"].as_u64().expect("character") as u32,
+        )
+    };
+    edits.sort_by_key(|e| std::cmp::Reverse(offset(&e["range"]["start"])));
+    let mut out = text.to_string();
+    for e in edits {
+        let (s, t) = (offset(&e["range"]["start"]), offset(&e["range"]["end"]));
+        out.replace_range(s..t, e["newText"].as_str().expect("text"));
+    }
+    out
+}
+
+#[test]
+fn diagnostics_cover_every_stage_before_the_solver_and_carry_the_version() {
+    let mut client = Client::start(false);
+    // Two rooms touching only at a corner, with a door between them: a plan error (E0309)
+    // that the checker alone does not see.
+    let text = "room a \"a\" {\n  corners in m (0, 0) (0, 3) (3, 3) (3, 0)\n}\nroom b \"b\" {\n  corners in m (3, 3) (3, 6) (6, 6) (6, 3)\n}\ndoor exterior -- a : doorway single\ndoor a -- b : doorway single\n";
+    client.open(URI, text);
+    let first = client.wait_published(|p| p["version"] == 1);
+    let shown = diagnostics_text(&first);
+    assert!(shown.contains("E03"), "a floor-plan error: {shown}");
+    assert_eq!(shown, check_text(text, 1));
+    snapshot("plan_error_diagnostics", &shown);
+    // Move room b so that it shares a wall with a: the error goes, with version 2.
+    let fixed = text.replace("(3, 3) (3, 6) (6, 6) (6, 3)", "(3, 0) (3, 3) (6, 3) (6, 0)");
+    client.change(URI, 2, json!([{"text": fixed}]));
+    let second = client.wait_published(|p| p["version"] == 2);
+    assert!(!diagnostics_text(&second).contains("E03"), "{second}");
+    assert_eq!(diagnostics_text(&second), check_text(&fixed, 2));
+    client.stop();
+}
+
+#[test]
+fn interleaved_edits_are_applied_strictly_in_order() {
+    let mut client = Client::start(false);
+    client.open(URI, BEDROOM);
+    let mut expected = BEDROOM.to_string();
+    // Type a new relation into the desk chair's block, one character per change, with a hover
+    // request after every change: each hover sees the text as of the changes before it.
+    let (line, column) = find(BEDROOM, "    face to desk-0\n", 0, 0);
+    let typed = "    near wardrobe-0 // café ☕ 🪑 done\n";
+    let mut col = column;
+    let mut version = 1;
+    for ch in typed.chars() {
+        version += 1;
+        let at = json!({"line": line, "character": col});
+        client.change(
+            URI,
+            version,
+            json!([{"range": {"start": at, "end": at}, "text": ch.to_string()}]),
+        );
+        let mut file = holoc::source::SourceFile::new("", expected.clone());
+        let offset = file.offset_of_lsp(line, col);
+        expected.insert(offset, ch);
+        file = holoc::source::SourceFile::new("", expected.clone());
+        let _ = file;
+        col += ch.len_utf16() as u32;
+        if ch == '\n' {
+            break;
+        }
+        // Hover on `wardrobe-0` in the desk's block: the wardrobe, whatever is being typed.
+        let hover = client.at("textDocument/hover", URI, find(&expected, "far wardrobe-0", 0, 5));
+        assert!(
+            hover["contents"]["value"].as_str().unwrap_or("").contains("`wardrobe`"),
+            "{hover}"
+        );
+    }
+    // A multi-line replacement spanning the typed text and a UTF-16 edit after the emoji.
+    version += 1;
+    let (l, c) = find(&expected, "done", 0, 0);
+    client.change(
+        URI,
+        version,
+        json!([
+            {"range": {"start": {"line": l, "character": c}, "end": {"line": l, "character": c + 4}}, "text": "ok"},
+        ]),
+    );
+    expected = expected.replacen("🪑 done", "🪑 ok", 1);
+    let last = client.wait_published(|p| p["version"] == version);
+    assert_eq!(diagnostics_text(&last), check_text(&expected, version));
+    // Versions only grow, and the last published is the last sent.
+    let versions: Vec<i64> =
+        client.published.iter().map(|p| p["version"].as_i64().unwrap_or(-1)).collect();
+    assert!(versions.windows(2).all(|w| w[0] < w[1]), "{versions:?}");
+    assert_eq!(versions.last().copied(), Some(i64::from(version)));
+    // The server's text is the expected text: formatting gives the same edits as `holoc fmt`.
+    let edits = client.request(
+        "textDocument/formatting",
+        json!({"textDocument": {"uri": URI}, "options": {"tabSize": 2, "insertSpaces": true}}),
+    );
+    let formatted = apply_edits(&expected, &edits);
+    let parsed = holoc::parse::parse_str(&expected);
+    assert_eq!(formatted, holoc::fmt::print(&parsed.value));
+    assert!(expected.contains("    near wardrobe-0 // café ☕ 🪑 ok\n    face to desk-0"));
+    client.stop();
+}
+
+#[test]
+fn hover_shows_assets_rooms_and_relation_meanings() {
+    let mut client = Client::start(false);
+    client.open(URI, BEDROOM);
+    let mut out = String::new();
+    for (what, needle, nth, shift) in [
+        ("room", "bedroom \"bedroom\"", 0, 2),
+        ("object group", "object desk ", 0, 8),
+        ("instance reference", "left of bed-0", 0, 9),
+        ("group with instances", "object nightstand", 0, 9),
+        ("relation", "in front of desk-0", 0, 3),
+        ("global constraint", "    middle", 0, 6),
+    ] {
+        let hover = client.at("textDocument/hover", URI, find(BEDROOM, needle, nth, shift));
+        let _ =
+            write!(out, "## {what}\n{}\n\n", hover["contents"]["value"].as_str().unwrap_or("null"));
+    }
+    assert!(out.contains("area 18.00 m²"), "{out}");
+    assert!(out.contains("score"), "{out}");
+    snapshot("hover", &out);
+    // Nothing to say on a blank line.
+    assert_eq!(client.at("textDocument/hover", URI, (10, 0)), Value::Null);
+    client.stop();
+}
+
+#[test]
+fn definitions_and_references_follow_rooms_objects_and_instances() {
+    let mut client = Client::start(false);
+    client.open(URI, BEDROOM);
+    let def = client.at("textDocument/definition", URI, find(BEDROOM, "left of bed-0", 0, 9));
+    assert_eq!(
+        def["range"]["start"],
+        json!({"line": find(BEDROOM, "object bed ", 0, 7).0, "character": 9})
+    );
+    // `nightstand-1` written in an instance block leads to that block.
+    let def = client.at("textDocument/definition", URI, find(BEDROOM, "nightstand-1", 0, 3));
+    assert_eq!(def["range"]["start"]["line"], find(BEDROOM, "instance nightstand-1", 0, 0).0);
+    let door_room = find(BEDROOM, "exterior -- bedroom", 0, 13);
+    let def = client.at("textDocument/definition", URI, door_room);
+    assert_eq!(def["range"]["start"]["line"], find(BEDROOM, "room bedroom", 0, 0).0);
+    let bed = find(BEDROOM, "object bed ", 0, 8);
+    let refs = client.request(
+        "textDocument/references",
+        json!({"textDocument": {"uri": URI}, "position": {"line": bed.0, "character": bed.1}, "context": {"includeDeclaration": true}}),
+    );
+    let lines: Vec<String> = refs
+        .as_array()
+        .expect("locations")
+        .iter()
+        .map(|l| {
+            let line = l["range"]["start"]["line"].as_u64().unwrap_or(0) as usize;
+            format!("{}: {}", line + 1, BEDROOM.lines().nth(line).unwrap_or("").trim())
+        })
+        .collect();
+    snapshot("references_of_bed", &lines.join("\n"));
+    assert_eq!(lines.len(), 9, "{lines:?}");
+    client.stop();
+}
+
+#[test]
+fn rename_changes_a_group_and_its_instances_and_refuses_bad_names() {
+    let mut client = Client::start(false);
+    client.open(URI, BEDROOM);
+    let at = find(BEDROOM, "near bed-0", 0, 6);
+    let prepared = client.at("textDocument/prepareRename", URI, at);
+    assert_eq!(prepared["placeholder"], "bed");
+    let edit = client.request(
+        "textDocument/rename",
+        json!({"textDocument": {"uri": URI}, "position": {"line": at.0, "character": at.1}, "newName": "cot"}),
+    );
+    let renamed = apply_edits(BEDROOM, &edit);
+    let code_lines = renamed.lines().filter(|l| !l.trim_start().starts_with("//"));
+    assert!(code_lines.clone().all(|l| !l.contains("bed-0")), "{renamed}");
+    assert!(renamed.contains("above cot-0") && renamed.contains("object cot \"bed\""), "{renamed}");
+    assert_eq!(check_text(&renamed, 1), check_text(BEDROOM, 1), "renaming changes nothing else");
+    let edits: Vec<String> = edit["changes"][URI]
+        .as_array()
+        .expect("edits")
+        .iter()
+        .map(|e| {
+            let (s, t) = (&e["range"]["start"], &e["range"]["end"]);
+            format!(
+                "{}:{}-{}:{} {}",
+                s["line"], s["character"], t["line"], t["character"], e["newText"]
+            )
+        })
+        .collect();
+    snapshot("rename_bed_to_cot", &edits.join("\n"));
+    for (name, why) in
+        [("desk", "already declared"), ("two words", "not a name"), ("bed-3", "not a name")]
+    {
+        let response = client.response(
+            "textDocument/rename",
+            json!({"textDocument": {"uri": URI}, "position": {"line": at.0, "character": at.1}, "newName": name}),
+        );
+        let error = response.error.expect("an error");
+        assert!(error.message.contains(why), "{name}: {}", error.message);
+    }
+    // A room renames across its doors.
+    let room = find(BEDROOM, "room bedroom", 0, 6);
+    let edit = client.request(
+        "textDocument/rename",
+        json!({"textDocument": {"uri": URI}, "position": {"line": room.0, "character": room.1}, "newName": "sleeping"}),
+    );
+    let renamed = apply_edits(BEDROOM, &edit);
+    assert!(renamed.contains("door exterior -- sleeping"), "{renamed}");
+    client.stop();
+}
+
+#[test]
+fn document_symbols_list_rooms_objects_instances_and_doors() {
+    fn outline(symbols: &Value, depth: usize, out: &mut String) {
+        for s in symbols.as_array().into_iter().flatten() {
+            let _ = writeln!(
+                out,
+                "{}{} [{}] {} @{}",
+                "  ".repeat(depth),
+                s["name"].as_str().unwrap_or(""),
+                s["kind"],
+                s["detail"].as_str().unwrap_or(""),
+                s["selectionRange"]["start"]["line"].as_u64().unwrap_or(0) + 1
+            );
+            outline(&s["children"], depth + 1, out);
+        }
+    }
+    let mut client = Client::start(false);
+    client.open(URI, BEDROOM);
+    let symbols =
+        client.request("textDocument/documentSymbol", json!({"textDocument": {"uri": URI}}));
+    let mut out = String::new();
+    outline(&symbols, 0, &mut out);
+    snapshot("document_symbols", &out);
+    client.stop();
+}
+
+#[test]
+fn completion_offers_keywords_relations_and_names_in_scope() {
+    let mut client = Client::start(false);
+    let text = BEDROOM
+        .replacen("    face to desk-0\n", "    face to desk-0\n    \n    near \n", 1)
+        .replacen("door exterior", "door \ndoor exterior", 1);
+    client.open(URI, &text);
+    let labels = |items: &Value| -> String {
+        items
+            .as_array()
+            .into_iter()
+            .flatten()
+            .map(|i| i["label"].as_str().unwrap_or("").to_string())
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let mut out = String::new();
+    let blank_in_object = find(&text, "    \n    near \n", 0, 4);
+    let after_near = find(&text, "    near \n", 0, 9);
+    let after_door = find(&text, "door \n", 0, 5);
+    let room_line = find(&text, "  floor \"light", 0, 2);
+    let top = (0, 0);
+    for (what, at) in [
+        ("object block", blank_in_object),
+        ("after a relation", after_near),
+        ("after door", after_door),
+        ("room block", room_line),
+        ("top level", top),
+    ] {
+        let items = client.request(
+            "textDocument/completion",
+            json!({"textDocument": {"uri": URI}, "position": {"line": at.0, "character": at.1}}),
+        );
+        let _ = write!(out, "## {what}\n{}\n\n", labels(&items));
+    }
+    assert!(
+        out.contains("in front of") && out.contains("wardrobe-0") && out.contains("exterior"),
+        "{out}"
+    );
+    snapshot("completion", &out);
+    client.stop();
+}
+
+#[test]
+fn formatting_gives_the_canonical_text_and_refuses_syntax_errors() {
+    let mut client = Client::start(false);
+    let messy = BEDROOM
+        .replace("  object bed \"bed\" {", "object    bed \"bed\"   {")
+        .replace("    edge\n", "  edge\n");
+    client.open(URI, &messy);
+    let edits = client.request(
+        "textDocument/formatting",
+        json!({"textDocument": {"uri": URI}, "options": {"tabSize": 2, "insertSpaces": true}}),
+    );
+    assert_eq!(apply_edits(&messy, &edits), BEDROOM);
+    client.change(URI, 2, json!([{"text": BEDROOM}]));
+    let edits = client.request(
+        "textDocument/formatting",
+        json!({"textDocument": {"uri": URI}, "options": {"tabSize": 2, "insertSpaces": true}}),
+    );
+    assert_eq!(edits, json!([]));
+    client.change(URI, 3, json!([{"text": BEDROOM.replacen("seed 1", "seed 1 }}", 1)}]));
+    let response = client.response(
+        "textDocument/formatting",
+        json!({"textDocument": {"uri": URI}, "options": {"tabSize": 2, "insertSpaces": true}}),
+    );
+    assert!(response.error.expect("refused").message.contains("syntax errors"));
+    client.stop();
+}
+
+#[test]
+fn code_actions_apply_the_diagnostics_fixes() {
+    let mut client = Client::start(false);
+    let cases = [
+        ("did-you-mean relation", BEDROOM.replacen("    far bed-0", "    fra bed-0", 1), "fra bed-0", "E0102"),
+        ("did-you-mean object", BEDROOM.replacen("far wardrobe-0", "far wardrobe-1", 1), "wardrobe-1", "E0201"),
+        ("did-you-mean room", BEDROOM.replacen("door exterior -- bedroom", "door exterior -- bedrom", 1), "bedrom", "E0202"),
+        ("add a unit", BEDROOM.replacen("size 120 cm x 60 cm x 75 cm", "size 120 x 60 cm x 75 cm", 1), "120 x", "E0105"),
+        ("convert a unit", BEDROOM.replacen("height 140 cm", "height 1400 mm", 1), "1400 mm", "E0106"),
+        ("repair the floor plan", "room a \"a\" {\n  corners in m (0, 0) (0, 3) (3, 3) (3, 0)\n}\nroom b \"b\" {\n  corners in m (2.8, 0) (2.8, 3) (6, 3) (6, 0)\n}\ndoor exterior -- a : doorway single\ndoor a -- b : doorway single\n".to_string(), "b \"b\"", "E0305"),
+        ("snap a corner", "room a \"a\" {\n  corners in m (0, 0) (0, 3) (3, 3) (3, 0)\n}\nroom b \"b\" {\n  corners in m (3.04, 0) (3, 3) (6, 3) (6, 0)\n}\ndoor exterior -- a : doorway single\ndoor a -- b : doorway single\n".to_string(), "(3.04, 0)", "W0301"),
+    ];
+    let mut out = String::new();
+    for (version, (what, text, needle, code)) in cases.iter().enumerate() {
+        let version = version as i32 + 1;
+        if version == 1 {
+            client.open(URI, text);
+        } else {
+            client.change(URI, version, json!([{"text": text}]));
+        }
+        let published = client.wait_published(|p| p["version"] == version);
+        assert!(diagnostics_text(&published).contains(code), "{what}: {published}");
+        let at = find(text, needle, 0, 0);
+        let actions = client.request(
+            "textDocument/codeAction",
+            json!({"textDocument": {"uri": URI}, "range": {"start": {"line": at.0, "character": at.1}, "end": {"line": at.0, "character": at.1}}, "context": {"diagnostics": []}}),
+        );
+        let actions = actions.as_array().expect("actions").clone();
+        let ours: Vec<&Value> =
+            actions.iter().filter(|a| a["diagnostics"][0]["code"] == *code).collect();
+        assert!(!ours.is_empty(), "{what}: {actions:?}");
+        let _ = writeln!(out, "## {what}");
+        for a in &ours {
+            let _ = writeln!(
+                out,
+                "- {} (preferred: {})",
+                a["title"].as_str().unwrap_or(""),
+                a["isPreferred"]
+            );
+        }
+        let fixed = apply_edits(text, &ours[0]["edit"]);
+        let after = check_text(&fixed, version);
+        assert!(!after.contains(code), "{what}: the fix leaves {after}\n{fixed}");
+        out.push('\n');
+    }
+    snapshot("code_actions", &out);
+    client.stop();
+}
+
+#[test]
+fn a_solve_on_save_reports_objects_left_out_and_whether_relations_hold() {
+    let mut client = Client::start(true);
+    // A tiny room: the wardrobe cannot be placed.
+    let text = BEDROOM.replacen(
+        "corners in m (0, 0) (0, 4.5) (4, 4.5) (4, 0)",
+        "corners in m (0, 0) (0, 2.6) (3, 2.6) (3, 0)",
+        1,
+    );
+    client.open(URI, &text);
+    let solved = client.wait_published(|p| diagnostics_text(p).contains("W05"));
+    assert_eq!(solved["version"], 1);
+    snapshot("solve_on_open", &diagnostics_text(&solved));
+    let hover = client.at("textDocument/hover", URI, find(&text, "near bed-0", 0, 1));
+    let value = hover["contents"]["value"].as_str().unwrap_or("");
+    assert!(value.contains("After the last solve: `nightstand-0` near bed-0"), "{value}");
+    // A change drops the solve's diagnostics until the next save.
+    client.change(URI, 2, json!([{"text": text.replacen("seed 1", "seed 2", 1)}]));
+    let changed = client.wait_published(|p| p["version"] == 2);
+    assert!(!diagnostics_text(&changed).contains("W05"), "{changed}");
+    client.notify("textDocument/didSave", json!({"textDocument": {"uri": URI}}));
+    let resolved =
+        client.wait_published(|p| p["version"] == 2 && diagnostics_text(p).contains("W05"));
+    assert_eq!(resolved["version"], 2);
+    client.stop();
+}
+
+#[test]
+fn catalogs_come_from_holoc_toml_beside_the_file() {
+    let dir = std::env::temp_dir().join(format!("holoc-lsp-toml-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("scratch");
+    std::fs::copy("tests/catalog/procthor_small.json", dir.join("mine.json")).expect("copy");
+    std::fs::write(dir.join("holoc.toml"), "catalogs = [\"mine.json\"]\n").expect("write");
+    let uri = format!("file://{}/scene%20one.holo", dir.display());
+    let text = BEDROOM.replacen(
+        "    size 160 cm x 210 cm x 100 cm\n",
+        "    size 160 cm x 210 cm x 100 cm\n    asset \"Test_Grand_Piano\"\n",
+        1,
+    );
+    let mut client = Client::start(false);
+    client.open(&uri, &text);
+    let published = client.wait_published(|p| p["version"] == 1);
+    assert!(!diagnostics_text(&published).contains("E0401"), "{published}");
+    let hover = client.at("textDocument/hover", &uri, find(&text, "object bed ", 0, 8));
+    assert!(
+        hover["contents"]["value"].as_str().unwrap_or("").contains("Test_Grand_Piano"),
+        "{hover}"
+    );
+    // The same file without the configuration: the pin names no asset.
+    std::fs::remove_file(dir.join("holoc.toml")).expect("remove");
+    let mut other = Client::start(false);
+    other.open(&uri, &text);
+    let published = other.wait_published(|p| p["version"] == 1);
+    assert!(diagnostics_text(&published).contains("E0401"), "{published}");
+    // And from the initialization options.
+    let mut third = Client::with(
+        holoc::lsp::ServerOptions { catalogs: Vec::new(), solve_on_save: false },
+        json!({"catalogs": [dir.join("mine.json")]}),
+    );
+    third.open(&uri, &text);
+    let published = third.wait_published(|p| p["version"] == 1);
+    assert!(!diagnostics_text(&published).contains("E0401"), "{published}");
+    client.stop();
+    other.stop();
+    third.stop();
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn bad_requests_get_errors_never_a_crash() {
+    let mut client = Client::start(false);
+    let unknown =
+        client.response("textDocument/semanticTokens/full", json!({"textDocument": {"uri": URI}}));
+    assert_eq!(unknown.error.expect("an error").code, lsp_server::ErrorCode::MethodNotFound as i32);
+    let bad = client.response("textDocument/hover", json!({"nonsense": true}));
+    assert_eq!(bad.error.expect("an error").code, lsp_server::ErrorCode::InvalidParams as i32);
+    let closed = client.response(
+        "textDocument/hover",
+        json!({"textDocument": {"uri": URI}, "position": {"line": 0, "character": 0}}),
+    );
+    assert!(closed.error.expect("an error").message.contains("not open"));
+    // A change to a document that is not open, a change past the end, garbage notifications.
+    client.change(URI, 5, json!([{"text": "x"}]));
+    client.notify("textDocument/didChange", json!({"garbage": 1}));
+    client.open(URI, "room a {\n");
+    client.change(URI, 2, json!([{"range": {"start": {"line": 99, "character": 99}, "end": {"line": 120, "character": 0}}, "text": "}\n"}]));
+    let published = client.wait_published(|p| p["version"] == 2);
+    assert!(published["diagnostics"].is_array());
+    // Every request on a broken document still answers.
+    for method in [
+        "textDocument/hover",
+        "textDocument/definition",
+        "textDocument/completion",
+        "textDocument/prepareRename",
+    ] {
+        let r = client.response(
+            method,
+            json!({"textDocument": {"uri": URI}, "position": {"line": 0, "character": 5}}),
+        );
+        assert!(r.error.is_none(), "{method}: {:?}", r.error);
+    }
+    client.notify("textDocument/didClose", json!({"textDocument": {"uri": URI}}));
+    let cleared =
+        client.wait_published(|p| p["diagnostics"] == json!([]) && p["version"].is_null());
+    assert_eq!(cleared["uri"], URI);
+    client.stop();
+}
