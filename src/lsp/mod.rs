@@ -103,6 +103,7 @@ pub fn serve(connection: &Connection, options: ServerOptions) -> Result<(), Stri
         documents: BTreeMap::new(),
         catalogs,
         catalog_cache: HashMap::new(),
+        configs: HashMap::new(),
         dirty: BTreeSet::new(),
         jobs: options.solve_on_save.then_some(jobs),
         cancel: BTreeMap::new(),
@@ -142,6 +143,8 @@ struct Server {
     catalogs: Vec<PathBuf>,
     /// Loaded catalogs by their list of files.
     catalog_cache: HashMap<Vec<PathBuf>, Arc<Catalog>>,
+    /// Each `holoc.toml` read: when it was modified and the catalogs it lists.
+    configs: HashMap<PathBuf, (Option<std::time::SystemTime>, Vec<PathBuf>)>,
     /// Documents whose diagnostics must be (re)published.
     dirty: BTreeSet<String>,
     /// The background solver's queue, when solving on save is on.
@@ -276,10 +279,21 @@ impl Server {
         let mut paths = self.catalogs.clone();
         let file = uri_path(uri);
         if let Some(found) = file.as_deref().and_then(find_config) {
-            match read_config(&found) {
-                Ok(more) => paths.extend(more),
-                Err(message) => self.show(lsp_types::MessageType::WARNING, message),
-            }
+            // Read again only when the file changed; a bad one is reported once.
+            let modified = std::fs::metadata(&found).and_then(|m| m.modified()).ok();
+            let known = self.configs.get(&found).filter(|(when, _)| *when == modified);
+            let listed = match known {
+                Some((_, listed)) => listed.clone(),
+                None => {
+                    let listed = read_config(&found).unwrap_or_else(|message| {
+                        self.show(lsp_types::MessageType::WARNING, message);
+                        Vec::new()
+                    });
+                    self.configs.insert(found, (modified, listed.clone()));
+                    listed
+                }
+            };
+            paths.extend(listed);
         }
         if let Some(catalog) = self.catalog_cache.get(&paths) {
             return Arc::clone(catalog);

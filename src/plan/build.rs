@@ -588,7 +588,13 @@ impl Ctx<'_> {
         self.walls.iter().position(|w| w.id == id)
     }
 
-    fn rooms_not_adjacent(&mut self, door_span: Span, spans: [Span; 2], a: RoomId, b: RoomId) {
+    /// Whether two rooms' outlines have a corner in common.
+    fn meet_at_a_corner(&self, a: RoomId, b: RoomId) -> bool {
+        let (ra, rb) = (&self.rooms[a.0].corners, &self.rooms[b.0].corners);
+        ra.iter().any(|p| rb.iter().any(|q| near_point(*p, *q)))
+    }
+
+    fn rooms_not_adjacent(&mut self, spans: [Span; 2], a: RoomId, b: RoomId) {
         let (na, nb) = (self.room_name(a).to_owned(), self.room_name(b).to_owned());
         self.diags.push(
             Diagnostic::new(Code::E0309, format!("rooms `{na}` and `{nb}` share no wall"))
@@ -596,7 +602,11 @@ impl Ctx<'_> {
                 .with_secondary(spans[0], "first room")
                 .with_secondary(self.rooms[a.0].name_span, format!("`{na}` declared here"))
                 .with_secondary(self.rooms[b.0].name_span, format!("`{nb}` declared here"))
-                .with_note(format!("in the statement at byte {}", door_span.start))
+                .with_note(if self.meet_at_a_corner(a, b) {
+                    "the two rooms meet only at a corner; a door needs a stretch of wall they share"
+                } else {
+                    "the two rooms do not touch"
+                })
                 .with_help("connect rooms that share a wall"),
         );
     }
@@ -621,7 +631,7 @@ impl Ctx<'_> {
                 })
                 .collect();
             if shared.is_empty() {
-                self.rooms_not_adjacent(door.span, door.side_spans, a, b);
+                self.rooms_not_adjacent(door.side_spans, a, b);
                 continue;
             }
             let mut segments = Vec::new();
@@ -718,7 +728,7 @@ impl Ctx<'_> {
         let primary = span.unwrap_or(self.rooms[room.0].name_span);
         if cands.is_empty() {
             if let DoorSide::Room(b) = other {
-                self.rooms_not_adjacent(primary, spans, room, b);
+                self.rooms_not_adjacent(spans, room, b);
             } else {
                 self.diags.push(
                     Diagnostic::new(
