@@ -6,7 +6,8 @@
 //! stays valid) and waits after each for the diagnostics published with its version. It prints
 //! the latency of each edit (p50, p95, max) and the process's resident memory after opening,
 //! after the first 1,000 edits and at the end. The target (issue 13): p95 ≤ 20 ms on a 2-core
-//! machine, memory flat over 10,000 edits. `LSP_BENCH_EDITS` sets the number of edits.
+//! machine, memory flat over 10,000 edits. `LSP_BENCH_EDITS` sets the number of edits;
+//! `LSP_BENCH_SHAPE=one-room` puts the 5,000 lines in one room of 830 objects instead.
 
 // The table is the point of this binary: it prints to stdout on purpose.
 #![allow(clippy::print_stdout, clippy::print_stderr)]
@@ -18,8 +19,9 @@ use std::time::{Duration, Instant};
 
 const URI: &str = "file:///nonexistent/holoc-lsp-bench/big.holo";
 
-/// A valid scene of about `lines` lines: rooms in a grid, each with many objects.
-fn big_scene(lines: usize) -> String {
+/// A valid scene of about `lines` lines: rooms in a grid, each with many objects (or, with
+/// `one_room`, a single 20 m × 20 m room holding them all).
+fn big_scene(lines: usize, one_room: bool) -> String {
     let categories = [
         ("sofa", "grey fabric three seat sofa", "200 cm x 90 cm x 80 cm"),
         ("armchair", "leather armchair", "80 cm x 80 cm x 90 cm"),
@@ -36,15 +38,17 @@ fn big_scene(lines: usize) -> String {
     while text.lines().count() < lines {
         let (gx, gz) = (room % 4, room / 4);
         let (x0, z0) = (gx as f64 * 5.0, gz as f64 * 5.0);
+        let side = if one_room { 20.0 } else { 5.0 };
         let _ = writeln!(
             text,
             "\nroom r{room} \"office {room}\" {{\n  floor \"grey carpet\"\n  walls \"white paint\"\n  corners in m ({x0}, {z0}) ({x0}, {}) ({}, {}) ({}, {z0})",
-            z0 + 5.0,
-            x0 + 5.0,
-            z0 + 5.0,
-            x0 + 5.0
+            z0 + side,
+            x0 + side,
+            z0 + side,
+            x0 + side
         );
-        for k in 0..52 {
+        let per_room = if one_room { lines / 6 } else { 52 };
+        for k in 0..per_room {
             let (category, description, size) = categories[k % categories.len()];
             let _ = writeln!(
                 text,
@@ -101,7 +105,9 @@ fn percentile(sorted: &[Duration], p: f64) -> Duration {
 fn main() {
     let edits: usize =
         std::env::var("LSP_BENCH_EDITS").ok().and_then(|v| v.parse().ok()).unwrap_or(10_000);
-    let text = big_scene(5_000);
+    // `LSP_BENCH_SHAPE=one-room`: the same number of lines in one room.
+    let one_room = std::env::var("LSP_BENCH_SHAPE").is_ok_and(|v| v == "one-room");
+    let text = big_scene(5_000, one_room);
     let line_count = text.lines().count();
     let (server, client) = Connection::memory();
     let thread = std::thread::spawn(move || {

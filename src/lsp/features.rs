@@ -671,10 +671,20 @@ fn room_items(analysis: &Analysis) -> Vec<CompletionItem> {
 
 fn object_items(analysis: &Analysis, room: usize) -> Vec<CompletionItem> {
     let mut items = Vec::new();
-    for (_, object) in analysis.index.objects_of(room) {
-        let count = analysis.analysed.scene.as_ref().map_or(1, |scene| {
-            scene.objects.iter().find(|o| o.group == object.name).map_or(1, |o| o.group_count)
+    // Instances per group of this room, from the checked scene (1 when it has errors).
+    let room_name = &analysis.index.symbols[room].name;
+    let counts: HashMap<&str, u32> =
+        analysis.analysed.scene.as_ref().map_or_else(HashMap::new, |scene| {
+            scene
+                .rooms
+                .iter()
+                .filter(|r| &r.name == room_name)
+                .flat_map(|r| scene.room_objects(r.id))
+                .map(|o| (o.group.as_str(), o.group_count))
+                .collect()
         });
+    for (_, object) in analysis.index.objects_of(room) {
+        let count = counts.get(object.name.as_str()).copied().unwrap_or(1);
         let detail = object.detail.clone();
         if count == 1 {
             items.push(CompletionItem {

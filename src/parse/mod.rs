@@ -42,6 +42,8 @@ pub fn parse(sources: &SourceMap, file: FileId) -> Outcome<ast::File> {
 #[derive(Clone, Debug, Default)]
 pub struct ParseCache {
     chunks: std::collections::HashMap<String, std::rc::Rc<Chunk>>,
+    /// Room statement groups by their text.
+    groups: std::collections::HashMap<std::rc::Rc<str>, std::rc::Rc<Group>>,
 }
 
 /// One top-level piece of text, parsed on its own.
@@ -49,6 +51,8 @@ pub struct ParseCache {
 struct Chunk {
     items: Vec<ast::Item>,
     diagnostics: Vec<Diagnostic>,
+    /// For a room parsed group by group: the groups' texts (keys of [`ParseCache`]'s groups).
+    groups: Vec<std::rc::Rc<str>>,
 }
 
 /// Parses the file, reusing the items of `cache` whose text has not changed.
@@ -67,6 +71,7 @@ pub fn parse_cached(
     let text = &sources.get(file).text;
     let Some(starts) = chunk_starts(text) else { return parse_whole(sources, file) };
     let mut used = std::collections::HashMap::new();
+    let mut used_groups = std::collections::HashMap::new();
     let mut items = Vec::new();
     let mut diagnostics = Vec::new();
     let mut previous_end: Option<usize> = None;
@@ -74,8 +79,16 @@ pub fn parse_cached(
         let end = starts.get(k + 1).copied().unwrap_or(text.len());
         let piece = &text[start..end];
         let chunk = match cache.chunks.get(piece) {
-            Some(hit) => std::rc::Rc::clone(hit),
-            None => match parse_piece(piece) {
+            Some(hit) => {
+                // A room served whole keeps its statement groups for its next edit.
+                for key in &hit.groups {
+                    if let Some(group) = cache.groups.get(key) {
+                        used_groups.insert(std::rc::Rc::clone(key), std::rc::Rc::clone(group));
+                    }
+                }
+                std::rc::Rc::clone(hit)
+            }
+            None => match parse_piece_cached(piece, &cache.groups, &mut used_groups) {
                 Some(chunk) => std::rc::Rc::new(chunk),
                 None => return parse_whole(sources, file),
             },
@@ -98,6 +111,7 @@ pub fn parse_cached(
     }
     // Only what the text still holds is kept.
     cache.chunks = used;
+    cache.groups = used_groups;
     Outcome::new(ast::File { items, span: Span::new(file, 0, text.len()) }, diagnostics)
 }
 
@@ -112,6 +126,179 @@ fn item_span(item: &ast::Item) -> Span {
     }
 }
 
+/// Room statement groups by their text.
+type GroupMap = std::collections::HashMap<std::rc::Rc<str>, std::rc::Rc<Group>>;
+
+/// The text a synthetic room header puts before a group of room statements parsed alone.
+const GROUP_PREFIX: &str = "room r {";
+
+/// Parses one top-level piece: a room statement group by statement group (each group kept in
+/// `cache` by its text, so that a large room's unchanged objects are not parsed again), any
+/// other piece at once.
+fn parse_piece_cached(piece: &str, cache: &GroupMap, used: &mut GroupMap) -> Option<Chunk> {
+    if piece.starts_with("room") {
+        if let Some(chunk) = parse_room_by_groups(piece, cache, used) {
+            return Some(chunk);
+        }
+    }
+    parse_piece(piece)
+}
+
+/// A group of room statements parsed alone: statements and diagnostics with spans from the
+/// group's start.
+#[derive(Debug)]
+struct Group {
+    stmts: Vec<ast::RoomStmt>,
+    diagnostics: Vec<Diagnostic>,
+}
+
+/// A room piece parsed as its header (with an empty body) and its body's statement groups, or
+/// `None` when it cannot be cut that way.
+fn parse_room_by_groups(piece: &str, cache: &GroupMap, used: &mut GroupMap) -> Option<Chunk> {
+    let (open, close) = outer_braces(piece)?;
+    let body = &piece[open + 1..close];
+    let starts = body_starts(body)?;
+    // The header: the room with an empty body, and what follows its `}` on the piece.
+    let header = format!("{}}}{}", &piece[..=open], &piece[close + 1..]);
+    let mut parsed = parse_piece(&header)?;
+    let body_len = (close - open - 1) as i64;
+    let after = |span: Span| span.start as usize > open;
+    for (k, item) in parsed.items.iter_mut().enumerate() {
+        if k == 0 {
+            let ast::Item::Room(room) = item else { return None };
+            if !room.body.is_empty() {
+                return None;
+            }
+            room.span.end += body_len as u32;
+        } else {
+            relocate::Relocate::relocate(item, relocate::Move { file: FileId(0), delta: body_len });
+        }
+    }
+    for d in &mut parsed.diagnostics {
+        if d.primary.as_ref().is_some_and(|p| after(p.span)) {
+            relocate::Relocate::relocate(d, relocate::Move { file: FileId(0), delta: body_len });
+        }
+    }
+    let mut stmts: Vec<ast::RoomStmt> = Vec::new();
+    let mut diagnostics = Vec::new();
+    let mut keys = Vec::with_capacity(starts.len());
+    let mut previous_end: Option<usize> = None;
+    for (k, &start) in starts.iter().enumerate() {
+        let end = starts.get(k + 1).copied().unwrap_or(body.len());
+        let text = &body[start..end];
+        let (key, group) = match cache.get_key_value(text).or_else(|| used.get_key_value(text)) {
+            Some((key, hit)) => (std::rc::Rc::clone(key), std::rc::Rc::clone(hit)),
+            None => (std::rc::Rc::from(text), std::rc::Rc::new(parse_group(text)?)),
+        };
+        let m = relocate::Move {
+            file: FileId(0),
+            delta: (open + 1 + start) as i64 - GROUP_PREFIX.len() as i64,
+        };
+        let mut group_stmts = group.stmts.clone();
+        relocate::Relocate::relocate(&mut group_stmts, m);
+        if let (Some(end), Some(first)) = (previous_end, group_stmts.first()) {
+            let first_start = room_stmt_span(first).start as usize;
+            if piece.get(end..first_start).is_some_and(|gap| gap.matches('\n').count() >= 2) {
+                stmts.push(ast::RoomStmt::Blank(Span::new(FileId(0), first_start, first_start)));
+            }
+        }
+        previous_end = group_stmts.last().map(|s| room_stmt_span(s).end as usize).or(previous_end);
+        stmts.extend(group_stmts);
+        let mut group_diagnostics = group.diagnostics.clone();
+        relocate::Relocate::relocate(&mut group_diagnostics, m);
+        diagnostics.extend(group_diagnostics);
+        keys.push(std::rc::Rc::clone(&key));
+        used.insert(key, group);
+    }
+    if let Some(ast::Item::Room(room)) = parsed.items.first_mut() {
+        room.body = stmts;
+    }
+    // The header's diagnostics come before the body's only if they are about the header.
+    let (before, later): (Vec<Diagnostic>, Vec<Diagnostic>) = parsed
+        .diagnostics
+        .into_iter()
+        .partition(|d| d.primary.as_ref().is_none_or(|p| (p.span.start as usize) <= open));
+    let mut all = before;
+    all.extend(diagnostics);
+    all.extend(later);
+    Some(Chunk { items: parsed.items, diagnostics: all, groups: keys })
+}
+
+/// A group of room statements parsed inside a synthetic room header.
+fn parse_group(text: &str) -> Option<Group> {
+    let wrapped = format!("{GROUP_PREFIX}{text}}}");
+    let chunk = parse_piece(&wrapped)?;
+    let [ast::Item::Room(room)] = chunk.items.as_slice() else { return None };
+    Some(Group { stmts: room.body.clone(), diagnostics: chunk.diagnostics })
+}
+
+/// The piece's first `{` and the `}` that closes it, outside strings and comments.
+fn outer_braces(piece: &str) -> Option<(usize, usize)> {
+    let bytes = piece.as_bytes();
+    let mut depth = 0i64;
+    let mut open = None;
+    let mut i = 0;
+    while i < bytes.len() {
+        match bytes[i] {
+            b'{' => {
+                open = open.or(Some(i));
+                depth += 1;
+            }
+            b'}' => {
+                depth -= 1;
+                if depth == 0 {
+                    return open.map(|o| (o, i));
+                }
+                if depth < 0 {
+                    return None;
+                }
+            }
+            b'"' => {
+                i += 1;
+                loop {
+                    match bytes.get(i) {
+                        None | Some(b'\n' | b'\r') => return None,
+                        Some(b'\\') => i += 2,
+                        Some(b'"') => break,
+                        Some(_) => i += 1,
+                    }
+                }
+            }
+            b'/' if bytes.get(i + 1) == Some(&b'/') => {
+                while i + 1 < bytes.len() && bytes[i + 1] != b'\n' {
+                    i += 1;
+                }
+            }
+            b'/' if bytes.get(i + 1) == Some(&b'*') => {
+                let close = piece.get(i + 2..)?.find("*/")?;
+                if piece[i..i + 2 + close].contains('\n') {
+                    return None;
+                }
+                i += 2 + close + 1;
+            }
+            _ => {}
+        }
+        i += 1;
+    }
+    None
+}
+
+fn room_stmt_span(stmt: &ast::RoomStmt) -> Span {
+    match stmt {
+        ast::RoomStmt::FloorDesign(_, s)
+        | ast::RoomStmt::WallDesign(_, s)
+        | ast::RoomStmt::FloorMaterial(_, s)
+        | ast::RoomStmt::WallMaterial(_, s)
+        | ast::RoomStmt::Blank(s) => *s,
+        ast::RoomStmt::Corners(c) => c.span,
+        ast::RoomStmt::Window(w) => w.span,
+        ast::RoomStmt::Object(o) | ast::RoomStmt::WallObject(o) => o.span,
+        ast::RoomStmt::Ceiling(c) => c.span,
+        ast::RoomStmt::Comment(c) => c.span,
+        ast::RoomStmt::Error(e) => e.span,
+    }
+}
+
 /// Parses one top-level piece on its own (file 0, spans from its start), or `None` when it
 /// does not parse as a whole or holds a brace that closes nothing.
 fn parse_piece(piece: &str) -> Option<Chunk> {
@@ -122,13 +309,24 @@ fn parse_piece(piece: &str) -> Option<Chunk> {
     if parsed.items.iter().any(|i| matches!(i, ast::Item::Error(e) if e.text == "}")) {
         return None;
     }
-    Some(Chunk { items: parsed.items, diagnostics: builder.diagnostics })
+    Some(Chunk { items: parsed.items, diagnostics: builder.diagnostics, groups: Vec::new() })
 }
 
 /// Where each top-level piece starts: line starts outside any block, string and comment whose
 /// first character is a letter (and 0). `None` when the braces, strings or comments of the text
 /// do not allow a safe cut.
 fn chunk_starts(text: &str) -> Option<Vec<usize>> {
+    cut_points(text, false)
+}
+
+/// Where each statement group of a block body starts: 0, and the start of every line whose
+/// first character after its indentation is a letter, outside any nested block, string and
+/// comment. `None` as for [`chunk_starts`].
+fn body_starts(body: &str) -> Option<Vec<usize>> {
+    cut_points(body, true)
+}
+
+fn cut_points(text: &str, indented: bool) -> Option<Vec<usize>> {
     let bytes = text.as_bytes();
     let mut starts = vec![0];
     let mut depth: i64 = 0;
@@ -136,8 +334,15 @@ fn chunk_starts(text: &str) -> Option<Vec<usize>> {
     let mut line_start = true;
     while i < bytes.len() {
         let b = bytes[i];
-        if line_start && depth == 0 && i > 0 && b.is_ascii_alphabetic() {
-            starts.push(i);
+        if line_start && depth == 0 && i > 0 {
+            let first = if indented {
+                bytes[i..].iter().find(|c| !matches!(c, b' ' | b'\t')).copied()
+            } else {
+                Some(b)
+            };
+            if first.is_some_and(|c| c.is_ascii_alphabetic()) {
+                starts.push(i);
+            }
         }
         line_start = false;
         match b {

@@ -317,11 +317,16 @@ fn resolve_scene(scene: &Scene, state: &mut State<'_>) -> Resolved {
     for room in &scene.rooms {
         // Object groups of the room, in order of first instance.
         let mut groups: Vec<(String, Vec<ObjectId>)> = Vec::new();
+        let mut group_index: std::collections::HashMap<&str, usize> =
+            std::collections::HashMap::new();
         for &id in &room.objects {
             let obj = scene.object(id);
-            match groups.iter_mut().find(|(g, _)| *g == obj.group) {
-                Some((_, ids)) => ids.push(id),
-                None => groups.push((obj.group.clone(), vec![id])),
+            match group_index.get(obj.group.as_str()) {
+                Some(&g) => groups[g].1.push(id),
+                None => {
+                    group_index.insert(obj.group.as_str(), groups.len());
+                    groups.push((obj.group.clone(), vec![id]));
+                }
             }
         }
         for (_, ids) in &groups {
