@@ -413,10 +413,7 @@ pub fn code_actions(
         if !touches || d.fixes.is_empty() {
             continue;
         }
-        let lsp_diagnostic = lsp.iter().find(|l| {
-            l.range == analysis.range(primary.span)
-                && l.code == Some(lsp_types::NumberOrString::String(d.code.as_str().to_string()))
-        });
+        let lsp_diagnostic = as_sent(analysis, &lsp, d);
         let preferred = d.fixes.len() == 1;
         for fix in &d.fixes {
             actions.push(CodeActionOrCommand::CodeAction(action(
@@ -450,7 +447,7 @@ fn repair_action(
         .analysed
         .diagnostics
         .iter()
-        .filter(|d| d.is_error() && d.code.as_str().starts_with("E03"))
+        .filter(|d| d.is_error() && d.code.stage() == "plan")
         .collect();
     if plan_errors.is_empty() {
         return None;
@@ -470,19 +467,8 @@ fn repair_action(
         .iter()
         .map(|f| TextEdit { range: analysis.range(f.span), new_text: f.replacement.clone() })
         .collect();
-    let diagnostics: Vec<lsp_types::Diagnostic> = plan_errors
-        .iter()
-        .filter_map(|d| {
-            let p = d.primary.as_ref()?;
-            lsp.iter()
-                .find(|l| {
-                    l.range == analysis.range(p.span)
-                        && l.code
-                            == Some(lsp_types::NumberOrString::String(d.code.as_str().to_string()))
-                })
-                .cloned()
-        })
-        .collect();
+    let diagnostics: Vec<lsp_types::Diagnostic> =
+        plan_errors.iter().filter_map(|d| as_sent(analysis, lsp, d).cloned()).collect();
     let rooms = fixes.len();
     Some(CodeActionOrCommand::CodeAction(CodeAction {
         title: format!(
@@ -500,6 +486,17 @@ fn repair_action(
         disabled: None,
         data: None,
     }))
+}
+
+/// The LSP diagnostic, among those sent, that stands for `d` (same place, same code).
+fn as_sent<'a>(
+    analysis: &Analysis,
+    sent: &'a [lsp_types::Diagnostic],
+    d: &Diagnostic,
+) -> Option<&'a lsp_types::Diagnostic> {
+    let range = analysis.range(d.primary.as_ref()?.span);
+    let code = lsp_types::NumberOrString::String(d.code.as_str().to_string());
+    sent.iter().find(|l| l.range == range && l.code.as_ref() == Some(&code))
 }
 
 fn action(

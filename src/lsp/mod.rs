@@ -20,7 +20,7 @@ pub mod index;
 
 use crate::resolve::Catalog;
 use crossbeam_channel::{Receiver, Sender};
-use document::{Document, RelationOutcome, Solved};
+use document::{Analysis, Document, RelationOutcome, Solved};
 use lsp_server::{Connection, ErrorCode, Message, Notification, Request, Response};
 use lsp_types::notification::Notification as _;
 use lsp_types::request::Request as _;
@@ -369,6 +369,15 @@ impl Server {
         self.dirty.insert(uri.to_string());
     }
 
+    /// The analysis of an open document and its last solve, or the error a request on a
+    /// document that is not open gets.
+    fn opened(&mut self, uri: &Uri) -> Result<(&Analysis, Option<&Solved>), (ErrorCode, String)> {
+        let not_open = || (ErrorCode::InvalidParams, format!("`{}` is not open", uri.as_str()));
+        let doc = self.analysed(uri.as_str()).ok_or_else(not_open)?;
+        let analysis = doc.analysis.as_ref().ok_or_else(not_open)?;
+        Ok((analysis, doc.solved.as_ref()))
+    }
+
     fn request(&mut self, request: Request) -> Result<serde_json::Value, (ErrorCode, String)> {
         fn params<P: serde::de::DeserializeOwned>(r: Request) -> Result<P, (ErrorCode, String)> {
             serde_json::from_value(r.params).map_err(|e| (ErrorCode::InvalidParams, e.to_string()))
@@ -376,24 +385,20 @@ impl Server {
         fn json<T: serde::Serialize>(value: T) -> Result<serde_json::Value, (ErrorCode, String)> {
             serde_json::to_value(value).map_err(|e| (ErrorCode::InternalError, e.to_string()))
         }
-        let not_open =
-            |uri: &Uri| (ErrorCode::InvalidParams, format!("`{}` is not open", uri.as_str()));
         match request.method.as_str() {
             request::HoverRequest::METHOD => {
                 let p: lsp_types::HoverParams = params(request)?;
                 let at = p.text_document_position_params;
                 let uri = at.text_document.uri;
                 let solving = self.jobs.is_some();
-                let doc = self.analysed(uri.as_str()).ok_or_else(|| not_open(&uri))?;
-                let analysis = doc.analysis.as_ref().ok_or_else(|| not_open(&uri))?;
-                json(features::hover(analysis, doc.solved.as_ref(), solving, at.position))
+                let (analysis, solved) = self.opened(&uri)?;
+                json(features::hover(analysis, solved, solving, at.position))
             }
             request::GotoDefinition::METHOD => {
                 let p: lsp_types::GotoDefinitionParams = params(request)?;
                 let at = p.text_document_position_params;
                 let uri = at.text_document.uri;
-                let doc = self.analysed(uri.as_str()).ok_or_else(|| not_open(&uri))?;
-                let analysis = doc.analysis.as_ref().ok_or_else(|| not_open(&uri))?;
+                let (analysis, _) = self.opened(&uri)?;
                 json(features::definition(analysis, at.position).map(|range| {
                     lsp_types::GotoDefinitionResponse::Scalar(features::location(&uri, range))
                 }))
@@ -402,8 +407,7 @@ impl Server {
                 let p: lsp_types::ReferenceParams = params(request)?;
                 let at = p.text_document_position;
                 let uri = at.text_document.uri;
-                let doc = self.analysed(uri.as_str()).ok_or_else(|| not_open(&uri))?;
-                let analysis = doc.analysis.as_ref().ok_or_else(|| not_open(&uri))?;
+                let (analysis, _) = self.opened(&uri)?;
                 let ranges =
                     features::references(analysis, at.position, p.context.include_declaration);
                 json(ranges.into_iter().map(|r| features::location(&uri, r)).collect::<Vec<_>>())
@@ -411,16 +415,14 @@ impl Server {
             request::PrepareRenameRequest::METHOD => {
                 let p: lsp_types::TextDocumentPositionParams = params(request)?;
                 let uri = p.text_document.uri;
-                let doc = self.analysed(uri.as_str()).ok_or_else(|| not_open(&uri))?;
-                let analysis = doc.analysis.as_ref().ok_or_else(|| not_open(&uri))?;
+                let (analysis, _) = self.opened(&uri)?;
                 json(features::prepare_rename(analysis, p.position))
             }
             request::Rename::METHOD => {
                 let p: lsp_types::RenameParams = params(request)?;
                 let at = p.text_document_position;
                 let uri = at.text_document.uri;
-                let doc = self.analysed(uri.as_str()).ok_or_else(|| not_open(&uri))?;
-                let analysis = doc.analysis.as_ref().ok_or_else(|| not_open(&uri))?;
+                let (analysis, _) = self.opened(&uri)?;
                 let edit = features::rename(analysis, &uri, at.position, &p.new_name)
                     .map_err(|m| (ErrorCode::RequestFailed, m))?;
                 json(edit)
@@ -428,8 +430,7 @@ impl Server {
             request::DocumentSymbolRequest::METHOD => {
                 let p: lsp_types::DocumentSymbolParams = params(request)?;
                 let uri = p.text_document.uri;
-                let doc = self.analysed(uri.as_str()).ok_or_else(|| not_open(&uri))?;
-                let analysis = doc.analysis.as_ref().ok_or_else(|| not_open(&uri))?;
+                let (analysis, _) = self.opened(&uri)?;
                 json(lsp_types::DocumentSymbolResponse::Nested(features::document_symbols(
                     analysis,
                 )))
@@ -438,8 +439,7 @@ impl Server {
                 let p: lsp_types::CompletionParams = params(request)?;
                 let at = p.text_document_position;
                 let uri = at.text_document.uri;
-                let doc = self.analysed(uri.as_str()).ok_or_else(|| not_open(&uri))?;
-                let analysis = doc.analysis.as_ref().ok_or_else(|| not_open(&uri))?;
+                let (analysis, _) = self.opened(&uri)?;
                 json(lsp_types::CompletionResponse::Array(features::completion(
                     analysis,
                     at.position,
@@ -448,8 +448,7 @@ impl Server {
             request::Formatting::METHOD => {
                 let p: lsp_types::DocumentFormattingParams = params(request)?;
                 let uri = p.text_document.uri;
-                let doc = self.analysed(uri.as_str()).ok_or_else(|| not_open(&uri))?;
-                let analysis = doc.analysis.as_ref().ok_or_else(|| not_open(&uri))?;
+                let (analysis, _) = self.opened(&uri)?;
                 let edits =
                     features::formatting(analysis).map_err(|m| (ErrorCode::RequestFailed, m))?;
                 json(edits)
@@ -457,9 +456,8 @@ impl Server {
             request::CodeActionRequest::METHOD => {
                 let p: lsp_types::CodeActionParams = params(request)?;
                 let uri = p.text_document.uri;
-                let doc = self.analysed(uri.as_str()).ok_or_else(|| not_open(&uri))?;
-                let analysis = doc.analysis.as_ref().ok_or_else(|| not_open(&uri))?;
-                json(features::code_actions(analysis, doc.solved.as_ref(), &uri, p.range))
+                let (analysis, solved) = self.opened(&uri)?;
+                json(features::code_actions(analysis, solved, &uri, p.range))
             }
             other => Err((ErrorCode::MethodNotFound, format!("holoc does not answer `{other}`"))),
         }
@@ -515,7 +513,7 @@ fn solve(job: &SolveJob) -> Solved {
     let options = crate::compile::BuildOptions::new(&job.catalog);
     let built = crate::compile::build(&sources, file, &options);
     let diagnostics: Vec<_> =
-        built.diagnostics.into_iter().filter(|d| d.code.as_str()[1..].starts_with("05")).collect();
+        built.diagnostics.into_iter().filter(|d| d.code.stage() == "solve").collect();
     let mut relations = Vec::new();
     if let Some(built) = built.value {
         relations = relation_outcomes(&built.layout);

@@ -253,29 +253,11 @@ fn outer_braces(piece: &str) -> Option<(usize, usize)> {
                     return None;
                 }
             }
-            b'"' => {
-                i += 1;
-                loop {
-                    match bytes.get(i) {
-                        None | Some(b'\n' | b'\r') => return None,
-                        Some(b'\\') => i += 2,
-                        Some(b'"') => break,
-                        Some(_) => i += 1,
-                    }
-                }
-            }
-            b'/' if bytes.get(i + 1) == Some(&b'/') => {
-                while i + 1 < bytes.len() && bytes[i + 1] != b'\n' {
-                    i += 1;
-                }
-            }
-            b'/' if bytes.get(i + 1) == Some(&b'*') => {
-                let close = piece.get(i + 2..)?.find("*/")?;
-                if piece[i..i + 2 + close].contains('\n') {
-                    return None;
-                }
-                i += 2 + close + 1;
-            }
+            b'"' | b'/' => match literal_at(piece, i) {
+                Literal::EndsAt(end) => i = end,
+                Literal::Uncuttable => return None,
+                Literal::Neither => {}
+            },
             _ => {}
         }
         i += 1;
@@ -354,36 +336,54 @@ fn cut_points(text: &str, indented: bool) -> Option<Vec<usize>> {
                     return None;
                 }
             }
-            b'"' => {
-                // A string ends on its line.
-                i += 1;
-                loop {
-                    match bytes.get(i) {
-                        None | Some(b'\n' | b'\r') => return None,
-                        Some(b'\\') => i += 2,
-                        Some(b'"') => break,
-                        Some(_) => i += 1,
-                    }
-                }
-            }
-            b'/' if bytes.get(i + 1) == Some(&b'/') => {
-                while i + 1 < bytes.len() && bytes[i + 1] != b'\n' {
-                    i += 1;
-                }
-            }
-            b'/' if bytes.get(i + 1) == Some(&b'*') => {
-                let close = text.get(i + 2..)?.find("*/")?;
-                // A block comment that spans lines could hide a line start: parse at once.
-                if text[i..i + 2 + close].contains('\n') {
-                    return None;
-                }
-                i += 2 + close + 1;
-            }
+            b'"' | b'/' => match literal_at(text, i) {
+                Literal::EndsAt(end) => i = end,
+                Literal::Uncuttable => return None,
+                Literal::Neither => {}
+            },
             _ => {}
         }
         i += 1;
     }
     (depth == 0).then_some(starts)
+}
+
+/// What starts at a byte, for the scanners that cut the text.
+enum Literal {
+    /// Neither a string nor a comment.
+    Neither,
+    /// A string or comment ending at this byte.
+    EndsAt(usize),
+    /// One no safe cut can be made around: a string that runs to the end of its line, a block
+    /// comment left open or over several lines (which could hide a line start).
+    Uncuttable,
+}
+
+/// Whether a string or a comment starts at byte `i`, and where it ends.
+fn literal_at(text: &str, i: usize) -> Literal {
+    let bytes = text.as_bytes();
+    match (bytes.get(i), bytes.get(i + 1)) {
+        (Some(b'"'), _) => {
+            let mut j = i + 1;
+            loop {
+                match bytes.get(j) {
+                    None | Some(b'\n' | b'\r') => return Literal::Uncuttable,
+                    Some(b'\\') => j += 2,
+                    Some(b'"') => return Literal::EndsAt(j),
+                    Some(_) => j += 1,
+                }
+            }
+        }
+        (Some(b'/'), Some(b'/')) => {
+            Literal::EndsAt(text[i..].find('\n').map_or(text.len(), |n| i + n) - 1)
+        }
+        (Some(b'/'), Some(b'*')) => text
+            .get(i + 2..)
+            .and_then(|rest| rest.find("*/"))
+            .filter(|&close| !text[i..i + 2 + close].contains('\n'))
+            .map_or(Literal::Uncuttable, |close| Literal::EndsAt(i + 2 + close + 1)),
+        _ => Literal::Neither,
+    }
 }
 
 /// Parses the whole text at once, with no cache: what [`parse_cached`] falls back to, and the
