@@ -20,8 +20,9 @@ use crate::solve::Solver;
 use crate::source::SourceMap;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
+use std::collections::HashMap;
 use std::path::{Path, PathBuf};
-use std::sync::{Condvar, Mutex};
+use std::sync::{Arc, Condvar, Mutex};
 use std::time::Instant;
 
 /// The name of the completion marker inside a job's folder.
@@ -269,10 +270,6 @@ pub fn manifest_failure(e: &ManifestError) -> JobResult {
 /// version. An input or catalog that cannot be read hashes as its path (the job then fails
 /// at that stage and is retried on every run).
 pub fn job_hash(job: &Job) -> String {
-    let file_hash = |p: &Path| match std::fs::read(p) {
-        Ok(bytes) => crate::resolve::sha256_hex(&bytes),
-        Err(_) => format!("unreadable:{}", p.display()),
-    };
     let key = serde_json::json!({
         "holoc": env!("CARGO_PKG_VERSION"),
         "spec": job.spec,
@@ -280,6 +277,14 @@ pub fn job_hash(job: &Job) -> String {
         "catalogs": job.catalogs.iter().map(|p| file_hash(p)).collect::<Vec<_>>(),
     });
     crate::resolve::sha256_hex(key.to_string().as_bytes())[..16].to_string()
+}
+
+/// SHA-256 of a file's bytes, or its path when it cannot be read.
+fn file_hash(p: &Path) -> String {
+    match std::fs::read(p) {
+        Ok(bytes) => crate::resolve::sha256_hex(&bytes),
+        Err(_) => format!("unreadable:{}", p.display()),
+    }
 }
 
 /// Settings of a whole run.
@@ -293,6 +298,45 @@ pub struct RunOptions {
     pub llm_concurrency: usize,
     /// The API key of generate jobs (never written anywhere).
     pub api_key: Option<String>,
+    /// The catalogs loaded so far, shared by the jobs that name the same files.
+    pub catalogs: CatalogCache,
+}
+
+/// A loaded catalog set: the catalog, the sources its diagnostics point into, the diagnostics.
+type LoadedCatalogs = Arc<(Catalog, SourceMap, Vec<Diagnostic>)>;
+
+/// The catalog sets a run has loaded, by their paths and the bytes of their files: a job
+/// whose catalogs were loaded by an earlier job (every job without `catalog`, usually) shares
+/// that catalog instead of building it again. A changed file is a new key. At most
+/// [`CatalogCache::MAX_SETS`] sets are kept, so memory stays flat with many distinct sets.
+#[derive(Debug, Default)]
+pub struct CatalogCache {
+    sets: Mutex<HashMap<Vec<(PathBuf, String)>, LoadedCatalogs>>,
+}
+
+impl CatalogCache {
+    /// The most catalog sets kept at once.
+    pub const MAX_SETS: usize = 8;
+
+    /// The catalog set of `paths`, loaded now or earlier.
+    fn get(&self, paths: &[PathBuf]) -> LoadedCatalogs {
+        let key: Vec<(PathBuf, String)> =
+            paths.iter().map(|p| (p.clone(), file_hash(p))).collect();
+        // A job that panicked while holding the lock leaves a map that is still whole (only
+        // whole inserts and clears happen under it).
+        let lock = || self.sets.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+        if let Some(found) = lock().get(&key) {
+            return Arc::clone(found);
+        }
+        let mut sources = SourceMap::new();
+        let loaded = Catalog::load(paths, &mut sources);
+        let set = Arc::new((loaded.value, sources, loaded.diagnostics));
+        let mut sets = lock();
+        if sets.len() >= Self::MAX_SETS {
+            sets.clear();
+        }
+        Arc::clone(sets.entry(key).or_insert(set))
+    }
 }
 
 /// A counting semaphore for model requests (std only).
@@ -372,26 +416,32 @@ fn solver_of(spec: &JobSpec) -> Solver {
 }
 
 /// Builds `.holo` text into the house and its report.
-fn build_text(name: &str, text: String, job: &Job, files: &mut Files) -> Work {
-    let mut sources = SourceMap::new();
-    let loaded = Catalog::load(&job.catalogs, &mut sources);
-    if loaded.has_errors() {
-        return failed("catalog", loaded.diagnostics);
+fn build_text(
+    name: &str,
+    text: String,
+    job: &Job,
+    catalogs: &CatalogCache,
+    files: &mut Files,
+) -> Work {
+    let loaded = catalogs.get(&job.catalogs);
+    let (catalog, catalog_sources, catalog_diagnostics) = &*loaded;
+    if catalog_diagnostics.iter().any(Diagnostic::is_error) {
+        return failed("catalog", catalog_diagnostics.clone());
     }
-    let catalog = loaded.value;
+    let mut sources = catalog_sources.clone();
     let file = sources.add(name, text);
     let options = BuildOptions {
         seed: if job.spec.generate.is_some() { None } else { job.spec.seed },
         solver: solver_of(&job.spec),
         node_budget: job.spec.node_budget,
         stand_ins: job.spec.stand_ins.unwrap_or(true),
-        ..BuildOptions::new(&catalog)
+        ..BuildOptions::new(catalog)
     };
     let built = build(&sources, file, &options);
-    let mut diagnostics = loaded.diagnostics;
+    let mut diagnostics = catalog_diagnostics.clone();
     diagnostics.extend(built.diagnostics);
     let Some(product) = built.value else { return failed("build", diagnostics) };
-    let mut report = serde_json::to_string_pretty(&crate::report::report(&product, &catalog))
+    let mut report = serde_json::to_string_pretty(&crate::report::report(&product, catalog))
         .unwrap_or_default();
     report.push('\n');
     files.push(("house.json", product.house.to_json_string()));
@@ -399,7 +449,7 @@ fn build_text(name: &str, text: String, job: &Job, files: &mut Files) -> Work {
     Work { files: std::mem::take(files), diagnostics, failed_stage: None }
 }
 
-fn run_build_job(job: &Job) -> Work {
+fn run_build_job(job: &Job, catalogs: &CatalogCache) -> Work {
     let Some(path) = &job.input else { return failed("input", Vec::new()) };
     let text = match std::fs::read_to_string(path) {
         Ok(t) => t,
@@ -413,7 +463,7 @@ fn run_build_job(job: &Job) -> Work {
             )
         }
     };
-    build_text(&path.display().to_string(), text, job, &mut Vec::new())
+    build_text(&path.display().to_string(), text, job, catalogs, &mut Vec::new())
 }
 
 fn run_generate_job(job: &Job, options: &RunOptions, permits: &Permits) -> Work {
@@ -470,7 +520,7 @@ fn run_generate_job(job: &Job, options: &RunOptions, permits: &Permits) -> Work 
     }
     let mut files: Files =
         vec![("scene.holo", outcome.value.holo.clone()), ("transcript.json", transcript)];
-    let mut work = build_text("scene.holo", outcome.value.holo, job, &mut files);
+    let mut work = build_text("scene.holo", outcome.value.holo, job, &options.catalogs, &mut files);
     let mut diagnostics = outcome.diagnostics;
     diagnostics.append(&mut work.diagnostics);
     work.diagnostics = diagnostics;
@@ -550,7 +600,7 @@ pub fn run_job(job: &Job, options: &RunOptions, permits: &Permits) -> JobResult 
         if job.spec.generate.is_some() {
             run_generate_job(job, options, permits)
         } else {
-            run_build_job(job)
+            run_build_job(job, &options.catalogs)
         }
     }));
     match work {

@@ -99,6 +99,7 @@ pub fn run(args: &BatchArgs) -> ExitCode {
         api_key: ["HOLOC_API_KEY", "OPENAI_API_KEY"]
             .iter()
             .find_map(|name| std::env::var(name).ok().filter(|k| !k.trim().is_empty())),
+        catalogs: batch::CatalogCache::default(),
     };
     let permits = Permits::new(args.llm_concurrency);
     let threads = args

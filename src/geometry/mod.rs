@@ -101,18 +101,41 @@ pub fn area_centroid(polygon: &[Point]) -> Point {
 
 /// Whether `p` lies on the segment `a–b` (within [`EPS_M`]), endpoints included.
 pub fn point_on_segment(p: Point, a: Point, b: Point) -> bool {
-    distance_to_segment(p, a, b) <= EPS_M
+    within(p, nearest_on_segment(p, a, b), EPS_M)
+}
+
+/// The point of the segment `a–b` nearest to `p` (`a` for a segment shorter than [`EPS_M`]).
+pub fn nearest_on_segment(p: Point, a: Point, b: Point) -> Point {
+    let d = sub(b, a);
+    let len2 = d[0] * d[0] + d[1] * d[1];
+    if len2 <= EPS_M * EPS_M {
+        return a;
+    }
+    let t = (((p[0] - a[0]) * d[0] + (p[1] - a[1]) * d[1]) / len2).clamp(0.0, 1.0);
+    add_scaled(a, d, t)
 }
 
 /// The distance from `p` to the segment `a–b`.
 pub fn distance_to_segment(p: Point, a: Point, b: Point) -> f64 {
-    let d = sub(b, a);
-    let len2 = d[0] * d[0] + d[1] * d[1];
-    if len2 <= EPS_M * EPS_M {
-        return distance(p, a);
+    distance(p, nearest_on_segment(p, a, b))
+}
+
+/// `distance(a, b).min(bound)`, to the bit, without the square root when one coordinate
+/// difference alone reaches `bound` (the distance is never less than either difference).
+pub fn distance_below(a: Point, b: Point, bound: f64) -> f64 {
+    let (dx, dz) = (b[0] - a[0], b[1] - a[1]);
+    if dx.abs().max(dz.abs()) >= bound {
+        bound
+    } else {
+        dx.hypot(dz).min(bound)
     }
-    let t = (((p[0] - a[0]) * d[0] + (p[1] - a[1]) * d[1]) / len2).clamp(0.0, 1.0);
-    distance(p, add_scaled(a, d, t))
+}
+
+/// `distance(a, b) <= r`, to the bit, without the square root when one coordinate difference
+/// alone exceeds `r`.
+pub fn within(a: Point, b: Point, r: f64) -> bool {
+    let (dx, dz) = (b[0] - a[0], b[1] - a[1]);
+    dx.abs().max(dz.abs()) <= r && dx.hypot(dz) <= r
 }
 
 /// Whether `p` is on the boundary of the polygon (within [`EPS_M`]).
@@ -132,6 +155,78 @@ pub fn point_in_polygon(p: Point, polygon: &[Point]) -> bool {
 /// Whether `p` is inside or on the boundary of the polygon.
 pub fn point_in_or_on_polygon(p: Point, polygon: &[Point]) -> bool {
     point_on_boundary(p, polygon) || point_in_polygon_raw(p, polygon)
+}
+
+/// A polygon prepared for many point queries: each edge with its bounding box, so that edges
+/// far from the point are passed over. Every query gives, to the bit, what the function of the
+/// same name on the bare polygon gives.
+#[derive(Clone, Debug)]
+pub struct Outline<'a> {
+    polygon: &'a [Point],
+    edges: Vec<(Point, Point, Aabb)>,
+    bounds: Aabb,
+}
+
+/// How much farther than a threshold an edge's box must be for the edge to be passed over:
+/// the nearest point of an edge is computed in floating point and may stand outside the box by
+/// a rounding error, never by this much in a room-sized plan.
+const PASS_OVER_M: f64 = 1e-9;
+
+impl<'a> Outline<'a> {
+    /// The outline of a polygon.
+    pub fn new(polygon: &'a [Point]) -> Outline<'a> {
+        let n = polygon.len();
+        let edges = (0..n)
+            .map(|i| {
+                let (a, b) = (polygon[i], polygon[(i + 1) % n]);
+                (a, b, Aabb::of(&[a, b]))
+            })
+            .collect();
+        Outline { polygon, edges, bounds: Aabb::of(polygon) }
+    }
+
+    /// How far `p` is outside a box along the farther axis (negative inside).
+    fn gap(p: Point, b: &Aabb) -> f64 {
+        let gx = (b.min[0] - p[0]).max(p[0] - b.max[0]);
+        let gz = (b.min[1] - p[1]).max(p[1] - b.max[1]);
+        gx.max(gz)
+    }
+
+    /// [`point_on_boundary`].
+    pub fn on_boundary(&self, p: Point) -> bool {
+        self.edges.iter().any(|(a, b, bbox)| {
+            Outline::gap(p, bbox) <= EPS_M + PASS_OVER_M && point_on_segment(p, *a, *b)
+        })
+    }
+
+    /// [`point_in_polygon`].
+    pub fn contains(&self, p: Point) -> bool {
+        if Outline::gap(p, &self.bounds) > EPS_M + PASS_OVER_M {
+            return false;
+        }
+        !self.on_boundary(p) && point_in_polygon_raw(p, self.polygon)
+    }
+
+    /// [`point_in_or_on_polygon`].
+    pub fn contains_or_on(&self, p: Point) -> bool {
+        if Outline::gap(p, &self.bounds) > EPS_M + PASS_OVER_M {
+            return false;
+        }
+        self.on_boundary(p) || point_in_polygon_raw(p, self.polygon)
+    }
+
+    /// The distance from `p` to the nearest edge, or `bound` when that is less (see
+    /// [`distance_below`]).
+    pub fn distance_below(&self, p: Point, bound: f64) -> f64 {
+        let mut nearest = bound;
+        for (a, b, bbox) in &self.edges {
+            if Outline::gap(p, bbox) >= nearest + PASS_OVER_M {
+                continue;
+            }
+            nearest = distance_below(p, nearest_on_segment(p, *a, *b), nearest);
+        }
+        nearest
+    }
 }
 
 fn point_in_polygon_raw(p: Point, polygon: &[Point]) -> bool {

@@ -24,10 +24,11 @@ const ENOUGH_CLEARANCE_M: f64 = 0.8;
 /// A cell this close to a door's opening is where the agent comes in.
 const DOOR_REACH_M: f64 = 0.8;
 
-fn distance_to_rect(p: Point, r: &Rect) -> f64 {
+/// The distance from `p` to the rectangle, or `bound` when that is less.
+fn distance_to_rect_below(p: Point, r: &Rect, bound: f64) -> f64 {
     let dx = (r.min_x - p[0]).max(0.0).max(p[0] - r.max_x);
     let dz = (r.min_z - p[1]).max(0.0).max(p[1] - r.max_z);
-    dx.hypot(dz)
+    geo::distance_below([0.0, 0.0], [dx, dz], bound)
 }
 
 /// The agent's start on free floor (see the module's description).
@@ -57,25 +58,24 @@ pub fn agent_start(plan: &FloorPlan, layout: &Layout) -> AgentPose {
         [bbox.min[0] + (i as f64 + 0.5) * STEP_M, bbox.min[1] + (j as f64 + 0.5) * STEP_M]
     };
     let need = AGENT_RADIUS_M + MARGIN_M;
+    let outline = geo::Outline::new(poly);
+    let kept_out: Vec<geo::Outline<'_>> =
+        room.door_keep_out.iter().chain(&room.open_boxes).map(|b| geo::Outline::new(b)).collect();
     let mut clearance = vec![f64::NEG_INFINITY; nx * nz];
     for j in 0..nz {
         for i in 0..nx {
             let p = point(i, j);
-            if !geo::point_in_polygon(p, poly)
-                || room
-                    .door_keep_out
-                    .iter()
-                    .chain(&room.open_boxes)
-                    .any(|b| geo::point_in_or_on_polygon(p, b))
-            {
+            if !outline.contains(p) || kept_out.iter().any(|b| b.contains_or_on(p)) {
                 continue;
             }
-            let walls = (0..poly.len())
-                .map(|k| geo::distance_to_segment(p, poly[k], poly[(k + 1) % poly.len()]))
-                .fold(f64::INFINITY, f64::min);
-            let things =
-                footprints.iter().map(|r| distance_to_rect(p, r)).fold(f64::INFINITY, f64::min);
-            clearance[j * nx + i] = walls.min(things);
+            // The distance to the nearest wall or footprint, measured no further than
+            // `ENOUGH_CLEARANCE_M`: only whether it reaches the need (less) and how it compares
+            // up to that count.
+            let mut nearest = outline.distance_below(p, ENOUGH_CLEARANCE_M);
+            for r in &footprints {
+                nearest = distance_to_rect_below(p, r, nearest);
+            }
+            clearance[j * nx + i] = nearest;
         }
     }
     let free = |c: usize| clearance[c] >= need;
@@ -85,7 +85,9 @@ pub fn agent_start(plan: &FloorPlan, layout: &Layout) -> AgentPose {
     for (c, r) in reached.iter_mut().enumerate() {
         let p = point(c % nx, c / nx);
         if free(c)
-            && doors.iter().any(|&(a, b)| geo::distance_to_segment(p, a, b) <= DOOR_REACH_M + need)
+            && doors
+                .iter()
+                .any(|&(a, b)| geo::within(p, geo::nearest_on_segment(p, a, b), DOOR_REACH_M + need))
         {
             *r = true;
             queue.push_back(c);
@@ -122,15 +124,20 @@ pub fn agent_start(plan: &FloorPlan, layout: &Layout) -> AgentPose {
     for c in (0..nx * nz).filter(|&c| reached[c]) {
         let p = point(c % nx, c / nx);
         let room_around = clearance[c].min(ENOUGH_CLEARANCE_M);
-        let to_centre = geo::distance(p, room.centroid);
-        let better = match best {
-            None => true,
-            Some((r, d, _)) => {
-                room_around > r + 1e-9 || ((room_around - r).abs() <= 1e-9 && to_centre < d - 1e-9)
+        match best {
+            Some((r, _, _)) if room_around > r + 1e-9 => {
+                best = Some((room_around, geo::distance(p, room.centroid), p));
             }
-        };
-        if better {
-            best = Some((room_around, to_centre, p));
+            Some((r, d, _)) => {
+                // As much room: better only nearer the centre (by more than 1e-9).
+                if (room_around - r).abs() <= 1e-9 {
+                    let to_centre = geo::distance_below(p, room.centroid, d - 1e-9);
+                    if to_centre < d - 1e-9 {
+                        best = Some((room_around, to_centre, p));
+                    }
+                }
+            }
+            None => best = Some((room_around, geo::distance(p, room.centroid), p)),
         }
     }
     match best {

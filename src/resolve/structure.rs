@@ -5,8 +5,8 @@
 //! embedded at build time. Selection is deterministic: ties are broken by a caller-given `pick`
 //! number (derived from the scene seed) over a list sorted by asset id.
 
-use std::collections::BTreeSet;
-use std::sync::OnceLock;
+use std::collections::{BTreeSet, HashMap};
+use std::sync::{Arc, Mutex, OnceLock};
 
 use crate::check::scene::{DoorKind, DoorSize, WindowKind};
 
@@ -81,7 +81,7 @@ pub struct Skybox {
 }
 
 /// Which surface a material is chosen for.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Surface {
     /// A room floor.
     Floor,
@@ -102,6 +102,40 @@ pub struct StructureCatalog {
     pub skyboxes: Vec<Skybox>,
     /// Every built-in AI2-THOR asset id.
     pub thor_asset_ids: BTreeSet<String>,
+    /// Rankings already worked out (the same design texts come back in every room and every
+    /// scene of a batch).
+    rankings: RankingCache,
+}
+
+/// A ranking of the materials: indices into `materials` with their scores, best first.
+type Ranking = Arc<Vec<(usize, f64)>>;
+
+/// Material rankings by design text and surface. Not part of what a catalog is: a clone
+/// starts empty and any two compare equal.
+#[derive(Default)]
+struct RankingCache(Mutex<HashMap<(String, Surface), Ranking>>);
+
+impl RankingCache {
+    /// The most rankings kept; the cache is emptied when it is full.
+    const MAX: usize = 4096;
+}
+
+impl Clone for RankingCache {
+    fn clone(&self) -> RankingCache {
+        RankingCache::default()
+    }
+}
+
+impl PartialEq for RankingCache {
+    fn eq(&self, _: &RankingCache) -> bool {
+        true
+    }
+}
+
+impl std::fmt::Debug for RankingCache {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("RankingCache")
+    }
 }
 
 fn rows(text: &str) -> impl Iterator<Item = Vec<&str>> {
@@ -303,7 +337,14 @@ impl StructureCatalog {
             .map(|r| Skybox { name: r[0].to_owned(), time_of_day: r[1].to_owned() })
             .collect();
         let thor_asset_ids = rows(THOR_IDS_TSV).map(|r| r[0].to_owned()).collect();
-        StructureCatalog { doors, windows, materials, skyboxes, thor_asset_ids }
+        StructureCatalog {
+            doors,
+            windows,
+            materials,
+            skyboxes,
+            thor_asset_ids,
+            rankings: RankingCache::default(),
+        }
     }
 
     /// The door asset with this id.
@@ -375,6 +416,23 @@ impl StructureCatalog {
     /// the normalised edit similarity of the whole texts as the last tie-breaker. Returns every
     /// candidate, best first, with its score.
     pub fn rank_materials(&self, design: &str, surface: Surface) -> Vec<(&Material, f64)> {
+        let key = (design.to_string(), surface);
+        let lock = || self.rankings.0.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+        let found = lock().get(&key).cloned();
+        let ranking = found.unwrap_or_else(|| {
+            let ranking = Arc::new(self.work_out_ranking(design, surface));
+            let mut rankings = lock();
+            if rankings.len() >= RankingCache::MAX {
+                rankings.clear();
+            }
+            rankings.insert(key, Arc::clone(&ranking));
+            ranking
+        });
+        ranking.iter().map(|&(i, score)| (&self.materials[i], score)).collect()
+    }
+
+    /// [`StructureCatalog::rank_materials`] worked out, as indices into `materials`.
+    fn work_out_ranking(&self, design: &str, surface: Surface) -> Vec<(usize, f64)> {
         let query = text_words(design);
         let lower = design.to_lowercase();
         // The material is named before the first comma (`walnut parquet, satin finish`);
@@ -384,11 +442,12 @@ impl StructureCatalog {
             k if k.is_empty() => kinds_of(query.iter().map(String::as_str)),
             k => k,
         };
-        let mut ranked: Vec<(&Material, f64)> = self
+        let mut ranked: Vec<(usize, f64)> = self
             .materials
             .iter()
-            .filter(|m| m.is_surface())
-            .map(|m| {
+            .enumerate()
+            .filter(|(_, m)| m.is_surface())
+            .map(|(i, m)| {
                 let suits = m.groups.iter().any(|g| match surface {
                     Surface::Floor => g == "Wood" || g == "Fabric",
                     Surface::Wall => g == "Wall",
@@ -412,10 +471,11 @@ impl StructureCatalog {
                 let words = overlap_score(&query, &m.words);
                 let score =
                     words + kind + if suits && words == 0.0 { 0.25 } else { 0.0 } + 0.1 * sim;
-                (m, score)
+                (i, score)
             })
             .collect();
-        ranked.sort_by(|a, b| b.1.total_cmp(&a.1).then_with(|| a.0.name.cmp(&b.0.name)));
+        let name = |i: usize| &self.materials[i].name;
+        ranked.sort_by(|a, b| b.1.total_cmp(&a.1).then_with(|| name(a.0).cmp(name(b.0))));
         ranked
     }
 

@@ -8,7 +8,9 @@
 //! overlap a placed footprint are dropped, the rest are scored and sorted (ties in a seeded
 //! order), and the search descends into them best first.
 
-use std::collections::BTreeMap;
+use std::cell::RefCell;
+use std::collections::{BTreeMap, HashMap};
+use std::rc::Rc;
 
 use rand::seq::SliceRandom;
 use rand_chacha::rand_core::SeedableRng;
@@ -293,31 +295,37 @@ struct Promise {
 /// The static candidates of one object with what the search asks of them at every node.
 struct StaticSet {
     cands: Vec<Cand>,
-    /// Indices into `cands` sorted by the footprint's `min_x`, and those `min_x` values.
-    by_min_x: Vec<usize>,
-    min_xs: Vec<f64>,
-    /// The widest footprint along x.
-    max_width: f64,
     /// Per candidate, the sides (bits: −x, +x, −z, +z) that touch a wall.
     wall_touch: Vec<u8>,
+    /// Per candidate, what [`Search::room_left_for_dependents`] would count with nothing
+    /// placed: an upper bound of it at every node.
+    room_static: Vec<(u8, u8)>,
 }
 
+/// What the search knows of an object once the poses of its relations' targets are fixed:
+/// the candidates derived from them, the score of every candidate (static ones first), and an
+/// upper bound of every candidate's ordering key, with the candidates sorted by it (best
+/// first). An object is met again and again with the same targets (the search branches on
+/// other objects), so this is worked out once per set of target poses.
+struct TargetContext {
+    derived: Vec<Cand>,
+    scores: Vec<f64>,
+    bounds: Vec<f64>,
+    /// The candidates that do not overlap a placed target, best bound first.
+    by_bound: Vec<u32>,
+    /// The candidates that overlap a placed target: blocked at every node of this context.
+    on_targets: Vec<u32>,
+}
+
+/// The most target contexts kept; the cache is emptied when it is full (a room with many
+/// objects and a large budget would otherwise keep one per node).
+const MAX_TARGET_CONTEXTS: usize = 256;
+
 impl StaticSet {
-    fn new(prep: &Prepared<'_>, cands: Vec<Cand>) -> StaticSet {
-        let mut by_min_x: Vec<usize> = (0..cands.len()).collect();
-        by_min_x.sort_by(|&a, &b| cands[a].fp.min_x.total_cmp(&cands[b].fp.min_x).then(a.cmp(&b)));
-        let min_xs = by_min_x.iter().map(|&i| cands[i].fp.min_x).collect();
-        let max_width = cands.iter().map(|c| c.fp.width()).fold(0.0, f64::max);
+    fn new(prep: &Prepared<'_>, cands: Vec<Cand>, room_static: Vec<(u8, u8)>) -> StaticSet {
         let wall_touch =
             cands.iter().map(|c| touching(&c.fp, |m| !prep.room.contains_rect(m))).collect();
-        StaticSet { cands, by_min_x, min_xs, max_width, wall_touch }
-    }
-
-    /// The candidates whose footprint can overlap `r` (a superset, in `by_min_x` order).
-    fn near(&self, r: &Rect) -> &[usize] {
-        let lo = self.min_xs.partition_point(|&x| x <= r.min_x - self.max_width);
-        let hi = self.min_xs.partition_point(|&x| x < r.max_x);
-        &self.by_min_x[lo..hi.max(lo)]
+        StaticSet { cands, wall_touch, room_static }
     }
 }
 
@@ -377,6 +385,8 @@ struct Search<'p, 'a> {
     nodes: u64,
     best: Option<State>,
     pin_breaks: Vec<(usize, HardRule)>,
+    /// Target contexts by object and the bits of its targets' poses.
+    contexts: RefCell<HashMap<(usize, Vec<u64>), Rc<TargetContext>>>,
 }
 
 impl Search<'_, '_> {
@@ -502,18 +512,90 @@ impl Search<'_, '_> {
     /// What candidate `c` of object `k` leaves for the side relations later objects have to
     /// `k`: how many still find a free zone, and how many find one right next to `k`.
     fn room_left_for_dependents(&self, k: usize, c: &Cand, placed: &[Rect]) -> (usize, usize) {
+        self.room_left_where(k, c, |z| self.zone_free(z, placed))
+    }
+
+    /// [`Search::room_left_for_dependents`] with nothing placed: what no node can exceed.
+    fn room_left_static(&self, k: usize, c: &Cand) -> (u8, u8) {
+        let (kept, close) = self.room_left_where(k, c, |z| self.zone_open(z));
+        let small = |n: usize| u8::try_from(n).unwrap_or(u8::MAX);
+        (small(kept), small(close))
+    }
+
+    fn room_left_where(&self, k: usize, c: &Cand, free: impl Fn(&Rect) -> bool) -> (usize, usize) {
         let size = self.prep.problem.objects[k].size;
         let (mut kept, mut close) = (0, 0);
         for d in &self.dependents[k] {
             let (all, next_to) = self.zones_of(d, &c.pose, size);
-            if all.iter().any(|z| self.zone_free(z, placed)) {
+            if all.iter().any(&free) {
                 kept += 1;
             }
-            if next_to.iter().any(|z| self.zone_free(z, placed)) {
+            if next_to.iter().any(&free) {
                 close += 1;
             }
         }
         (kept, close)
+    }
+
+    /// The target context of object `k` with the targets posed as in `poses`, worked out now
+    /// or found again.
+    fn target_context(&self, k: usize, poses: &[Option<Pose>]) -> Rc<TargetContext> {
+        let prep = self.prep;
+        let obj = &prep.problem.objects[k];
+        let mut key_bits = Vec::with_capacity(3 * obj.constraints.len());
+        for c in &obj.constraints {
+            match poses.get(c.target).copied().flatten() {
+                Some(p) => key_bits.extend([p.x.to_bits(), p.z.to_bits(), p.rot as u64]),
+                None => key_bits.push(u64::MAX),
+            }
+        }
+        let key = (k, key_bits);
+        if let Some(found) = self.contexts.borrow().get(&key) {
+            return Rc::clone(found);
+        }
+        let set = &self.statics[k];
+        let derived = derived_candidates(prep, k, poses);
+        let n = set.cands.len() + derived.len();
+        let (mut scores, mut bounds) = (Vec::with_capacity(n), Vec::with_capacity(n));
+        for (i, c) in set.cands.iter().chain(derived.iter()).enumerate() {
+            let s = fast_score(prep, k, &c.pose, poses, self.sat_value);
+            let (kept, close) = match set.room_static.get(i) {
+                Some(&room) => room,
+                None => self.room_left_static(k, c),
+            };
+            // The ordering key (see `candidates`) with every relation of a later object still
+            // kept and every side touching something.
+            let bound = s
+                + self.sat_value * f64::from(kept)
+                + ROOM_NEXT_TO_BONUS * f64::from(close)
+                + CONTACT_BONUS * 4.0;
+            scores.push(s);
+            bounds.push(bound);
+        }
+        let targets: Vec<Rect> = obj
+            .constraints
+            .iter()
+            .filter_map(|c| {
+                let pose = poses.get(c.target).copied().flatten()?;
+                Some(footprint(&pose, prep.problem.objects.get(c.target)?.size))
+            })
+            .collect();
+        let (mut by_bound, on_targets): (Vec<u32>, Vec<u32>) =
+            (0..u32::try_from(n).unwrap_or(u32::MAX)).partition(|&i| {
+                let i = i as usize;
+                let fp = if i < set.cands.len() { set.cands[i].fp } else { derived[i - set.cands.len()].fp };
+                !targets.iter().any(|t| t.overlaps(&fp))
+            });
+        by_bound.sort_unstable_by(|&a, &b| {
+            bounds[b as usize].total_cmp(&bounds[a as usize]).then(a.cmp(&b))
+        });
+        let context = Rc::new(TargetContext { derived, scores, bounds, by_bound, on_targets });
+        let mut contexts = self.contexts.borrow_mut();
+        if contexts.len() >= MAX_TARGET_CONTEXTS {
+            contexts.clear();
+        }
+        contexts.insert(key, Rc::clone(&context));
+        context
     }
 
     /// The side relations that objects after `k` have to objects already placed and that can
@@ -640,15 +722,20 @@ impl Search<'_, '_> {
 
     /// Whether a zone is inside the room, outside the door zones and free of footprints.
     fn zone_free(&self, z: &Rect, placed: &[Rect]) -> bool {
-        self.prep.room.contains_rect(z)
-            && !self.prep.keep_out.iter().any(|o| o.overlaps(z))
-            && !placed.iter().any(|f| f.overlaps(z))
+        self.zone_open(z) && !placed.iter().any(|f| f.overlaps(z))
     }
 
-    /// Scored candidates of object `k` (best first), or why there are none.
+    /// Whether a zone is inside the room and outside the door zones.
+    fn zone_open(&self, z: &Rect) -> bool {
+        self.prep.room.contains_rect(z) && !self.prep.keep_out.iter().any(|o| o.overlaps(z))
+    }
+
+    /// Scored candidates of object `k` (best first, at most [`REACH_TRIES`]), or why there are
+    /// none.
     fn candidates(&self, k: usize, st: &State) -> (Vec<(Cand, f64)>, Option<Reason>) {
         let prep = self.prep;
-        let derived = derived_candidates(prep, k, &st.poses);
+        let context = self.target_context(k, &st.poses);
+        let derived = &context.derived;
         if self.statics[k].cands.is_empty()
             && derived.is_empty()
             && prep.problem.objects[k].global != GlobalKind::Edge
@@ -657,54 +744,61 @@ impl Search<'_, '_> {
         }
         let set = &self.statics[k];
         let n_static = set.cands.len();
-        // For the static candidates, which placed footprint each first overlaps (lowest index)
-        // and which of its sides touch a wall or a footprint, found by sweeping each placed
-        // footprint over the candidates sorted by x instead of testing every pair.
-        let mut blocker = vec![usize::MAX; n_static];
-        let mut touch = set.wall_touch.clone();
-        for (fi, fp) in st.fps.iter().enumerate() {
-            let grown = fp.grow(CONTACT_M);
-            for &ci in set.near(&grown) {
-                let c = &set.cands[ci].fp;
-                if c.overlaps(fp) {
-                    blocker[ci] = blocker[ci].min(fi);
-                } else if c.overlaps(&grown) {
-                    touch[ci] |= touching(c, |m| m.overlaps(fp));
-                }
-            }
-        }
+        let pick = |i: usize| if i < n_static { set.cands[i] } else { derived[i - n_static] };
+        // The placed footprints grown by the contact distance: a candidate that overlaps one
+        // but not the footprint itself touches it.
+        let grown: Vec<Rect> = st.fps.iter().map(|fp| fp.grow(CONTACT_M)).collect();
         let mut blockers: BTreeMap<usize, usize> = BTreeMap::new();
         let mut cleared_out = 0usize;
         let clearances = self.clearance_context(k, st);
         // (ordering key, position: statics then derived, score). The key is the score plus
         // what the pose leaves for later objects (room for the side relations that target this
         // object, and a small bonus per side touching a wall or a placed object); the score
-        // alone is what the layout is worth. Only the best `REACH_TRIES` keys are ever visited,
-        // so they are selected and sorted instead of the whole list. Ties go to the earlier
-        // position, which is the seeded order.
+        // alone is what the layout is worth. Only the best `REACH_TRIES` keys are ever visited.
+        // The candidates are met in the order of an upper bound of their key, so the walk
+        // stops once that bound falls below the worst key kept: no candidate after it could
+        // be kept. Ties go to the earlier position, which is the seeded order.
         let promises = self.open_promises(k, st);
-        let mut scored: Vec<(f64, usize, f64)> = Vec::new();
-        let all = set.cands.iter().chain(derived.iter());
-        for (i, c) in all.enumerate() {
-            let (first, sides) = if i < n_static {
-                (blocker[i], touch[i])
+        let order =
+            |a: &(f64, usize, f64), b: &(f64, usize, f64)| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1));
+        // The placed footprint a candidate overlaps first (lowest index), if any.
+        let first_blocker =
+            |c: &Cand| st.fps.iter().position(|f| f.overlaps(&c.fp)).unwrap_or(usize::MAX);
+        // The sides of a candidate that touch a wall or a placed footprint.
+        let sides = |i: usize, c: &Cand| {
+            if i < n_static {
+                let mut sides = set.wall_touch[i];
+                for (fp, grown) in st.fps.iter().zip(&grown) {
+                    if c.fp.overlaps(grown) {
+                        sides |= touching(&c.fp, |m| m.overlaps(fp));
+                    }
+                }
+                sides
             } else {
-                let first = st.fps.iter().position(|f| f.overlaps(&c.fp)).unwrap_or(usize::MAX);
-                let sides = touching(&c.fp, |m| {
+                touching(&c.fp, |m| {
                     !prep.room.contains_rect(m) || st.fps.iter().any(|f| f.overlaps(m))
-                });
-                (first, sides)
-            };
+                })
+            }
+        };
+        let mut top: Vec<(f64, usize, f64)> = Vec::with_capacity(REACH_TRIES + 1);
+        for &i in &context.by_bound {
+            let i = i as usize;
+            if top.len() == REACH_TRIES && context.bounds[i] < top[REACH_TRIES - 1].0 {
+                break;
+            }
+            let c = pick(i);
+            let first = first_blocker(&c);
             if first != usize::MAX {
                 *blockers.entry(first).or_insert(0) += 1;
                 continue;
             }
-            if !self.clearances_kept(k, c, &clearances) {
+            if !self.clearances_kept(k, &c, &clearances) {
                 cleared_out += 1;
                 continue;
             }
-            let s = fast_score(prep, k, &c.pose, &st.poses, self.sat_value);
-            let (kept, close) = self.room_left_for_dependents(k, c, &st.fps);
+            let sides = sides(i, &c);
+            let s = context.scores[i];
+            let (kept, close) = self.room_left_for_dependents(k, &c, &st.fps);
             let covers = |zones: &[Rect]| zones.iter().all(|z| z.overlaps(&c.fp));
             let broken = promises.iter().filter(|p| covers(&p.zones)).count();
             let crowded =
@@ -713,12 +807,25 @@ impl Search<'_, '_> {
                 + self.sat_value * (kept as f64 - broken as f64)
                 + ROOM_NEXT_TO_BONUS * (close as f64 - crowded as f64)
                 + CONTACT_BONUS * f64::from(sides.count_ones());
-            scored.push((key, i, s));
+            let entry = (key, i, s);
+            let at = top.partition_point(|t| order(t, &entry).is_lt());
+            if at < REACH_TRIES {
+                top.insert(at, entry);
+                top.truncate(REACH_TRIES);
+            }
         }
-        if scored.is_empty() && n_static == 0 && derived.is_empty() {
+        if top.is_empty() {
+            // Why nothing is left counts the candidates standing on a target too.
+            for &i in &context.on_targets {
+                let i = i as usize;
+                let first = first_blocker(&pick(i));
+                *blockers.entry(first).or_insert(0) += 1;
+            }
+        }
+        if top.is_empty() && n_static == 0 && derived.is_empty() {
             return (Vec::new(), Some(static_reason(&self.static_fails[k])));
         }
-        if scored.is_empty() && cleared_out > 0 && cleared_out >= blockers.values().sum() {
+        if top.is_empty() && cleared_out > 0 && cleared_out >= blockers.values().sum() {
             return (
                 Vec::new(),
                 Some((
@@ -729,7 +836,7 @@ impl Search<'_, '_> {
                 )),
             );
         }
-        if scored.is_empty() {
+        if top.is_empty() {
             let placed: Vec<usize> = (0..k).filter(|&i| st.poses[i].is_some()).collect();
             let mut names: Vec<(usize, String)> = blockers
                 .iter()
@@ -747,15 +854,7 @@ impl Search<'_, '_> {
                 )),
             );
         }
-        let order =
-            |a: &(f64, usize, f64), b: &(f64, usize, f64)| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1));
-        if scored.len() > REACH_TRIES {
-            scored.select_nth_unstable_by(REACH_TRIES - 1, order);
-            scored.truncate(REACH_TRIES);
-        }
-        scored.sort_unstable_by(order);
-        let pick = |i: usize| if i < n_static { set.cands[i] } else { derived[i - n_static] };
-        (scored.into_iter().map(|(_, i, s)| (pick(i), s)).collect(), None)
+        (top.into_iter().map(|(_, i, s)| (pick(i), s)).collect(), None)
     }
 }
 
@@ -836,7 +935,7 @@ pub(crate) fn run(
         prep,
         placed_value,
         sat_value,
-        statics: statics.into_iter().map(|c| StaticSet::new(prep, c)).collect(),
+        statics: Vec::with_capacity(n),
         static_fails,
         remaining_max,
         budget: options.node_budget.min(super::MAX_NODE_BUDGET),
@@ -844,7 +943,13 @@ pub(crate) fn run(
         nodes: 0,
         best: None,
         pin_breaks: Vec::new(),
+        contexts: RefCell::new(HashMap::new()),
     };
+    for (k, cands) in statics.into_iter().enumerate() {
+        let room_static = cands.iter().map(|c| search.room_left_static(k, c)).collect();
+        let set = StaticSet::new(prep, cands, room_static);
+        search.statics.push(set);
+    }
     let mut st = State {
         poses: vec![None; n],
         fps: Vec::new(),
