@@ -4,9 +4,9 @@
 //! `cargo bench --bench batch_bench` writes manifests of 1,000 and 10,000 builds of the
 //! examples (each with its own seed) into a scratch folder and runs the release binary on
 //! them: houses per second per core (`--jobs 1`), the peak memory of the 1,000- and the
-//! 10,000-job runs (read with `/usr/bin/time -f %M` when it exists), and the time per job of a
-//! second run over the finished 10,000-job manifest (every job skipped). `-- --small N
-//! --large M` change the sizes.
+//! 10,000-job runs with one thread per core (read with `/usr/bin/time -f %M` when it exists),
+//! and the time per job of a second run over the finished 10,000-job manifest (every job
+//! skipped). `-- --small N --large M` change the sizes.
 
 // The table is the point of this binary: it prints to stdout on purpose.
 #![allow(clippy::print_stdout)]
@@ -85,8 +85,10 @@ fn main() {
     examples.sort();
     let m_small = manifest(&dir, small, &examples);
     let m_large = manifest(&dir, large, &examples);
-    let (t_small, mem_small) = run(&m_small, &dir.join("out-small"), 1);
+    let (t_small, _) = run(&m_small, &dir.join("out-small"), 1);
     let cores = std::thread::available_parallelism().map_or(1, usize::from);
+    // Memory is compared at the same number of threads (each thread keeps its own scratch).
+    let (_, mem_small) = run(&m_small, &dir.join("out-small-threads"), cores);
     let (t_large, mem_large) = run(&m_large, &dir.join("out-large"), cores);
     let (t_resume, _) = run(&m_large, &dir.join("out-large"), cores);
     let kb =
@@ -98,8 +100,8 @@ fn main() {
         "| {large} builds, --jobs {cores} | {t_large:.1} s ({:.1} houses/s) |",
         large as f64 / t_large
     );
-    println!("| peak memory, {small} jobs | {} |", kb(mem_small));
-    println!("| peak memory, {large} jobs | {} |", kb(mem_large));
+    println!("| peak memory, {small} jobs, --jobs {cores} | {} |", kb(mem_small));
+    println!("| peak memory, {large} jobs, --jobs {cores} | {} |", kb(mem_large));
     if let (Some(a), Some(b)) = (mem_small, mem_large) {
         println!(
             "| memory growth from {small} to {large} jobs | {:+.1}% |",

@@ -320,8 +320,7 @@ impl CatalogCache {
 
     /// The catalog set of `paths`, loaded now or earlier.
     fn get(&self, paths: &[PathBuf]) -> LoadedCatalogs {
-        let key: Vec<(PathBuf, String)> =
-            paths.iter().map(|p| (p.clone(), file_hash(p))).collect();
+        let key: Vec<(PathBuf, String)> = paths.iter().map(|p| (p.clone(), file_hash(p))).collect();
         // A job that panicked while holding the lock leaves a map that is still whole (only
         // whole inserts and clears happen under it).
         let lock = || self.sets.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
@@ -441,8 +440,8 @@ fn build_text(
     let mut diagnostics = catalog_diagnostics.clone();
     diagnostics.extend(built.diagnostics);
     let Some(product) = built.value else { return failed("build", diagnostics) };
-    let mut report = serde_json::to_string_pretty(&crate::report::report(&product, catalog))
-        .unwrap_or_default();
+    let mut report =
+        serde_json::to_string_pretty(&crate::report::report(&product, catalog)).unwrap_or_default();
     report.push('\n');
     files.push(("house.json", product.house.to_json_string()));
     files.push(("report.json", report));
@@ -557,12 +556,6 @@ fn write_job(
     std::fs::create_dir_all(&tmp)?;
     for (name, text) in files {
         std::fs::write(tmp.join(name), text)?;
-    }
-    let mut sources = SourceMap::new();
-    if let Some(input) = &job.input {
-        if let Ok(text) = std::fs::read_to_string(input) {
-            sources.add(input.display().to_string(), text);
-        }
     }
     let mut job_json = serde_json::to_string_pretty(&serde_json::json!({
         "line": job.line, "id": job.id, "hash": job.hash, "spec": job.spec,

@@ -85,9 +85,9 @@ pub fn agent_start(plan: &FloorPlan, layout: &Layout) -> AgentPose {
     for (c, r) in reached.iter_mut().enumerate() {
         let p = point(c % nx, c / nx);
         if free(c)
-            && doors
-                .iter()
-                .any(|&(a, b)| geo::within(p, geo::nearest_on_segment(p, a, b), DOOR_REACH_M + need))
+            && doors.iter().any(|&(a, b)| {
+                geo::within(p, geo::nearest_on_segment(p, a, b), DOOR_REACH_M + need)
+            })
         {
             *r = true;
             queue.push_back(c);

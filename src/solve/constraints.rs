@@ -712,6 +712,42 @@ pub fn side_zones(
     gaps: (f64, f64),
     limit: &Rect,
 ) -> Vec<Rect> {
+    side_zones_and_next_to(kind, target, target_size, side, gaps, limit).0
+}
+
+/// [`side_zones`], and with it the zones right next to the target (what [`side_zones`] gives
+/// for the gaps `(gaps.0, gaps.0)`: the first zone on each side), in one pass.
+pub fn side_zones_and_next_to(
+    kind: RelationKind,
+    target: &Pose,
+    target_size: [f64; 2],
+    side: f64,
+    gaps: (f64, f64),
+    limit: &Rect,
+) -> (Vec<Rect>, Vec<Rect>) {
+    let (mut out, mut next_to) = (Vec::new(), Vec::new());
+    for_each_side_zone(kind, target, target_size, side, gaps, limit, |z, listed, next| {
+        if next {
+            next_to.push(z);
+        }
+        if listed {
+            out.push(z);
+        }
+    });
+    (out, next_to)
+}
+
+/// Calls `f(zone, listed, next_to)` for each zone of [`side_zones_and_next_to`], in order:
+/// `listed` when [`side_zones`] lists it, `next_to` when it is right next to the target.
+pub fn for_each_side_zone(
+    kind: RelationKind,
+    target: &Pose,
+    target_size: [f64; 2],
+    side: f64,
+    gaps: (f64, f64),
+    limit: &Rect,
+    mut f: impl FnMut(Rect, bool, bool),
+) {
     let front = target.rot.front();
     let right = target.rot.right();
     let axes: &[[f64; 2]] = match kind {
@@ -723,17 +759,18 @@ pub fn side_zones(
         RelationKind::Around => &[front, [-front[0], -front[1]], right, [-right[0], -right[1]]],
         _ => &[],
     };
+    if side <= EPS {
+        return;
+    }
     let tf = footprint(target, target_size);
     let half = [tf.width() / 2.0, tf.depth() / 2.0];
-    let mut out = Vec::new();
-    if side <= EPS {
-        return out;
-    }
     for a in axes {
         let start = half[0] * a[0].abs() + half[1] * a[1].abs() + gaps.0 + side / 2.0;
         for n in 0..MAX_SIDE_ZONES {
             let gap = gaps.0 + side * n as f64;
-            if gap > gaps.1 + EPS {
+            // The first zone is right next to the target whatever the largest gap.
+            let within = gap <= gaps.1 + EPS;
+            if !within && n > 0 {
                 break;
             }
             let reach = start + side * n as f64;
@@ -745,10 +782,12 @@ pub fn side_zones(
             if !limit.contains(&z) {
                 break;
             }
-            out.push(z);
+            f(z, within, n == 0);
+            if !within {
+                break;
+            }
         }
     }
-    out
 }
 
 /// The most zones [`side_zones`] lists on one side.
@@ -815,6 +854,19 @@ pub fn relation_fit(
     measure_relation::<false>(kind, meaning, me, my_size, target, target_size)
 }
 
+/// [`relation_fit`] with both footprints given (`mf` of `me`, `tf` of `target`), for a caller
+/// that has them at hand.
+pub fn relation_fit_with(
+    kind: RelationKind,
+    meaning: &Meaning,
+    me: &Pose,
+    mf: &Rect,
+    target: &Pose,
+    tf: &Rect,
+) -> Measure {
+    measure_relation_with::<false>(kind, meaning, me, *mf, target, *tf)
+}
+
 fn measure_relation<const VALUE: bool>(
     kind: RelationKind,
     meaning: &Meaning,
@@ -825,6 +877,17 @@ fn measure_relation<const VALUE: bool>(
 ) -> Measure {
     let mf = footprint(me, my_size);
     let tf = footprint(target, target_size);
+    measure_relation_with::<VALUE>(kind, meaning, me, mf, target, tf)
+}
+
+fn measure_relation_with<const VALUE: bool>(
+    kind: RelationKind,
+    meaning: &Meaning,
+    me: &Pose,
+    mf: Rect,
+    target: &Pose,
+    tf: Rect,
+) -> Measure {
     let gap = || mf.gap(&tf);
     let front = target.rot.front();
     let right = target.rot.right();
@@ -1130,7 +1193,7 @@ impl ReachGrid {
             .zip(&occ.blocked)
             .map(|(o, b)| if *o && *b == 0 { FREE } else { BLOCKED })
             .collect();
-        let n_free = self.open.iter().zip(&occ.blocked).filter(|(o, b)| **o && **b == 0).count();
+        let n_free: usize = cell.iter().map(|&c| usize::from(c == FREE)).sum();
         let mut n_seen = 0;
         // Span filling: a seed grows into the run of free cells along z that contains it, and
         // the runs next to that run in the neighbouring x columns become seeds.
@@ -1154,14 +1217,17 @@ impl ReachGrid {
                 if ni >= nx {
                     continue;
                 }
+                // A seed at the start of each run of free cells beside this run.
                 let first = ni * nz + a;
-                let mut in_run = false;
-                for (t, c) in cell[first..=first + (b - a)].iter().enumerate() {
-                    let open = *c == FREE;
-                    if open && !in_run {
-                        stack.push(first + t);
+                let beside = &cell[first..=first + (b - a)];
+                let mut t = 0;
+                while let Some(skip) = beside[t..].iter().position(|&c| c == FREE) {
+                    t += skip;
+                    stack.push(first + t);
+                    match beside[t..].iter().position(|&c| c != FREE) {
+                        Some(run) => t += run,
+                        None => break,
                     }
-                    in_run = open;
                 }
             }
         }

@@ -274,6 +274,45 @@ pub(crate) fn fast_score(
     s
 }
 
+/// [`fast_score`] for many poses of one object with its targets fixed: each relation whose
+/// target is placed, with its meaning, weight and the target's pose and footprint worked out
+/// once. Gives [`fast_score`]'s value to the bit.
+struct Scorer {
+    relations: Vec<(RelationKind, constraints::Meaning, f64, Pose, Rect)>,
+    sat_value: f64,
+}
+
+impl Scorer {
+    fn new(prep: &Prepared<'_>, k: usize, poses: &[Option<Pose>], sat_value: f64) -> Scorer {
+        let obj = &prep.problem.objects[k];
+        let mut relations = Vec::new();
+        for c in &obj.constraints {
+            if let (Some(Some(tp)), Some(t)) =
+                (poses.get(c.target), prep.problem.objects.get(c.target))
+            {
+                let meaning = super::meaning_of(prep.problem, k, c);
+                relations.push((
+                    c.kind,
+                    meaning,
+                    constraints::weight(c.kind),
+                    *tp,
+                    footprint(tp, t.size),
+                ));
+            }
+        }
+        Scorer { relations, sat_value }
+    }
+
+    fn score(&self, c: &Cand) -> f64 {
+        let mut s = 0.0;
+        for (kind, meaning, weight, tp, tf) in &self.relations {
+            let m = constraints::relation_fit_with(*kind, meaning, &c.pose, &c.fp, tp, tf);
+            s += weight * m.score + if m.satisfied { self.sat_value } else { 0.0 };
+        }
+        s
+    }
+}
+
 /// A side relation of a later object to an earlier one, looked ahead at.
 #[derive(Clone, Copy, Debug)]
 struct Dependent {
@@ -311,10 +350,57 @@ struct TargetContext {
     derived: Vec<Cand>,
     scores: Vec<f64>,
     bounds: Vec<f64>,
-    /// The candidates that do not overlap a placed target, best bound first.
-    by_bound: Vec<u32>,
+    /// The candidates that do not overlap a placed target in the order of their bounds (best
+    /// first), put in order lazily: a node rarely walks far down the list.
+    walk: RefCell<Walk>,
     /// The candidates that overlap a placed target: blocked at every node of this context.
     on_targets: Vec<u32>,
+}
+
+/// One step of a walk: a candidate's bound, footprint and position (statics then derived),
+/// side by side so that a walk reads memory in order.
+#[derive(Clone, Copy)]
+struct Step {
+    bound: f64,
+    cand: Cand,
+    score: f64,
+    index: u32,
+}
+
+/// A walk put in order so far, and the candidates not yet in it.
+struct Walk {
+    steps: Vec<Step>,
+    rest: Vec<u32>,
+}
+
+/// How many candidates a walk puts in order at first; each further piece doubles it.
+const FIRST_STEPS: usize = 64;
+
+impl TargetContext {
+    /// The `n`th step of the walk, putting more of it in order when needed.
+    fn step(&self, n: usize, cand_of: impl Fn(usize) -> Cand) -> Option<Step> {
+        let mut walk = self.walk.borrow_mut();
+        if n >= walk.steps.len() && !walk.rest.is_empty() {
+            let bounds = &self.bounds;
+            let better = |a: &u32, b: &u32| {
+                bounds[*b as usize].total_cmp(&bounds[*a as usize]).then(a.cmp(b))
+            };
+            let take = walk.steps.len().max(FIRST_STEPS).min(walk.rest.len());
+            let Walk { steps, rest } = &mut *walk;
+            if take < rest.len() {
+                rest.select_nth_unstable_by(take - 1, better);
+            }
+            let mut piece: Vec<u32> = rest.drain(..take).collect();
+            piece.sort_unstable_by(better);
+            steps.extend(piece.into_iter().map(|i| Step {
+                bound: bounds[i as usize],
+                cand: cand_of(i as usize),
+                score: self.scores[i as usize],
+                index: i,
+            }));
+        }
+        walk.steps.get(n).copied()
+    }
 }
 
 /// The most target contexts kept; the cache is emptied when it is full (a room with many
@@ -386,8 +472,24 @@ struct Search<'p, 'a> {
     best: Option<State>,
     pin_breaks: Vec<(usize, HardRule)>,
     /// Target contexts by object and the bits of its targets' poses.
-    contexts: RefCell<HashMap<(usize, Vec<u64>), Rc<TargetContext>>>,
+    contexts: RefCell<HashMap<ContextKey, Rc<TargetContext>>>,
+    /// Reachability answers by the bits of the footprints (placed, then the candidate).
+    reach_answers: HashMap<Vec<u64>, bool>,
+    /// The candidates of nodes met, by the object and the bits of every object's pose.
+    node_answers: HashMap<Vec<u64>, Rc<NodeCandidates>>,
 }
+
+/// What [`Search::candidates`] gives at a node.
+type NodeCandidates = (Vec<(Cand, f64)>, Option<Reason>);
+
+/// The most nodes whose candidates are kept; the store is emptied when it is full.
+const MAX_NODE_ANSWERS: usize = 4096;
+
+/// A target context's key: the object and the bits of its targets' poses.
+type ContextKey = (usize, Vec<u64>);
+
+/// The most reachability answers kept; the store is emptied when it is full.
+const MAX_REACH_ANSWERS: usize = 8192;
 
 impl Search<'_, '_> {
     fn better(&self, value: f64) -> bool {
@@ -433,9 +535,10 @@ impl Search<'_, '_> {
             self.unplace(k, self.placed_value + s, st);
             return;
         }
-        let (cands, reason) = self.candidates(k, st);
+        let found = self.node_candidates(k, st);
+        let (cands, reason) = &*found;
         if cands.is_empty() {
-            st.fails[k] = reason;
+            st.fails[k].clone_from(reason);
             self.visit(k + 1, disc, st);
             st.fails[k] = None;
             return;
@@ -452,13 +555,7 @@ impl Search<'_, '_> {
                     continue;
                 }
             }
-            let reach = &self.prep.reach;
-            reach.mark(&mut st.occ, &c.fp, 1);
-            st.fps.push(c.fp);
-            let boxed = !reach.ok_with(&st.occ, &st.fps);
-            st.fps.pop();
-            reach.mark(&mut st.occ, &c.fp, -1);
-            if boxed {
+            if self.boxed(c, st) {
                 continue;
             }
             let v = self.placed_value + s;
@@ -479,6 +576,54 @@ impl Search<'_, '_> {
             self.visit(k + 1, disc, st);
             st.fails[k] = None;
         }
+    }
+
+    /// [`Search::candidates`] of object `k` at this node. Each round of discrepancy walks the
+    /// paths of the rounds before, so the same node comes back: its answer is kept by the
+    /// poses of every object.
+    fn node_candidates(&mut self, k: usize, st: &State) -> Rc<NodeCandidates> {
+        let mut key = Vec::with_capacity(1 + 3 * st.poses.len());
+        key.push(k as u64);
+        for pose in &st.poses {
+            match pose {
+                Some(p) => key.extend([p.x.to_bits(), p.z.to_bits(), p.rot as u64]),
+                None => key.push(u64::MAX),
+            }
+        }
+        if let Some(found) = self.node_answers.get(&key) {
+            return Rc::clone(found);
+        }
+        let found = Rc::new(self.candidates(k, st));
+        if self.node_answers.len() >= MAX_NODE_ANSWERS {
+            self.node_answers.clear();
+        }
+        self.node_answers.insert(key, Rc::clone(&found));
+        found
+    }
+
+    /// Whether placing `c` would leave a placed object (or itself) unreachable, or close off a
+    /// pocket of floor. The search meets the same layouts again (each round of discrepancy
+    /// walks the paths of the rounds before), so answers are kept by the footprints.
+    fn boxed(&mut self, c: &Cand, st: &mut State) -> bool {
+        let rect_bits = |r: &Rect| [r.min_x, r.min_z, r.max_x, r.max_z].map(f64::to_bits);
+        let mut key: Vec<u64> = Vec::with_capacity(4 * (st.fps.len() + 1));
+        for fp in st.fps.iter().chain(std::iter::once(&c.fp)) {
+            key.extend(rect_bits(fp));
+        }
+        if let Some(&boxed) = self.reach_answers.get(&key) {
+            return boxed;
+        }
+        let reach = &self.prep.reach;
+        reach.mark(&mut st.occ, &c.fp, 1);
+        st.fps.push(c.fp);
+        let boxed = !reach.ok_with(&st.occ, &st.fps);
+        st.fps.pop();
+        reach.mark(&mut st.occ, &c.fp, -1);
+        if self.reach_answers.len() >= MAX_REACH_ANSWERS {
+            self.reach_answers.clear();
+        }
+        self.reach_answers.insert(key, boxed);
+        boxed
     }
 
     fn place(&self, k: usize, pose: Pose, fp: Rect, v: f64, by: &'static str, st: &mut State) {
@@ -503,10 +648,7 @@ impl Search<'_, '_> {
         let dep = &self.prep.problem.objects[d.object];
         let side = dep.size[0].min(dep.size[1]);
         let bounds = &self.prep.room.bounds;
-        let all = constraints::side_zones(d.kind, pose, size, side, d.gaps, bounds);
-        let next_to =
-            constraints::side_zones(d.kind, pose, size, side, (d.gaps.0, d.gaps.0), bounds);
-        (all, next_to)
+        constraints::side_zones_and_next_to(d.kind, pose, size, side, d.gaps, bounds)
     }
 
     /// What candidate `c` of object `k` leaves for the side relations later objects have to
@@ -524,15 +666,23 @@ impl Search<'_, '_> {
 
     fn room_left_where(&self, k: usize, c: &Cand, free: impl Fn(&Rect) -> bool) -> (usize, usize) {
         let size = self.prep.problem.objects[k].size;
+        let bounds = &self.prep.room.bounds;
         let (mut kept, mut close) = (0, 0);
         for d in &self.dependents[k] {
-            let (all, next_to) = self.zones_of(d, &c.pose, size);
-            if all.iter().any(&free) {
-                kept += 1;
-            }
-            if next_to.iter().any(&free) {
-                close += 1;
-            }
+            let dep = &self.prep.problem.objects[d.object];
+            let side = dep.size[0].min(dep.size[1]);
+            let (mut some_free, mut some_free_next_to) = (false, false);
+            let zone = |z: Rect, listed: bool, next_to: bool| {
+                if listed && !some_free && free(&z) {
+                    some_free = true;
+                }
+                if next_to && !some_free_next_to && free(&z) {
+                    some_free_next_to = true;
+                }
+            };
+            constraints::for_each_side_zone(d.kind, &c.pose, size, side, d.gaps, bounds, zone);
+            kept += usize::from(some_free);
+            close += usize::from(some_free_next_to);
         }
         (kept, close)
     }
@@ -557,8 +707,9 @@ impl Search<'_, '_> {
         let derived = derived_candidates(prep, k, poses);
         let n = set.cands.len() + derived.len();
         let (mut scores, mut bounds) = (Vec::with_capacity(n), Vec::with_capacity(n));
+        let scorer = Scorer::new(prep, k, poses, self.sat_value);
         for (i, c) in set.cands.iter().chain(derived.iter()).enumerate() {
-            let s = fast_score(prep, k, &c.pose, poses, self.sat_value);
+            let s = scorer.score(c);
             let (kept, close) = match set.room_static.get(i) {
                 Some(&room) => room,
                 None => self.room_left_static(k, c),
@@ -580,16 +731,18 @@ impl Search<'_, '_> {
                 Some(footprint(&pose, prep.problem.objects.get(c.target)?.size))
             })
             .collect();
-        let (mut by_bound, on_targets): (Vec<u32>, Vec<u32>) =
-            (0..u32::try_from(n).unwrap_or(u32::MAX)).partition(|&i| {
+        let (rest, on_targets): (Vec<u32>, Vec<u32>) = (0..u32::try_from(n).unwrap_or(u32::MAX))
+            .partition(|&i| {
                 let i = i as usize;
-                let fp = if i < set.cands.len() { set.cands[i].fp } else { derived[i - set.cands.len()].fp };
+                let fp = if i < set.cands.len() {
+                    set.cands[i].fp
+                } else {
+                    derived[i - set.cands.len()].fp
+                };
                 !targets.iter().any(|t| t.overlaps(&fp))
             });
-        by_bound.sort_unstable_by(|&a, &b| {
-            bounds[b as usize].total_cmp(&bounds[a as usize]).then(a.cmp(&b))
-        });
-        let context = Rc::new(TargetContext { derived, scores, bounds, by_bound, on_targets });
+        let walk = RefCell::new(Walk { steps: Vec::new(), rest });
+        let context = Rc::new(TargetContext { derived, scores, bounds, walk, on_targets });
         let mut contexts = self.contexts.borrow_mut();
         if contexts.len() >= MAX_TARGET_CONTEXTS {
             contexts.clear();
@@ -781,13 +934,14 @@ impl Search<'_, '_> {
             }
         };
         let mut top: Vec<(f64, usize, f64)> = Vec::with_capacity(REACH_TRIES + 1);
-        for &i in &context.by_bound {
-            let i = i as usize;
-            if top.len() == REACH_TRIES && context.bounds[i] < top[REACH_TRIES - 1].0 {
+        for n in 0.. {
+            let Some(step) = context.step(n, pick) else { break };
+            if top.len() == REACH_TRIES && step.bound < top[REACH_TRIES - 1].0 {
                 break;
             }
-            let c = pick(i);
+            let c = step.cand;
             let first = first_blocker(&c);
+            let i = step.index as usize;
             if first != usize::MAX {
                 *blockers.entry(first).or_insert(0) += 1;
                 continue;
@@ -797,7 +951,7 @@ impl Search<'_, '_> {
                 continue;
             }
             let sides = sides(i, &c);
-            let s = context.scores[i];
+            let s = step.score;
             let (kept, close) = self.room_left_for_dependents(k, &c, &st.fps);
             let covers = |zones: &[Rect]| zones.iter().all(|z| z.overlaps(&c.fp));
             let broken = promises.iter().filter(|p| covers(&p.zones)).count();
@@ -944,6 +1098,8 @@ pub(crate) fn run(
         best: None,
         pin_breaks: Vec::new(),
         contexts: RefCell::new(HashMap::new()),
+        reach_answers: HashMap::new(),
+        node_answers: HashMap::new(),
     };
     for (k, cands) in statics.into_iter().enumerate() {
         let room_static = cands.iter().map(|c| search.room_left_static(k, c)).collect();
