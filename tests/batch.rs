@@ -26,9 +26,15 @@ fn scratch(name: &str) -> PathBuf {
 
 /// A manifest of `n` builds of the bedroom example with seeds 1..=n, in `dir`.
 fn builds(dir: &Path, n: u64) -> PathBuf {
-    std::fs::copy("examples/bedroom.holo", dir.join("bedroom.holo")).expect("copy");
+    builds_of(dir, "bedroom", n)
+}
+
+/// A manifest of `n` builds of an example with seeds 1..=n, in `dir`.
+fn builds_of(dir: &Path, example: &str, n: u64) -> PathBuf {
+    let file = format!("{example}.holo");
+    std::fs::copy(Path::new("examples").join(&file), dir.join(&file)).expect("copy");
     let lines: Vec<String> =
-        (1..=n).map(|seed| format!(r#"{{"build": "bedroom.holo", "seed": {seed}}}"#)).collect();
+        (1..=n).map(|seed| format!(r#"{{"build": "{file}", "seed": {seed}}}"#)).collect();
     let manifest = dir.join("manifest.jsonl");
     std::fs::write(&manifest, lines.join("\n") + "\n").expect("write");
     manifest
@@ -114,7 +120,9 @@ fn shards_are_disjoint_and_cover_the_manifest_and_merge_into_one() {
 #[test]
 fn a_killed_batch_run_again_gives_the_same_outputs() {
     let dir = scratch("resume");
-    let manifest = builds(&dir, 30);
+    // The classroom (tens of milliseconds a job) so that the run is still going when it is
+    // killed: the kill comes once the first job's folder is there, not after a fixed time.
+    let manifest = builds_of(&dir, "classroom", 30);
     let reference = batch(&["--jobs", "2"], &manifest, &dir.join("reference"));
     assert!(reference.status.success());
     let out = dir.join("killed");
@@ -126,7 +134,12 @@ fn a_killed_batch_run_again_gives_the_same_outputs() {
         .args(["-q", "--jobs", "1"])
         .spawn()
         .expect("starts");
-    std::thread::sleep(std::time::Duration::from_millis(150));
+    let started = std::time::Instant::now();
+    while (!out.exists() || folders(&out).is_empty())
+        && started.elapsed() < std::time::Duration::from_secs(60)
+    {
+        std::thread::sleep(std::time::Duration::from_millis(2));
+    }
     let _ = child.kill();
     let _ = child.wait();
     let partial = folders(&out).len();
