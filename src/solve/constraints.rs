@@ -1299,6 +1299,145 @@ impl ReachGrid {
         footprints.iter().all(|fp| self.reached(fp, &cells))
     }
 
+    /// What a flood of these footprints finds, kept so that [`ReachGrid::ok_adding`] can judge
+    /// one more footprint on top of them, most often without a flood of its own.
+    pub fn base(&self, occupancy: &Occupancy, footprints: &[Rect]) -> ReachBase {
+        if !self.has_sources() {
+            return ReachBase {
+                footprints: footprints.to_vec(),
+                cells: Vec::new(),
+                pockets_ok: true,
+                reached: vec![true; footprints.len()],
+            };
+        }
+        let (n_free, n_seen, cells) = self.flood(occupancy);
+        let pockets_ok = n_free == n_seen
+            || self.largest_pocket(&mut cells.clone(), Self::pocket_cells())
+                <= Self::pocket_cells();
+        let reached = footprints.iter().map(|fp| self.reached(fp, &cells)).collect();
+        ReachBase { footprints: footprints.to_vec(), cells, pockets_ok, reached }
+    }
+
+    /// The base of `base`'s footprints and one more, `added`, whose cells are already marked
+    /// in `occupancy`, worked out from `base` without a flood; `None` when that cannot be done
+    /// (then [`ReachGrid::base`] floods the room).
+    ///
+    /// When the base keeps its pockets small, the one footprint added cannot make a pocket
+    /// larger (the cells no agent reaches can only lose cells), and when the cells an agent
+    /// reached right around the new footprint still join up near it, every cell it reached
+    /// before and the footprint does not cover is still reached: a way that went through the
+    /// footprint's cells goes round them instead. Then the new flood is the old one less the
+    /// footprint's cells, and only the footprints near the new one can change their answer.
+    pub fn extend(
+        &self,
+        base: &ReachBase,
+        occupancy: &Occupancy,
+        added: &Rect,
+    ) -> Option<ReachBase> {
+        if !self.has_sources() || !base.pockets_ok || base.cells.len() != occupancy.blocked.len() {
+            return None;
+        }
+        let covered = self.cell_range(&added.grow(self.radius - 1e-3));
+        if !self.reached_cells_join_round(base, occupancy, covered) {
+            return None;
+        }
+        let mut cells = base.cells.clone();
+        let (i0, i1, j0, j1) = covered;
+        for i in i0..=i1 {
+            let row = i * self.nz + j0..=i * self.nz + j1;
+            for (cell, &blocked) in cells[row.clone()].iter_mut().zip(&occupancy.blocked[row]) {
+                if blocked > 0 {
+                    *cell = BLOCKED;
+                }
+            }
+        }
+        let reach = self.radius + 1.5 * REACH_CELL_M;
+        let meets = |(a0, a1, b0, b1): (usize, usize, usize, usize)| {
+            a0 <= i1 && i0 <= a1 && b0 <= j1 && j0 <= b1
+        };
+        let mut footprints = base.footprints.clone();
+        footprints.push(*added);
+        let reached = footprints
+            .iter()
+            .enumerate()
+            .map(|(n, fp)| match base.reached.get(n) {
+                Some(&before) if !meets(self.cell_range(&fp.grow(reach))) => before,
+                _ => self.reached(fp, &cells),
+            })
+            .collect();
+        Some(ReachBase { footprints, cells, pockets_ok: true, reached })
+    }
+
+    /// Whether every cell an agent reached in `base` next to a cell that `occupancy` now blocks
+    /// is joined to the others through reached cells left free, within a few cells of the
+    /// blocked range `covered` (a door cell blocked counts as not joined).
+    fn reached_cells_join_round(
+        &self,
+        base: &ReachBase,
+        occupancy: &Occupancy,
+        covered: (usize, usize, usize, usize),
+    ) -> bool {
+        const MARGIN: usize = 3;
+        let (nx, nz) = (self.nx, self.nz);
+        let (i0, i1, j0, j1) = covered;
+        let still = |k: usize| base.cells[k] == REACHED && occupancy.blocked[k] == 0;
+        let lost = |k: usize| base.cells[k] == REACHED && occupancy.blocked[k] > 0;
+        if self.sources.iter().any(|&k| lost(k)) {
+            return false;
+        }
+        // The window searched: the covered range and `MARGIN` cells round it.
+        let (wi0, wi1) = (i0.saturating_sub(MARGIN), (i1 + MARGIN).min(nx - 1));
+        let (wj0, wj1) = (j0.saturating_sub(MARGIN), (j1 + MARGIN).min(nz - 1));
+        let wz = wj1 - wj0 + 1;
+        let local = |i: usize, j: usize| (i - wi0) * wz + (j - wj0);
+        // The reached cells left free beside a reached cell now blocked.
+        let mut ring: Vec<(usize, usize)> = Vec::new();
+        let mut is_ring = vec![false; (wi1 - wi0 + 1) * wz];
+        for i in i0..=i1 {
+            for j in j0..=j1 {
+                if !lost(i * nz + j) {
+                    continue;
+                }
+                let beside =
+                    [(i.wrapping_sub(1), j), (i + 1, j), (i, j.wrapping_sub(1)), (i, j + 1)];
+                for (a, b) in beside {
+                    if a < nx && b < nz && still(a * nz + b) && !is_ring[local(a, b)] {
+                        is_ring[local(a, b)] = true;
+                        ring.push((a, b));
+                    }
+                }
+            }
+        }
+        let Some(&start) = ring.first() else {
+            return true;
+        };
+        // A flood of the reached cells left free, inside the window, from one of them.
+        let mut seen = vec![false; is_ring.len()];
+        seen[local(start.0, start.1)] = true;
+        let mut stack = vec![start];
+        let mut found = 0;
+        while let Some((i, j)) = stack.pop() {
+            if is_ring[local(i, j)] {
+                found += 1;
+                if found == ring.len() {
+                    return true;
+                }
+            }
+            let beside = [(i.wrapping_sub(1), j), (i + 1, j), (i, j.wrapping_sub(1)), (i, j + 1)];
+            for (a, b) in beside {
+                if (wi0..=wi1).contains(&a)
+                    && (wj0..=wj1).contains(&b)
+                    && !seen[local(a, b)]
+                    && still(a * nz + b)
+                {
+                    seen[local(a, b)] = true;
+                    stack.push((a, b));
+                }
+            }
+        }
+        false
+    }
+
     /// The most cells a closed pocket may have.
     fn pocket_cells() -> usize {
         (MAX_POCKET_M2 / (REACH_CELL_M * REACH_CELL_M)).round() as usize
@@ -1355,6 +1494,26 @@ impl ReachGrid {
         }
         let (_, _, mut cells) = self.flood(&self.occupancy_of(footprints));
         self.largest_pocket(&mut cells, usize::MAX) as f64 * REACH_CELL_M * REACH_CELL_M
+    }
+}
+
+/// A flood of a set of footprints kept by [`ReachGrid::base`].
+#[derive(Clone, Debug, Default)]
+pub struct ReachBase {
+    /// The footprints flooded.
+    pub footprints: Vec<Rect>,
+    /// Per cell, [`BLOCKED`], [`FREE`] or [`REACHED`].
+    cells: Vec<u8>,
+    /// Whether no closed pocket is larger than [`MAX_POCKET_M2`].
+    pockets_ok: bool,
+    /// Per footprint, whether an agent reaches it.
+    reached: Vec<bool>,
+}
+
+impl ReachBase {
+    /// The reachability rule on these footprints ([`ReachGrid::ok`]).
+    pub fn ok(&self) -> bool {
+        self.footprints.is_empty() || (self.pockets_ok && self.reached.iter().all(|&r| r))
     }
 }
 
@@ -1428,5 +1587,66 @@ mod tests {
         let behind = Rect::from_corners([2.0, 3.0], [3.0, 4.0]);
         assert_eq!(grid.unreachable(&[wall, behind]), vec![1]);
         assert!(grid.unreachable(&[behind]).is_empty());
+    }
+
+    /// Adds the footprints one by one: every flood worked out by [`ReachGrid::extend`] is the
+    /// flood of the room (cell for cell, footprint for footprint, same answer), and `None`
+    /// only leaves the answer to a full flood.
+    fn extend_agrees(room: &RoomShape, door: Rect, footprints: &[Rect]) -> usize {
+        let grid = ReachGrid::new(room, &[door], AGENT_RADIUS_M);
+        let mut occ = grid.occupancy();
+        let mut base = grid.base(&occ, &[]);
+        let mut extended = 0;
+        for (n, fp) in footprints.iter().enumerate() {
+            grid.mark(&mut occ, fp, 1);
+            let full = grid.base(&occ, &footprints[..=n]);
+            assert_eq!(full.ok(), grid.ok(&footprints[..=n]), "{:?}", &footprints[..=n]);
+            if let Some(next) = grid.extend(&base, &occ, fp) {
+                extended += 1;
+                assert_eq!(next.cells, full.cells, "{:?}", &footprints[..=n]);
+                assert_eq!(next.reached, full.reached, "{:?}", &footprints[..=n]);
+                assert_eq!(next.ok(), full.ok());
+            }
+            base = full;
+        }
+        extended
+    }
+
+    #[test]
+    fn extend_takes_the_short_way_for_furniture_along_the_walls() {
+        let room = rect_room();
+        let door = Rect::from_corners([2.0, 0.0], [3.0, 1.0]);
+        let along = [
+            Rect::from_corners([0.0, 3.4], [1.2, 4.0]),
+            Rect::from_corners([3.8, 3.0], [5.0, 4.0]),
+            Rect::from_corners([0.0, 0.0], [0.6, 1.5]),
+            Rect::from_corners([2.0, 1.8], [3.0, 2.6]),
+        ];
+        assert_eq!(extend_agrees(&room, door, &along), along.len());
+        // A wall across the room cuts it in two: the short way refuses, the flood decides.
+        let across = [Rect::from_corners([0.0, 1.5], [5.0, 2.0])];
+        assert_eq!(extend_agrees(&room, door, &across), 0);
+    }
+
+    proptest::proptest! {
+        #[test]
+        fn extend_is_the_flood_of_the_room(
+            boxes in proptest::collection::vec(
+                (0.0..5.0f64, 0.0..4.0f64, 0.1..1.6f64, 0.1..1.6f64), 1..9),
+            l_shaped in proptest::bool::ANY,
+        ) {
+            let room = if l_shaped {
+                RoomShape::new(&[[0.0, 0.0], [0.0, 4.0], [2.5, 4.0], [2.5, 2.0], [5.0, 2.0], [5.0, 0.0]])
+                    .expect("L")
+            } else {
+                rect_room()
+            };
+            let door = Rect::from_corners([2.0, 0.0], [3.0, 1.0]);
+            let footprints: Vec<Rect> = boxes
+                .iter()
+                .map(|&(x, z, w, d)| Rect::from_corners([x, z], [(x + w).min(5.0), (z + d).min(4.0)]))
+                .collect();
+            extend_agrees(&room, door, &footprints);
+        }
     }
 }

@@ -16,7 +16,9 @@ use rand::seq::SliceRandom;
 use rand_chacha::rand_core::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
-use super::constraints::{self, footprint, half_extents, HardRule, Occupancy, Pose, Rect, Rot};
+use super::constraints::{
+    self, footprint, half_extents, HardRule, Occupancy, Pose, ReachBase, Rect, Rot,
+};
 use super::{measure_object, PlacedFloor, Prepared, RoomLayout, SolveOptions, Unplaced};
 use crate::check::scene::{GlobalKind, RelationKind};
 
@@ -477,6 +479,10 @@ struct Search<'p, 'a> {
     reach_answers: HashMap<Vec<u64>, bool>,
     /// The candidates of nodes met, by the object and the bits of every object's pose.
     node_answers: HashMap<Vec<u64>, Rc<NodeCandidates>>,
+    /// Per depth, the flood of the footprints placed on the path to the node being expanded;
+    /// a candidate is judged on its node's flood, which most often gives the flood with the
+    /// candidate placed without a flood of its own (see [`constraints::ReachGrid::extend`]).
+    reach_bases: Vec<Option<ReachBase>>,
 }
 
 /// What [`Search::candidates`] gives at a node.
@@ -613,17 +619,57 @@ impl Search<'_, '_> {
         if let Some(&boxed) = self.reach_answers.get(&key) {
             return boxed;
         }
-        let reach = &self.prep.reach;
+        let prep = self.prep;
+        let reach = &prep.reach;
+        let depth = st.fps.len();
+        self.ensure_reach_base(st);
         reach.mark(&mut st.occ, &c.fp, 1);
-        st.fps.push(c.fp);
-        let boxed = !reach.ok_with(&st.occ, &st.fps);
-        st.fps.pop();
+        let extended =
+            self.reach_bases[depth].as_ref().and_then(|b| reach.extend(b, &st.occ, &c.fp));
+        let boxed = match extended {
+            Some(next) => {
+                let boxed = !next.ok();
+                if !boxed {
+                    // Placed next: its node finds its flood here.
+                    self.reach_bases.truncate(depth + 1);
+                    self.reach_bases.push(Some(next));
+                }
+                boxed
+            }
+            None => {
+                st.fps.push(c.fp);
+                let boxed = !reach.ok_with(&st.occ, &st.fps);
+                st.fps.pop();
+                boxed
+            }
+        };
         reach.mark(&mut st.occ, &c.fp, -1);
         if self.reach_answers.len() >= MAX_REACH_ANSWERS {
             self.reach_answers.clear();
         }
         self.reach_answers.insert(key, boxed);
         boxed
+    }
+
+    /// Makes `reach_bases[d]` the flood of the `d` footprints placed: kept from before, worked
+    /// out from the flood one level up, or flooded.
+    fn ensure_reach_base(&mut self, st: &State) {
+        let depth = st.fps.len();
+        let holds = |b: &Option<ReachBase>, n: usize| {
+            b.as_ref().is_some_and(|b| b.footprints[..] == st.fps[..n])
+        };
+        if self.reach_bases.get(depth).is_some_and(|b| holds(b, depth)) {
+            return;
+        }
+        self.reach_bases.resize(depth + 1, None);
+        let reach = &self.prep.reach;
+        let derived = match depth.checked_sub(1) {
+            Some(up) if holds(&self.reach_bases[up], up) => {
+                self.reach_bases[up].as_ref().and_then(|b| reach.extend(b, &st.occ, &st.fps[up]))
+            }
+            _ => None,
+        };
+        self.reach_bases[depth] = Some(derived.unwrap_or_else(|| reach.base(&st.occ, &st.fps)));
     }
 
     fn place(&self, k: usize, pose: Pose, fp: Rect, v: f64, by: &'static str, st: &mut State) {
@@ -1100,6 +1146,7 @@ pub(crate) fn run(
         contexts: RefCell::new(HashMap::new()),
         reach_answers: HashMap::new(),
         node_answers: HashMap::new(),
+        reach_bases: Vec::new(),
     };
     for (k, cands) in statics.into_iter().enumerate() {
         let room_static = cands.iter().map(|c| search.room_left_static(k, c)).collect();
