@@ -595,3 +595,35 @@ fn things_on_top_fit_their_receptacle() {
         long(stand.bbox_m)
     );
 }
+
+/// Things on top fit their receptacle's top less the margin the layout keeps round its edge
+/// (`SMALL_GAP_M` on each side), so a book that the layout would refuse as too large is not
+/// chosen while smaller books exist: a 0.33 m deep book is not chosen for a 0.34 m deep shelf.
+#[test]
+fn things_on_top_fit_inside_the_layouts_margin() {
+    let margin = 2.0 * holoc::solve::SMALL_GAP_M;
+    for seed in 1..=8 {
+        let text = format!(
+            "scene \"t\" {{ seed {seed} }}\n\nroom a \"a\" {{\n  corners in m (0, 0) (0, 5) (5, 5) (5, 0)\n  object shelf \"bookshelf\" {{\n    asset \"Shelving_Unit_313_1\"\n    edge\n    on top \"book\" x5 varied\n  }}\n}}\n"
+        );
+        let mut sources = SourceMap::new();
+        let id = sources.add("t.holo", text);
+        let scene = holoc::compile::check_file(&sources, id).value.expect("checks");
+        let catalog = Catalog::embedded();
+        let resolved = resolve::resolve(&scene, &catalog, scene.seed).value;
+        let shelf = resolved.object(scene.objects[0].id).expect("a shelf").bbox_m;
+        let sides = |b: [f64; 3]| [b[0].min(b[2]), b[0].max(b[2])];
+        let top = sides(shelf).map(|s| s - margin);
+        for res in &resolved.small[&(scene.objects[0].id, 0)] {
+            let book = res.choice().expect("a book");
+            let [short, long] = sides(book.bbox_m);
+            assert!(
+                short <= top[0] + 1e-9 && long <= top[1] + 1e-9,
+                "seed {seed}: `{}` ({short:.3} m × {long:.3} m) on a top of {:.3} m × {:.3} m",
+                book.asset_id,
+                top[0],
+                top[1]
+            );
+        }
+    }
+}

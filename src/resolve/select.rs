@@ -356,12 +356,13 @@ fn resolve_scene(scene: &Scene, state: &mut State<'_>) -> Resolved {
             }
         }
         // Small objects on top, per instance and line; each prefers assets that fit on the
-        // top of its receptacle's asset.
+        // top of its receptacle's asset, less the margin the layout keeps round its edge.
         for &id in &room.objects {
             let obj = scene.object(id);
             state.top = resolved.object(id).map(|c| {
                 let (a, b) = (c.bbox_m[0], c.bbox_m[2]);
-                [a.min(b), a.max(b)]
+                let margin = 2.0 * crate::solve::SMALL_GAP_M;
+                [a.min(b) - margin, a.max(b) - margin]
             });
             for (k, item) in obj.on_top.iter().enumerate() {
                 let query = Query {
