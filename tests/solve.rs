@@ -8,7 +8,8 @@ use std::fmt::Write as _;
 use holoc::check::scene::{GlobalKind, RelationKind};
 use holoc::diag::Code;
 use holoc::solve::{
-    self, FloorObject, ProblemConstraint, RoomLayout, RoomProblem, SolveOptions, Solver,
+    self, FloorObject, ProblemConstraint, RoomLayout, RoomProblem, SmallObject, SolveOptions,
+    Solver,
 };
 use proptest::prelude::*;
 
@@ -363,4 +364,73 @@ fn relations_mean_their_documented_ranges() {
     };
     assert!(!m(&touching).satisfied);
     assert!(m(&usable).satisfied, "{:?}", m(&usable));
+}
+
+/// Flat things of the same name that do not fit side by side on a receptacle's top are piled,
+/// each resting on the one below and no larger than it, the top one no more than
+/// `STACK_MAX_M` above the receptacle; things that are not flat, or are of another name, are
+/// left out (W0501) instead.
+#[test]
+fn flat_things_that_do_not_fit_side_by_side_are_piled() {
+    let shelf = FloorObject {
+        id: "shelf-0".into(),
+        size: [0.6, 0.35],
+        height: 1.0,
+        global: GlobalKind::Edge,
+        role: holoc::solve::Role::Other,
+        constraints: Vec::new(),
+        pin: None,
+        span: None,
+    };
+    let small = |item: &str, k: usize, size: [f64; 3]| SmallObject {
+        id: format!("{item}-{k}|shelf-0"),
+        item: item.to_string(),
+        size,
+        on: 0,
+        span: None,
+    };
+    let mut small_objects: Vec<SmallObject> =
+        (0..10).map(|k| small("book", k, [0.2, 0.28, 0.03])).collect();
+    small_objects.push(small("vase", 0, [0.2, 0.2, 0.3]));
+    small_objects.push(small("plate", 0, [0.15, 0.15, 0.02]));
+    let problem = RoomProblem {
+        name: "study".into(),
+        outline: vec![[0.0, 0.0], [0.0, 3.0], [3.0, 3.0], [3.0, 0.0]],
+        wall_height: 2.7,
+        keep_out: vec![vec![[1.0, 0.0], [1.0, 1.0], [2.0, 1.0], [2.0, 0.0]]],
+        walls: Vec::new(),
+        objects: vec![shelf],
+        wall_objects: Vec::new(),
+        small_objects,
+        ceiling: None,
+        span: None,
+    };
+    let out = solve::solve_room(&problem, &SolveOptions::default()).value;
+    let top = 1.0;
+    let placed: Vec<&holoc::solve::PlacedObject> = out.small.iter().collect();
+    let books: Vec<_> = placed.iter().filter(|p| p.id.starts_with("book")).collect();
+    let on_top = books.iter().filter(|p| (p.position_m[1] - (top + 0.015)).abs() < 1e-9).count();
+    assert_eq!(on_top, 2, "two books side by side on a 0.56 m top: {placed:#?}");
+    // Each pile: books of 3 cm, the top one resting at most 10 cm above the shelf's top.
+    let most_per_pile = 1 + (holoc::solve::STACK_MAX_M / 0.03).floor() as usize;
+    assert_eq!(books.len(), 2 * most_per_pile, "{placed:#?}");
+    for b in &books {
+        let bottom = b.position_m[1] - 0.015;
+        assert!(bottom <= top + holoc::solve::STACK_MAX_M + 1e-9, "{b:?}");
+        if bottom > top + 1e-9 {
+            // It rests on a book right under it, centred on it.
+            let under = books.iter().find(|u| {
+                (u.position_m[1] + 0.015 - bottom).abs() < 1e-9
+                    && (u.position_m[0] - b.position_m[0]).abs() < 1e-9
+                    && (u.position_m[2] - b.position_m[2]).abs() < 1e-9
+            });
+            assert!(under.is_some(), "{b:?} rests on nothing: {placed:#?}");
+        }
+    }
+    // The vase is not flat and the plate is no book: both are left out, with the reason, as
+    // are the books the two piles cannot take.
+    let left: Vec<&str> = out.unplaced.iter().map(|u| u.id.as_str()).collect();
+    assert!(left.contains(&"vase-0|shelf-0") && left.contains(&"plate-0|shelf-0"), "{left:?}");
+    assert_eq!(left.len(), 2 + 10 - books.len(), "{left:?}");
+    assert!(out.unplaced.iter().all(|u| u.reason.contains("is full")), "{:?}", out.unplaced);
 }

@@ -22,7 +22,7 @@ use crate::diag::{Diagnostic, Outcome};
 use crate::source::Span;
 
 pub use constraints::{HardRule, Meaning, Measure, Pose, Rect, Role, RoomShape, Rot};
-pub use others::SMALL_GAP_M;
+pub use others::{SMALL_GAP_M, STACK_MAX_M};
 pub use pipeline::{solve, Layout, SolvedRoom};
 pub use scene::{room_problem, Sizes, WrittenSizes};
 
@@ -171,6 +171,9 @@ pub struct WallObject {
 pub struct SmallObject {
     /// The instance name, e.g. `book-0`.
     pub id: String,
+    /// What it is, as the `on top` line names it (e.g. `book`): things of the same name may be
+    /// stacked when they do not fit side by side.
+    pub item: String,
     /// `[width, depth, height]`, metres.
     pub size: [f64; 3],
     /// The receptacle: an index into [`RoomProblem::objects`].

@@ -98,6 +98,7 @@ pub fn room_problem(
                         *n += 1;
                         small_objects.push(SmallObject {
                             id: format!("{}-{i}|{}", item.item, o.name),
+                            item: item.item.clone(),
                             size: sizes.small(item),
                             on,
                             span: Some(item.span),

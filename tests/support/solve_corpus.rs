@@ -150,7 +150,19 @@ pub fn load(path: &Path) -> RoomProblem {
         small_objects: r
             .small
             .iter()
-            .map(|s| SmallObject { id: s.id.clone(), size: s.size, on: index(&s.on), span: None })
+            .map(|s| SmallObject {
+                id: s.id.clone(),
+                // The item's name: the id without its copy number (`book-0|desk-0` → `book`).
+                item: s
+                    .id
+                    .split('|')
+                    .next()
+                    .and_then(|name| name.rsplit_once('-'))
+                    .map_or_else(|| s.id.clone(), |(item, _)| item.to_string()),
+                size: s.size,
+                on: index(&s.on),
+                span: None,
+            })
             .collect(),
         ceiling: r.ceiling.as_ref().map(|c| CeilingObject {
             id: c.id.clone(),
