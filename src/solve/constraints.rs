@@ -1299,7 +1299,7 @@ impl ReachGrid {
         footprints.iter().all(|fp| self.reached(fp, &cells))
     }
 
-    /// What a flood of these footprints finds, kept so that [`ReachGrid::ok_adding`] can judge
+    /// What a flood of these footprints finds, kept so that [`ReachGrid::extend`] can judge
     /// one more footprint on top of them, most often without a flood of its own.
     pub fn base(&self, occupancy: &Occupancy, footprints: &[Rect]) -> ReachBase {
         if !self.has_sources() {
