@@ -22,7 +22,7 @@ use crate::diag::{Diagnostic, Outcome};
 use crate::source::Span;
 
 pub use constraints::{HardRule, Meaning, Measure, Pose, Rect, Role, RoomShape, Rot};
-pub use others::{SMALL_GAP_M, STACK_MAX_M};
+pub use others::{PILE_MAX_M, SMALL_GAP_M};
 pub use pipeline::{solve, Layout, SolvedRoom};
 pub use scene::{room_problem, Sizes, WrittenSizes};
 

@@ -14,21 +14,21 @@ pub const WALL_OFFSET_M: f64 = 0.01;
 /// Margin kept free around the top of a receptacle and between small objects, metres.
 pub const SMALL_GAP_M: f64 = 0.02;
 /// A flat thing (a book, a plate) is at most this tall, metres, and at most a third of its
-/// shorter side; only flat things are stacked.
+/// shorter side; only flat things are piled.
 pub const FLAT_MAX_M: f64 = 0.08;
-/// The top thing of a stack rests at most this far above its receptacle's top, metres: a
+/// The top thing of a pile rests at most this far above its receptacle's top, metres: a
 /// centimetre under what the house check accepts as resting on the receptacle (10 cm, W0612),
 /// so that rounding never makes a pile float.
-pub const STACK_MAX_M: f64 = 0.09;
+pub const PILE_MAX_M: f64 = 0.09;
 
-/// Whether a small object of this size may be stacked or carry a stack.
+/// Whether a small object of this size may be piled or carry a pile.
 fn flat(size: [f64; 3]) -> bool {
     let [w, d, h] = size;
     h <= FLAT_MAX_M && 3.0 * h <= w.min(d)
 }
 
 /// A pile of things on a receptacle's top, in the receptacle's frame.
-struct Stack<'p> {
+struct Pile<'p> {
     /// What it is a pile of.
     item: &'p str,
     /// The centre, `(u, v)`: right and front of the receptacle's centre.
@@ -280,7 +280,7 @@ fn place_small(prep: &Prepared<'_>, layout: &mut RoomLayout) {
         });
         // Shelf packing in the receptacle's own frame: u to its right, v to its front.
         let (mut u, mut v, mut row_d) = (0.0_f64, 0.0_f64, 0.0_f64);
-        let mut stacks: Vec<Stack<'_>> = Vec::new();
+        let mut piles: Vec<Pile<'_>> = Vec::new();
         let f = rp.pose.rot.front();
         let rt = rp.pose.rot.right();
         let at = |[lu, lv]: [f64; 2], y: f64, turn: f64, id: &str| PlacedObject {
@@ -324,9 +324,9 @@ fn place_small(prep: &Prepared<'_>, layout: &mut RoomLayout) {
                     None => {
                         // No room side by side: on a pile of the same thing it fits on, if it
                         // is flat (a book on a book), else it is left out.
-                        let pile = stacks.iter().enumerate().find_map(|(n, p)| {
+                        let pile = piles.iter().enumerate().find_map(|(n, p)| {
                             let ok =
-                                p.item == s.item && flat(s.size) && p.height <= STACK_MAX_M + 1e-9;
+                                p.item == s.item && flat(s.size) && p.height <= PILE_MAX_M + 1e-9;
                             let fits = |&&(sw, sd, _): &&(f64, f64, f64)| {
                                 sw <= p.top[0] + 1e-9 && sd <= p.top[1] + 1e-9
                             };
@@ -336,7 +336,7 @@ fn place_small(prep: &Prepared<'_>, layout: &mut RoomLayout) {
                             reasons[i] = Some(format!("the top of `{}` is full", rec.id));
                             continue;
                         };
-                        let pile = &mut stacks[n];
+                        let pile = &mut piles[n];
                         let y = rec.height + pile.height + h / 2.0;
                         results[i] = Some(at(pile.centre, y, turn, &s.id));
                         pile.top = [sw, sd];
@@ -348,7 +348,7 @@ fn place_small(prep: &Prepared<'_>, layout: &mut RoomLayout) {
             let centre = [-top_w / 2.0 + u + sw / 2.0, top_d / 2.0 - v - sd / 2.0];
             results[i] = Some(at(centre, rec.height + h / 2.0, turn, &s.id));
             if flat(s.size) {
-                stacks.push(Stack { item: &s.item, centre, top: [sw, sd], height: h });
+                piles.push(Pile { item: &s.item, centre, top: [sw, sd], height: h });
             }
             u += sw + SMALL_GAP_M;
             row_d = row_d.max(sd);
