@@ -1287,16 +1287,7 @@ impl ReachGrid {
     /// [`ReachGrid::mark`] (the search adds and removes one footprint per step instead of
     /// rebuilding the grid).
     pub fn ok_with(&self, occupancy: &Occupancy, footprints: &[Rect]) -> bool {
-        if !self.has_sources() || footprints.is_empty() {
-            return true;
-        }
-        let (n_free, n_seen, mut cells) = self.flood(occupancy);
-        if n_free > n_seen
-            && self.largest_pocket(&mut cells, Self::pocket_cells()) > Self::pocket_cells()
-        {
-            return false;
-        }
-        footprints.iter().all(|fp| self.reached(fp, &cells))
+        footprints.is_empty() || self.base(occupancy, footprints).ok()
     }
 
     /// What a flood of these footprints finds, kept so that [`ReachGrid::extend`] can judge
@@ -1498,7 +1489,7 @@ impl ReachGrid {
 }
 
 /// A flood of a set of footprints kept by [`ReachGrid::base`].
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug)]
 pub struct ReachBase {
     /// The footprints flooded.
     pub footprints: Vec<Rect>,

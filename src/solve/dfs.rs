@@ -624,25 +624,21 @@ impl Search<'_, '_> {
         let depth = st.fps.len();
         self.ensure_reach_base(st);
         reach.mark(&mut st.occ, &c.fp, 1);
-        let extended =
-            self.reach_bases[depth].as_ref().and_then(|b| reach.extend(b, &st.occ, &c.fp));
-        let boxed = match extended {
-            Some(next) => {
-                let boxed = !next.ok();
-                if !boxed {
-                    // Placed next: its node finds its flood here.
-                    self.reach_bases.truncate(depth + 1);
-                    self.reach_bases.push(Some(next));
-                }
-                boxed
-            }
-            None => {
+        let next = self.reach_bases[depth]
+            .as_ref()
+            .and_then(|b| reach.extend(b, &st.occ, &c.fp))
+            .unwrap_or_else(|| {
                 st.fps.push(c.fp);
-                let boxed = !reach.ok_with(&st.occ, &st.fps);
+                let flooded = reach.base(&st.occ, &st.fps);
                 st.fps.pop();
-                boxed
-            }
-        };
+                flooded
+            });
+        let boxed = !next.ok();
+        if !boxed {
+            // Placed next: its node finds its flood here.
+            self.reach_bases.truncate(depth + 1);
+            self.reach_bases.push(Some(next));
+        }
         reach.mark(&mut st.occ, &c.fp, -1);
         if self.reach_answers.len() >= MAX_REACH_ANSWERS {
             self.reach_answers.clear();

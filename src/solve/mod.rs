@@ -172,7 +172,7 @@ pub struct SmallObject {
     /// The instance name, e.g. `book-0`.
     pub id: String,
     /// What it is, as the `on top` line names it (e.g. `book`): things of the same name may be
-    /// stacked when they do not fit side by side.
+    /// piled when they do not fit side by side.
     pub item: String,
     /// `[width, depth, height]`, metres.
     pub size: [f64; 3],
