@@ -176,6 +176,7 @@ fn doors_are_never_boxed_in() {
                 vec![ProblemConstraint { kind: RelationKind::Near, target: k - 1, span: None }]
             },
             pin: None,
+            thor_type: None,
             span: None,
         });
     }
@@ -219,6 +220,7 @@ fn random_problem(sizes: Vec<(f64, f64, bool)>, w: f64, d: f64) -> RoomProblem {
                 vec![ProblemConstraint { kind: RelationKind::Near, target: k - 1, span: None }]
             },
             pin: None,
+            thor_type: None,
             span: None,
         })
         .collect();
@@ -380,13 +382,15 @@ fn flat_things_that_do_not_fit_side_by_side_are_piled() {
         role: holoc::solve::Role::Other,
         constraints: Vec::new(),
         pin: None,
+        thor_type: None,
         span: None,
     };
     let small = |item: &str, k: usize, size: [f64; 3]| SmallObject {
         id: format!("{item}-{k}|shelf-0"),
         item: item.to_string(),
         size,
-        on: 0,
+        on: holoc::solve::Holder::Floor(0),
+        elsewhere: None,
         span: None,
     };
     let mut small_objects: Vec<SmallObject> =

@@ -161,6 +161,8 @@ codes! {
     W0502 "pinned-pose-breaks-rule" "a pinned pose breaks a hard layout rule and is kept as pinned";
     W0503 "dependent-left-out" "an object whose every relation names an object left out is left out too";
     W0504 "room-object-limit" "a room has more floor objects than the solver places, and the rest are left out";
+    W0505 "relation-given-up" "a relation names an object that is left out; the object stays and the relation is given up";
+    W0506 "item-moved-to-allowed-receptacle" "a thing declared on a receptacle that does not take it is put on the nearest one that does, or left out";
     E0801 "unknown-placeholder" "a prompt template uses a placeholder its stage does not fill in";
     E0802 "missing-placeholder" "a prompt template leaves out a placeholder its answer depends on";
     E0803 "model-unauthorized" "the model server refused the API key";

@@ -3,8 +3,9 @@
 //! `kinematic` flag and, for an item on top of another object, the receptacle it is nested under.
 //!
 //! Floor, wall and ceiling objects are kinematic (they stay where the layout put them, as
-//! ProcTHOR's furniture does); items on a receptacle are not (ProcTHOR leaves them to physics,
-//! so an agent can pick them up).
+//! ProcTHOR's furniture does); items on a floor receptacle are not (ProcTHOR leaves them to
+//! physics, so an agent can pick them up); items on a wall object (a towel on its holder, a
+//! plant on a wall shelf) are, so that they stay where they hang.
 
 use super::LoweredObject;
 use crate::check::scene::Scene;
@@ -80,6 +81,13 @@ pub fn objects(
             else {
                 continue;
             };
+            // The receptacle it stands on: the one declared, or the one it was moved to.
+            let receptacle = match placed.on {
+                Some(crate::solve::Holder::Floor(i)) => solved.floor_ids.get(i).copied(),
+                Some(crate::solve::Holder::Wall(i)) => solved.wall_ids.get(i).copied(),
+                None => None,
+            }
+            .unwrap_or(receptacle);
             let receptacle_name = &scene.object(receptacle).name;
             out.push(LoweredObject {
                 id: format!(
@@ -90,8 +98,10 @@ pub fn objects(
                 room: solved.room,
                 position_m: position(placed.position_m),
                 rotation_deg: [0.0, placed.rotation_deg, 0.0],
-                // As ProcTHOR: what stands on a receptacle is left to physics.
-                kinematic: false,
+                // As ProcTHOR: what stands on a floor receptacle is left to physics; what hangs
+                // on or stands on a wall object stays put (physics would drop a towel off its
+                // bar).
+                kinematic: matches!(placed.on, Some(crate::solve::Holder::Wall(_))),
                 object_name: placed.id.split('|').next().unwrap_or(&placed.id).to_string(),
                 parent: Some(format!("{receptacle_name} ({label})")),
             });

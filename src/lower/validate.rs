@@ -661,10 +661,17 @@ fn resting_checks(ctx: &mut Ctx<'_>, top: &[Value], objects_catalog: &Catalog, v
                 floor_boxes.push((p, [w / 2.0, d / 2.0], angle));
             }
         }
+        // A towel holder's towels hang from its bar: their top at the holder's top.
+        let bar = s(o, "assetId")
+            .and_then(|a| objects_catalog.get(a))
+            .is_some_and(|a| matches!(a.object_type.as_str(), "TowelHolder" | "HandTowelHolder"));
         for c in arr(o, "children") {
             let (Some([_, ch, _]), Some(cy), Some(cid)) = (size(c), y_of(c), s(c, "id")) else {
                 continue;
             };
+            if bar && (cy + ch / 2.0 - (y + h / 2.0)).abs() <= FLOAT_TOLERANCE_M {
+                continue;
+            }
             // An item stands on the receptacle's top or on a surface inside it (a shelf, a
             // drawer): its bottom between the receptacle's bottom and a little above its top.
             let bottom_item = cy - ch / 2.0;

@@ -10,7 +10,6 @@ use super::{
 };
 use crate::check::scene::DoorKind;
 use crate::compile::Built;
-use crate::resolve::Resolution;
 
 /// What the layout knows of one object the house may hold.
 struct Known {
@@ -159,36 +158,6 @@ pub fn drawing(built: &Built) -> Drawing {
             d.left_out.push(LeftOut {
                 name: u.id.split('|').next().unwrap_or(&u.id).to_string(),
                 reason: u.reason.clone(),
-            });
-        }
-    }
-    let unresolved = |r: &Resolution| match r {
-        Resolution::Unresolved(u) => Some(u.reason.clone()),
-        Resolution::Chosen(_) => None,
-    };
-    for object in &built.scene.objects {
-        if let Some(reason) = built.resolved.objects.get(object.id.0).and_then(unresolved) {
-            d.left_out.push(LeftOut { name: object.name.clone(), reason });
-        }
-        for (k, item) in object.on_top.iter().enumerate() {
-            for r in built.resolved.small.get(&(object.id, k)).into_iter().flatten() {
-                if let Some(reason) = unresolved(r) {
-                    d.left_out.push(LeftOut {
-                        name: format!("{} on {}", item.item, object.name),
-                        reason,
-                    });
-                }
-            }
-        }
-    }
-    for (room, r) in &built.resolved.ceilings {
-        if built.resolved.ceiling_lights.contains_key(room) {
-            continue;
-        }
-        if let Some(reason) = unresolved(r) {
-            d.left_out.push(LeftOut {
-                name: format!("ceiling of {}", built.scene.room(*room).name),
-                reason,
             });
         }
     }

@@ -11,7 +11,7 @@ use crate::resolve::Catalog;
 use serde_json::{json, Value};
 
 /// The version of the report's format; raised on any change to it.
-pub const REPORT_VERSION: u32 = 1;
+pub const REPORT_VERSION: u32 = 2;
 
 fn r4(v: f64) -> f64 {
     let r = (v * 10_000.0).round() / 10_000.0;
@@ -77,6 +77,7 @@ pub fn report(built: &Built, catalog: &Catalog) -> Value {
                 json!({
                     "object": u.id,
                     "kind": u.kind,
+                    "code": u.code.as_str(),
                     "rule": u.rule.map(crate::solve::HardRule::describe),
                     "reason": u.reason,
                 })
@@ -105,6 +106,11 @@ pub fn report(built: &Built, catalog: &Catalog) -> Value {
             "small_objects": others(&solved.layout.small),
             "ceiling": solved.layout.ceiling.as_ref().map(|c| others(std::slice::from_ref(c))),
             "not_placed": unplaced,
+            "relations_given_up": solved.given_up.iter().map(|g| json!({
+                "object": g.object,
+                "relation": g.relation,
+                "reason": g.reason,
+            })).collect::<Vec<Value>>(),
             "ceiling_light": built.resolved.ceiling_lights.get(&solved.room).map(|d| json!({
                 "description": d,
                 "served_by": format!("light|{}", built.plan.room(solved.room).thor_id),

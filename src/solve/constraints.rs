@@ -128,6 +128,41 @@ pub struct Rect {
 }
 
 impl Rect {
+    /// Whether the segment from `a` to `b` passes through the rectangle's inside (touching
+    /// its outline is not meeting it).
+    pub fn meets_segment(&self, a: [f64; 2], b: [f64; 2]) -> bool {
+        // Clip the segment's parameter range to each slab (Liang–Barsky).
+        let (mut t0, mut t1) = (0.0_f64, 1.0_f64);
+        let d = [b[0] - a[0], b[1] - a[1]];
+        for (p, q) in [
+            (-d[0], a[0] - self.min_x),
+            (d[0], self.max_x - a[0]),
+            (-d[1], a[1] - self.min_z),
+            (d[1], self.max_z - a[1]),
+        ] {
+            if p.abs() < 1e-12 {
+                if q <= EPS {
+                    return false;
+                }
+                continue;
+            }
+            let t = q / p;
+            if p < 0.0 {
+                t0 = t0.max(t);
+            } else {
+                t1 = t1.min(t);
+            }
+        }
+        t1 - t0 > 1e-9 && {
+            let mid = (t0 + t1) / 2.0;
+            let m = [a[0] + d[0] * mid, a[1] + d[1] * mid];
+            m[0] > self.min_x + EPS
+                && m[0] < self.max_x - EPS
+                && m[1] > self.min_z + EPS
+                && m[1] < self.max_z - EPS
+        }
+    }
+
     /// The rectangle between two corners in any order.
     pub fn from_corners(a: [f64; 2], b: [f64; 2]) -> Rect {
         Rect {
@@ -558,6 +593,13 @@ pub const SIDE_MAX_M: f64 = 2.0;
 pub const REACH_MAX_M: f64 = 0.6;
 /// A coffee table stands this far from the front of its seats (furniture practice: 30–60 cm).
 pub const LOW_TABLE_GAP_M: (f64, f64) = (0.3, 0.6);
+/// Furniture taller than this between a screen and a seat across from it blocks the view
+/// (a seated person's eyes are at about 1.1 m, a TV's screen from about 0.6 m up; a coffee
+/// table is lower), metres.
+pub const SIGHT_LINE_M: f64 = 0.6;
+/// A screen (a TV, or the stand that carries one) counts as at least this tall for the window
+/// rule: a TV on a low stand still stands in front of the window, metres.
+pub const SCREEN_TOP_M: f64 = 1.3;
 /// A screen faces its seats across the room: this range of gaps (about 1.2 m to 4.5 m for
 /// the screen sizes of AI2-THOR's televisions).
 pub const VIEWING_GAP_M: (f64, f64) = (1.2, 4.5);
@@ -572,6 +614,92 @@ pub struct Meaning {
     pub max_gap: f64,
     /// Whether the object must face the target.
     pub face: bool,
+    /// For a seat `around` a table: the seats of the table its group shares (the relation is
+    /// kept at one of them).
+    pub ring: Option<SeatRing>,
+}
+
+/// The seats round a table that a group of chairs `around` it shares: how many and how large
+/// each chair is. Where the seats are is [`seat_poses`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SeatRing {
+    /// How many chairs are around the table.
+    pub seats: usize,
+    /// The largest chair's `[width, depth]`, metres.
+    pub seat: [f64; 2],
+}
+
+/// The length of table edge a diner needs (furniture practice: 60 cm a place setting).
+pub const SEAT_PITCH_M: f64 = 0.6;
+/// The least length of table edge a chair takes when the table is crowded: its width and this.
+pub const SEAT_PITCH_CROWDED_EXTRA_M: f64 = 0.02;
+/// The gap between a chair at a table and the table's edge, metres: none, its front at the
+/// edge (a chair at a table is drawn up to it).
+pub const SEAT_GAP_M: f64 = 0.0;
+/// How far from its seat (centre to centre) a chair still stands at it, metres.
+pub const SEAT_TOLERANCE_M: f64 = 0.15;
+
+/// How many of `n` chairs stand at each side of a table with sides of these lengths (front,
+/// back, right, left of the table), each side holding at most `caps` of them: one after the
+/// other to the side with the most edge per chair once it has one more (the D'Hondt rule, so
+/// that the chairs are spread over the sides in proportion to their lengths), a tie going to
+/// the earlier side (front, back, right, left: opposite sides fill together).
+pub fn seats_per_side(n: usize, lengths: [f64; 4], caps: [usize; 4]) -> [usize; 4] {
+    let mut counts = [0usize; 4];
+    for _ in 0..n {
+        let mut best: Option<(f64, usize)> = None;
+        for s in 0..4 {
+            if counts[s] >= caps[s] {
+                continue;
+            }
+            let q = lengths[s] / (counts[s] + 1) as f64;
+            if best.is_none_or(|(b, _)| q > b + 1e-9) {
+                best = Some((q, s));
+            }
+        }
+        let Some((_, s)) = best else { break };
+        counts[s] += 1;
+    }
+    counts
+}
+
+/// The seats of a table at `target` (footprint `target_size` at rotation 0) for a ring of
+/// chairs: spread over its sides by [`seats_per_side`], evenly along each side, each chair
+/// [`SEAT_GAP_M`] off the edge and facing the table. A side takes a chair per
+/// [`SEAT_PITCH_M`] of its length, or, when the table is too small for that, per the chair's
+/// width and [`SEAT_PITCH_CROWDED_EXTRA_M`]; chairs beyond that have no seat.
+pub fn seat_poses(target: &Pose, target_size: [f64; 2], ring: &SeatRing) -> Vec<Pose> {
+    let front = target.rot.front();
+    let right = target.rot.right();
+    let [w, d] = target_size;
+    // (outward axis, along axis, side length, distance from the centre to the edge)
+    let sides = [
+        (front, right, w, d / 2.0),
+        ([-front[0], -front[1]], right, w, d / 2.0),
+        (right, front, d, w / 2.0),
+        ([-right[0], -right[1]], front, d, w / 2.0),
+    ];
+    let lengths = sides.map(|s| s.2);
+    let caps_for = |pitch: f64| lengths.map(|l| ((l + EPS) / pitch).floor().max(0.0) as usize);
+    let mut caps = caps_for(SEAT_PITCH_M.max(ring.seat[0] + SEAT_PITCH_CROWDED_EXTRA_M));
+    if caps.iter().sum::<usize>() < ring.seats {
+        caps = caps_for(ring.seat[0] + SEAT_PITCH_CROWDED_EXTRA_M);
+    }
+    let counts = seats_per_side(ring.seats, lengths, caps);
+    let mut out = Vec::with_capacity(ring.seats);
+    for ((out_axis, along, len, edge), c) in sides.iter().zip(counts) {
+        let Some(rot) = Rot::facing([-out_axis[0], -out_axis[1]]) else { continue };
+        let reach = edge + SEAT_GAP_M + ring.seat[1] / 2.0;
+        for i in 0..c {
+            let t = -len / 2.0 + len * (i as f64 + 0.5) / c as f64;
+            out.push(Pose {
+                x: target.x + out_axis[0] * reach + along[0] * t,
+                z: target.z + out_axis[1] * reach + along[1] * t,
+                rot,
+            });
+        }
+    }
+    out
 }
 
 impl Meaning {
@@ -580,37 +708,53 @@ impl Meaning {
     /// `side of` its target). Written once here and shared by both solvers, the report, the
     /// SVG and the book's table.
     pub fn of(kind: RelationKind, me: Role, target: Role, contact: bool) -> Meaning {
-        let any = Meaning { min_gap: 0.0, max_gap: f64::INFINITY, face: false };
+        let any = Meaning { min_gap: 0.0, max_gap: f64::INFINITY, face: false, ring: None };
         let table_like = |r: Role| matches!(r, Role::Table | Role::LowTable);
         match kind {
             RelationKind::Near => Meaning {
                 min_gap: if contact { 0.0 } else { NEAR_MIN_M },
                 max_gap: NEAR_MAX_M,
                 face: false,
+                ring: None,
             },
             RelationKind::Far => Meaning { min_gap: FAR_MIN_M, ..any },
             RelationKind::InFrontOf => {
                 if me.seats() && table_like(target) {
-                    Meaning { min_gap: 0.0, max_gap: REACH_MAX_M, face: true }
+                    Meaning { min_gap: 0.0, max_gap: REACH_MAX_M, face: true, ring: None }
                 } else if me == Role::LowTable && (target.seats() || target == Role::Bed) {
-                    Meaning { min_gap: LOW_TABLE_GAP_M.0, max_gap: LOW_TABLE_GAP_M.1, face: false }
+                    Meaning { min_gap: LOW_TABLE_GAP_M.0, max_gap: LOW_TABLE_GAP_M.1, ..any }
                 } else if (me == Role::Screen && (target.seats() || target == Role::Bed))
                     || ((me.seats() || me == Role::Bed) && target == Role::Screen)
                 {
-                    Meaning { min_gap: VIEWING_GAP_M.0, max_gap: VIEWING_GAP_M.1, face: false }
+                    Meaning { min_gap: VIEWING_GAP_M.0, max_gap: VIEWING_GAP_M.1, ..any }
                 } else {
                     Meaning { max_gap: SIDE_MAX_M, ..any }
                 }
             }
             // A seat behind a desk or table (a student's chair) is at it, within reach.
             RelationKind::Behind if me.seats() && table_like(target) => {
-                Meaning { min_gap: 0.0, max_gap: REACH_MAX_M, face: true }
+                Meaning { min_gap: 0.0, max_gap: REACH_MAX_M, face: true, ring: None }
             }
             RelationKind::Behind
             | RelationKind::LeftOf
             | RelationKind::RightOf
             | RelationKind::SideOf => Meaning { max_gap: SIDE_MAX_M, ..any },
-            RelationKind::Around => Meaning { min_gap: 0.0, max_gap: AROUND_MAX_M, face: true },
+            RelationKind::Around => {
+                Meaning { min_gap: 0.0, max_gap: AROUND_MAX_M, face: true, ring: None }
+            }
+            // A screen facing its seats, or a seat facing its screen: across from each other
+            // at a viewing distance.
+            RelationKind::FaceTo
+                if (me == Role::Screen && (target.seats() || target == Role::Bed))
+                    || ((me.seats() || me == Role::Bed) && target == Role::Screen) =>
+            {
+                Meaning {
+                    min_gap: VIEWING_GAP_M.0,
+                    max_gap: VIEWING_GAP_M.1,
+                    face: true,
+                    ring: None,
+                }
+            }
             _ => any,
         }
     }
@@ -947,6 +1091,39 @@ fn measure_relation_with<const VALUE: bool>(
             let ok = fits(sl, wl) || fits(sr, wr);
             Measure::yes_no(ok, sl.max(sr), "m")
         }
+        RelationKind::Around if meaning.ring.is_some() => {
+            // At one of the seats the group shares: the distance to the nearest, and facing
+            // the table as that seat does.
+            let seats = meaning
+                .ring
+                .map(|r| seat_poses(target, target_size_of(target, &tf), &r))
+                .unwrap_or_default();
+            let nearest = seats
+                .iter()
+                .map(|p| ((p.x - me.x).hypot(p.z - me.z), p.rot))
+                .min_by(|a, b| a.0.total_cmp(&b.0));
+            let (dist, rot) = nearest.unwrap_or((f64::INFINITY, me.rot));
+            let at_seat = dist <= SEAT_TOLERANCE_M + EPS && rot == me.rot;
+            let facing = faces(me, &tf);
+            let gap = gap();
+            let close = gap <= meaning.max_gap + EPS;
+            // Drawn to the seats: most for standing at one, some for being close and facing.
+            let toward = (1.0 - dist / 2.0).clamp(0.0, 1.0);
+            // At a seat, the nearer its middle the better, so that chairs stand evenly.
+            let score = if at_seat {
+                1.0 - 0.1 * dist / SEAT_TOLERANCE_M
+            } else {
+                0.3 * toward
+                    + if facing && close {
+                        0.5
+                    } else if facing {
+                        0.2
+                    } else {
+                        0.0
+                    }
+            };
+            Measure { satisfied: at_seat, score, value: dist.min(1e9), unit: "m" }
+        }
         RelationKind::Around => {
             let facing = faces(me, &tf);
             let gap = gap();
@@ -964,6 +1141,24 @@ fn measure_relation_with<const VALUE: bool>(
             let d = (me.x - target.x).abs().min((me.z - target.z).abs());
             Measure::yes_no(d <= ALIGN_TOLERANCE_M + EPS, d, "m")
         }
+        RelationKind::FaceTo if meaning.max_gap.is_finite() => {
+            // A screen and its seats: across from each other (each faces the other) at a
+            // viewing distance.
+            let angle = if VALUE { angle_to(me, [target.x, target.z]) } else { 0.0 };
+            let gap = gap();
+            let facing = faces(me, &tf);
+            let across = faces(target, &mf);
+            let in_range = gap >= meaning.min_gap - EPS && gap <= meaning.max_gap + EPS;
+            let ok = facing && across && in_range;
+            let score = if ok {
+                1.0
+            } else {
+                0.4 * f64::from(u8::from(facing))
+                    + 0.3 * f64::from(u8::from(across))
+                    + 0.2 * gap_score(gap, meaning)
+            };
+            Measure { satisfied: ok, score, value: angle, unit: "deg" }
+        }
         RelationKind::FaceTo => {
             let angle = if VALUE { angle_to(me, [target.x, target.z]) } else { 0.0 };
             Measure::yes_no(faces(me, &tf), angle, "deg")
@@ -973,6 +1168,17 @@ fn measure_relation_with<const VALUE: bool>(
             let diff = diff.min(360.0 - diff);
             Measure::yes_no(me.rot == target.rot, diff, "deg")
         }
+    }
+}
+
+/// The footprint size `[width, depth]` at rotation 0 of an object at `pose` whose footprint is
+/// `fp` (a quarter turn swaps the two).
+fn target_size_of(pose: &Pose, fp: &Rect) -> [f64; 2] {
+    let right = pose.rot.right();
+    if right[0].abs() > 0.5 {
+        [fp.width(), fp.depth()]
+    } else {
+        [fp.depth(), fp.width()]
     }
 }
 

@@ -199,9 +199,17 @@ pub(crate) fn derived_candidates(
         let tf = footprint(tp, t.size);
         let mut gaps = target_gaps(prep, k, c.target);
         // The gaps the object's relations to this target mean (a coffee table 0.3–0.6 m in
-        // front of its sofa, `near` not touching): their ends and middle.
+        // front of its sofa, `near` not touching): their ends and middle; and the seats of a
+        // table the object is one of the chairs around.
         for d in obj.constraints.iter().filter(|d| d.target == c.target) {
             let m = super::meaning_of(prep.problem, k, d);
+            if let Some(ring) = &m.ring {
+                for pose in constraints::seat_poses(tp, t.size, ring) {
+                    if prep.static_rule(k, &pose).is_none() {
+                        out.push(Cand { pose, fp: footprint(&pose, obj.size) });
+                    }
+                }
+            }
             gaps.push(m.min_gap);
             if m.max_gap.is_finite() {
                 gaps.push(0.5 * (m.min_gap + m.max_gap.min(m.min_gap + 2.0)));
@@ -1204,6 +1212,7 @@ pub(crate) fn run(
                     kind: "floor",
                     rule: Some(rule),
                     reason,
+                    code: crate::diag::Code::W0501,
                 });
             }
         }

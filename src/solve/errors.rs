@@ -94,6 +94,61 @@ pub(crate) fn dependent_left_out(u: &Unplaced, span: Option<crate::source::Span>
     }
 }
 
+/// W0505: a relation is given up because its target is left out; the object keeps its place
+/// by its other relations and its room.
+pub(crate) fn relation_given_up(
+    object: &str,
+    relation: &str,
+    reason: &str,
+    span: crate::source::Span,
+) -> Diagnostic {
+    Diagnostic::new(
+        Code::W0505,
+        format!("`{object}` is placed without `{relation}`: {reason}"),
+    )
+    .with_primary(span, "this relation is given up")
+    .with_note("the object is not there for its target, so it stays, placed by its other relations and its room")
+    .with_help("make the target available (an asset, `--catalog`), or relate the object to something that is placed")
+}
+
+/// The name of a receptacle of the problem.
+pub(crate) fn holder_name(problem: &RoomProblem, h: super::Holder) -> &str {
+    match h {
+        super::Holder::Floor(i) => problem.objects.get(i).map_or("?", |o| o.id.as_str()),
+        super::Holder::Wall(i) => problem.wall_objects.get(i).map_or("?", |o| o.id.as_str()),
+    }
+}
+
+/// W0506: a thing was put on another receptacle of the room than the one declared, because
+/// that one may not carry it.
+pub(crate) fn moved(
+    problem: &RoomProblem,
+    i: usize,
+    from: super::Holder,
+    to: super::Holder,
+) -> Diagnostic {
+    let s = &problem.small_objects[i];
+    let name = s.id.split('|').next().unwrap_or(&s.id);
+    let d = Diagnostic::new(
+        Code::W0506,
+        format!(
+            "`{name}` is put on `{}` instead of `{}`",
+            holder_name(problem, to),
+            holder_name(problem, from)
+        ),
+    )
+    .with_note(format!(
+        "people do not put such a thing on `{}` (the pairs of ProcTHOR's receptacles); `{}` is the nearest receptacle of the room that takes it",
+        holder_name(problem, from),
+        holder_name(problem, to)
+    ))
+    .with_help("put it on top of a receptacle that takes it");
+    match s.span {
+        Some(span) => d.with_primary(span, "declared on a receptacle that does not take it"),
+        None => d,
+    }
+}
+
 /// W0501: an object was left out.
 pub(crate) fn unplaced(problem: &RoomProblem, u: &Unplaced) -> Diagnostic {
     let span = match u.kind {

@@ -331,7 +331,9 @@ fn place_milp(
     let mut best: Option<(Pose, f64)> = None;
     for rot in Rot::ALL {
         let mut obstacles: Vec<Rect> = prep.keep_out.clone();
-        obstacles.extend(prep.windows.iter().filter(|w| obj.height > w.sill_m).map(|w| w.zone));
+        obstacles.extend(
+            prep.windows.iter().filter(|w| super::window_height(obj) > w.sill_m).map(|w| w.zone),
+        );
         for c in &obj.constraints {
             if let (Some(Some(tp)), Some(t)) =
                 (poses.get(c.target), prep.problem.objects.get(c.target))
@@ -467,6 +469,7 @@ pub(crate) fn solve(prep: &Prepared<'_>, options: &SolveOptions) -> RoomLayout {
                     kind: "floor",
                     rule: Some(rule),
                     reason,
+                    code: crate::diag::Code::W0501,
                 });
             }
         }

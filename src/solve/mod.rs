@@ -16,6 +16,7 @@ mod milp;
 mod others;
 mod pipeline;
 mod scene;
+pub mod surfaces;
 
 use crate::check::scene::{GlobalKind, RelationKind};
 use crate::diag::{Diagnostic, Outcome};
@@ -23,7 +24,7 @@ use crate::source::Span;
 
 pub use constraints::{HardRule, Meaning, Measure, Pose, Rect, Role, RoomShape, Rot};
 pub use others::{PILE_MAX_M, SMALL_GAP_M};
-pub use pipeline::{solve, Layout, SolvedRoom};
+pub use pipeline::{solve, GivenUp, Layout, SolvedRoom};
 pub use scene::{room_problem, Sizes, WrittenSizes};
 
 /// Which floor solver to run.
@@ -147,6 +148,9 @@ pub struct FloorObject {
     pub constraints: Vec<ProblemConstraint>,
     /// A pinned pose: used as it is (and reported if it breaks a hard rule).
     pub pin: Option<Pose>,
+    /// The AI2-THOR object type of its asset, when known: decides the surfaces it carries
+    /// things on ([`surfaces::carrier`]).
+    pub thor_type: Option<String>,
     /// Where the object is declared.
     pub span: Option<Span>,
 }
@@ -162,8 +166,19 @@ pub struct WallObject {
     pub above: Option<usize>,
     /// Height of its bottom above the floor, metres (default 1.5 m, `others::DEFAULT_WALL_HEIGHT_M`).
     pub height_m: Option<f64>,
+    /// The AI2-THOR object type of its asset, when known (a towel holder hangs its towels).
+    pub thor_type: Option<String>,
     /// Where the object is declared.
     pub span: Option<Span>,
+}
+
+/// What a small object is put on: a floor object or a wall object of the problem.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum Holder {
+    /// An index into [`RoomProblem::objects`].
+    Floor(usize),
+    /// An index into [`RoomProblem::wall_objects`].
+    Wall(usize),
 }
 
 /// A small object to put on a receptacle.
@@ -176,8 +191,13 @@ pub struct SmallObject {
     pub item: String,
     /// `[width, depth, height]`, metres.
     pub size: [f64; 3],
-    /// The receptacle: an index into [`RoomProblem::objects`].
-    pub on: usize,
+    /// The receptacle.
+    pub on: Holder,
+    /// When its receptacle may not carry it (a desk lamp on an armchair, a plant on a plant):
+    /// the receptacles of the room that may, in the order they are declared; the nearest one
+    /// placed with room for it takes it (W0506), else it is left out. `None`: it stays on its
+    /// receptacle.
+    pub elsewhere: Option<Vec<Holder>>,
     /// Where it is declared.
     pub span: Option<Span>,
 }
@@ -260,8 +280,8 @@ pub struct PlacedObject {
     pub position_m: [f64; 3],
     /// Rotation about y, degrees.
     pub rotation_deg: f64,
-    /// For small objects, the receptacle's index in [`RoomProblem::objects`].
-    pub on: Option<usize>,
+    /// For small objects, the receptacle.
+    pub on: Option<Holder>,
 }
 
 /// An object left out, and why.
@@ -275,6 +295,10 @@ pub struct Unplaced {
     pub rule: Option<HardRule>,
     /// The full reason in words.
     pub reason: String,
+    /// The code of the diagnostic that reports it (W0401 no asset, W0501 no pose, W0503 left
+    /// out with its target or receptacle, W0504 over the room's limit, W0506 not allowed on
+    /// its receptacle).
+    pub code: crate::diag::Code,
 }
 
 /// The solved room.
@@ -298,6 +322,9 @@ pub struct RoomLayout {
     pub nodes: u64,
     /// Pinned floor objects (index) whose pose breaks a hard rule; they stay as pinned.
     pub pinned_breaks: Vec<(usize, HardRule)>,
+    /// Small objects put on another receptacle than the one declared, because that one may not
+    /// carry them: `(small object index, declared receptacle, receptacle used)`.
+    pub moved: Vec<(usize, Holder, Holder)>,
 }
 
 impl RoomLayout {
@@ -330,7 +357,7 @@ impl Prepared<'_> {
         constraints::static_rules(
             pose,
             obj.size,
-            obj.height,
+            window_height(obj),
             Some(obj.global),
             &self.room,
             &self.keep_out,
@@ -348,12 +375,22 @@ impl Prepared<'_> {
         constraints::static_rules(
             pose,
             obj.size,
-            obj.height,
+            window_height(obj),
             None,
             &self.room,
             &self.keep_out,
             &self.windows,
         )
+    }
+}
+
+/// The height an object counts as for the window rule: its own, or for a screen (a TV stand
+/// with its TV) at least [`constraints::SCREEN_TOP_M`].
+pub(crate) fn window_height(obj: &FloorObject) -> f64 {
+    if obj.role == Role::Screen {
+        obj.height.max(constraints::SCREEN_TOP_M)
+    } else {
+        obj.height
     }
 }
 
@@ -386,6 +423,9 @@ pub fn solve_room(problem: &RoomProblem, options: &SolveOptions) -> Outcome<Room
     }
     for u in &layout.unplaced {
         diags.push(errors::unplaced(problem, u));
+    }
+    for &(i, from, to) in &layout.moved {
+        diags.push(errors::moved(problem, i, from, to));
     }
     Outcome::new(layout, diags)
 }
@@ -424,12 +464,28 @@ pub fn measure_object(
         );
         let target = poses.get(c.target).copied().flatten().zip(problem.objects.get(c.target));
         let meaning = meaning_of(problem, index, c);
-        let measure = match target {
+        let mut measure = match target {
             Some((tp, t)) => {
                 constraints::relation_meant(c.kind, &meaning, pose, obj.size, &tp, t.size)
             }
             None => Measure { satisfied: false, score: 0.0, value: f64::NAN, unit: "m" },
         };
+        // A screen and a seat across from each other see each other only over what is lower
+        // than the line of sight.
+        if c.kind == RelationKind::FaceTo && meaning.max_gap.is_finite() && measure.satisfied {
+            let line = ([pose.x, pose.z], target.map_or([pose.x, pose.z], |(tp, _)| [tp.x, tp.z]));
+            let blocked = poses.iter().enumerate().any(|(j, p)| {
+                let (Some(p), Some(o)) = (p, problem.objects.get(j)) else { return false };
+                j != index
+                    && j != c.target
+                    && o.height > constraints::SIGHT_LINE_M
+                    && constraints::footprint(p, o.size).meets_segment(line.0, line.1)
+            });
+            if blocked {
+                measure.satisfied = false;
+                measure.score *= 0.5;
+            }
+        }
         score += constraints::weight(c.kind) * measure.score;
         let range = (meaning.min_gap > 0.0 || meaning.max_gap.is_finite())
             .then_some((meaning.min_gap, meaning.max_gap));
@@ -443,12 +499,38 @@ pub fn measure_object(
 pub fn meaning_of(problem: &RoomProblem, k: usize, c: &ProblemConstraint) -> Meaning {
     let obj = &problem.objects[k];
     let target = problem.objects.get(c.target).map_or(Role::Other, |t| t.role);
+    // Beside its target, or one of the chairs around a table (drawn up to it).
     let beside = obj.constraints.iter().any(|d| {
         d.target == c.target
-            && matches!(d.kind, RelationKind::SideOf | RelationKind::LeftOf | RelationKind::RightOf)
+            && (matches!(
+                d.kind,
+                RelationKind::SideOf | RelationKind::LeftOf | RelationKind::RightOf
+            ) || (d.kind == RelationKind::Around
+                && obj.role == Role::Seat
+                && target == Role::Table))
     });
     let contact = beside || constraints::touch_by_nature(obj.role, target);
-    Meaning::of(c.kind, obj.role, target, contact)
+    let mut meaning = Meaning::of(c.kind, obj.role, target, contact);
+    if c.kind == RelationKind::Around && obj.role == Role::Seat && target == Role::Table {
+        meaning.ring = seat_ring(problem, c.target);
+    }
+    meaning
+}
+
+/// The seats round table `t` that the chairs `around` it share: every seat of the problem with
+/// an `around` relation to it, and the largest of them.
+pub fn seat_ring(problem: &RoomProblem, t: usize) -> Option<constraints::SeatRing> {
+    let mut seats = 0;
+    let mut seat = [0.0_f64, 0.0_f64];
+    for o in &problem.objects {
+        if o.role == Role::Seat
+            && o.constraints.iter().any(|c| c.kind == RelationKind::Around && c.target == t)
+        {
+            seats += 1;
+            seat = [seat[0].max(o.size[0]), seat[1].max(o.size[1])];
+        }
+    }
+    (seats > 0).then_some(constraints::SeatRing { seats, seat })
 }
 
 /// How many of the placed floor objects that have a use-clearance keep it free (inside the

@@ -1,7 +1,10 @@
 //! Wall objects, small objects on receptacles and the ceiling object, placed after the floor.
 
 use super::constraints::{Rect, RoomShape, Rot, WindowZone, WINDOW_ZONE_M};
-use super::{PlacedObject, Prepared, RoomLayout, RoomProblem, Unplaced, WallSegment};
+use super::surfaces::{carrier, Carrier, Surface};
+use super::{Holder, PlacedObject, Prepared, RoomLayout, RoomProblem, Unplaced, WallSegment};
+use crate::diag::Code;
+use std::collections::BTreeMap;
 
 /// Height of a wall object's bottom when none is given, metres.
 pub const DEFAULT_WALL_HEIGHT_M: f64 = 1.5;
@@ -25,18 +28,6 @@ pub const PILE_MAX_M: f64 = 0.09;
 fn flat(size: [f64; 3]) -> bool {
     let [w, d, h] = size;
     h <= FLAT_MAX_M && 3.0 * h <= w.min(d)
-}
-
-/// A pile of things on a receptacle's top, in the receptacle's frame.
-struct Pile<'p> {
-    /// What it is a pile of.
-    item: &'p str,
-    /// The centre, `(u, v)`: right and front of the receptacle's centre.
-    centre: [f64; 2],
-    /// The top thing's extent along `u` and `v`.
-    top: [f64; 2],
-    /// How high the pile is.
-    height: f64,
 }
 
 /// The walls of a problem: as given, or the outline's edges without holes.
@@ -236,136 +227,410 @@ fn place_walls(prep: &Prepared<'_>, layout: &mut RoomLayout) {
                     kind: "wall",
                     rule: None,
                     reason,
+                    code: crate::diag::Code::W0501,
                 });
             }
         }
     }
 }
 
-fn place_small(prep: &Prepared<'_>, layout: &mut RoomLayout) {
-    let problem = prep.problem;
-    let mut by_receptacle: Vec<Vec<usize>> = vec![Vec::new(); problem.objects.len()];
-    for (i, s) in problem.small_objects.iter().enumerate() {
-        match by_receptacle.get_mut(s.on) {
-            Some(v) => v.push(i),
-            None => layout.unplaced.push(Unplaced {
-                id: s.id.clone(),
-                kind: "small",
-                rule: None,
-                reason: "its receptacle is not a floor object of the room".to_string(),
-            }),
+/// A receptacle as the small objects see it: where its box stands and how it carries things.
+struct Receptacle {
+    id: String,
+    /// The centre of its box on the floor plan.
+    centre: [f64; 2],
+    rot: Rot,
+    /// The height of its bottom above the floor.
+    base_y: f64,
+    carrier: Carrier,
+}
+
+impl Receptacle {
+    fn of(prep: &Prepared<'_>, layout: &RoomLayout, on: Holder) -> Result<Receptacle, String> {
+        let problem = prep.problem;
+        match on {
+            Holder::Floor(r) => {
+                let rec =
+                    problem.objects.get(r).ok_or("its receptacle is not an object of the room")?;
+                let p = layout
+                    .floor
+                    .iter()
+                    .find(|p| p.index == r)
+                    .ok_or_else(|| format!("its receptacle `{}` is not placed", rec.id))?;
+                Ok(Receptacle {
+                    id: rec.id.clone(),
+                    centre: [p.pose.x, p.pose.z],
+                    rot: p.pose.rot,
+                    base_y: 0.0,
+                    carrier: carrier(
+                        rec.thor_type.as_deref(),
+                        [rec.size[0], rec.size[1], rec.height],
+                        SMALL_GAP_M,
+                    ),
+                })
+            }
+            Holder::Wall(w) => {
+                let rec = problem
+                    .wall_objects
+                    .get(w)
+                    .ok_or("its receptacle is not an object of the room")?;
+                let p = layout
+                    .wall
+                    .iter()
+                    .find(|p| p.id == rec.id)
+                    .ok_or_else(|| format!("its receptacle `{}` is not placed", rec.id))?;
+                Ok(Receptacle {
+                    id: rec.id.clone(),
+                    centre: [p.position_m[0], p.position_m[2]],
+                    rot: Rot::from_deg(p.rotation_deg),
+                    base_y: p.position_m[1] - rec.size[2] / 2.0,
+                    carrier: carrier(rec.thor_type.as_deref(), rec.size, SMALL_GAP_M),
+                })
+            }
         }
     }
-    let mut results: Vec<Option<PlacedObject>> = vec![None; problem.small_objects.len()];
-    let mut reasons: Vec<Option<String>> = vec![None; problem.small_objects.len()];
-    for (r, items) in by_receptacle.iter().enumerate() {
-        if items.is_empty() {
-            continue;
-        }
-        let Some(rp) = layout.floor.iter().find(|p| p.index == r) else {
-            for &i in items {
-                reasons[i] =
-                    Some(format!("its receptacle `{}` is not placed", problem.objects[r].id));
-            }
-            continue;
-        };
-        let rec = &problem.objects[r];
-        let (top_w, top_d) = (rec.size[0] - 2.0 * SMALL_GAP_M, rec.size[1] - 2.0 * SMALL_GAP_M);
-        // Largest first, stable.
-        let mut order = items.clone();
-        order.sort_by(|&a, &b| {
-            let sa = problem.small_objects[a].size;
-            let sb = problem.small_objects[b].size;
-            sb[0].max(sb[1]).total_cmp(&sa[0].max(sa[1]))
-        });
-        // Shelf packing in the receptacle's own frame: u to its right, v to its front.
-        let (mut u, mut v, mut row_d) = (0.0_f64, 0.0_f64, 0.0_f64);
-        let mut piles: Vec<Pile<'_>> = Vec::new();
-        let f = rp.pose.rot.front();
-        let rt = rp.pose.rot.right();
-        let at = |[lu, lv]: [f64; 2], y: f64, turn: f64, id: &str| PlacedObject {
+
+    /// The world pose of a point `(u, v)` of its frame (`u` to its right, `v` to its front).
+    fn at(&self, [u, v]: [f64; 2], y: f64, turn: f64, id: &str, on: Holder) -> PlacedObject {
+        let f = self.rot.front();
+        let rt = self.rot.right();
+        PlacedObject {
             id: id.to_string(),
-            position_m: [rp.pose.x + rt[0] * lu + f[0] * lv, y, rp.pose.z + rt[1] * lu + f[1] * lv],
-            rotation_deg: (rp.pose.rot.deg() + turn).rem_euclid(360.0),
-            on: Some(r),
+            position_m: [
+                self.centre[0] + rt[0] * u + f[0] * v,
+                self.base_y + y,
+                self.centre[1] + rt[1] * u + f[1] * v,
+            ],
+            rotation_deg: (self.rot.deg() + turn).rem_euclid(360.0),
+            on: Some(on),
+        }
+    }
+}
+
+/// One item set in a row of a surface: which, its extent on the surface and its turn.
+#[derive(Clone, Copy)]
+struct Set {
+    item: usize,
+    extent: [f64; 2],
+    turn: f64,
+}
+
+/// The items of one surface, row by row (back to front), and the piles on them.
+#[derive(Default)]
+struct Rows {
+    rows: Vec<Vec<Set>>,
+    /// Per pile: the item it stands on (its row and place), what it is a pile of, the top
+    /// thing's extent and the things on it with their heights above the surface.
+    piles: Vec<PileOn>,
+}
+
+struct PileOn {
+    row: usize,
+    place: usize,
+    item: String,
+    top: [f64; 2],
+    height: f64,
+    on_it: Vec<(Set, f64)>,
+}
+
+impl Rows {
+    fn width(row: &[Set]) -> f64 {
+        row.iter().map(|s| s.extent[0]).sum::<f64>()
+            + SMALL_GAP_M * row.len().saturating_sub(1) as f64
+    }
+
+    fn depth(row: &[Set]) -> f64 {
+        row.iter().map(|s| s.extent[1]).fold(0.0, f64::max)
+    }
+
+    fn depth_with(&self, extra_row: f64) -> f64 {
+        let rows = self.rows.iter().map(|r| Rows::depth(r));
+        let n = self.rows.len() + usize::from(extra_row > 0.0);
+        rows.sum::<f64>() + extra_row + SMALL_GAP_M * n.saturating_sub(1) as f64
+    }
+
+    /// Sets an item of extent `e` in the last row or a new one, if the surface has room.
+    fn try_set(&mut self, set: Set, extent: [f64; 2]) -> bool {
+        let [w, d] = extent;
+        if let Some(last) = self.rows.last() {
+            let width = Rows::width(last) + SMALL_GAP_M + set.extent[0];
+            let deeper = (set.extent[1] - Rows::depth(last)).max(0.0);
+            if width <= w + 1e-9 && self.depth_with(0.0) + deeper <= d + 1e-9 {
+                if let Some(last) = self.rows.last_mut() {
+                    last.push(set);
+                }
+                return true;
+            }
+        }
+        if set.extent[0] <= w + 1e-9 && self.depth_with(set.extent[1]) <= d + 1e-9 {
+            self.rows.push(vec![set]);
+            return true;
+        }
+        false
+    }
+}
+
+/// Places the small objects: on the surfaces of their receptacle (a mattress, a seat, the
+/// shelves of a bookcase, a table top: [`surfaces::carrier`]) in the order they are declared,
+/// row by row, then spread over each surface so that none hugs its edges; flat things of one
+/// name that find no room side by side are piled. Things on a bar (a towel holder) hang from
+/// it side by side, in layers when the bar is full.
+fn place_small(prep: &Prepared<'_>, layout: &mut RoomLayout) {
+    let problem = prep.problem;
+    let mut by_holder: BTreeMap<Holder, Vec<usize>> = BTreeMap::new();
+    let mut results: Vec<Option<PlacedObject>> = vec![None; problem.small_objects.len()];
+    let mut reasons: Vec<Option<(String, Code)>> = vec![None; problem.small_objects.len()];
+    for (i, s) in problem.small_objects.iter().enumerate() {
+        let Some(elsewhere) = &s.elsewhere else {
+            by_holder.entry(s.on).or_default().push(i);
+            continue;
         };
-        for i in order {
-            let s = &problem.small_objects[i];
-            let [w, d, h] = s.size;
-            // As it is, or turned a quarter on the top when that is what fits.
-            let turns: Vec<(f64, f64, f64)> = [(w, d, 0.0), (d, w, 90.0)]
-                .into_iter()
-                .filter(|&(sw, sd, _)| sw <= top_w + 1e-9 && sd <= top_d + 1e-9)
-                .collect();
-            if turns.is_empty() {
-                reasons[i] = Some(format!(
-                    "it is larger than the top of `{}` ({:.2} m × {:.2} m against {:.2} m × {:.2} m, either way round)",
-                    rec.id,
-                    w,
-                    d,
-                    top_w.max(0.0),
-                    top_d.max(0.0)
+        // Its receptacle may not carry it: the nearest placed one that may.
+        let from = Receptacle::of(prep, layout, s.on).ok().map(|r| r.centre);
+        let nearest = elsewhere
+            .iter()
+            .filter_map(|&h| Receptacle::of(prep, layout, h).ok().map(|r| (h, r.centre)))
+            .enumerate()
+            .min_by(|(ia, (_, a)), (ib, (_, b))| {
+                let d = |c: &[f64; 2]| from.map_or(0.0, |f| (c[0] - f[0]).hypot(c[1] - f[1]));
+                d(a).total_cmp(&d(b)).then(ia.cmp(ib))
+            })
+            .map(|(_, (h, _))| h);
+        match nearest {
+            Some(h) => {
+                by_holder.entry(h).or_default().push(i);
+                layout.moved.push((i, s.on, h));
+            }
+            None => {
+                reasons[i] = Some((
+                    format!(
+                        "people do not put it on `{}`, and no receptacle of the room that takes it is placed",
+                        super::errors::holder_name(problem, s.on)
+                    ),
+                    Code::W0506,
                 ));
+            }
+        }
+    }
+    for (&on, items) in &by_holder {
+        let rec = match Receptacle::of(prep, layout, on) {
+            Ok(r) => r,
+            Err(reason) => {
+                for &i in items {
+                    reasons[i] = Some((reason.clone(), Code::W0503));
+                }
                 continue;
             }
-            // In the current row if it fits there either way round, else in a new row.
-            let in_row =
-                turns.iter().find(|&&(sw, sd, _)| u + sw <= top_w + 1e-9 && v + sd <= top_d + 1e-9);
-            let next_v = v + row_d + SMALL_GAP_M;
-            let (sw, sd, turn) = match in_row {
-                Some(&t) => t,
-                None => match turns.iter().find(|&&(_, sd, _)| next_v + sd <= top_d + 1e-9) {
-                    Some(&t) => {
-                        u = 0.0;
-                        v = next_v;
-                        row_d = 0.0;
-                        t
-                    }
-                    None => {
-                        // No room side by side: on a pile of the same thing it fits on, if it
-                        // is flat (a book on a book), else it is left out.
-                        let pile = piles.iter().enumerate().find_map(|(n, p)| {
-                            let ok =
-                                p.item == s.item && flat(s.size) && p.height <= PILE_MAX_M + 1e-9;
-                            let fits = |&&(sw, sd, _): &&(f64, f64, f64)| {
-                                sw <= p.top[0] + 1e-9 && sd <= p.top[1] + 1e-9
-                            };
-                            ok.then(|| turns.iter().find(fits).map(|&t| (n, t))).flatten()
-                        });
-                        let Some((n, (sw, sd, turn))) = pile else {
-                            reasons[i] = Some(format!("the top of `{}` is full", rec.id));
-                            continue;
-                        };
-                        let pile = &mut piles[n];
-                        let y = rec.height + pile.height + h / 2.0;
-                        results[i] = Some(at(pile.centre, y, turn, &s.id));
-                        pile.top = [sw, sd];
-                        pile.height += h;
-                        continue;
-                    }
-                },
-            };
-            let centre = [-top_w / 2.0 + u + sw / 2.0, top_d / 2.0 - v - sd / 2.0];
-            results[i] = Some(at(centre, rec.height + h / 2.0, turn, &s.id));
-            if flat(s.size) {
-                piles.push(Pile { item: &s.item, centre, top: [sw, sd], height: h });
+        };
+        match &rec.carrier {
+            Carrier::Bar { y, length } => {
+                hang(problem, &rec, on, *y, *length, items, &mut results, &mut reasons);
             }
-            u += sw + SMALL_GAP_M;
-            row_d = row_d.max(sd);
+            Carrier::Surfaces(surfaces) => {
+                set_on_surfaces(problem, &rec, on, surfaces, items, &mut results, &mut reasons);
+            }
         }
     }
     for (i, res) in results.into_iter().enumerate() {
         match res {
             Some(p) => layout.small.push(p),
             None => {
-                if let Some(reason) = reasons[i].take() {
+                if let Some((reason, code)) = reasons[i].take() {
                     layout.unplaced.push(Unplaced {
                         id: problem.small_objects[i].id.clone(),
                         kind: "small",
                         rule: None,
                         reason,
+                        code,
                     });
                 }
+            }
+        }
+    }
+}
+
+/// The most layers of things hung on one bar (three towels over each other).
+const MAX_BAR_LAYERS: usize = 3;
+
+#[allow(clippy::too_many_arguments)]
+fn hang(
+    problem: &RoomProblem,
+    rec: &Receptacle,
+    on: Holder,
+    bar_y: f64,
+    length: f64,
+    items: &[usize],
+    results: &mut [Option<PlacedObject>],
+    reasons: &mut [Option<(String, Code)>],
+) {
+    // Layers of things side by side along the bar.
+    let mut layers: Vec<Vec<usize>> = Vec::new();
+    for &i in items {
+        let w = problem.small_objects[i].size[0];
+        let fits = |layer: &Vec<usize>| {
+            let used: f64 = layer.iter().map(|&j| problem.small_objects[j].size[0]).sum();
+            layer.is_empty() || used + w <= length + 1e-9
+        };
+        match layers.iter().position(fits) {
+            Some(l) => layers[l].push(i),
+            None if layers.len() < MAX_BAR_LAYERS => layers.push(vec![i]),
+            None => {
+                reasons[i] = Some((
+                    format!("the bar of `{}` is full ({MAX_BAR_LAYERS} layers)", rec.id),
+                    Code::W0501,
+                ));
+            }
+        }
+    }
+    let mut v = 0.0;
+    for layer in &layers {
+        let widths: f64 = layer.iter().map(|&j| problem.small_objects[j].size[0]).sum();
+        let gap = ((length - widths) / (layer.len() + 1) as f64).max(0.0);
+        let start = if widths > length { -widths / 2.0 } else { -length / 2.0 + gap };
+        let mut u = start;
+        let mut depth: f64 = 0.0;
+        for &j in layer {
+            let [w, d, h] = problem.small_objects[j].size;
+            // Hung over the bar: its top at the bar, never below the floor.
+            let y = (bar_y - h / 2.0).max(h / 2.0 - rec.base_y + 0.01);
+            results[j] = Some(rec.at([u + w / 2.0, v], y, 0.0, &problem.small_objects[j].id, on));
+            u += w + gap;
+            depth = depth.max(d);
+        }
+        v += depth;
+    }
+}
+
+#[allow(clippy::too_many_arguments)]
+fn set_on_surfaces(
+    problem: &RoomProblem,
+    rec: &Receptacle,
+    on: Holder,
+    surfaces: &[Surface],
+    items: &[usize],
+    results: &mut [Option<PlacedObject>],
+    reasons: &mut [Option<(String, Code)>],
+) {
+    let mut rows: Vec<Rows> = surfaces.iter().map(|_| Rows::default()).collect();
+    for &i in items {
+        let s = &problem.small_objects[i];
+        let [w, d, h] = s.size;
+        // The surface it is set on by itself (it may carry a pile), or `usize::MAX` on a pile.
+        let mut set: Option<usize> = None;
+        let mut too_big = true;
+        for (n, surface) in surfaces.iter().enumerate() {
+            if h > surface.headroom + 1e-9 {
+                continue;
+            }
+            let extent = surface.extent();
+            // As it is, or turned a quarter on the surface when that is what fits.
+            let turns: Vec<Set> = [([w, d], 0.0), ([d, w], 90.0)]
+                .into_iter()
+                .filter(|&([sw, sd], _)| sw <= extent[0] + 1e-9 && sd <= extent[1] + 1e-9)
+                .map(|(e, turn)| Set { item: i, extent: e, turn })
+                .collect();
+            if turns.is_empty() {
+                continue;
+            }
+            too_big = false;
+            if turns.iter().any(|&t| rows[n].try_set(t, extent)) {
+                set = Some(n);
+                break;
+            }
+            // No room side by side: on a pile of the same thing it fits on, if it is flat (a
+            // book on a book).
+            let pile = rows[n].piles.iter().position(|p| {
+                p.item == s.item
+                    && flat(s.size)
+                    && p.height <= PILE_MAX_M + 1e-9
+                    && p.height + h <= surface.headroom + 1e-9
+                    && turns
+                        .iter()
+                        .any(|t| t.extent[0] <= p.top[0] + 1e-9 && t.extent[1] <= p.top[1] + 1e-9)
+            });
+            if let Some(k) = pile {
+                let p = &mut rows[n].piles[k];
+                let Some(&t) = turns
+                    .iter()
+                    .find(|t| t.extent[0] <= p.top[0] + 1e-9 && t.extent[1] <= p.top[1] + 1e-9)
+                else {
+                    continue;
+                };
+                p.on_it.push((t, p.height));
+                p.top = t.extent;
+                p.height += h;
+                set = Some(usize::MAX);
+                break;
+            }
+        }
+        let Some(n) = set else {
+            let reason = if too_big {
+                format!(
+                    "it is larger than every surface of `{}` ({w:.2} m × {d:.2} m × {h:.2} m, either way round)",
+                    rec.id
+                )
+            } else {
+                format!("the top of `{}` is full", rec.id)
+            };
+            reasons[i] = Some((reason, Code::W0501));
+            continue;
+        };
+        // A flat thing set on its own, in the last row, may carry a pile later.
+        if let Some(r) = rows.get_mut(n).filter(|_| flat(s.size)) {
+            let row = r.rows.len() - 1;
+            let place = r.rows[row].len() - 1;
+            let top = r.rows[row][place].extent;
+            r.piles.push(PileOn {
+                row,
+                place,
+                item: s.item.clone(),
+                top,
+                height: h,
+                on_it: Vec::new(),
+            });
+        }
+    }
+    // Spread: the rows over the surface's depth from its back (or against its back), the
+    // things of a row over its width, the gaps equal.
+    for (surface, r) in surfaces.iter().zip(&rows) {
+        let [width, depth] = surface.extent();
+        let [u0, _, v0, _] = surface.area;
+        let used = r.depth_with(0.0);
+        let gap_v = if surface.against_back {
+            0.0
+        } else {
+            ((depth - used) / (r.rows.len() + 1) as f64).max(0.0)
+        };
+        let mut v = v0 + gap_v;
+        let mut centres: Vec<Vec<[f64; 2]>> = Vec::with_capacity(r.rows.len());
+        for row in &r.rows {
+            let row_depth = Rows::depth(row);
+            let widths: f64 = row.iter().map(|x| x.extent[0]).sum();
+            let gap_u = ((width - widths) / (row.len() + 1) as f64).max(0.0);
+            let mut u = u0 + gap_u;
+            let mut line = Vec::with_capacity(row.len());
+            for x in row {
+                // Against the back, things stand at the back of their row; else centred on it.
+                let vc =
+                    if surface.against_back { v + x.extent[1] / 2.0 } else { v + row_depth / 2.0 };
+                line.push([u + x.extent[0] / 2.0, vc]);
+                u += x.extent[0] + gap_u;
+            }
+            centres.push(line);
+            v += row_depth + SMALL_GAP_M + gap_v;
+        }
+        for (row, line) in r.rows.iter().zip(&centres) {
+            for (x, &c) in row.iter().zip(line) {
+                let s = &problem.small_objects[x.item];
+                results[x.item] = Some(rec.at(c, surface.y + s.size[2] / 2.0, x.turn, &s.id, on));
+            }
+        }
+        for p in &r.piles {
+            let c = centres[p.row][p.place];
+            for (t, below) in &p.on_it {
+                let s = &problem.small_objects[t.item];
+                let y = surface.y + below + s.size[2] / 2.0;
+                results[t.item] = Some(rec.at(c, y, t.turn, &s.id, on));
             }
         }
     }

@@ -3,8 +3,10 @@
 //! the objects of the house.
 //!
 //! Objects whose asset could not be resolved are left out of the problems (the resolve stage has
-//! reported them), so they take no space and constraints naming them are dropped.
+//! reported them), so they take no space; an object that exists for one of them (a chair at a
+//! missing table) follows it, and any other relation naming one is given up (W0505).
 
+use super::scene::item_ids;
 use super::{room_problem, RoomLayout, RoomProblem, Sizes, SolveOptions, WallHole, WallSegment};
 use crate::check::scene::{ObjectId, RelationKind, RoomId, Scene, SmallItem};
 use crate::diag::Outcome;
@@ -33,6 +35,8 @@ pub struct SolvedRoom {
     pub wall_ids: Vec<ObjectId>,
     /// For each small object of the problem: the receptacle, the `on top` line and the copy.
     pub small_keys: Vec<(ObjectId, usize, u32)>,
+    /// Relations of placed objects given up because their target is left out.
+    pub given_up: Vec<GivenUp>,
 }
 
 /// Sizes from the resolved assets: `[width, depth, height]` = the bounding box's `(x, z, y)`.
@@ -69,6 +73,10 @@ impl Sizes for ResolvedSizes<'_> {
         [0.2, 0.2, 0.2]
     }
 
+    fn thor_type(&self, object: &crate::check::scene::Object) -> Option<String> {
+        self.resolved.object(object.id).map(|c| c.object_type.clone())
+    }
+
     fn ceiling(&self, room: RoomId) -> [f64; 3] {
         self.resolved
             .ceilings
@@ -78,44 +86,79 @@ impl Sizes for ResolvedSizes<'_> {
     }
 }
 
+/// A relation given up because its target is left out: the object is placed by its other
+/// relations and its room (W0505).
+#[derive(Clone, Debug, PartialEq)]
+pub struct GivenUp {
+    /// The object that keeps its place, e.g. `kitchen_island-0`.
+    pub object: String,
+    /// The relation as written, e.g. `in front of stove-0`.
+    pub relation: String,
+    /// Why: the target is left out.
+    pub reason: String,
+}
+
+/// Whether target `t` is the reason `o` is there at all: a seat at a table, desk or anything
+/// else one sits at (`around`, `in front of`, `behind` it), but not a seat that only looks at a
+/// screen or stands by a sofa or bed. Such an object leaves with its target; any other object
+/// stays and gives up the relation.
+fn reason_to_be(
+    o: &crate::check::scene::Object,
+    kind: RelationKind,
+    t: &crate::check::scene::Object,
+) -> bool {
+    use super::Role;
+    let seat = Role::of(&o.category) == Role::Seat;
+    let at = matches!(kind, RelationKind::Around | RelationKind::InFrontOf | RelationKind::Behind);
+    let looked_at =
+        matches!(Role::of(&t.category), Role::Screen | Role::Sofa | Role::Bed | Role::Seat);
+    seat && at && !looked_at
+}
+
 /// Solves every room of the scene.
+///
+/// Every object the scene asks for ends in the layout (placed) or in its room's
+/// [`RoomLayout::unplaced`] with the reason and the code of the diagnostic that says so: no
+/// asset (W0401), no pose (W0501), left out with the target it exists for or the receptacle
+/// it stands on (W0503), beyond the room's limit (W0504). Ceiling lights that the room's light
+/// serves are counted apart.
 pub fn solve(
     scene: &Scene,
     plan: &FloorPlan,
     resolved: &Resolved,
     options: &SolveOptions,
 ) -> Outcome<Layout> {
+    use crate::check::scene::Placement;
+    use crate::diag::Code;
     // The scene without the objects that have no asset.
     let mut kept = scene.clone();
+    let mut no_asset: Vec<(RoomId, ObjectId)> = Vec::new();
     for room in &mut kept.rooms {
-        room.objects.retain(|id| resolved.object(*id).is_some());
+        room.objects.retain(|id| {
+            let has = resolved.object(*id).is_some();
+            if !has {
+                no_asset.push((room.id, *id));
+            }
+            has
+        });
     }
-    // Objects whose every relation names an object left out follow it out (chairs around a
-    // table that has no asset are not placed around nothing); the chain is followed.
-    let mut dependents: Vec<(RoomId, String, String)> = Vec::new();
+    // Objects whose reason to be is left out follow it (chairs around a table that has no
+    // asset are not placed around nothing); the chain is followed. Any other relation to an
+    // object left out is given up and the object stays.
+    let mut dependents: Vec<(RoomId, ObjectId, String)> = Vec::new();
     loop {
         let mut dropped = Vec::new();
         for room in &kept.rooms {
             for &id in &room.objects {
-                let crate::check::scene::Placement::Floor { constraints, .. } =
-                    &kept.object(id).placement
-                else {
-                    continue;
-                };
-                // Only relations that place an object by the target's position make it depend
-                // on the target (`around`, `in front of`, `near`…); a sofa that faces a missing
-                // piano still stands against its wall.
-                let positional = constraints.iter().any(|c| {
-                    !matches!(
-                        c.kind,
-                        RelationKind::Far
-                            | RelationKind::FaceTo
-                            | RelationKind::FaceSameAs
-                            | RelationKind::CenterAligned
-                    )
-                });
-                if positional && constraints.iter().all(|c| !room.objects.contains(&c.target)) {
-                    let targets: Vec<String> = constraints
+                let o = kept.object(id);
+                let Placement::Floor { constraints, .. } = &o.placement else { continue };
+                let reasons: Vec<&crate::check::scene::Constraint> = constraints
+                    .iter()
+                    .filter(|c| reason_to_be(o, c.kind, scene.object(c.target)))
+                    .collect();
+                if !reasons.is_empty() && reasons.iter().all(|c| !room.objects.contains(&c.target))
+                {
+                    let targets: Vec<String> = reasons
                         .iter()
                         .map(|c| format!("`{}`", scene.object(c.target).name))
                         .collect::<std::collections::BTreeSet<_>>()
@@ -130,7 +173,24 @@ pub fn solve(
         }
         for (room, id, targets) in dropped {
             kept.rooms[room.0].objects.retain(|o| *o != id);
-            dependents.push((room, kept.object(id).name.clone(), targets));
+            dependents.push((room, id, targets));
+        }
+    }
+    // Relations of the objects that stay to objects left out: given up, and said.
+    let mut given_up: Vec<(RoomId, GivenUp)> = Vec::new();
+    let mut diagnostics = Vec::new();
+    for room in &kept.rooms {
+        for &id in &room.objects {
+            let o = kept.object(id);
+            let Placement::Floor { constraints, .. } = &o.placement else { continue };
+            for c in constraints.iter().filter(|c| !room.objects.contains(&c.target)) {
+                let target = &scene.object(c.target).name;
+                let relation = format!("{} {target}", c.kind.as_str());
+                let reason = format!("`{target}` is left out");
+                diagnostics
+                    .push(super::errors::relation_given_up(&o.name, &relation, &reason, c.span));
+                given_up.push((room.id, GivenUp { object: o.name.clone(), relation, reason }));
+            }
         }
     }
     // Floor objects beyond the room limit, in placement order, are left out.
@@ -143,7 +203,6 @@ pub fn solve(
         kept.rooms[room.0].objects.retain(|o| *o != id);
     }
     let sizes = ResolvedSizes { scene: &kept, resolved };
-    let mut diagnostics = Vec::new();
     let mut rooms = Vec::new();
     for room in &kept.rooms {
         let plan_room = plan.room(room.id);
@@ -185,16 +244,17 @@ pub fn solve(
             room.objects.iter().copied().filter(|id| kept.object(*id).is_floor()).collect();
         let wall_ids: Vec<ObjectId> =
             room.objects.iter().copied().filter(|id| !kept.object(*id).is_floor()).collect();
+        // The items on top, in the problem's order: object by object as the room lists them
+        // (floor and wall objects alike), line by line, copy by copy.
         let mut small_keys = Vec::new();
-        for &id in &floor_ids {
-            for (k, item) in kept.object(id).on_top.iter().enumerate() {
-                for i in 0..item.count {
-                    small_keys.push((id, k, i));
-                }
+        for &id in &room.objects {
+            for (_, k, copy) in item_ids(kept.object(id)) {
+                small_keys.push((id, k, copy));
             }
         }
         // Each copy of a small object has its own asset, hence its own size; a copy without an
-        // asset (reported by resolve, W0401) takes no room on its receptacle.
+        // asset (reported by resolve, W0401) takes no room on its receptacle and is listed as
+        // left out.
         let choice = |&(receptacle, line, copy): &(ObjectId, usize, u32)| {
             resolved
                 .small
@@ -203,10 +263,17 @@ pub fn solve(
                 .and_then(Resolution::choice)
         };
         let has_asset: Vec<bool> = small_keys.iter().map(|k| choice(k).is_some()).collect();
+        let mut without_asset: Vec<(String, (ObjectId, usize, u32))> = Vec::new();
         let mut n = 0;
-        problem.small_objects.retain(|_| {
+        problem.small_objects.retain(|s| {
             n += 1;
-            has_asset.get(n - 1).copied().unwrap_or(false)
+            let keep = has_asset.get(n - 1).copied().unwrap_or(false);
+            if !keep {
+                if let Some(&key) = small_keys.get(n - 1) {
+                    without_asset.push((s.id.clone(), key));
+                }
+            }
+            keep
         });
         small_keys.retain(|k| choice(k).is_some());
         for (small, key) in problem.small_objects.iter_mut().zip(&small_keys) {
@@ -220,27 +287,64 @@ pub fn solve(
         };
         let mut solved = super::solve_room(&problem, &room_options);
         diagnostics.extend(solved.diagnostics);
-        for (_, name, targets) in dependents.iter().filter(|(r, ..)| *r == room.id) {
-            let u = super::Unplaced {
-                id: name.clone(),
-                kind: "floor",
-                rule: None,
-                reason: format!("every relation of `{name}` names {targets}, which is left out"),
-            };
-            let object = scene.objects.iter().find(|o| o.name == *name);
-            diagnostics.push(super::errors::dependent_left_out(&u, object.map(|o| o.name_span)));
-            solved.value.unplaced.push(u);
-            // What stands on it goes with it.
-            for item in object.map(|o| o.on_top.as_slice()).unwrap_or_default() {
-                for i in 0..item.count {
-                    solved.value.unplaced.push(super::Unplaced {
-                        id: format!("{}-{i}|{name}", item.item),
-                        kind: "small",
-                        rule: None,
-                        reason: format!("its receptacle `{name}` is left out"),
-                    });
-                }
+        let unplaced = &mut solved.value.unplaced;
+        let left_out = |id: String, kind: &'static str, reason: String, code: Code| {
+            super::Unplaced { id, kind, rule: None, reason, code }
+        };
+        let kind_of = |o: &crate::check::scene::Object| if o.is_floor() { "floor" } else { "wall" };
+        // What stands on an object that is left out goes with it.
+        let items_follow = |o: &crate::check::scene::Object,
+                            unplaced: &mut Vec<super::Unplaced>| {
+            for (id, ..) in item_ids(o) {
+                unplaced.push(left_out(
+                    id,
+                    "small",
+                    format!("its receptacle `{}` is left out", o.name),
+                    Code::W0503,
+                ));
             }
+        };
+        // Why resolve found no asset, in its words.
+        let why = |r: Option<&Resolution>| match r {
+            Some(Resolution::Unresolved(u)) => u.reason.clone(),
+            _ => "no catalog asset matches it well enough".to_string(),
+        };
+        for &(_, id) in no_asset.iter().filter(|(r, _)| *r == room.id) {
+            let o = scene.object(id);
+            unplaced.push(left_out(
+                o.name.clone(),
+                kind_of(o),
+                why(resolved.objects.get(id.0)),
+                Code::W0401,
+            ));
+            items_follow(o, unplaced);
+        }
+        for (id, (receptacle, line, copy)) in without_asset {
+            let r = resolved.small.get(&(receptacle, line)).and_then(|v| v.get(copy as usize));
+            unplaced.push(left_out(id, "small", why(r), Code::W0401));
+        }
+        if room.ceiling.is_some()
+            && problem.ceiling.is_none()
+            && !resolved.ceiling_lights.contains_key(&room.id)
+        {
+            unplaced.push(left_out(
+                format!("ceiling ({})", room.name),
+                "ceiling",
+                why(resolved.ceilings.get(&room.id)),
+                Code::W0401,
+            ));
+        }
+        for (_, id, targets) in dependents.iter().filter(|(r, ..)| *r == room.id) {
+            let o = scene.object(*id);
+            let u = left_out(
+                o.name.clone(),
+                "floor",
+                format!("`{}` is there for {targets}, which is left out", o.name),
+                Code::W0503,
+            );
+            diagnostics.push(super::errors::dependent_left_out(&u, Some(o.name_span)));
+            unplaced.push(u);
+            items_follow(o, unplaced);
         }
         let beyond: Vec<ObjectId> =
             over_limit.iter().filter(|(r, _)| *r == room.id).map(|&(_, id)| id).collect();
@@ -248,7 +352,7 @@ pub fn solve(
             let object = scene.object(first);
             diagnostics.push(
                 crate::diag::Diagnostic::new(
-                    crate::diag::Code::W0504,
+                    Code::W0504,
                     format!(
                         "room `{}` has {} floor objects; the {} after the first {} are left out",
                         room.name,
@@ -262,25 +366,16 @@ pub fn solve(
             );
             for &id in &beyond {
                 let o = scene.object(id);
-                solved.value.unplaced.push(super::Unplaced {
-                    id: o.name.clone(),
-                    kind: "floor",
-                    rule: None,
-                    reason: format!(
+                unplaced.push(left_out(
+                    o.name.clone(),
+                    "floor",
+                    format!(
                         "the room holds more than {} floor objects",
                         super::MAX_FLOOR_OBJECTS_PER_ROOM
                     ),
-                });
-                for item in &o.on_top {
-                    for i in 0..item.count {
-                        solved.value.unplaced.push(super::Unplaced {
-                            id: format!("{}-{i}|{}", item.item, o.name),
-                            kind: "small",
-                            rule: None,
-                            reason: format!("its receptacle `{}` is left out", o.name),
-                        });
-                    }
-                }
+                    Code::W0504,
+                ));
+                items_follow(o, unplaced);
             }
         }
         rooms.push(SolvedRoom {
@@ -290,6 +385,11 @@ pub fn solve(
             floor_ids,
             wall_ids,
             small_keys,
+            given_up: given_up
+                .iter()
+                .filter(|(r, _)| *r == room.id)
+                .map(|(_, g)| g.clone())
+                .collect(),
         });
     }
     Outcome::new(Layout { rooms }, diagnostics)

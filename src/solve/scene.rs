@@ -5,8 +5,8 @@
 //! walls they have and a function that gives every object's size.
 
 use super::{
-    CeilingObject, FloorObject, Pose, ProblemConstraint, RoomProblem, Rot, SmallObject, WallObject,
-    WallSegment,
+    CeilingObject, FloorObject, Holder, Pose, ProblemConstraint, RoomProblem, Rot, SmallObject,
+    WallObject, WallSegment,
 };
 use crate::check::scene::{GlobalKind, Object, ObjectId, Placement, RoomId, Scene, SmallItem};
 
@@ -18,6 +18,10 @@ pub trait Sizes {
     fn small(&self, item: &SmallItem) -> [f64; 3];
     /// The size of the room's ceiling object.
     fn ceiling(&self, room: RoomId) -> [f64; 3];
+    /// The AI2-THOR object type of a floor or wall object's asset, when one is chosen.
+    fn thor_type(&self, _object: &Object) -> Option<String> {
+        None
+    }
 }
 
 /// Sizes from the scene alone: the written `size`, else 0.5 m × 0.5 m × 0.5 m; small objects
@@ -83,36 +87,24 @@ pub fn room_problem(
                         })
                         .collect(),
                     pin,
+                    thor_type: sizes.thor_type(o),
                     span: Some(o.name_span),
                 });
-                let on = objects.len() - 1;
-                // Instances are numbered per item over every `on top` line of the receptacle,
-                // so two lines naming the same item (an answer that repeats one) never give
-                // two objects one id.
-                let mut next: std::collections::BTreeMap<&str, u32> =
-                    std::collections::BTreeMap::new();
-                for item in &o.on_top {
-                    for _ in 0..item.count {
-                        let n = next.entry(item.item.as_str()).or_insert(0);
-                        let i = *n;
-                        *n += 1;
-                        small_objects.push(SmallObject {
-                            id: format!("{}-{i}|{}", item.item, o.name),
-                            item: item.item.clone(),
-                            size: sizes.small(item),
-                            on,
-                            span: Some(item.span),
-                        });
-                    }
-                }
+                let on = Holder::Floor(objects.len() - 1);
+                small_objects.extend(items_on(o, on, sizes));
             }
-            Placement::Wall { above, height_m } => wall_objects.push(WallObject {
-                id: o.name.clone(),
-                size,
-                above: above.and_then(|(t, _)| index_of(t)),
-                height_m: *height_m,
-                span: Some(o.name_span),
-            }),
+            Placement::Wall { above, height_m } => {
+                wall_objects.push(WallObject {
+                    id: o.name.clone(),
+                    size,
+                    above: above.and_then(|(t, _)| index_of(t)),
+                    height_m: *height_m,
+                    thor_type: sizes.thor_type(o),
+                    span: Some(o.name_span),
+                });
+                let on = Holder::Wall(wall_objects.len() - 1);
+                small_objects.extend(items_on(o, on, sizes));
+            }
         }
     }
     RoomProblem {
@@ -132,4 +124,39 @@ pub fn room_problem(
         }),
         span: Some(r.name_span),
     }
+}
+
+/// The ids the layout gives the copies of the items on top of an object (`book-0|shelf-0`),
+/// with the `on top` line and the copy of each. Instances are numbered per item over every
+/// line of the receptacle, so two lines naming the same item (an answer that repeats one)
+/// never give two objects one id.
+pub(crate) fn item_ids(o: &Object) -> Vec<(String, usize, u32)> {
+    let mut next: std::collections::BTreeMap<&str, u32> = std::collections::BTreeMap::new();
+    let mut out = Vec::new();
+    for (k, item) in o.on_top.iter().enumerate() {
+        for copy in 0..item.count {
+            let n = next.entry(item.item.as_str()).or_insert(0);
+            out.push((format!("{}-{n}|{}", item.item, o.name), k, copy));
+            *n += 1;
+        }
+    }
+    out
+}
+
+/// The copies of the items on top of object `o`, held by `on`.
+fn items_on(o: &Object, on: Holder, sizes: &dyn Sizes) -> Vec<SmallObject> {
+    item_ids(o)
+        .into_iter()
+        .map(|(id, k, _)| {
+            let item = &o.on_top[k];
+            SmallObject {
+                id,
+                item: item.item.clone(),
+                size: sizes.small(item),
+                on,
+                elsewhere: None,
+                span: Some(item.span),
+            }
+        })
+        .collect()
 }

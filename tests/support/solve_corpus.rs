@@ -122,6 +122,7 @@ pub fn load(path: &Path) -> RoomProblem {
                 })
                 .collect(),
             pin: None,
+            thor_type: None,
             span: None,
         })
         .collect();
@@ -144,6 +145,7 @@ pub fn load(path: &Path) -> RoomProblem {
                 size: w.size,
                 above: w.above.as_deref().map(index),
                 height_m: w.height,
+                thor_type: None,
                 span: None,
             })
             .collect(),
@@ -160,7 +162,8 @@ pub fn load(path: &Path) -> RoomProblem {
                     .and_then(|name| name.rsplit_once('-'))
                     .map_or_else(|| s.id.clone(), |(item, _)| item.to_string()),
                 size: s.size,
-                on: index(&s.on),
+                on: holoc::solve::Holder::Floor(index(&s.on)),
+                elsewhere: None,
                 span: None,
             })
             .collect(),

@@ -1,0 +1,190 @@
+//! Scene fidelity: whether each example's house is the scene that was asked for.
+//!
+//! `cargo bench --bench fidelity_bench` builds every example (`examples/*.holo`, or the files
+//! named on the command line) and prints a table: objects asked, placed and left out with a
+//! reason (they must add up), the spread of chairs `around` a table (the most and fewest chairs
+//! on a side), each screen's viewing distance and angle to the seats it faces, things on a
+//! receptacle that ProcTHOR never puts there, things resting on a surface of their receptacle,
+//! wall colours asked and written, and the solve time of the slowest room.
+
+// The table is the point of this binary: it prints to stdout on purpose.
+#![allow(clippy::print_stdout)]
+
+use holoc::check::scene::RelationKind;
+use holoc::compile::{build, BuildOptions, Built};
+use holoc::resolve::Catalog;
+use holoc::solve::surfaces::{carrier, Carrier};
+use holoc::solve::{self, Holder, Role, SolveOptions};
+use holoc::source::SourceMap;
+use std::path::PathBuf;
+use std::time::Instant;
+
+fn scenes() -> Vec<PathBuf> {
+    let named: Vec<PathBuf> =
+        std::env::args().skip(1).filter(|a| a.ends_with(".holo")).map(PathBuf::from).collect();
+    if !named.is_empty() {
+        return named;
+    }
+    let mut out: Vec<PathBuf> = std::fs::read_dir("examples")
+        .expect("examples folder")
+        .flatten()
+        .map(|e| e.path())
+        .filter(|p| p.extension().is_some_and(|e| e == "holo"))
+        .collect();
+    out.sort();
+    out
+}
+
+/// The most and fewest chairs on a side of each table with chairs `around` it, as `max–min`.
+fn around_spread(built: &Built) -> Vec<String> {
+    let mut out = Vec::new();
+    for solved in &built.layout.rooms {
+        let p = &solved.problem;
+        for (t, table) in p.objects.iter().enumerate() {
+            let Some(tp) = solved.layout.floor.iter().find(|f| f.index == t) else { continue };
+            let chairs: Vec<&solve::PlacedFloor> = solved
+                .layout
+                .floor
+                .iter()
+                .filter(|f| {
+                    p.objects[f.index]
+                        .constraints
+                        .iter()
+                        .any(|c| c.kind == RelationKind::Around && c.target == t)
+                })
+                .collect();
+            if chairs.is_empty() {
+                continue;
+            }
+            // The side of the table each chair is on: the axis its centre lies furthest along.
+            let mut sides = [0usize; 4];
+            for c in &chairs {
+                let (dx, dz) = (c.pose.x - tp.pose.x, c.pose.z - tp.pose.z);
+                let fp = tp.footprint;
+                let (hx, hz) = (fp.width() / 2.0, fp.depth() / 2.0);
+                let side = if (dx.abs() - hx) > (dz.abs() - hz) {
+                    usize::from(dx > 0.0)
+                } else {
+                    2 + usize::from(dz > 0.0)
+                };
+                sides[side] += 1;
+            }
+            let max = sides.iter().max().copied().unwrap_or(0);
+            let min = sides.iter().min().copied().unwrap_or(0);
+            out.push(format!("{}: {} chairs, {max}–{min} a side", table.id, chairs.len()));
+        }
+    }
+    out
+}
+
+/// Each screen's distance (gap, metres) and angle (degrees) to the seats it faces.
+fn viewing(built: &Built) -> Vec<String> {
+    let mut out = Vec::new();
+    for solved in &built.layout.rooms {
+        let p = &solved.problem;
+        for placed in &solved.layout.floor {
+            let o = &p.objects[placed.index];
+            for (c, report) in o.constraints.iter().zip(placed.constraints.iter().skip(1)) {
+                let target = &p.objects[c.target];
+                let screen_pair = (o.role == Role::Screen) != (target.role == Role::Screen);
+                if c.kind != RelationKind::FaceTo || !screen_pair {
+                    continue;
+                }
+                let Some(tp) = solved.layout.floor.iter().find(|f| f.index == c.target) else {
+                    continue;
+                };
+                out.push(format!(
+                    "{}→{}: {:.1} m, {:.0}°{}",
+                    o.id,
+                    target.id,
+                    placed.footprint.gap(&tp.footprint),
+                    report.measure.value,
+                    if report.measure.satisfied { "" } else { " (not kept)" }
+                ));
+            }
+        }
+    }
+    out
+}
+
+/// Things on top: how many rest on a surface of their receptacle (or on a pile on one), of
+/// how many.
+fn resting(built: &Built) -> (usize, usize) {
+    let (mut ok, mut total) = (0, 0);
+    for solved in &built.layout.rooms {
+        let p = &solved.problem;
+        for placed in &solved.layout.small {
+            let Some(s) = p.small_objects.iter().find(|s| s.id == placed.id) else { continue };
+            let (base, thor, size) = match placed.on {
+                Some(Holder::Floor(i)) => {
+                    let o = &p.objects[i];
+                    (0.0, o.thor_type.clone(), [o.size[0], o.size[1], o.height])
+                }
+                Some(Holder::Wall(i)) => {
+                    let o = &p.wall_objects[i];
+                    let Some(w) = solved.layout.wall.iter().find(|w| w.id == o.id) else {
+                        continue;
+                    };
+                    (w.position_m[1] - o.size[2] / 2.0, o.thor_type.clone(), o.size)
+                }
+                None => continue,
+            };
+            total += 1;
+            let bottom = placed.position_m[1] - s.size[2] / 2.0 - base;
+            let on = match carrier(thor.as_deref(), size, solve::SMALL_GAP_M) {
+                Carrier::Bar { y, .. } => {
+                    (placed.position_m[1] + s.size[2] / 2.0 - base - y).abs() < 0.02
+                        || bottom.abs() < 0.02
+                }
+                Carrier::Surfaces(list) => list
+                    .iter()
+                    .any(|x| bottom >= x.y - 1e-3 && bottom <= x.y + solve::PILE_MAX_M + 1e-3),
+            };
+            ok += usize::from(on);
+        }
+    }
+    (ok, total)
+}
+
+fn main() {
+    let catalog = Catalog::embedded();
+    println!(
+        "| scene | asked | placed | left out (reported) | around: chairs a side (most–fewest) | screens: distance, angle | resting on a surface | slowest room ms |"
+    );
+    println!("|---|---|---|---|---|---|---|---|");
+    for path in scenes() {
+        let mut sources = SourceMap::new();
+        let Ok(text) = std::fs::read_to_string(&path) else { continue };
+        let id = sources.add(path.display().to_string(), text);
+        let options = BuildOptions::new(&catalog);
+        let Some(built) = build(&sources, id, &options).value else {
+            println!("| {} | does not build | | | | | | |", path.display());
+            continue;
+        };
+        let summary = holoc::report::Summary::of(&built);
+        let reported: usize = built.layout.rooms.iter().map(|r| r.layout.unplaced.len()).sum();
+        let slowest = built
+            .layout
+            .rooms
+            .iter()
+            .map(|r| {
+                let t = Instant::now();
+                let _ = solve::solve_room(&r.problem, &SolveOptions::default());
+                t.elapsed().as_secs_f64() * 1000.0
+            })
+            .fold(0.0, f64::max);
+        let (rest_ok, rest_total) = resting(&built);
+        let spread = around_spread(&built);
+        let views = viewing(&built);
+        println!(
+            "| {} | {} | {} | {}{} | {} | {} | {rest_ok}/{rest_total} | {slowest:.1} |",
+            path.file_stem().map(|s| s.to_string_lossy()).unwrap_or_default(),
+            summary.asked,
+            summary.placed,
+            reported,
+            if summary.asked == summary.placed + reported { "" } else { " (does not add up)" },
+            if spread.is_empty() { "–".to_string() } else { spread.join("; ") },
+            if views.is_empty() { "–".to_string() } else { views.join("; ") },
+        );
+    }
+}
