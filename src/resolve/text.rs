@@ -475,6 +475,16 @@ pub(crate) fn is_attribute(word: &str) -> bool {
     ATTRIBUTE_WORDS.contains(&word)
 }
 
+/// Head words that name a material, so that a thing named by one alone is not the thing a
+/// compound names: `papers` (documents) are not `toilet paper`, `foil` is no kind of thing.
+const MATERIAL_HEADS: [&str; 2] = ["paper", "foil"];
+
+/// Whether a (normalized) head word names a material: an asset whose category says which
+/// thing of that material it is (`toilet paper`) matches only a query that says so too.
+pub(crate) fn is_material_head(word: &str) -> bool {
+    MATERIAL_HEADS.contains(&word)
+}
+
 /// Whether a (normalized) head word is too general to match alone.
 pub(crate) fn is_generic_head(word: &str) -> bool {
     GENERIC_HEADS.contains(&word)
