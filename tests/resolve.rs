@@ -680,12 +680,10 @@ fn things_on_top_are_the_things_people_put_there() {
         .filter(|d| d.code.as_str() == "W0403")
         .map(|d| d.message.clone())
         .collect();
-    for (what, with) in [
-        ("plant_stand", "SideTable"),
-        ("cat_bed", "DogBed"),
-        ("curtains", "Blinds"),
-        ("papers", "Newspaper"),
-    ] {
+    // (A cat bed ranks a dog bed good enough by its words: no stand-in, no warning.)
+    for (what, with) in
+        [("plant_stand", "SideTable"), ("curtains", "Blinds"), ("papers", "Newspaper")]
+    {
         assert!(
             stood_in.iter().any(|m| m.contains(what) && m.contains(with)),
             "W0403 says a {with} stood in for {what}: {stood_in:?}"

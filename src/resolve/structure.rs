@@ -546,10 +546,14 @@ impl StructureCatalog {
                     _ => 0.0,
                 };
                 let words = overlap_score(&query, &m.words) + shade;
+                // A wall of paint is a near-white paint (kind paint or none), `PureWhite` most:
+                // then the colour asked is always written. Elsewhere a near-white material of
+                // the kind is the next best after one that is the colour.
+                let paint_kind = own.iter().all(|k| *k == "paint");
                 let tint = match (&color, m.is_tintable()) {
-                    (Some(_), true) if paint && m.name == PAINT_MATERIAL => 1.2,
-                    (Some(_), true) if paint => 0.5,
-                    (Some(_), true) => 0.4,
+                    (Some(_), true) if paint && m.name == PAINT_MATERIAL => 1.7,
+                    (Some(_), true) if paint && paint_kind => 1.0,
+                    (Some(_), true) if !paint => 0.4,
                     _ => 0.0,
                 };
                 let score = words
@@ -608,7 +612,8 @@ impl StructureCatalog {
     }
 
     /// The best material for a design text: the first of the five best-ranked that is not in
-    /// `used`, else the best one (Holodeck's used-asset rule).
+    /// `used`, else the best one (Holodeck's used-asset rule; `PureWhite` tinted with a colour
+    /// counts as unused).
     pub fn select_material(
         &self,
         design: &str,
@@ -616,10 +621,12 @@ impl StructureCatalog {
         used: &BTreeSet<String>,
     ) -> Option<&Material> {
         let ranked = self.rank_materials(design, surface);
+        // `PureWhite` painted a colour is as new as the colour: it may be used again.
+        let painted = asked_color(design).is_some();
         ranked
             .iter()
             .take(5)
-            .find(|(m, _)| !used.contains(&m.name))
+            .find(|(m, _)| !used.contains(&m.name) || (painted && m.name == PAINT_MATERIAL))
             .or_else(|| ranked.first())
             .map(|(m, _)| *m)
     }

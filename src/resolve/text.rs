@@ -475,9 +475,10 @@ pub(crate) fn is_attribute(word: &str) -> bool {
     ATTRIBUTE_WORDS.contains(&word)
 }
 
-/// Head words that name a material, so that a thing named by one alone is not the thing a
-/// compound names: `papers` (documents) are not `toilet paper`, `foil` is no kind of thing.
-const MATERIAL_HEADS: [&str; 2] = ["paper", "foil"];
+/// Head words that name a material or a general thing, so that a thing named by one alone is
+/// not the thing a compound names: `papers` (documents) are not `toilet paper`, `curtains` over
+/// a window are not a `shower curtain`.
+const MATERIAL_HEADS: [&str; 3] = ["paper", "foil", "curtain"];
 
 /// Whether a (normalized) head word names a material: an asset whose category says which
 /// thing of that material it is (`toilet paper`) matches only a query that says so too.
