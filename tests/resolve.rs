@@ -627,3 +627,89 @@ fn things_on_top_fit_inside_the_layouts_margin() {
         }
     }
 }
+
+/// Issue 25's things on top and stand-ins, asserted one by one (the scene's snapshot shows the
+/// whole resolution): a photo frame is never a wall painting on a shelf, a plant stand is never
+/// a plant, a stand-in says what stood in for what, papers are never toilet paper, and the
+/// items chosen for a receptacle are of types its pair table allows.
+#[test]
+fn things_on_top_are_the_things_people_put_there() {
+    let path = Path::new("tests/corpus/resolve/scenes/things_on_top_and_stand_ins.holo");
+    let mut sources = SourceMap::new();
+    let (scene, _) = scene_of(&mut sources, path);
+    let scene = scene.expect("checks");
+    let catalog = Catalog::embedded();
+    let outcome = resolve::resolve(&scene, &catalog, scene.seed);
+    let res = &outcome.value;
+    let id = |name: &str| scene.objects.iter().find(|o| o.name == name).expect("object").id;
+    let object_type = |name: &str| res.object(id(name)).map(|c| c.object_type.clone());
+
+    // Books on the shelf; the photo frames are left out, with the size in the warning.
+    let shelf = res.object(id("bookshelf-0")).expect("a shelf");
+    for book in &res.small[&(id("bookshelf-0"), 0)] {
+        let book = book.choice().expect("a book");
+        assert_eq!(book.object_type, "Book");
+        assert!(resolve::allowed_on(&book.object_type, &shelf.object_type));
+    }
+    for frame in &res.small[&(id("bookshelf-0"), 1)] {
+        assert!(frame.choice().is_none(), "a photo frame is no 0.5 m+ wall painting: {frame:?}");
+    }
+    let w0401 = outcome
+        .diagnostics
+        .iter()
+        .find(|d| d.code.as_str() == "W0401")
+        .expect("the frames are reported");
+    assert!(w0401.notes.iter().any(|n| n.contains("too large")), "{:?}", w0401.notes);
+
+    // The plant stand holds its plant: a side table stands in, with its warning.
+    let stand = res.object(id("plant_stand-0")).expect("a stand-in");
+    assert_eq!(stand.object_type, "SideTable");
+    assert!(stand.stand_in.is_some());
+    let plant = res.small[&(id("plant_stand-0"), 0)][0].choice().expect("a plant");
+    assert_eq!(plant.object_type, "HousePlant");
+    assert!(resolve::allowed_on("HousePlant", "SideTable"));
+
+    assert_eq!(object_type("cat_bed-0").as_deref(), Some("DogBed"));
+    assert_eq!(object_type("curtains-0").as_deref(), Some("Blinds"));
+    let papers = res.small[&(id("desk-0"), 0)][0].choice().expect("papers");
+    assert_eq!(papers.object_type, "Newspaper", "never toilet paper");
+
+    let stood_in: Vec<String> = outcome
+        .diagnostics
+        .iter()
+        .filter(|d| d.code.as_str() == "W0403")
+        .map(|d| d.message.clone())
+        .collect();
+    // (A cat bed ranks a dog bed good enough by its words: no stand-in, no warning.)
+    for (what, with) in
+        [("plant_stand", "SideTable"), ("curtains", "Blinds"), ("papers", "Newspaper")]
+    {
+        assert!(
+            stood_in.iter().any(|m| m.contains(what) && m.contains(with)),
+            "W0403 says a {with} stood in for {what}: {stood_in:?}"
+        );
+    }
+}
+
+/// `stack of papers` never matches toilet paper by its words (`paper` alone names a material,
+/// and toilet paper says which thing of it it is).
+#[test]
+fn papers_are_not_toilet_paper() {
+    let catalog = Catalog::embedded();
+    let query = Query {
+        category: "stack of papers".into(),
+        description: None,
+        size_m: None,
+        kind: Some(PlacementKind::OnObject),
+    };
+    let ranked = resolve::rank(&catalog, &query, 0);
+    assert!(
+        !ranked.iter().any(|c| c.is_good_enough() && c.object_type == "ToiletPaper"),
+        "{:?}",
+        ranked.iter().take(3).map(|c| (&c.asset_id, c.relevance)).collect::<Vec<_>>()
+    );
+    let toilet = Query { category: "toilet paper".into(), ..query };
+    let ranked = resolve::rank(&catalog, &toilet, 0);
+    assert_eq!(ranked[0].object_type, "ToiletPaper");
+    assert!(ranked[0].is_good_enough());
+}

@@ -55,6 +55,27 @@ fn base_house_is_valid() {
     assert!(diags.is_empty(), "{}", common::render(&sources, &diags));
 }
 
+/// The colour fields AI2-THOR reads on a material (`MaterialProperties`: `color` as r, g, b
+/// with an optional a, `shader`, `unlit`, tiling divisors, `metallic`, `smoothness`) are
+/// accepted, with `a` or without it as ProcTHOR writes it.
+#[test]
+fn material_colours_are_accepted() {
+    let mut house = base_house();
+    house["rooms"][0]["wallMaterial"] = serde_json::json!({
+        "name": "PureWhite",
+        "color": {"r": 0.372549, "g": 0.427451, "b": 0.34902},
+        "shader": "Standard", "unlit": false, "tilingDivisorX": 1.0, "tilingDivisorY": null,
+        "metallic": 0.0, "smoothness": 0.2
+    });
+    house["walls"][0]["material"] =
+        serde_json::json!({"name": "PureWhite", "color": {"r": 0.0, "g": 0.0, "b": 0.5, "a": 1.0}});
+    house["rooms"][0]["floorMaterial"] =
+        serde_json::json!({"name": "DarkWoodSmooth", "color": null});
+    let json = serde_json::to_string_pretty(&house).expect("prints");
+    let (sources, diags) = run("house.json", &json);
+    assert!(diags.is_empty(), "{}", common::render(&sources, &diags));
+}
+
 #[test]
 fn broken_houses_are_rejected() {
     broken("missing_rooms", "E0601", |h| {
@@ -86,6 +107,15 @@ fn broken_houses_are_rejected() {
     });
     broken("unknown_material", "E0612", |h| {
         h["rooms"][0]["wallMaterial"] = serde_json::json!({"name": "PinkMarbel"});
+    });
+    broken("color_out_of_range", "E0601", |h| {
+        // AI2-THOR reads r, g, b (and a) in 0…1: 0…255 values are a mistake.
+        h["rooms"][0]["wallMaterial"] =
+            serde_json::json!({"name": "PureWhite", "color": {"r": 120, "g": 80, "b": 200}});
+    });
+    broken("color_without_blue", "E0601", |h| {
+        h["walls"][0]["material"] =
+            serde_json::json!({"name": "PureWhite", "color": {"r": 0.5, "g": 0.5}});
     });
     broken("unknown_skybox", "E0613", |h| {
         h["proceduralParameters"]["skyboxId"] = Value::String("SkyMars".into());

@@ -117,6 +117,11 @@ fn v3(p: [f64; 2], y: f64) -> Vec3 {
     Vec3::new(p[0], y, p[1])
 }
 
+/// A design's colour as the material's `color` (opaque).
+fn tint(color: Option<&crate::resolve::colors::Color>) -> Option<thor::Rgba> {
+    color.map(|c| thor::Rgba::opaque(c.rgb))
+}
+
 fn soft_shadow(bias: f64) -> Shadow {
     Shadow {
         kind: "Soft".to_owned(),
@@ -143,18 +148,26 @@ pub fn lower(scene: &Scene, plan: &FloorPlan, objects: &[LoweredObject]) -> Hous
                 .get(r.id.0)
                 .map_or_else(|| r.thor_id.clone(), |s| room_type(&s.label)),
             floor_polygon: r.polygon.iter().map(|&p| v3(p, 0.0)).collect(),
-            floor_material: thor::Material { name: r.floor_material.clone(), color: None },
+            floor_material: thor::Material {
+                name: r.floor_material.clone(),
+                color: tint(r.floor_tint.as_ref()),
+            },
             ceilings: Vec::new(),
             children: Vec::new(),
             layer: layer(r.id),
-            wall_material: thor::Material { name: r.wall_material.clone(), color: None },
+            wall_material: thor::Material {
+                name: r.wall_material.clone(),
+                color: tint(r.wall_tint.as_ref()),
+            },
         })
         .collect();
     let mut walls = Vec::new();
     for w in &plan.walls {
         let polygon = vec![v3(w.start, 0.0), v3(w.start, h), v3(w.end, h), v3(w.end, 0.0)];
-        let wall_material =
-            plan.rooms.get(w.room.0).map_or_else(String::new, |r| r.wall_material.clone());
+        let wall_material = plan.rooms.get(w.room.0).map_or_else(
+            || thor::Material { name: String::new(), color: None },
+            |r| thor::Material { name: r.wall_material.clone(), color: tint(r.wall_tint.as_ref()) },
+        );
         if w.exterior {
             walls.push(thor::Wall {
                 id: w.exterior_id(),
@@ -169,7 +182,7 @@ pub fn lower(scene: &Scene, plan: &FloorPlan, objects: &[LoweredObject]) -> Hous
             id: w.id.clone(),
             room_id: room_id(w.room),
             polygon,
-            material: thor::Material { name: wall_material, color: None },
+            material: wall_material,
             layer: layer(w.room),
             empty: w.empty.then_some(true),
         });

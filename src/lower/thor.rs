@@ -35,14 +35,41 @@ pub struct Rgb {
     pub b: f64,
 }
 
+/// A colour with its opacity, as AI2-THOR's `SerializableColor` (a material's tint).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Rgba {
+    /// Red, 0…1.
+    pub r: f64,
+    /// Green, 0…1.
+    pub g: f64,
+    /// Blue, 0…1.
+    pub b: f64,
+    /// Opacity, 0…1 (AI2-THOR reads 1 when it is absent, as ProcTHOR writes it).
+    #[serde(default = "opaque")]
+    pub a: f64,
+}
+
+fn opaque() -> f64 {
+    1.0
+}
+
+impl Rgba {
+    /// An opaque colour, each channel rounded to the output precision (1e-6).
+    pub fn opaque(rgb: [f64; 3]) -> Rgba {
+        use crate::geometry::round6;
+        Rgba { r: round6(rgb[0]), g: round6(rgb[1]), b: round6(rgb[2]), a: 1.0 }
+    }
+}
+
 /// A material reference.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Material {
     /// The material name.
     pub name: String,
-    /// An optional tint.
+    /// An optional tint, multiplied with the material's texture (ProcTHOR paints walls
+    /// `PureWhite` with a colour).
     #[serde(skip_serializing_if = "Option::is_none", default)]
-    pub color: Option<Rgb>,
+    pub color: Option<Rgba>,
 }
 
 /// The whole house.

@@ -365,6 +365,8 @@ impl Ctx<'_> {
                 corners: pts,
                 floor_material: String::new(),
                 wall_material: String::new(),
+                floor_tint: None,
+                wall_tint: None,
                 layer: 0,
                 door_keep_out: Vec::new(),
                 open_boxes: Vec::new(),
@@ -1417,10 +1419,13 @@ impl Ctx<'_> {
                         chosen
                     }
                 };
+                // A colour the design asks tints the material (`PureWhite` painted deep blue).
+                let tint = design.as_deref().and_then(|d| self.catalog.tint(d, &name));
                 used.insert(name.clone());
+                let planned = &mut self.rooms[room.id.0];
                 match surface {
-                    Surface::Floor => self.rooms[room.id.0].floor_material = name,
-                    Surface::Wall => self.rooms[room.id.0].wall_material = name,
+                    Surface::Floor => (planned.floor_material, planned.floor_tint) = (name, tint),
+                    Surface::Wall => (planned.wall_material, planned.wall_tint) = (name, tint),
                 }
             }
         }

@@ -38,7 +38,17 @@ pub(crate) fn dump(plan: &FloorPlan, scene: &Scene) -> String {
         let _ = writeln!(out, "  corners  {}", poly(&r.corners));
         let _ = writeln!(out, "  polygon  {}", poly(&r.polygon));
         let _ = writeln!(out, "  area {} m², centroid {}", f(r.area_m2), p(r.centroid));
-        let _ = writeln!(out, "  floor `{}`, walls `{}`", r.floor_material, r.wall_material);
+        let tint = |t: &Option<crate::resolve::colors::Color>| {
+            t.as_ref().map(|c| format!(" tinted {} {}", c.phrase, c.hex())).unwrap_or_default()
+        };
+        let _ = writeln!(
+            out,
+            "  floor `{}`{}, walls `{}`{}",
+            r.floor_material,
+            tint(&r.floor_tint),
+            r.wall_material,
+            tint(&r.wall_tint)
+        );
         for b in &r.door_keep_out {
             let _ = writeln!(out, "  door keep-out  {}", poly(b));
         }

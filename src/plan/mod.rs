@@ -112,6 +112,10 @@ pub struct PlanRoom {
     pub floor_material: String,
     /// Wall material name.
     pub wall_material: String,
+    /// The colour the floor material is tinted with, when its design asks one.
+    pub floor_tint: Option<crate::resolve::colors::Color>,
+    /// The colour the wall material is tinted with, when its design asks one.
+    pub wall_tint: Option<crate::resolve::colors::Color>,
     /// Lighting layer, 0 … 3.
     pub layer: u8,
     /// Keep-out rectangles of the doors, 1.0 m deep into this room.

@@ -137,6 +137,29 @@ fn placements_phrase(p: super::catalog::Placements) -> String {
 }
 
 /// W0401: nothing in the catalog is good enough.
+/// The note of a thing on top whose only asset was too large for it.
+pub(crate) fn too_large_note(
+    catalog: &Catalog,
+    asset_id: &str,
+    query: &super::index::Query,
+) -> String {
+    let Some(asset) = catalog.get(asset_id) else { return String::new() };
+    let longest = asset.bbox_m.iter().copied().fold(0.0, f64::max);
+    let (what, size) = match query.size_m {
+        Some(s) => ("its written size".to_owned(), s.iter().copied().fold(0.0, f64::max)),
+        None => (
+            format!("a typical {} on furniture", asset.object_type),
+            super::select::typical_on_object_m(catalog, &asset.object_type).unwrap_or(0.0),
+        ),
+    };
+    format!(
+        "`{}` ({}, {longest:.2} m) is more than {} times {what} ({size:.2} m): too large to stand on furniture",
+        asset.id,
+        asset.object_type,
+        super::select::MAX_SIZE_RATIO
+    )
+}
+
 pub(crate) fn no_match(
     what: &Subject,
     kind: PlacementKind,

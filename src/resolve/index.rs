@@ -249,6 +249,9 @@ fn rank_with(
                     && !kinds_differ(&modifiers, &category, &index.doc_kind_words[d], |m| {
                         index.contains(m, doc)
                     })
+                    && !(text::is_material_head(h)
+                        && modifiers.is_empty()
+                        && !index.doc_kind_words[d].is_empty())
             });
             let text = if ideal > 0.0 { (bm25 / ideal).min(1.0) } else { 0.0 };
             let relevance =

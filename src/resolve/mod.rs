@@ -10,9 +10,11 @@
 //! Doors, windows, materials and skyboxes are chosen by `resolve::structure`.
 
 mod catalog;
+pub mod colors;
 mod errors;
 mod index;
 pub mod kinds;
+pub mod receptacles;
 mod report;
 mod select;
 pub mod standins;
@@ -25,11 +27,13 @@ pub use index::{
     rank, rank_top, Candidate, Query, BM25_B, BM25_K1, HEAD_SHARE, RELEVANCE_THRESHOLD,
     RELEVANCE_WEIGHT, SIZE_WEIGHT,
 };
+pub use receptacles::{allowed_on, is_receptacle_type, receptacle_types};
 pub use report::{candidate_json, report};
 pub(crate) use select::parts_text;
 pub use select::{
-    resolve, resolve_cached, resolve_query, resolve_with, Choice, RankCache, Resolution,
-    ResolveOptions, Resolved, Unresolved, FLOOR_STANDING, ON_FURNITURE, WALL_MOUNTED,
+    resolve, resolve_cached, resolve_query, resolve_with, typical_on_object_m, Choice, RankCache,
+    Resolution, ResolveOptions, Resolved, Unresolved, FLOOR_STANDING, MAX_SIZE_RATIO, ON_FURNITURE,
+    ON_FURNITURE_TYPICAL_M, WALL_MOUNTED,
 };
 
 /// Ranks the catalog for a free-text query, as `holoc assets search` does: the whole text is

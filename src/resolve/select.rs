@@ -7,7 +7,7 @@ use super::catalog::{Catalog, PlacementKind};
 use super::errors;
 use super::index::{rank_top, Candidate, Query};
 use super::standins;
-use super::{kinds, text};
+use super::{kinds, receptacles, text};
 
 /// Types the catalog has only as things on furniture that people also hang on a wall.
 pub const WALL_MOUNTED: &[&str] =
@@ -34,6 +34,36 @@ pub const FLOOR_STANDING: &[&str] = &[
     "Television",
     "Laptop",
 ];
+
+/// A thing on top is rejected when its asset's longest side is more than this many times the
+/// thing's size: its written size when the scene gives one, else the typical size of its type
+/// on furniture ([`typical_on_object_m`]). Twice keeps every on-object asset of the embedded
+/// catalog within its type but two outliers, and rules out a 0.53 m wall picture for a photo
+/// frame.
+pub const MAX_SIZE_RATIO: f64 = 2.0;
+
+/// Typical longest sides, metres, of things people stand on furniture whose type the embedded
+/// catalog has only on the wall: a framed photograph or picture on a shelf or a desk is 20 ×
+/// 25 cm (8 × 10 in, the common frame), so 0.25 m.
+pub const ON_FURNITURE_TYPICAL_M: &[(&str, f64)] = &[("Painting", 0.25)];
+
+/// The typical longest side, metres, of a thing of `object_type` on furniture: the median
+/// longest side of the catalog's on-object assets of that type, else the
+/// [`ON_FURNITURE_TYPICAL_M`] table; `None` when neither knows the type.
+pub fn typical_on_object_m(catalog: &Catalog, object_type: &str) -> Option<f64> {
+    let mut sides: Vec<f64> = catalog
+        .assets()
+        .iter()
+        .filter(|a| a.object_type == object_type && a.allows(PlacementKind::OnObject))
+        .map(|a| a.bbox_m.iter().copied().fold(0.0, f64::max))
+        .collect();
+    if sides.is_empty() {
+        return ON_FURNITURE_TYPICAL_M.iter().find(|(t, _)| *t == object_type).map(|(_, m)| *m);
+    }
+    sides.sort_by(f64::total_cmp);
+    let n = sides.len();
+    Some(if n % 2 == 1 { sides[n / 2] } else { (sides[n / 2 - 1] + sides[n / 2]) / 2.0 })
+}
 
 /// How many ranked candidates resolution looks at (enough for the largest varied group and
 /// for avoiding assets used in other rooms).
@@ -295,6 +325,9 @@ pub fn resolve_cached(
         cache: BTreeMap::new(),
         earlier,
         top: None,
+        top_type: None,
+        typical: BTreeMap::new(),
+        too_large: None,
     };
     let resolved = resolve_scene(scene, &mut state);
     cache.made_with = Some(made_with);
@@ -364,6 +397,7 @@ fn resolve_scene(scene: &Scene, state: &mut State<'_>) -> Resolved {
                 let margin = 2.0 * crate::solve::SMALL_GAP_M;
                 [a.min(b) - margin, a.max(b) - margin]
             });
+            state.top_type = resolved.object(id).map(|c| c.object_type.clone());
             for (k, item) in obj.on_top.iter().enumerate() {
                 let query = Query {
                     category: item.item.clone(),
@@ -383,6 +417,7 @@ fn resolve_scene(scene: &Scene, state: &mut State<'_>) -> Resolved {
             }
         }
         state.top = None;
+        state.top_type = None;
         if let Some(ceiling) = &room.ceiling {
             let category =
                 ceiling.description.rsplit(',').next().unwrap_or(&ceiling.description).to_string();
@@ -438,6 +473,9 @@ pub fn resolve_query(
         cache: BTreeMap::new(),
         earlier: BTreeMap::new(),
         top: None,
+        top_type: None,
+        typical: BTreeMap::new(),
+        too_large: None,
     };
     let what = Subject {
         name: query.category.clone(),
@@ -504,6 +542,12 @@ struct State<'a> {
     earlier: BTreeMap<RankKey, std::rc::Rc<Vec<Candidate>>>,
     /// While resolving things on top: the receptacle's top, `[short, long]` side in metres.
     top: Option<[f64; 2]>,
+    /// While resolving things on top: the receptacle's asset type (`ShelvingUnit`).
+    top_type: Option<String>,
+    /// Typical on-object sizes by type, worked out once ([`typical_on_object_m`]).
+    typical: BTreeMap<String, Option<f64>>,
+    /// The last on-object asset rejected as too large in `choose`, for the warning.
+    too_large: Option<String>,
 }
 
 impl State<'_> {
@@ -543,7 +587,16 @@ impl State<'_> {
     ) -> Vec<Resolution> {
         let kind = query.kind.unwrap_or(PlacementKind::Floor);
         let ranked = self.ranked(query);
-        let mut good: Vec<&Candidate> = ranked.iter().filter(|c| c.is_good_enough()).collect();
+        self.too_large = None;
+        let mut good: Vec<&Candidate> = Vec::new();
+        for c in ranked.iter().filter(|c| c.is_good_enough()) {
+            if kind == PlacementKind::OnObject && self.is_too_large(query, c.bbox_m, &c.object_type)
+            {
+                self.too_large.get_or_insert_with(|| c.asset_id.clone());
+            } else {
+                good.push(c);
+            }
+        }
         if wants_receptacle && good.iter().any(|c| self.catalog.asset_at(c.idx).receptacle) {
             // Stable: receptacles first, each part in rank order.
             good.sort_by_key(|c| !self.catalog.asset_at(c.idx).receptacle);
@@ -556,6 +609,13 @@ impl State<'_> {
                 a.min(b) <= top[0] + 1e-9 && a.max(b) <= top[1] + 1e-9
             };
             good.sort_by_key(|c| !fits(c));
+        }
+        if let (Some(receptacle), PlacementKind::OnObject) = (&self.top_type, kind) {
+            // Things people put on this receptacle first (`resolve::receptacles`: a book on a
+            // shelving unit, never a plant on a plant), each part in the order above.
+            if receptacles::is_receptacle_type(receptacle) {
+                good.sort_by_key(|c| !receptacles::allowed_on(&c.object_type, receptacle));
+            }
         }
         // Avoid assets used in other rooms where an alternative exists.
         // Only the first `pins.len()` picks are ever taken (`pool[i]` with `i < pins.len()`),
@@ -582,11 +642,11 @@ impl State<'_> {
                 continue;
             }
             if pool.is_empty() {
-                if let Some(res) = self.kind_of(what, query, kind) {
+                if let Some(res) = self.kind_of(what, query, kind, wants_receptacle) {
                     out.push(res);
                     continue;
                 }
-                if let Some(res) = self.stand_in(what, query, kind) {
+                if let Some(res) = self.stand_in(what, query, kind, wants_receptacle) {
                     out.push(res);
                     continue;
                 }
@@ -595,7 +655,10 @@ impl State<'_> {
                     continue;
                 }
                 let nearest: Vec<Candidate> = ranked.iter().take(3).cloned().collect();
-                let d = errors::no_match(what, kind, &nearest, self.catalog);
+                let mut d = errors::no_match(what, kind, &nearest, self.catalog);
+                if let Some(id) = &self.too_large {
+                    d = d.with_note(errors::too_large_note(self.catalog, id, query));
+                }
                 self.report_once(what.span, d);
                 out.push(Resolution::Unresolved(Unresolved {
                     reason: format!(
@@ -631,12 +694,20 @@ impl State<'_> {
         what: &Subject,
         query: &Query,
         kind: PlacementKind,
+        wants_receptacle: bool,
     ) -> Option<Resolution> {
         let (category, _) = text::split_phrase(&query.category);
         let description = query.description.as_deref().map(|d| text::split_phrase(d).0);
         let row =
             kinds::lookup(&category).or_else(|| description.as_deref().and_then(kinds::lookup))?;
-        let asset = standins::pick_of_types(self.catalog, &row.types, kind, query.size_m)?;
+        let types = self.holding_types(&row.types, wants_receptacle);
+        let asset = standins::pick_of_types(self.catalog, &types, kind, query.size_m)?;
+        if kind == PlacementKind::OnObject
+            && self.is_too_large(query, asset.bbox_m, &asset.object_type)
+        {
+            self.too_large.get_or_insert_with(|| asset.id.clone());
+            return None;
+        }
         self.used.entry(asset.id.clone()).or_default().insert(what.room);
         Some(Resolution::Chosen(Choice {
             kind_of: Some(format!(
@@ -682,6 +753,13 @@ impl State<'_> {
                 standins::pick_of_types(self.catalog, &types, other, query.size_m)
             });
             if let Some(asset) = asset {
+                if kind == PlacementKind::OnObject
+                    && self.is_too_large(query, asset.bbox_m, &asset.object_type)
+                {
+                    // A wall picture is no photo frame on a shelf.
+                    self.too_large.get_or_insert_with(|| asset.id.clone());
+                    continue;
+                }
                 self.report_once(what.span, errors::placed_otherwise(what, asset, kind));
                 self.used.entry(asset.id.clone()).or_default().insert(what.room);
                 return Some(Resolution::Chosen(Choice {
@@ -700,18 +778,57 @@ impl State<'_> {
         what: &Subject,
         query: &Query,
         kind: PlacementKind,
+        wants_receptacle: bool,
     ) -> Option<Resolution> {
         if !self.options.stand_ins {
             return None;
         }
         let line = standins::lookup(&query.category).or_else(|| standins::lookup(&what.name))?;
-        let asset = standins::pick(self.catalog, line, kind, query.size_m)?;
+        // A stand-in for a thing with things on top must itself hold things (no plant on a
+        // plant).
+        let types = self.holding_types(line.types, wants_receptacle);
+        let asset = standins::pick_of_types(self.catalog, &types, kind, query.size_m)?;
+        if kind == PlacementKind::OnObject
+            && self.is_too_large(query, asset.bbox_m, &asset.object_type)
+        {
+            self.too_large.get_or_insert_with(|| asset.id.clone());
+            return None;
+        }
         self.report_once(what.span, errors::stand_in(what, asset, line));
         self.used.entry(asset.id.clone()).or_default().insert(what.room);
         Some(Resolution::Chosen(Choice {
             stand_in: Some(line.reason.to_owned()),
             ..Choice::of(asset)
         }))
+    }
+
+    /// Of `types`, those that can hold things when the thing has things on top: a type of
+    /// the receptacle table or one the catalog has a receptacle asset of. All of them
+    /// otherwise.
+    fn holding_types<'t>(&self, types: &[&'t str], wants_receptacle: bool) -> Vec<&'t str> {
+        types
+            .iter()
+            .copied()
+            .filter(|t| {
+                !wants_receptacle
+                    || receptacles::is_receptacle_type(t)
+                    || self.catalog.assets().iter().any(|a| a.object_type == *t && a.receptacle)
+            })
+            .collect()
+    }
+
+    /// Whether an asset is too large for a thing on top ([`MAX_SIZE_RATIO`] times its written
+    /// size, else the typical size of the asset's type on furniture).
+    fn is_too_large(&mut self, query: &Query, bbox_m: [f64; 3], object_type: &str) -> bool {
+        let longest = |b: [f64; 3]| b.iter().copied().fold(0.0, f64::max);
+        let want = match query.size_m {
+            Some(size) => Some(longest(size)),
+            None => *self
+                .typical
+                .entry(object_type.to_owned())
+                .or_insert_with(|| typical_on_object_m(self.catalog, object_type)),
+        };
+        want.is_some_and(|w| longest(bbox_m) > MAX_SIZE_RATIO * w + 1e-9)
     }
 
     fn pinned(

@@ -5,7 +5,11 @@
 //! stand in and the reason a person would accept it (a wardrobe and a dresser both store
 //! clothes). Only what is in the table stands in: a thing with no entry (a piano, a treadmill)
 //! stays out and is reported, never filled with something unrelated. Keys are read from the
-//! object's category: a two-word key (`console table`) before the head word (`wardrobe`).
+//! object's category, from the noun phrase that names the thing: a two-word key ending at the
+//! head (`console table`) before the head word (`wardrobe`); no other word counts, so a `plant
+//! stand` is never a plant. A line without types says a thing has no stand-in (a `privacy
+//! curtain` is no window covering). When the thing has things on top, only types that hold
+//! things stand in (resolution filters the line's types).
 
 use super::catalog::{Asset, Catalog, PlacementKind};
 
@@ -13,7 +17,8 @@ use super::catalog::{Asset, Catalog, PlacementKind};
 pub struct StandIn {
     /// The words of the category it applies to (one or two words).
     pub key: &'static str,
-    /// The AI2-THOR object types that may stand in, best first.
+    /// The AI2-THOR object types that may stand in, best first (none: known to have no
+    /// stand-in).
     pub types: &'static [&'static str],
     /// Why a person accepts it.
     pub reason: &'static str,
@@ -104,6 +109,7 @@ pub const STAND_INS: &[StandIn] = &[
     StandIn { key: "media console", types: &["TVStand"], reason: "a low cabinet for a screen" },
     StandIn { key: "entertainment center", types: &["TVStand"], reason: "a cabinet for a screen" },
     StandIn { key: "vanity", types: &["Sink"], reason: "a bathroom vanity is a sink cabinet" },
+    StandIn { key: "vanity unit", types: &["Sink"], reason: "a bathroom vanity is a sink cabinet" },
     StandIn { key: "media unit", types: &["TVStand"], reason: "a low cabinet for a screen" },
     StandIn { key: "media cabinet", types: &["TVStand"], reason: "a low cabinet for a screen" },
     StandIn {
@@ -215,6 +221,57 @@ pub const STAND_INS: &[StandIn] = &[
         types: &["ToiletPaperHanger"],
         reason: "a holder for the toilet roll",
     },
+    // Pets: the catalog's pet beds are dog beds.
+    StandIn {
+        key: "cat bed",
+        types: &["DogBed"],
+        reason: "a pet's cushioned bed on the floor; the catalog's pet beds are dog beds",
+    },
+    StandIn {
+        key: "pet bed",
+        types: &["DogBed"],
+        reason: "a pet's cushioned bed on the floor; the catalog's pet beds are dog beds",
+    },
+    StandIn {
+        key: "kitty bed",
+        types: &["DogBed"],
+        reason: "a pet's cushioned bed on the floor; the catalog's pet beds are dog beds",
+    },
+    // Window coverings: blinds cover a window as curtains do.
+    StandIn {
+        key: "curtain",
+        types: &["Blinds"],
+        reason: "a window covering; blinds cover the window as curtains do",
+    },
+    StandIn {
+        key: "drape",
+        types: &["Blinds"],
+        reason: "a window covering; blinds cover the window as drapes do",
+    },
+    StandIn { key: "shade", types: &["Blinds"], reason: "a window shade is a blind" },
+    // Not over a window: no stand-in (a privacy curtain on a ceiling track is no blind).
+    StandIn {
+        key: "privacy curtain",
+        types: &[],
+        reason: "it hangs across a room, not at a window",
+    },
+    StandIn { key: "lamp shade", types: &[], reason: "a part of a lamp, not a window covering" },
+    // Papers: loose printed pages lie flat like a newspaper.
+    StandIn {
+        key: "papers",
+        types: &["Newspaper"],
+        reason: "loose printed pages lying flat, like a folded newspaper",
+    },
+    StandIn {
+        key: "documents",
+        types: &["Newspaper"],
+        reason: "printed pages lying flat, like a folded newspaper",
+    },
+    StandIn {
+        key: "plant stand",
+        types: &["SideTable"],
+        reason: "a small stand that holds a plant, like a small side table",
+    },
     StandIn { key: "refrigerator", types: &["Fridge"], reason: "a refrigerator is a fridge" },
     StandIn { key: "washer", types: &["WashingMachine"], reason: "a washer is a washing machine" },
     StandIn { key: "dryer", types: &["ClothesDryer"], reason: "a clothes dryer" },
@@ -229,24 +286,24 @@ fn words(text: &str) -> Vec<String> {
         .collect()
 }
 
-/// The table line for a category: a two-word key of adjacent words first (`console table`),
-/// then the last word that has a line (`tall white wardrobe`), then a plural made singular.
+/// The table line for a category, read from the noun phrase that names the thing (`writing
+/// desk with drawers` → `writing desk`, `stack of papers` → `papers`): its last two words
+/// (`console table`), else its last word (`tall white wardrobe`), each also with a plural made
+/// singular. Only the head counts: a `plant stand` is a stand, never a plant. `None` also for a
+/// line that names no type (a `privacy curtain` is known to have no stand-in).
 pub fn lookup(category: &str) -> Option<&'static StandIn> {
-    let w = words(category);
-    let pairs: Vec<String> = w.windows(2).map(|p| format!("{} {}", p[0], p[1])).collect();
-    for pair in pairs.iter().rev() {
-        let singular = pair.strip_suffix('s').unwrap_or(pair);
-        if let Some(s) = STAND_INS.iter().find(|s| s.key == pair || s.key == singular) {
-            return Some(s);
-        }
-    }
-    for word in w.iter().rev() {
-        let singular = word.strip_suffix('s').unwrap_or(word);
-        if let Some(s) = STAND_INS.iter().find(|s| s.key == word || s.key == singular) {
-            return Some(s);
-        }
-    }
-    None
+    let (phrase, _) = super::text::split_phrase(category);
+    let w = words(&phrase);
+    let find = |key: &str| {
+        let singular = key.strip_suffix('s').unwrap_or(key);
+        STAND_INS.iter().find(|s| s.key == key || s.key == singular)
+    };
+    let line = match w.as_slice() {
+        [.., a, b] => find(&format!("{a} {b}")).or_else(|| find(b)),
+        [b] => find(b),
+        [] => None,
+    };
+    line.filter(|l| !l.types.is_empty())
 }
 
 /// The asset that stands in: of the line's types in order, the asset of the right placement
@@ -306,9 +363,25 @@ mod tests {
     }
 
     #[test]
+    fn only_the_head_decides() {
+        assert_eq!(lookup("wooden plant stand").map(|s| s.types), Some(&["SideTable"][..]));
+        assert_eq!(lookup("cat bed").map(|s| s.types), Some(&["DogBed"][..]));
+        assert_eq!(lookup("plush pet bed").map(|s| s.types), Some(&["DogBed"][..]));
+        assert_eq!(lookup("linen curtains").map(|s| s.types), Some(&["Blinds"][..]));
+        assert_eq!(lookup("stack of papers").map(|s| s.types), Some(&["Newspaper"][..]));
+        assert_eq!(lookup("bookshelf with plants").map(|s| s.key), Some("bookshelf"));
+        // A word before the head is no key: a plant stand is no plant, a cat tree no cat.
+        assert!(lookup("plant pot holder").is_none());
+        assert!(lookup("privacy curtain").is_none(), "known to have no stand-in");
+        assert!(lookup("wrapping paper").is_none());
+        assert!(lookup("wall mirror").is_none());
+    }
+
+    #[test]
     fn every_type_of_the_table_is_in_the_embedded_catalog() {
         let catalog = Catalog::embedded();
         for line in STAND_INS {
+            assert!(!line.reason.is_empty(), "{}: every line has its reason", line.key);
             for ty in line.types {
                 assert!(
                     catalog.assets().iter().any(|a| a.object_type == *ty),

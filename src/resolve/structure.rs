@@ -8,6 +8,7 @@
 use std::collections::{BTreeSet, HashMap};
 use std::sync::{Arc, Mutex, OnceLock};
 
+use super::colors::{self, Color};
 use crate::check::scene::{DoorKind, DoorSize, WindowKind};
 
 const DOORS_TSV: &str = include_str!("../../data/catalog/doors.tsv");
@@ -69,6 +70,40 @@ impl Material {
     pub fn is_surface(&self) -> bool {
         self.groups.iter().any(|g| matches!(g.as_str(), "Wall" | "Wood" | "Fabric"))
     }
+
+    /// Whether a tint colours the material truly: AI2-THOR multiplies the texture by the
+    /// `color`, so only a white or near-white texture (its name says `white`, `eggshell`,
+    /// `cream` or `beige`) shows the colour asked; a dark wood tinted blue is nearly black.
+    pub fn is_tintable(&self) -> bool {
+        self.words.iter().any(|w| TINTABLE_WORDS.contains(&w.as_str()))
+    }
+}
+
+/// Name words of the near-white materials a tint may colour.
+const TINTABLE_WORDS: [&str; 6] = ["white", "pure", "eggshell", "cream", "creame", "beige"];
+
+/// The material ProcTHOR paints its walls with (`PureWhite` with a `color`).
+pub const PAINT_MATERIAL: &str = "PureWhite";
+
+/// The colour a design asks to be tinted with: its first colour, unless that is white (a white
+/// design is a white material).
+fn asked_color(design: &str) -> Option<Color> {
+    colors::find(design).filter(|c| !c.is_white())
+}
+
+/// Whether words say light (`light`, `pale`, `white`) or dark (`dark`, `black`, `ebony`):
+/// `Some(true)` light, `Some(false)` dark, `None` neither or both.
+fn shade_of(words: &[String]) -> Option<bool> {
+    let has = |set: &[&str]| words.iter().any(|w| set.contains(&w.as_str()));
+    match (has(&["light", "pale", "white"]), has(&["dark", "black"])) {
+        (true, false) => Some(true),
+        (false, true) => Some(false),
+        _ => None,
+    }
+}
+
+fn is_modifier(word: &str) -> bool {
+    colors::MODIFIERS.iter().any(|(m, _)| *m == word)
 }
 
 /// A skybox and the time of day it shows.
@@ -157,8 +192,15 @@ fn words(field: &str) -> Vec<String> {
 }
 
 /// Colours and woods that material names do not use, with the words they do use: a walnut
-/// floor is a dark wood, an aquamarine wall a blue-green one.
+/// floor is a dark wood, an oak or maple one a light wood, an aquamarine wall a blue-green one.
 const IMPLIED_WORDS: &[(&str, &[&str])] = &[
+    ("oak", &["light"]),
+    ("maple", &["light"]),
+    ("pine", &["light"]),
+    ("birch", &["light"]),
+    ("beech", &["light"]),
+    ("ash", &["light"]),
+    ("bamboo", &["light"]),
     ("walnut", &["dark"]),
     ("mahogany", &["dark", "red"]),
     ("espresso", &["dark"]),
@@ -442,6 +484,35 @@ impl StructureCatalog {
             k if k.is_empty() => kinds_of(query.iter().map(String::as_str)),
             k => k,
         };
+        // A colour asked: a wall of paint (or of no named kind) is a near-white material
+        // tinted with it, so the colour's words choose no material; elsewhere the colour's
+        // words still choose a material that is that colour (`green carpet`), its modifiers
+        // (`light`, `deep`) never, and a near-white one of the kind is the next best (tinted).
+        let color = asked_color(design);
+        let paint =
+            color.is_some() && surface == Surface::Wall && asked.iter().all(|k| *k == "paint");
+        let query: Vec<String> = match &color {
+            Some(c) => {
+                let dropped: Vec<String> = if paint {
+                    c.words.iter().flat_map(|w| text_words(w)).collect()
+                } else {
+                    // The modifiers and the shades a colour implies (`navy` → `dark`).
+                    let mut dropped = Vec::new();
+                    for w in &c.words {
+                        let mut ws = text_words(w).into_iter();
+                        if let Some(own) = ws.next() {
+                            if is_modifier(&own) {
+                                dropped.push(own);
+                            }
+                        }
+                        dropped.extend(ws);
+                    }
+                    dropped
+                };
+                query.into_iter().filter(|q| !dropped.contains(q)).collect()
+            }
+            None => query,
+        };
         let mut ranked: Vec<(usize, f64)> = self
             .materials
             .iter()
@@ -468,9 +539,28 @@ impl StructureCatalog {
                 };
                 // The surface's family (`Wood`/`Fabric` floors, `Wall` walls) only decides
                 // when no word of the design names a material.
-                let words = overlap_score(&query, &m.words);
-                let score =
-                    words + kind + if suits && words == 0.0 { 0.25 } else { 0.0 } + 0.1 * sim;
+                // A light design never gets a dark material, nor a dark design a light one
+                // (`light oak wood floor` is no `DarkWoodFloors`, though both are wood floors).
+                let shade = match (shade_of(&query), shade_of(&m.words)) {
+                    (Some(a), Some(b)) if a != b => -1.0,
+                    _ => 0.0,
+                };
+                let words = overlap_score(&query, &m.words) + shade;
+                // A wall of paint is a near-white paint (kind paint or none), `PureWhite` most:
+                // then the colour asked is always written. Elsewhere a near-white material of
+                // the kind is the next best after one that is the colour.
+                let paint_kind = own.iter().all(|k| *k == "paint");
+                let tint = match (&color, m.is_tintable()) {
+                    (Some(_), true) if paint && m.name == PAINT_MATERIAL => 1.7,
+                    (Some(_), true) if paint && paint_kind => 1.0,
+                    (Some(_), true) if !paint => 0.4,
+                    _ => 0.0,
+                };
+                let score = words
+                    + kind
+                    + tint
+                    + if suits && words == 0.0 { 0.25 } else { 0.0 }
+                    + 0.1 * sim;
                 (i, score)
             })
             .collect();
@@ -481,8 +571,9 @@ impl StructureCatalog {
 
     /// The words of a design that decided for a material, as the build report lists them: each
     /// design word found in the material's name (`oak`), and each word naming the kind of
-    /// material both are (`walnut → wood`). Empty when only the surface's family or the
-    /// spelling decided.
+    /// material both are (`walnut → wood`), and the colour the material is tinted with
+    /// (`deep blue → color #000080`). Empty when only the surface's family or the spelling
+    /// decided.
     pub fn deciding_words(&self, design: &str, material: &str) -> Vec<String> {
         let Some(m) = self.material(material) else { return Vec::new() };
         let query = text_words(design);
@@ -500,11 +591,29 @@ impl StructureCatalog {
                 }
             }
         }
+        if let Some(c) = self.tint(design, material) {
+            out.push(format!("{} → color {}", c.phrase, c.hex()));
+        }
         out
     }
 
+    /// The colour a material chosen for a design is tinted with (its `color` in the house):
+    /// the design's colour ([`colors::find`]) when it is not white, the material does not
+    /// already carry that colour in its name (a `green carpet` that is `CarpetGreen`), and the
+    /// material is near-white so that the tint shows ([`Material::is_tintable`]). `None`
+    /// otherwise: woods, stones and dark materials keep their own colour.
+    pub fn tint(&self, design: &str, material: &str) -> Option<Color> {
+        let c = asked_color(design)?;
+        let m = self.material(material)?;
+        let hue: Vec<String> =
+            c.words.iter().filter(|w| !is_modifier(w)).flat_map(|w| text_words(w)).collect();
+        let carried = hue.iter().any(|h| m.words.iter().any(|n| word_match(h, n)));
+        (!carried && m.is_tintable()).then_some(c)
+    }
+
     /// The best material for a design text: the first of the five best-ranked that is not in
-    /// `used`, else the best one (Holodeck's used-asset rule).
+    /// `used`, else the best one (Holodeck's used-asset rule; `PureWhite` tinted with a colour
+    /// counts as unused).
     pub fn select_material(
         &self,
         design: &str,
@@ -512,10 +621,12 @@ impl StructureCatalog {
         used: &BTreeSet<String>,
     ) -> Option<&Material> {
         let ranked = self.rank_materials(design, surface);
+        // `PureWhite` painted a colour is as new as the colour: it may be used again.
+        let painted = asked_color(design).is_some();
         ranked
             .iter()
             .take(5)
-            .find(|(m, _)| !used.contains(&m.name))
+            .find(|(m, _)| !used.contains(&m.name) || (painted && m.name == PAINT_MATERIAL))
             .or_else(|| ranked.first())
             .map(|(m, _)| *m)
     }
@@ -554,5 +665,58 @@ mod tests {
         let m =
             c.select_material("dark wood planks", Surface::Floor, &used).map(|m| m.name.as_str());
         assert_eq!(m, Some("DarkWoodPlanks"));
+    }
+
+    /// The material and tint a design gets, as the plan stage chooses them.
+    fn chosen(design: &str, surface: Surface) -> (String, Option<String>) {
+        let c = StructureCatalog::builtin();
+        let m = c.select_material(design, surface, &BTreeSet::new()).expect("a material");
+        (m.name.clone(), c.tint(design, &m.name).map(|t| format!("{} {}", t.phrase, t.hex())))
+    }
+
+    #[test]
+    fn colour_words_tint_the_material() {
+        // Paint: ProcTHOR's `PureWhite` with the colour; a named drywall keeps its texture.
+        assert_eq!(
+            chosen("light blue paint", Surface::Wall),
+            ("PureWhite".into(), Some("light blue #add8e6".into()))
+        );
+        assert_eq!(
+            chosen("sage green", Surface::Wall),
+            ("PureWhite".into(), Some("sage green #88b378".into()))
+        );
+        let (m, tint) = chosen("deep blue drywall, textured", Surface::Wall);
+        assert!(m.to_lowercase().contains("drywall") && m.contains("White"), "{m}");
+        assert_eq!(tint.as_deref(), Some("deep blue #000080"));
+        // White is a white material, never a tint.
+        let (m, tint) = chosen("white drywall", Surface::Wall);
+        assert!(m.contains("White"), "{m}");
+        assert_eq!(tint, None);
+        // A material that is the colour keeps it; else a white one of the kind is tinted.
+        let (m, tint) = chosen("green carpet", Surface::Floor);
+        assert!(m.starts_with("Carpet") && m.contains("Green"), "{m}");
+        assert_eq!(tint, None);
+        let (m, tint) = chosen("navy blue carpet", Surface::Floor);
+        assert!(m.starts_with("CarpetWhite"), "{m}");
+        assert_eq!(tint.as_deref(), Some("navy blue #000080"));
+    }
+
+    #[test]
+    fn woods_keep_their_family() {
+        for design in ["oak hardwood", "light oak wood floor", "maple floorboards"] {
+            let (m, tint) = chosen(design, Surface::Floor);
+            let c = StructureCatalog::builtin();
+            let mat = c.material(&m).expect("known");
+            assert!(mat.groups.iter().any(|g| g == "Wood"), "{design}: {m}");
+            assert!(mat.words.iter().any(|w| w == "light" || w == "white"), "{design}: {m}");
+            assert_eq!(tint, None, "{design}");
+        }
+        let (m, tint) = chosen("dark walnut parquet", Surface::Floor);
+        assert!(m.to_lowercase().contains("dark"), "{m}");
+        assert_eq!(tint, None);
+        // A colour on a dark wood is no tint: it would turn it nearly black.
+        let c = StructureCatalog::builtin();
+        assert_eq!(c.tint("blue", "DarkWoodPlanks"), None);
+        assert!(c.tint("blue", "WhiteWood").is_some());
     }
 }

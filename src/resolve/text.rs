@@ -475,6 +475,17 @@ pub(crate) fn is_attribute(word: &str) -> bool {
     ATTRIBUTE_WORDS.contains(&word)
 }
 
+/// Head words that name a material or a general thing, so that a thing named by one alone is
+/// not the thing a compound names: `papers` (documents) are not `toilet paper`, `curtains` over
+/// a window are not a `shower curtain`.
+const MATERIAL_HEADS: [&str; 3] = ["paper", "foil", "curtain"];
+
+/// Whether a (normalized) head word names a material: an asset whose category says which
+/// thing of that material it is (`toilet paper`) matches only a query that says so too.
+pub(crate) fn is_material_head(word: &str) -> bool {
+    MATERIAL_HEADS.contains(&word)
+}
+
 /// Whether a (normalized) head word is too general to match alone.
 pub(crate) fn is_generic_head(word: &str) -> bool {
     GENERIC_HEADS.contains(&word)
