@@ -439,3 +439,50 @@ fn flat_things_that_do_not_fit_side_by_side_are_piled() {
     assert_eq!(left.len(), 2 + 10 - books.len(), "{left:?}");
     assert!(out.unplaced.iter().all(|u| u.reason.contains("is full")), "{:?}", out.unplaced);
 }
+
+/// A pinned pose is held to every hard rule the search keeps, reachability included: a
+/// cabinet pinned across a corridor, 45 cm from either wall, cuts off the room behind it for a
+/// 0.25 m agent and is reported (W0502), by both
+/// solvers.
+#[test]
+fn a_pin_that_cuts_the_room_off_is_reported() {
+    let object = |id: &str, size: [f64; 2], pin: Option<solve::Pose>| FloorObject {
+        id: id.into(),
+        size,
+        height: 1.0,
+        global: if pin.is_some() { GlobalKind::Middle } else { GlobalKind::Edge },
+        role: holoc::solve::Role::Other,
+        constraints: Vec::new(),
+        pin,
+        thor_type: None,
+        span: None,
+    };
+    let problem = RoomProblem {
+        name: "corridor".into(),
+        outline: vec![[0.0, 0.0], [0.0, 4.0], [3.0, 4.0], [3.0, 0.0]],
+        wall_height: 2.7,
+        keep_out: vec![vec![[1.0, 0.0], [1.0, 1.0], [2.0, 1.0], [2.0, 0.0]]],
+        walls: Vec::new(),
+        objects: vec![
+            object("shelf-0", [0.8, 0.4], None),
+            object(
+                "cabinet-0",
+                [2.1, 0.5],
+                Some(solve::Pose { x: 1.5, z: 2.0, rot: solve::Rot::from_deg(0.0) }),
+            ),
+        ],
+        wall_objects: Vec::new(),
+        small_objects: Vec::new(),
+        ceiling: None,
+        span: None,
+    };
+    for solver in [solve::Solver::Dfs, solve::Solver::Milp] {
+        let out = solve::solve_room(&problem, &SolveOptions { solver, ..SolveOptions::default() });
+        assert!(
+            out.value.pinned_breaks.iter().any(|&(k, r)| k == 1 && r == solve::HardRule::Reachable),
+            "{solver:?}: {:?}",
+            out.value.pinned_breaks
+        );
+        assert!(out.diagnostics.iter().any(|d| d.code.as_str() == "W0502"));
+    }
+}

@@ -534,11 +534,19 @@ impl Search<'_, '_> {
         let obj = &self.prep.problem.objects[k];
         if let Some(pin) = obj.pin {
             let fp = footprint(&pin, obj.size);
-            if let Some(rule) = self
+            // Every hard rule, as a candidate is held to: the static ones, no overlap, the
+            // use-clearances and reachability (a pinned lamp that cuts a bookcase off).
+            let cand = Cand { pose: pin, fp };
+            let rule = self
                 .prep
                 .static_rule(k, &pin)
                 .or_else(|| st.fps.iter().any(|f| f.overlaps(&fp)).then_some(HardRule::NoOverlap))
-            {
+                .or_else(|| {
+                    let ctx = self.clearance_context(k, st);
+                    (!self.clearances_kept(k, &cand, &ctx)).then_some(HardRule::UseClearance)
+                })
+                .or_else(|| self.boxed(&cand, st).then_some(HardRule::Reachable));
+            if let Some(rule) = rule {
                 if !self.pin_breaks.iter().any(|(i, _)| *i == k) {
                     self.pin_breaks.push((k, rule));
                 }

@@ -419,9 +419,14 @@ pub(crate) fn solve(prep: &Prepared<'_>, options: &SolveOptions) -> RoomLayout {
         layout.nodes += 1;
         if let Some(pin) = obj.pin {
             let fp = footprint(&pin, obj.size);
+            // The rules the MILP models, then reachability (use-clearances are not modelled
+            // by the MILP, as the book says).
+            let mut with = fps.clone();
+            with.push(fp);
             if let Some(rule) = prep
                 .static_rule(k, &pin)
                 .or_else(|| fps.iter().any(|f| f.overlaps(&fp)).then_some(HardRule::NoOverlap))
+                .or_else(|| (!prep.reach.ok(&with)).then_some(HardRule::Reachable))
             {
                 layout.pinned_breaks.push((k, rule));
             }

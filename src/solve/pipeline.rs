@@ -276,9 +276,44 @@ pub fn solve(
             keep
         });
         small_keys.retain(|k| choice(k).is_some());
+        // The receptacles of the room by AI2-THOR type, for things whose declared receptacle
+        // may not carry them (ProcTHOR's receptacle pairs): a desk lamp on an armchair goes to
+        // the nearest side table.
+        let holders: Vec<(super::Holder, Option<String>)> = (problem.objects.iter())
+            .enumerate()
+            .map(|(i, o)| (super::Holder::Floor(i), o.thor_type.clone()))
+            .chain(
+                problem
+                    .wall_objects
+                    .iter()
+                    .enumerate()
+                    .map(|(i, o)| (super::Holder::Wall(i), o.thor_type.clone())),
+            )
+            .collect();
+        let type_of =
+            |h: super::Holder| holders.iter().find(|(x, _)| *x == h).and_then(|(_, t)| t.clone());
         for (small, key) in problem.small_objects.iter_mut().zip(&small_keys) {
             if let Some(c) = choice(key) {
                 small.size = bbox_to_size(c.bbox_m);
+                let here = type_of(small.on);
+                let refused = here.as_deref().is_some_and(|t| {
+                    crate::resolve::is_receptacle_type(t)
+                        && !crate::resolve::allowed_on(&c.object_type, t)
+                });
+                if refused && !c.pinned {
+                    small.elsewhere = Some(
+                        holders
+                            .iter()
+                            .filter(|(h, t)| {
+                                *h != small.on
+                                    && t.as_deref().is_some_and(|t| {
+                                        crate::resolve::allowed_on(&c.object_type, t)
+                                    })
+                            })
+                            .map(|(h, _)| *h)
+                            .collect(),
+                    );
+                }
             }
         }
         let room_options = SolveOptions {
