@@ -146,19 +146,61 @@ fn resting(built: &Built) -> (usize, usize) {
     (ok, total)
 }
 
+/// Things on a receptacle whose pair of AI2-THOR types ProcTHOR's receptacles never hold, of
+/// all things on a receptacle of a type the table knows.
+fn pairs_outside(built: &Built, catalog: &Catalog) -> (usize, usize) {
+    let type_of = |o: &holoc::lower::thor::Object| {
+        catalog.get(&o.asset_id).map(|a| a.object_type.clone()).unwrap_or_default()
+    };
+    let (mut outside, mut total) = (0, 0);
+    for o in built.house.all_objects() {
+        let parent = type_of(o);
+        if !holoc::resolve::is_receptacle_type(&parent) {
+            continue;
+        }
+        for c in &o.children {
+            total += 1;
+            outside += usize::from(!holoc::resolve::allowed_on(&type_of(c), &parent));
+        }
+    }
+    (outside, total)
+}
+
+/// Walls whose design names a colour, and of them the ones the house tints.
+fn wall_colours(built: &Built) -> (usize, usize) {
+    let (mut asked, mut written) = (0, 0);
+    for room in &built.scene.rooms {
+        let Some(design) = &room.wall_design else { continue };
+        if holoc::resolve::colors::find(design).is_none() {
+            continue;
+        }
+        asked += 1;
+        let id = &built.plan.room(room.id).thor_id;
+        let tinted = built
+            .house
+            .house
+            .walls
+            .iter()
+            .filter(|w| w.room_id == *id)
+            .all(|w| w.material.color.is_some());
+        written += usize::from(tinted);
+    }
+    (asked, written)
+}
+
 fn main() {
     let catalog = Catalog::embedded();
     println!(
-        "| scene | asked | placed | left out (reported) | around: chairs a side (most–fewest) | screens: distance, angle | resting on a surface | slowest room ms |"
+        "| scene | asked | placed | left out (reported) | around: chairs a side (most–fewest) | screens: distance, angle | pairs outside receptacles.json | resting on a surface | wall colours asked/written | slowest room ms |"
     );
-    println!("|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|");
     for path in scenes() {
         let mut sources = SourceMap::new();
         let Ok(text) = std::fs::read_to_string(&path) else { continue };
         let id = sources.add(path.display().to_string(), text);
         let options = BuildOptions::new(&catalog);
         let Some(built) = build(&sources, id, &options).value else {
-            println!("| {} | does not build | | | | | | |", path.display());
+            println!("| {} | does not build | | | | | | | | |", path.display());
             continue;
         };
         let summary = holoc::report::Summary::of(&built);
@@ -176,8 +218,10 @@ fn main() {
         let (rest_ok, rest_total) = resting(&built);
         let spread = around_spread(&built);
         let views = viewing(&built);
+        let (outside, on_receptacles) = pairs_outside(&built, &catalog);
+        let (colours_asked, colours_written) = wall_colours(&built);
         println!(
-            "| {} | {} | {} | {}{} | {} | {} | {rest_ok}/{rest_total} | {slowest:.1} |",
+            "| {} | {} | {} | {}{} | {} | {} | {outside}/{on_receptacles} | {rest_ok}/{rest_total} | {colours_asked}/{colours_written} | {slowest:.1} |",
             path.file_stem().map(|s| s.to_string_lossy()).unwrap_or_default(),
             summary.asked,
             summary.placed,
