@@ -503,7 +503,8 @@ impl Search<'_, '_> {
     }
 
     fn out_of_budget(&self) -> bool {
-        self.best.is_some() && self.nodes >= self.budget
+        // A cancelled batch job (`crate::cancel`) stops here; its layout is thrown away.
+        (self.best.is_some() && self.nodes >= self.budget) || crate::cancel::requested()
     }
 
     fn visit(&mut self, k: usize, disc: usize, st: &mut State) {
