@@ -94,8 +94,6 @@ fn shards_are_disjoint_and_cover_the_manifest_and_merge_into_one() {
         assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
         let s = summary(&out.join(format!("summary.shard-{i}-of-3.json")));
         for job in s["jobs"].as_array().expect("jobs") {
-            let line = job["line"].as_u64().expect("line");
-            assert_eq!(line % 3, i, "line {line} is not in shard {i}");
             seen.push(job["hash"].as_str().expect("hash").to_string());
         }
     }
@@ -185,7 +183,7 @@ fn a_failing_job_is_recorded_and_the_others_finish() {
         .collect();
     assert_eq!(failures.len(), 2);
     assert_eq!(failures[0]["line"], 2);
-    assert_eq!(failures[0]["stage"], "build");
+    assert_eq!(failures[0]["stage"], "check");
     assert_eq!(failures[0]["codes"], serde_json::json!(["E0201"]));
     assert_eq!(failures[1]["stage"], "manifest");
     assert_eq!(folders(&out).len(), 2, "the two good jobs are built");
@@ -387,6 +385,8 @@ fn a_job_past_its_time_limit_is_stopped_and_the_worker_goes_on() {
     assert_eq!(failures[0]["id"], "slow");
     assert_eq!(failures[0]["codes"], serde_json::json!(["E0006"]));
     assert_eq!(failures[0]["stage"], "solve", "{}", failures[0]);
+    let message = failures[0]["message"].as_str().unwrap_or_default();
+    assert!(!message.contains("left to end"), "the solver stopped at once: {message}");
     assert_eq!(folders(&out).len(), 5, "the jobs behind the slow one ran");
     // What was built does not depend on the time limit.
     let reference = dir.join("reference.jsonl");
@@ -396,14 +396,20 @@ fn a_job_past_its_time_limit_is_stopped_and_the_worker_goes_on() {
     assert_eq!(folders(&out), folders(&dir.join("reference")));
 }
 
-/// A room of many objects tied to each other: a search that runs long.
+/// Four rooms of 90 objects each tied to the one before: a solve of seconds.
 fn slow_scene() -> String {
-    let mut text = String::from("room a \"a large room\" {\n  corners in m (0, 0) (0, 12) (12, 12) (12, 0)\n");
-    for k in 0..40 {
-        let near = if k == 0 { "edge".to_string() } else { format!("near t{}-0", k - 1) };
-        text.push_str(&format!("  object t{k} \"small wooden table\" {{ {near} }}\n"));
+    use std::fmt::Write as _;
+    let mut text = String::new();
+    for (i, r) in ["a", "b", "c", "d"].iter().enumerate() {
+        let (x0, x1) = (i * 12, i * 12 + 12);
+        let _ = writeln!(text, "room {r} \"room {r}\" {{\n  corners in m ({x0}, 0) ({x0}, 12) ({x1}, 12) ({x1}, 0)");
+        for k in 0..90 {
+            let near = if k == 0 { "edge".to_string() } else { format!("near t{}-0", k - 1) };
+            let _ = writeln!(text, "  object t{k} \"small wooden table\" {{ {near} }}");
+        }
+        text.push_str("}\n");
     }
-    text.push_str("}\ndoor exterior -- a : doorway single\n");
+    text.push_str("door exterior -- a : doorway single\ndoor a -- b : doorway single\ndoor b -- c : doorway single\ndoor c -- d : doorway single\n");
     text
 }
 

@@ -1072,6 +1072,9 @@ pub(crate) fn solve(prep: &Prepared<'_>, options: &SolveOptions) -> RoomLayout {
     let mut statics = Vec::with_capacity(n);
     let mut static_fails = Vec::with_capacity(n);
     for k in 0..n {
+        if crate::cancel::requested() {
+            return RoomLayout::default();
+        }
         let (c, f) = static_candidates(prep, k, options.seed);
         statics.push(c);
         static_fails.push(f);
