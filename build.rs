@@ -4,6 +4,7 @@
 //! job's hash, so a holoc that would build a job differently redoes it.
 
 use sha2::{Digest as _, Sha256};
+use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 fn files(dir: &Path, out: &mut Vec<PathBuf>) {
@@ -33,7 +34,10 @@ fn tree_hash(dirs: &[&str]) -> String {
         hasher.update(std::fs::read(&path).unwrap_or_default());
         hasher.update([0]);
     }
-    hasher.finalize().iter().take(6).map(|b| format!("{b:02x}")).collect()
+    hasher.finalize().iter().take(6).fold(String::new(), |mut hex, b| {
+        let _ = write!(hex, "{b:02x}");
+        hex
+    })
 }
 
 fn commit() -> String {

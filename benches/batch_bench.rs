@@ -99,7 +99,11 @@ fn run_with(manifest: &Path, out: &Path, extra: &[&str]) -> f64 {
         .args(extra)
         .output()
         .expect("holoc runs");
-    assert!(output.status.code().is_some_and(|c| c <= 1), "{}", String::from_utf8_lossy(&output.stderr));
+    assert!(
+        output.status.code().is_some_and(|c| c <= 1),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
     started.elapsed().as_secs_f64()
 }
 
@@ -116,7 +120,11 @@ fn week(dir: &Path, examples: &[PathBuf], catalog_jobs: usize) {
     let bedroom = examples.iter().find(|p| p.ends_with("bedroom.holo")).expect("the bedroom");
     let mut lines = String::new();
     for seed in 1..=catalog_jobs {
-        let _ = writeln!(lines, "{{\"build\": \"{}\", \"seed\": {seed}, \"catalog\": [\"big.json\"]}}", bedroom.display());
+        let _ = writeln!(
+            lines,
+            "{{\"build\": \"{}\", \"seed\": {seed}, \"catalog\": [\"big.json\"]}}",
+            bedroom.display()
+        );
     }
     let manifest = dir.join("catalog.jsonl");
     std::fs::write(&manifest, lines).expect("write");
@@ -145,7 +153,11 @@ fn week(dir: &Path, examples: &[PathBuf], catalog_jobs: usize) {
         let manifest = dir.join(format!("generate-{jobs}-{k}.jsonl"));
         std::fs::write(&manifest, lines).expect("write");
         let before = server.calls();
-        let seconds = run_with(&manifest, &dir.join(format!("out-generate-{jobs}-{k}")), &["--jobs", &jobs.to_string(), "--llm-concurrency", &k.to_string()]);
+        let seconds = run_with(
+            &manifest,
+            &dir.join(format!("out-generate-{jobs}-{k}")),
+            &["--jobs", &jobs.to_string(), "--llm-concurrency", &k.to_string()],
+        );
         let calls = server.calls() - before;
         println!(
             "| {n} generate jobs, model 1 s per answer, --jobs {jobs} --llm-concurrency {k} | {seconds:.1} s, {calls} requests, {:.2} requests/s |",

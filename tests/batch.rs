@@ -3,6 +3,7 @@
 //! failing job is recorded with its codes while the others finish, generate jobs run against
 //! the loopback server and reuse what they recorded, and `batch merge` joins the shards.
 
+mod common;
 #[path = "support/llm_server.rs"]
 mod llm_server;
 
@@ -372,7 +373,8 @@ fn a_job_past_its_time_limit_is_stopped_and_the_worker_goes_on() {
     std::fs::copy("examples/bedroom.holo", dir.join("bedroom.holo")).expect("copy");
     std::fs::write(dir.join("slow.holo"), slow_scene()).expect("write");
     let manifest = dir.join("m.jsonl");
-    let mut lines = vec![r#"{"build": "slow.holo", "node_budget": 10000, "id": "slow"}"#.to_string()];
+    let mut lines =
+        vec![r#"{"build": "slow.holo", "node_budget": 10000, "id": "slow"}"#.to_string()];
     lines.extend((1..=5).map(|s| format!(r#"{{"build": "bedroom.holo", "seed": {s}}}"#)));
     std::fs::write(&manifest, lines.join("\n") + "\n").expect("write");
     let out = dir.join("out");
@@ -402,7 +404,10 @@ fn slow_scene() -> String {
     let mut text = String::new();
     for (i, r) in ["a", "b", "c", "d"].iter().enumerate() {
         let (x0, x1) = (i * 12, i * 12 + 12);
-        let _ = writeln!(text, "room {r} \"room {r}\" {{\n  corners in m ({x0}, 0) ({x0}, 12) ({x1}, 12) ({x1}, 0)");
+        let _ = writeln!(
+            text,
+            "room {r} \"room {r}\" {{\n  corners in m ({x0}, 0) ({x0}, 12) ({x1}, 12) ({x1}, 0)"
+        );
         for k in 0..90 {
             let near = if k == 0 { "edge".to_string() } else { format!("near t{}-0", k - 1) };
             let _ = writeln!(text, "  object t{k} \"small wooden table\" {{ {near} }}");
@@ -417,8 +422,11 @@ fn slow_scene() -> String {
 fn the_hash_holds_the_model_and_version_shows_the_build() {
     let dir = scratch("identity");
     let manifest = dir.join("m.jsonl");
-    std::fs::write(&manifest, "{\"generate\": \"a bedroom\", \"base_url\": \"http://127.0.0.1:1/v1\"}\n")
-        .expect("write");
+    std::fs::write(
+        &manifest,
+        "{\"generate\": \"a bedroom\", \"base_url\": \"http://127.0.0.1:1/v1\"}\n",
+    )
+    .expect("write");
     let hash = |model: &str| {
         let out = dir.join(format!("out-{model}"));
         let run = holoc()
@@ -436,7 +444,10 @@ fn the_hash_holds_the_model_and_version_shows_the_build() {
     assert_ne!(hash("model-a"), hash("model-b"), "a changed model is a new job");
     let version = holoc().arg("--version").output().expect("runs");
     let text = String::from_utf8_lossy(&version.stdout);
-    assert!(text.contains("commit ") && text.contains("data ") && text.contains("source "), "{text}");
+    assert!(
+        text.contains("commit ") && text.contains("data ") && text.contains("source "),
+        "{text}"
+    );
 }
 
 /// The hashes in each shard's summary.
@@ -522,14 +533,22 @@ fn the_books_sbatch_script_survives_a_re_submission_of_some_indices() {
         true
     };
     if !task(1, 2, 1, 3) {
-        eprintln!("SKIPPED the_books_sbatch_script_survives_a_re_submission_of_some_indices: no bash");
+        common::skip(
+            "the_books_sbatch_script_survives_a_re_submission_of_some_indices",
+            "bash is absent",
+        );
         return;
     }
     task(3, 2, 1, 3);
     for i in (0..size).filter(|i| *i != 1 && *i != 3) {
         task(i, size - 2, 0, size - 1);
     }
-    let merged = holoc().args(["batch", "merge", "-q", "-o"]).arg(dir.join("merged.json")).arg(&out).output().expect("runs");
+    let merged = holoc()
+        .args(["batch", "merge", "-q", "-o"])
+        .arg(dir.join("merged.json"))
+        .arg(&out)
+        .output()
+        .expect("runs");
     assert!(merged.status.success(), "{}", String::from_utf8_lossy(&merged.stderr));
     assert_eq!(summary(&dir.join("merged.json"))["done"], 6);
 }
@@ -684,7 +703,12 @@ fn merge_refuses_when_a_shard_is_missing() {
     for i in [0, 2] {
         assert!(batch(&["--shard", &format!("{i}/3")], &manifest, &out).status.success());
     }
-    let merged = holoc().args(["batch", "merge", "-q", "-o"]).arg(dir.join("m.json")).arg(&out).output().expect("runs");
+    let merged = holoc()
+        .args(["batch", "merge", "-q", "-o"])
+        .arg(dir.join("m.json"))
+        .arg(&out)
+        .output()
+        .expect("runs");
     assert_eq!(merged.status.code(), Some(2));
     let stderr = String::from_utf8_lossy(&merged.stderr);
     assert!(stderr.contains("E0008") && stderr.contains("1/3"), "{stderr}");
@@ -716,7 +740,9 @@ fn duplicate_lines_are_one_job_and_outputs_depend_on_the_job_alone() {
         .expect("runs");
     assert!(run.status.success());
     assert_eq!(folders(&out), folders(&other));
-    let report = String::from_utf8_lossy(&folders(&out).values().next().expect("a job")["report.json"]).to_string();
+    let report =
+        String::from_utf8_lossy(&folders(&out).values().next().expect("a job")["report.json"])
+            .to_string();
     assert!(report.contains("\"path\": \"cat.json\""), "the catalog as the manifest names it");
 }
 
@@ -730,7 +756,11 @@ fn scratch_left_by_a_killed_run_is_removed() {
     std::fs::create_dir_all(out.join(".tmp/0123456789abcdef-99")).expect("mkdir");
     let run = batch(&[], &manifest, &out);
     assert!(run.status.success());
-    assert!(!out.join(".tmp").exists(), "{:?}", std::fs::read_dir(out.join(".tmp")).map(|d| d.count()));
+    assert!(
+        !out.join(".tmp").exists(),
+        "{:?}",
+        std::fs::read_dir(out.join(".tmp")).map(Iterator::count)
+    );
 }
 
 #[test]

@@ -110,7 +110,8 @@ impl FileLock {
         if let Some(parent) = path.parent() {
             std::fs::create_dir_all(parent)?;
         }
-        let file = std::fs::OpenOptions::new().create(true).truncate(false).write(true).open(path)?;
+        let file =
+            std::fs::OpenOptions::new().create(true).truncate(false).write(true).open(path)?;
         #[cfg(unix)]
         {
             use rustix::fs::{flock, FlockOperation};
@@ -161,13 +162,16 @@ impl Scratch {
     /// scratch of older versions) goes too.
     fn clean(root: &Path) {
         let Ok(entries) = std::fs::read_dir(root) else { return };
-        let mut names: Vec<String> =
-            entries.filter_map(Result::ok).map(|e| e.file_name().to_string_lossy().into_owned()).collect();
+        let mut names: Vec<String> = entries
+            .filter_map(Result::ok)
+            .map(|e| e.file_name().to_string_lossy().into_owned())
+            .collect();
         names.sort();
-        for name in names.iter().filter(|n| !n.ends_with(".lock")) {
+        let is_lock = |n: &&String| Path::new(n.as_str()).extension().is_some_and(|e| e == "lock");
+        for name in names.iter().filter(|n| !is_lock(n)) {
             let lock_path = root.join(format!("{name}.lock"));
-            let held = lock_path.exists()
-                && matches!(FileLock::try_take(&lock_path), Ok(None) | Err(_));
+            let held =
+                lock_path.exists() && matches!(FileLock::try_take(&lock_path), Ok(None) | Err(_));
             if held {
                 continue;
             }
@@ -180,7 +184,7 @@ impl Scratch {
             let _ = std::fs::remove_file(&lock_path);
         }
         // Locks left without a folder.
-        for name in names.iter().filter(|n| n.ends_with(".lock")) {
+        for name in names.iter().filter(is_lock) {
             let folder = root.join(name.trim_end_matches(".lock"));
             let path = root.join(name);
             if !folder.exists() && matches!(FileLock::try_take(&path), Ok(Some(_))) {

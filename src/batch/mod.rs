@@ -132,6 +132,10 @@ pub enum Status {
     Failed,
 }
 
+#[allow(
+    clippy::trivially_copy_pass_by_ref,
+    reason = "serde's skip_serializing_if passes a reference"
+)]
 fn is_zero(n: &u32) -> bool {
     *n == 0
 }
@@ -190,6 +194,7 @@ impl JobResult {
     }
 
     /// A failure of `stage` with one code and its message.
+    #[must_use]
     pub fn fail(mut self, stage: &str, code: Code, message: String) -> JobResult {
         self.status = Status::Failed;
         self.stage = Some(stage.to_string());

@@ -281,9 +281,7 @@ fn run_build_job(job: &Job, options: &RunOptions) -> Work {
 }
 
 /// The answers a failed run of this job recorded, without those of the questions that failed.
-fn recorded_answers(
-    partial: &Path,
-) -> BTreeMap<(String, Option<String>, u32, String), String> {
+fn recorded_answers(partial: &Path) -> BTreeMap<(String, Option<String>, u32, String), String> {
     let Some(transcript) = std::fs::read_to_string(partial)
         .ok()
         .and_then(|t| serde_json::from_str::<crate::import::Transcript>(&t).ok())
@@ -399,8 +397,7 @@ fn write_file(path: &Path, text: &str) -> std::io::Result<()> {
 
 /// Whether an I/O error means the disk (or the quota) is full.
 pub fn is_disk_full(e: &std::io::Error) -> bool {
-    e.kind() == std::io::ErrorKind::StorageFull
-        || matches!(e.raw_os_error(), Some(28 | 122))
+    e.kind() == std::io::ErrorKind::StorageFull || matches!(e.raw_os_error(), Some(28 | 122))
 }
 
 /// Writes `text` to `path` through a scratch file and a rename.
@@ -424,7 +421,12 @@ fn write_atomically(
 
 /// Writes a finished job's folder: a scratch folder with every file and the marker, renamed
 /// into place.
-fn write_job(job: &Job, files: &Files, diagnostics: &[Diagnostic], options: &RunOptions) -> std::io::Result<()> {
+fn write_job(
+    job: &Job,
+    files: &Files,
+    diagnostics: &[Diagnostic],
+    options: &RunOptions,
+) -> std::io::Result<()> {
     let target = options.out.join(&job.hash);
     let n = options.counter.fetch_add(1, Ordering::Relaxed);
     let tmp = options.scratch.join(format!("{}-{n}", job.hash));
@@ -613,7 +615,8 @@ pub fn run_job(job: &Job, options: &Arc<RunOptions>) -> JobResult {
     if options.retry_failed && result.status == Status::Failed && passing(&result) {
         result.tries += 1;
         let model_retries = result.model_retries;
-        result = JobResult { tries: result.tries, model_retries, ..JobResult::of(job, Status::Done) };
+        result =
+            JobResult { tries: result.tries, model_retries, ..JobResult::of(job, Status::Done) };
         try_once(job, options, &mut result);
     }
     if result.status == Status::Failed {

@@ -58,7 +58,8 @@ pub fn assign(jobs: &[Planned], count: usize) -> HashMap<String, usize> {
     // A job listed twice with different weights cannot happen (the weight is a function of
     // the identity), but the sort above would keep both: keep the first of each hash.
     let mut shard_of: HashMap<String, usize> = HashMap::with_capacity(distinct.len());
-    let mut loads: BinaryHeap<Reverse<(u64, usize)>> = (0..count).map(|i| Reverse((0, i))).collect();
+    let mut loads: BinaryHeap<Reverse<(u64, usize)>> =
+        (0..count).map(|i| Reverse((0, i))).collect();
     for job in distinct {
         if shard_of.contains_key(&job.hash) {
             continue;
@@ -90,8 +91,8 @@ mod tests {
                 let jobs = planned(n, 5);
                 let split = assign(&jobs, count);
                 let mut sizes = vec![0usize; count];
-                for s in split.values() {
-                    sizes[*s] += 1;
+                for job in &jobs {
+                    sizes[split[&job.hash]] += 1;
                 }
                 let (lo, hi) = (sizes.iter().min().copied(), sizes.iter().max().copied());
                 assert!(hi.unwrap_or(0) - lo.unwrap_or(0) <= 1, "{n} jobs in {count}: {sizes:?}");

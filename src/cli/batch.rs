@@ -69,9 +69,8 @@ pub struct BatchArgs {
 /// Reads `90`, `90s`, `500ms`, `30m`, `2h`.
 fn parse_duration(text: &str) -> Result<Duration, String> {
     let t = text.trim();
-    let (number, unit) = t
-        .find(|c: char| c.is_ascii_alphabetic())
-        .map_or((t, "s"), |at| (&t[..at], &t[at..]));
+    let (number, unit) =
+        t.find(|c: char| c.is_ascii_alphabetic()).map_or((t, "s"), |at| (&t[..at], &t[at..]));
     let value: f64 = number.trim().parse().map_err(|_| format!("`{text}` is not a duration"))?;
     let seconds = match unit {
         "ms" => value / 1000.0,
@@ -128,7 +127,10 @@ enum Item {
     Run(Job),
     NotAJob(batch::ManifestError),
     /// The same job as an earlier line (by hash).
-    Same { job: Job, first: usize },
+    Same {
+        job: Job,
+        first: usize,
+    },
 }
 
 /// Runs `holoc batch`.
@@ -161,7 +163,8 @@ pub fn run(args: &BatchArgs) -> ExitCode {
         .jobs
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, usize::from))
         .max(1);
-    let mut options = RunOptions::new(out.clone(), scratch.dir.clone(), threads, args.llm_concurrency);
+    let mut options =
+        RunOptions::new(out.clone(), scratch.dir.clone(), threads, args.llm_concurrency);
     options.force = args.force;
     options.retry_failed = args.retry_failed;
     if let Some(t) = args.job_timeout {
@@ -212,9 +215,10 @@ pub fn run(args: &BatchArgs) -> ExitCode {
     let mut seen_twice: HashSet<&str> = HashSet::new();
     {
         let mut seen: HashSet<&str> = HashSet::new();
-        for h in hash_of.values() {
-            if !seen.insert(h) {
-                seen_twice.insert(h);
+        // In line order (`planned` is), so that the set does not depend on a hash map's order.
+        for (line, p) in &planned {
+            if hash_of.contains_key(line) && !seen.insert(p.hash.as_str()) {
+                seen_twice.insert(p.hash.as_str());
             }
         }
     }
@@ -231,7 +235,8 @@ pub fn run(args: &BatchArgs) -> ExitCode {
 
     std::thread::scope(|scope| {
         let (items_tx, items_rx) = crossbeam_channel::bounded::<(usize, Item)>(workers * 2);
-        let (results_tx, results_rx) = crossbeam_channel::unbounded::<(usize, JobResult, Option<usize>)>();
+        let (results_tx, results_rx) =
+            crossbeam_channel::unbounded::<(usize, JobResult, Option<usize>)>();
         // The reader: the lines of this shard, in order, numbered.
         let (hash_of, first_line) = (&hash_of, &first_line);
         scope.spawn(move || {
@@ -326,7 +331,9 @@ pub fn run(args: &BatchArgs) -> ExitCode {
                 unwritten.iter().take(50).cloned().collect::<Vec<_>>().join("; ")
             ));
         }
-        common::emit_plain(&d.with_help("free space and run the same command again: finished jobs are skipped"));
+        common::emit_plain(
+            &d.with_help("free space and run the same command again: finished jobs are skipped"),
+        );
     }
     if !args.quiet {
         let summary = std::fs::read_to_string(out.join(format!("summary{suffix}.json")))
@@ -372,7 +379,8 @@ impl Progress {
     fn new(total: usize, quiet: bool, every: f64) -> Progress {
         let terminal = std::io::stderr().is_terminal();
         let bar = (!quiet && terminal).then(|| {
-            let bar = ProgressBar::with_draw_target(Some(total as u64), ProgressDrawTarget::stderr());
+            let bar =
+                ProgressBar::with_draw_target(Some(total as u64), ProgressDrawTarget::stderr());
             if let Ok(style) = ProgressStyle::with_template(
                 "{bar:30} {pos}/{len} jobs, {msg}, {per_sec}, {elapsed_precise} (eta {eta})",
             ) {
@@ -512,7 +520,11 @@ impl ResultLog {
             {
                 let mut w = std::io::BufWriter::new(std::fs::File::create(&summary_tmp)?);
                 writeln!(w, "{{")?;
-                writeln!(w, "  \"holoc\": {},", serde_json::json!(crate::build_info::LONG_VERSION))?;
+                writeln!(
+                    w,
+                    "  \"holoc\": {},",
+                    serde_json::json!(crate::build_info::LONG_VERSION)
+                )?;
                 writeln!(w, "  \"shards\": {},", serde_json::json!(shards))?;
                 writeln!(w, "  \"done\": {},", self.counts[0])?;
                 writeln!(w, "  \"skipped\": {},", self.counts[1])?;
@@ -552,7 +564,8 @@ fn print_table(summary: &Summary, seconds: f64) {
         summary.done, summary.skipped + summary.busy, summary.failed
     );
     if summary.busy > 0 {
-        let _ = writeln!(text, "{} of the skipped jobs were being done by another run", summary.busy);
+        let _ =
+            writeln!(text, "{} of the skipped jobs were being done by another run", summary.busy);
     }
     for job in summary.jobs.iter().filter(|j| j.status == Status::Failed).take(20) {
         let _ = writeln!(
