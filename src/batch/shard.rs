@@ -118,6 +118,29 @@ mod tests {
         assert!(heavy.iter().all(|&h| (5..=6).contains(&h)), "{heavy:?}");
     }
 
+    proptest::proptest! {
+        /// Any set of equal jobs, in any order: the same split, sizes within one.
+        #[test]
+        fn the_split_of_equal_jobs_is_even_and_ignores_order(
+            n in 0usize..200, count in 1usize..17, rotate in 0usize..200, weight in 1u64..1000
+        ) {
+            let jobs = planned(n, weight);
+            let split = assign(&jobs, count);
+            let mut moved = jobs.clone();
+            if n > 0 {
+                moved.rotate_left(rotate % n);
+            }
+            moved.reverse();
+            proptest::prop_assert_eq!(&assign(&moved, count), &split);
+            let mut sizes = vec![0usize; count];
+            for job in &jobs {
+                sizes[split[&job.hash]] += 1;
+            }
+            let (lo, hi) = (sizes.iter().min().copied().unwrap_or(0), sizes.iter().max().copied().unwrap_or(0));
+            proptest::prop_assert!(hi - lo <= 1, "{:?}", sizes);
+        }
+    }
+
     #[test]
     fn the_shard_index_is_below_the_count() {
         assert!(Shard::parse("3/2").is_err());
