@@ -7,9 +7,19 @@
 //! 10,000-job runs with one thread per core (read with `/usr/bin/time -f %M` when it exists),
 //! and the time per job of a second run over the finished 10,000-job manifest (every job
 //! skipped). `-- --small N --large M` change the sizes.
+//!
+//! Then the figures of a week-long run: the cost per job of resuming jobs that all name a
+//! 30 MB catalog (`--catalog-jobs`, default 200), the throughput of generate jobs against a
+//! loopback model server that answers each request in 1 s (with `--jobs 1` and
+//! `--llm-concurrency` 4 and 8, then `--jobs 4 --llm-concurrency 4`: the rate follows the model
+//! slots, not the CPU workers), and the balance of 4 shards over a mixed manifest (the largest
+//! shard's summed job time against the mean). `-- --only week` runs only these.
 
 // The table is the point of this binary: it prints to stdout on purpose.
 #![allow(clippy::print_stdout)]
+
+#[path = "../tests/support/llm_server.rs"]
+mod llm_server;
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -62,6 +72,126 @@ fn run(manifest: &Path, out: &Path, jobs: usize) -> (f64, Option<u64>) {
     (seconds, peak)
 }
 
+/// A procthor-format catalog of about `mb` megabytes.
+fn big_catalog(path: &Path, mb: usize) {
+    let mut text = String::from("{\n  \"Sofa\": [\n");
+    let mut k = 0;
+    while text.len() < mb * 1024 * 1024 {
+        let _ = writeln!(
+            text,
+            "    {{\"assetId\": \"Bench_Sofa_{k}\", \"objectType\": \"Sofa\", \"boundingBox\": {{\"x\": 2.1, \"y\": 0.85, \"z\": 0.95}}, \"description\": \"a sofa of the benchmark number {k}\"}},"
+        );
+        k += 1;
+    }
+    text.push_str("    {\"assetId\": \"Bench_Sofa_last\", \"objectType\": \"Sofa\"}\n  ]\n}\n");
+    std::fs::write(path, text).expect("the catalog is written");
+}
+
+/// Runs `holoc batch` with extra arguments; returns the seconds.
+fn run_with(manifest: &Path, out: &Path, extra: &[&str]) -> f64 {
+    let started = Instant::now();
+    let output = Command::new(env!("CARGO_BIN_EXE_holoc"))
+        .arg("batch")
+        .arg(manifest)
+        .arg("-o")
+        .arg(out)
+        .arg("-q")
+        .args(extra)
+        .output()
+        .expect("holoc runs");
+    assert!(
+        output.status.code().is_some_and(|c| c <= 1),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    started.elapsed().as_secs_f64()
+}
+
+fn summary(path: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(path).expect("summary")).expect("json")
+}
+
+/// The figures of a week-long run (see the module's comment).
+fn week(dir: &Path, examples: &[PathBuf], catalog_jobs: usize) {
+    println!("| measure | value |\n|---|---|");
+    // Resume with a 30 MB catalog.
+    let catalog = dir.join("big.json");
+    big_catalog(&catalog, 30);
+    let bedroom = examples.iter().find(|p| p.ends_with("bedroom.holo")).expect("the bedroom");
+    let mut lines = String::new();
+    for seed in 1..=catalog_jobs {
+        let _ = writeln!(
+            lines,
+            "{{\"build\": \"{}\", \"seed\": {seed}, \"catalog\": [\"big.json\"]}}",
+            bedroom.display()
+        );
+    }
+    let manifest = dir.join("catalog.jsonl");
+    std::fs::write(&manifest, lines).expect("write");
+    let first = run_with(&manifest, &dir.join("out-catalog"), &["--jobs", "2"]);
+    let resume = run_with(&manifest, &dir.join("out-catalog"), &["--jobs", "2"]);
+    println!("| first run, {catalog_jobs} jobs naming a 30 MB catalog, --jobs 2 | {first:.1} s |");
+    println!(
+        "| resume of them | {resume:.2} s ({:.3} ms per job, the catalog hashed once included) |",
+        resume * 1000.0 / catalog_jobs as f64
+    );
+    // Generate throughput against a server answering in 1 s.
+    let server = llm_server::Server::start(std::sync::Arc::new(|asked: &llm_server::Asked, _| {
+        let mut reply = llm_server::clean_answer(asked);
+        reply.delay_ms = 1000;
+        reply
+    }));
+    for (jobs, k, n) in [(1, 4, 8), (1, 8, 8), (4, 4, 8)] {
+        let mut lines = String::new();
+        for seed in 1..=n {
+            let _ = writeln!(
+                lines,
+                "{{\"generate\": \"a 1b1b apartment\", \"seed\": {seed}, \"base_url\": \"{}\", \"model\": \"bench-{jobs}-{k}\"}}",
+                server.base_url
+            );
+        }
+        let manifest = dir.join(format!("generate-{jobs}-{k}.jsonl"));
+        std::fs::write(&manifest, lines).expect("write");
+        let before = server.calls();
+        let seconds = run_with(
+            &manifest,
+            &dir.join(format!("out-generate-{jobs}-{k}")),
+            &["--jobs", &jobs.to_string(), "--llm-concurrency", &k.to_string()],
+        );
+        let calls = server.calls() - before;
+        println!(
+            "| {n} generate jobs, model 1 s per answer, --jobs {jobs} --llm-concurrency {k} | {seconds:.1} s, {calls} requests, {:.2} requests/s |",
+            calls as f64 / seconds
+        );
+    }
+    // Shard balance on a mixed manifest: every example, 20 seeds each.
+    let mut lines = String::new();
+    for seed in 1..=20 {
+        for example in examples {
+            let _ = writeln!(lines, "{{\"build\": \"{}\", \"seed\": {seed}}}", example.display());
+        }
+    }
+    let manifest = dir.join("mixed.jsonl");
+    std::fs::write(&manifest, lines).expect("write");
+    let out = dir.join("out-mixed");
+    let mut work = Vec::new();
+    for i in 0..4 {
+        run_with(&manifest, &out, &["--jobs", "1", "--shard", &format!("{i}/4")]);
+        let s = summary(&out.join(format!("summary.shard-{i}-of-4.json")));
+        let jobs = s["jobs"].as_array().expect("jobs");
+        work.push((jobs.len(), jobs.iter().filter_map(|j| j["seconds"].as_f64()).sum::<f64>()));
+    }
+    let mean = work.iter().map(|w| w.1).sum::<f64>() / 4.0;
+    let most = work.iter().map(|w| w.1).fold(0.0, f64::max);
+    let shown: Vec<String> = work.iter().map(|(n, s)| format!("{n} jobs {s:.2} s")).collect();
+    println!(
+        "| 4 shards of {} mixed jobs (the six examples, 20 seeds each) | {}; largest {:.2}x the mean |",
+        examples.len() * 20,
+        shown.join(", "),
+        most / mean
+    );
+}
+
 fn main() {
     let args: Vec<String> = std::env::args().collect();
     let value = |name: &str, default: usize| {
@@ -83,6 +213,11 @@ fn main() {
         .map(|p| std::fs::canonicalize(p).expect("a path"))
         .collect();
     examples.sort();
+    if args.iter().any(|a| a == "week") {
+        week(&dir, &examples, value("--catalog-jobs", 200));
+        let _ = std::fs::remove_dir_all(&dir);
+        return;
+    }
     let m_small = manifest(&dir, small, &examples);
     let m_large = manifest(&dir, large, &examples);
     let (t_small, _) = run(&m_small, &dir.join("out-small"), 1);
@@ -112,5 +247,7 @@ fn main() {
         "| resume of a finished {large}-job manifest | {t_resume:.2} s ({:.3} ms per job) |",
         t_resume * 1000.0 / large as f64
     );
+    println!();
+    week(&dir, &examples, value("--catalog-jobs", 200));
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -204,6 +204,9 @@ pub fn build(
     file: FileId,
     options: &BuildOptions<'_>,
 ) -> Outcome<Option<Built>> {
+    // Each stage says where a batch job is (`crate::cancel`); a job past its time limit stops
+    // at the next stage, or inside the solver's search, and its result is thrown away.
+    crate::cancel::stage("check");
     let checked = check_file(sources, file);
     let mut diagnostics = checked.diagnostics;
     let Some(mut scene) = checked.value.filter(|_| !has_errors(&diagnostics)) else {
@@ -219,6 +222,7 @@ pub fn build(
         }
         diagnostics.extend(repaired.diagnostics);
     }
+    crate::cancel::stage("plan");
     let planned = crate::plan::plan_with(&scene, StructureCatalog::builtin(), options.plan);
     if options.repair {
         diagnostics
@@ -226,10 +230,11 @@ pub fn build(
     } else {
         diagnostics.extend(planned.diagnostics);
     }
-    if has_errors(&diagnostics) {
+    if has_errors(&diagnostics) || crate::cancel::requested() {
         return Outcome::new(None, diagnostics);
     }
     let plan = planned.value;
+    crate::cancel::stage("resolve");
     let resolved = crate::resolve::resolve_with(
         &scene,
         options.catalog,
@@ -237,10 +242,11 @@ pub fn build(
         &crate::resolve::ResolveOptions { stand_ins: options.stand_ins },
     );
     diagnostics.extend(resolved.diagnostics);
-    if has_errors(&diagnostics) {
+    if has_errors(&diagnostics) || crate::cancel::requested() {
         return Outcome::new(None, diagnostics);
     }
     let resolved = resolved.value;
+    crate::cancel::stage("solve");
     let mut solve_options =
         SolveOptions { solver: options.solver, seed: scene.seed, ..SolveOptions::default() };
     if let Some(budget) = options.node_budget {
@@ -251,10 +257,11 @@ pub fn build(
     }
     let solved = crate::solve::solve(&scene, &plan, &resolved, &solve_options);
     diagnostics.extend(solved.diagnostics);
-    if has_errors(&diagnostics) {
+    if has_errors(&diagnostics) || crate::cancel::requested() {
         return Outcome::new(None, diagnostics);
     }
     let layout = solved.value;
+    crate::cancel::stage("lower");
     let mut plan = plan;
     plan.agent = crate::lower::agent_start(&plan, &layout);
     let objects = crate::lower::objects(&layout, &scene, &plan, &resolved);

@@ -6,6 +6,8 @@
 
 pub mod ast;
 pub mod batch;
+pub mod build_info;
+pub mod cancel;
 pub mod check;
 pub mod cli;
 pub mod compile;

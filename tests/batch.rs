@@ -3,6 +3,7 @@
 //! failing job is recorded with its codes while the others finish, generate jobs run against
 //! the loopback server and reuse what they recorded, and `batch merge` joins the shards.
 
+mod common;
 #[path = "support/llm_server.rs"]
 mod llm_server;
 
@@ -94,8 +95,6 @@ fn shards_are_disjoint_and_cover_the_manifest_and_merge_into_one() {
         assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
         let s = summary(&out.join(format!("summary.shard-{i}-of-3.json")));
         for job in s["jobs"].as_array().expect("jobs") {
-            let line = job["line"].as_u64().expect("line");
-            assert_eq!(line % 3, i, "line {line} is not in shard {i}");
             seen.push(job["hash"].as_str().expect("hash").to_string());
         }
     }
@@ -185,7 +184,7 @@ fn a_failing_job_is_recorded_and_the_others_finish() {
         .collect();
     assert_eq!(failures.len(), 2);
     assert_eq!(failures[0]["line"], 2);
-    assert_eq!(failures[0]["stage"], "build");
+    assert_eq!(failures[0]["stage"], "check");
     assert_eq!(failures[0]["codes"], serde_json::json!(["E0201"]));
     assert_eq!(failures[1]["stage"], "manifest");
     assert_eq!(folders(&out).len(), 2, "the two good jobs are built");
@@ -244,4 +243,538 @@ fn generate_jobs_run_against_the_loopback_server_and_reuse_their_answers() {
     let third = batch(&[], &manifest, &out);
     assert!(third.status.success());
     assert_eq!(server.calls() - paid, asked_again, "a finished job asks nothing");
+}
+
+fn failures_of(out: &Path, suffix: &str) -> Vec<serde_json::Value> {
+    std::fs::read_to_string(out.join(format!("failures{suffix}.jsonl")))
+        .expect("failures")
+        .lines()
+        .map(|l| serde_json::from_str(l).expect("a JSON line"))
+        .collect()
+}
+
+/// One generate job against `base_url`, as a manifest in `dir`.
+fn generate_manifest(dir: &Path, base_url: &str, seeds: &[u64]) -> PathBuf {
+    let manifest = dir.join("m.jsonl");
+    let lines: Vec<String> = seeds
+        .iter()
+        .map(|seed| format!(
+            "{{\"generate\": \"a 1b1b apartment of a researcher who has a cat\", \"seed\": {seed}, \"base_url\": \"{base_url}\", \"model\": \"test-model\"}}"
+        ))
+        .collect();
+    std::fs::write(&manifest, lines.join("\n") + "\n").expect("write");
+    manifest
+}
+
+#[test]
+fn a_refused_question_is_asked_again_by_the_next_run_and_force_asks_everything() {
+    let dir = scratch("refused");
+    // The refusal is an answer (HTTP 200), not an error: it used to be recorded and replayed.
+    let refuse = Arc::new(AtomicBool::new(true));
+    let gate = refuse.clone();
+    let asked: Arc<std::sync::Mutex<Vec<String>>> = Arc::default();
+    let log = asked.clone();
+    let server = Server::start(Arc::new(move |a: &Asked, _| {
+        log.lock().expect("log").push(a.stage.to_string());
+        if a.stage == "windows" && gate.load(Ordering::SeqCst) {
+            Reply::answer("I'm sorry, but I can't help with that.")
+        } else {
+            clean_answer(a)
+        }
+    }));
+    let manifest = generate_manifest(&dir, &server.base_url, &[7]);
+    let out = dir.join("out");
+    let first = batch(&[], &manifest, &out);
+    assert_eq!(first.status.code(), Some(1), "{}", String::from_utf8_lossy(&first.stderr));
+    let record = &summary(&out.join("summary.json"))["jobs"][0];
+    assert_eq!(record["stage"], "generate", "{record}");
+    assert_eq!(record["tries"], 1);
+    let floor_plans = |log: &[String]| log.iter().filter(|s| *s == "floor-plan").count();
+    let before = asked.lock().expect("log").clone();
+    refuse.store(false, Ordering::SeqCst);
+    let second = batch(&[], &manifest, &out);
+    assert!(second.status.success(), "{}", String::from_utf8_lossy(&second.stderr));
+    let after = asked.lock().expect("log").clone();
+    let new: Vec<&String> = after[before.len()..].iter().collect();
+    assert!(new.iter().any(|s| *s == "windows"), "the refused question is asked again: {new:?}");
+    assert_eq!(floor_plans(&after), floor_plans(&before), "answers that were fine are reused");
+    let record = &summary(&out.join("summary.json"))["jobs"][0];
+    assert_eq!(record["status"], "done");
+    assert_eq!(record["tries"], 2, "{record}");
+    // `--force` asks every question again.
+    let forced = batch(&["--force"], &manifest, &out);
+    assert!(forced.status.success());
+    assert_eq!(floor_plans(&asked.lock().expect("log")), floor_plans(&after) + 1);
+}
+
+#[test]
+fn a_passing_model_error_is_retried_within_the_run_and_counted() {
+    let dir = scratch("transient");
+    let failed_once = Arc::new(AtomicBool::new(false));
+    let server = Server::start(Arc::new(move |a: &Asked, _| {
+        if a.stage == "doorways" && !failed_once.swap(true, Ordering::SeqCst) {
+            Reply::status(503, r#"{"error": {"message": "overloaded"}}"#)
+        } else {
+            clean_answer(a)
+        }
+    }));
+    let manifest = generate_manifest(&dir, &server.base_url, &[3]);
+    let out = dir.join("out");
+    let run = batch(&[], &manifest, &out);
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    let record = &summary(&out.join("summary.json"))["jobs"][0];
+    assert_eq!(record["model_retries"], 1, "{record}");
+    assert_eq!(record["tries"], 1);
+}
+
+#[test]
+fn retry_failed_tries_a_failed_job_again_in_the_same_run() {
+    let dir = scratch("retry-failed");
+    let refused_once = Arc::new(AtomicBool::new(false));
+    let server = Server::start(Arc::new(move |a: &Asked, _| {
+        if a.stage == "windows" && !refused_once.swap(true, Ordering::SeqCst) {
+            Reply::status(400, r#"{"error": {"message": "refused"}}"#)
+        } else {
+            clean_answer(a)
+        }
+    }));
+    let manifest = generate_manifest(&dir, &server.base_url, &[5]);
+    let out = dir.join("out");
+    let run = batch(&["--retry-failed"], &manifest, &out);
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    let record = &summary(&out.join("summary.json"))["jobs"][0];
+    assert_eq!(record["status"], "done");
+    assert_eq!(record["tries"], 2, "{record}");
+}
+
+#[test]
+fn model_requests_overlap_up_to_llm_concurrency_whatever_jobs_says() {
+    let dir = scratch("llm-concurrency");
+    let in_flight = Arc::new(std::sync::atomic::AtomicUsize::new(0));
+    let most = Arc::new(std::sync::atomic::AtomicUsize::new(0));
+    let (now, peak) = (in_flight.clone(), most.clone());
+    let server = Server::start(Arc::new(move |a: &Asked, _| {
+        let n = now.fetch_add(1, Ordering::SeqCst) + 1;
+        peak.fetch_max(n, Ordering::SeqCst);
+        std::thread::sleep(std::time::Duration::from_millis(150));
+        now.fetch_sub(1, Ordering::SeqCst);
+        clean_answer(a)
+    }));
+    let manifest = generate_manifest(&dir, &server.base_url, &[1, 2, 3, 4, 5, 6]);
+    let run = batch(&["--jobs", "1", "--llm-concurrency", "4"], &manifest, &dir.join("out"));
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    let peak = most.load(Ordering::SeqCst);
+    assert!((3..=4).contains(&peak), "requests in flight at most: {peak}");
+}
+
+#[test]
+fn a_job_past_its_time_limit_is_stopped_and_the_worker_goes_on() {
+    let dir = scratch("timeout");
+    std::fs::copy("examples/bedroom.holo", dir.join("bedroom.holo")).expect("copy");
+    std::fs::write(dir.join("slow.holo"), slow_scene()).expect("write");
+    let manifest = dir.join("m.jsonl");
+    let mut lines =
+        vec![r#"{"build": "slow.holo", "node_budget": 10000, "id": "slow"}"#.to_string()];
+    lines.extend((1..=5).map(|s| format!(r#"{{"build": "bedroom.holo", "seed": {s}}}"#)));
+    std::fs::write(&manifest, lines.join("\n") + "\n").expect("write");
+    let out = dir.join("out");
+    let started = std::time::Instant::now();
+    let run = batch(&["--jobs", "1", "--job-timeout", "1s"], &manifest, &out);
+    assert_eq!(run.status.code(), Some(1), "{}", String::from_utf8_lossy(&run.stderr));
+    assert!(started.elapsed() < std::time::Duration::from_secs(20));
+    let failures = failures_of(&out, "");
+    assert_eq!(failures.len(), 1, "{failures:?}");
+    assert_eq!(failures[0]["id"], "slow");
+    assert_eq!(failures[0]["codes"], serde_json::json!(["E0006"]));
+    assert_eq!(failures[0]["stage"], "solve", "{}", failures[0]);
+    let message = failures[0]["message"].as_str().unwrap_or_default();
+    assert!(!message.contains("left to end"), "the solver stopped at once: {message}");
+    assert_eq!(folders(&out).len(), 5, "the jobs behind the slow one ran");
+    // What was built does not depend on the time limit.
+    let reference = dir.join("reference.jsonl");
+    std::fs::write(&reference, lines[1..].join("\n") + "\n").expect("write");
+    let whole = batch(&[], &reference, &dir.join("reference"));
+    assert!(whole.status.success());
+    assert_eq!(folders(&out), folders(&dir.join("reference")));
+}
+
+/// Four rooms of 90 objects each tied to the one before: a solve of seconds.
+fn slow_scene() -> String {
+    use std::fmt::Write as _;
+    let mut text = String::new();
+    for (i, r) in ["a", "b", "c", "d"].iter().enumerate() {
+        let (x0, x1) = (i * 12, i * 12 + 12);
+        let _ = writeln!(
+            text,
+            "room {r} \"room {r}\" {{\n  corners in m ({x0}, 0) ({x0}, 12) ({x1}, 12) ({x1}, 0)"
+        );
+        for k in 0..90 {
+            let near = if k == 0 { "edge".to_string() } else { format!("near t{}-0", k - 1) };
+            let _ = writeln!(text, "  object t{k} \"small wooden table\" {{ {near} }}");
+        }
+        text.push_str("}\n");
+    }
+    text.push_str("door exterior -- a : doorway single\ndoor a -- b : doorway single\ndoor b -- c : doorway single\ndoor c -- d : doorway single\n");
+    text
+}
+
+#[test]
+fn the_hash_holds_the_model_and_version_shows_the_build() {
+    let dir = scratch("identity");
+    let manifest = dir.join("m.jsonl");
+    std::fs::write(
+        &manifest,
+        "{\"generate\": \"a bedroom\", \"base_url\": \"http://127.0.0.1:1/v1\"}\n",
+    )
+    .expect("write");
+    let hash = |model: &str| {
+        let out = dir.join(format!("out-{model}"));
+        let run = holoc()
+            .arg("batch")
+            .arg(&manifest)
+            .arg("-o")
+            .arg(&out)
+            .arg("-q")
+            .env("HOLOC_MODEL", model)
+            .output()
+            .expect("runs");
+        assert_eq!(run.status.code(), Some(1));
+        summary(&out.join("summary.json"))["jobs"][0]["hash"].as_str().expect("hash").to_string()
+    };
+    assert_ne!(hash("model-a"), hash("model-b"), "a changed model is a new job");
+    let version = holoc().arg("--version").output().expect("runs");
+    let text = String::from_utf8_lossy(&version.stdout);
+    assert!(
+        text.contains("commit ") && text.contains("data ") && text.contains("source "),
+        "{text}"
+    );
+}
+
+/// The hashes in each shard's summary.
+fn shard_hashes(out: &Path, count: usize) -> Vec<std::collections::BTreeSet<String>> {
+    (0..count)
+        .map(|i| {
+            summary(&out.join(format!("summary.shard-{i}-of-{count}.json")))["jobs"]
+                .as_array()
+                .expect("jobs")
+                .iter()
+                .map(|j| j["hash"].as_str().expect("hash").to_string())
+                .collect()
+        })
+        .collect()
+}
+
+#[test]
+fn shards_are_balanced_and_ignore_comments_and_order() {
+    let dir = scratch("balance");
+    let manifest = builds(&dir, 10);
+    let out = dir.join("plain");
+    for i in 0..3 {
+        let run = batch(&["--shard", &format!("{i}/3")], &manifest, &out);
+        assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    }
+    let plain = shard_hashes(&out, 3);
+    let sizes: Vec<usize> = plain.iter().map(std::collections::BTreeSet::len).collect();
+    assert!(sizes.iter().max().unwrap_or(&0) - sizes.iter().min().unwrap_or(&0) <= 1, "{sizes:?}");
+    // A comment above every job, and the lines in reverse order: the same shards.
+    let text = std::fs::read_to_string(&manifest).expect("manifest");
+    let mut lines: Vec<String> = text.lines().map(|l| format!("# a comment\n{l}")).collect();
+    lines.reverse();
+    std::fs::write(&manifest, lines.join("\n") + "\n").expect("write");
+    let out2 = dir.join("commented");
+    for i in 0..3 {
+        let run = batch(&["--shard", &format!("{i}/3")], &manifest, &out2);
+        assert!(run.status.success());
+    }
+    assert_eq!(shard_hashes(&out2, 3), plain);
+    let bad = batch(&["--shard", "3/2"], &manifest, &dir.join("bad"));
+    assert_eq!(bad.status.code(), Some(2));
+}
+
+/// The body of the first `text` block of the batch page that contains `needle`.
+fn book_block(needle: &str) -> String {
+    let page = std::fs::read_to_string("book/src/cli/batch.md").expect("the batch page");
+    page.split("```text\n")
+        .skip(1)
+        .map(|b| b.split("```").next().unwrap_or_default().to_string())
+        .find(|b| b.contains(needle))
+        .expect("the block is in the book")
+}
+
+#[test]
+fn the_books_sbatch_script_survives_a_re_submission_of_some_indices() {
+    let dir = scratch("sbatch");
+    let manifest = builds(&dir, 6);
+    let out = dir.join("houses");
+    let script = book_block("#SBATCH --array")
+        .replace("holoc batch", &format!("'{}' batch", env!("CARGO_BIN_EXE_holoc")))
+        .replace("manifest.jsonl", &manifest.display().to_string())
+        .replace("/shared/houses", &out.display().to_string());
+    let file = dir.join("holoc.sbatch");
+    std::fs::write(&file, &script).expect("write");
+    let size: usize = script
+        .lines()
+        .find_map(|l| l.strip_prefix("#SBATCH --array=0-"))
+        .and_then(|n| n.trim().parse::<usize>().ok())
+        .expect("the array's range")
+        + 1;
+    // As Slurm sets it for `sbatch --array=1,3 holoc.sbatch`, then for the rest of the array.
+    let task = |index: usize, count: usize, min: usize, max: usize| {
+        let run = Command::new("bash")
+            .arg(&file)
+            .env("SLURM_ARRAY_TASK_ID", index.to_string())
+            .env("SLURM_ARRAY_TASK_COUNT", count.to_string())
+            .env("SLURM_ARRAY_TASK_MIN", min.to_string())
+            .env("SLURM_ARRAY_TASK_MAX", max.to_string())
+            .env("SLURM_CPUS_PER_TASK", "1")
+            .output();
+        let Ok(run) = run else { return false };
+        assert!(run.status.success(), "task {index}: {}", String::from_utf8_lossy(&run.stderr));
+        true
+    };
+    if !task(1, 2, 1, 3) {
+        common::skip(
+            "the_books_sbatch_script_survives_a_re_submission_of_some_indices",
+            "bash is absent",
+        );
+        return;
+    }
+    task(3, 2, 1, 3);
+    for i in (0..size).filter(|i| *i != 1 && *i != 3) {
+        task(i, size - 2, 0, size - 1);
+    }
+    let merged = holoc()
+        .args(["batch", "merge", "-q", "-o"])
+        .arg(dir.join("merged.json"))
+        .arg(&out)
+        .output()
+        .expect("runs");
+    assert!(merged.status.success(), "{}", String::from_utf8_lossy(&merged.stderr));
+    assert_eq!(summary(&dir.join("merged.json"))["done"], 6);
+}
+
+#[test]
+fn the_books_kubernetes_job_exits_0_when_the_batch_ran_with_failed_lines() {
+    let yaml = book_block("kind: Job");
+    assert!(yaml.contains("restartPolicy: Never") && yaml.contains("podFailurePolicy"), "{yaml}");
+    let dir = scratch("k8s");
+    let manifest = builds(&dir, 2);
+    let mut text = std::fs::read_to_string(&manifest).expect("manifest");
+    text.push_str("not a job\n[1, 2]\n");
+    std::fs::write(&manifest, text).expect("write");
+    let out = dir.join("houses");
+    let line = yaml
+        .lines()
+        .find(|l| l.contains("holoc batch"))
+        .expect("the command")
+        .trim()
+        .trim_start_matches("- ")
+        .replace("holoc batch", &format!("'{}' batch", env!("CARGO_BIN_EXE_holoc")))
+        .replace("/data/manifest.jsonl", &manifest.display().to_string())
+        .replace("/data/houses", &out.display().to_string());
+    let count: usize = line
+        .split("--shard \"$JOB_COMPLETION_INDEX/")
+        .nth(1)
+        .and_then(|r| r.split('"').next())
+        .and_then(|n| n.parse().ok())
+        .expect("the shard count");
+    let mut failed = 0;
+    for index in 0..count {
+        let run = Command::new("sh")
+            .args(["-c", &line])
+            .env("JOB_COMPLETION_INDEX", index.to_string())
+            .output()
+            .expect("sh runs");
+        assert_eq!(run.status.code(), Some(0), "{}", String::from_utf8_lossy(&run.stderr));
+        failed += failures_of(&out, &format!(".shard-{index}-of-{count}")).len();
+    }
+    assert_eq!(failed, 2, "the two bad lines are recorded");
+}
+
+#[test]
+fn two_runs_on_one_folder_share_the_work() {
+    let dir = scratch("two-runs");
+    let manifest = builds_of(&dir, "classroom", 16);
+    let reference = batch(&[], &manifest, &dir.join("reference"));
+    assert!(reference.status.success());
+    let out = dir.join("out");
+    let start = || {
+        holoc()
+            .arg("batch")
+            .arg(&manifest)
+            .arg("-o")
+            .arg(&out)
+            .args(["-q", "--jobs", "1"])
+            .spawn()
+            .expect("starts")
+    };
+    let (a, b) = (start(), start());
+    let (a, b) = (a.wait_with_output().expect("a"), b.wait_with_output().expect("b"));
+    assert!(a.status.success() && b.status.success(), "{a:?} {b:?}");
+    assert_eq!(folders(&out), folders(&dir.join("reference")));
+    let s = summary(&out.join("summary.json"));
+    assert_eq!(s["failed"], 0, "{s}");
+    assert!(!out.join(".tmp").exists(), "the scratch is gone");
+}
+
+#[test]
+fn failure_records_have_their_code_line_and_id() {
+    let dir = scratch("records");
+    std::fs::copy("examples/bedroom.holo", dir.join("bedroom.holo")).expect("copy");
+    std::fs::write(dir.join("latin1.holo"), b"room a \"caf\xe9\" {}\n").expect("write");
+    let manifest = dir.join("m.jsonl");
+    std::fs::write(
+        &manifest,
+        "\u{feff}{\"build\": \"bedroom.holo\"}\n[\"build\", \"bedroom.holo\"]\n{\"id\": \"typo\", \"biuld\": \"bedroom.holo\"}\n{\"build\": \"latin1.holo\", \"id\": \"latin\"}\n",
+    )
+    .expect("write");
+    let out = dir.join("out");
+    let run = batch(&[], &manifest, &out);
+    assert_eq!(run.status.code(), Some(1));
+    let failures = failures_of(&out, "");
+    assert_eq!(failures.len(), 3, "{failures:?}");
+    assert_eq!(failures[0]["line"], 2);
+    assert_eq!(failures[0]["codes"], serde_json::json!(["E0005"]));
+    assert_eq!(failures[1]["id"], "typo");
+    assert_eq!(failures[1]["codes"], serde_json::json!(["E0005"]));
+    assert_eq!(failures[2]["id"], "latin");
+    assert_eq!(failures[2]["codes"], serde_json::json!(["E0003"]));
+    assert_eq!(failures[2]["stage"], "input");
+    assert_eq!(summary(&out.join("summary.json"))["done"], 1, "the BOM line is a job");
+}
+
+#[test]
+fn a_full_disk_fails_jobs_cleanly_and_the_records_are_written() {
+    let dir = scratch("disk-full");
+    let manifest = builds(&dir, 4);
+    let out = dir.join("out");
+    // Each job writes four files and its marker: the second job's writes fail part way.
+    let run = holoc()
+        .arg("batch")
+        .arg(&manifest)
+        .arg("-o")
+        .arg(&out)
+        .args(["-q", "--jobs", "1"])
+        .env("HOLOC_BATCH_DISK_FULL_AFTER", "6")
+        .output()
+        .expect("runs");
+    assert_eq!(run.status.code(), Some(1), "{}", String::from_utf8_lossy(&run.stderr));
+    let failures = failures_of(&out, "");
+    assert_eq!(failures.len(), 3, "{failures:?}");
+    for f in &failures {
+        assert_eq!(f["stage"], "write");
+        assert_eq!(f["codes"], serde_json::json!(["E0007"]), "{f}");
+    }
+    let jobs = folders(&out);
+    assert_eq!(jobs.len(), 1);
+    assert!(jobs.values().all(|files| files.contains_key("done")), "no half-written job");
+    assert!(!out.join(".tmp").exists(), "no scratch is left");
+    // Space again: the same command finishes the work.
+    let again = batch(&[], &manifest, &out);
+    assert!(again.status.success());
+    assert_eq!(folders(&out).len(), 4);
+}
+
+#[test]
+fn progress_lines_go_to_a_log() {
+    let dir = scratch("progress");
+    let manifest = builds_of(&dir, "classroom", 12);
+    let run = holoc()
+        .arg("batch")
+        .arg(&manifest)
+        .arg("-o")
+        .arg(dir.join("out"))
+        .args(["--jobs", "1", "--progress-every", "0.05"])
+        .output()
+        .expect("runs");
+    assert!(run.status.success());
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    let lines: Vec<&str> = stderr.lines().filter(|l| l.starts_with("holoc batch: ")).collect();
+    assert!(lines.len() >= 2, "{stderr}");
+    assert!(lines.iter().all(|l| l.contains("jobs/s") && l.contains("eta")), "{stderr}");
+    assert!(lines.last().is_some_and(|l| l.contains("12/12 jobs")), "{stderr}");
+}
+
+#[test]
+fn merge_refuses_when_a_shard_is_missing() {
+    let dir = scratch("merge-missing");
+    let manifest = builds(&dir, 4);
+    let out = dir.join("out");
+    for i in [0, 2] {
+        assert!(batch(&["--shard", &format!("{i}/3")], &manifest, &out).status.success());
+    }
+    let merged = holoc()
+        .args(["batch", "merge", "-q", "-o"])
+        .arg(dir.join("m.json"))
+        .arg(&out)
+        .output()
+        .expect("runs");
+    assert_eq!(merged.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&merged.stderr);
+    assert!(stderr.contains("E0008") && stderr.contains("1/3"), "{stderr}");
+    assert!(!dir.join("m.json").exists());
+}
+
+#[test]
+fn duplicate_lines_are_one_job_and_outputs_depend_on_the_job_alone() {
+    let dir = scratch("duplicates");
+    std::fs::copy("examples/bedroom.holo", dir.join("bedroom.holo")).expect("copy");
+    std::fs::copy("tests/catalog/procthor_small.json", dir.join("cat.json")).expect("copy");
+    let line = r#"{"build": "bedroom.holo", "seed": 4, "catalog": ["cat.json"]}"#;
+    let manifest = dir.join("m.jsonl");
+    std::fs::write(&manifest, format!("{line}\n").repeat(24)).expect("write");
+    let out = dir.join("out");
+    for _ in 0..3 {
+        let run = batch(&["--jobs", "8", "--force"], &manifest, &out);
+        assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+        let s = summary(&out.join("summary.json"));
+        assert_eq!((s["done"].as_u64(), s["skipped"].as_u64()), (Some(1), Some(23)), "{s}");
+    }
+    // From another working folder, through another spelling of the manifest's path.
+    let other = dir.join("other");
+    let run = holoc()
+        .current_dir(&dir)
+        .args(["batch", "./m.jsonl", "-q", "-o"])
+        .arg(&other)
+        .output()
+        .expect("runs");
+    assert!(run.status.success());
+    assert_eq!(folders(&out), folders(&other));
+    let report =
+        String::from_utf8_lossy(&folders(&out).values().next().expect("a job")["report.json"])
+            .to_string();
+    assert!(report.contains("\"path\": \"cat.json\""), "the catalog as the manifest names it");
+}
+
+#[test]
+fn scratch_left_by_a_killed_run_is_removed() {
+    let dir = scratch("stale");
+    let manifest = builds(&dir, 1);
+    let out = dir.join("out");
+    std::fs::create_dir_all(out.join(".tmp/run-1-000000001/abc-3")).expect("mkdir");
+    std::fs::write(out.join(".tmp/run-1-000000001.lock"), "").expect("write");
+    std::fs::create_dir_all(out.join(".tmp/0123456789abcdef-99")).expect("mkdir");
+    let run = batch(&[], &manifest, &out);
+    assert!(run.status.success());
+    assert!(
+        !out.join(".tmp").exists(),
+        "{:?}",
+        std::fs::read_dir(out.join(".tmp")).map(Iterator::count)
+    );
+}
+
+#[test]
+fn a_failed_import_writes_no_scene() {
+    let dir = scratch("import");
+    let bad = dir.join("bad.json");
+    std::fs::write(&bad, "{not json").expect("write");
+    let scene = dir.join("scene.holo");
+    let run = holoc().arg("import").arg(&bad).arg("-o").arg(&scene).output().expect("runs");
+    assert_eq!(run.status.code(), Some(1));
+    assert!(!scene.exists());
+    let empty = dir.join("empty.json");
+    std::fs::write(&empty, r#"{"format": "holoc-transcript", "request": "x", "seed": 1, "exchanges": [{"stage": "floor-plan", "attempt": 0, "prompt": "p", "answer": "I cannot help."}]}"#).expect("write");
+    let run = holoc().arg("import").arg(&empty).arg("-o").arg(&scene).output().expect("runs");
+    assert_eq!(run.status.code(), Some(1), "{}", String::from_utf8_lossy(&run.stderr));
+    assert!(!scene.exists(), "an import with errors makes no file");
 }

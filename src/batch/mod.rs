@@ -1,29 +1,31 @@
-//! `holoc batch`: many scenes from a manifest, resumable and sharded.
+//! `holoc batch`: many scenes from a manifest, resumable, sharded, bounded.
 //!
 //! A manifest is JSON Lines, one job per line: a `.holo` file to build (`"build"`) or a request
 //! to generate (`"generate"`), with optional overrides. Each job's outputs go under a folder
-//! named by a content hash of the job (its settings, the bytes of its input and of its
-//! catalogs, the holoc version), written in a temporary folder and renamed into place with its
-//! completion marker, so a folder that exists is complete. A run skips the jobs whose folder
-//! exists, so a killed run resumes where it stopped and a changed job (a new hash) is redone.
-//! `--shard I/N` takes the jobs whose line number is I modulo N: disjoint slices that cover the
-//! manifest, the same on every machine.
+//! named by the job's identity ([`job_hash`]: its settings, the bytes of its input and of its
+//! catalogs, the model and API of a generate job, and the build identity of holoc), written in
+//! a scratch folder and renamed into place with its completion marker, so a folder that exists
+//! is complete. A run skips the jobs whose folder exists, so a killed run resumes where it
+//! stopped and a changed job (a new hash) is redone; a failed job is tried again by the next
+//! run (a generate job reusing the answers of the questions that went well).
+//!
+//! The parts: this file holds the manifest ([`JobSpec`], [`read_line`]), the identity, the
+//! records ([`JobResult`], [`Summary`]); [`shard`] splits the jobs into balanced shards by
+//! their identity; [`files`] holds what a run shares (file hashes, catalogs, locks, scratch);
+//! [`run`] runs one job (locks, time limit, retries, writing).
 
-use crate::compile::{build, BuildOptions};
-use crate::diag::{Diagnostic, Outcome};
-use crate::generate::{
-    self, GenerateOptions, HttpLlm, HttpOptions, Llm, LlmAnswer, LlmError, LlmRequest, ModelInfo,
-    Request,
-};
-use crate::resolve::Catalog;
-use crate::solve::Solver;
-use crate::source::SourceMap;
+pub mod files;
+pub mod run;
+pub mod shard;
+
+pub use files::{CatalogCache, FileHashes, Scratch};
+pub use run::{run_job, Permits, RunOptions};
+pub use shard::{assign, Planned, Shard};
+
+use crate::diag::Code;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
-use std::collections::HashMap;
 use std::path::{Path, PathBuf};
-use std::sync::{Arc, Condvar, Mutex};
-use std::time::Instant;
 
 /// The name of the completion marker inside a job's folder.
 pub const DONE_MARKER: &str = "done";
@@ -70,6 +72,24 @@ pub struct JobSpec {
     pub temperature: Option<f64>,
 }
 
+impl JobSpec {
+    /// The model a generate job asks: its own, else `HOLOC_MODEL`, else holoc's default.
+    pub fn resolved_model(&self) -> String {
+        self.model
+            .clone()
+            .or_else(|| std::env::var("HOLOC_MODEL").ok().filter(|m| !m.trim().is_empty()))
+            .unwrap_or_else(|| crate::generate::client::DEFAULT_MODEL.to_string())
+    }
+
+    /// The API a generate job asks: its own, else `HOLOC_BASE_URL`, else holoc's default.
+    pub fn resolved_base_url(&self) -> String {
+        self.base_url
+            .clone()
+            .or_else(|| std::env::var("HOLOC_BASE_URL").ok().filter(|m| !m.trim().is_empty()))
+            .unwrap_or_else(|| crate::generate::client::DEFAULT_BASE_URL.to_string())
+    }
+}
+
 /// A job of the manifest, ready to run.
 #[derive(Clone, Debug)]
 pub struct Job {
@@ -92,6 +112,8 @@ pub struct Job {
 pub struct ManifestError {
     /// The line (1-based).
     pub line: usize,
+    /// The line's `id`, when it is an object that has one.
+    pub id: Option<String>,
     /// What is wrong.
     pub message: String,
 }
@@ -102,10 +124,24 @@ pub struct ManifestError {
 pub enum Status {
     /// Built now.
     Done,
-    /// Its folder was complete already.
+    /// Its folder was complete already (or another line of the manifest is the same job).
     Skipped,
+    /// Another run on the same folder holds the job's lock and is doing it.
+    Busy,
     /// Failed; nothing was written for it.
     Failed,
+}
+
+#[allow(
+    clippy::trivially_copy_pass_by_ref,
+    reason = "serde's skip_serializing_if passes a reference"
+)]
+fn is_zero(n: &u32) -> bool {
+    *n == 0
+}
+
+fn one() -> u32 {
+    1
 }
 
 /// One job's line of the summary.
@@ -119,8 +155,8 @@ pub struct JobResult {
     pub hash: String,
     /// How it ended.
     pub status: Status,
-    /// The stage that failed (`manifest`, `input`, `catalog`, `generate`, `build`, `write`,
-    /// `panic`).
+    /// The stage that failed (`manifest`, `input`, `catalog`, `generate`, `check`, `plan`,
+    /// `resolve`, `solve`, `lower`, `build`, `write`, `panic`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub stage: Option<String>,
     /// The codes of the errors (failed) or warnings (done).
@@ -129,21 +165,59 @@ pub struct JobResult {
     /// The first error's message, for a failed job.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub message: Option<String>,
+    /// The how-manieth try of the job this was, over every run (1 the first time).
+    #[serde(default = "one")]
+    pub tries: u32,
+    /// Model requests of this run that failed for a passing reason (429, 5xx, a timeout) and
+    /// were asked again after a pause.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub model_retries: u32,
     /// Wall-clock seconds (not part of any output of the job).
     pub seconds: f64,
+}
+
+impl JobResult {
+    /// A result for `job` with nothing filled in yet.
+    pub fn of(job: &Job, status: Status) -> JobResult {
+        JobResult {
+            line: job.line,
+            id: job.id.clone(),
+            hash: job.hash.clone(),
+            status,
+            stage: None,
+            codes: Vec::new(),
+            message: None,
+            tries: 1,
+            model_retries: 0,
+            seconds: 0.0,
+        }
+    }
+
+    /// A failure of `stage` with one code and its message.
+    #[must_use]
+    pub fn fail(mut self, stage: &str, code: Code, message: String) -> JobResult {
+        self.status = Status::Failed;
+        self.stage = Some(stage.to_string());
+        self.codes = vec![code.as_str().to_string()];
+        self.message = Some(message);
+        self
+    }
 }
 
 /// The summary of a run (or of merged shards).
 #[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
 pub struct Summary {
-    /// The holoc version.
+    /// The holoc build identity ([`crate::build_info::LONG_VERSION`]).
     pub holoc: String,
     /// The shards this summary covers, as `I/N` (empty: the whole manifest).
     pub shards: Vec<String>,
-    /// Jobs by status.
+    /// Jobs built now.
     pub done: usize,
     /// Jobs skipped because their folder was complete.
     pub skipped: usize,
+    /// Jobs another run on the same folder was doing.
+    #[serde(default)]
+    pub busy: usize,
     /// Jobs that failed.
     pub failed: usize,
     /// Every job of the run, by manifest line.
@@ -156,10 +230,11 @@ impl Summary {
         jobs.sort_by_key(|j| j.line);
         let count = |s: Status| jobs.iter().filter(|j| j.status == s).count();
         Summary {
-            holoc: env!("CARGO_PKG_VERSION").to_string(),
+            holoc: crate::build_info::LONG_VERSION.to_string(),
             shards,
             done: count(Status::Done),
             skipped: count(Status::Skipped),
+            busy: count(Status::Busy),
             failed: count(Status::Failed),
             jobs,
         }
@@ -175,46 +250,71 @@ impl Summary {
                 by_line.insert(job.line, job);
             }
         }
-        shards.sort();
+        shards.sort_by_key(|s| Shard::parse(s).map(|s| (s.count, s.index)).unwrap_or_default());
         shards.dedup();
         Summary::of(by_line.into_values().collect(), shards)
     }
-}
 
-/// A slice of the manifest: jobs whose line number modulo `count` is `index`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Shard {
-    /// Which slice, from 0.
-    pub index: usize,
-    /// How many slices.
-    pub count: usize,
-}
-
-impl Shard {
-    /// Reads `I/N` (0 ≤ I < N).
-    pub fn parse(text: &str) -> Result<Shard, String> {
-        let (i, n) = text.split_once('/').ok_or_else(|| format!("`{text}` is not I/N"))?;
-        let index: usize = i.trim().parse().map_err(|_| format!("`{i}` is not a number"))?;
-        let count: usize = n.trim().parse().map_err(|_| format!("`{n}` is not a number"))?;
-        if count == 0 || index >= count {
-            return Err(format!("the shard must be I/N with 0 <= I < N, not {index}/{count}"));
+    /// What keeps these summaries from being merged into the summary of a whole run: shards of
+    /// different sizes, or shards missing. `None` when they cover the manifest (a summary of a
+    /// whole run covers it alone).
+    pub fn missing_shards(parts: &[Summary]) -> Option<String> {
+        if parts.iter().any(|p| p.shards.is_empty()) {
+            return None;
         }
-        Ok(Shard { index, count })
+        let mut seen: BTreeMap<usize, std::collections::BTreeSet<usize>> = BTreeMap::new();
+        for s in parts.iter().flat_map(|p| &p.shards) {
+            match Shard::parse(s) {
+                Ok(s) => {
+                    seen.entry(s.count).or_default().insert(s.index);
+                }
+                Err(e) => return Some(format!("a summary names the shard `{s}`: {e}")),
+            }
+        }
+        let listed = |set: &std::collections::BTreeSet<usize>, n: usize| {
+            set.iter().map(|i| format!("{i}/{n}")).collect::<Vec<_>>().join(", ")
+        };
+        if seen.len() > 1 {
+            let sizes: Vec<String> = seen.keys().map(ToString::to_string).collect();
+            return Some(format!(
+                "the summaries are of shards of different runs ({} shards)",
+                sizes.join(" and ")
+            ));
+        }
+        let (&n, indices) = seen.iter().next()?;
+        let missing: Vec<String> =
+            (0..n).filter(|i| !indices.contains(i)).map(|i| format!("{i}/{n}")).collect();
+        if missing.is_empty() {
+            return None;
+        }
+        Some(format!(
+            "the summaries cover shards {} of {n}: shard{} {} {} missing",
+            listed(indices, n),
+            if missing.len() == 1 { "" } else { "s" },
+            missing.join(", "),
+            if missing.len() == 1 { "is" } else { "are" }
+        ))
     }
+}
 
-    /// Whether the job of this manifest line belongs to the shard.
-    pub fn takes(self, line: usize) -> bool {
-        line % self.count == self.index
-    }
+/// The lines of a manifest, numbered from 1, without a byte order mark.
+pub fn manifest_lines(text: &str) -> impl Iterator<Item = (usize, &str)> {
+    text.strip_prefix('\u{feff}').unwrap_or(text).lines().enumerate().map(|(k, l)| (k + 1, l))
+}
+
+/// Whether a manifest line holds nothing to run: blank, or a `#` or `//` comment.
+pub fn is_comment(raw: &str) -> bool {
+    let t = raw.trim();
+    t.is_empty() || t.starts_with("//") || t.starts_with('#')
 }
 
 /// Reads a manifest: its jobs, and the lines that are not jobs. Blank lines and lines starting
-/// with `//` or `#` are skipped. Paths are relative to `base`.
+/// with `//` or `#` are skipped, as is a byte order mark. Paths are relative to `base`.
 pub fn read_manifest(text: &str, base: &Path) -> (Vec<Job>, Vec<ManifestError>) {
     let mut jobs = Vec::new();
     let mut errors = Vec::new();
-    for (k, raw) in text.lines().enumerate() {
-        match read_line(k + 1, raw, base) {
+    for (line, raw) in manifest_lines(text) {
+        match read_line(line, raw, base) {
             Some(Ok(job)) => jobs.push(job),
             Some(Err(e)) => errors.push(e),
             None => {}
@@ -226,25 +326,52 @@ pub fn read_manifest(text: &str, base: &Path) -> (Vec<Job>, Vec<ManifestError>) 
 /// One line of a manifest (`line` is 1-based): a job, a line that is not one, or `None` for a
 /// blank or comment line.
 pub fn read_line(line: usize, raw: &str, base: &Path) -> Option<Result<Job, ManifestError>> {
-    let trimmed = raw.trim();
-    if trimmed.is_empty() || trimmed.starts_with("//") || trimmed.starts_with('#') {
+    if is_comment(raw) {
         return None;
     }
-    let error = |message: String| Some(Err(ManifestError { line, message }));
-    let spec: JobSpec = match serde_json::from_str(trimmed) {
+    let trimmed = raw.trim().trim_start_matches('\u{feff}');
+    let value: serde_json::Value = match serde_json::from_str(trimmed) {
+        Ok(v) => v,
+        Err(e) => {
+            return Some(Err(ManifestError {
+                line,
+                id: None,
+                message: format!("line {line} is not a job: not JSON ({e})"),
+            }))
+        }
+    };
+    let id = value.get("id").and_then(serde_json::Value::as_str).map(str::to_string);
+    let error = |message: String| {
+        Some(Err(ManifestError { line, id: id.clone(), message: format!("line {line} {message}") }))
+    };
+    let kind = match &value {
+        serde_json::Value::Object(_) => None,
+        serde_json::Value::Array(_) => Some("a JSON array"),
+        serde_json::Value::String(_) => Some("a JSON string"),
+        serde_json::Value::Number(_) => Some("a JSON number"),
+        serde_json::Value::Bool(_) => Some("a JSON boolean"),
+        serde_json::Value::Null => Some("JSON null"),
+    };
+    if let Some(kind) = kind {
+        return error(format!("is not a job: {kind}, not an object"));
+    }
+    let spec: JobSpec = match serde_json::from_value(value) {
         Ok(spec) => spec,
-        Err(e) => return error(format!("not a job: {e}")),
+        Err(e) => return error(format!("is not a job: {e}")),
     };
     if spec.build.is_some() == spec.generate.is_some() {
-        return error("a job has exactly one of `build` and `generate`".into());
+        return error("is not a job: a job has exactly one of `build` and `generate`".into());
     }
     if let Some(s) = &spec.solver {
         if s != "dfs" && s != "milp" {
-            return error(format!("unknown solver `{s}`"));
+            return error(format!("is not a job: unknown solver `{s}`"));
         }
     }
     if spec.node_budget.is_some_and(|b| b > crate::solve::MAX_NODE_BUDGET) {
-        return error(format!("the node budget is at most {}", crate::solve::MAX_NODE_BUDGET));
+        return error(format!(
+            "is not a job: the node budget is at most {}",
+            crate::solve::MAX_NODE_BUDGET
+        ));
     }
     let input = spec.build.as_ref().map(|p| base.join(p));
     let catalogs: Vec<PathBuf> = spec.catalog.iter().map(|c| base.join(c)).collect();
@@ -252,379 +379,88 @@ pub fn read_line(line: usize, raw: &str, base: &Path) -> Option<Result<Job, Mani
     Some(Ok(Job { line, id, spec, hash: String::new(), input, catalogs }))
 }
 
-/// A failed result for a manifest line that is not a job.
+/// A failed result for a manifest line that is not a job (E0005).
 pub fn manifest_failure(e: &ManifestError) -> JobResult {
     JobResult {
         line: e.line,
-        id: format!("line-{}", e.line),
+        id: e.id.clone().unwrap_or_else(|| format!("line-{}", e.line)),
         hash: String::new(),
         status: Status::Failed,
         stage: Some("manifest".into()),
-        codes: Vec::new(),
+        codes: vec![Code::E0005.as_str().to_string()],
         message: Some(e.message.clone()),
+        tries: 1,
+        model_retries: 0,
         seconds: 0.0,
     }
 }
 
-/// The job's content hash: its settings, the bytes of its input and catalogs, the holoc
-/// version. An input or catalog that cannot be read hashes as its path (the job then fails
-/// at that stage and is retried on every run).
-pub fn job_hash(job: &Job) -> String {
+/// The job's identity, hashed: its settings, the bytes of its input and catalogs, for a
+/// generate job the model and API it asks (after `HOLOC_MODEL` and `HOLOC_BASE_URL`), and the
+/// build identity of holoc (version, commit, hashes of the embedded data and the source). An
+/// input or catalog that cannot be read hashes as its path (the job then fails at that stage
+/// and is tried again by the next run). Files are read through `files`, so each is read and
+/// hashed once per run while it does not change.
+pub fn job_hash(job: &Job, files: &FileHashes) -> String {
+    let model = job.spec.generate.as_ref().map(|_| {
+        serde_json::json!({
+            "model": job.spec.resolved_model(),
+            "base_url": job.spec.resolved_base_url(),
+        })
+    });
     let key = serde_json::json!({
-        "holoc": env!("CARGO_PKG_VERSION"),
+        "holoc": crate::build_info::LONG_VERSION,
         "spec": job.spec,
-        "input": job.input.as_deref().map(file_hash),
-        "catalogs": job.catalogs.iter().map(|p| file_hash(p)).collect::<Vec<_>>(),
+        "input": job.input.as_deref().map(|p| files.hash(p)),
+        "catalogs": job.catalogs.iter().map(|p| files.hash(p)).collect::<Vec<_>>(),
+        "model": model,
     });
     crate::resolve::sha256_hex(key.to_string().as_bytes())[..16].to_string()
 }
 
-/// SHA-256 of a file's bytes, or its path when it cannot be read.
-fn file_hash(p: &Path) -> String {
-    match std::fs::read(p) {
-        Ok(bytes) => crate::resolve::sha256_hex(&bytes),
-        Err(_) => format!("unreadable:{}", p.display()),
+/// How much work a job is likely to be, for balancing shards: a build grows with the square of
+/// its scene's size (its objects and the relations between them), times its node budget
+/// (against the default) and four for the MILP; a generate job waits for the model for about
+/// as long as a large build takes.
+pub fn job_weight(job: &Job, files: &FileHashes) -> u64 {
+    if job.spec.generate.is_some() {
+        return 100_000_000;
     }
+    let bytes = job.input.as_deref().map_or(0, |p| files.len(p));
+    let budget = job.spec.node_budget.unwrap_or(crate::solve::DEFAULT_NODE_BUDGET);
+    let budget_factor = (budget / crate::solve::DEFAULT_NODE_BUDGET).max(1);
+    let solver_factor = if job.spec.solver.as_deref() == Some("milp") { 4 } else { 1 };
+    (bytes.saturating_mul(bytes) / 1000 + 1)
+        .saturating_mul(budget_factor)
+        .saturating_mul(solver_factor)
 }
 
-/// Settings of a whole run.
-#[derive(Debug)]
-pub struct RunOptions {
-    /// The output folder.
-    pub out: PathBuf,
-    /// Redo jobs whose folder exists.
-    pub force: bool,
-    /// Generate requests in flight at once, over all jobs.
-    pub llm_concurrency: usize,
-    /// The API key of generate jobs (never written anywhere).
-    pub api_key: Option<String>,
-    /// The catalogs loaded so far, shared by the jobs that name the same files.
-    pub catalogs: CatalogCache,
-}
+#[cfg(test)]
+mod tests {
+    use super::*;
 
-/// A loaded catalog set: the catalog, the sources its diagnostics point into, the diagnostics.
-type LoadedCatalogs = Arc<(Catalog, SourceMap, Vec<Diagnostic>)>;
-
-/// The catalog sets a run has loaded, by their paths and the bytes of their files: a job
-/// whose catalogs were loaded by an earlier job (every job without `catalog`, usually) shares
-/// that catalog instead of building it again. A changed file is a new key. At most
-/// [`CatalogCache::MAX_SETS`] sets are kept, so memory stays flat with many distinct sets.
-#[derive(Debug, Default)]
-pub struct CatalogCache {
-    sets: Mutex<HashMap<Vec<(PathBuf, String)>, LoadedCatalogs>>,
-}
-
-impl CatalogCache {
-    /// The most catalog sets kept at once.
-    pub const MAX_SETS: usize = 8;
-
-    /// The catalog set of `paths`, loaded now or earlier.
-    fn get(&self, paths: &[PathBuf]) -> LoadedCatalogs {
-        let key: Vec<(PathBuf, String)> = paths.iter().map(|p| (p.clone(), file_hash(p))).collect();
-        // A job that panicked while holding the lock leaves a map that is still whole (only
-        // whole inserts and clears happen under it).
-        let lock = || self.sets.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
-        if let Some(found) = lock().get(&key) {
-            return Arc::clone(found);
-        }
-        let mut sources = SourceMap::new();
-        let loaded = Catalog::load(paths, &mut sources);
-        let set = Arc::new((loaded.value, sources, loaded.diagnostics));
-        let mut sets = lock();
-        if sets.len() >= Self::MAX_SETS {
-            sets.clear();
-        }
-        Arc::clone(sets.entry(key).or_insert(set))
-    }
-}
-
-/// A counting semaphore for model requests (std only).
-#[derive(Debug)]
-pub struct Permits {
-    free: Mutex<usize>,
-    freed: Condvar,
-}
-
-impl Permits {
-    /// `n` permits (at least one).
-    pub fn new(n: usize) -> Permits {
-        Permits { free: Mutex::new(n.max(1)), freed: Condvar::new() }
+    #[test]
+    fn a_bom_is_skipped_and_a_line_that_is_not_an_object_is_an_error() {
+        let text = "\u{feff}{\"build\": \"a.holo\"}\n[\"build\", \"a.holo\"]\n# c\n{\"id\": \"x\", \"nope\": 1}\n";
+        let (jobs, errors) = read_manifest(text, Path::new("."));
+        assert_eq!(jobs.len(), 1);
+        assert_eq!(jobs[0].line, 1);
+        assert_eq!(errors.len(), 2);
+        assert_eq!(errors[0].line, 2);
+        assert!(errors[0].message.contains("a JSON array"), "{}", errors[0].message);
+        assert_eq!(errors[1].id.as_deref(), Some("x"));
+        let failure = manifest_failure(&errors[1]);
+        assert_eq!(failure.id, "x");
+        assert_eq!(failure.codes, vec!["E0005"]);
     }
 
-    fn acquire(&self) {
-        let mut free = self.free.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
-        while *free == 0 {
-            free = self.freed.wait(free).unwrap_or_else(std::sync::PoisonError::into_inner);
-        }
-        *free -= 1;
+    #[test]
+    fn missing_shards_are_named() {
+        let part = |s: &str| Summary { shards: vec![s.into()], ..Summary::default() };
+        assert_eq!(Summary::missing_shards(&[part("0/3"), part("2/3"), part("1/3")]), None);
+        let missing = Summary::missing_shards(&[part("0/3"), part("2/3")]).expect("missing");
+        assert!(missing.contains("shard 1/3 is missing"), "{missing}");
+        assert!(Summary::missing_shards(&[part("0/2"), part("1/3")]).is_some());
+        assert_eq!(Summary::missing_shards(&[Summary::default()]), None);
     }
-
-    fn release(&self) {
-        let mut free = self.free.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
-        *free += 1;
-        self.freed.notify_one();
-    }
-}
-
-/// A model that answers from a recorded transcript first and asks the live model only for
-/// what was not recorded, each live request holding one permit: a re-run never pays twice
-/// for the same answer, and the batch never has more than `--llm-concurrency` requests out.
-struct ReusingLlm<'a> {
-    recorded: BTreeMap<(String, Option<String>, u32), String>,
-    live: &'a dyn Llm,
-    permits: &'a Permits,
-}
-
-impl Llm for ReusingLlm<'_> {
-    fn complete(&self, request: &LlmRequest<'_>) -> Result<LlmAnswer, LlmError> {
-        let key = (request.stage.to_string(), request.room.map(str::to_string), request.attempt);
-        if let Some(text) = self.recorded.get(&key) {
-            return Ok(LlmAnswer { text: text.clone(), usage: generate::Usage::default() });
-        }
-        self.permits.acquire();
-        let answer = self.live.complete(request);
-        self.permits.release();
-        answer
-    }
-
-    fn info(&self) -> ModelInfo {
-        self.live.info()
-    }
-}
-
-/// The files a finished job writes, by name.
-type Files = Vec<(&'static str, String)>;
-
-/// The outcome of running one job's work (before it is written).
-struct Work {
-    files: Files,
-    diagnostics: Vec<Diagnostic>,
-    failed_stage: Option<&'static str>,
-}
-
-fn failed(stage: &'static str, diagnostics: Vec<Diagnostic>) -> Work {
-    Work { files: Vec::new(), diagnostics, failed_stage: Some(stage) }
-}
-
-fn solver_of(spec: &JobSpec) -> Solver {
-    if spec.solver.as_deref() == Some("milp") {
-        Solver::Milp
-    } else {
-        Solver::Dfs
-    }
-}
-
-/// Builds `.holo` text into the house and its report.
-fn build_text(
-    name: &str,
-    text: String,
-    job: &Job,
-    catalogs: &CatalogCache,
-    files: &mut Files,
-) -> Work {
-    let loaded = catalogs.get(&job.catalogs);
-    let (catalog, catalog_sources, catalog_diagnostics) = &*loaded;
-    if catalog_diagnostics.iter().any(Diagnostic::is_error) {
-        return failed("catalog", catalog_diagnostics.clone());
-    }
-    let mut sources = catalog_sources.clone();
-    let file = sources.add(name, text);
-    let options = BuildOptions {
-        seed: if job.spec.generate.is_some() { None } else { job.spec.seed },
-        solver: solver_of(&job.spec),
-        node_budget: job.spec.node_budget,
-        stand_ins: job.spec.stand_ins.unwrap_or(true),
-        ..BuildOptions::new(catalog)
-    };
-    let built = build(&sources, file, &options);
-    let mut diagnostics = catalog_diagnostics.clone();
-    diagnostics.extend(built.diagnostics);
-    let Some(product) = built.value else { return failed("build", diagnostics) };
-    let mut report =
-        serde_json::to_string_pretty(&crate::report::report(&product, catalog)).unwrap_or_default();
-    report.push('\n');
-    files.push(("house.json", product.house.to_json_string()));
-    files.push(("report.json", report));
-    Work { files: std::mem::take(files), diagnostics, failed_stage: None }
-}
-
-fn run_build_job(job: &Job, catalogs: &CatalogCache) -> Work {
-    let Some(path) = &job.input else { return failed("input", Vec::new()) };
-    let text = match std::fs::read_to_string(path) {
-        Ok(t) => t,
-        Err(e) => {
-            return failed(
-                "input",
-                vec![Diagnostic::new(
-                    crate::diag::Code::E0001,
-                    format!("cannot read `{}`: {e}", path.display()),
-                )],
-            )
-        }
-    };
-    build_text(&path.display().to_string(), text, job, catalogs, &mut Vec::new())
-}
-
-fn run_generate_job(job: &Job, options: &RunOptions, permits: &Permits) -> Work {
-    let text = job.spec.generate.clone().unwrap_or_default();
-    let seed = job.spec.seed.unwrap_or(1);
-    let base_url = job
-        .spec
-        .base_url
-        .clone()
-        .or_else(|| std::env::var("HOLOC_BASE_URL").ok())
-        .unwrap_or_else(|| generate::client::DEFAULT_BASE_URL.to_string());
-    let model = job
-        .spec
-        .model
-        .clone()
-        .or_else(|| std::env::var("HOLOC_MODEL").ok())
-        .unwrap_or_else(|| generate::client::DEFAULT_MODEL.to_string());
-    let mut http = HttpOptions::new(base_url, model);
-    http.api_key.clone_from(&options.api_key);
-    http.seed = Some(seed);
-    if let Some(t) = job.spec.temperature {
-        http.temperature = t;
-    }
-    let live = HttpLlm::new(http);
-    // Answers recorded by an earlier run of this job that did not finish.
-    let partial = partial_transcript(&options.out, &job.hash);
-    let recorded = std::fs::read_to_string(&partial)
-        .ok()
-        .and_then(|t| serde_json::from_str::<crate::import::Transcript>(&t).ok())
-        .map(|t| {
-            generate::recorded_answers(&t)
-                .into_iter()
-                .map(|a| ((a.stage, a.room, a.attempt), a.answer))
-                .collect()
-        })
-        .unwrap_or_default();
-    let llm = ReusingLlm { recorded, live: &live, permits };
-    let request = Request { text, seed };
-    let options_g = GenerateOptions { jobs: 1, repair_rounds: 2, ..GenerateOptions::default() };
-    let outcome: Outcome<generate::Generated> = generate::generate(&request, &llm, &options_g);
-    let mut transcript =
-        serde_json::to_string_pretty(&outcome.value.transcript).unwrap_or_default();
-    transcript.push('\n');
-    if outcome.has_errors() {
-        // Keep what was paid for, for the next run.
-        if let Some(parent) = partial.parent() {
-            let _ = std::fs::create_dir_all(parent);
-        }
-        let tmp = partial.with_extension(format!("tmp-{}", std::process::id()));
-        if std::fs::write(&tmp, transcript.as_bytes()).is_ok() {
-            let _ = std::fs::rename(&tmp, &partial);
-        }
-        return failed("generate", outcome.diagnostics);
-    }
-    let mut files: Files =
-        vec![("scene.holo", outcome.value.holo.clone()), ("transcript.json", transcript)];
-    let mut work = build_text("scene.holo", outcome.value.holo, job, &options.catalogs, &mut files);
-    let mut diagnostics = outcome.diagnostics;
-    diagnostics.append(&mut work.diagnostics);
-    work.diagnostics = diagnostics;
-    work
-}
-
-/// Where a generate job that failed keeps its transcript for the next run.
-fn partial_transcript(out: &Path, hash: &str) -> PathBuf {
-    out.join(".partial").join(format!("{hash}.transcript.json"))
-}
-
-fn codes(diagnostics: &[Diagnostic], errors: bool) -> Vec<String> {
-    let mut codes: Vec<String> = diagnostics
-        .iter()
-        .filter(|d| d.is_error() == errors)
-        .map(|d| d.code.as_str().to_string())
-        .collect();
-    codes.sort();
-    codes.dedup();
-    codes
-}
-
-/// Writes a finished job's folder: a temporary folder with every file and the marker, renamed
-/// into place.
-fn write_job(
-    out: &Path,
-    job: &Job,
-    files: &Files,
-    diagnostics: &[Diagnostic],
-) -> std::io::Result<()> {
-    let target = out.join(&job.hash);
-    let tmp = out.join(".tmp").join(format!("{}-{}", job.hash, std::process::id()));
-    let _ = std::fs::remove_dir_all(&tmp);
-    std::fs::create_dir_all(&tmp)?;
-    for (name, text) in files {
-        std::fs::write(tmp.join(name), text)?;
-    }
-    let mut job_json = serde_json::to_string_pretty(&serde_json::json!({
-        "line": job.line, "id": job.id, "hash": job.hash, "spec": job.spec,
-        "warnings": codes(diagnostics, false),
-    }))
-    .unwrap_or_default();
-    job_json.push('\n');
-    std::fs::write(tmp.join("job.json"), job_json)?;
-    std::fs::write(tmp.join(DONE_MARKER), "")?;
-    if target.exists() {
-        std::fs::remove_dir_all(&target)?;
-    }
-    std::fs::rename(&tmp, &target)
-}
-
-/// Runs one job: skipped when its folder is complete (unless forced), else its work, written.
-/// A panic inside the job is caught and recorded as a failure of stage `panic`.
-pub fn run_job(job: &Job, options: &RunOptions, permits: &Permits) -> JobResult {
-    let started = Instant::now();
-    let mut result = JobResult {
-        line: job.line,
-        id: job.id.clone(),
-        hash: job.hash.clone(),
-        status: Status::Done,
-        stage: None,
-        codes: Vec::new(),
-        message: None,
-        seconds: 0.0,
-    };
-    if !options.force && options.out.join(&job.hash).join(DONE_MARKER).exists() {
-        result.status = Status::Skipped;
-        return result;
-    }
-    let work = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-        if job.spec.generate.is_some() {
-            run_generate_job(job, options, permits)
-        } else {
-            run_build_job(job, &options.catalogs)
-        }
-    }));
-    match work {
-        Err(payload) => {
-            let message = payload
-                .downcast_ref::<String>()
-                .cloned()
-                .or_else(|| payload.downcast_ref::<&str>().map(|s| (*s).to_string()))
-                .unwrap_or_else(|| "a panic".into());
-            result.status = Status::Failed;
-            result.stage = Some("panic".into());
-            result.message = Some(message);
-        }
-        Ok(work) if work.failed_stage.is_some() => {
-            result.status = Status::Failed;
-            result.stage = work.failed_stage.map(str::to_string);
-            result.codes = codes(&work.diagnostics, true);
-            result.message =
-                work.diagnostics.iter().find(|d| d.is_error()).map(|d| d.message.clone());
-        }
-        Ok(work) => {
-            result.codes = codes(&work.diagnostics, false);
-            if let Err(e) = write_job(&options.out, job, &work.files, &work.diagnostics) {
-                result.status = Status::Failed;
-                result.stage = Some("write".into());
-                result.message = Some(e.to_string());
-            } else if job.spec.generate.is_some() {
-                let _ = std::fs::remove_file(partial_transcript(&options.out, &job.hash));
-            }
-        }
-    }
-    result.seconds = started.elapsed().as_secs_f64();
-    result
 }

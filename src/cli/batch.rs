@@ -1,18 +1,28 @@
 //! `holoc batch MANIFEST -o OUT`: build or generate every job of a manifest (see
 //! [`crate::batch`]); `holoc batch merge`: the shards' summaries as one.
+//!
+//! A run reads the manifest twice: first every line, for the jobs' identities (which the
+//! shards and the duplicates are worked out from), then the lines of its shard, streamed to
+//! `--jobs` CPU workers (plus `--llm-concurrency` more when there are generate jobs, which
+//! mostly wait for the model). Results are written as they come, in manifest order, to a
+//! scratch file from which the summary is made at the end.
 
 use super::common;
-use crate::batch::{self, JobResult, Permits, RunOptions, Shard, Status, Summary};
+use crate::batch::{self, Job, JobResult, Planned, RunOptions, Scratch, Shard, Status, Summary};
+use crate::diag::{Code, Diagnostic};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use rayon::prelude::*;
+use std::collections::{BTreeMap, HashMap, HashSet};
 use std::fmt::Write as _;
+use std::io::IsTerminal as _;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
-use std::time::Instant;
+use std::sync::Arc;
+use std::time::{Duration, Instant};
 
 /// Arguments of `holoc batch`.
 #[derive(Debug, clap::Args)]
 #[command(args_conflicts_with_subcommands = true)]
+#[allow(clippy::struct_excessive_bools, reason = "independent switches of the command line")]
 pub struct BatchArgs {
     /// `merge`: collect the summaries of shards.
     #[command(subcommand)]
@@ -23,22 +33,56 @@ pub struct BatchArgs {
     /// The output folder: one folder per job, named by the job's content hash, and the summary.
     #[arg(short, long)]
     pub output: Option<PathBuf>,
-    /// Jobs run at once (default: the machine's cores).
+    /// CPU work at once (default: the machine's cores).
     #[arg(long)]
     pub jobs: Option<usize>,
-    /// Model requests in flight at once, over all generate jobs.
+    /// Model requests in flight at once, over all generate jobs (independent of `--jobs`).
     #[arg(long, default_value_t = 4)]
     pub llm_concurrency: usize,
-    /// Take only the slice I of N of the manifest (jobs whose line number is I modulo N), e.g.
-    /// `--shard $SLURM_ARRAY_TASK_ID/$SLURM_ARRAY_TASK_COUNT`.
+    /// Take only shard I of N (0 <= I < N; N is the size of the whole array), e.g.
+    /// `--shard $SLURM_ARRAY_TASK_ID/32`. Jobs are split by their identity, not their line.
     #[arg(long, value_parser = Shard::parse)]
     pub shard: Option<Shard>,
-    /// Redo jobs whose folder is complete.
+    /// Redo jobs whose folder is complete, and ask the model again for every answer.
     #[arg(long)]
     pub force: bool,
-    /// No progress bar and no table.
+    /// Try a job that failed for a reason that may pass (the model, the disk, a panic) once
+    /// more in this run (a failed job is always tried again by the next run).
+    #[arg(long)]
+    pub retry_failed: bool,
+    /// The time limit of one job (`90s`, `30m`, `2h`; default 30m); a job past it is stopped
+    /// and recorded as timed out (E0006).
+    #[arg(long, value_parser = parse_duration)]
+    pub job_timeout: Option<Duration>,
+    /// Exit with status 0 when the batch ran, even if some jobs failed (they are in
+    /// `failures.jsonl`); for schedulers that restart a task that exits with another status.
+    #[arg(long)]
+    pub allow_failures: bool,
+    /// Seconds between progress lines when stderr is not a terminal (a log).
+    #[arg(long, default_value_t = 60.0)]
+    pub progress_every: f64,
+    /// No progress bar, no progress lines and no table.
     #[arg(short, long)]
     pub quiet: bool,
+}
+
+/// Reads `90`, `90s`, `500ms`, `30m`, `2h`.
+fn parse_duration(text: &str) -> Result<Duration, String> {
+    let t = text.trim();
+    let (number, unit) =
+        t.find(|c: char| c.is_ascii_alphabetic()).map_or((t, "s"), |at| (&t[..at], &t[at..]));
+    let value: f64 = number.trim().parse().map_err(|_| format!("`{text}` is not a duration"))?;
+    let seconds = match unit {
+        "ms" => value / 1000.0,
+        "s" => value,
+        "m" => value * 60.0,
+        "h" => value * 3600.0,
+        _ => return Err(format!("`{text}`: the unit is one of ms, s, m, h")),
+    };
+    if !seconds.is_finite() || seconds <= 0.0 || seconds > 1e9 {
+        return Err(format!("`{text}` is not a positive duration"));
+    }
+    Ok(Duration::from_secs_f64(seconds))
 }
 
 /// The subcommands of `holoc batch`.
@@ -57,6 +101,9 @@ pub struct MergeArgs {
     /// Where to write the merged summary (default: stdout).
     #[arg(short, long)]
     pub output: Option<PathBuf>,
+    /// Merge even when some shards are missing (still exits with status 2 then).
+    #[arg(long)]
+    pub partial: bool,
     /// No table.
     #[arg(short, long)]
     pub quiet: bool,
@@ -64,10 +111,26 @@ pub struct MergeArgs {
 
 fn usage(message: &str) -> ExitCode {
     common::emit_plain(
-        &crate::diag::Diagnostic::new(crate::diag::Code::E0004, message.to_string())
-            .with_help("see `holoc batch --help`"),
+        &Diagnostic::new(Code::E0004, message.to_string()).with_help("see `holoc batch --help`"),
     );
     ExitCode::from(2)
+}
+
+fn io_failure(what: &str, e: &std::io::Error) -> ExitCode {
+    let code = if batch::run::is_disk_full(e) { Code::E0007 } else { Code::E0001 };
+    common::emit_plain(&Diagnostic::new(code, format!("{what}: {e}")));
+    ExitCode::from(2)
+}
+
+/// What the run does with one line of its shard.
+enum Item {
+    Run(Job),
+    NotAJob(batch::ManifestError),
+    /// The same job as an earlier line (by hash).
+    Same {
+        job: Job,
+        first: usize,
+    },
 }
 
 /// Runs `holoc batch`.
@@ -90,85 +153,188 @@ pub fn run(args: &BatchArgs) -> ExitCode {
     let text = &sources.get(file).text;
     let shard = args.shard;
     if let Err(e) = std::fs::create_dir_all(out) {
-        return usage(&format!("cannot make the output folder `{}`: {e}", out.display()));
+        return io_failure(&format!("cannot make the output folder `{}`", out.display()), &e);
     }
-    let options = RunOptions {
-        out: out.clone(),
-        force: args.force,
-        llm_concurrency: args.llm_concurrency,
-        api_key: ["HOLOC_API_KEY", "OPENAI_API_KEY"]
-            .iter()
-            .find_map(|name| std::env::var(name).ok().filter(|k| !k.trim().is_empty())),
-        catalogs: batch::CatalogCache::default(),
+    let scratch = match Scratch::create(out) {
+        Ok(s) => s,
+        Err(e) => return io_failure(&format!("cannot write into `{}`", out.display()), &e),
     };
-    let permits = Permits::new(args.llm_concurrency);
     let threads = args
         .jobs
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, usize::from))
         .max(1);
-    let pool = match rayon::ThreadPoolBuilder::new().num_threads(threads).build() {
-        Ok(pool) => pool,
-        Err(e) => return usage(&format!("cannot start {threads} threads: {e}")),
-    };
-    let in_shard = |line: usize| shard.is_none_or(|s| s.takes(line));
-    let total = text
-        .lines()
-        .enumerate()
-        .filter(|(k, raw)| {
-            let t = raw.trim();
-            in_shard(k + 1) && !t.is_empty() && !t.starts_with('#') && !t.starts_with("//")
-        })
-        .count();
-    let bar = progress(total as u64, args.quiet);
-    let started = Instant::now();
-    let shards = shard.map(|s| vec![format!("{}/{}", s.index, s.count)]).unwrap_or_default();
-    let suffix = shard.map_or(String::new(), |s| format!(".shard-{}-of-{}", s.index, s.count));
-    // The results go to a scratch file as they come, chunk by chunk, so that memory does not
-    // grow with the manifest; the summary is written from it at the end.
-    let mut log = match ResultLog::create(out, &suffix) {
-        Ok(log) => log,
-        Err(e) => return usage(&format!("cannot write into `{}`: {e}", out.display())),
-    };
-    let failed_so_far = std::sync::atomic::AtomicUsize::new(0);
-    let lines: Vec<(usize, &str)> =
-        text.lines().enumerate().map(|(k, l)| (k + 1, l)).filter(|(n, _)| in_shard(*n)).collect();
-    for chunk in lines.chunks(CHUNK) {
-        let mut results: Vec<JobResult> = pool.install(|| {
-            chunk
-                .par_iter()
-                .filter_map(|&(line, raw)| batch::read_line(line, raw, base))
-                .map(|read| {
-                    let result = match read {
-                        Ok(mut job) => {
-                            job.hash = batch::job_hash(&job);
-                            batch::run_job(&job, &options, &permits)
-                        }
-                        Err(e) => batch::manifest_failure(&e),
-                    };
-                    if result.status == Status::Failed {
-                        failed_so_far.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-                    }
-                    bar.set_message(format!(
-                        "{} failed",
-                        failed_so_far.load(std::sync::atomic::Ordering::Relaxed)
-                    ));
-                    bar.inc(1);
-                    result
-                })
-                .collect()
-        });
-        results.sort_by_key(|r| r.line);
-        if let Err(e) = log.append(&results) {
-            return usage(&format!("cannot write into `{}`: {e}", out.display()));
+    let mut options =
+        RunOptions::new(out.clone(), scratch.dir.clone(), threads, args.llm_concurrency);
+    options.force = args.force;
+    options.retry_failed = args.retry_failed;
+    if let Some(t) = args.job_timeout {
+        options.job_timeout = t;
+    }
+    options.api_key = ["HOLOC_API_KEY", "OPENAI_API_KEY"]
+        .iter()
+        .find_map(|name| std::env::var(name).ok().filter(|k| !k.trim().is_empty()));
+    let options = Arc::new(options);
+
+    // First pass: every job's identity, for the shards and the duplicates.
+    let mut planned: Vec<(usize, Planned)> = Vec::new();
+    let mut generates = false;
+    for (line, raw) in batch::manifest_lines(text) {
+        if let Some(Ok(mut job)) = batch::read_line(line, raw, base) {
+            job.hash = batch::job_hash(&job, &options.files);
+            generates |= job.spec.generate.is_some();
+            let weight = batch::job_weight(&job, &options.files);
+            planned.push((line, Planned { hash: job.hash, weight }));
         }
     }
-    bar.finish_and_clear();
-    let counts = log.counts;
-    if let Err(e) = log.finish(&shards) {
-        return usage(&format!("cannot write the summary into `{}`: {e}", out.display()));
+    let shard_of = shard.map(|s| {
+        let jobs: Vec<Planned> = planned.iter().map(|(_, p)| p.clone()).collect();
+        batch::assign(&jobs, s.count)
+    });
+    let mut first_line: HashMap<&str, usize> = HashMap::new();
+    let mut hash_of: HashMap<usize, &str> = HashMap::new();
+    for (line, p) in &planned {
+        let takes = match (&shard, &shard_of) {
+            (Some(s), Some(map)) => map.get(&p.hash) == Some(&s.index),
+            _ => true,
+        };
+        if takes {
+            first_line.entry(p.hash.as_str()).or_insert(*line);
+            hash_of.insert(*line, p.hash.as_str());
+        }
     }
-    // The scratch folder goes when nothing is left in it (another shard may still use it).
-    let _ = std::fs::remove_dir(out.join(".tmp"));
+    let job_lines: HashSet<usize> = planned.iter().map(|(l, _)| *l).collect();
+    let total = hash_of.len()
+        + batch::manifest_lines(text)
+            .filter(|(line, raw)| {
+                !batch::is_comment(raw)
+                    && !job_lines.contains(line)
+                    && shard.is_none_or(|s| s.takes_line(*line))
+            })
+            .count();
+    // Hashes listed more than once: their first line's result stands for the others.
+    let mut seen_twice: HashSet<&str> = HashSet::new();
+    {
+        let mut seen: HashSet<&str> = HashSet::new();
+        // In line order (`planned` is), so that the set does not depend on a hash map's order.
+        for (line, p) in &planned {
+            if hash_of.contains_key(line) && !seen.insert(p.hash.as_str()) {
+                seen_twice.insert(p.hash.as_str());
+            }
+        }
+    }
+
+    let shards = shard.map(|s| vec![format!("{}/{}", s.index, s.count)]).unwrap_or_default();
+    let suffix = shard.map_or(String::new(), |s| format!(".shard-{}-of-{}", s.index, s.count));
+    let mut log = match ResultLog::create(out, &scratch.dir, &suffix) {
+        Ok(log) => log,
+        Err(e) => return io_failure(&format!("cannot write into `{}`", out.display()), &e),
+    };
+    let started = Instant::now();
+    let workers = threads + if generates { args.llm_concurrency.max(1) } else { 0 };
+    let mut progress = Progress::new(total, args.quiet, args.progress_every);
+
+    std::thread::scope(|scope| {
+        let (items_tx, items_rx) = crossbeam_channel::bounded::<(usize, Item)>(workers * 2);
+        let (results_tx, results_rx) =
+            crossbeam_channel::unbounded::<(usize, JobResult, Option<usize>)>();
+        // The reader: the lines of this shard, in order, numbered.
+        let (hash_of, first_line) = (&hash_of, &first_line);
+        scope.spawn(move || {
+            let mut seq = 0;
+            for (line, raw) in batch::manifest_lines(text) {
+                let item = match batch::read_line(line, raw, base) {
+                    None => continue,
+                    Some(Err(e)) => {
+                        if !shard.is_none_or(|s| s.takes_line(line)) {
+                            continue;
+                        }
+                        Item::NotAJob(e)
+                    }
+                    Some(Ok(mut job)) => {
+                        let Some(hash) = hash_of.get(&line) else { continue };
+                        job.hash = (*hash).to_string();
+                        match first_line.get(hash) {
+                            Some(&first) if first != line => Item::Same { job, first },
+                            _ => Item::Run(job),
+                        }
+                    }
+                };
+                if items_tx.send((seq, item)).is_err() {
+                    return;
+                }
+                seq += 1;
+            }
+        });
+        for _ in 0..workers {
+            let items_rx = items_rx.clone();
+            let results_tx = results_tx.clone();
+            let options = Arc::clone(&options);
+            scope.spawn(move || {
+                for (seq, item) in items_rx {
+                    let (result, same) = match item {
+                        Item::Run(job) => (batch::run_job(&job, &options), None),
+                        Item::NotAJob(e) => (batch::manifest_failure(&e), None),
+                        Item::Same { job, first } => {
+                            (JobResult::of(&job, Status::Skipped), Some(first))
+                        }
+                    };
+                    if results_tx.send((seq, result, same)).is_err() {
+                        return;
+                    }
+                }
+            });
+        }
+        drop(items_rx);
+        drop(results_tx);
+        // The collector: results in manifest order, to the log, and the progress.
+        let mut waiting: BTreeMap<usize, (JobResult, Option<usize>)> = BTreeMap::new();
+        let mut next = 0;
+        let mut by_hash: HashMap<String, JobResult> = HashMap::new();
+        loop {
+            match results_rx.recv_timeout(Duration::from_millis(250)) {
+                Ok((seq, result, same)) => {
+                    waiting.insert(seq, (result, same));
+                }
+                Err(crossbeam_channel::RecvTimeoutError::Timeout) => {}
+                Err(crossbeam_channel::RecvTimeoutError::Disconnected) => break,
+            }
+            let mut ready = Vec::new();
+            while let Some((mut result, same)) = waiting.remove(&next) {
+                if let Some(first) = same {
+                    // The first line of the job comes earlier, so its result is known.
+                    if let Some(owner) = by_hash.get(&result.hash) {
+                        result = same_as(owner, &result, first);
+                    }
+                } else if seen_twice.contains(result.hash.as_str()) {
+                    by_hash.insert(result.hash.clone(), result.clone());
+                }
+                progress.count(&result);
+                ready.push(result);
+                next += 1;
+            }
+            log.append(&ready);
+            progress.tick(started);
+        }
+    });
+    progress.finish(started);
+    let counts = log.counts;
+    let records = log.finish(&shards, out, &suffix);
+    scratch.finish();
+    if let Err((e, unwritten)) = &records {
+        let mut d = Diagnostic::new(
+            if batch::run::is_disk_full(e) { Code::E0007 } else { Code::E0001 },
+            format!("cannot write the summary into `{}`: {e}", out.display()),
+        );
+        if !unwritten.is_empty() {
+            d = d.with_note(format!(
+                "the failed jobs were: {}",
+                unwritten.iter().take(50).cloned().collect::<Vec<_>>().join("; ")
+            ));
+        }
+        common::emit_plain(
+            &d.with_help("free space and run the same command again: finished jobs are skipped"),
+        );
+    }
     if !args.quiet {
         let summary = std::fs::read_to_string(out.join(format!("summary{suffix}.json")))
             .ok()
@@ -176,117 +342,231 @@ pub fn run(args: &BatchArgs) -> ExitCode {
             .unwrap_or_default();
         print_table(&summary, started.elapsed().as_secs_f64());
     }
-    if counts[2] > 0 {
+    if records.is_err() {
+        ExitCode::from(2)
+    } else if counts[3] > 0 && !args.allow_failures {
         ExitCode::from(1)
     } else {
         ExitCode::SUCCESS
     }
 }
 
-/// Jobs read and run at once; the results of a chunk are written before the next is read.
-const CHUNK: usize = 256;
+/// The record of a line that repeats the job of line `first`.
+fn same_as(owner: &JobResult, this: &JobResult, first: usize) -> JobResult {
+    let mut r = owner.clone();
+    r.line = this.line;
+    r.id.clone_from(&this.id);
+    r.seconds = 0.0;
+    if r.status == Status::Done {
+        r.status = Status::Skipped;
+    }
+    let said = r.message.take().map_or(String::new(), |m| format!(": {m}"));
+    r.message = Some(format!("the same job as line {first}{said}"));
+    r
+}
+
+/// Progress: a bar on a terminal, a line every `every` seconds otherwise (a log).
+struct Progress {
+    bar: Option<ProgressBar>,
+    lines: Option<Duration>,
+    last: Instant,
+    total: usize,
+    /// Done, skipped, busy, failed.
+    counts: [usize; 4],
+}
+
+impl Progress {
+    fn new(total: usize, quiet: bool, every: f64) -> Progress {
+        let terminal = std::io::stderr().is_terminal();
+        let bar = (!quiet && terminal).then(|| {
+            let bar =
+                ProgressBar::with_draw_target(Some(total as u64), ProgressDrawTarget::stderr());
+            if let Ok(style) = ProgressStyle::with_template(
+                "{bar:30} {pos}/{len} jobs, {msg}, {per_sec}, {elapsed_precise} (eta {eta})",
+            ) {
+                bar.set_style(style);
+            }
+            bar
+        });
+        let lines = (!quiet && !terminal && every.is_finite() && every > 0.0)
+            .then(|| Duration::from_secs_f64(every.min(1e6)));
+        Progress { bar, lines, last: Instant::now(), total, counts: [0; 4] }
+    }
+
+    fn count(&mut self, r: &JobResult) {
+        self.counts[slot(r.status)] += 1;
+        if let Some(bar) = &self.bar {
+            bar.set_message(format!("{} failed", self.counts[3]));
+            bar.inc(1);
+        }
+    }
+
+    fn line(&self, started: Instant) -> String {
+        let finished: usize = self.counts.iter().sum();
+        let seconds = started.elapsed().as_secs_f64();
+        let rate = if seconds > 0.0 { finished as f64 / seconds } else { 0.0 };
+        let left = self.total.saturating_sub(finished);
+        let eta = if rate > 0.0 {
+            format!("{}s", (left as f64 / rate).round() as u64)
+        } else {
+            "?".to_string()
+        };
+        format!(
+            "holoc batch: {finished}/{} jobs (done {}, skipped {}, busy {}, failed {}), {rate:.1} jobs/s, {:.0}s elapsed, eta {eta}",
+            self.total, self.counts[0], self.counts[1], self.counts[2], self.counts[3], seconds
+        )
+    }
+
+    fn tick(&mut self, started: Instant) {
+        if let Some(every) = self.lines {
+            if self.last.elapsed() >= every {
+                self.last = Instant::now();
+                common::emit_status(&self.line(started));
+            }
+        }
+    }
+
+    fn finish(&self, started: Instant) {
+        if let Some(bar) = &self.bar {
+            bar.finish_and_clear();
+        }
+        if self.lines.is_some() {
+            common::emit_status(&self.line(started));
+        }
+    }
+}
+
+fn slot(status: Status) -> usize {
+    match status {
+        Status::Done => 0,
+        Status::Skipped => 1,
+        Status::Busy => 2,
+        Status::Failed => 3,
+    }
+}
 
 /// The results of a run as they come: job lines in a scratch file, failures in their file,
-/// and the counts.
+/// and the counts. When the disk is full the lines wait in memory and are written later.
 struct ResultLog {
-    out: PathBuf,
-    suffix: String,
+    jobs_path: PathBuf,
+    failures_path: PathBuf,
     jobs: std::io::BufWriter<std::fs::File>,
     failures: std::io::BufWriter<std::fs::File>,
-    /// Done, skipped, failed.
-    counts: [usize; 3],
+    /// Lines not written yet (job lines, failure lines).
+    pending: (Vec<String>, Vec<String>),
+    /// Done, skipped, busy, failed.
+    counts: [usize; 4],
 }
 
 impl ResultLog {
-    fn scratch(out: &Path, suffix: &str, what: &str) -> PathBuf {
-        out.join(".tmp").join(format!("{what}{suffix}.{}", std::process::id()))
-    }
-
-    fn create(out: &Path, suffix: &str) -> std::io::Result<ResultLog> {
-        std::fs::create_dir_all(out.join(".tmp"))?;
-        let open = |what: &str| {
-            std::fs::File::create(Self::scratch(out, suffix, what)).map(std::io::BufWriter::new)
-        };
+    fn create(out: &Path, scratch: &Path, suffix: &str) -> std::io::Result<ResultLog> {
+        let _ = out;
+        let jobs_path = scratch.join(format!("jobs{suffix}"));
+        let failures_path = scratch.join(format!("failures{suffix}"));
+        let open = |p: &Path| std::fs::File::create(p).map(std::io::BufWriter::new);
         Ok(ResultLog {
-            out: out.to_path_buf(),
-            suffix: suffix.to_string(),
-            jobs: open("jobs")?,
-            failures: open("failures")?,
-            counts: [0; 3],
+            jobs: open(&jobs_path)?,
+            failures: open(&failures_path)?,
+            jobs_path,
+            failures_path,
+            pending: (Vec::new(), Vec::new()),
+            counts: [0; 4],
         })
     }
 
-    fn append(&mut self, results: &[JobResult]) -> std::io::Result<()> {
-        use std::io::Write as _;
+    fn append(&mut self, results: &[JobResult]) {
         for r in results {
             let line = serde_json::to_string(r).unwrap_or_default();
-            writeln!(self.jobs, "{line}")?;
-            let slot = match r.status {
-                Status::Done => 0,
-                Status::Skipped => 1,
-                Status::Failed => 2,
-            };
-            self.counts[slot] += 1;
+            self.counts[slot(r.status)] += 1;
             if r.status == Status::Failed {
-                writeln!(self.failures, "{line}")?;
+                self.pending.1.push(line.clone());
             }
+            self.pending.0.push(line);
         }
-        Ok(())
+        let _ = self.flush_pending();
+    }
+
+    fn flush_pending(&mut self) -> std::io::Result<()> {
+        use std::io::Write as _;
+        let write = |w: &mut std::io::BufWriter<std::fs::File>, lines: &mut Vec<String>| {
+            let mut written = 0;
+            let result = lines.iter().try_for_each(|line| {
+                writeln!(w, "{line}")?;
+                written += 1;
+                Ok(())
+            });
+            lines.drain(..written);
+            result
+        };
+        write(&mut self.jobs, &mut self.pending.0)?;
+        write(&mut self.failures, &mut self.pending.1)
     }
 
     /// Writes `summary<suffix>.json` (streamed from the scratch file) and
-    /// `failures<suffix>.jsonl`, each by a rename.
-    fn finish(mut self, shards: &[String]) -> std::io::Result<()> {
+    /// `failures<suffix>.jsonl`, each by a rename. On failure: the error and the failed jobs
+    /// (line and id) that are written nowhere.
+    fn finish(
+        mut self,
+        shards: &[String],
+        out: &Path,
+        suffix: &str,
+    ) -> Result<(), (std::io::Error, Vec<String>)> {
         use std::io::{BufRead as _, Write as _};
-        self.jobs.flush()?;
-        self.failures.flush()?;
-        let jobs_path = Self::scratch(&self.out, &self.suffix, "jobs");
-        let summary_tmp = Self::scratch(&self.out, &self.suffix, "summary");
-        {
-            let mut w = std::io::BufWriter::new(std::fs::File::create(&summary_tmp)?);
-            writeln!(w, "{{")?;
-            writeln!(w, "  \"holoc\": {},", serde_json::json!(env!("CARGO_PKG_VERSION")))?;
-            writeln!(w, "  \"shards\": {},", serde_json::json!(shards))?;
-            writeln!(w, "  \"done\": {},", self.counts[0])?;
-            writeln!(w, "  \"skipped\": {},", self.counts[1])?;
-            writeln!(w, "  \"failed\": {},", self.counts[2])?;
-            write!(w, "  \"jobs\": [")?;
-            let reader = std::io::BufReader::new(std::fs::File::open(&jobs_path)?);
-            for (k, line) in reader.lines().enumerate() {
-                write!(w, "{}\n    {}", if k == 0 { "" } else { "," }, line?)?;
+        let written = (|| {
+            self.flush_pending()?;
+            self.jobs.flush()?;
+            self.failures.flush()?;
+            let summary_tmp = self.jobs_path.with_extension("summary");
+            {
+                let mut w = std::io::BufWriter::new(std::fs::File::create(&summary_tmp)?);
+                writeln!(w, "{{")?;
+                writeln!(
+                    w,
+                    "  \"holoc\": {},",
+                    serde_json::json!(crate::build_info::LONG_VERSION)
+                )?;
+                writeln!(w, "  \"shards\": {},", serde_json::json!(shards))?;
+                writeln!(w, "  \"done\": {},", self.counts[0])?;
+                writeln!(w, "  \"skipped\": {},", self.counts[1])?;
+                writeln!(w, "  \"busy\": {},", self.counts[2])?;
+                writeln!(w, "  \"failed\": {},", self.counts[3])?;
+                write!(w, "  \"jobs\": [")?;
+                let reader = std::io::BufReader::new(std::fs::File::open(&self.jobs_path)?);
+                for (k, line) in reader.lines().enumerate() {
+                    write!(w, "{}\n    {}", if k == 0 { "" } else { "," }, line?)?;
+                }
+                writeln!(w, "\n  ]\n}}")?;
+                w.flush()?;
             }
-            writeln!(w, "\n  ]\n}}")?;
-            w.flush()?;
-        }
-        std::fs::rename(&summary_tmp, self.out.join(format!("summary{}.json", self.suffix)))?;
-        std::fs::rename(
-            Self::scratch(&self.out, &self.suffix, "failures"),
-            self.out.join(format!("failures{}.jsonl", self.suffix)),
-        )?;
-        std::fs::remove_file(jobs_path)
+            std::fs::rename(&self.failures_path, out.join(format!("failures{suffix}.jsonl")))?;
+            std::fs::rename(&summary_tmp, out.join(format!("summary{suffix}.json")))
+        })();
+        written.map_err(|e| {
+            // What the failures file would have said, for stderr.
+            let mut failed: Vec<String> = std::fs::read_to_string(&self.failures_path)
+                .unwrap_or_default()
+                .lines()
+                .chain(self.pending.1.iter().map(String::as_str))
+                .filter_map(|l| serde_json::from_str::<JobResult>(l).ok())
+                .map(|r| format!("line {} ({})", r.line, r.id))
+                .collect();
+            failed.dedup();
+            (e, failed)
+        })
     }
-}
-
-fn progress(len: u64, quiet: bool) -> ProgressBar {
-    let bar = ProgressBar::with_draw_target(
-        Some(len),
-        if quiet { ProgressDrawTarget::hidden() } else { ProgressDrawTarget::stderr() },
-    );
-    if let Ok(style) = ProgressStyle::with_template(
-        "{bar:30} {pos}/{len} jobs, {msg}, {per_sec}, {elapsed_precise} (eta {eta})",
-    ) {
-        bar.set_style(style);
-    }
-    bar
 }
 
 fn print_table(summary: &Summary, seconds: f64) {
-    let total = summary.done + summary.skipped + summary.failed;
+    let total = summary.done + summary.skipped + summary.busy + summary.failed;
     let rate = if seconds > 0.0 { summary.done as f64 / seconds } else { 0.0 };
     let mut text = format!(
         "| jobs | done | skipped | failed | seconds | built per second |\n|---|---|---|---|---|---|\n| {total} | {} | {} | {} | {seconds:.1} | {rate:.1} |\n",
-        summary.done, summary.skipped, summary.failed
+        summary.done, summary.skipped + summary.busy, summary.failed
     );
+    if summary.busy > 0 {
+        let _ =
+            writeln!(text, "{} of the skipped jobs were being done by another run", summary.busy);
+    }
     for job in summary.jobs.iter().filter(|j| j.status == Status::Failed).take(20) {
         let _ = writeln!(
             text,
@@ -342,6 +622,19 @@ fn run_merge(args: &MergeArgs) -> ExitCode {
             Err(e) => return usage(&format!("`{}` is not a batch summary: {e}", path.display())),
         }
     }
+    if parts.is_empty() {
+        return usage("no summary to merge (`summary*.json` in the folders given)");
+    }
+    let missing = Summary::missing_shards(&parts);
+    if let Some(why) = &missing {
+        common::emit_plain(
+            &Diagnostic::new(Code::E0008, why.clone())
+                .with_help("wait for the missing shards to finish (or run them again), then merge"),
+        );
+        if !args.partial {
+            return ExitCode::from(2);
+        }
+    }
     let merged = Summary::merge(parts);
     let mut json = serde_json::to_string_pretty(&merged).unwrap_or_default();
     json.push('\n');
@@ -352,9 +645,27 @@ fn run_merge(args: &MergeArgs) -> ExitCode {
     if !args.quiet {
         print_table(&merged, merged.jobs.iter().map(|j| j.seconds).sum());
     }
-    if merged.failed > 0 {
+    if missing.is_some() {
+        ExitCode::from(2)
+    } else if merged.failed > 0 {
         ExitCode::from(1)
     } else {
         ExitCode::SUCCESS
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::parse_duration;
+    use std::time::Duration;
+
+    #[test]
+    fn durations_read_with_their_units() {
+        assert_eq!(parse_duration("90"), Ok(Duration::from_secs(90)));
+        assert_eq!(parse_duration("30m"), Ok(Duration::from_secs(1800)));
+        assert_eq!(parse_duration("2h"), Ok(Duration::from_secs(7200)));
+        assert_eq!(parse_duration("250ms"), Ok(Duration::from_millis(250)));
+        assert!(parse_duration("0").is_err());
+        assert!(parse_duration("5 weeks").is_err());
     }
 }

@@ -101,6 +101,11 @@ pub fn run(args: &ImportArgs) -> ExitCode {
         }
     };
     common::emit(&sources, &diagnostics, args.format, args.color);
+    // An import with errors writes no file: an empty or partial scene would later build as
+    // if it were the answer. The text still goes to stdout when no `-o` is given, to be read.
+    if args.output.is_some() && diagnostics.iter().any(Diagnostic::is_error) {
+        return common::exit_for(&diagnostics);
+    }
     if args.format != DiagFormat::Json || args.output.is_some() {
         if let Err(d) = common::write_output(args.output.as_deref(), &holo) {
             common::emit_plain(&d);

@@ -22,7 +22,7 @@ use std::process::ExitCode;
 
 /// holoc: English request → `.holo` scene → AI2-THOR house.
 #[derive(Debug, Parser)]
-#[command(name = "holoc", version, about, long_about = None)]
+#[command(name = "holoc", version = crate::build_info::LONG_VERSION, about, long_about = None)]
 pub struct Cli {
     /// The subcommand.
     #[command(subcommand)]

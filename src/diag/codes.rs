@@ -55,6 +55,10 @@ codes! {
     E0002 "internal-error" "holoc hit a bug; the input may be fine";
     E0003 "invalid-encoding" "a file is not valid UTF-8 text";
     E0004 "invalid-argument" "a command-line value is not usable";
+    E0005 "not-a-job" "a line of a batch manifest is not a job";
+    E0006 "job-timed-out" "a batch job ran past its time limit and was stopped";
+    E0007 "disk-full" "an output could not be written because the disk is full";
+    E0008 "missing-shards" "`holoc batch merge` was given the summaries of only some shards";
 
     E0101 "syntax-error" "the text does not follow the grammar of a statement";
     E0102 "unknown-statement" "a line does not start like any statement of its block";

@@ -242,6 +242,9 @@ pub struct Generated {
     pub sources: SourceMap,
     /// Cost per stage, in pipeline order (stages that asked nothing are left out).
     pub costs: Vec<StageCost>,
+    /// The questions (stage, room) whose last answer still had errors after every repair
+    /// round: a batch job that resumes asks them again instead of reusing their answers.
+    pub failed_questions: Vec<(String, Option<String>)>,
 }
 
 /// Runs the whole pipeline against a model.
@@ -274,6 +277,7 @@ pub fn generate(request: &Request, llm: &dyn Llm, options: &GenerateOptions) -> 
         },
         parameters: info.parameters,
         diagnostics: prompts.diagnostics,
+        failed_questions: Vec::new(),
     };
     if run.diagnostics.iter().any(Diagnostic::is_error) {
         return run.finish(sources);
@@ -294,6 +298,7 @@ struct Run<'a> {
     transcript: Transcript,
     parameters: BTreeMap<String, Value>,
     diagnostics: Vec<Diagnostic>,
+    failed_questions: Vec<(String, Option<String>)>,
 }
 
 /// The exchanges of one question (first try and repairs) and how it ended.
@@ -301,6 +306,8 @@ struct Asked {
     exchanges: Vec<Exchange>,
     diagnostics: Vec<Diagnostic>,
     failed: bool,
+    /// The last answer still had errors after every repair round.
+    gave_up: bool,
 }
 
 impl Run<'_> {
@@ -371,7 +378,8 @@ impl Run<'_> {
             "values": used,
             "sampling": self.parameters,
         });
-        let mut asked = Asked { exchanges: Vec::new(), diagnostics: Vec::new(), failed: false };
+        let mut asked =
+            Asked { exchanges: Vec::new(), diagnostics: Vec::new(), failed: false, gave_up: false };
         let mut previous: Option<(String, Vec<String>)> = None;
         for attempt in 0..=self.options.repair_rounds {
             if self.cancelled.load(Ordering::SeqCst) {
@@ -508,6 +516,7 @@ impl Run<'_> {
                     d = d.with_note(problem.clone());
                 }
                 asked.diagnostics.push(d);
+                asked.gave_up = true;
                 // A floor plan that cannot be read, or a plan that fails, will never build:
                 // no later question is asked.
                 if found.plan_errors > 0 || stage == Stage::FloorPlan {
@@ -522,6 +531,11 @@ impl Run<'_> {
 
     /// Records a finished question in the transcript and the diagnostics.
     fn record(&mut self, asked: Asked) -> bool {
+        if asked.gave_up {
+            if let Some(last) = asked.exchanges.last() {
+                self.failed_questions.push((last.stage.clone(), last.room.clone()));
+            }
+        }
         self.transcript.exchanges.extend(asked.exchanges);
         self.diagnostics.extend(asked.diagnostics);
         !asked.failed
@@ -639,7 +653,13 @@ impl Run<'_> {
             self.diagnostics.extend(built.diagnostics);
         }
         Outcome::new(
-            Generated { holo, transcript: self.transcript, sources, costs },
+            Generated {
+                holo,
+                transcript: self.transcript,
+                sources,
+                costs,
+                failed_questions: self.failed_questions,
+            },
             self.diagnostics,
         )
     }

@@ -511,7 +511,8 @@ impl Search<'_, '_> {
     }
 
     fn out_of_budget(&self) -> bool {
-        self.best.is_some() && self.nodes >= self.budget
+        // A cancelled batch job (`crate::cancel`) stops here; its layout is thrown away.
+        (self.best.is_some() && self.nodes >= self.budget) || crate::cancel::requested()
     }
 
     fn visit(&mut self, k: usize, disc: usize, st: &mut State) {
@@ -1087,6 +1088,9 @@ pub(crate) fn solve(prep: &Prepared<'_>, options: &SolveOptions) -> RoomLayout {
     let mut statics = Vec::with_capacity(n);
     let mut static_fails = Vec::with_capacity(n);
     for k in 0..n {
+        if crate::cancel::requested() {
+            return RoomLayout::default();
+        }
         let (c, f) = static_candidates(prep, k, options.seed);
         statics.push(c);
         static_fails.push(f);

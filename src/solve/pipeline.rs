@@ -205,6 +205,10 @@ pub fn solve(
     let sizes = ResolvedSizes { scene: &kept, resolved };
     let mut rooms = Vec::new();
     for room in &kept.rooms {
+        // A cancelled batch job (`crate::cancel`) solves no more rooms; its result is dropped.
+        if crate::cancel::requested() {
+            break;
+        }
         let plan_room = plan.room(room.id);
         let mut keep_out: Vec<Vec<[f64; 2]>> = plan_room.door_keep_out.clone();
         keep_out.extend(plan_room.open_boxes.iter().cloned());

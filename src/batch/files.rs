@@ -1,0 +1,206 @@
+//! What the jobs of a run share on disk and in memory: the hashes of the files they read
+//! (each file read and hashed once per run while its size and time stamp stay the same), the
+//! loaded catalogs (one per distinct content), the per-job locks that let two runs on one
+//! folder share the work, and the run's scratch folder (whose leftovers from killed runs are
+//! removed when a run starts).
+
+use crate::diag::Diagnostic;
+use crate::resolve::Catalog;
+use crate::source::SourceMap;
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex};
+use std::time::SystemTime;
+
+/// A file's size and time stamp: a file whose stamp is unchanged is not read again.
+type Stamp = (u64, Option<SystemTime>);
+
+fn stamp(path: &Path) -> Option<Stamp> {
+    let meta = std::fs::metadata(path).ok()?;
+    Some((meta.len(), meta.modified().ok()))
+}
+
+/// The SHA-256 of the files a run reads, by path.
+#[derive(Debug, Default)]
+pub struct FileHashes {
+    known: Mutex<HashMap<PathBuf, (Stamp, String)>>,
+}
+
+impl FileHashes {
+    /// The SHA-256 (hex) of the file's bytes, or `unreadable:<path>` when it cannot be read.
+    pub fn hash(&self, path: &Path) -> String {
+        let lock = || self.known.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+        let Some(now) = stamp(path) else {
+            return format!("unreadable:{}", path.display());
+        };
+        if let Some((seen, hash)) = lock().get(path) {
+            if *seen == now {
+                return hash.clone();
+            }
+        }
+        let hash = match std::fs::read(path) {
+            Ok(bytes) => crate::resolve::sha256_hex(&bytes),
+            Err(_) => return format!("unreadable:{}", path.display()),
+        };
+        lock().insert(path.to_path_buf(), (now, hash.clone()));
+        hash
+    }
+
+    /// The file's size in bytes (0 when it cannot be read).
+    pub fn len(&self, path: &Path) -> u64 {
+        stamp(path).map_or(0, |s| s.0)
+    }
+}
+
+/// A loaded catalog set: the catalog, the sources its diagnostics point into, the diagnostics.
+pub type LoadedCatalogs = Arc<(Catalog, SourceMap, Vec<Diagnostic>)>;
+
+/// The catalog sets a run has loaded, by the hashes of their files' contents: every job whose
+/// catalogs have the same contents (every job without `catalog`, usually) shares one catalog,
+/// loaded once. A changed file is a new key. At most [`CatalogCache::MAX_SETS`] sets are kept,
+/// so memory stays flat with many distinct sets.
+#[derive(Debug, Default)]
+pub struct CatalogCache {
+    sets: Mutex<HashMap<Vec<String>, LoadedCatalogs>>,
+    /// Held while a set is loaded, so that jobs asking for the same new set at once load it
+    /// once (the others wait, then find it).
+    loading: Mutex<()>,
+}
+
+impl CatalogCache {
+    /// The most catalog sets kept at once.
+    pub const MAX_SETS: usize = 8;
+
+    /// The catalog set of `paths`, loaded now or earlier; `files` gives their hashes.
+    pub fn get(&self, paths: &[PathBuf], files: &FileHashes) -> LoadedCatalogs {
+        let key: Vec<String> = paths.iter().map(|p| files.hash(p)).collect();
+        // A job that panicked while holding a lock leaves a map that is still whole (only
+        // whole inserts and clears happen under it).
+        let lock = || self.sets.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+        if let Some(found) = lock().get(&key) {
+            return Arc::clone(found);
+        }
+        let _loading = self.loading.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+        if let Some(found) = lock().get(&key) {
+            return Arc::clone(found);
+        }
+        let mut sources = SourceMap::new();
+        let loaded = Catalog::load(paths, &mut sources);
+        let set = Arc::new((loaded.value, sources, loaded.diagnostics));
+        let mut sets = lock();
+        if sets.len() >= Self::MAX_SETS {
+            sets.clear();
+        }
+        Arc::clone(sets.entry(key).or_insert(set))
+    }
+}
+
+/// An exclusive lock on a file, held until dropped (`flock(2)`; elsewhere than Unix every lock
+/// is granted, so two runs on one folder are not kept apart there).
+#[derive(Debug)]
+pub struct FileLock {
+    _file: std::fs::File,
+    path: PathBuf,
+}
+
+impl FileLock {
+    /// Takes the lock of `path` (made if missing) without waiting: `Ok(None)` when another
+    /// process holds it.
+    pub fn try_take(path: &Path) -> std::io::Result<Option<FileLock>> {
+        if let Some(parent) = path.parent() {
+            std::fs::create_dir_all(parent)?;
+        }
+        let file =
+            std::fs::OpenOptions::new().create(true).truncate(false).write(true).open(path)?;
+        #[cfg(unix)]
+        {
+            use rustix::fs::{flock, FlockOperation};
+            match flock(&file, FlockOperation::NonBlockingLockExclusive) {
+                Ok(()) => {}
+                Err(e) if e == rustix::io::Errno::WOULDBLOCK => return Ok(None),
+                Err(e) => return Err(e.into()),
+            }
+        }
+        Ok(Some(FileLock { _file: file, path: path.to_path_buf() }))
+    }
+
+    /// Removes the lock's file and lets the lock go. Only for a job whose folder is complete:
+    /// a run that opened the old file and takes its lock afterwards finds the folder complete.
+    pub fn remove(self) {
+        let _ = std::fs::remove_file(&self.path);
+    }
+}
+
+/// The scratch folder of one run, `OUT/.tmp/<run>/`, with its lock `OUT/.tmp/<run>.lock` held
+/// for as long as the run lives. Made by [`Scratch::create`], which first removes what killed
+/// runs left (folders whose lock nobody holds); removed by [`Scratch::finish`].
+#[derive(Debug)]
+pub struct Scratch {
+    /// The folder.
+    pub dir: PathBuf,
+    lock: Option<FileLock>,
+}
+
+impl Scratch {
+    /// Cleans `out/.tmp/` of dead runs' leftovers and makes this run's folder.
+    pub fn create(out: &Path) -> std::io::Result<Scratch> {
+        let root = out.join(".tmp");
+        std::fs::create_dir_all(&root)?;
+        Self::clean(&root);
+        let nanos = SystemTime::now()
+            .duration_since(SystemTime::UNIX_EPOCH)
+            .map_or(0, |d| d.subsec_nanos());
+        let name = format!("run-{}-{nanos:09}", std::process::id());
+        let lock = FileLock::try_take(&root.join(format!("{name}.lock")))?;
+        let dir = root.join(name);
+        std::fs::create_dir_all(&dir)?;
+        Ok(Scratch { dir, lock })
+    }
+
+    /// Removes every entry of `root` that no live run holds: a `<name>.lock` that can be taken
+    /// belongs to a dead run, and goes with its folder; anything else without a lock (the
+    /// scratch of older versions) goes too.
+    fn clean(root: &Path) {
+        let Ok(entries) = std::fs::read_dir(root) else { return };
+        let mut names: Vec<String> = entries
+            .filter_map(Result::ok)
+            .map(|e| e.file_name().to_string_lossy().into_owned())
+            .collect();
+        names.sort();
+        let is_lock = |n: &&String| Path::new(n.as_str()).extension().is_some_and(|e| e == "lock");
+        for name in names.iter().filter(|n| !is_lock(n)) {
+            let lock_path = root.join(format!("{name}.lock"));
+            let held =
+                lock_path.exists() && matches!(FileLock::try_take(&lock_path), Ok(None) | Err(_));
+            if held {
+                continue;
+            }
+            let path = root.join(name);
+            if path.is_dir() {
+                let _ = std::fs::remove_dir_all(&path);
+            } else {
+                let _ = std::fs::remove_file(&path);
+            }
+            let _ = std::fs::remove_file(&lock_path);
+        }
+        // Locks left without a folder.
+        for name in names.iter().filter(is_lock) {
+            let folder = root.join(name.trim_end_matches(".lock"));
+            let path = root.join(name);
+            if !folder.exists() && matches!(FileLock::try_take(&path), Ok(Some(_))) {
+                let _ = std::fs::remove_file(&path);
+            }
+        }
+    }
+
+    /// Removes the run's folder and lock, and `.tmp/` when nothing else is in it.
+    pub fn finish(mut self) {
+        let _ = std::fs::remove_dir_all(&self.dir);
+        if let Some(lock) = self.lock.take() {
+            lock.remove();
+        }
+        if let Some(root) = self.dir.parent() {
+            let _ = std::fs::remove_dir(root);
+        }
+    }
+}

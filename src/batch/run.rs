@@ -1,0 +1,632 @@
+//! Running one job: the skip check, the job's lock, its work on a thread of its own under the
+//! time limit, the retries, and the writing of its folder.
+//!
+//! A job's work runs on a thread that holds a [`crate::cancel::Token`]; past `--job-timeout`
+//! the token is cancelled, the stages stop at their next check and the job is recorded as timed
+//! out (E0006) with the stage it was in. Work that does not stop within a short grace is left
+//! to end on its own (its thread keeps its CPU permit until then) and the worker goes on.
+//! Nothing a cancelled job computed is written, so outputs never depend on time.
+//!
+//! CPU work holds one of `--jobs` permits; model requests hold one of `--llm-concurrency`
+//! permits and no CPU permit, so generate jobs overlap the model's latency with builds.
+
+use super::files::{CatalogCache, FileHashes, FileLock};
+use super::{Job, JobResult, Status, DONE_MARKER};
+use crate::cancel::Token;
+use crate::compile::{build, BuildOptions};
+use crate::diag::{Code, Diagnostic, Outcome};
+use crate::generate::{
+    self, GenerateOptions, HttpLlm, HttpOptions, Llm, LlmAnswer, LlmError, LlmRequest, ModelInfo,
+    Request,
+};
+use crate::solve::Solver;
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU32, AtomicU64, AtomicUsize, Ordering};
+use std::sync::{Arc, Condvar, Mutex};
+use std::time::{Duration, Instant};
+
+/// Settings and shared state of a whole run.
+#[derive(Debug)]
+pub struct RunOptions {
+    /// The output folder.
+    pub out: PathBuf,
+    /// This run's scratch folder (inside `out/.tmp/`).
+    pub scratch: PathBuf,
+    /// Redo jobs whose folder exists, and ask the model again for every answer.
+    pub force: bool,
+    /// A failed job whose failure may pass (the model, the disk, a panic) is tried once more
+    /// in the same run.
+    pub retry_failed: bool,
+    /// The time limit of one job.
+    pub job_timeout: Duration,
+    /// How long a cancelled job is given to stop before the worker leaves it.
+    pub grace: Duration,
+    /// The API key of generate jobs (never written anywhere).
+    pub api_key: Option<String>,
+    /// Model requests in flight, over all jobs.
+    pub llm: Permits,
+    /// CPU work at once, over all jobs.
+    pub cpu: Permits,
+    /// The catalogs loaded so far.
+    pub catalogs: CatalogCache,
+    /// The hashes of the files read so far.
+    pub files: FileHashes,
+    /// The first pause before a model request that failed for a passing reason is sent again
+    /// (it doubles each time, up to 30 s).
+    pub model_backoff: Duration,
+    /// Numbers the scratch folders of the jobs of this run.
+    counter: AtomicU64,
+}
+
+impl RunOptions {
+    /// Options for a run into `out` with scratch folder `scratch`, `jobs` CPU permits and
+    /// `llm` model permits; the rest at their defaults (30 minutes per job).
+    pub fn new(out: PathBuf, scratch: PathBuf, jobs: usize, llm: usize) -> RunOptions {
+        RunOptions {
+            out,
+            scratch,
+            force: false,
+            retry_failed: false,
+            job_timeout: DEFAULT_JOB_TIMEOUT,
+            grace: Duration::from_secs(5),
+            api_key: None,
+            llm: Permits::new(llm),
+            cpu: Permits::new(jobs),
+            catalogs: CatalogCache::default(),
+            files: FileHashes::default(),
+            model_backoff: Duration::from_secs(1),
+            counter: AtomicU64::new(0),
+        }
+    }
+}
+
+/// The time limit of a job unless `--job-timeout` says otherwise: far above any normal job
+/// (the slowest example builds in a tenth of a second; a generate job asks about twenty
+/// questions).
+pub const DEFAULT_JOB_TIMEOUT: Duration = Duration::from_secs(30 * 60);
+
+/// A counting semaphore (std only).
+#[derive(Debug)]
+pub struct Permits {
+    free: Mutex<usize>,
+    freed: Condvar,
+}
+
+/// One permit, given back when dropped.
+pub struct Permit<'a>(&'a Permits);
+
+impl Drop for Permit<'_> {
+    fn drop(&mut self) {
+        self.0.release();
+    }
+}
+
+impl Permits {
+    /// `n` permits (at least one).
+    pub fn new(n: usize) -> Permits {
+        Permits { free: Mutex::new(n.max(1)), freed: Condvar::new() }
+    }
+
+    /// Waits for a permit.
+    pub fn acquire(&self) -> Permit<'_> {
+        let mut free = self.free.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+        while *free == 0 {
+            free = self.freed.wait(free).unwrap_or_else(std::sync::PoisonError::into_inner);
+        }
+        *free -= 1;
+        Permit(self)
+    }
+
+    fn release(&self) {
+        let mut free = self.free.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+        *free += 1;
+        self.freed.notify_one();
+    }
+}
+
+/// A model that answers from what an earlier run of the job recorded, when the question is
+/// exactly the same (stage, room, attempt and prompt), and asks the live model otherwise, each
+/// live request holding one model permit. A request that fails for a passing reason (429, 5xx,
+/// a timeout) is sent again after a pause without the permit, up to [`MODEL_TRIES`] times. A
+/// cancelled job gets no more answers.
+struct ReusingLlm<'a> {
+    recorded: BTreeMap<(String, Option<String>, u32, String), String>,
+    live: &'a dyn Llm,
+    options: &'a RunOptions,
+    token: &'a Token,
+    retries: &'a AtomicU32,
+}
+
+/// How many times one model request is sent at most.
+pub const MODEL_TRIES: u32 = 4;
+
+fn prompt_key(prompt: &str) -> String {
+    crate::resolve::sha256_hex(prompt.as_bytes())
+}
+
+impl Llm for ReusingLlm<'_> {
+    fn complete(&self, request: &LlmRequest<'_>) -> Result<LlmAnswer, LlmError> {
+        let key = (
+            request.stage.to_string(),
+            request.room.map(str::to_string),
+            request.attempt,
+            prompt_key(request.prompt),
+        );
+        if let Some(text) = self.recorded.get(&key) {
+            return Ok(LlmAnswer { text: text.clone(), usage: generate::Usage::default() });
+        }
+        let mut pause = self.options.model_backoff;
+        for n in 1..=MODEL_TRIES {
+            if self.token.is_cancelled() {
+                return Err(LlmError::Timeout {
+                    seconds: self.options.job_timeout.as_secs_f64(),
+                    tries: n - 1,
+                });
+            }
+            let answer = {
+                let _permit = self.options.llm.acquire();
+                self.live.complete(request)
+            };
+            let passing = matches!(
+                &answer,
+                Err(LlmError::Timeout { .. } | LlmError::Server { status: 429 | 500..=599, .. })
+            );
+            if !passing || n == MODEL_TRIES {
+                return answer;
+            }
+            self.retries.fetch_add(1, Ordering::Relaxed);
+            std::thread::sleep(pause);
+            pause = (pause * 2).min(Duration::from_secs(30));
+        }
+        Err(LlmError::Server { status: 0, tries: MODEL_TRIES, body: String::new() })
+    }
+
+    fn info(&self) -> ModelInfo {
+        self.live.info()
+    }
+}
+
+/// The files a finished job writes, by name.
+type Files = Vec<(&'static str, String)>;
+
+/// The outcome of running one job's work (before it is written).
+struct Work {
+    files: Files,
+    diagnostics: Vec<Diagnostic>,
+    failed_stage: Option<&'static str>,
+    model_retries: u32,
+}
+
+fn failed(stage: &'static str, diagnostics: Vec<Diagnostic>) -> Work {
+    Work { files: Vec::new(), diagnostics, failed_stage: Some(stage), model_retries: 0 }
+}
+
+fn solver_of(job: &Job) -> Solver {
+    if job.spec.solver.as_deref() == Some("milp") {
+        Solver::Milp
+    } else {
+        Solver::Dfs
+    }
+}
+
+/// Builds `.holo` text into the house and its report (holding a CPU permit).
+fn build_text(name: &str, text: String, job: &Job, options: &RunOptions, files: Files) -> Work {
+    let _cpu = options.cpu.acquire();
+    crate::cancel::stage("catalog");
+    let loaded = options.catalogs.get(&job.catalogs, &options.files);
+    let (catalog, catalog_sources, catalog_diagnostics) = &*loaded;
+    if catalog_diagnostics.iter().any(Diagnostic::is_error) {
+        return failed("catalog", catalog_diagnostics.clone());
+    }
+    let mut sources = catalog_sources.clone();
+    let file = sources.add(name, text);
+    let build_options = BuildOptions {
+        seed: if job.spec.generate.is_some() { None } else { job.spec.seed },
+        solver: solver_of(job),
+        node_budget: job.spec.node_budget,
+        stand_ins: job.spec.stand_ins.unwrap_or(true),
+        ..BuildOptions::new(catalog)
+    };
+    let built = build(&sources, file, &build_options);
+    let mut diagnostics = catalog_diagnostics.clone();
+    diagnostics.extend(built.diagnostics);
+    let Some(product) = built.value else {
+        let stage = diagnostics.iter().find(|d| d.is_error()).map_or("build", |d| stage_of(d.code));
+        return failed(stage, diagnostics);
+    };
+    crate::cancel::stage("write");
+    let mut report = crate::report::report(&product, catalog);
+    // The report names the catalogs as the manifest does (relative to its folder), not as
+    // they were reached from the working folder.
+    if let Some(list) = report.pointer_mut("/assets/catalogs").and_then(|v| v.as_array_mut()) {
+        for (entry, written) in list.iter_mut().skip(1).zip(&job.spec.catalog) {
+            if let Some(path) = entry.get_mut("path") {
+                *path = serde_json::json!(written);
+            }
+        }
+    }
+    let mut report = serde_json::to_string_pretty(&report).unwrap_or_default();
+    report.push('\n');
+    let mut files = files;
+    files.push(("house.json", product.house.to_json_string()));
+    files.push(("report.json", report));
+    Work { files, diagnostics, failed_stage: None, model_retries: 0 }
+}
+
+/// The stage a build error comes from, by its code's band.
+fn stage_of(code: Code) -> &'static str {
+    match &code.as_str()[..3] {
+        "E00" => "input",
+        "E01" | "E02" => "check",
+        "E03" => "plan",
+        "E04" => "resolve",
+        "E05" => "solve",
+        "E06" => "lower",
+        _ => "build",
+    }
+}
+
+fn run_build_job(job: &Job, options: &RunOptions) -> Work {
+    let Some(path) = &job.input else { return failed("input", Vec::new()) };
+    crate::cancel::stage("input");
+    let mut sources = crate::source::SourceMap::new();
+    let text = match crate::cli::common::read_source(&mut sources, path) {
+        Ok(id) => sources.get(id).text.clone(),
+        Err(d) => return failed("input", vec![d]),
+    };
+    // Diagnostics name the file as the manifest writes it.
+    let name = job.spec.build.clone().unwrap_or_default();
+    build_text(&name, text, job, options, Vec::new())
+}
+
+/// The answers a failed run of this job recorded, without those of the questions that failed.
+fn recorded_answers(partial: &Path) -> BTreeMap<(String, Option<String>, u32, String), String> {
+    let Some(transcript) = std::fs::read_to_string(partial)
+        .ok()
+        .and_then(|t| serde_json::from_str::<crate::import::Transcript>(&t).ok())
+    else {
+        return BTreeMap::new();
+    };
+    transcript
+        .exchanges
+        .into_iter()
+        .map(|e| ((e.stage, e.room, e.attempt, prompt_key(&e.prompt)), e.answer))
+        .collect()
+}
+
+fn run_generate_job(job: &Job, options: &RunOptions, token: &Token) -> Work {
+    crate::cancel::stage("generate");
+    let text = job.spec.generate.clone().unwrap_or_default();
+    let seed = job.spec.seed.unwrap_or(1);
+    let mut http = HttpOptions::new(job.spec.resolved_base_url(), job.spec.resolved_model());
+    http.api_key.clone_from(&options.api_key);
+    http.seed = Some(seed);
+    // Passing errors are retried here, without holding a model permit while waiting.
+    http.retries = 0;
+    http.timeout = http.timeout.min(options.job_timeout.max(Duration::from_secs(1)));
+    if let Some(t) = job.spec.temperature {
+        http.temperature = t;
+    }
+    let live = HttpLlm::new(http);
+    let partial = partial_transcript(&options.out, &job.hash);
+    let recorded = if options.force { BTreeMap::new() } else { recorded_answers(&partial) };
+    let retries = AtomicU32::new(0);
+    let llm = ReusingLlm { recorded, live: &live, options, token, retries: &retries };
+    let request = Request { text, seed };
+    let options_g = GenerateOptions { jobs: 1, repair_rounds: 2, ..GenerateOptions::default() };
+    let outcome: Outcome<generate::Generated> = generate::generate(&request, &llm, &options_g);
+    let model_retries = retries.load(Ordering::Relaxed);
+    if outcome.has_errors() {
+        // Keep what went well, for the next run: the exchanges of the questions whose answers
+        // still had errors are left out, so that the next run asks them again.
+        let gave_up: BTreeSet<(String, Option<String>)> =
+            outcome.value.failed_questions.iter().cloned().collect();
+        let mut kept = outcome.value.transcript.clone();
+        kept.exchanges.retain(|e| !gave_up.contains(&(e.stage.clone(), e.room.clone())));
+        let mut text = serde_json::to_string_pretty(&kept).unwrap_or_default();
+        text.push('\n');
+        if !token.is_cancelled() {
+            let _ = write_atomically(&partial, &text, &options.scratch, options);
+        }
+        let mut work = failed("generate", outcome.diagnostics);
+        work.model_retries = model_retries;
+        return work;
+    }
+    let mut transcript =
+        serde_json::to_string_pretty(&outcome.value.transcript).unwrap_or_default();
+    transcript.push('\n');
+    let files: Files =
+        vec![("scene.holo", outcome.value.holo.clone()), ("transcript.json", transcript)];
+    let mut work = build_text("scene.holo", outcome.value.holo, job, options, files);
+    let mut diagnostics = outcome.diagnostics;
+    diagnostics.append(&mut work.diagnostics);
+    work.diagnostics = diagnostics;
+    work.model_retries = model_retries;
+    work
+}
+
+/// Where a generate job that failed keeps its transcript for the next run.
+fn partial_transcript(out: &Path, hash: &str) -> PathBuf {
+    out.join(".partial").join(format!("{hash}.transcript.json"))
+}
+
+/// Where a job that failed keeps how many times it was tried.
+fn tries_file(out: &Path, hash: &str) -> PathBuf {
+    out.join(".partial").join(format!("{hash}.tries"))
+}
+
+/// Where the lock of a job is.
+fn lock_file(out: &Path, hash: &str) -> PathBuf {
+    out.join(".locks").join(format!("{hash}.lock"))
+}
+
+fn codes(diagnostics: &[Diagnostic], errors: bool) -> Vec<String> {
+    let mut codes: Vec<String> = diagnostics
+        .iter()
+        .filter(|d| d.is_error() == errors)
+        .map(|d| d.code.as_str().to_string())
+        .collect();
+    codes.sort();
+    codes.dedup();
+    codes
+}
+
+/// The number of job files after which writes fail as on a full disk, from
+/// `HOLOC_BATCH_DISK_FULL_AFTER` (a test hook: a real full disk is hard to come by in a test).
+fn disk_full_after() -> Option<usize> {
+    static AFTER: std::sync::OnceLock<Option<usize>> = std::sync::OnceLock::new();
+    *AFTER.get_or_init(|| {
+        std::env::var("HOLOC_BATCH_DISK_FULL_AFTER").ok().and_then(|v| v.trim().parse().ok())
+    })
+}
+
+static FILES_WRITTEN: AtomicUsize = AtomicUsize::new(0);
+
+/// Writes one file of a job (through the disk-full test hook).
+fn write_file(path: &Path, text: &str) -> std::io::Result<()> {
+    if let Some(after) = disk_full_after() {
+        if FILES_WRITTEN.fetch_add(1, Ordering::SeqCst) >= after {
+            // Part of the file is written, as on a real full disk.
+            let _ = std::fs::write(path, &text.as_bytes()[..text.len() / 2]);
+            return Err(std::io::Error::from(std::io::ErrorKind::StorageFull));
+        }
+    }
+    std::fs::write(path, text)
+}
+
+/// Whether an I/O error means the disk (or the quota) is full.
+pub fn is_disk_full(e: &std::io::Error) -> bool {
+    e.kind() == std::io::ErrorKind::StorageFull || matches!(e.raw_os_error(), Some(28 | 122))
+}
+
+/// Writes `text` to `path` through a scratch file and a rename.
+fn write_atomically(
+    path: &Path,
+    text: &str,
+    scratch: &Path,
+    options: &RunOptions,
+) -> std::io::Result<()> {
+    if let Some(parent) = path.parent() {
+        std::fs::create_dir_all(parent)?;
+    }
+    let n = options.counter.fetch_add(1, Ordering::Relaxed);
+    let tmp = scratch.join(format!("file-{n}"));
+    if let Err(e) = write_file(&tmp, text) {
+        let _ = std::fs::remove_file(&tmp);
+        return Err(e);
+    }
+    std::fs::rename(&tmp, path)
+}
+
+/// Writes a finished job's folder: a scratch folder with every file and the marker, renamed
+/// into place.
+fn write_job(
+    job: &Job,
+    files: &Files,
+    diagnostics: &[Diagnostic],
+    options: &RunOptions,
+) -> std::io::Result<()> {
+    let target = options.out.join(&job.hash);
+    let n = options.counter.fetch_add(1, Ordering::Relaxed);
+    let tmp = options.scratch.join(format!("{}-{n}", job.hash));
+    let written = (|| {
+        std::fs::create_dir_all(&tmp)?;
+        for (name, text) in files {
+            write_file(&tmp.join(name), text)?;
+        }
+        let model = job.spec.generate.as_ref().map(|_| {
+            serde_json::json!({"model": job.spec.resolved_model(), "base_url": job.spec.resolved_base_url()})
+        });
+        let mut job_json = serde_json::to_string_pretty(&serde_json::json!({
+            "hash": job.hash,
+            "holoc": crate::build_info::LONG_VERSION,
+            "spec": job.spec,
+            "model": model,
+            "warnings": codes(diagnostics, false),
+        }))
+        .unwrap_or_default();
+        job_json.push('\n');
+        write_file(&tmp.join("job.json"), &job_json)?;
+        write_file(&tmp.join(DONE_MARKER), "")?;
+        if target.exists() {
+            std::fs::remove_dir_all(&target)?;
+        }
+        std::fs::rename(&tmp, &target)
+    })();
+    if written.is_err() {
+        let _ = std::fs::remove_dir_all(&tmp);
+    }
+    written
+}
+
+/// How one try of a job's work ended.
+enum Ended {
+    Finished(std::thread::Result<Work>),
+    TimedOut { stage: &'static str, stopped: bool },
+}
+
+/// Runs the job's work on a thread of its own under the time limit.
+fn work_once(job: &Job, options: &Arc<RunOptions>) -> Ended {
+    let token = Token::new(if job.spec.generate.is_some() { "generate" } else { "input" });
+    let (tx, rx) = std::sync::mpsc::channel();
+    let thread_job = job.clone();
+    let thread_options = Arc::clone(options);
+    let thread_token = Arc::clone(&token);
+    let spawned = std::thread::Builder::new()
+        .name(format!("job-{}", job.line))
+        .stack_size(16 * 1024 * 1024)
+        .spawn(move || {
+            thread_token.install();
+            let work = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+                if thread_job.spec.generate.is_some() {
+                    run_generate_job(&thread_job, &thread_options, &thread_token)
+                } else {
+                    run_build_job(&thread_job, &thread_options)
+                }
+            }));
+            let _ = tx.send(work);
+        });
+    if let Err(e) = spawned {
+        return Ended::Finished(Ok(failed(
+            "panic",
+            vec![Diagnostic::new(Code::E0002, format!("cannot start the job's thread: {e}"))],
+        )));
+    }
+    match rx.recv_timeout(options.job_timeout) {
+        Ok(work) if !token.is_cancelled() => Ended::Finished(work),
+        Ok(_) => Ended::TimedOut { stage: token.stage(), stopped: true },
+        Err(std::sync::mpsc::RecvTimeoutError::Disconnected) => {
+            Ended::Finished(Err(Box::new("the job's thread ended without a result")))
+        }
+        Err(std::sync::mpsc::RecvTimeoutError::Timeout) => {
+            token.cancel();
+            let stage = token.stage();
+            let stopped = rx.recv_timeout(options.grace).is_ok();
+            Ended::TimedOut { stage, stopped }
+        }
+    }
+}
+
+/// Whether a failure may pass if the job is tried again at once.
+fn passing(result: &JobResult) -> bool {
+    matches!(result.stage.as_deref(), Some("generate" | "write" | "panic"))
+}
+
+/// Formats a duration for people: `90s`, `30m`, `1.5s`.
+pub fn human_duration(d: Duration) -> String {
+    let s = d.as_secs_f64();
+    if s >= 3600.0 && s % 3600.0 == 0.0 {
+        format!("{}h", s as u64 / 3600)
+    } else if s >= 60.0 && s % 60.0 == 0.0 {
+        format!("{}m", s as u64 / 60)
+    } else if s >= 1.0 {
+        format!("{s}s")
+    } else {
+        format!("{}ms", d.as_millis())
+    }
+}
+
+/// One try of a job: its work, then its folder.
+fn try_once(job: &Job, options: &Arc<RunOptions>, result: &mut JobResult) {
+    match work_once(job, options) {
+        Ended::TimedOut { stage, stopped } => {
+            let mut message = format!(
+                "the job ran past its time limit (--job-timeout {}) in stage `{stage}` and was stopped",
+                human_duration(options.job_timeout)
+            );
+            if !stopped {
+                message.push_str("; it did not stop at once and is left to end on its own");
+            }
+            *result = result.clone().fail(stage, Code::E0006, message);
+        }
+        Ended::Finished(Err(payload)) => {
+            let message = payload
+                .downcast_ref::<String>()
+                .cloned()
+                .or_else(|| payload.downcast_ref::<&str>().map(|s| (*s).to_string()))
+                .unwrap_or_else(|| "a panic".into());
+            *result = result.clone().fail("panic", Code::E0002, message);
+        }
+        Ended::Finished(Ok(work)) => {
+            result.model_retries += work.model_retries;
+            if let Some(stage) = work.failed_stage {
+                result.status = Status::Failed;
+                result.stage = Some(stage.to_string());
+                result.codes = codes(&work.diagnostics, true);
+                result.message =
+                    work.diagnostics.iter().find(|d| d.is_error()).map(|d| d.message.clone());
+                return;
+            }
+            result.status = Status::Done;
+            result.stage = None;
+            result.message = None;
+            result.codes = codes(&work.diagnostics, false);
+            if let Err(e) = write_job(job, &work.files, &work.diagnostics, options) {
+                let (code, message) = if is_disk_full(&e) {
+                    (Code::E0007, format!("the disk is full: {e}"))
+                } else {
+                    (Code::E0001, format!("cannot write the job's folder: {e}"))
+                };
+                *result = result.clone().fail("write", code, message);
+            }
+        }
+    }
+}
+
+/// Runs one job: skipped when its folder is complete (unless forced) or when another run holds
+/// its lock (busy); else its work, written. A panic inside the job is caught and recorded as a
+/// failure of stage `panic`; a failed job records how many times it was tried, for the next run.
+pub fn run_job(job: &Job, options: &Arc<RunOptions>) -> JobResult {
+    let started = Instant::now();
+    let mut result = JobResult::of(job, Status::Done);
+    let done = || options.out.join(&job.hash).join(DONE_MARKER).exists();
+    if !options.force && done() {
+        result.status = Status::Skipped;
+        return result;
+    }
+    let lock = match FileLock::try_take(&lock_file(&options.out, &job.hash)) {
+        Ok(Some(lock)) => lock,
+        Ok(None) => {
+            result.status = Status::Busy;
+            result.message = Some("another run on this folder is doing this job".into());
+            return result;
+        }
+        Err(e) => {
+            let code = if is_disk_full(&e) { Code::E0007 } else { Code::E0001 };
+            return result.fail("write", code, format!("cannot take the job's lock: {e}"));
+        }
+    };
+    // Another run may have finished the job while this one waited for the lock.
+    if !options.force && done() {
+        result.status = Status::Skipped;
+        lock.remove();
+        return result;
+    }
+    let tries = tries_file(&options.out, &job.hash);
+    if options.force {
+        let _ = std::fs::remove_file(partial_transcript(&options.out, &job.hash));
+        let _ = std::fs::remove_file(&tries);
+    }
+    let earlier: u32 =
+        std::fs::read_to_string(&tries).ok().and_then(|t| t.trim().parse().ok()).unwrap_or(0);
+    result.tries = earlier + 1;
+    try_once(job, options, &mut result);
+    if options.retry_failed && result.status == Status::Failed && passing(&result) {
+        result.tries += 1;
+        let model_retries = result.model_retries;
+        result =
+            JobResult { tries: result.tries, model_retries, ..JobResult::of(job, Status::Done) };
+        try_once(job, options, &mut result);
+    }
+    if result.status == Status::Failed {
+        let _ = write_atomically(&tries, &format!("{}\n", result.tries), &options.scratch, options);
+        drop(lock);
+    } else {
+        let _ = std::fs::remove_file(&tries);
+        let _ = std::fs::remove_file(partial_transcript(&options.out, &job.hash));
+        lock.remove();
+    }
+    result.seconds = started.elapsed().as_secs_f64();
+    result
+}
