@@ -110,7 +110,7 @@ fn broken_houses_are_rejected() {
     });
     broken("color_out_of_range", "E0601", |h| {
         // AI2-THOR reads r, g, b (and a) in 0…1: 0…255 values are a mistake.
-        h["rooms"][0]["wallMaterial"] =
+        h["rooms"][0]["floorMaterial"] =
             serde_json::json!({"name": "PureWhite", "color": {"r": 120, "g": 80, "b": 200}});
     });
     broken("color_without_blue", "E0601", |h| {
