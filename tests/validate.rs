@@ -63,7 +63,7 @@ fn material_colours_are_accepted() {
     let mut house = base_house();
     house["rooms"][0]["wallMaterial"] = serde_json::json!({
         "name": "PureWhite",
-        "color": {"r": 0.372549, "g": 0.427451, "b": 0.34902},
+        "color": {"r": 0.372_549, "g": 0.427_451, "b": 0.349_02},
         "shader": "Standard", "unlit": false, "tilingDivisorX": 1.0, "tilingDivisorY": null,
         "metallic": 0.0, "smoothness": 0.2
     });
