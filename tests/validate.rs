@@ -63,7 +63,7 @@ fn material_colours_are_accepted() {
     let mut house = base_house();
     house["rooms"][0]["wallMaterial"] = serde_json::json!({
         "name": "PureWhite",
-        "color": {"r": 0.372549, "g": 0.427451, "b": 0.34902},
+        "color": {"r": 0.372_549, "g": 0.427_451, "b": 0.349_02},
         "shader": "Standard", "unlit": false, "tilingDivisorX": 1.0, "tilingDivisorY": null,
         "metallic": 0.0, "smoothness": 0.2
     });
@@ -110,7 +110,7 @@ fn broken_houses_are_rejected() {
     });
     broken("color_out_of_range", "E0601", |h| {
         // AI2-THOR reads r, g, b (and a) in 0…1: 0…255 values are a mistake.
-        h["rooms"][0]["wallMaterial"] =
+        h["rooms"][0]["floorMaterial"] =
             serde_json::json!({"name": "PureWhite", "color": {"r": 120, "g": 80, "b": 200}});
     });
     broken("color_without_blue", "E0601", |h| {

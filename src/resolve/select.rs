@@ -62,7 +62,7 @@ pub fn typical_on_object_m(catalog: &Catalog, object_type: &str) -> Option<f64> 
     }
     sides.sort_by(f64::total_cmp);
     let n = sides.len();
-    Some(if n % 2 == 1 { sides[n / 2] } else { (sides[n / 2 - 1] + sides[n / 2]) / 2.0 })
+    Some(if n % 2 == 1 { sides[n / 2] } else { f64::midpoint(sides[n / 2 - 1], sides[n / 2]) })
 }
 
 /// How many ranked candidates resolution looks at (enough for the largest varied group and

@@ -484,30 +484,21 @@ impl StructureCatalog {
             k if k.is_empty() => kinds_of(query.iter().map(String::as_str)),
             k => k,
         };
-        // A colour asked: a wall of paint (or of no named kind) is a near-white material
+        // A colour asked: a painted wall (or one of no named kind) is a near-white material
         // tinted with it, so the colour's words choose no material; elsewhere the colour's
         // words still choose a material that is that colour (`green carpet`), its modifiers
         // (`light`, `deep`) never, and a near-white one of the kind is the next best (tinted).
         let color = asked_color(design);
-        let paint =
-            color.is_some() && surface == Surface::Wall && asked.iter().all(|k| *k == "paint");
+        let paint = color.is_some()
+            && surface == Surface::Wall
+            && (asked.is_empty() || asked.contains(&"paint"));
         let query: Vec<String> = match &color {
             Some(c) => {
                 let dropped: Vec<String> = if paint {
                     c.words.iter().flat_map(|w| text_words(w)).collect()
                 } else {
-                    // The modifiers and the shades a colour implies (`navy` → `dark`).
-                    let mut dropped = Vec::new();
-                    for w in &c.words {
-                        let mut ws = text_words(w).into_iter();
-                        if let Some(own) = ws.next() {
-                            if is_modifier(&own) {
-                                dropped.push(own);
-                            }
-                        }
-                        dropped.extend(ws);
-                    }
-                    dropped
+                    // The modifiers, and the shades a colour implies (`navy` → `dark`).
+                    c.words.iter().flat_map(|w| text_words(w)).filter(|w| is_modifier(w)).collect()
                 };
                 query.into_iter().filter(|q| !dropped.contains(q)).collect()
             }
