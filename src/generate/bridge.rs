@@ -132,17 +132,29 @@ fn plan_problems(
         .collect()
 }
 
-/// A floor-plan answer whose plan errors the geometric repair fixes (`plan::repair`), as the
-/// answer in the paper's format with the repaired corners, and what moved; `None` when the
-/// repair cannot make the plan build.
+/// The prompt of an exchange that records a local geometric repair (no model was asked); the
+/// cost summary counts these apart from model calls.
+pub(crate) const LOCAL_REPAIR_PROMPT: &str = "holoc: geometric repair (W0307)";
+
+/// Whether an exchange records a local geometric repair rather than a model's answer.
+pub(crate) fn is_local_repair(exchange: &crate::import::transcript::Exchange) -> bool {
+    exchange.prompt.starts_with(LOCAL_REPAIR_PROMPT)
+}
+
+/// The plan errors of an answer of `stage` (floor plan, doorways or windows) that the geometric
+/// repair (`plan::repair`) fixes, seeing every room, door and window known so far with this
+/// answer: the floor-plan answer in the paper's format with the repaired corners, and what
+/// moved; `None` when the repair cannot make the plan build. After the doorways answer, a door
+/// between rooms drawn apart pulls them together.
 pub(crate) fn repair_floor_plan(
+    stage: Stage,
     answer: &str,
     earlier: &Transcript,
 ) -> Option<(String, Vec<String>)> {
     let mut with = earlier.clone();
-    with.exchanges.retain(|e| e.stage != Stage::FloorPlan.as_str());
+    with.exchanges.retain(|e| e.stage != stage.as_str());
     with.exchanges.push(crate::import::transcript::Exchange {
-        stage: Stage::FloorPlan.as_str().to_string(),
+        stage: stage.as_str().to_string(),
         room: None,
         attempt: 0,
         prompt: String::new(),
@@ -163,8 +175,12 @@ pub(crate) fn repair_floor_plan(
         return None;
     }
     let after = crate::plan::repair::apply(&scene, &repaired.value);
+    // After the floor plan alone every room is closed off: doors are judged from the doorways
+    // answer on.
     let still = crate::plan::plan(&after, catalog).diagnostics.into_iter().any(|d| {
-        d.is_error() && !matches!(d.code, crate::diag::Code::E0314 | crate::diag::Code::E0315)
+        d.is_error()
+            && (stage != Stage::FloorPlan
+                || !matches!(d.code, crate::diag::Code::E0314 | crate::diag::Code::E0315))
     });
     if still {
         return None;
