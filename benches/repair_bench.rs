@@ -309,7 +309,7 @@ fn breaks(plan: &Plan) -> Vec<(&'static str, usize, Plan)> {
                         })
                         .collect();
                     let (r, p) = with(room, moved);
-            out.push(("shift", r, p));
+                    out.push(("shift", r, p));
                 }
             }
         }
@@ -325,7 +325,7 @@ fn breaks(plan: &Plan) -> Vec<(&'static str, usize, Plan)> {
                     .map(|p| [cx + (p[0] - cx) * sx, cz + (p[1] - cz) * sz])
                     .collect();
                 let (r, p) = with(room, scaled);
-            out.push(("scale", r, p));
+                out.push(("scale", r, p));
             }
         }
     }
@@ -343,7 +343,7 @@ fn breaks(plan: &Plan) -> Vec<(&'static str, usize, Plan)> {
         let (a, b) = (corners[1], corners[2]);
         doubled.insert(3, [f64::midpoint(a[0], b[0]), f64::midpoint(a[1], b[1])]);
         let (r, p) = with(room, doubled);
-            out.push(("doubled", r, p));
+        out.push(("doubled", r, p));
         if corners.len() > 3 {
             let mut dropped = corners.clone();
             dropped.remove(0);
@@ -513,7 +513,8 @@ fn main() {
     println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     for (kind, row) in kinds.iter().zip(&rows) {
         let to_repair = row.plans - row.already_valid;
-        let share = |n: usize, of: usize| if of == 0 { 100.0 } else { 100.0 * n as f64 / of as f64 };
+        let share =
+            |n: usize, of: usize| if of == 0 { 100.0 } else { 100.0 * n as f64 / of as f64 };
         println!(
             "| {kind} | {} | {} | {to_repair} | {} | {:.1}% | {:.1}% | {} | {} | {:.1}% | {:.2} | {:.2} | {:.2} | {:.1}% | {:.3} | {:.3} |",
             row.plans,
@@ -550,8 +551,10 @@ fn main() {
 /// Whether two outlines have the same corners (as sets, to the millimetre).
 fn same_outline(a: &[[f64; 2]], b: &[[f64; 2]]) -> bool {
     let key = |c: &[[f64; 2]]| {
-        let mut k: Vec<(i64, i64)> =
-            c.iter().map(|p| ((p[0] * 1000.0).round() as i64, (p[1] * 1000.0).round() as i64)).collect();
+        let mut k: Vec<(i64, i64)> = c
+            .iter()
+            .map(|p| ((p[0] * 1000.0).round() as i64, (p[1] * 1000.0).round() as i64))
+            .collect();
         k.sort_unstable();
         k.dedup();
         k
@@ -668,7 +671,10 @@ fn generate_figures(bases: &[Plan]) {
                 .iter()
                 .map(|(a, b)| {
                     let from = a.map_or("exterior".to_string(), |i| broken.rooms[i].0.clone());
-                    format!("{from} | {} | doorway | single | white wooden door", broken.rooms[*b].0)
+                    format!(
+                        "{from} | {} | doorway | single | white wooden door",
+                        broken.rooms[*b].0
+                    )
                 })
                 .collect();
             if let Ok(mut s) = script.lock() {
@@ -698,7 +704,8 @@ fn generate_figures(bases: &[Plan]) {
                 continue;
             }
             scenes += 1;
-            let corners: Vec<Vec<[f64; 2]>> = scene.rooms.iter().map(|r| r.corners.clone()).collect();
+            let corners: Vec<Vec<[f64; 2]>> =
+                scene.rooms.iter().map(|r| r.corners.clone()).collect();
             if same_plan(&corners, base) {
                 meant += 1;
             }

@@ -811,7 +811,8 @@ fn plans(holo: &str) -> bool {
 /// onto the living room: one floor-plan request, one doorways request, and a house.
 #[test]
 fn a_door_pulls_a_room_drawn_apart_back_without_asking_again() {
-    const PLAN: &str = "living room | oak hardwood | white plaster | [(0, 0), (0, 6), (5, 6), (5, 0)]\n\
+    const PLAN: &str =
+        "living room | oak hardwood | white plaster | [(0, 0), (0, 6), (5, 6), (5, 0)]\n\
         kitchen | grey tiles | white tiles | [(5, 0), (5, 2), (9, 2), (9, 0)]\n\
         bedroom | beige carpet | pale blue paint | [(5.4, 2), (5.4, 6), (9, 6), (9, 2)]";
     const DOORS: &str = "exterior | living room | doorway | double | dark brown metal door\n\
@@ -832,7 +833,11 @@ fn a_door_pulls_a_room_drawn_apart_back_without_asking_again() {
     assert_eq!((floor.calls, floor.repairs), (1, 1));
     let totals = outcome.value.transcript.totals.as_ref().expect("totals");
     assert_eq!(totals.calls as usize, server.calls());
-    assert!(outcome.diagnostics.iter().any(|d| d.code == Code::W0307), "{:#?}", outcome.diagnostics);
+    assert!(
+        outcome.diagnostics.iter().any(|d| d.code == Code::W0307),
+        "{:#?}",
+        outcome.diagnostics
+    );
     // A replay gives the same scene.
     let info = ModelInfo {
         base_url: "replay".into(),
@@ -877,7 +882,8 @@ fn the_laundry_drawn_into_the_hallway_builds_through_generate() {
 /// means none (a warning, not an error and no repair round).
 #[test]
 fn names_bytes_and_none_answers_do_not_stop_a_run() {
-    const PLAN: &str = "\u{feff}professor's office | oak | white | [(0, 0), (0, 5), (5, 5), (5, 0)]\n\
+    const PLAN: &str =
+        "\u{feff}professor's office | oak | white | [(0, 0), (0, 5), (5, 5), (5, 0)]\n\
         Café | tiles | white | [(5, 0), (5, 5), (9, 5), (9, 0)]";
     const DOORS: &str = "exterior | professor’s office | doorway | single | white wooden door\n\
         Professor's Office | cafe | doorway | single | white wooden door";

@@ -702,7 +702,12 @@ pub(crate) fn facing_gaps(rooms: &[Vec<[f64; 2]>]) -> Vec<Gap> {
 }
 
 /// The outline of a room with one wall coordinate moved (every corner on it).
-pub(crate) fn with_wall_moved(corners: &[[f64; 2]], axis: usize, from: f64, to: f64) -> Vec<[f64; 2]> {
+pub(crate) fn with_wall_moved(
+    corners: &[[f64; 2]],
+    axis: usize,
+    from: f64,
+    to: f64,
+) -> Vec<[f64; 2]> {
     corners
         .iter()
         .map(|p| {
@@ -818,10 +823,12 @@ fn clean_outline(corners: &mut Vec<[f64; 2]>, origin: &mut Vec<usize>, others: &
 
 /// How many decimals a coordinate needs (0 to 4; 4 for anything finer).
 fn roundness(v: f64) -> u32 {
-    (0..4).find(|&d| {
-        let scaled = v * 10f64.powi(d as i32);
-        (scaled - scaled.round()).abs() < 1e-6
-    }).unwrap_or(4)
+    (0..4)
+        .find(|&d| {
+            let scaled = v * 10f64.powi(d as i32);
+            (scaled - scaled.round()).abs() < 1e-6
+        })
+        .unwrap_or(4)
 }
 
 /// The extent of a room along an axis (0: x, 1: z).
