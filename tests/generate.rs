@@ -917,3 +917,27 @@ fn a_byte_order_mark_before_a_holo_file_is_skipped() {
     assert_eq!(holoc::fmt::print(&parsed.value), holoc::fmt::print(&plain.value));
     assert!(plans(text));
 }
+
+/// Issue 27, seen 2: a plan that builds but leaves a 30 cm gap between the kitchen and the
+/// bedroom (each touching the living room) is joined once the doors are known: no request more,
+/// and the house has no gap left.
+#[test]
+fn a_gap_between_facing_rooms_is_joined_without_asking_again() {
+    const PLAN: &str = "living room | oak | white | [(0, 0), (0, 6), (5, 6), (5, 0)]\n\
+        kitchen | tiles | white | [(5, 0), (5, 3), (8, 3), (8, 0)]\n\
+        bedroom | carpet | white | [(5, 3.3), (5, 6), (9, 6), (9, 3.3)]";
+    const DOORS: &str = "exterior | living room | doorway | single | white wooden door\n\
+        living room | kitchen | doorway | single | white wooden door\n\
+        living room | bedroom | doorway | single | white wooden door";
+    let asked = Arc::new(std::sync::Mutex::new(Vec::new()));
+    let server = plan_server(PLAN, DOORS, Arc::clone(&asked));
+    let outcome = generate(&request(), &client(&server), &plan_options());
+    assert!(!outcome.has_errors(), "{:#?}", outcome.diagnostics);
+    assert_eq!(requests(&asked, "floor-plan"), 1);
+    let holo = &outcome.value.holo;
+    assert_eq!(corners_of(holo, "kitchen"), "(5, 0) (5, 3.3) (8, 3.3) (8, 0)", "{holo}");
+    assert_eq!(corners_of(holo, "bedroom"), "(5, 3.3) (5, 6) (9, 6) (9, 3.3)", "{holo}");
+    assert!(plans(holo), "{holo}");
+    let floor = outcome.value.costs.iter().find(|c| c.stage == "floor-plan").expect("a cost");
+    assert_eq!((floor.calls, floor.repairs), (1, 1));
+}

@@ -558,6 +558,39 @@ impl Run<'_> {
         Some((exchange, moves))
     }
 
+    /// Once the doorways and windows are known: a floor plan that builds but leaves gaps
+    /// between rooms that face each other (W0308) has them joined by the geometric repair,
+    /// recorded as the next floor-plan attempt like any local repair (no model is asked).
+    fn join_gaps(&mut self) {
+        let Some((text, moves)) = bridge::join_gaps(&self.transcript) else { return };
+        let latest = self.transcript.latest(Stage::FloorPlan.as_str(), None);
+        let exchange = Exchange {
+            stage: Stage::FloorPlan.as_str().to_string(),
+            room: None,
+            attempt: latest.map_or(0, |e| e.attempt + 1),
+            prompt: format!(
+                "{} joining rooms that faced each other across a gap (W0308); no model was asked",
+                bridge::LOCAL_REPAIR_PROMPT
+            ),
+            answer: text,
+            parameters: None,
+            started_ms: exchange_started(&self.transcript.exchanges),
+            duration_ms: 0,
+            usage: None,
+            diagnostics: 0,
+        };
+        self.transcript.exchanges.push(exchange);
+        let mut d = Diagnostic::new(
+            Code::W0307,
+            "the floor plan left gaps between rooms that face each other; their walls were joined",
+        )
+        .with_help("review the corners in the `.holo` file");
+        for m in moves {
+            d = d.with_note(m);
+        }
+        self.diagnostics.push(d);
+    }
+
     /// Records a finished question in the transcript and the diagnostics.
     fn record(&mut self, asked: Asked) -> bool {
         self.transcript.exchanges.extend(asked.exchanges);
@@ -581,6 +614,7 @@ impl Run<'_> {
                 return;
             }
         }
+        self.join_gaps();
         if !self.rooms() {
             return;
         }

@@ -9,8 +9,8 @@
 //! unreachable room or an unknown asset, and its gaps between facing rooms (W0308). A plan
 //! without either comes back unchanged. Otherwise:
 //!
-//! 1. **Outline clean-up**: repeated corners and corners in the middle of a straight wall are
-//!    dropped; an edge slanted by at most [`MAX_MOVE_M`] is made straight by moving the corner
+//! 1. **Outline clean-up**, of outlines with a repeated corner or a slanted edge: repeated
+//!    corners and corners in the middle of a straight wall are dropped; an edge slanted by at most [`MAX_MOVE_M`] is made straight by moving the corner
 //!    whose coordinate no other room shares (the other one is aligned with the plan); when
 //!    neither or both are, the rounder coordinate stays (`5` rather than `5.3`).
 //! 2. **Repair steps**, at most [`MAX_STEPS`], each from the plan the last one left. The
@@ -96,9 +96,13 @@ pub fn repair(scene: &Scene, catalog: &StructureCatalog) -> Outcome<Repair> {
         // For each repaired corner, the index of the corner as written it comes from.
         origins: original.iter().map(|c| (0..c.len()).collect()).collect(),
     };
+    // Only outlines that need it are cleaned: a room with a corner on a straight wall (the
+    // plan stage accepts those) and nothing else wrong stays as written.
     for r in 0..state.rooms.len() {
-        let others = other_coordinates(&state.rooms, r);
-        clean_outline(&mut state.rooms[r], &mut state.origins[r], &others);
+        if needs_cleaning(&state.rooms[r]) {
+            let others = other_coordinates(&state.rooms, r);
+            clean_outline(&mut state.rooms[r], &mut state.origins[r], &others);
+        }
     }
     let mut bad = Badness::of(scene, &state.rooms, catalog);
     for _ in 0..MAX_STEPS {
@@ -315,8 +319,10 @@ fn best_step(
         share_walls(&mut next.rooms, 0);
         share_walls(&mut next.rooms, 1);
         for r in 0..next.rooms.len() {
-            let others = other_coordinates(&next.rooms, r);
-            clean_outline(&mut next.rooms[r], &mut next.origins[r], &others);
+            if !same_outline(&next.rooms[r], &state.rooms[r]) || needs_cleaning(&next.rooms[r]) {
+                let others = other_coordinates(&next.rooms, r);
+                clean_outline(&mut next.rooms[r], &mut next.origins[r], &others);
+            }
         }
         attach_detached(scene, &mut next.rooms);
         let seq = next.rooms.len();
@@ -819,6 +825,16 @@ fn clean_outline(corners: &mut Vec<[f64; 2]>, origin: &mut Vec<usize>, others: &
     }
     *corners = pts.iter().map(|p| p.0).collect();
     *origin = pts.iter().map(|p| p.1).collect();
+}
+
+/// Whether an outline has a repeated corner or a slanted edge.
+fn needs_cleaning(corners: &[[f64; 2]]) -> bool {
+    let n = corners.len();
+    (0..n).any(|i| {
+        let (a, b) = (corners[i], corners[(i + 1) % n]);
+        let (dx, dz) = ((b[0] - a[0]).abs(), (b[1] - a[1]).abs());
+        (dx <= SAME_M && dz <= SAME_M) || (dx > SAME_M && dz > SAME_M)
+    })
 }
 
 /// How many decimals a coordinate needs (0 to 4; 4 for anything finer).
