@@ -780,7 +780,7 @@ fn plan_options() -> GenerateOptions {
 
 /// How many requests of a stage the server saw.
 fn requests(asked: &std::sync::Mutex<Vec<String>>, stage: &str) -> usize {
-    asked.lock().map(|l| l.iter().filter(|s| *s == stage).count()).unwrap_or(0)
+    asked.lock().map_or(0, |l| l.iter().filter(|s| *s == stage).count())
 }
 
 /// The corners of a room of a generated `.holo`, as written.

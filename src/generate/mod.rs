@@ -464,7 +464,7 @@ impl Run<'_> {
             {
                 let started_ms = exchange_started(&asked.exchanges);
                 if let Some(repaired) =
-                    self.repair_locally(stage, &answer.text, &context, attempt, started_ms)
+                    Self::repair_locally(stage, &answer.text, &context, attempt, started_ms)
                 {
                     let mut d = Diagnostic::new(
                         Code::W0307,
@@ -523,7 +523,6 @@ impl Run<'_> {
     /// plan's: the exchange that records it (the next attempt of the floor-plan question, no
     /// model asked) and what moved.
     fn repair_locally(
-        &self,
         stage: Stage,
         answer: &str,
         context: &Transcript,

@@ -328,7 +328,7 @@ fn best_step(
         let seq = next.rooms.len();
         candidates.push((cost(&state.rooms, &next.rooms, seq), next));
     }
-    candidates.sort_by(|a, b| a.0.cmp(&b.0));
+    candidates.sort_by_key(|a| a.0);
     let overlaps_now = overlap_count(&state.rooms);
     let mut best: Option<((usize, usize), Cost, State, Badness)> = None;
     for (c, next) in candidates {
