@@ -352,24 +352,34 @@ pub fn run(args: &GenerateArgs) -> ExitCode {
         ));
     }
     if !args.quiet {
+        // Model calls and local (geometric) repairs are counted apart: a repair asks no model.
+        let repairs = |n: u64| {
+            if n == 0 {
+                String::new()
+            } else {
+                format!(", {n} local repair(s)")
+            }
+        };
         for cost in &generated.costs {
             common::err(&format!(
-                "{:>18}: {:>2} call(s), {:>6} prompt + {:>5} answer tokens, {:>6.1} s\n",
+                "{:>18}: {:>2} call(s), {:>6} prompt + {:>5} answer tokens, {:>6.1} s{}\n",
                 cost.stage,
                 cost.calls,
                 cost.prompt_tokens,
                 cost.completion_tokens,
-                cost.seconds.abs()
+                cost.seconds.abs(),
+                repairs(cost.repairs)
             ));
         }
         if let Some(t) = &generated.transcript.totals {
             common::err(&format!(
-                "{:>18}: {:>2} call(s), {:>6} prompt + {:>5} answer tokens, {:>6.1} s\n",
+                "{:>18}: {:>2} call(s), {:>6} prompt + {:>5} answer tokens, {:>6.1} s{}\n",
                 "total",
                 t.calls,
                 t.prompt_tokens,
                 t.completion_tokens,
-                t.seconds.abs()
+                t.seconds.abs(),
+                repairs(generated.costs.iter().map(|c| c.repairs).sum())
             ));
         }
     }

@@ -132,17 +132,29 @@ fn plan_problems(
         .collect()
 }
 
-/// A floor-plan answer whose plan errors the geometric repair fixes (`plan::repair`), as the
-/// answer in the paper's format with the repaired corners, and what moved; `None` when the
-/// repair cannot make the plan build.
+/// The prompt of an exchange that records a local geometric repair (no model was asked); the
+/// cost summary counts these apart from model calls.
+pub(crate) const LOCAL_REPAIR_PROMPT: &str = "holoc: geometric repair (W0307)";
+
+/// Whether an exchange records a local geometric repair rather than a model's answer.
+pub(crate) fn is_local_repair(exchange: &crate::import::transcript::Exchange) -> bool {
+    exchange.prompt.starts_with(LOCAL_REPAIR_PROMPT)
+}
+
+/// The plan errors of an answer of `stage` (floor plan, doorways or windows) that the geometric
+/// repair (`plan::repair`) fixes, seeing every room, door and window known so far with this
+/// answer: the floor-plan answer in the paper's format with the repaired corners, and what
+/// moved; `None` when the repair cannot make the plan build. After the doorways answer, a door
+/// between rooms drawn apart pulls them together.
 pub(crate) fn repair_floor_plan(
+    stage: Stage,
     answer: &str,
     earlier: &Transcript,
 ) -> Option<(String, Vec<String>)> {
     let mut with = earlier.clone();
-    with.exchanges.retain(|e| e.stage != Stage::FloorPlan.as_str());
+    with.exchanges.retain(|e| e.stage != stage.as_str());
     with.exchanges.push(crate::import::transcript::Exchange {
-        stage: Stage::FloorPlan.as_str().to_string(),
+        stage: stage.as_str().to_string(),
         room: None,
         attempt: 0,
         prompt: String::new(),
@@ -154,17 +166,47 @@ pub(crate) fn repair_floor_plan(
         diagnostics: 0,
     });
     let scene = scene(&with);
+    repair_scene(&scene, stage == Stage::FloorPlan)
+}
+
+/// A plan that builds but leaves gaps between rooms that face each other (W0308), joined by
+/// the geometric repair with every door and window of the transcript known: the floor-plan
+/// answer with the repaired corners, and what moved; `None` when there is no gap or the repair
+/// cannot join them without an error.
+pub(crate) fn join_gaps(transcript: &Transcript) -> Option<(String, Vec<String>)> {
+    let scene = scene(transcript);
     if scene.rooms.is_empty() {
         return None;
     }
     let catalog = crate::resolve::structure::StructureCatalog::builtin();
-    let repaired = crate::plan::repair::repair(&scene, catalog);
+    let planned = crate::plan::plan(&scene, catalog).diagnostics;
+    if planned.iter().any(crate::diag::Diagnostic::is_error)
+        || !planned.iter().any(|d| d.code == crate::diag::Code::W0308)
+    {
+        return None;
+    }
+    repair_scene(&scene, false)
+}
+
+/// The scene's floor plan repaired by geometry, as a floor-plan answer, when the repaired plan
+/// has no error (`closed_off`: after the floor plan alone, where every room is still closed off,
+/// a missing exterior door or an unreachable room does not count).
+fn repair_scene(scene: &Scene, closed_off: bool) -> Option<(String, Vec<String>)> {
+    if scene.rooms.is_empty() {
+        return None;
+    }
+    let catalog = crate::resolve::structure::StructureCatalog::builtin();
+    let repaired = crate::plan::repair::repair(scene, catalog);
     if !repaired.value.changed {
         return None;
     }
-    let after = crate::plan::repair::apply(&scene, &repaired.value);
+    let after = crate::plan::repair::apply(scene, &repaired.value);
+    // After the floor plan alone every room is closed off: doors are judged from the doorways
+    // answer on.
     let still = crate::plan::plan(&after, catalog).diagnostics.into_iter().any(|d| {
-        d.is_error() && !matches!(d.code, crate::diag::Code::E0314 | crate::diag::Code::E0315)
+        d.is_error()
+            && (!closed_off
+                || !matches!(d.code, crate::diag::Code::E0314 | crate::diag::Code::E0315))
     });
     if still {
         return None;

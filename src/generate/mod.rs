@@ -220,8 +220,10 @@ impl Default for GenerateOptions {
 pub struct StageCost {
     /// The stage name.
     pub stage: String,
-    /// Requests answered.
+    /// Requests the model answered.
     pub calls: u64,
+    /// Local geometric repairs recorded under the stage (no model asked).
+    pub repairs: u64,
     /// Prompt tokens.
     pub prompt_tokens: u64,
     /// Answer tokens.
@@ -459,35 +461,32 @@ impl Run<'_> {
                 Some(r) => format!("the {} answer for room `{r}`", stage.as_str()),
                 None => format!("the {} answer", stage.as_str()),
             };
-            // A floor plan that only fails on its geometry is repaired by moving corners (no
-            // second request); the repaired answer is recorded as the next attempt.
-            if stage == Stage::FloorPlan
+            // A plan that only fails on its geometry is repaired by moving corners (no second
+            // request). The floor plan is repaired on its own answer; a doorways or windows
+            // answer whose doors need rooms that share a wall is repaired with every room, door
+            // and window known, so that a door pulls its rooms together. The repaired floor
+            // plan is recorded as the next attempt of the floor-plan question.
+            if matches!(stage, Stage::FloorPlan | Stage::Doorways | Stage::Windows)
                 && found.plan_errors > 0
                 && found.plan_errors == found.errors.len()
             {
-                let repair = bridge::repair_floor_plan(&answer.text, &context);
-                if let (Some((text, moves)), Some(model_exchange)) =
-                    (repair, asked.exchanges.last())
+                let started_ms = exchange_started(&asked.exchanges);
+                if let Some(repaired) =
+                    Self::repair_locally(stage, &answer.text, &context, attempt, started_ms)
                 {
-                    let mut repaired = model_exchange.clone();
-                    repaired.attempt = attempt + 1;
-                    repaired.prompt = format!(
-                        "holoc: geometric repair (W0307) of attempt {attempt}; no model was asked"
-                    );
-                    repaired.answer = text;
-                    repaired.parameters = None;
-                    repaired.usage = None;
-                    repaired.duration_ms = 0;
-                    repaired.diagnostics = 0;
-                    asked.exchanges.push(repaired);
                     let mut d = Diagnostic::new(
                         Code::W0307,
-                        format!("{what} overlapped or left gaps; its corners were moved so that it builds"),
+                        if stage == Stage::FloorPlan {
+                            format!("{what} overlapped or left gaps; its corners were moved so that it builds")
+                        } else {
+                            format!("{what} needs rooms the floor plan drew apart; the floor plan's corners were moved so that it builds")
+                        },
                     )
                     .with_help("review the corners in the `.holo` file");
-                    for m in moves {
+                    for m in repaired.1 {
                         d = d.with_note(m);
                     }
+                    asked.exchanges.push(repaired.0);
                     asked.diagnostics.push(d);
                     return asked;
                 }
@@ -529,6 +528,77 @@ impl Run<'_> {
         asked
     }
 
+    /// The floor plan repaired by geometry for an answer of `stage` whose only errors are the
+    /// plan's: the exchange that records it (the next attempt of the floor-plan question, no
+    /// model asked) and what moved.
+    fn repair_locally(
+        stage: Stage,
+        answer: &str,
+        context: &Transcript,
+        attempt: u32,
+        started_ms: u64,
+    ) -> Option<(Exchange, Vec<String>)> {
+        let import_stage = crate::import::Stage::parse(stage.as_str())?;
+        let (text, moves) = bridge::repair_floor_plan(import_stage, answer, context)?;
+        let latest = context.latest(Stage::FloorPlan.as_str(), None);
+        let next = if stage == Stage::FloorPlan {
+            attempt + 1
+        } else {
+            latest.map_or(0, |e| e.attempt + 1)
+        };
+        let from = if stage == Stage::FloorPlan {
+            format!("of attempt {attempt}")
+        } else {
+            format!("with the {} answer (attempt {attempt})", stage.as_str())
+        };
+        let exchange = Exchange {
+            stage: Stage::FloorPlan.as_str().to_string(),
+            room: None,
+            attempt: next,
+            prompt: format!("{} {from}; no model was asked", bridge::LOCAL_REPAIR_PROMPT),
+            answer: text,
+            parameters: None,
+            started_ms,
+            duration_ms: 0,
+            usage: None,
+            diagnostics: 0,
+        };
+        Some((exchange, moves))
+    }
+
+    /// Once the doorways and windows are known: a floor plan that builds but leaves gaps
+    /// between rooms that face each other (W0308) has them joined by the geometric repair,
+    /// recorded as the next floor-plan attempt like any local repair (no model is asked).
+    fn join_gaps(&mut self) {
+        let Some((text, moves)) = bridge::join_gaps(&self.transcript) else { return };
+        let latest = self.transcript.latest(Stage::FloorPlan.as_str(), None);
+        let exchange = Exchange {
+            stage: Stage::FloorPlan.as_str().to_string(),
+            room: None,
+            attempt: latest.map_or(0, |e| e.attempt + 1),
+            prompt: format!(
+                "{} joining rooms that faced each other across a gap (W0308); no model was asked",
+                bridge::LOCAL_REPAIR_PROMPT
+            ),
+            answer: text,
+            parameters: None,
+            started_ms: exchange_started(&self.transcript.exchanges),
+            duration_ms: 0,
+            usage: None,
+            diagnostics: 0,
+        };
+        self.transcript.exchanges.push(exchange);
+        let mut d = Diagnostic::new(
+            Code::W0307,
+            "the floor plan left gaps between rooms that face each other; their walls were joined",
+        )
+        .with_help("review the corners in the `.holo` file");
+        for m in moves {
+            d = d.with_note(m);
+        }
+        self.diagnostics.push(d);
+    }
+
     /// Records a finished question in the transcript and the diagnostics.
     fn record(&mut self, asked: Asked) -> bool {
         if asked.gave_up {
@@ -557,6 +627,7 @@ impl Run<'_> {
                 return;
             }
         }
+        self.join_gaps();
         if !self.rooms() {
             return;
         }
@@ -681,6 +752,11 @@ fn fatal(code: Code) -> bool {
     )
 }
 
+/// When the last exchange of a question started, milliseconds into the run.
+fn exchange_started(exchanges: &[Exchange]) -> u64 {
+    exchanges.last().map_or(0, |e| e.started_ms)
+}
+
 /// Keeps the last attempt of a question (the one the importer uses).
 fn latest_only(exchanges: &[Exchange]) -> Option<Exchange> {
     exchanges.last().cloned()
@@ -696,6 +772,10 @@ fn costs(exchanges: &[Exchange]) -> Vec<StageCost> {
     for stage in Stage::ALL {
         let mut cost = StageCost { stage: stage.as_str().to_string(), ..StageCost::default() };
         for e in exchanges.iter().filter(|e| e.stage == stage.as_str()) {
+            if bridge::is_local_repair(e) {
+                cost.repairs += 1;
+                continue;
+            }
             cost.calls += 1;
             if let Some(u) = e.usage {
                 cost.prompt_tokens += u.prompt_tokens;
@@ -703,7 +783,7 @@ fn costs(exchanges: &[Exchange]) -> Vec<StageCost> {
             }
             cost.seconds += e.duration_ms as f64 / 1000.0;
         }
-        if cost.calls > 0 {
+        if cost.calls + cost.repairs > 0 {
             cost.seconds = round3(cost.seconds);
             out.push(cost);
         }

@@ -164,22 +164,36 @@ impl Draft {
     }
 }
 
-/// A comparison key for names: lower case, every run of non-alphanumeric characters one `_`.
+/// A comparison key for names: the same rule as [`room_id`] without its prefix (lower case,
+/// accents dropped, apostrophes inside a word dropped, every other run of characters outside
+/// `a-z0-9` one `_`).
 pub(crate) fn loose(name: &str) -> String {
     slug(name)
 }
 
+/// Whether a character is an apostrophe (straight, typographic or modifier letter): it joins
+/// the letters around it (`professor's` → `professors`) rather than separating words.
+fn is_apostrophe(c: char) -> bool {
+    matches!(c, '\'' | '\u{2019}' | '\u{2018}' | '\u{02BC}' | '`' | '\u{00B4}')
+}
+
+/// The one rule that turns a name into the letters of an id, shared by every stage (the floor
+/// plan's room ids, the rooms a later answer names, object ids): compatibility decomposition
+/// with the combining marks dropped (`Café` → `cafe`, `Zoë` → `zoe`), lower case, apostrophes
+/// dropped, and every run of other characters outside `a-z0-9` one `_`, trimmed.
 fn slug(name: &str) -> String {
+    use unicode_normalization::char::is_combining_mark;
+    use unicode_normalization::UnicodeNormalization;
     let mut out = String::new();
     let mut gap = false;
-    for c in name.chars().flat_map(char::to_lowercase) {
+    for c in name.nfkd().filter(|c| !is_combining_mark(*c)).flat_map(char::to_lowercase) {
         if c.is_ascii_lowercase() || c.is_ascii_digit() {
             if gap && !out.is_empty() {
                 out.push('_');
             }
             gap = false;
             out.push(c);
-        } else {
+        } else if !is_apostrophe(c) {
             gap = true;
         }
     }
@@ -453,7 +467,10 @@ mod tests {
     #[test]
     fn id_rule() {
         assert_eq!(room_id("Living Room"), "living_room");
-        assert_eq!(room_id("  Kid's room #2 "), "kid_s_room_2");
+        assert_eq!(room_id("  Kid's room #2 "), "kids_room_2");
+        assert_eq!(room_id("professor’s office"), "professors_office");
+        assert_eq!(room_id("Café Zoë"), "cafe_zoe");
+        assert_eq!(loose("professor's office"), loose("Professors office"));
         assert_eq!(room_id("2nd bedroom"), "r_2nd_bedroom");
         assert_eq!(room_id("Exterior"), "r_exterior");
         assert_eq!(room_id("日本"), "r");

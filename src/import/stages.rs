@@ -17,11 +17,37 @@ type Diags = Vec<Diagnostic>;
 /// Runs the reader of `stage` on `text`, updating the context.
 pub(crate) fn run(stage: Stage, text: &str, file: FileId, ctx: &mut ImportContext, d: &mut Diags) {
     let whole = Span::new(file, 0, text.len());
+    // A byte-order mark at the start is skipped: it becomes three spaces, so that every span
+    // still points at the same bytes of the answer.
+    let unmarked;
+    let text = match text.strip_prefix('\u{FEFF}') {
+        Some(rest) => {
+            unmarked = format!("   {rest}");
+            unmarked.as_str()
+        }
+        None => text,
+    };
     if text.trim().is_empty() {
         d.push(
             Diagnostic::new(Code::E0708, format!("the {stage} answer is empty"))
                 .with_primary(whole, "nothing here")
                 .with_help("ask the model again"),
+        );
+        return;
+    }
+    if matches!(stage, Stage::Windows | Stage::SmallObjects | Stage::Ceiling) && says_none(text) {
+        let what = match stage {
+            Stage::Windows => "windows",
+            Stage::SmallObjects => "small objects",
+            _ => "ceiling objects",
+        };
+        d.push(
+            Diagnostic::new(
+                Code::W0706,
+                format!("the {stage} answer says there are none: the scene gets no {what} from it"),
+            )
+            .with_primary(Span::new(file, 0, prefix_end(text, 200)), "read as “none”")
+            .with_note(format!("an answer without any `|`-separated line that says “none” or “no {what}” means none")),
         );
         return;
     }
@@ -280,6 +306,20 @@ fn start_lines(text: &str, file: FileId, d: &mut Diags, stage: Stage) -> Vec<Lin
     l.lines
 }
 
+/// Whether an answer with no list line says there is nothing to list ("none", "No windows.",
+/// "There are no small objects", "N/A").
+fn says_none(text: &str) -> bool {
+    if text.contains('|') || text.contains('{') || text.contains('[') {
+        return false;
+    }
+    let lower = text.to_lowercase();
+    let words: Vec<&str> =
+        lower.split(|c: char| !c.is_alphanumeric() && c != '/').filter(|w| !w.is_empty()).collect();
+    !words.is_empty()
+        && words.len() <= 40
+        && words.iter().any(|w| matches!(*w, "none" | "no" | "nothing" | "n/a" | "without"))
+}
+
 /// Whether the floor plan has declared rooms (then names are checked against them).
 fn has_plan(ctx: &ImportContext) -> bool {
     ctx.draft.rooms.iter().any(|r| !r.implicit)
@@ -477,7 +517,11 @@ fn floor_plan(text: &str, file: FileId, ctx: &mut ImportContext, d: &mut Diags) 
             ctx.draft.comments.push(line.raw_comment(stage));
             continue;
         }
-        let label: String = fields[0].text.replace(['\'', '"'], "").trim().to_string();
+        // The name as written (an apostrophe stays: `professor's office`); only quotes around
+        // it and double quotes inside are removed. Its id comes from `draft::room_id`, the rule
+        // every later answer's room names are matched with.
+        let label: String =
+            fields[0].text.trim().trim_matches(['\'', '"']).replace('"', "").trim().to_string();
         if label.is_empty() {
             bad_line(&line, "a floor-plan line has no room name".into(), FLOOR_SHAPE, d);
             ctx.draft.comments.push(line.raw_comment(stage));

@@ -440,6 +440,7 @@ impl Ctx<'_> {
         if !ok || n < 2 {
             return ok;
         }
+        self.gaps();
         let mut isolated = BTreeSet::new();
         for (a, neighbours) in adjacent.iter().enumerate() {
             if neighbours.is_empty() {
@@ -505,6 +506,37 @@ impl Ctx<'_> {
             self.diags.push(d);
         }
         ok
+    }
+
+    /// Warns (W0308) about rooms whose walls face each other across a gap of at most the
+    /// repair's bound, with a fix that moves the shorter wall onto the other.
+    fn gaps(&mut self) {
+        let corners: Vec<Vec<Point>> = self.rooms.iter().map(|r| r.corners.clone()).collect();
+        for gap in super::repair::facing_gaps(&corners) {
+            let (moving, staying) = (RoomId(gap.moving), RoomId(gap.staying));
+            let (mn, sn) = (self.room_name(moving).to_owned(), self.room_name(staying).to_owned());
+            let axis = if gap.axis == 0 { "x" } else { "z" };
+            let mut d = Diagnostic::new(
+                Code::W0308,
+                format!(
+                    "rooms `{mn}` and `{sn}` face each other across a gap of {} m",
+                    m(gap.width())
+                ),
+            )
+            .with_primary(self.rooms[gap.moving].name_span, format!("{} m from `{sn}`", m(gap.width())))
+            .with_secondary(self.rooms[gap.staying].name_span, "across the gap")
+            .with_help(format!(
+                "move the wall of `{mn}` at {axis} = {} m to {axis} = {} m so that the rooms share it (`holoc repair --write` joins them)",
+                m(gap.from),
+                m(gap.to)
+            ));
+            let room = &self.scene.rooms[gap.moving];
+            let moved = super::repair::with_wall_moved(&room.corners, gap.axis, gap.from, gap.to);
+            if let Some(fix) = super::repair::corner_fix(room, &moved) {
+                d = d.with_fix(fix);
+            }
+            self.diags.push(d);
+        }
     }
 
     /// Splits outlines at neighbours' corners and makes one wall per piece.

@@ -1,28 +1,46 @@
-//! Geometric repair of a floor plan: the smallest corner movements that turn a plan the plan
-//! stage rejects (rooms that overlap by a little, leave thin gaps, have slanted or doubled
-//! edges, or float apart) into one it accepts, before any model is asked again.
+//! Geometric repair of a floor plan: the fewest and smallest corner movements that turn a
+//! plan the plan stage rejects (rooms that overlap by a little, leave gaps, have slanted or
+//! doubled edges, float apart or meet only at a corner) into one it accepts, before any model
+//! is asked again. Doors and windows are read (a door needs its rooms to share a wall), never
+//! moved.
 //!
-//! The repair works on the rooms' corners only and in this order:
+//! A plan's *badness* is what the plan stage says about its geometry
+//! ([`super::PlanOptions::geometry_only`]): its errors other than a missing exterior door, an
+//! unreachable room or an unknown asset, and its gaps between facing rooms (W0308). A plan
+//! without either comes back unchanged. Otherwise:
 //!
-//! 1. **Outline clean-up**: repeated corners and corners in the middle of a straight wall are
-//!    dropped; an edge that is slanted by at most the movement bound is made straight by
-//!    moving its second corner.
-//! 2. **Shared walls**: wall coordinates of *different* rooms that face each other across a
-//!    gap or an overlap of at most the bound (and whose rooms lie side by side along the wall)
-//!    are made one: every room moves to the coordinate of the room declared first, so the
-//!    overlap goes to the later room and a gap is closed by the later room. Two walls of one
-//!    room are never merged.
-//! 3. **Detached rooms**: a room that still touches no other room (and is not alone), or that
-//!    does not touch a room declared before it that it has a door to, is moved, whole, onto
-//!    the nearest such room (for a room touching nothing and without doors, the nearest room),
-//!    when that is at most [`MAX_TRANSLATION_M`] away.
+//! 1. **Outline clean-up**, of outlines with a repeated corner or a slanted edge: repeated
+//!    corners and corners in the middle of a straight wall are dropped; an edge slanted by at most [`MAX_MOVE_M`] is made straight by moving the corner
+//!    whose coordinate no other room shares (the other one is aligned with the plan); when
+//!    neither or both are, the rounder coordinate stays (`5` rather than `5.3`).
+//! 2. **Repair steps**, at most [`MAX_STEPS`], each from the plan the last one left. The
+//!    candidates of a step are:
+//!    - *one room at a time*: for every room, each of its wall coordinates snapped onto a
+//!      facing wall of another room at most [`MAX_MOVE_M`] away (one or two per axis), or the
+//!      whole room moved by the distance that makes one of its walls meet a facing wall (a
+//!      shifted room moves back whole), by the gap to a room it has a door to (at most
+//!      [`MAX_TRANSLATION_M`]), or slid along the wall of a room it has a door to but meets
+//!      only at a corner (at most [`MAX_SLIDE_M`]);
+//!    - *every room at once*: facing walls of different rooms within the bound joined, each
+//!      group at the coordinate that moves the least length of wall, then detached rooms moved
+//!      onto the room they have a door to.
 //!
-//! A repair is kept only when every room's area changes by at most [`MAX_AREA_CHANGE`] and the
-//! plan stage finds fewer errors in the repaired plan than in the plan as written; otherwise the
-//! plan is returned as written. Doors and windows are never touched, so a room's connections
-//! stay what was declared. A plan that the plan stage already accepts is returned unchanged
-//! (repair is idempotent), and what the repair cannot fix within its bounds is left for the
-//! plan stage to report.
+//!    A candidate counts only when it is *never worse*: each error after it was there before
+//!    (the same kinds, no more of each) and it has fewer errors, or as many and fewer gaps.
+//!    Among those, the least bad wins; among equally bad ones, the one that moves the fewest
+//!    rooms, then leaves the fewest near misses (wall coordinates of neighbouring rooms less
+//!    than the bound apart but not equal), then takes away the least wall rooms shared, then
+//!    moves the fewest corners, then sweeps the least floor; the last tie goes to the room
+//!    declared first. A room whose walls already meet
+//!    its neighbours' therefore stays, whatever the order the rooms are declared in, and a room
+//!    never becomes narrower than [`super::MIN_ROOM_SIDE_M`] (that is an error, E0303).
+//!
+//! The result is kept only when every room's area changes by at most [`MAX_AREA_CHANGE`] (a
+//! room narrower than [`super::MIN_ROOM_SIDE_M`] as written is exempt: it must grow) and
+//! the whole repair is never worse than the plan as written; otherwise the plan is returned as
+//! written. Steps go on until no candidate improves the plan, so repairing a repaired plan
+//! (even one still with errors) changes nothing: repair is idempotent. What it cannot fix is
+//! left for the plan stage to report.
 
 use std::collections::BTreeMap;
 
@@ -34,8 +52,15 @@ use crate::resolve::structure::StructureCatalog;
 pub const MAX_MOVE_M: f64 = 0.5;
 /// The most a detached room is moved, whole, to meet its neighbour, metres.
 pub const MAX_TRANSLATION_M: f64 = 1.0;
+/// The most a room is slid along the wall of a room it has a door to but meets only at a
+/// corner, metres.
+pub const MAX_SLIDE_M: f64 = 1.5;
 /// The most a room's floor area changes in a repair, as a share of its area as written.
 pub const MAX_AREA_CHANGE: f64 = 0.4;
+/// The most repair steps (see the module documentation).
+pub const MAX_STEPS: usize = 8;
+/// Facing walls overlapping along their length by less than this are not a gap, metres.
+const MIN_GAP_FACE_M: f64 = 0.1;
 /// Coordinates closer than this are the same, metres.
 const SAME_M: f64 = 1e-6;
 
@@ -59,34 +84,54 @@ pub fn repair(scene: &Scene, catalog: &StructureCatalog) -> Outcome<Repair> {
     let original: Vec<Vec<[f64; 2]>> = scene.rooms.iter().map(|r| r.corners.clone()).collect();
     let unchanged =
         Repair { corners: original.clone(), changed: false, max_move_m: 0.0, max_wall_move_m: 0.0 };
-    let errors_as_written =
-        if scene.rooms.is_empty() { 0 } else { plan_error_count(scene, catalog) };
-    if errors_as_written == 0 {
+    if scene.rooms.is_empty() {
         return Outcome::new(unchanged, Vec::new());
     }
-    let mut rooms = original.clone();
-    // For each repaired corner, the index of the corner as written it comes from.
-    let mut origins: Vec<Vec<usize>> = rooms.iter().map(|c| (0..c.len()).collect()).collect();
-    for (corners, origin) in rooms.iter_mut().zip(&mut origins) {
-        clean_outline(corners, origin);
+    let before = Badness::of(scene, &original, catalog);
+    if before.is_clean() {
+        return Outcome::new(unchanged, Vec::new());
     }
-    share_walls(&mut rooms, 0);
-    share_walls(&mut rooms, 1);
-    for (corners, origin) in rooms.iter_mut().zip(&mut origins) {
-        clean_outline(corners, origin);
+    let mut state = State {
+        rooms: original.clone(),
+        // For each repaired corner, the index of the corner as written it comes from.
+        origins: original.iter().map(|c| (0..c.len()).collect()).collect(),
+    };
+    // Only outlines that need it are cleaned: a room with a corner on a straight wall (the
+    // plan stage accepts those) and nothing else wrong stays as written.
+    for r in 0..state.rooms.len() {
+        if needs_cleaning(&state.rooms[r]) {
+            let others = other_coordinates(&state.rooms, r);
+            clean_outline(&mut state.rooms[r], &mut state.origins[r], &others);
+        }
     }
-    attach_detached(scene, &mut rooms);
-    // Within the area bound, and better than before: otherwise the plan stays as written and
-    // the plan stage reports it.
+    let mut bad = Badness::of(scene, &state.rooms, catalog);
+    for _ in 0..MAX_STEPS {
+        if bad.is_clean() {
+            break;
+        }
+        match best_step(scene, &state, &bad, catalog) {
+            Some((next, next_bad)) => {
+                state = next;
+                bad = next_bad;
+            }
+            None => break,
+        }
+    }
+    let rooms = state.rooms;
+    let origins = state.origins;
+    // Within the area bound, and never worse than the plan as written: otherwise the plan
+    // stays as written and the plan stage reports it.
+    // A room drawn narrower than the narrowest room allowed (E0303) must grow more than the
+    // bound to be a room at all: it is held to the movement bounds only.
     let within_area = original.iter().zip(&rooms).all(|(before, after)| {
         let a0 = area(before);
-        a0 <= 0.0 || (area(after) - a0).abs() / a0 <= MAX_AREA_CHANGE
+        let narrow = (0..2).any(|axis| {
+            let (lo, hi) = extent(before, axis);
+            hi - lo < super::MIN_ROOM_SIDE_M
+        });
+        a0 <= 0.0 || narrow || (area(after) - a0).abs() / a0 <= MAX_AREA_CHANGE
     });
-    let mut repaired = scene.clone();
-    for (room, corners) in repaired.rooms.iter_mut().zip(&rooms) {
-        room.corners.clone_from(corners);
-    }
-    if !within_area || plan_error_count(&repaired, catalog) >= errors_as_written {
+    if !within_area || !bad.improves_on(&before) {
         return Outcome::new(unchanged, Vec::new());
     }
 
@@ -138,35 +183,8 @@ pub fn repair(scene: &Scene, catalog: &StructureCatalog) -> Outcome<Repair> {
                 ),
             });
         }
-        if let (Some(first), Some(last)) = (room.corner_spans.first(), room.corner_spans.last()) {
-            // `corners in cm (…)` becomes `corners in m (…)`; `corners (x m, z m)` keeps units
-            // on every number.
-            let (start, replacement) = match room.corners_unit_span {
-                Some(unit) => (
-                    unit.start,
-                    format!(
-                        "m {}",
-                        rooms[i]
-                            .iter()
-                            .map(|p| format!("({}, {})", num(p[0]), num(p[1])))
-                            .collect::<Vec<_>>()
-                            .join(" ")
-                    ),
-                ),
-                None => (
-                    first.start,
-                    rooms[i]
-                        .iter()
-                        .map(|p| format!("({} m, {} m)", num(p[0]), num(p[1])))
-                        .collect::<Vec<_>>()
-                        .join(" "),
-                ),
-            };
-            d = d.with_fix(Fix {
-                title: format!("write the repaired corners of `{}`", room.name),
-                span: crate::source::Span { file: first.file, start, end: last.end },
-                replacement,
-            });
+        if let Some(fix) = corner_fix(room, &rooms[i]) {
+            d = d.with_fix(fix);
         }
         diagnostics.push(d);
     }
@@ -174,6 +192,538 @@ pub fn repair(scene: &Scene, catalog: &StructureCatalog) -> Outcome<Repair> {
         Repair { corners: rooms, changed, max_move_m: max_move, max_wall_move_m: max_wall_move },
         diagnostics,
     )
+}
+
+/// A fix that rewrites the corners of `room` as `corners`: `corners in cm (…)` becomes
+/// `corners in m (…)`; `corners (x m, z m)` keeps units on every number.
+pub(crate) fn corner_fix(room: &crate::check::scene::Room, corners: &[[f64; 2]]) -> Option<Fix> {
+    let (first, last) = (room.corner_spans.first()?, room.corner_spans.last()?);
+    let (start, replacement) = match room.corners_unit_span {
+        Some(unit) => (
+            unit.start,
+            format!(
+                "m {}",
+                corners
+                    .iter()
+                    .map(|p| format!("({}, {})", num(p[0]), num(p[1])))
+                    .collect::<Vec<_>>()
+                    .join(" ")
+            ),
+        ),
+        None => (
+            first.start,
+            corners
+                .iter()
+                .map(|p| format!("({} m, {} m)", num(p[0]), num(p[1])))
+                .collect::<Vec<_>>()
+                .join(" "),
+        ),
+    };
+    Some(Fix {
+        title: format!("write the repaired corners of `{}`", room.name),
+        span: crate::source::Span { file: first.file, start, end: last.end },
+        replacement,
+    })
+}
+
+/// The outlines of a plan being repaired, with, per corner, the index of the corner as
+/// written it comes from.
+#[derive(Clone, Debug)]
+struct State {
+    rooms: Vec<Vec<[f64; 2]>>,
+    origins: Vec<Vec<usize>>,
+}
+
+/// What the plan stage says about a plan's geometry: its errors (codes, sorted) and its gaps
+/// between facing rooms (W0308).
+#[derive(Clone, Debug, PartialEq, Eq)]
+struct Badness {
+    errors: Vec<Code>,
+    gaps: usize,
+}
+
+impl Badness {
+    fn of(scene: &Scene, rooms: &[Vec<[f64; 2]>], catalog: &StructureCatalog) -> Badness {
+        let mut with = scene.clone();
+        for (room, corners) in with.rooms.iter_mut().zip(rooms) {
+            room.corners.clone_from(corners);
+        }
+        let options = super::PlanOptions { geometry_only: true, ..super::PlanOptions::default() };
+        let diagnostics = super::plan_with(&with, catalog, options).diagnostics;
+        let mut errors: Vec<Code> = diagnostics
+            .iter()
+            .filter(|d| {
+                d.is_error()
+                    && !matches!(d.code, Code::E0314 | Code::E0315 | Code::E0313 | Code::E0319)
+            })
+            .map(|d| d.code)
+            .collect();
+        errors.sort_by_key(|c| c.as_str());
+        let gaps = diagnostics.iter().filter(|d| d.code == Code::W0308).count();
+        Badness { errors, gaps }
+    }
+
+    fn is_clean(&self) -> bool {
+        self.errors.is_empty() && self.gaps == 0
+    }
+
+    fn key(&self) -> (usize, usize) {
+        (self.errors.len(), self.gaps)
+    }
+
+    /// Never worse than `before` (each error was there before, no more of each kind) and
+    /// better (fewer errors, or as many and fewer gaps).
+    fn improves_on(&self, before: &Badness) -> bool {
+        let mut left = before.errors.clone();
+        for e in &self.errors {
+            match left.iter().position(|b| b == e) {
+                Some(i) => {
+                    left.remove(i);
+                }
+                None => return false,
+            }
+        }
+        self.key() < before.key()
+    }
+}
+
+/// The order among candidates equally bad: rooms moved, near misses left, shared wall lost
+/// (in mm, so that float noise does not decide: a room that shares its walls with the plan
+/// stays), corners moved, floor swept (the area between each moved room's old and new
+/// outline, in mm², so that a shorter wall moves rather than a longer one), then the sequence
+/// number (the room declared first).
+type Cost = (usize, usize, u64, usize, u64, usize);
+
+/// The best next step from `state` (see the module documentation), with its badness; `None`
+/// when no candidate improves the plan.
+fn best_step(
+    scene: &Scene,
+    state: &State,
+    bad: &Badness,
+    catalog: &StructureCatalog,
+) -> Option<(State, Badness)> {
+    let mut candidates: Vec<(Cost, State)> = Vec::new();
+    let links = door_links(scene, state.rooms.len());
+    for r in 0..state.rooms.len() {
+        for rooms in single_room_candidates(&state.rooms, r, &links) {
+            let mut next = state.clone();
+            next.rooms = rooms;
+            let others = other_coordinates(&next.rooms, r);
+            clean_outline(&mut next.rooms[r], &mut next.origins[r], &others);
+            let seq = r;
+            candidates.push((cost(&state.rooms, &next.rooms, seq), next));
+        }
+    }
+    {
+        let mut next = state.clone();
+        share_walls(&mut next.rooms, 0);
+        share_walls(&mut next.rooms, 1);
+        for r in 0..next.rooms.len() {
+            if !same_outline(&next.rooms[r], &state.rooms[r]) || needs_cleaning(&next.rooms[r]) {
+                let others = other_coordinates(&next.rooms, r);
+                clean_outline(&mut next.rooms[r], &mut next.origins[r], &others);
+            }
+        }
+        attach_detached(scene, &mut next.rooms);
+        let seq = next.rooms.len();
+        candidates.push((cost(&state.rooms, &next.rooms, seq), next));
+    }
+    candidates.sort_by_key(|a| a.0);
+    let overlaps_now = overlap_count(&state.rooms);
+    let mut best: Option<((usize, usize), Cost, State, Badness)> = None;
+    for (c, next) in candidates {
+        if next.rooms.iter().zip(&state.rooms).all(|(a, b)| same_outline(a, b)) {
+            continue;
+        }
+        // A candidate that makes rooms overlap that did not cannot be never worse.
+        if overlap_count(&next.rooms) > overlaps_now {
+            continue;
+        }
+        let b = Badness::of(scene, &next.rooms, catalog);
+        if !b.improves_on(bad) {
+            continue;
+        }
+        if best.as_ref().is_none_or(|(k, bc, _, _)| (b.key(), c) < (*k, *bc)) {
+            let clean = b.is_clean();
+            best = Some((b.key(), c, next, b));
+            // Candidates come in the order of their cost: the first clean one is the best.
+            if clean {
+                break;
+            }
+        }
+    }
+    best.map(|(_, _, s, b)| (s, b))
+}
+
+/// Pairs of rooms joined by a door or open connection, per room.
+fn door_links(scene: &Scene, n: usize) -> Vec<Vec<usize>> {
+    let mut links = vec![Vec::new(); n];
+    for d in &scene.doors {
+        if let (DoorSide::Room(a), DoorSide::Room(b)) = (&d.from, &d.to) {
+            if a.0 < n && b.0 < n && a.0 != b.0 {
+                links[a.0].push(b.0);
+                links[b.0].push(a.0);
+            }
+        }
+    }
+    for l in &mut links {
+        l.sort_unstable();
+        l.dedup();
+    }
+    links
+}
+
+/// How many pairs of rooms overlap (bounding boxes that share area, then exactly).
+fn overlap_count(rooms: &[Vec<[f64; 2]>]) -> usize {
+    let mut n = 0;
+    for a in 0..rooms.len() {
+        for b in a + 1..rooms.len() {
+            let g = box_gap(&rooms[a], &rooms[b]);
+            if g[0] < -1e-3
+                && g[1] < -1e-3
+                && crate::geometry::rectilinear_intersection_area(&rooms[a], &rooms[b]) > 1e-4
+            {
+                n += 1;
+            }
+        }
+    }
+    n
+}
+
+/// The cost of going from `before` to `after` (see [`Cost`]).
+fn cost(before: &[Vec<[f64; 2]>], after: &[Vec<[f64; 2]>], seq: usize) -> Cost {
+    let mut rooms = 0;
+    let mut corners = 0;
+    let mut swept = 0.0;
+    let mut lost = 0.0;
+    for (r, (a, b)) in before.iter().zip(after).enumerate() {
+        if same_outline(a, b) {
+            continue;
+        }
+        rooms += 1;
+        // Corners of the new outline that are not corners of the old one.
+        corners += b
+            .iter()
+            .filter(|p| {
+                !a.iter().any(|q| (p[0] - q[0]).abs() <= SAME_M && (p[1] - q[1]).abs() <= SAME_M)
+            })
+            .count();
+        let common = crate::geometry::rectilinear_intersection_area(a, b);
+        swept += (area(a) + area(b) - 2.0 * common).max(0.0);
+        for o in 0..before.len() {
+            if o != r {
+                lost += (shared_length(a, &before[o]) - shared_length(b, &after[o])).max(0.0);
+            }
+        }
+    }
+    (
+        rooms,
+        near_misses(after),
+        (lost * 1e3).round() as u64,
+        corners,
+        (swept * 1e6).round() as u64,
+        seq,
+    )
+}
+
+/// The length of wall two outlines share.
+fn shared_length(p: &[[f64; 2]], q: &[[f64; 2]]) -> f64 {
+    let g = box_gap(p, q);
+    if g[0] > SAME_M || g[1] > SAME_M {
+        return 0.0;
+    }
+    let mut total = 0.0;
+    for i in 0..p.len() {
+        for j in 0..q.len() {
+            if let Some((s, e)) = crate::geometry::segment_overlap(
+                p[i],
+                p[(i + 1) % p.len()],
+                q[j],
+                q[(j + 1) % q.len()],
+            ) {
+                total += (e[0] - s[0]).hypot(e[1] - s[1]);
+            }
+        }
+    }
+    total
+}
+
+/// Wall coordinates of neighbouring rooms (boxes at most the bound apart on the other axis)
+/// that are less than the bound apart but not equal: the marks of a plan drawn slightly off.
+fn near_misses(rooms: &[Vec<[f64; 2]>]) -> usize {
+    let coords: Vec<[Vec<f64>; 2]> = rooms
+        .iter()
+        .map(|c| {
+            let mut out = [Vec::new(), Vec::new()];
+            for (axis, slot) in out.iter_mut().enumerate() {
+                let mut vs: Vec<f64> = c.iter().map(|p| p[axis]).collect();
+                vs.sort_by(f64::total_cmp);
+                vs.dedup_by(|a, b| (*a - *b).abs() <= SAME_M);
+                *slot = vs;
+            }
+            out
+        })
+        .collect();
+    let mut n = 0;
+    for a in 0..rooms.len() {
+        for b in a + 1..rooms.len() {
+            let g = box_gap(&rooms[a], &rooms[b]);
+            for axis in 0..2 {
+                if g[1 - axis] > MAX_MOVE_M {
+                    continue;
+                }
+                for &u in &coords[a][axis] {
+                    for &v in &coords[b][axis] {
+                        let d = (u - v).abs();
+                        if d > SAME_M && d < MAX_MOVE_M - SAME_M {
+                            n += 1;
+                        }
+                    }
+                }
+            }
+        }
+    }
+    n
+}
+
+/// Per axis, every wall coordinate of the rooms other than `r`, sorted.
+fn other_coordinates(rooms: &[Vec<[f64; 2]>], r: usize) -> [Vec<f64>; 2] {
+    let mut out = [Vec::new(), Vec::new()];
+    for (o, c) in rooms.iter().enumerate() {
+        if o == r {
+            continue;
+        }
+        for p in c {
+            out[0].push(p[0]);
+            out[1].push(p[1]);
+        }
+    }
+    for v in &mut out {
+        v.sort_by(f64::total_cmp);
+        v.dedup_by(|a, b| (*a - *b).abs() <= SAME_M);
+    }
+    out
+}
+
+/// The coordinates a wall of room `r` at `at` (on `axis`, outward `outward`) could move to: the
+/// facing walls of other rooms at most `bound` away that overlap it along its length.
+fn facing_targets(
+    rooms: &[Vec<[f64; 2]>],
+    r: usize,
+    axis: usize,
+    wall: &Wall,
+    bound: f64,
+    only: Option<usize>,
+) -> Vec<f64> {
+    let mut out = Vec::new();
+    for (o, corners) in rooms.iter().enumerate() {
+        if o == r || only.is_some_and(|x| x != o) {
+            continue;
+        }
+        for w in walls_of(corners, axis) {
+            if w.outward * wall.outward >= 0.0 {
+                continue;
+            }
+            let d = (w.at - wall.at).abs();
+            let (lo, hi) = (w.from.max(wall.from), w.to.min(wall.to));
+            if d > SAME_M && d <= bound + SAME_M && hi - lo > 0.01 {
+                out.push(w.at);
+            }
+        }
+    }
+    out.sort_by(f64::total_cmp);
+    out.dedup_by(|a, b| (*a - *b).abs() <= SAME_M);
+    // The nearest first; at most three.
+    out.sort_by(|a, b| (a - wall.at).abs().total_cmp(&(b - wall.at).abs()).then(a.total_cmp(b)));
+    out.truncate(3);
+    out
+}
+
+/// The plans that change room `r` alone (see the module documentation).
+fn single_room_candidates(
+    rooms: &[Vec<[f64; 2]>],
+    r: usize,
+    links: &[Vec<usize>],
+) -> Vec<Vec<Vec<[f64; 2]>>> {
+    // Per axis: maps from old coordinate to new (`None`: the whole room moves by a delta).
+    let mut per_axis: [Vec<AxisMove>; 2] = [vec![AxisMove::Keep], vec![AxisMove::Keep]];
+    let corners = &rooms[r];
+    for (axis, options) in per_axis.iter_mut().enumerate() {
+        let walls = walls_of(corners, axis);
+        // Snaps of one coordinate onto a facing wall within the bound.
+        let mut snaps: Vec<(f64, f64)> = Vec::new();
+        for w in &walls {
+            for t in facing_targets(rooms, r, axis, w, MAX_MOVE_M, None) {
+                snaps.push((w.at, t));
+            }
+        }
+        snaps.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1)));
+        snaps.dedup_by(|a, b| (a.0 - b.0).abs() <= SAME_M && (a.1 - b.1).abs() <= SAME_M);
+        for &(from, to) in &snaps {
+            options.push(AxisMove::Snap(vec![(from, to)]));
+        }
+        for (i, &(f1, t1)) in snaps.iter().enumerate() {
+            for &(f2, t2) in &snaps[i + 1..] {
+                if (f1 - f2).abs() > SAME_M {
+                    options.push(AxisMove::Snap(vec![(f1, t1), (f2, t2)]));
+                }
+            }
+        }
+        // The whole room moved so that one wall meets a facing wall.
+        let mut deltas: Vec<f64> = snaps.iter().map(|&(f, t)| t - f).collect();
+        // …or onto a room it has a door to and does not touch.
+        for &o in &links[r] {
+            if touch(corners, &rooms[o]) {
+                continue;
+            }
+            for w in &walls {
+                for t in facing_targets(rooms, r, axis, w, MAX_TRANSLATION_M, Some(o)) {
+                    deltas.push(t - w.at);
+                }
+            }
+            // Rooms that meet only at a corner: slide along the other's wall.
+            let g = box_gap(corners, &rooms[o]);
+            if g[0].abs() <= SAME_M && g[1].abs() <= SAME_M {
+                let (lr, _) = extent(corners, axis);
+                let (lo, _) = extent(&rooms[o], axis);
+                let toward = if lr > lo { -1.0 } else { 1.0 };
+                for step in [0.5, 1.0, MAX_SLIDE_M] {
+                    deltas.push(toward * step);
+                }
+            }
+        }
+        deltas.sort_by(f64::total_cmp);
+        deltas.dedup_by(|a, b| (*a - *b).abs() <= SAME_M);
+        for d in deltas {
+            if d.abs() > SAME_M {
+                options.push(AxisMove::Shift(d));
+            }
+        }
+    }
+    let mut out = Vec::new();
+    for mx in &per_axis[0] {
+        for mz in &per_axis[1] {
+            if matches!((mx, mz), (AxisMove::Keep, AxisMove::Keep)) {
+                continue;
+            }
+            let mut next = rooms.to_vec();
+            for p in &mut next[r] {
+                p[0] = mx.apply(p[0]);
+                p[1] = mz.apply(p[1]);
+            }
+            out.push(next);
+        }
+    }
+    out
+}
+
+/// How a single-room candidate changes one axis of the room.
+#[derive(Clone, Debug)]
+enum AxisMove {
+    Keep,
+    /// These coordinates move to those.
+    Snap(Vec<(f64, f64)>),
+    /// Every coordinate moves by this much.
+    Shift(f64),
+}
+
+impl AxisMove {
+    fn apply(&self, v: f64) -> f64 {
+        match self {
+            AxisMove::Keep => v,
+            AxisMove::Shift(d) => v + d,
+            AxisMove::Snap(moves) => {
+                moves.iter().find(|(f, _)| (f - v).abs() <= SAME_M).map_or(v, |&(_, t)| t)
+            }
+        }
+    }
+}
+
+/// A gap between facing walls of two rooms (see [`facing_gaps`]).
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct Gap {
+    /// The room whose wall would move to close it (the shorter facing wall; on a tie, the room
+    /// declared later).
+    pub moving: usize,
+    /// The other room.
+    pub staying: usize,
+    /// The axis of the gap (0: the walls are at constant x).
+    pub axis: usize,
+    /// The moving room's wall coordinate and the staying room's.
+    pub from: f64,
+    /// The coordinate the moving wall goes to.
+    pub to: f64,
+}
+
+impl Gap {
+    /// The gap's width, metres.
+    pub fn width(&self) -> f64 {
+        (self.to - self.from).abs()
+    }
+}
+
+/// Gaps of at most [`MAX_MOVE_M`] between walls of two rooms that face each other (overlapping
+/// along their length by more than 10 cm), with no third room's floor between them: rooms
+/// that were most likely meant to share that wall.
+pub(crate) fn facing_gaps(rooms: &[Vec<[f64; 2]>]) -> Vec<Gap> {
+    let mut out: Vec<Gap> = Vec::new();
+    for axis in 0..2 {
+        let other = 1 - axis;
+        let walls: Vec<Vec<Wall>> = rooms.iter().map(|c| walls_of(c, axis)).collect();
+        for ra in 0..rooms.len() {
+            for rb in 0..rooms.len() {
+                if ra == rb {
+                    continue;
+                }
+                // `a` faces +, `b` faces - and lies beyond it.
+                for a in walls[ra].iter().filter(|w| w.outward > 0.0) {
+                    for b in walls[rb].iter().filter(|w| w.outward < 0.0) {
+                        let d = b.at - a.at;
+                        let (lo, hi) = (a.from.max(b.from), a.to.min(b.to));
+                        if d <= SAME_M || d > MAX_MOVE_M + SAME_M || hi - lo <= MIN_GAP_FACE_M {
+                            continue;
+                        }
+                        let mut mid = [0.0; 2];
+                        mid[axis] = f64::midpoint(a.at, b.at);
+                        mid[other] = f64::midpoint(lo, hi);
+                        if rooms.iter().any(|c| inside(mid, c)) {
+                            continue;
+                        }
+                        let (la, lb) = (a.to - a.from, b.to - b.from);
+                        let a_moves = la < lb - SAME_M || ((la - lb).abs() <= SAME_M && ra > rb);
+                        let gap = if a_moves {
+                            Gap { moving: ra, staying: rb, axis, from: a.at, to: b.at }
+                        } else {
+                            Gap { moving: rb, staying: ra, axis, from: b.at, to: a.at }
+                        };
+                        if !out.contains(&gap) {
+                            out.push(gap);
+                        }
+                    }
+                }
+            }
+        }
+    }
+    out
+}
+
+/// The outline of a room with one wall coordinate moved (every corner on it).
+pub(crate) fn with_wall_moved(
+    corners: &[[f64; 2]],
+    axis: usize,
+    from: f64,
+    to: f64,
+) -> Vec<[f64; 2]> {
+    corners
+        .iter()
+        .map(|p| {
+            let mut q = *p;
+            if (q[axis] - from).abs() <= SAME_M {
+                q[axis] = to;
+            }
+            q
+        })
+        .collect()
 }
 
 /// The scene with repaired outlines (corner spans kept where a corner survived).
@@ -187,19 +737,6 @@ pub fn apply(scene: &Scene, repair: &Repair) -> Scene {
         }
     }
     out
-}
-
-/// The plan stage's errors that geometry can cause (not a missing exterior door or an unknown
-/// asset).
-fn plan_error_count(scene: &Scene, catalog: &StructureCatalog) -> usize {
-    let options = super::PlanOptions { geometry_only: true, ..super::PlanOptions::default() };
-    super::plan_with(scene, catalog, options)
-        .diagnostics
-        .iter()
-        .filter(|d| {
-            d.is_error() && !matches!(d.code, Code::E0314 | Code::E0315 | Code::E0313 | Code::E0319)
-        })
-        .count()
 }
 
 /// A number as a plan writes it: metres, at most three decimals, no trailing zeros.
@@ -224,9 +761,11 @@ fn same_outline(a: &[[f64; 2]], b: &[[f64; 2]]) -> bool {
 }
 
 /// Drops repeated corners and corners in the middle of a straight wall, and straightens
-/// edges slanted by at most [`MAX_MOVE_M`]. `origin` holds, for each corner, the index of the
-/// corner as written it comes from; it is kept in step.
-fn clean_outline(corners: &mut Vec<[f64; 2]>, origin: &mut Vec<usize>) {
+/// edges slanted by at most [`MAX_MOVE_M`] by moving the corner whose coordinate no other room
+/// shares (`others`: the other rooms' coordinates per axis); when neither or both are shared,
+/// the rounder coordinate stays, then the first corner's. `origin` holds, for each corner, the
+/// index of the corner as written it comes from; it is kept in step.
+fn clean_outline(corners: &mut Vec<[f64; 2]>, origin: &mut Vec<usize>, others: &[Vec<f64>; 2]) {
     let same =
         |p: [f64; 2], q: [f64; 2]| (p[0] - q[0]).abs() <= SAME_M && (p[1] - q[1]).abs() <= SAME_M;
     let mut pts: Vec<([f64; 2], usize)> = Vec::with_capacity(corners.len());
@@ -238,21 +777,33 @@ fn clean_outline(corners: &mut Vec<[f64; 2]>, origin: &mut Vec<usize>) {
     while pts.len() > 1 && same(pts[0].0, pts[pts.len() - 1].0) {
         pts.pop();
     }
-    // Straighten slightly slanted edges: the second corner takes the first's coordinate on
-    // the axis where they differ least.
+    let shared = |axis: usize, v: f64| others[axis].iter().any(|w| (w - v).abs() <= SAME_M);
+    // Twice: straightening an edge by moving its first corner may slant the edge before it.
     let n = pts.len();
-    if n >= 3 {
+    for _ in 0..2 {
+        if n < 3 {
+            break;
+        }
         for i in 0..n {
-            let a = pts[i].0;
             let j = (i + 1) % n;
-            let b = pts[j].0;
+            let (a, b) = (pts[i].0, pts[j].0);
             let (dx, dz) = ((b[0] - a[0]).abs(), (b[1] - a[1]).abs());
-            if dx > SAME_M && dz > SAME_M && dx.min(dz) <= MAX_MOVE_M {
-                if dx <= dz {
-                    pts[j].0[0] = a[0];
-                } else {
-                    pts[j].0[1] = a[1];
-                }
+            if dx <= SAME_M || dz <= SAME_M || dx.min(dz) > MAX_MOVE_M {
+                continue;
+            }
+            let axis = usize::from(dx > dz);
+            let (va, vb) = (a[axis], b[axis]);
+            // Which value the edge keeps: the one aligned with the other rooms, else the
+            // rounder one, else the first corner's.
+            let keep_a = match (shared(axis, va), shared(axis, vb)) {
+                (true, false) => true,
+                (false, true) => false,
+                _ => roundness(va) <= roundness(vb),
+            };
+            if keep_a {
+                pts[j].0[axis] = va;
+            } else {
+                pts[i].0[axis] = vb;
             }
         }
     }
@@ -274,6 +825,26 @@ fn clean_outline(corners: &mut Vec<[f64; 2]>, origin: &mut Vec<usize>) {
     }
     *corners = pts.iter().map(|p| p.0).collect();
     *origin = pts.iter().map(|p| p.1).collect();
+}
+
+/// Whether an outline has a repeated corner or a slanted edge.
+fn needs_cleaning(corners: &[[f64; 2]]) -> bool {
+    let n = corners.len();
+    (0..n).any(|i| {
+        let (a, b) = (corners[i], corners[(i + 1) % n]);
+        let (dx, dz) = ((b[0] - a[0]).abs(), (b[1] - a[1]).abs());
+        (dx <= SAME_M && dz <= SAME_M) || (dx > SAME_M && dz > SAME_M)
+    })
+}
+
+/// How many decimals a coordinate needs (0 to 4; 4 for anything finer).
+fn roundness(v: f64) -> u32 {
+    (0..4)
+        .find(|&d| {
+            let scaled = v * 10f64.powi(d as i32);
+            (scaled - scaled.round()).abs() < 1e-6
+        })
+        .unwrap_or(4)
 }
 
 /// The extent of a room along an axis (0: x, 1: z).
