@@ -375,3 +375,85 @@ fn the_viewer_page_shows_the_house_in_chromium() {
         top.display()
     );
 }
+
+fn holoc() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_holoc"))
+}
+
+#[test]
+fn the_commands_write_what_they_say_and_refuse_what_they_cannot_draw() {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("export-cli");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("a scratch folder");
+    let house = dir.join("bedroom.json");
+    std::fs::write(&house, serde_json::to_string_pretty(&example("bedroom").house).expect("json"))
+        .expect("written");
+
+    // `export` writes the GLB that the library makes, and says what it holds.
+    let glb = dir.join("bedroom.glb");
+    let out = holoc().arg("export").arg(&house).arg("-o").arg(&glb).output().expect("runs");
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let expected =
+        export(&example("bedroom").house, &Catalog::embedded(), &ExportOptions::default())
+            .expect("exports")
+            .to_glb();
+    assert_eq!(std::fs::read(&glb).expect("written"), expected);
+    assert!(String::from_utf8_lossy(&out.stderr).starts_with("exported "));
+
+    // `build --emit glb` gives the same file; without `-o` it is a usage error.
+    let built = dir.join("built.glb");
+    let out = holoc()
+        .args(["build", "examples/bedroom.holo", "--emit", "glb", "-q", "-o"])
+        .arg(&built)
+        .output()
+        .expect("runs");
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert_eq!(std::fs::read(&built).expect("written"), expected);
+    let out =
+        holoc().args(["build", "examples/bedroom.holo", "--emit", "glb"]).output().expect("runs");
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("E0004"));
+
+    // A room the house lacks: E0004 with the closest id.
+    let out = holoc()
+        .arg("export")
+        .arg(&house)
+        .args(["--rooms", "bedrom", "-o"])
+        .arg(dir.join("x.glb"))
+        .output()
+        .expect("runs");
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("E0004") && err.contains("did you mean `bedroom`?"), "{err}");
+
+    // A file that is not a house: E0601, nothing written.
+    let broken = dir.join("broken.json");
+    std::fs::write(&broken, "{\"rooms\": 3}").expect("written");
+    let out = holoc()
+        .args(["export", "--format", "short"])
+        .arg(&broken)
+        .arg("-o")
+        .arg(dir.join("broken.glb"))
+        .output()
+        .expect("runs");
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("E0601"));
+    assert!(!dir.join("broken.glb").exists());
+
+    // `view` and `render --3d` write a page that holds the house and the viewer.
+    let page = dir.join("bedroom.html");
+    let out = holoc().arg("view").arg(&house).arg("-o").arg(&page).output().expect("runs");
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let html = std::fs::read_to_string(&page).expect("written");
+    assert!(html.contains("id=\"holoc-data\"") && html.contains("HOLOC3D"));
+    assert!(!html.contains("<script src") && !html.contains("<link "), "the page loads nothing");
+    let rendered = dir.join("rendered.html");
+    let out = holoc()
+        .args(["render", "examples/bedroom.holo", "--3d", "-o"])
+        .arg(&rendered)
+        .output()
+        .expect("runs");
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let html = std::fs::read_to_string(&rendered).expect("written");
+    assert!(html.contains("\"hasReport\":true"));
+}

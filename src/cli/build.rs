@@ -141,12 +141,10 @@ pub fn run(args: &BuildArgs) -> ExitCode {
     let bytes: Vec<u8> = match args.emit {
         Emit::Glb => {
             let options = crate::export::ExportOptions::default();
-            let glb =
-                match super::export::export_or_report(&product.house.house, &catalog, &options) {
-                    Ok(e) => e.to_glb(),
-                    Err(code) => return code,
-                };
-            glb
+            match super::export::export_or_report(&product.house.house, &catalog, &options) {
+                Ok(e) => e.to_glb(),
+                Err(code) => return code,
+            }
         }
         Emit::Plan => product.plan.dump(&product.scene).into_bytes(),
         Emit::Resolved => product.resolved.dump(&product.scene, &catalog).into_bytes(),

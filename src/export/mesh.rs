@@ -132,7 +132,7 @@ pub fn add_wall_slab(
     let identity = Isometry3::identity();
     for pair in cuts.windows(2) {
         let (x0, x1) = (pair[0], pair[1]);
-        let mid = (x0 + x1) / 2.0;
+        let mid = f64::midpoint(x0, x1);
         let mut covered: Vec<[f64; 2]> = holes
             .iter()
             .filter(|h| h.x[0] < mid && mid < h.x[1])

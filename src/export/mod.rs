@@ -583,7 +583,7 @@ pub fn export(
                 .get(wall.room_id.as_str())
                 .is_some_and(|p| geo::point_in_polygon(probe, p));
             let exterior = wall.id.ends_with("|exterior");
-            let z = if room_on_z != exterior { [0.0, WALL_SLAB_M] } else { [-WALL_SLAB_M, 0.0] };
+            let z = if room_on_z == exterior { [-WALL_SLAB_M, 0.0] } else { [0.0, WALL_SLAB_M] };
             let mut g = Geometry::default();
             let wall_holes = holes.get(wall.id.as_str()).map_or(&[][..], Vec::as_slice);
             mesh::add_wall_slab(&mut g, f.length, f.height, z, wall_holes);

@@ -104,8 +104,11 @@ pub fn page(house: &House, glb: &[u8], report: Option<&Value>, title: &str) -> S
     let mut out = String::with_capacity(THREE_BUNDLE.len() + glb.len() * 4 / 3 + 8192);
     out.push_str("<!doctype html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n");
     out.push_str("<meta name=\"viewport\" content=\"width=device-width,initial-scale=1\">\n");
-    out.push_str(&format!("<title>{} — holoc view</title>\n", html_escape(title)));
-    out.push_str(&format!("<style>{STYLE}</style>\n</head>\n<body>\n"));
+    out.push_str("<title>");
+    out.push_str(&html_escape(title));
+    out.push_str(" — holoc view</title>\n<style>");
+    out.push_str(STYLE);
+    out.push_str("</style>\n</head>\n<body>\n");
     out.push_str("<div id=\"app\"></div>\n");
     out.push_str("<div id=\"help\">drag to turn · right-drag to move · wheel to zoom · click an object</div>\n");
     out.push_str("<div id=\"panel\" hidden></div>\n<div id=\"status\">loading…</div>\n");
