@@ -25,6 +25,8 @@ pub enum Emit {
     /// The AI2-THOR house JSON.
     #[default]
     House,
+    /// The house in 3D as glTF 2.0 binary (as `holoc export` writes it; needs `-o`).
+    Glb,
 }
 
 /// The floor solver, as named on the command line.
@@ -122,15 +124,32 @@ pub fn run(args: &BuildArgs) -> ExitCode {
         stdout_taken: args.output.as_deref().is_none_or(|p| p.as_os_str() == "-"),
         stand_ins: !args.no_stand_ins,
     };
+    if args.emit == Emit::Glb && request.stdout_taken {
+        common::emit_plain(
+            &crate::diag::Diagnostic::new(
+                crate::diag::Code::E0004,
+                "`--emit glb` writes a binary file: name it with `-o`",
+            )
+            .with_help("e.g. `-o out/house.glb`"),
+        );
+        return ExitCode::from(2);
+    }
     let (product, catalog, diagnostics) = match run_build(&mut sources, file, &request) {
         Ok(built) => built,
         Err(code) => return code,
     };
-    let text = match args.emit {
-        Emit::Plan => product.plan.dump(&product.scene),
-        Emit::Resolved => product.resolved.dump(&product.scene, &catalog),
-        Emit::Layout => product.layout.dump(&product.scene),
-        Emit::House | Emit::Ast | Emit::Scene => product.house.to_json_string(),
+    let bytes: Vec<u8> = match args.emit {
+        Emit::Glb => {
+            let options = crate::export::ExportOptions::default();
+            match super::export::export_or_report(&product.house.house, &catalog, &options) {
+                Ok(e) => e.to_glb(),
+                Err(code) => return code,
+            }
+        }
+        Emit::Plan => product.plan.dump(&product.scene).into_bytes(),
+        Emit::Resolved => product.resolved.dump(&product.scene, &catalog).into_bytes(),
+        Emit::Layout => product.layout.dump(&product.scene).into_bytes(),
+        Emit::House | Emit::Ast | Emit::Scene => product.house.to_json_string().into_bytes(),
     };
     if let Some(path) = &args.report {
         let report = crate::report::report(&product, &catalog);
@@ -141,7 +160,11 @@ pub fn run(args: &BuildArgs) -> ExitCode {
             return ExitCode::from(2);
         }
     }
-    if let Err(d) = common::write_output(args.output.as_deref(), &text) {
+    let written = match args.output.as_deref() {
+        Some(p) if p.as_os_str() != "-" => common::write_atomic(p, &bytes),
+        _ => common::write_output(None, &String::from_utf8_lossy(&bytes)),
+    };
+    if let Err(d) = written {
         common::emit_plain(&d);
         return ExitCode::from(2);
     }

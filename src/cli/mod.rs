@@ -9,6 +9,7 @@ pub mod build;
 pub mod check;
 pub mod common;
 pub mod explain;
+pub mod export;
 pub mod fmt;
 pub mod generate;
 pub mod import;
@@ -16,6 +17,7 @@ pub mod lsp;
 pub mod render;
 pub mod repair;
 pub mod validate;
+pub mod view;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -56,6 +58,10 @@ pub enum Command {
     Repair(repair::RepairArgs),
     /// Check house JSON files against the schema and the geometric rules.
     Validate(validate::ValidateArgs),
+    /// Write a house as glTF 2.0 binary (`.glb`) to open in Blender or a 3D viewer.
+    Export(export::ExportArgs),
+    /// Write a self-contained HTML page that shows a house in 3D.
+    View(view::ViewArgs),
 }
 
 /// Runs a parsed command line.
@@ -73,5 +79,7 @@ pub fn run(cli: Cli) -> ExitCode {
         Command::Render(args) => render::run(args),
         Command::Repair(args) => repair::run(args),
         Command::Validate(args) => validate::run(args),
+        Command::Export(args) => export::run(args),
+        Command::View(args) => view::run(args),
     }
 }

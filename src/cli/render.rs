@@ -1,4 +1,5 @@
-//! `holoc render SCENE.holo -o plan.svg`: build the scene and draw its plan.
+//! `holoc render SCENE.holo -o plan.svg`: build the scene and draw its plan; with `--3d`, write
+//! the 3D viewer page of `holoc view` instead.
 
 use super::common::{self, ColorChoice, DiagFormat};
 use crate::solve::Solver;
@@ -11,7 +12,8 @@ use std::process::ExitCode;
 pub struct RenderArgs {
     /// The `.holo` scene.
     pub file: PathBuf,
-    /// Where to write the SVG (stdout when absent or `-`); written atomically.
+    /// Where to write the SVG (or the HTML page with `--3d`; stdout when absent or `-`); written
+    /// atomically.
     #[arg(short, long)]
     pub output: Option<PathBuf>,
     /// Overrides the scene's seed.
@@ -29,6 +31,12 @@ pub struct RenderArgs {
     /// The radius of the agent (metres) the layout leaves room for (default 0.25).
     #[arg(long, value_name = "METRES", value_parser = super::build::parse_radius)]
     pub agent_radius: Option<f64>,
+    /// Write the 3D viewer page (HTML, as `holoc view` makes it) instead of the SVG plan.
+    #[arg(long = "3d")]
+    pub three_d: bool,
+    /// With `--3d`: what to draw.
+    #[command(flatten)]
+    pub draw: super::export::DrawArgs,
     /// How to print diagnostics.
     #[arg(long, value_enum, default_value_t = DiagFormat::Human)]
     pub format: DiagFormat,
@@ -63,11 +71,26 @@ pub fn run(args: &RenderArgs) -> ExitCode {
         stdout_taken: args.output.as_deref().is_none_or(|p| p.as_os_str() == "-"),
         stand_ins: !args.no_stand_ins,
     };
-    let (product, _, diagnostics) = match super::build::run_build(&mut sources, file, &request) {
-        Ok(built) => built,
-        Err(code) => return code,
+    let (product, catalog, diagnostics) =
+        match super::build::run_build(&mut sources, file, &request) {
+            Ok(built) => built,
+            Err(code) => return code,
+        };
+    let svg = if args.three_d {
+        let exported = match super::export::export_or_report(
+            &product.house.house,
+            &catalog,
+            &args.draw.options(false),
+        ) {
+            Ok(e) => e,
+            Err(code) => return code,
+        };
+        let report = crate::report::report(&product, &catalog);
+        let title = args.file.file_stem().map_or_else(|| "house".into(), |s| s.to_string_lossy());
+        crate::export::viewer::page(&product.house.house, &exported.to_glb(), Some(&report), &title)
+    } else {
+        crate::render::render_svg(&crate::render::drawing(&product))
     };
-    let svg = crate::render::render_svg(&crate::render::drawing(&product));
     if let Err(d) = common::write_output(args.output.as_deref(), &svg) {
         common::emit_plain(&d);
         return ExitCode::from(2);
