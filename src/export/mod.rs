@@ -512,7 +512,7 @@ pub fn export(
 
     // Rooms: floor and ceiling.
     let ceiling_material = &house.procedural_parameters.ceiling_material;
-    let ceiling_tint = ceiling_material.color.or(Some(house.procedural_parameters.ceiling_color));
+    let ceiling_tint = rgb(ceiling_material.color).or(Some(house.procedural_parameters.ceiling_color));
     for room in house.rooms.iter().filter(|r| keep(&r.id)) {
         let outline = &polygons[room.id.as_str()];
         let height = house
@@ -530,7 +530,7 @@ pub fn export(
         let mesh = b.mesh(
             &room.id,
             &[
-                (&floor, materials::surface(&room.floor_material.name, room.floor_material.color)),
+                (&floor, materials::surface(&room.floor_material.name, rgb(room.floor_material.color))),
                 (&ceiling, materials::surface(&ceiling_material.name, ceiling_tint)),
             ],
         );
@@ -589,7 +589,7 @@ pub fn export(
             mesh::add_wall_slab(&mut g, f.length, f.height, z, wall_holes);
             mesh = b.mesh(
                 &wall.id,
-                &[(&g, materials::surface(&wall.material.name, wall.material.color))],
+                &[(&g, materials::surface(&wall.material.name, rgb(wall.material.color)))],
             );
             pose = Some(f.pose(0.0, 0.0));
         }
@@ -768,4 +768,9 @@ mod tests {
         // x turns +y to +z, then y turns +z to +x.
         assert!((v - Vector3::new(1.0, 0.0, 0.0)).norm() < 1e-12);
     }
+}
+
+/// A house material's tint without its alpha (the export's surfaces are opaque).
+fn rgb(c: Option<crate::lower::thor::Rgba>) -> Option<crate::lower::thor::Rgb> {
+    c.map(|c| crate::lower::thor::Rgb { r: c.r, g: c.g, b: c.b })
 }
