@@ -8,6 +8,7 @@ pub mod batch;
 pub mod build;
 pub mod check;
 pub mod common;
+pub mod diff;
 pub mod explain;
 pub mod fmt;
 pub mod generate;
@@ -15,6 +16,7 @@ pub mod import;
 pub mod lsp;
 pub mod render;
 pub mod repair;
+pub mod test;
 pub mod validate;
 
 use clap::{Parser, Subcommand};
@@ -40,6 +42,8 @@ pub enum Command {
     Check(check::CheckArgs),
     /// Print `.holo` files in canonical form.
     Fmt(fmt::FmtArgs),
+    /// Show what changed between two houses, scenes or folders of houses.
+    Diff(diff::DiffArgs),
     /// Explain a diagnostic code.
     Explain(explain::ExplainArgs),
     /// Ask a language model the paper's questions and write the scene.
@@ -54,6 +58,8 @@ pub enum Command {
     Render(render::RenderArgs),
     /// Move room corners, as little as possible, so that the floor plan builds.
     Repair(repair::RepairArgs),
+    /// Build scenes and compare them with their golden houses.
+    Test(test::TestArgs),
     /// Check house JSON files against the schema and the geometric rules.
     Validate(validate::ValidateArgs),
 }
@@ -65,6 +71,7 @@ pub fn run(cli: Cli) -> ExitCode {
         Command::Build(args) => build::run(args),
         Command::Check(args) => check::run(args),
         Command::Fmt(args) => fmt::run(args),
+        Command::Diff(args) => diff::run(args),
         Command::Explain(args) => explain::run(args),
         Command::Generate(args) => generate::run(args),
         Command::Import(args) => import::run(args),
@@ -72,6 +79,7 @@ pub fn run(cli: Cli) -> ExitCode {
         Command::Batch(args) => batch::run(args),
         Command::Render(args) => render::run(args),
         Command::Repair(args) => repair::run(args),
+        Command::Test(args) => test::run(args),
         Command::Validate(args) => validate::run(args),
     }
 }
