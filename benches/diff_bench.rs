@@ -119,7 +119,8 @@ fn main() {
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).expect("scratch folder");
     let examples = build_examples(&dir);
-    let bytes: usize = examples.iter().map(|(h, r)| h.len() + r.len()).sum::<usize>() / examples.len();
+    let bytes: usize =
+        examples.iter().map(|(h, r)| h.len() + r.len()).sum::<usize>() / examples.len();
     let cores = std::thread::available_parallelism().map_or(1, usize::from);
     let kb =
         |m: Option<u64>| m.map_or("n/a".to_string(), |m| format!("{:.1} MB", m as f64 / 1024.0));

@@ -64,8 +64,11 @@ fn run(name: &str, a: &(Value, Value), b: &(Value, Value), args: &[&str]) -> (i3
     for (side, (house, report)) in [("a", a), ("b", b)] {
         std::fs::create_dir_all(dir.join(side)).expect("folder");
         let write = |file: &str, v: &Value| {
-            std::fs::write(dir.join(side).join(file), serde_json::to_string_pretty(v).expect("JSON"))
-                .expect("written");
+            std::fs::write(
+                dir.join(side).join(file),
+                serde_json::to_string_pretty(v).expect("JSON"),
+            )
+            .expect("written");
         };
         write("study.house.json", house);
         write("study.report.json", report);
@@ -329,8 +332,11 @@ fn two_batch_folders_pair_by_job() {
     assert_eq!(code, Some(1));
     assert!(stat.starts_with("study: "), "{stat}");
     assert!(stat.contains("asset changed"), "{stat}");
-    assert!(stat.ends_with("1 of 2 houses differ: 1 changed (1 object moved, 1 asset changed)\n")
-        || stat.contains("1 of 2 houses differ: 1 changed ("), "{stat}");
+    assert!(
+        stat.ends_with("1 of 2 houses differ: 1 changed (1 object moved, 1 asset changed)\n")
+            || stat.contains("1 of 2 houses differ: 1 changed ("),
+        "{stat}"
+    );
     let (code, full) = diff(&[]);
     assert_eq!(code, Some(1));
     assert!(full.contains("== study\nstudy:\n"), "{full}");
@@ -345,6 +351,9 @@ fn two_batch_folders_pair_by_job() {
     assert_eq!(code, Some(0), "without objects the two runs are the same");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// An edit of a house's JSON.
+type Edit = Box<dyn Fn(&mut Value)>;
 
 fn view(text: &str) -> HouseView {
     HouseView::read(&serde_json::from_str(text).expect("JSON")).expect("a house")
@@ -363,8 +372,10 @@ fn a_house_is_the_same_as_itself() {
     examples.sort();
     for path in examples {
         let mut sources = holoc::source::SourceMap::new();
-        let id = sources.add(path.display().to_string(), std::fs::read_to_string(&path).expect("read"));
-        let built = holoc::compile::build(&sources, id, &holoc::compile::BuildOptions::new(&catalog));
+        let id =
+            sources.add(path.display().to_string(), std::fs::read_to_string(&path).expect("read"));
+        let built =
+            holoc::compile::build(&sources, id, &holoc::compile::BuildOptions::new(&catalog));
         let product = built.value.expect("the examples build");
         let mut h = view(&product.house.to_json_string());
         h.add_report(&holoc::report::report(&product, &catalog)).expect("a report");
@@ -372,7 +383,9 @@ fn a_house_is_the_same_as_itself() {
         assert!(d.is_empty(), "{}: {}", path.display(), d.render());
         seen += 1;
     }
-    if let Some(dir) = common::shared("data/real-scenes", "a_house_is_the_same_as_itself (real scenes)") {
+    if let Some(dir) =
+        common::shared("data/real-scenes", "a_house_is_the_same_as_itself (real scenes)")
+    {
         for entry in std::fs::read_dir(dir).expect("folder").flatten() {
             if entry.path().extension().is_none_or(|e| e != "json") {
                 continue;
@@ -392,7 +405,7 @@ fn a_house_is_the_same_as_itself() {
 #[test]
 fn the_diff_the_other_way_is_the_mirror_image() {
     let (house, report) = base();
-    let edits: Vec<Box<dyn Fn(&mut Value)>> = vec![
+    let edits: Vec<Edit> = vec![
         Box::new(|h| bump(&mut object(h, "desk-0 (study)")["position"]["x"], 0.3)),
         Box::new(|h| bump(&mut object(h, "desk-0 (study)")["rotation"]["y"], 90.0)),
         Box::new(|h| object(h, "chair-0 (study)")["assetId"] = json!("ArmChair_1")),
@@ -434,7 +447,10 @@ fn the_diff_the_other_way_is_the_mirror_image() {
     let mut b = HouseView::read(&all).expect("a house");
     b.add_report(&reports).expect("a report");
     cases.push((a.clone(), b));
-    if let Some(dir) = common::shared("data/real-scenes", "the_diff_the_other_way_is_the_mirror_image (real scenes)") {
+    if let Some(dir) = common::shared(
+        "data/real-scenes",
+        "the_diff_the_other_way_is_the_mirror_image (real scenes)",
+    ) {
         let mut houses: Vec<HouseView> = std::fs::read_dir(dir)
             .expect("folder")
             .flatten()
@@ -450,8 +466,10 @@ fn the_diff_the_other_way_is_the_mirror_image() {
         let forth = diff::diff(x, y, &Options::default());
         let back = diff::diff(y, x, &Options::default());
         assert!(!forth.is_empty());
-        let mut mirrored = diff::Diff { changes: forth.changes.iter().map(diff::Change::mirror).collect() };
-        let key = |c: &diff::Change| (c.kind, c.room.clone(), c.subject.clone(), c.relation.clone());
+        let mut mirrored =
+            diff::Diff { changes: forth.changes.iter().map(diff::Change::mirror).collect() };
+        let key =
+            |c: &diff::Change| (c.kind, c.room.clone(), c.subject.clone(), c.relation.clone());
         mirrored.changes.sort_by_key(key);
         let mut back_sorted = back.clone();
         back_sorted.changes.sort_by_key(key);

@@ -46,9 +46,8 @@ fn four_scenes(name: &str) -> PathBuf {
     build(&dir, "scenes/pass.holo", "scenes/pass.house.json", None);
     std::fs::write(dir.join("scenes/fail.holo"), &s).expect("written");
     build(&dir, "scenes/fail.holo", "scenes/fail.house.json", Some("scenes/fail.report.json"));
-    let moved = s
-        .replace("at 4 m, 0.12 m", "at 4.5 m, 0.12 m")
-        .replace("at 5 m, 2.1 m", "at 4 m, 1.2 m");
+    let moved =
+        s.replace("at 4 m, 0.12 m", "at 4.5 m, 0.12 m").replace("at 5 m, 2.1 m", "at 4 m, 1.2 m");
     assert_ne!(moved, s);
     std::fs::write(dir.join("scenes/fail.holo"), moved).expect("written");
     std::fs::write(dir.join("scenes/new.holo"), &s).expect("written");
@@ -77,7 +76,9 @@ fn snapshot(name: &str, args: &[&str], status: i32, stdout: &str) {
 fn pass_fail_new_invalid_then_bless_then_clean() {
     let dir = four_scenes("cycle");
     let pass_before = std::fs::read(dir.join("scenes/pass.house.json")).expect("golden");
-    let pass_time = std::fs::metadata(dir.join("scenes/pass.house.json")).and_then(|m| m.modified()).expect("a time");
+    let pass_time = std::fs::metadata(dir.join("scenes/pass.house.json"))
+        .and_then(|m| m.modified())
+        .expect("a time");
 
     let (status, stdout, stderr) = run(&dir, &["scenes"]);
     snapshot("first_run", &["scenes"], status, &stdout);
@@ -98,7 +99,9 @@ fn pass_fail_new_invalid_then_bless_then_clean() {
     assert!(dir.join("scenes/fail.report.json").is_file());
     // Only the goldens that changed are written.
     assert_eq!(std::fs::read(dir.join("scenes/pass.house.json")).expect("golden"), pass_before);
-    let pass_after = std::fs::metadata(dir.join("scenes/pass.house.json")).and_then(|m| m.modified()).expect("a time");
+    let pass_after = std::fs::metadata(dir.join("scenes/pass.house.json"))
+        .and_then(|m| m.modified())
+        .expect("a time");
     assert_eq!(pass_time, pass_after, "a passing golden is not rewritten");
     // No temporary file is left behind.
     let leftovers: Vec<_> = std::fs::read_dir(dir.join("scenes"))
@@ -124,8 +127,16 @@ fn the_json_report_and_the_same_results_with_any_number_of_jobs() {
     assert_eq!(status, 1);
     assert_eq!(one, two);
     let v: serde_json::Value = serde_json::from_str(&one).expect("one JSON document");
-    assert_eq!((v["passed"].as_u64(), v["failed"].as_u64(), v["new"].as_u64(), v["invalid"].as_u64()), (Some(1), Some(1), Some(1), Some(1)));
-    let fail = v["tests"].as_array().expect("tests").iter().find(|t| t["scene"] == "scenes/fail.holo").expect("fail");
+    assert_eq!(
+        (v["passed"].as_u64(), v["failed"].as_u64(), v["new"].as_u64(), v["invalid"].as_u64()),
+        (Some(1), Some(1), Some(1), Some(1))
+    );
+    let fail = v["tests"]
+        .as_array()
+        .expect("tests")
+        .iter()
+        .find(|t| t["scene"] == "scenes/fail.holo")
+        .expect("fail");
     assert_eq!(fail["status"], "failed");
     assert!(fail["changes"].as_array().is_some_and(|c| !c.is_empty()));
     let _ = std::fs::remove_dir_all(&dir);
@@ -136,12 +147,19 @@ fn the_junit_report_follows_the_junit_schema() {
     let dir = four_scenes("junit");
     let (status, xml, _) = run(&dir, &["scenes", "--format", "junit"]);
     assert_eq!(status, 1);
-    assert!(xml.contains("<testsuite name=\"holoc test\" tests=\"4\" failures=\"2\" errors=\"1\""), "{xml}");
-    assert!(xml.contains("<testcase name=\"scenes/pass.holo\" classname=\"holoc.scenes\"/>"), "{xml}");
+    assert!(
+        xml.contains("<testsuite name=\"holoc test\" tests=\"4\" failures=\"2\" errors=\"1\""),
+        "{xml}"
+    );
+    assert!(
+        xml.contains("<testcase name=\"scenes/pass.holo\" classname=\"holoc.scenes\"/>"),
+        "{xml}"
+    );
     let report = dir.join("report.xml");
     std::fs::write(&report, &xml).expect("written");
     let schema = std::fs::canonicalize("tests/junit/junit-10.xsd").expect("the schema");
-    match Command::new("xmllint").arg("--noout").arg("--schema").arg(&schema).arg(&report).output() {
+    match Command::new("xmllint").arg("--noout").arg("--schema").arg(&schema).arg(&report).output()
+    {
         Ok(out) => assert!(
             out.status.success(),
             "xmllint rejects the report:\n{}\n{xml}",
@@ -159,14 +177,18 @@ fn the_junit_report_follows_the_junit_schema() {
 fn review_takes_its_answers_from_a_file() {
     let dir = four_scenes("review");
     // Shown in order: fail, invalid, new (the scenes sorted by path; `pass` passes).
-    std::fs::write(dir.join("answers.txt"), "# fail\ny\n# invalid\nn\n# new\ny\n").expect("written");
+    std::fs::write(dir.join("answers.txt"), "# fail\ny\n# invalid\nn\n# new\ny\n")
+        .expect("written");
     let (status, stdout, stderr) = run(&dir, &["scenes", "--review", "--answers", "answers.txt"]);
     assert_eq!(status, 1, "the invalid golden stays: {stdout}");
     assert!(stderr.contains("---- scenes/fail.holo ----"), "{stderr}");
     assert!(stdout.contains("test scenes/fail.holo ... blessed"), "{stdout}");
     assert!(stdout.contains("test scenes/invalid.holo ... invalid golden"), "{stdout}");
     assert!(stdout.contains("test scenes/new.holo ... blessed"), "{stdout}");
-    assert_eq!(std::fs::read_to_string(dir.join("scenes/invalid.house.json")).expect("kept"), "{\"rooms\": 3}\n");
+    assert_eq!(
+        std::fs::read_to_string(dir.join("scenes/invalid.house.json")).expect("kept"),
+        "{\"rooms\": 3}\n"
+    );
     let (status, _, _) = run(&dir, &["scenes/fail.holo", "scenes/new.holo", "scenes/pass.holo"]);
     assert_eq!(status, 0);
     let _ = std::fs::remove_dir_all(&dir);

@@ -12,6 +12,7 @@ use crate::resolve::Catalog;
 use crate::source::SourceMap;
 use clap::ValueEnum;
 use std::collections::BTreeMap;
+use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -92,7 +93,8 @@ pub(crate) fn build_scene(
 ) -> Result<BuiltScene, Vec<Diagnostic>> {
     let file = common::read_source(sources, path).map_err(|d| vec![d])?;
     let built = crate::compile::build(sources, file, &BuildOptions::new(catalog));
-    let errors: Vec<Diagnostic> = built.diagnostics.into_iter().filter(Diagnostic::is_error).collect();
+    let errors: Vec<Diagnostic> =
+        built.diagnostics.into_iter().filter(Diagnostic::is_error).collect();
     let Some(product) = built.value.filter(|_| errors.is_empty()) else {
         return Err(errors);
     };
@@ -100,8 +102,9 @@ pub(crate) fn build_scene(
     let report = crate::report::report(&product, catalog);
     let mut report_json = serde_json::to_string_pretty(&report).unwrap_or_default();
     report_json.push('\n');
-    let value: serde_json::Value = serde_json::from_str(&house_json)
-        .map_err(|e| vec![Diagnostic::new(Code::E0002, format!("the built house is not JSON: {e}"))])?;
+    let value: serde_json::Value = serde_json::from_str(&house_json).map_err(|e| {
+        vec![Diagnostic::new(Code::E0002, format!("the built house is not JSON: {e}"))]
+    })?;
     let mut view = HouseView::read(&value).map_err(|e| vec![Diagnostic::new(Code::E0002, e)])?;
     view.add_report(&report).map_err(|e| vec![Diagnostic::new(Code::E0002, e)])?;
     Ok(BuiltScene { house_json, report_json, view })
@@ -123,7 +126,9 @@ pub fn run(args: &DiffArgs) -> ExitCode {
     }
     if a_dir {
         if !args.report.is_empty() {
-            return usage("`--report` is for two houses; the houses of a folder bring their own reports");
+            return usage(
+                "`--report` is for two houses; the houses of a folder bring their own reports",
+            );
         }
         return run_folders(args, &options);
     }
@@ -254,7 +259,10 @@ fn run_folders(args: &DiffArgs, options: &Options) -> ExitCode {
                 if paired.outcome != folder::Outcome::Same || !args.stat {
                     let sep = if first { "\n    " } else { ",\n    " };
                     first = false;
-                    common::out(&format!("{sep}{}", serde_json::to_string(&entry).unwrap_or_default()));
+                    common::out(&format!(
+                        "{sep}{}",
+                        serde_json::to_string(&entry).unwrap_or_default()
+                    ));
                 }
                 return;
             }
@@ -372,7 +380,7 @@ impl Tally {
             parts.join(", ")
         );
         if !self.kinds.is_empty() {
-            line.push_str(&format!(" ({})", diff::summary_of(&self.kinds)));
+            let _ = write!(line, " ({})", diff::summary_of(&self.kinds));
         }
         line
     }

@@ -19,6 +19,7 @@ use crate::resolve::Catalog;
 use crate::source::SourceMap;
 use clap::ValueEnum;
 use rayon::prelude::*;
+use std::fmt::Write as _;
 use std::io::BufRead as _;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -105,6 +106,10 @@ struct TestConfig {
 }
 
 /// The `holoc.toml` of the current folder or the nearest folder above it, with its folder.
+#[allow(
+    clippy::result_large_err,
+    reason = "the error is printed at once; it is rare and never propagated far"
+)]
 fn read_config() -> Result<Option<(PathBuf, Config)>, Diagnostic> {
     let cwd = std::env::current_dir().unwrap_or_else(|_| PathBuf::from("."));
     let Some(path) = cwd.ancestors().map(|d| d.join("holoc.toml")).find(|p| p.is_file()) else {
@@ -226,24 +231,28 @@ fn run_case(case: Case, base: &SourceMap, catalog: &Catalog, options: &Options) 
         return TestResult { case, status: Status::New, built: Some(built), blessed: false };
     }
     let mut golden_sources = base.clone();
-    let invalid = |sources: SourceMap, d: Vec<Diagnostic>, case: Case, built: BuiltScene| TestResult {
-        case,
-        status: Status::Invalid(sources, d),
-        built: Some(built),
-        blessed: false,
+    let invalid = |sources: SourceMap, d: Vec<Diagnostic>, case: Case, built: BuiltScene| {
+        TestResult { case, status: Status::Invalid(sources, d), built: Some(built), blessed: false }
     };
     let file = match common::read_source(&mut golden_sources, &case.golden) {
         Ok(f) => f,
         Err(d) => return invalid(golden_sources, vec![d], case, built),
     };
-    let checked =
-        crate::lower::validate::validate(&golden_sources, file, StructureCatalog::builtin(), catalog);
+    let checked = crate::lower::validate::validate(
+        &golden_sources,
+        file,
+        StructureCatalog::builtin(),
+        catalog,
+    );
     let errors: Vec<Diagnostic> =
         checked.diagnostics.into_iter().filter(Diagnostic::is_error).collect();
     if !errors.is_empty() {
         return invalid(golden_sources, errors, case, built);
     }
-    let golden = match diff::folder::load(&case.golden, Some(&case.report).filter(|r| r.is_file()).map(PathBuf::as_path)) {
+    let golden = match diff::folder::load(
+        &case.golden,
+        Some(&case.report).filter(|r| r.is_file()).map(PathBuf::as_path),
+    ) {
         Ok(g) => g,
         Err(d) => return invalid(golden_sources, vec![d], case, built),
     };
@@ -253,6 +262,10 @@ fn run_case(case: Case, base: &SourceMap, catalog: &Catalog, options: &Options) 
 }
 
 /// Writes a scene's goldens: the house, and the report when it has one or `reports` asks.
+#[allow(
+    clippy::result_large_err,
+    reason = "the error is printed at once; it is rare and never propagated far"
+)]
 fn bless(result: &mut TestResult, reports: bool) -> Result<(), Diagnostic> {
     let Some(built) = &result.built else { return Ok(()) };
     let has_report = result.case.report.is_file();
@@ -315,7 +328,10 @@ pub fn run(args: &TestArgs) -> ExitCode {
             ));
         }
     }
-    let scenes: Vec<PathBuf> = scenes.into_iter().map(|p| p.strip_prefix("./").map_or(p.clone(), Path::to_path_buf)).collect();
+    let scenes: Vec<PathBuf> = scenes
+        .into_iter()
+        .map(|p| p.strip_prefix("./").map_or(p.clone(), Path::to_path_buf))
+        .collect();
     let mut base = SourceMap::new();
     let mut catalog_paths: Vec<PathBuf> = config.catalogs.iter().map(|c| root.join(c)).collect();
     catalog_paths.extend(args.catalogs.catalogs.iter().cloned());
@@ -386,7 +402,9 @@ fn review(results: &mut [TestResult], args: &TestArgs) -> Result<(), ExitCode> {
                 )))
             }
         },
-        None => Box::new(std::io::stdin().lock().lines().map_while(Result::ok).collect::<Vec<_>>().into_iter()),
+        None => Box::new(
+            std::io::stdin().lock().lines().map_while(Result::ok).collect::<Vec<_>>().into_iter(),
+        ),
     };
     let interactive = args.answers.is_none();
     let mut all = false;
@@ -487,7 +505,7 @@ fn human(results: &[TestResult], tolerance: Tolerance) -> String {
     let n = results.len();
     let mut out = format!("\nrunning {n} scene test{}\n", if n == 1 { "" } else { "s" });
     for r in results {
-        out.push_str(&format!("test {} ... {}\n", r.case.scene.display(), word(r)));
+        let _ = writeln!(out, "test {} ... {}", r.case.scene.display(), word(r));
     }
     let failing: Vec<&TestResult> =
         results.iter().filter(|r| !matches!(r.status, Status::Ok) && !r.blessed).collect();
@@ -500,32 +518,36 @@ fn human(results: &[TestResult], tolerance: Tolerance) -> String {
                 Status::New => "new".to_string(),
                 _ => "the invalid golden replaced".to_string(),
             };
-            out.push_str(&format!("    {} ({what})\n", r.case.golden.display()));
+            let _ = writeln!(out, "    {} ({what})", r.case.golden.display());
         }
     }
     if !failing.is_empty() {
         out.push_str("\nfailures:\n");
         for r in &failing {
-            out.push_str(&format!("\n---- {} ----\n{}", r.case.scene.display(), details(r, tolerance)));
+            let _ =
+                write!(out, "\n---- {} ----\n{}", r.case.scene.display(), details(r, tolerance));
         }
         out.push_str("\nfailures:\n");
         for r in &failing {
-            out.push_str(&format!("    {}\n", r.case.scene.display()));
+            let _ = writeln!(out, "    {}", r.case.scene.display());
         }
     }
     let [passed, failed, new, invalid, broken, blessed_n] = counts(results);
     let verdict = if failing.is_empty() { "ok" } else { "FAILED" };
     let mut line = format!("\ntest result: {verdict}. {passed} passed; {failed} failed; {new} new");
     if invalid > 0 {
-        line.push_str(&format!("; {invalid} invalid"));
+        let _ = write!(line, "; {invalid} invalid");
     }
     if broken > 0 {
-        line.push_str(&format!("; {broken} did not build"));
+        let _ = write!(line, "; {broken} did not build");
     }
     if blessed_n > 0 {
-        line.push_str(&format!("; {blessed_n} blessed"));
+        let _ = write!(line, "; {blessed_n} blessed");
     }
-    if !failing.is_empty() && blessed_n == 0 && failing.iter().any(|r| !matches!(r.status, Status::Broken(..))) {
+    if !failing.is_empty()
+        && blessed_n == 0
+        && failing.iter().any(|r| !matches!(r.status, Status::Broken(..)))
+    {
         line.push_str("\n(`holoc test --bless` accepts the new houses, `--review` asks for each)");
     }
     out.push_str(&line);
@@ -563,13 +585,18 @@ fn junit(results: &[TestResult], tolerance: Tolerance) -> String {
         "name=\"holoc test\" tests=\"{}\" failures=\"{failures}\" errors=\"{errors}\"",
         results.len()
     );
-    out.push_str(&format!("<testsuites {head}>\n"));
-    out.push_str(&format!("  <testsuite {head} skipped=\"0\">\n"));
+    let _ = writeln!(out, "<testsuites {head}>");
+    let _ = writeln!(out, "  <testsuite {head} skipped=\"0\">");
     for r in results {
         let name = xml(&r.case.scene.display().to_string());
         let class = xml(&format!(
             "holoc.{}",
-            r.case.scene.parent().map(|p| p.display().to_string()).filter(|p| !p.is_empty()).unwrap_or_else(|| ".".into())
+            r.case
+                .scene
+                .parent()
+                .map(|p| p.display().to_string())
+                .filter(|p| !p.is_empty())
+                .unwrap_or_else(|| ".".into())
         ));
         let open = format!("    <testcase name=\"{name}\" classname=\"{class}\"");
         let body = |tag: &str, kind: &str, message: &str| {
@@ -579,13 +606,16 @@ fn junit(results: &[TestResult], tolerance: Tolerance) -> String {
                 xml(&details(r, tolerance))
             )
         };
-        out.push_str(&match (&r.status, r.blessed) {
+        let case = match (&r.status, r.blessed) {
             (Status::Ok, _) | (_, true) => format!("{open}/>\n"),
             (Status::Failed(d), _) => body("failure", "changed", &d.summary()),
             (Status::New, _) => body("failure", "new", "no golden"),
-            (Status::Invalid(..), _) => body("error", "invalid-golden", "the golden is not a valid house"),
+            (Status::Invalid(..), _) => {
+                body("error", "invalid-golden", "the golden is not a valid house")
+            }
             (Status::Broken(..), _) => body("error", "build", "the scene does not build"),
-        });
+        };
+        out.push_str(&case);
     }
     out.push_str("  </testsuite>\n</testsuites>\n");
     out
@@ -635,4 +665,3 @@ fn json(results: &[TestResult]) -> String {
     text.push('\n');
     text
 }
-

@@ -26,6 +26,10 @@ pub struct Entry {
 /// The largest house or report the diff reads, bytes (as every input of holoc).
 const MAX_BYTES: u64 = 32 * 1024 * 1024;
 
+#[allow(
+    clippy::result_large_err,
+    reason = "the error is printed at once; it is rare and never propagated far"
+)]
 fn read_json(path: &Path, what: &str) -> Result<serde_json::Value, Diagnostic> {
     use std::io::Read as _;
     let io = |e: &dyn std::fmt::Display| {
@@ -110,8 +114,7 @@ pub fn entries(folder: &Path) -> std::io::Result<Vec<Entry>> {
                 continue;
             }
             let key = stem.strip_suffix(".house").unwrap_or(stem).to_string();
-            let report =
-                Some(folder.join(format!("{key}.report.json"))).filter(|p| p.is_file());
+            let report = Some(folder.join(format!("{key}.report.json"))).filter(|p| p.is_file());
             out.push(Entry { key, house: path, report });
         }
     }
@@ -158,6 +161,10 @@ pub struct Paired {
 /// Pairs two folders' houses by name and compares each pair, calling `each` in name order.
 /// Pairs are compared `chunk` at a time on the current rayon pool; only one chunk of houses
 /// is in memory at once.
+#[allow(
+    clippy::result_large_err,
+    reason = "the error is printed at once; it is rare and never propagated far"
+)]
 pub fn compare(
     a: &[Entry],
     b: &[Entry],
@@ -195,9 +202,8 @@ pub fn compare(
             .map(|(key, x, y)| {
                 let outcome = match (x, y) {
                     (Some(x), Some(y)) => {
-                        let both = load(&x.house, x.report.as_deref()).and_then(|hx| {
-                            load(&y.house, y.report.as_deref()).map(|hy| (hx, hy))
-                        });
+                        let both = load(&x.house, x.report.as_deref())
+                            .and_then(|hx| load(&y.house, y.report.as_deref()).map(|hy| (hx, hy)));
                         match both {
                             Ok((hx, hy)) => {
                                 let d = diff(&hx, &hy, options);

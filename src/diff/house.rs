@@ -194,7 +194,10 @@ impl HouseView {
             .map(|r| RoomView {
                 id: text(r, "id"),
                 room_type: text(r, "roomType"),
-                outline: list(r, "floorPolygon").iter().map(|p| [num(p, "x"), num(p, "z")]).collect(),
+                outline: list(r, "floorPolygon")
+                    .iter()
+                    .map(|p| [num(p, "x"), num(p, "z")])
+                    .collect(),
                 floor_material: material(r.get("floorMaterial")),
                 wall_material: material(r.get("wallMaterial")),
             })
@@ -246,7 +249,9 @@ impl HouseView {
                 rotation_deg: o.get("rotation").map_or(0.0, |r| num(r, "y")),
                 parent,
             });
-            pending.extend(list(o, "children").iter().rev().map(|c| (c, Some(id.clone()), room.clone())));
+            pending.extend(
+                list(o, "children").iter().rev().map(|c| (c, Some(id.clone()), room.clone())),
+            );
         }
         let params = house.get("proceduralParameters").cloned().unwrap_or(Value::Null);
         let lights = list(&params, "lights")
@@ -279,16 +284,7 @@ impl HouseView {
         field("room spec", text(&meta, "roomSpecId"));
         field("skybox", text(&params, "skyboxId"));
         field("ceiling material", material(params.get("ceilingMaterial")));
-        Ok(HouseView {
-            rooms,
-            doors,
-            windows,
-            objects,
-            lights,
-            agent,
-            metadata,
-            relations: None,
-        })
+        Ok(HouseView { rooms, doors, windows, objects, lights, agent, metadata, relations: None })
     }
 
     /// Adds the relations, request and seed of a build report (`holoc build --report`).

@@ -22,6 +22,7 @@ pub use house::HouseView;
 use house::{asset_type, HoleView, ObjectView};
 use serde::Serialize;
 use std::collections::{BTreeMap, HashMap};
+use std::fmt::Write as _;
 
 /// How far two values may differ and still count as the same.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -44,10 +45,13 @@ impl Tolerance {
     pub fn parse(text: &str) -> Result<Tolerance, String> {
         let mut t = Tolerance::default();
         for part in text.split(',').map(str::trim).filter(|p| !p.is_empty()) {
-            let split = part.find(|c: char| !(c.is_ascii_digit() || c == '.')).unwrap_or(part.len());
+            let split =
+                part.find(|c: char| !(c.is_ascii_digit() || c == '.')).unwrap_or(part.len());
             let (number, unit) = part.split_at(split);
             let value: f64 = number.parse().map_err(|_| {
-                format!("`{part}` is not a tolerance: write a number and a unit, e.g. `1cm` or `1deg`")
+                format!(
+                    "`{part}` is not a tolerance: write a number and a unit, e.g. `1cm` or `1deg`"
+                )
             })?;
             match unit.trim() {
                 "mm" => t.metres = value / 1000.0,
@@ -171,6 +175,7 @@ pub enum Kind {
 
 impl Kind {
     /// The change seen from the other side (`diff(b, a)`).
+    #[must_use]
     pub fn mirror(self) -> Kind {
         match self {
             Kind::RoomAdded => Kind::RoomRemoved,
@@ -278,6 +283,7 @@ impl Change {
 
     /// The same change seen from the other side: added and removed swap, as do before and
     /// after, the two rooms and the two ids; a turn changes sign.
+    #[must_use]
     pub fn mirror(&self) -> Change {
         let mut m = self.clone();
         m.kind = self.kind.mirror();
@@ -337,22 +343,23 @@ impl Change {
             Kind::RoomRemoved => format!("room {s} removed ({b})"),
             Kind::RoomReshaped => format!("outline of {s} changed: {b} → {a}"),
             Kind::RoomTypeChanged => format!("type of {s}: {b} → {a}"),
-            Kind::DoorAdded | Kind::WindowAdded => format!("{s} added ({a})"),
-            Kind::DoorRemoved | Kind::WindowRemoved => format!("{s} removed ({b})"),
+            Kind::DoorAdded | Kind::WindowAdded | Kind::ObjectAdded => format!("{s} added ({a})"),
+            Kind::DoorRemoved | Kind::WindowRemoved | Kind::ObjectRemoved => {
+                format!("{s} removed ({b})")
+            }
             Kind::DoorMoved | Kind::WindowMoved => {
                 if b == a {
-                    format!("{s}{was} moved {} along its wall", metres(self.distance_m.unwrap_or(0.0)))
+                    format!(
+                        "{s}{was} moved {} along its wall",
+                        metres(self.distance_m.unwrap_or(0.0))
+                    )
                 } else {
                     format!("{s}{was} moved from wall {b} to wall {a}")
                 }
             }
-            Kind::ObjectAdded => format!("{s} added ({a})"),
-            Kind::ObjectRemoved => format!("{s} removed ({b})"),
-            Kind::TypeChanged => format!(
-                "{s}{was} type {} → {} (asset {b} → {a})",
-                asset_type(b),
-                asset_type(a)
-            ),
+            Kind::TypeChanged => {
+                format!("{s}{was} type {} → {} (asset {b} → {a})", asset_type(b), asset_type(a))
+            }
             Kind::ReceptacleChanged => format!("{s}{was} stands on {a} (was on {b})"),
             Kind::ObjectMoved | Kind::AgentMoved => {
                 let what = if self.kind == Kind::AgentMoved { "agent start" } else { s.as_str() };
@@ -456,7 +463,7 @@ impl Diff {
                 out.push_str(":\n");
                 current = Some(c.room.as_str());
             }
-            out.push_str(&format!("  {} {}\n", c.sigil(), c.text()));
+            let _ = writeln!(out, "  {} {}", c.sigil(), c.text());
         }
         out
     }
@@ -611,7 +618,8 @@ pub fn diff(a: &HouseView, b: &HouseView, options: &Options) -> Diff {
             for r in rb {
                 if let Some(&was) = before.get(&(r.object.as_str(), r.constraint.as_str())) {
                     if was != r.kept {
-                        let kind = if r.kept { Kind::RelationRestored } else { Kind::RelationBroken };
+                        let kind =
+                            if r.kept { Kind::RelationRestored } else { Kind::RelationBroken };
                         let mut c = Change::new(kind, &r.room, &r.object);
                         c.relation = Some(r.constraint.clone());
                         out.push(c);
@@ -624,7 +632,9 @@ pub fn diff(a: &HouseView, b: &HouseView, options: &Options) -> Diff {
         if let (Some(pa), Some(pb)) = (a.agent, b.agent) {
             let d = dist(pa.position, pb.position);
             let t = turn(pa.rotation_deg, pb.rotation_deg);
-            if d > tol.metres || t.abs() > tol.degrees || (pa.horizon - pb.horizon).abs() > tol.degrees
+            if d > tol.metres
+                || t.abs() > tol.degrees
+                || (pa.horizon - pb.horizon).abs() > tol.degrees
             {
                 let mut c = Change::new(Kind::AgentMoved, "", "agent")
                     .values(pos_text(pa.position), pos_text(pb.position));
@@ -827,7 +837,10 @@ fn objects(a: &HouseView, b: &HouseView, options: &Options, out: &mut Vec<Change
         if x.asset != y.asset && !options.ignores(Group::Assets) {
             // An id without `_` (an Objaverse hash) names no type: only its asset changed.
             let typed = |a: &str| a.contains('_');
-            let kind = if !typed(&x.asset) || !typed(&y.asset) || asset_type(&x.asset) == asset_type(&y.asset) {
+            let kind = if !typed(&x.asset)
+                || !typed(&y.asset)
+                || asset_type(&x.asset) == asset_type(&y.asset)
+            {
                 Kind::AssetChanged
             } else {
                 Kind::TypeChanged
@@ -858,7 +871,9 @@ fn lights(a: &HouseView, b: &HouseView, tol: Tolerance, out: &mut Vec<Change>) {
             dy.push(rgb(y.rgb));
         }
         if x.range.unwrap_or(0.0) != y.range.unwrap_or(0.0) {
-            let range = |r: Option<f64>| r.map_or_else(|| "no range".to_string(), |r| format!("range {}", trim(r)));
+            let range = |r: Option<f64>| {
+                r.map_or_else(|| "no range".to_string(), |r| format!("range {}", trim(r)))
+            };
             dx.push(range(x.range));
             dy.push(range(y.range));
         }
