@@ -8,6 +8,7 @@ pub mod batch;
 pub mod build;
 pub mod check;
 pub mod common;
+pub mod diff;
 pub mod explain;
 pub mod export;
 pub mod fmt;
@@ -16,6 +17,7 @@ pub mod import;
 pub mod lsp;
 pub mod render;
 pub mod repair;
+pub mod test;
 pub mod validate;
 pub mod view;
 
@@ -42,6 +44,8 @@ pub enum Command {
     Check(check::CheckArgs),
     /// Print `.holo` files in canonical form.
     Fmt(fmt::FmtArgs),
+    /// Show what changed between two houses, scenes or folders of houses.
+    Diff(diff::DiffArgs),
     /// Explain a diagnostic code.
     Explain(explain::ExplainArgs),
     /// Ask a language model the paper's questions and write the scene.
@@ -56,6 +60,8 @@ pub enum Command {
     Render(render::RenderArgs),
     /// Move room corners, as little as possible, so that the floor plan builds.
     Repair(repair::RepairArgs),
+    /// Build scenes and compare them with their golden houses.
+    Test(test::TestArgs),
     /// Check house JSON files against the schema and the geometric rules.
     Validate(validate::ValidateArgs),
     /// Write a house as glTF 2.0 binary (`.glb`) to open in Blender or a 3D viewer.
@@ -71,6 +77,7 @@ pub fn run(cli: Cli) -> ExitCode {
         Command::Build(args) => build::run(args),
         Command::Check(args) => check::run(args),
         Command::Fmt(args) => fmt::run(args),
+        Command::Diff(args) => diff::run(args),
         Command::Explain(args) => explain::run(args),
         Command::Generate(args) => generate::run(args),
         Command::Import(args) => import::run(args),
@@ -78,6 +85,7 @@ pub fn run(cli: Cli) -> ExitCode {
         Command::Batch(args) => batch::run(args),
         Command::Render(args) => render::run(args),
         Command::Repair(args) => repair::run(args),
+        Command::Test(args) => test::run(args),
         Command::Validate(args) => validate::run(args),
         Command::Export(args) => export::run(args),
         Command::View(args) => view::run(args),

@@ -605,6 +605,9 @@ fn read_config(path: &Path) -> Result<Vec<PathBuf>, String> {
     struct Config {
         #[serde(default)]
         catalogs: Vec<PathBuf>,
+        /// The `[test]` table of `holoc test`, not the language server's.
+        #[serde(default, rename = "test")]
+        _test: Option<toml::Value>,
     }
     let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
     let config: Config = toml::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;

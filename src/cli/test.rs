@@ -1,0 +1,667 @@
+//! `holoc test [PATHS…]`: golden-file tests of scenes. Each `.holo` scene is built with its
+//! seed and compared, through the same semantic diff as `holoc diff`, with its golden house
+//! (`NAME.house.json` beside it, or under the golden folder that the `[test]` table of
+//! `holoc.toml` names) and, when there is one, its golden report (`NAME.report.json`, for the
+//! relations). Prints like `cargo test`; `--bless` writes the goldens of the failing and new
+//! scenes (atomically, only those), `--review` asks for each one; `--format junit` writes a
+//! JUnit XML report for CI.
+//!
+//! Exit status: 0 every scene matches its golden (or was blessed), 1 a scene differs, has no
+//! golden, has a golden that is not a valid house, or does not build, 2 bad usage or I/O.
+
+use super::common::{self, ColorChoice};
+use super::diff::{build_scene, BuiltScene};
+use crate::diag::format::HumanOptions;
+use crate::diag::{Code, Diagnostic};
+use crate::diff::{self, Diff, Group, Options, Tolerance};
+use crate::resolve::structure::StructureCatalog;
+use crate::resolve::Catalog;
+use crate::source::SourceMap;
+use clap::ValueEnum;
+use rayon::prelude::*;
+use std::fmt::Write as _;
+use std::io::BufRead as _;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+/// How `holoc test` prints its results.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
+pub enum TestFormat {
+    /// Like `cargo test`: a line per scene, the failures, a summary line.
+    #[default]
+    Human,
+    /// A JUnit XML report (what GitLab, Jenkins and GitHub test reporters read).
+    Junit,
+    /// One JSON document for tools.
+    Json,
+}
+
+/// Arguments of `holoc test`.
+#[derive(Debug, clap::Args)]
+pub struct TestArgs {
+    /// Scenes, or folders searched for `.holo` scenes (default: the `scenes` of the `[test]`
+    /// table of `holoc.toml`, else the current folder).
+    pub paths: Vec<PathBuf>,
+    /// Write the goldens of the failing and new scenes (atomically, only those).
+    #[arg(long, conflicts_with = "review")]
+    pub bless: bool,
+    /// Show each difference and ask whether to accept it as the new golden.
+    #[arg(long)]
+    pub review: bool,
+    /// With `--review`: read the answers (`y` or `n`, one a line, in the order of the scenes
+    /// shown) from this file instead of asking.
+    #[arg(long, value_name = "FILE", requires = "review")]
+    pub answers: Option<PathBuf>,
+    /// With `--bless` or `--review`: also write a golden report (relations) for scenes that
+    /// have none.
+    #[arg(long)]
+    pub reports: bool,
+    /// Scenes built at once (default: the number of cores).
+    #[arg(long, short = 'j')]
+    pub jobs: Option<usize>,
+    /// How to print the results.
+    #[arg(long, value_enum, default_value_t = TestFormat::Human)]
+    pub format: TestFormat,
+    /// How far a length or angle may differ (default: `holoc.toml`'s, else `1cm,1deg`).
+    #[arg(long, value_parser = Tolerance::parse)]
+    pub tolerance: Option<Tolerance>,
+    /// Groups of fields to leave out (added to `holoc.toml`'s `ignore`).
+    #[arg(long, value_enum, value_delimiter = ',')]
+    pub ignore: Vec<Group>,
+    /// User asset catalogs (added to `holoc.toml`'s `catalogs`).
+    #[command(flatten)]
+    pub catalogs: super::assets::CatalogArgs,
+    /// When to colour the diagnostics of scenes that do not build.
+    #[arg(long, value_enum, default_value_t = ColorChoice::Never)]
+    pub color: ColorChoice,
+}
+
+/// The `holoc.toml` settings `holoc test` reads.
+#[derive(Debug, Default, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Config {
+    /// Catalogs every command of the project uses (relative to the file's folder).
+    #[serde(default)]
+    catalogs: Vec<PathBuf>,
+    /// The `[test]` table.
+    #[serde(default)]
+    test: TestConfig,
+}
+
+/// The `[test]` table of `holoc.toml`.
+#[derive(Debug, Default, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+struct TestConfig {
+    /// What to test when no path is given.
+    #[serde(default)]
+    scenes: Vec<PathBuf>,
+    /// The folder of the goldens: `scenes/bedroom.holo`'s golden is
+    /// `<goldens>/scenes/bedroom.house.json`. Beside each scene when absent.
+    goldens: Option<PathBuf>,
+    /// The tolerances, e.g. `"1cm,1deg"`.
+    tolerance: Option<String>,
+    /// Groups of fields left out.
+    #[serde(default)]
+    ignore: Vec<String>,
+}
+
+/// The `holoc.toml` of the current folder or the nearest folder above it, with its folder.
+#[allow(
+    clippy::result_large_err,
+    reason = "the error is printed at once; it is rare and never propagated far"
+)]
+fn read_config() -> Result<Option<(PathBuf, Config)>, Diagnostic> {
+    let cwd = std::env::current_dir().unwrap_or_else(|_| PathBuf::from("."));
+    let Some(path) = cwd.ancestors().map(|d| d.join("holoc.toml")).find(|p| p.is_file()) else {
+        return Ok(None);
+    };
+    let text = std::fs::read_to_string(&path).map_err(|e| {
+        Diagnostic::new(Code::E0001, format!("cannot read `{}`: {e}", path.display()))
+    })?;
+    let config: Config = toml::from_str(&text).map_err(|e| {
+        Diagnostic::new(Code::E0004, format!("`{}` is not usable: {e}", path.display()))
+            .with_help("see `holoc test` in the book for the `[test]` table")
+    })?;
+    let dir = path.parent().map_or_else(|| PathBuf::from("."), Path::to_path_buf);
+    Ok(Some((dir, config)))
+}
+
+/// One scene under test and where its goldens are.
+#[derive(Clone, Debug)]
+struct Case {
+    /// The scene, as shown.
+    scene: PathBuf,
+    /// Its golden house.
+    golden: PathBuf,
+    /// Its golden report.
+    report: PathBuf,
+}
+
+/// How a scene's test ended.
+enum Status {
+    /// The same as its golden.
+    Ok,
+    /// Different from its golden.
+    Failed(Diff),
+    /// No golden yet.
+    New,
+    /// The golden is not a valid house (or report): the diagnostics.
+    Invalid(SourceMap, Vec<Diagnostic>),
+    /// The scene does not build: the diagnostics.
+    Broken(SourceMap, Vec<Diagnostic>),
+}
+
+/// One scene's test, as run.
+struct TestResult {
+    case: Case,
+    status: Status,
+    built: Option<BuiltScene>,
+    /// Whether its goldens were written by this run.
+    blessed: bool,
+}
+
+fn usage(d: &Diagnostic) -> ExitCode {
+    common::emit_plain(d);
+    ExitCode::from(2)
+}
+
+/// The `.holo` files under a path (the path itself for a file), sorted, skipping hidden
+/// folders and `target`.
+fn scenes_under(path: &Path, out: &mut Vec<PathBuf>) -> std::io::Result<()> {
+    let meta = std::fs::metadata(path)?;
+    if meta.is_file() {
+        out.push(path.to_path_buf());
+        return Ok(());
+    }
+    let mut entries: Vec<PathBuf> =
+        std::fs::read_dir(path)?.filter_map(|e| e.ok().map(|e| e.path())).collect();
+    entries.sort();
+    for p in entries {
+        let name = p.file_name().and_then(|n| n.to_str()).unwrap_or_default();
+        if name.starts_with('.') || name == "target" {
+            continue;
+        }
+        if p.is_dir() {
+            scenes_under(&p, out)?;
+        } else if p.extension().is_some_and(|e| e == "holo") {
+            out.push(p);
+        }
+    }
+    Ok(())
+}
+
+/// Where a scene's goldens are: beside it, or under the golden folder.
+fn case_of(scene: &Path, goldens: Option<&(PathBuf, PathBuf)>) -> Case {
+    let stem = scene.file_stem().and_then(|s| s.to_str()).unwrap_or("scene").to_string();
+    let base = match goldens {
+        Some((root, folder)) => {
+            let absolute = std::path::absolute(scene).unwrap_or_else(|_| scene.to_path_buf());
+            let root_abs = std::path::absolute(root).unwrap_or_else(|_| root.clone());
+            let rel = absolute.strip_prefix(&root_abs).map_or_else(
+                |_| PathBuf::from(scene.file_name().unwrap_or_default()),
+                Path::to_path_buf,
+            );
+            folder.join(rel).with_file_name(&stem)
+        }
+        None => scene.with_file_name(&stem),
+    };
+    let with = |suffix: &str| {
+        let mut name = base.file_name().unwrap_or_default().to_os_string();
+        name.push(suffix);
+        base.with_file_name(name)
+    };
+    Case { scene: scene.to_path_buf(), golden: with(".house.json"), report: with(".report.json") }
+}
+
+/// Runs one scene's test.
+fn run_case(case: Case, base: &SourceMap, catalog: &Catalog, options: &Options) -> TestResult {
+    let mut sources = base.clone();
+    let built = match build_scene(&mut sources, &case.scene, catalog) {
+        Ok(b) => b,
+        Err(diagnostics) => {
+            return TestResult {
+                case,
+                status: Status::Broken(sources, diagnostics),
+                built: None,
+                blessed: false,
+            }
+        }
+    };
+    if !case.golden.is_file() {
+        return TestResult { case, status: Status::New, built: Some(built), blessed: false };
+    }
+    let mut golden_sources = base.clone();
+    let invalid = |sources: SourceMap, d: Vec<Diagnostic>, case: Case, built: BuiltScene| {
+        TestResult { case, status: Status::Invalid(sources, d), built: Some(built), blessed: false }
+    };
+    let file = match common::read_source(&mut golden_sources, &case.golden) {
+        Ok(f) => f,
+        Err(d) => return invalid(golden_sources, vec![d], case, built),
+    };
+    let checked = crate::lower::validate::validate(
+        &golden_sources,
+        file,
+        StructureCatalog::builtin(),
+        catalog,
+    );
+    let errors: Vec<Diagnostic> =
+        checked.diagnostics.into_iter().filter(Diagnostic::is_error).collect();
+    if !errors.is_empty() {
+        return invalid(golden_sources, errors, case, built);
+    }
+    let golden = match diff::folder::load(
+        &case.golden,
+        Some(&case.report).filter(|r| r.is_file()).map(PathBuf::as_path),
+    ) {
+        Ok(g) => g,
+        Err(d) => return invalid(golden_sources, vec![d], case, built),
+    };
+    let d = diff::diff(&golden, &built.view, options);
+    let status = if d.is_empty() { Status::Ok } else { Status::Failed(d) };
+    TestResult { case, status, built: Some(built), blessed: false }
+}
+
+/// Writes a scene's goldens: the house, and the report when it has one or `reports` asks.
+#[allow(
+    clippy::result_large_err,
+    reason = "the error is printed at once; it is rare and never propagated far"
+)]
+fn bless(result: &mut TestResult, reports: bool) -> Result<(), Diagnostic> {
+    let Some(built) = &result.built else { return Ok(()) };
+    let has_report = result.case.report.is_file();
+    common::write_atomic(&result.case.golden, built.house_json.as_bytes())?;
+    if has_report || reports {
+        common::write_atomic(&result.case.report, built.report_json.as_bytes())?;
+    }
+    result.blessed = true;
+    Ok(())
+}
+
+/// Runs `holoc test`.
+pub fn run(args: &TestArgs) -> ExitCode {
+    let config = match read_config() {
+        Ok(c) => c,
+        Err(d) => return usage(&d),
+    };
+    let (root, config) = config.unwrap_or_else(|| (PathBuf::from("."), Config::default()));
+    let mut options = Options::default();
+    if let Some(t) = &config.test.tolerance {
+        match Tolerance::parse(t) {
+            Ok(t) => options.tolerance = t,
+            Err(e) => {
+                return usage(&Diagnostic::new(
+                    Code::E0004,
+                    format!("holoc.toml: [test] tolerance: {e}"),
+                ))
+            }
+        }
+    }
+    for name in &config.test.ignore {
+        match Group::from_str(name, true) {
+            Ok(g) => options.ignore.push(g),
+            Err(_) => {
+                return usage(&Diagnostic::new(
+                    Code::E0004,
+                    format!("holoc.toml: [test] ignore: `{name}` is not a group of fields"),
+                ))
+            }
+        }
+    }
+    if let Some(t) = args.tolerance {
+        options.tolerance = t;
+    }
+    options.ignore.extend(args.ignore.iter().copied());
+    let goldens = config.test.goldens.as_ref().map(|g| (root.clone(), root.join(g)));
+    let paths: Vec<PathBuf> = if !args.paths.is_empty() {
+        args.paths.clone()
+    } else if !config.test.scenes.is_empty() {
+        config.test.scenes.iter().map(|s| root.join(s)).collect()
+    } else {
+        vec![PathBuf::from(".")]
+    };
+    let mut scenes = Vec::new();
+    for p in &paths {
+        if let Err(e) = scenes_under(p, &mut scenes) {
+            return usage(&Diagnostic::new(
+                Code::E0001,
+                format!("cannot read `{}`: {e}", p.display()),
+            ));
+        }
+    }
+    let scenes: Vec<PathBuf> = scenes
+        .into_iter()
+        .map(|p| p.strip_prefix("./").map_or(p.clone(), Path::to_path_buf))
+        .collect();
+    let mut base = SourceMap::new();
+    let mut catalog_paths: Vec<PathBuf> = config.catalogs.iter().map(|c| root.join(c)).collect();
+    catalog_paths.extend(args.catalogs.catalogs.iter().cloned());
+    let loaded = Catalog::load(&catalog_paths, &mut base);
+    if loaded.has_errors() {
+        common::emit(&base, &loaded.diagnostics, common::DiagFormat::Human, args.color);
+        return ExitCode::from(2);
+    }
+    let catalog = loaded.value;
+    let pool = match rayon::ThreadPoolBuilder::new().num_threads(args.jobs.unwrap_or(0)).build() {
+        Ok(p) => p,
+        Err(e) => {
+            return usage(&Diagnostic::new(Code::E0002, format!("cannot start threads: {e}")))
+        }
+    };
+    let cases: Vec<Case> = scenes.iter().map(|s| case_of(s, goldens.as_ref())).collect();
+    let mut results: Vec<TestResult> = pool.install(|| {
+        cases.into_par_iter().map(|c| run_case(c, &base, &catalog, &options)).collect()
+    });
+    let mut write_failed = false;
+    if args.bless {
+        for r in &mut results {
+            if matches!(r.status, Status::Failed(_) | Status::New | Status::Invalid(..)) {
+                if let Err(d) = bless(r, args.reports) {
+                    common::emit_plain(&d);
+                    write_failed = true;
+                }
+            }
+        }
+    } else if args.review {
+        if let Err(code) = review(&mut results, args) {
+            return code;
+        }
+    }
+    let text = match args.format {
+        TestFormat::Human => human(&results, options.tolerance),
+        TestFormat::Junit => junit(&results, options.tolerance),
+        TestFormat::Json => json(&results),
+    };
+    common::out(&text);
+    if write_failed {
+        return ExitCode::from(2);
+    }
+    if results.iter().all(|r| r.blessed || matches!(r.status, Status::Ok)) {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(1)
+    }
+}
+
+/// Asks, for each scene that differs, is new or has an invalid golden, whether to accept the
+/// new house as its golden; answers come from stdin or from `--answers`.
+fn review(results: &mut [TestResult], args: &TestArgs) -> Result<(), ExitCode> {
+    let mut answers: Box<dyn Iterator<Item = String>> = match &args.answers {
+        Some(path) => match std::fs::read_to_string(path) {
+            Ok(t) => Box::new(
+                t.lines()
+                    .map(str::trim)
+                    .filter(|l| !l.is_empty() && !l.starts_with('#'))
+                    .map(str::to_string)
+                    .collect::<Vec<_>>()
+                    .into_iter(),
+            ),
+            Err(e) => {
+                return Err(usage(&Diagnostic::new(
+                    Code::E0001,
+                    format!("cannot read `{}`: {e}", path.display()),
+                )))
+            }
+        },
+        None => Box::new(
+            std::io::stdin().lock().lines().map_while(Result::ok).collect::<Vec<_>>().into_iter(),
+        ),
+    };
+    let interactive = args.answers.is_none();
+    let mut all = false;
+    for r in results.iter_mut() {
+        let shown = match &r.status {
+            Status::Failed(d) => format!("{}{}\n", d.render(), d.summary()),
+            Status::New => format!("new: no golden at {}\n", r.case.golden.display()),
+            Status::Invalid(sources, d) => {
+                format!("the golden is not valid:\n{}", render_diagnostics(sources, d))
+            }
+            Status::Ok | Status::Broken(..) => continue,
+        };
+        common::err(&format!("---- {} ----\n{shown}", r.case.scene.display()));
+        let accept = if all {
+            true
+        } else {
+            if interactive {
+                common::err("accept the new golden? [y]es, [n]o, [a]ll, [q]uit: ");
+            }
+            let answer = answers.next().unwrap_or_default().to_lowercase();
+            match answer.as_str() {
+                "y" | "yes" => true,
+                "a" | "all" => {
+                    all = true;
+                    true
+                }
+                "q" | "quit" => break,
+                _ => false,
+            }
+        };
+        common::err(if accept { "accepted\n\n" } else { "kept the old golden\n\n" });
+        if accept {
+            if let Err(d) = bless(r, args.reports) {
+                return Err(usage(&d));
+            }
+        }
+    }
+    Ok(())
+}
+
+fn render_diagnostics(sources: &SourceMap, diagnostics: &[Diagnostic]) -> String {
+    let mut sorted = diagnostics.to_vec();
+    crate::diag::sort(&mut sorted);
+    crate::diag::format::render_human(sources, &sorted, HumanOptions { color: false, width: 100 })
+}
+
+/// The word of a result in the `test … ...` line and the reports.
+fn word(r: &TestResult) -> &'static str {
+    match (&r.status, r.blessed) {
+        (Status::Ok, _) => "ok",
+        (Status::Failed(_), false) => "FAILED",
+        (Status::New, false) => "new",
+        (Status::Invalid(..), false) => "invalid golden",
+        (Status::Broken(..), _) => "does not build",
+        (_, true) => "blessed",
+    }
+}
+
+/// The failure's text: the diff, the missing golden, or the diagnostics.
+fn details(r: &TestResult, tolerance: Tolerance) -> String {
+    match &r.status {
+        Status::Ok => String::new(),
+        Status::Failed(d) => super::diff::human(d, false, tolerance),
+        Status::New => format!(
+            "no golden at {}: run `holoc test --bless` to write it\n",
+            r.case.golden.display()
+        ),
+        Status::Invalid(sources, d) => format!(
+            "the golden {} is not a valid house:\n{}",
+            r.case.golden.display(),
+            render_diagnostics(sources, d)
+        ),
+        Status::Broken(sources, d) => render_diagnostics(sources, d),
+    }
+}
+
+/// The counts of the summary line: passed, failed, new, invalid, broken, blessed.
+fn counts(results: &[TestResult]) -> [usize; 6] {
+    let mut c = [0; 6];
+    for r in results {
+        if r.blessed {
+            c[5] += 1;
+            continue;
+        }
+        let i = match r.status {
+            Status::Ok => 0,
+            Status::Failed(_) => 1,
+            Status::New => 2,
+            Status::Invalid(..) => 3,
+            Status::Broken(..) => 4,
+        };
+        c[i] += 1;
+    }
+    c
+}
+
+fn human(results: &[TestResult], tolerance: Tolerance) -> String {
+    let n = results.len();
+    let mut out = format!("\nrunning {n} scene test{}\n", if n == 1 { "" } else { "s" });
+    for r in results {
+        let _ = writeln!(out, "test {} ... {}", r.case.scene.display(), word(r));
+    }
+    let failing: Vec<&TestResult> =
+        results.iter().filter(|r| !matches!(r.status, Status::Ok) && !r.blessed).collect();
+    let blessed: Vec<&TestResult> = results.iter().filter(|r| r.blessed).collect();
+    if !blessed.is_empty() {
+        out.push_str("\nblessed:\n");
+        for r in &blessed {
+            let what = match &r.status {
+                Status::Failed(d) => d.summary(),
+                Status::New => "new".to_string(),
+                _ => "the invalid golden replaced".to_string(),
+            };
+            let _ = writeln!(out, "    {} ({what})", r.case.golden.display());
+        }
+    }
+    if !failing.is_empty() {
+        out.push_str("\nfailures:\n");
+        for r in &failing {
+            let _ =
+                write!(out, "\n---- {} ----\n{}", r.case.scene.display(), details(r, tolerance));
+        }
+        out.push_str("\nfailures:\n");
+        for r in &failing {
+            let _ = writeln!(out, "    {}", r.case.scene.display());
+        }
+    }
+    let [passed, failed, new, invalid, broken, blessed_n] = counts(results);
+    let verdict = if failing.is_empty() { "ok" } else { "FAILED" };
+    let mut line = format!("\ntest result: {verdict}. {passed} passed; {failed} failed; {new} new");
+    if invalid > 0 {
+        let _ = write!(line, "; {invalid} invalid");
+    }
+    if broken > 0 {
+        let _ = write!(line, "; {broken} did not build");
+    }
+    if blessed_n > 0 {
+        let _ = write!(line, "; {blessed_n} blessed");
+    }
+    if !failing.is_empty()
+        && blessed_n == 0
+        && failing.iter().any(|r| !matches!(r.status, Status::Broken(..)))
+    {
+        line.push_str("\n(`holoc test --bless` accepts the new houses, `--review` asks for each)");
+    }
+    out.push_str(&line);
+    out.push('\n');
+    out
+}
+
+/// Escapes text for XML, leaving out the control characters XML 1.0 cannot hold.
+fn xml(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        match c {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            '\'' => out.push_str("&apos;"),
+            '\t' | '\n' | '\r' => out.push(c),
+            c if (c as u32) < 0x20 => {}
+            c => out.push(c),
+        }
+    }
+    out
+}
+
+/// The JUnit XML report: one `testsuite` of one `testcase` per scene; a difference or a
+/// missing golden is a `failure`, an invalid golden or a scene that does not build an
+/// `error`. No times: the report is the same on every run.
+fn junit(results: &[TestResult], tolerance: Tolerance) -> String {
+    let [passed, failed, new, invalid, broken, blessed] = counts(results);
+    let _ = passed + blessed;
+    let (failures, errors) = (failed + new, invalid + broken);
+    let mut out = String::from("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n");
+    let head = format!(
+        "name=\"holoc test\" tests=\"{}\" failures=\"{failures}\" errors=\"{errors}\"",
+        results.len()
+    );
+    let _ = writeln!(out, "<testsuites {head}>");
+    let _ = writeln!(out, "  <testsuite {head} skipped=\"0\">");
+    for r in results {
+        let name = xml(&r.case.scene.display().to_string());
+        let class = xml(&format!(
+            "holoc.{}",
+            r.case
+                .scene
+                .parent()
+                .map(|p| p.display().to_string())
+                .filter(|p| !p.is_empty())
+                .unwrap_or_else(|| ".".into())
+        ));
+        let open = format!("    <testcase name=\"{name}\" classname=\"{class}\"");
+        let body = |tag: &str, kind: &str, message: &str| {
+            format!(
+                "{open}>\n      <{tag} type=\"{kind}\" message=\"{}\">{}</{tag}>\n    </testcase>\n",
+                xml(message),
+                xml(&details(r, tolerance))
+            )
+        };
+        let case = match (&r.status, r.blessed) {
+            (Status::Ok, _) | (_, true) => format!("{open}/>\n"),
+            (Status::Failed(d), _) => body("failure", "changed", &d.summary()),
+            (Status::New, _) => body("failure", "new", "no golden"),
+            (Status::Invalid(..), _) => {
+                body("error", "invalid-golden", "the golden is not a valid house")
+            }
+            (Status::Broken(..), _) => body("error", "build", "the scene does not build"),
+        };
+        out.push_str(&case);
+    }
+    out.push_str("  </testsuite>\n</testsuites>\n");
+    out
+}
+
+fn json(results: &[TestResult]) -> String {
+    let [passed, failed, new, invalid, broken, blessed] = counts(results);
+    let tests: Vec<serde_json::Value> = results
+        .iter()
+        .map(|r| {
+            let status = match (&r.status, r.blessed) {
+                (Status::Ok, _) => "ok",
+                (_, true) => "blessed",
+                (Status::Failed(_), _) => "failed",
+                (Status::New, _) => "new",
+                (Status::Invalid(..), _) => "invalid",
+                (Status::Broken(..), _) => "broken",
+            };
+            let mut t = serde_json::json!({
+                "scene": r.case.scene.display().to_string(),
+                "golden": r.case.golden.display().to_string(),
+                "status": status,
+            });
+            match &r.status {
+                Status::Failed(d) => {
+                    t["summary"] = d.summary().into();
+                    t["changes"] = serde_json::to_value(&d.changes).unwrap_or_default();
+                }
+                Status::Invalid(_, d) | Status::Broken(_, d) => {
+                    t["diagnostics"] = d
+                        .iter()
+                        .map(|d| serde_json::json!({"code": d.code.as_str(), "message": d.message}))
+                        .collect();
+                }
+                _ => {}
+            }
+            t
+        })
+        .collect();
+    let mut text = serde_json::to_string_pretty(&serde_json::json!({
+        "version": 1,
+        "passed": passed, "failed": failed, "new": new, "invalid": invalid,
+        "broken": broken, "blessed": blessed,
+        "tests": tests,
+    }))
+    .unwrap_or_default();
+    text.push('\n');
+    text
+}
