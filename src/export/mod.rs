@@ -512,7 +512,8 @@ pub fn export(
 
     // Rooms: floor and ceiling.
     let ceiling_material = &house.procedural_parameters.ceiling_material;
-    let ceiling_tint = rgb(ceiling_material.color).or(Some(house.procedural_parameters.ceiling_color));
+    let ceiling_tint =
+        rgb(ceiling_material.color).or(Some(house.procedural_parameters.ceiling_color));
     for room in house.rooms.iter().filter(|r| keep(&r.id)) {
         let outline = &polygons[room.id.as_str()];
         let height = house
@@ -530,7 +531,10 @@ pub fn export(
         let mesh = b.mesh(
             &room.id,
             &[
-                (&floor, materials::surface(&room.floor_material.name, rgb(room.floor_material.color))),
+                (
+                    &floor,
+                    materials::surface(&room.floor_material.name, rgb(room.floor_material.color)),
+                ),
                 (&ceiling, materials::surface(&ceiling_material.name, ceiling_tint)),
             ],
         );
