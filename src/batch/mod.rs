@@ -252,6 +252,38 @@ pub fn read_line(line: usize, raw: &str, base: &Path) -> Option<Result<Job, Mani
     Some(Ok(Job { line, id, spec, hash: String::new(), input, catalogs }))
 }
 
+/// The job's paths (its input and catalogs) that lie outside `base`, the manifest's folder,
+/// once links are followed: a manifest from someone else must not make holoc read any file
+/// the user can read (`--allow-outside` lifts this). A path that does not exist is judged by
+/// its text.
+pub fn outside_folder(job: &Job, base: &Path) -> Option<ManifestError> {
+    let root = std::fs::canonicalize(if base.as_os_str().is_empty() { Path::new(".") } else { base })
+        .ok()?;
+    let inside = |p: &Path| match std::fs::canonicalize(p) {
+        Ok(real) => real.starts_with(&root),
+        Err(_) => {
+            let lexical = p.strip_prefix(base).unwrap_or(p);
+            !p.is_absolute() || p.starts_with(base)
+                && !lexical.components().any(|c| matches!(c, std::path::Component::ParentDir))
+        }
+    };
+    let paths = job.input.iter().chain(&job.catalogs);
+    let out: Vec<&PathBuf> = paths.filter(|p| !inside(p)).collect();
+    let first = out.first()?;
+    Some(ManifestError {
+        line: job.line,
+        message: format!(
+            "`{}` is outside the manifest's folder (give `--allow-outside` to read it)",
+            first.display()
+        ),
+    })
+}
+
+/// The origin (scheme, host, port) of a URL, for comparing where requests go.
+fn origin(url: &str) -> Option<String> {
+    reqwest::Url::parse(url).ok().map(|u| u.origin().ascii_serialization())
+}
+
 /// A failed result for a manifest line that is not a job.
 pub fn manifest_failure(e: &ManifestError) -> JobResult {
     JobResult {
@@ -279,13 +311,24 @@ pub fn job_hash(job: &Job) -> String {
     crate::resolve::sha256_hex(key.to_string().as_bytes())[..16].to_string()
 }
 
-/// SHA-256 of a file's bytes, or its path when it cannot be read.
+/// SHA-256 of a regular file's bytes, or its path when it cannot be read or is not a regular
+/// file (a named pipe or a device is never opened here; the job's own read reports it).
 fn file_hash(p: &Path) -> String {
-    match std::fs::read(p) {
+    if !std::fs::metadata(p).is_ok_and(|m| m.is_file()) {
+        return format!("unreadable:{}", p.display());
+    }
+    match crate::source::read_input(p, crate::resolve::MAX_CATALOG_BYTES) {
         Ok(bytes) => crate::resolve::sha256_hex(&bytes),
         Err(_) => format!("unreadable:{}", p.display()),
     }
 }
+
+/// The stack of each worker thread of a batch, bytes: room for the deepest recursion a job
+/// can reach (blocks nest at most `parse::MAX_NESTING` levels, JSON answers at most
+/// `import::MAX_JSON_NESTING`) many times over. A stack overflow aborts the process and cannot
+/// be caught like a panic, so the bounds are kept where the input is read and the stack is
+/// sized for them.
+pub const WORKER_STACK_BYTES: usize = 16 * 1024 * 1024;
 
 /// Settings of a whole run.
 #[derive(Debug)]
@@ -300,6 +343,12 @@ pub struct RunOptions {
     pub api_key: Option<String>,
     /// The catalogs loaded so far, shared by the jobs that name the same files.
     pub catalogs: CatalogCache,
+    /// Where generate jobs send their requests: `--base-url`, else `HOLOC_BASE_URL`, else
+    /// holoc's default. The API key goes to this server only.
+    pub base_url: String,
+    /// Whether a job's own `base_url` is used (`--allow-job-base-url`); without it such a job
+    /// fails. A job's server on another host than [`RunOptions::base_url`] never gets the key.
+    pub allow_job_base_url: bool,
 }
 
 /// A loaded catalog set: the catalog, the sources its diagnostics point into, the diagnostics.
@@ -450,38 +499,67 @@ fn build_text(
 
 fn run_build_job(job: &Job, catalogs: &CatalogCache) -> Work {
     let Some(path) = &job.input else { return failed("input", Vec::new()) };
-    let text = match std::fs::read_to_string(path) {
-        Ok(t) => t,
-        Err(e) => {
-            return failed(
-                "input",
-                vec![Diagnostic::new(
-                    crate::diag::Code::E0001,
-                    format!("cannot read `{}`: {e}", path.display()),
-                )],
-            )
-        }
+    let cannot = |e: &dyn std::fmt::Display| {
+        failed(
+            "input",
+            vec![Diagnostic::new(
+                crate::diag::Code::E0001,
+                format!("cannot read `{}`: {e}", path.display()),
+            )],
+        )
     };
+    // Like every input: a named pipe is refused, a device read up to the limit and for a
+    // bounded time.
+    let text = match crate::source::read_input(path, crate::cli::common::MAX_INPUT_BYTES) {
+        Ok(bytes) => match String::from_utf8(bytes) {
+            Ok(t) => t,
+            Err(_) => return cannot(&"it is not UTF-8 text"),
+        },
+        Err(e) => return cannot(&e),
+    };
+    // Nothing of a file that is not a scene reaches the summary: a diagnostic would quote it.
+    if !looks_like_scene(&text) {
+        return cannot(&"it is not a .holo scene (no `scene`, `room` or `door` item)");
+    }
     build_text(&path.display().to_string(), text, job, catalogs, &mut Vec::new())
+}
+
+/// Whether a text holds at least one `scene`, `room` or `door` item.
+fn looks_like_scene(text: &str) -> bool {
+    crate::parse::parse_str(text).value.items.iter().any(|i| {
+        matches!(i, crate::ast::Item::Scene(_) | crate::ast::Item::Room(_) | crate::ast::Item::Door(_))
+    })
 }
 
 fn run_generate_job(job: &Job, options: &RunOptions, permits: &Permits) -> Work {
     let text = job.spec.generate.clone().unwrap_or_default();
     let seed = job.spec.seed.unwrap_or(1);
-    let base_url = job
-        .spec
-        .base_url
-        .clone()
-        .or_else(|| std::env::var("HOLOC_BASE_URL").ok())
-        .unwrap_or_else(|| generate::client::DEFAULT_BASE_URL.to_string());
+    let base_url = match &job.spec.base_url {
+        Some(url) if options.allow_job_base_url => url.clone(),
+        Some(_) => {
+            return failed(
+                "manifest",
+                vec![Diagnostic::new(
+                    crate::diag::Code::E0004,
+                    "a job may not choose its server (`base_url`); give `--base-url`, \
+                     `HOLOC_BASE_URL`, or `--allow-job-base-url`",
+                )],
+            )
+        }
+        None => options.base_url.clone(),
+    };
     let model = job
         .spec
         .model
         .clone()
         .or_else(|| std::env::var("HOLOC_MODEL").ok())
         .unwrap_or_else(|| generate::client::DEFAULT_MODEL.to_string());
+    // The key goes only to the run's own server: a job's server on another host gets none.
+    let same_host = origin(&base_url).is_some() && origin(&base_url) == origin(&options.base_url);
     let mut http = HttpOptions::new(base_url, model);
-    http.api_key.clone_from(&options.api_key);
+    if same_host {
+        http.api_key.clone_from(&options.api_key);
+    }
     http.seed = Some(seed);
     if let Some(t) = job.spec.temperature {
         http.temperature = t;

@@ -39,6 +39,17 @@ pub struct BatchArgs {
     /// No progress bar and no table.
     #[arg(short, long)]
     pub quiet: bool,
+    /// Read inputs and catalogs the manifest names outside its own folder.
+    #[arg(long)]
+    pub allow_outside: bool,
+    /// The server of generate jobs (default: `HOLOC_BASE_URL`, else holoc's default); the API
+    /// key is sent there and nowhere else.
+    #[arg(long)]
+    pub base_url: Option<String>,
+    /// Let a job's own `base_url` choose its server (it gets the API key only when it is on
+    /// the same host as `--base-url`).
+    #[arg(long)]
+    pub allow_job_base_url: bool,
 }
 
 /// The subcommands of `holoc batch`.
@@ -100,13 +111,22 @@ pub fn run(args: &BatchArgs) -> ExitCode {
             .iter()
             .find_map(|name| std::env::var(name).ok().filter(|k| !k.trim().is_empty())),
         catalogs: batch::CatalogCache::default(),
+        base_url: args
+            .base_url
+            .clone()
+            .or_else(|| std::env::var("HOLOC_BASE_URL").ok())
+            .unwrap_or_else(|| crate::generate::client::DEFAULT_BASE_URL.to_string()),
+        allow_job_base_url: args.allow_job_base_url,
     };
     let permits = Permits::new(args.llm_concurrency);
     let threads = args
         .jobs
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, usize::from))
         .max(1);
-    let pool = match rayon::ThreadPoolBuilder::new().num_threads(threads).build() {
+    let pool = match rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .stack_size(crate::batch::WORKER_STACK_BYTES)
+        .build() {
         Ok(pool) => pool,
         Err(e) => return usage(&format!("cannot start {threads} threads: {e}")),
     };
@@ -138,6 +158,10 @@ pub fn run(args: &BatchArgs) -> ExitCode {
                 .par_iter()
                 .filter_map(|&(line, raw)| batch::read_line(line, raw, base))
                 .map(|read| {
+                    let outside = |job: &batch::Job| {
+                        (!args.allow_outside).then(|| batch::outside_folder(job, base)).flatten()
+                    };
+                    let read = read.and_then(|job| outside(&job).map_or(Ok(job), Err));
                     let result = match read {
                         Ok(mut job) => {
                             job.hash = batch::job_hash(&job);
