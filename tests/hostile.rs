@@ -142,8 +142,13 @@ fn pipes_and_devices_are_never_waited_on_for_ever() {
     // A manifest that is a pipe is refused too.
     let manifest_fifo = dir.join("manifest.jsonl");
     assert!(mkfifo(&manifest_fifo));
-    let out = holoc().args(["batch", "-q"]).arg(&manifest_fifo).arg("-o").arg(dir.join("o2"));
-    let out = { out }.output().expect("runs");
+    let out = holoc()
+        .args(["batch", "-q"])
+        .arg(&manifest_fifo)
+        .arg("-o")
+        .arg(dir.join("o2"))
+        .output()
+        .expect("runs");
     assert_eq!(out.status.code(), Some(2));
     assert!(stderr(&out).contains("it is a named pipe"), "{}", stderr(&out));
 }
@@ -436,6 +441,7 @@ fn the_language_server_skips_bad_frames() {
     assert!(status.code().is_some(), "ended by a signal: {status:?}");
     let mut err = String::new();
     child.stderr.take().expect("stderr").read_to_string(&mut err).expect("reads");
+    assert!(err.contains("skipped a message that is not JSON:"), "{err}");
     assert!(err.contains("skipped a message that is not JSON-RPC"), "{err}");
     assert!(err.contains("over the limit"), "{err}");
     let _ = output.fill_buf();

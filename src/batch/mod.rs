@@ -524,10 +524,12 @@ fn run_build_job(job: &Job, catalogs: &CatalogCache) -> Work {
     build_text(&path.display().to_string(), text, job, catalogs, &mut Vec::new())
 }
 
-/// Whether a text holds at least one `scene`, `room` or `door` item.
+/// Whether a text has a line that starts like a `scene`, `room` or `door` item (the parse
+/// that follows says whether it is a good one).
 fn looks_like_scene(text: &str) -> bool {
-    crate::parse::parse_str(text).value.items.iter().any(|i| {
-        matches!(i, crate::ast::Item::Scene(_) | crate::ast::Item::Room(_) | crate::ast::Item::Door(_))
+    text.lines().any(|line| {
+        let mut words = line.split_whitespace();
+        matches!(words.next(), Some("scene" | "room" | "door")) && words.next().is_some()
     })
 }
 

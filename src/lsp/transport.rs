@@ -90,15 +90,18 @@ pub fn read_frame(input: &mut impl BufRead) -> std::io::Result<Option<Frame>> {
 
 /// A body as a message, or why it is not one.
 fn decode(body: &[u8]) -> Frame {
-    match serde_json::from_slice::<Message>(body) {
+    let value = match serde_json::from_slice::<serde_json::Value>(body) {
+        Ok(value) => value,
+        Err(e) => return Frame::Bad(format!("a message that is not JSON: {e}"), None),
+    };
+    let id = value.get("id").and_then(|id| serde_json::from_value::<RequestId>(id.clone()).ok());
+    // A request whose method is not a string would read as a response and be dropped unseen.
+    if value.get("method").is_some_and(|m| !m.is_string()) {
+        return Frame::Bad("a message that is not JSON-RPC: its method is not a string".into(), id);
+    }
+    match serde_json::from_value::<Message>(value) {
         Ok(message) => Frame::Message(message),
-        Err(e) => {
-            let id = serde_json::from_slice::<serde_json::Value>(body).ok().and_then(|v| {
-                v.get("method")?;
-                serde_json::from_value::<RequestId>(v.get("id")?.clone()).ok()
-            });
-            Frame::Bad(format!("a message that is not JSON-RPC: {e}"), id)
-        }
+        Err(e) => Frame::Bad(format!("a message that is not JSON-RPC: {e}"), id),
     }
 }
 
@@ -199,7 +202,7 @@ mod tests {
         );
         let got = frames(input.as_bytes());
         assert_eq!(got.len(), 6, "{got:#?}");
-        assert!(got[0].starts_with("bad a message that is not JSON-RPC"), "{got:#?}");
+        assert!(got[0].starts_with("bad a message that is not JSON"), "{got:#?}");
         assert!(got[1].contains("Some(RequestId(I32(7)))"), "{got:#?}");
         assert!(got[2].starts_with("bad a message without `Content-Length`"), "{got:#?}");
         assert!(got[3].ends_with("None"), "{got:#?}");
