@@ -327,7 +327,9 @@ impl Server {
             let Some(doc) = self.analysed(&uri) else { continue };
             let version = doc.version;
             let Some(analysis) = doc.analysis.as_ref() else { continue };
-            let diagnostics = features::diagnostics(analysis, doc.solved.as_ref());
+            let mut diagnostics = features::diagnostics(analysis, doc.solved.as_ref());
+            // An editor shows a bounded list, as `holoc check` prints one.
+            diagnostics.truncate(crate::diag::MAX_SHOWN_PER_FILE);
             let Ok(uri) = Uri::from_str(&uri) else { continue };
             self.notify::<notification::PublishDiagnostics>(lsp_types::PublishDiagnosticsParams {
                 uri,
