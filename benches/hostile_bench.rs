@@ -45,7 +45,8 @@ fn classrooms(n: usize) -> String {
 fn overlapping(n: usize) -> String {
     let mut text = String::new();
     for i in 0..n {
-        let _ = writeln!(text, "room r{i} \"r\" {{\n  corners in m (0, 0) (0, 4) (4, 4) (4, 0)\n}}");
+        let _ =
+            writeln!(text, "room r{i} \"r\" {{\n  corners in m (0, 0) (0, 4) (4, 4) (4, 0)\n}}");
     }
     text.push_str("door exterior -- r0 : doorway single\n");
     text
@@ -152,11 +153,15 @@ fn lsp(holoc: &Path, text: &str) -> (f64, Option<f64>) {
         let _ = output.read_exact(&mut body);
         serde_json::from_slice(&body).unwrap_or_default()
     };
-    let _ = send(serde_json::json!({"jsonrpc": "2.0", "id": 1, "method": "initialize", "params": {"capabilities": {}}}));
+    let _ = send(
+        serde_json::json!({"jsonrpc": "2.0", "id": 1, "method": "initialize", "params": {"capabilities": {}}}),
+    );
     let _ = read();
     let _ = send(serde_json::json!({"jsonrpc": "2.0", "method": "initialized", "params": {}}));
     let started = Instant::now();
-    let _ = send(serde_json::json!({"jsonrpc": "2.0", "method": "textDocument/didOpen", "params": {"textDocument": {"uri": "file:///bench/scene.holo", "languageId": "holo", "version": 1, "text": text}}}));
+    let _ = send(
+        serde_json::json!({"jsonrpc": "2.0", "method": "textDocument/didOpen", "params": {"textDocument": {"uri": "file:///bench/scene.holo", "languageId": "holo", "version": 1, "text": text}}}),
+    );
     loop {
         let message = read();
         if message.is_null() || message["method"] == "textDocument/publishDiagnostics" {
@@ -205,26 +210,43 @@ fn main() {
     ];
     println!("| input | bytes | command | seconds | peak MB | exit |");
     println!("|---|---:|---|---:|---:|---:|");
-    let row = |name: &str, bytes: usize, command: &str, s: f64, peak: Option<f64>, code: Option<i32>| {
-        let peak = peak.map_or("–".to_string(), |p| format!("{p:.0}"));
-        let code = code.map_or("signal".to_string(), |c| c.to_string());
-        println!("| {name} | {bytes} | {command} | {s:.2} | {peak} | {code} |");
-    };
+    let row =
+        |name: &str, bytes: usize, command: &str, s: f64, peak: Option<f64>, code: Option<i32>| {
+            let peak = peak.map_or("–".to_string(), |p| format!("{p:.0}"));
+            let code = code.map_or("signal".to_string(), |c| c.to_string());
+            println!("| {name} | {bytes} | {command} | {s:.2} | {peak} | {code} |");
+        };
     for (name, text, build) in &cases {
         let file = dir.join("scene.holo");
         std::fs::write(&file, text).expect("write");
-        let (s, peak, code) = measure(&["check".as_ref(), "--format".as_ref(), "short".as_ref(), file.as_os_str()], &holoc);
+        let (s, peak, code) = measure(
+            &["check".as_ref(), "--format".as_ref(), "short".as_ref(), file.as_os_str()],
+            &holoc,
+        );
         let _ = code;
         row(name, text.len(), "check", s, peak, code);
         if *build {
             let house = dir.join("house.json");
-            let args = ["build".as_ref(), "-q".as_ref(), "-o".as_ref(), house.as_os_str(), file.as_os_str()];
+            let args = [
+                "build".as_ref(),
+                "-q".as_ref(),
+                "-o".as_ref(),
+                house.as_os_str(),
+                file.as_os_str(),
+            ];
             let (s, peak, code) = measure(&args, &holoc);
             row(name, text.len(), "build", s, peak, code);
             if house.exists() {
                 let bytes = std::fs::metadata(&house).map_or(0, |m| m.len() as usize);
-                let (s, peak, code) =
-                    measure(&["validate".as_ref(), "--format".as_ref(), "short".as_ref(), house.as_os_str()], &holoc);
+                let (s, peak, code) = measure(
+                    &[
+                        "validate".as_ref(),
+                        "--format".as_ref(),
+                        "short".as_ref(),
+                        house.as_os_str(),
+                    ],
+                    &holoc,
+                );
                 row(&format!("{name}: its house"), bytes, "validate", s, peak, code);
                 let _ = std::fs::remove_file(&house);
             }
@@ -236,8 +258,10 @@ fn main() {
         let house = dir.join("crowded.json");
         let text = crowded_house(&holoc, &dir, n);
         std::fs::write(&house, &text).expect("write");
-        let (s, peak, code) =
-            measure(&["validate".as_ref(), "--format".as_ref(), "short".as_ref(), house.as_os_str()], &holoc);
+        let (s, peak, code) = measure(
+            &["validate".as_ref(), "--format".as_ref(), "short".as_ref(), house.as_os_str()],
+            &holoc,
+        );
         row(&format!("house with {n} beds on one spot"), text.len(), "validate", s, peak, code);
     }
     let _ = std::fs::remove_dir_all(&dir);

@@ -380,11 +380,8 @@ fn targets() -> Vec<Target> {
         max_input: MAX_INPUT,
         max_run: MAX_RUN,
     };
-    let uncapped = |target: Target| Target {
-        max_input: UNCAPPED_INPUT,
-        max_run: UNCAPPED_RUN,
-        ..target
-    };
+    let uncapped =
+        |target: Target| Target { max_input: UNCAPPED_INPUT, max_run: UNCAPPED_RUN, ..target };
     vec![
         uncapped(t("holo", holo, HOLO_WORDS, run_holo as fn(&[u8]))),
         uncapped(t("deep-and-long", hostile_seeds(), HOLO_WORDS, run_hostile)),

@@ -157,7 +157,10 @@ fn pipes_and_devices_are_never_waited_on_for_ever() {
 fn overlapping_rooms(n: usize) -> String {
     let mut text = String::new();
     for i in 0..n {
-        let _ = writeln!(text, "room r{i} \"room {i}\" {{\n  corners in m (0, 0) (0, 4) (4, 4) (4, 0)\n}}");
+        let _ = writeln!(
+            text,
+            "room r{i} \"room {i}\" {{\n  corners in m (0, 0) (0, 4) (4, 4) (4, 0)\n}}"
+        );
     }
     text.push_str("door exterior -- r0 : doorway single\n");
     text
@@ -174,7 +177,11 @@ fn pairwise_checks_are_summarised() {
     let list = json["diagnostics"].as_array().expect("a list");
     assert!(list.len() <= 2000, "{} diagnostics", list.len());
     let text = String::from_utf8_lossy(&out.stdout);
-    assert!(text.contains("room `r0` overlaps 1999 other rooms"), "{}", &text[..2000.min(text.len())]);
+    assert!(
+        text.contains("room `r0` overlaps 1999 other rooms"),
+        "{}",
+        &text[..2000.min(text.len())]
+    );
     // Human output shows at most 100 per file and says how many more there are.
     let out = holoc().args(["check", "--format", "short"]).arg(&scene).output().expect("runs");
     let err = stderr(&out);
@@ -188,10 +195,8 @@ fn pairwise_checks_are_summarised() {
 
 /// A house of the bedroom example with its first floor object copied `n` times.
 fn crowded_house(n: usize) -> String {
-    let out = holoc()
-        .args(["build", "examples/bedroom.holo", "-q", "-o", "-"])
-        .output()
-        .expect("builds");
+    let out =
+        holoc().args(["build", "examples/bedroom.holo", "-q", "-o", "-"]).output().expect("builds");
     assert!(out.status.success(), "{}", stderr(&out));
     let mut house: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
     let objects = house["objects"].as_array_mut().expect("objects");

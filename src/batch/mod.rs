@@ -257,14 +257,16 @@ pub fn read_line(line: usize, raw: &str, base: &Path) -> Option<Result<Job, Mani
 /// the user can read (`--allow-outside` lifts this). A path that does not exist is judged by
 /// its text.
 pub fn outside_folder(job: &Job, base: &Path) -> Option<ManifestError> {
-    let root = std::fs::canonicalize(if base.as_os_str().is_empty() { Path::new(".") } else { base })
-        .ok()?;
+    let root =
+        std::fs::canonicalize(if base.as_os_str().is_empty() { Path::new(".") } else { base })
+            .ok()?;
     let inside = |p: &Path| match std::fs::canonicalize(p) {
         Ok(real) => real.starts_with(&root),
         Err(_) => {
             let lexical = p.strip_prefix(base).unwrap_or(p);
-            !p.is_absolute() || p.starts_with(base)
-                && !lexical.components().any(|c| matches!(c, std::path::Component::ParentDir))
+            !p.is_absolute()
+                || p.starts_with(base)
+                    && !lexical.components().any(|c| matches!(c, std::path::Component::ParentDir))
         }
     };
     let paths = job.input.iter().chain(&job.catalogs);

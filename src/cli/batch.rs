@@ -126,7 +126,8 @@ pub fn run(args: &BatchArgs) -> ExitCode {
     let pool = match rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .stack_size(crate::batch::WORKER_STACK_BYTES)
-        .build() {
+        .build()
+    {
         Ok(pool) => pool,
         Err(e) => return usage(&format!("cannot start {threads} threads: {e}")),
     };

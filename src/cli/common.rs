@@ -97,18 +97,18 @@ pub fn read_source(sources: &mut SourceMap, path: &Path) -> Result<FileId, Diagn
     // of a shell's `<(…)` and devices are read up to the limit and for at most
     // `source::STREAM_TIMEOUT`: `/dev/zero` or a runaway pipe ends with an error instead of
     // filling the memory or waiting for ever.
-    let bytes = match crate::source::read_input(path, MAX_INPUT_BYTES) {
-        Ok(bytes) => bytes,
-        Err(e @ crate::source::ReadError::NamedPipe) => {
-            return Err(cannot(&e).with_help(
-                "give a file; to read a stream, use `<(command)` or a file written first",
-            ))
-        }
-        Err(crate::source::ReadError::Folder) => {
-            return Err(cannot(&"it is a folder").with_help("give a file, not a folder"))
-        }
-        Err(crate::source::ReadError::TooLarge(_)) => {
-            return Err(Diagnostic::new(
+    let bytes =
+        match crate::source::read_input(path, MAX_INPUT_BYTES) {
+            Ok(bytes) => bytes,
+            Err(e @ crate::source::ReadError::NamedPipe) => {
+                return Err(cannot(&e).with_help(
+                    "give a file; to read a stream, use `<(command)` or a file written first",
+                ))
+            }
+            Err(crate::source::ReadError::Folder) => {
+                return Err(cannot(&"it is a folder").with_help("give a file, not a folder"))
+            }
+            Err(crate::source::ReadError::TooLarge(_)) => return Err(Diagnostic::new(
                 Code::E0001,
                 format!(
                     "`{}` is larger than {} MiB, the most holoc reads",
@@ -118,10 +118,9 @@ pub fn read_source(sources: &mut SourceMap, path: &Path) -> Result<FileId, Diagn
             )
             .with_help(
                 "a scene, an answer or a house is far smaller; check that this is the right file",
-            ))
-        }
-        Err(e) => return Err(cannot(&e)),
-    };
+            )),
+            Err(e) => return Err(cannot(&e)),
+        };
     let text = String::from_utf8(bytes).map_err(|e| {
         Diagnostic::new(
             Code::E0003,

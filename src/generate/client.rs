@@ -384,14 +384,16 @@ fn char_at(text: &str, bytes: &[u8], i: usize, c: char) -> Option<usize> {
             if c == '/' && rest.starts_with("\\/") {
                 return Some(i + 2);
             }
-            let code = rest.get(2..6).filter(|_| rest[1..].starts_with(['u', 'U'])).and_then(hex)?;
+            let code =
+                rest.get(2..6).filter(|_| rest[1..].starts_with(['u', 'U'])).and_then(hex)?;
             (code == c as u32).then_some(i + 6)
         }
         b'%' => {
             let mut buf = [0u8; 4];
             let mut j = i;
             for &b in c.encode_utf8(&mut buf).as_bytes() {
-                let byte = text.get(j..j + 3).filter(|s| s.starts_with('%')).and_then(|s| hex(&s[1..]))?;
+                let byte =
+                    text.get(j..j + 3).filter(|s| s.starts_with('%')).and_then(|s| hex(&s[1..]))?;
                 if byte != u32::from(b) {
                     return None;
                 }

@@ -900,9 +900,7 @@ fn extract_json<T: serde::de::DeserializeOwned>(
         d.push(
             Diagnostic::new(
                 Code::E0706,
-                format!(
-                    "the {stage} answer nests brackets deeper than {MAX_JSON_NESTING} levels"
-                ),
+                format!("the {stage} answer nests brackets deeper than {MAX_JSON_NESTING} levels"),
             )
             .with_primary(Span::new(file, a + at, a + at + 1), "too deep")
             .with_help("answer with one flat JSON value"),

@@ -629,11 +629,14 @@ fn workspace_roots(init: &serde_json::Value) -> Vec<PathBuf> {
     if !folders.is_empty() {
         return folders;
     }
-    if let Some(root) = init.get("rootUri").and_then(serde_json::Value::as_str).and_then(uri_path)
-    {
+    if let Some(root) = init.get("rootUri").and_then(serde_json::Value::as_str).and_then(uri_path) {
         return vec![root];
     }
-    init.get("rootPath").and_then(serde_json::Value::as_str).map(PathBuf::from).into_iter().collect()
+    init.get("rootPath")
+        .and_then(serde_json::Value::as_str)
+        .map(PathBuf::from)
+        .into_iter()
+        .collect()
 }
 
 /// The catalogs a `holoc.toml` lists, relative to its folder.

@@ -40,7 +40,10 @@ pub fn read_frame(input: &mut impl BufRead) -> std::io::Result<Option<Frame>> {
         let n = input.by_ref().take(MAX_HEADER_LINE as u64 + 1).read_until(b'\n', &mut line)?;
         if n == 0 {
             return if any {
-                Err(std::io::Error::new(std::io::ErrorKind::UnexpectedEof, "the input ends in a header"))
+                Err(std::io::Error::new(
+                    std::io::ErrorKind::UnexpectedEof,
+                    "the input ends in a header",
+                ))
             } else {
                 Ok(None)
             };
@@ -60,13 +63,19 @@ pub fn read_frame(input: &mut impl BufRead) -> std::io::Result<Option<Frame>> {
         }
         if let Some((name, value)) = text.split_once(':') {
             if name.trim().eq_ignore_ascii_case("Content-Length") {
-                size = Some(value.trim().parse::<u64>().map_err(|_| {
-                    format!("`Content-Length: {}` is not a length", value.trim())
-                }).and_then(|n| {
-                    usize::try_from(n).ok().filter(|&n| n <= MAX_MESSAGE_BYTES).ok_or(format!(
+                size = Some(
+                    value
+                        .trim()
+                        .parse::<u64>()
+                        .map_err(|_| format!("`Content-Length: {}` is not a length", value.trim()))
+                        .and_then(|n| {
+                            usize::try_from(n).ok().filter(|&n| n <= MAX_MESSAGE_BYTES).ok_or(
+                                format!(
                         "a message of {n} bytes is over the limit of {MAX_MESSAGE_BYTES} bytes"
-                    ))
-                }));
+                    ),
+                            )
+                        }),
+                );
             }
         }
     }
@@ -130,8 +139,7 @@ impl Threads {
 pub fn stdio() -> (Connection, Threads) {
     let (to_server, from_client): (Sender<Message>, Receiver<Message>) =
         crossbeam_channel::bounded(0);
-    let (to_client, outgoing): (Sender<Message>, Receiver<Message>) =
-        crossbeam_channel::bounded(0);
+    let (to_client, outgoing): (Sender<Message>, Receiver<Message>) = crossbeam_channel::bounded(0);
     let answers = to_client.clone();
     let writer = std::thread::spawn(move || {
         let stdout = std::io::stdout();
@@ -152,8 +160,7 @@ pub fn stdio() -> (Connection, Threads) {
                 Ok(Some(Frame::Bad(why, id))) => {
                     eprintln!("holoc lsp: skipped {why}");
                     if let Some(id) = id {
-                        let response =
-                            Response::new_err(id, ErrorCode::InvalidRequest as i32, why);
+                        let response = Response::new_err(id, ErrorCode::InvalidRequest as i32, why);
                         let _ = answers.send(Message::Response(response));
                     }
                 }
@@ -177,7 +184,9 @@ mod tests {
         let mut out = Vec::new();
         while let Ok(Some(frame)) = read_frame(&mut reader) {
             out.push(match frame {
-                Frame::Message(m) => format!("message {}", serde_json::to_string(&m).unwrap_or_default()),
+                Frame::Message(m) => {
+                    format!("message {}", serde_json::to_string(&m).unwrap_or_default())
+                }
                 Frame::Bad(why, id) => format!("bad {why} {id:?}"),
             });
         }

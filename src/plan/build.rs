@@ -405,10 +405,13 @@ impl Ctx<'_> {
                 .with_secondary(ra.name_span, "is inside this one")
                 .with_help(format!("cut `{nb}` out of the outline of `{na}`, or move it"))
         } else {
-            Diagnostic::new(Code::E0305, format!("rooms `{na}` and `{nb}` overlap by {} m²", m(inter)))
-                .with_primary(rb.name_span, format!("overlaps `{na}`"))
-                .with_secondary(ra.name_span, format!("overlaps `{nb}`"))
-                .with_help("move the corners so that the rooms only share walls")
+            Diagnostic::new(
+                Code::E0305,
+                format!("rooms `{na}` and `{nb}` overlap by {} m²", m(inter)),
+            )
+            .with_primary(rb.name_span, format!("overlaps `{na}`"))
+            .with_secondary(ra.name_span, format!("overlaps `{nb}`"))
+            .with_help("move the corners so that the rooms only share walls")
         }
     }
 
