@@ -309,7 +309,7 @@ fn hostile_seeds() -> Vec<Vec<u8>> {
     }
     seeds.push(rooms);
     let mut objects = String::from(room);
-    for i in 0..2000 {
+    for i in 0..2000usize {
         let _ = writeln!(objects, "  object o{i} \"box\" {{ near o{} }}", i.saturating_sub(1));
     }
     objects.push_str("}\n");
