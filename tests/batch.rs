@@ -214,13 +214,13 @@ fn generate_jobs_run_against_the_loopback_server_and_reuse_their_answers() {
     )
     .expect("write");
     let out = dir.join("out");
-    let first = batch(&["--llm-concurrency", "2"], &manifest, &out);
+    let first = batch(&["--llm-concurrency", "2", "--allow-job-base-url"], &manifest, &out);
     assert_eq!(first.status.code(), Some(1), "{}", String::from_utf8_lossy(&first.stderr));
     assert_eq!(summary(&out.join("summary.json"))["jobs"][0]["stage"], "generate");
     let paid = server.calls();
     assert!(paid >= 4, "floor plan, wall height, doorways, windows: {paid}");
     refuse.store(false, Ordering::SeqCst);
-    let second = batch(&[], &manifest, &out);
+    let second = batch(&["--allow-job-base-url"], &manifest, &out);
     assert!(second.status.success(), "{}", String::from_utf8_lossy(&second.stderr));
     let asked_again = server.calls() - paid;
     let jobs = folders(&out);
@@ -238,10 +238,10 @@ fn generate_jobs_run_against_the_loopback_server_and_reuse_their_answers() {
             .replace(&server.base_url, &clean.base_url),
     )
     .expect("write");
-    let full = batch(&[], &fresh, &dir.join("fresh"));
+    let full = batch(&["--allow-job-base-url"], &fresh, &dir.join("fresh"));
     assert!(full.status.success());
     assert_eq!(asked_again + 3, clean.calls(), "a re-run never pays twice for an answer");
-    let third = batch(&[], &manifest, &out);
+    let third = batch(&["--allow-job-base-url"], &manifest, &out);
     assert!(third.status.success());
     assert_eq!(server.calls() - paid, asked_again, "a finished job asks nothing");
 }
