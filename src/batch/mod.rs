@@ -262,12 +262,12 @@ pub fn outside_folder(job: &Job, base: &Path) -> Option<ManifestError> {
             .ok()?;
     let inside = |p: &Path| match std::fs::canonicalize(p) {
         Ok(real) => real.starts_with(&root),
-        Err(_) => {
-            let lexical = p.strip_prefix(base).unwrap_or(p);
-            !p.is_absolute()
-                || p.starts_with(base)
-                    && !lexical.components().any(|c| matches!(c, std::path::Component::ParentDir))
-        }
+        // A path that does not exist: below the folder by its text alone.
+        Err(_) => p.strip_prefix(base).is_ok_and(|rest| {
+            rest.components().all(|c| {
+                matches!(c, std::path::Component::Normal(_) | std::path::Component::CurDir)
+            })
+        }),
     };
     let paths = job.input.iter().chain(&job.catalogs);
     let out: Vec<&PathBuf> = paths.filter(|p| !inside(p)).collect();

@@ -136,6 +136,7 @@ impl Threads {
 }
 
 /// A connection on stdin and stdout with the bounded reader.
+#[allow(clippy::print_stderr, reason = "stdout is the protocol's; the transport logs on stderr")]
 pub fn stdio() -> (Connection, Threads) {
     let (to_server, from_client): (Sender<Message>, Receiver<Message>) =
         crossbeam_channel::bounded(0);
