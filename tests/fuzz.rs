@@ -581,6 +581,9 @@ fn fuzz_smoke() {
     let failures: Vec<String> = quiet_panics(|| {
         targets()
             .iter()
+            // The deep-and-long target's inputs take seconds each on a loaded machine; the
+            // campaign runs it, and `tests/hostile.rs` runs its shapes through the binary.
+            .filter(|target| target.name != "deep-and-long")
             .filter_map(|target| {
                 assert!(
                     !target.seeds.is_empty() || target.name == "original-scene",
