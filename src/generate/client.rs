@@ -654,6 +654,7 @@ impl Llm for ReplayLlm {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::fmt::Write as _;
 
     #[test]
     fn backoff_doubles_and_is_capped() {
@@ -684,11 +685,17 @@ mod tests {
             2 => format!("\\u{:04X}", c as u32),
             3 => {
                 let mut buf = [0u8; 4];
-                c.encode_utf8(&mut buf).bytes().map(|b| format!("%{b:02x}")).collect()
+                c.encode_utf8(&mut buf).bytes().fold(String::new(), |mut s, b| {
+                    let _ = write!(s, "%{b:02x}");
+                    s
+                })
             }
             4 => {
                 let mut buf = [0u8; 4];
-                c.encode_utf8(&mut buf).bytes().map(|b| format!("%{b:02X}")).collect()
+                c.encode_utf8(&mut buf).bytes().fold(String::new(), |mut s, b| {
+                    let _ = write!(s, "%{b:02X}");
+                    s
+                })
             }
             _ => format!("&#{};", c as u32),
         }
