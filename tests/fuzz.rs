@@ -11,6 +11,11 @@
 //! to `target/fuzz-findings/<target>/` to be added to `tests/corpus/fuzz/<target>/`, whose
 //! files are replayed by `fuzz_findings_stay_fixed` on every run.
 //!
+//! Mutations are cut to 64 KB with bracket runs of at most 200, except for the uncapped
+//! targets (`holo`, `objects`, `validate`) and `deep-and-long`, whose seeds are built deep and
+//! long on purpose (nesting far past every limit, 16,000-character names, 100,000-word lines,
+//! 500 rooms that all overlap, 2,000 objects in one room): up to 4 MiB and runs of 20,000.
+//!
 //! `cargo test --test fuzz` runs a short smoke of every target (`HOLOC_FUZZ_ITERS`, default 200
 //! inputs each). The campaign: `HOLOC_FUZZ_ITERS=1000000 cargo test --release --test fuzz --
 //! --ignored --nocapture fuzz_campaign` (every target, a table of inputs, failures, slowest
@@ -32,6 +37,12 @@ use std::time::{Duration, Instant};
 const HANG: Duration = Duration::from_secs(1);
 /// Mutated inputs are cut to this length (bytes).
 const MAX_INPUT: usize = 64 * 1024;
+/// The longest run of one bracket a mutation inserts.
+const MAX_RUN: usize = 200;
+/// The same bounds for the uncapped targets (`holo`, `objects`, `validate`, `deep-and-long`):
+/// inputs as large as holoc reads in a second, runs deeper than any nesting limit.
+const UNCAPPED_INPUT: usize = 4 * 1024 * 1024;
+const UNCAPPED_RUN: usize = 20_000;
 
 /// One fuzz target: its name, its seed inputs and what it runs on one input.
 struct Target {
@@ -39,6 +50,9 @@ struct Target {
     seeds: Vec<Vec<u8>>,
     dictionary: &'static [&'static str],
     run: fn(&[u8]),
+    /// The longest input (bytes) and bracket run of its mutations.
+    max_input: usize,
+    max_run: usize,
 }
 
 /// Renders diagnostics in every format (the human renderer has panicked before).
@@ -268,6 +282,51 @@ const ORIGINAL_SCENE: &str = r#"{"query": "a bedroom", "wall_height": 2.7,
  "rooms": [{"id": "bedroom", "floorPolygon": [{"x": 0, "y": 0, "z": 0}, {"x": 0, "y": 0, "z": 4}, {"x": 4, "y": 0, "z": 4}, {"x": 4, "y": 0, "z": 0}]}],
  "objects": [{"id": "bed-0 (bedroom)", "assetId": "Bed_1", "position": {"x": 2, "y": 0.3, "z": 3}, "rotation": {"x": 0, "y": 180, "z": 0}}]}"#;
 
+/// Inputs deep and long on purpose: nesting far past every limit (braces, `instance` blocks,
+/// JSON), very long lines and names, many rooms that all overlap, a room of many objects.
+fn hostile_seeds() -> Vec<Vec<u8>> {
+    use std::fmt::Write as _;
+    let room = "room a \"a\" {\n  corners in m (0, 0) (0, 4) (4, 4) (4, 0)\n";
+    let mut seeds = Vec::new();
+    for depth in [65, 1000, 100_000] {
+        seeds.push(format!("{room}  {}{}\n}}\n", "{".repeat(depth), "}".repeat(depth)));
+        let mut nested = format!("{room}  object t \"table\" ");
+        nested.push_str(&"{ instance t-0 ".repeat(depth));
+        nested.push_str(&"}".repeat(depth));
+        nested.push_str("\n}\n");
+        seeds.push(nested);
+        // JSON answers and houses.
+        seeds.push(format!("{}{}", "{\"a\": ".repeat(depth), "}".repeat(depth)));
+        seeds.push(format!("{}{}", "[".repeat(depth), "]".repeat(depth)));
+    }
+    let name = "x".repeat(16_000);
+    seeds.push(format!("{room}  object t \"table\" {{ near {name} }}\n}}\n"));
+    seeds.push(format!("{room}  object t \"{name}\" {{ edge }}\n}}\n"));
+    seeds.push(format!("{room}  // {}\n}}\n", "long line ".repeat(100_000)));
+    let mut rooms = String::new();
+    for i in 0..500 {
+        let _ = writeln!(rooms, "room r{i} \"r\" {{ corners in m (0, 0) (0, 4) (4, 4) (4, 0) }}");
+    }
+    seeds.push(rooms);
+    let mut objects = String::from(room);
+    for i in 0..2000usize {
+        let _ = writeln!(objects, "  object o{i} \"box\" {{ near o{} }}", i.saturating_sub(1));
+    }
+    objects.push_str("}\n");
+    seeds.push(objects);
+    seeds.into_iter().map(String::into_bytes).collect()
+}
+
+/// A hostile input through every reader it may reach: the scene readers, the objects answer
+/// and validate.
+fn run_hostile(bytes: &[u8]) {
+    run_holo(bytes);
+    if bytes.first().is_some_and(|b| matches!(b, b'{' | b'[')) {
+        run_objects(bytes);
+        run_validate(bytes);
+    }
+}
+
 /// The targets, with their seeds from the repository (and `../shared/data` when present).
 fn targets() -> Vec<Target> {
     let holo = {
@@ -313,14 +372,24 @@ fn targets() -> Vec<Target> {
         br#"{"choices":[{"message":{"role":"assistant","content":"living room | oak | white | [(0, 0), (0, 4), (4, 4), (4, 0)]"}}],"usage":{"prompt_tokens":10,"completion_tokens":20}}"#.to_vec(),
         br#"{"error":{"message":"rate limited"}}"#.to_vec(),
     ];
-    let t = |name, seeds: Vec<Vec<u8>>, dictionary, run| Target { name, seeds, dictionary, run };
+    let t = |name, seeds: Vec<Vec<u8>>, dictionary, run| Target {
+        name,
+        seeds,
+        dictionary,
+        run,
+        max_input: MAX_INPUT,
+        max_run: MAX_RUN,
+    };
+    let uncapped =
+        |target: Target| Target { max_input: UNCAPPED_INPUT, max_run: UNCAPPED_RUN, ..target };
     vec![
-        t("holo", holo, HOLO_WORDS, run_holo as fn(&[u8])),
+        uncapped(t("holo", holo, HOLO_WORDS, run_holo as fn(&[u8]))),
+        uncapped(t("deep-and-long", hostile_seeds(), HOLO_WORDS, run_hostile)),
         t("floor-plan", stage_seeds("floor-plan"), PIPE_WORDS, run_floor_plan),
         t("wall-height", stage_seeds("wall-height"), PIPE_WORDS, run_wall_height),
         t("doorways", stage_seeds("doorways"), PIPE_WORDS, run_doorways),
         t("windows", stage_seeds("windows"), PIPE_WORDS, run_windows),
-        t("objects", stage_seeds("objects"), JSON_WORDS, run_objects),
+        uncapped(t("objects", stage_seeds("objects"), JSON_WORDS, run_objects)),
         t("objects-pipe", stage_seeds("objects-pipe"), PIPE_WORDS, run_objects_pipe),
         t("floor-constraints", stage_seeds("floor-constraints"), PIPE_WORDS, run_floor_constraints),
         t("wall-constraints", stage_seeds("wall-constraints"), PIPE_WORDS, run_wall_constraints),
@@ -334,7 +403,7 @@ fn targets() -> Vec<Target> {
             run_original_scene,
         ),
         t("transcript", transcripts, JSON_WORDS, run_transcript),
-        t("validate", houses, JSON_WORDS, run_validate),
+        uncapped(t("validate", houses, JSON_WORDS, run_validate)),
         t("catalog-json", catalogs, JSON_WORDS, run_catalog),
         t("catalog-gzip", gz_catalogs, JSON_WORDS, run_catalog),
         t("completion", completions, JSON_WORDS, run_completion),
@@ -362,11 +431,12 @@ impl Rng {
 }
 
 /// One mutated input from the seeds.
-fn mutate(rng: &mut Rng, seeds: &[Vec<u8>], dictionary: &[&str]) -> Vec<u8> {
+fn mutate(rng: &mut Rng, target: &Target) -> Vec<u8> {
+    let (seeds, dictionary) = (&target.seeds, target.dictionary);
     let mut data = seeds[rng.below(seeds.len())].clone();
-    if data.len() > MAX_INPUT {
-        let start = rng.below(data.len() - MAX_INPUT);
-        data = data[start..start + MAX_INPUT].to_vec();
+    if data.len() > target.max_input {
+        let start = rng.below(data.len() - target.max_input);
+        data = data[start..start + target.max_input].to_vec();
     }
     let rounds = 1 + rng.below(8);
     for _ in 0..rounds {
@@ -403,13 +473,13 @@ fn mutate(rng: &mut Rng, seeds: &[Vec<u8>], dictionary: &[&str]) -> Vec<u8> {
             7 => {
                 let c =
                     *[b'{', b'}', b'[', b'(', b'"', b'|', b'\r'].get(rng.below(7)).unwrap_or(&b'{');
-                let n = 1 + rng.below(200);
+                let n = 1 + rng.below(target.max_run);
                 data.splice(at..at, std::iter::repeat_n(c, n));
             }
             _ => data.truncate(at),
         }
     }
-    data.truncate(MAX_INPUT);
+    data.truncate(target.max_input);
     data
 }
 
@@ -452,7 +522,7 @@ fn fuzz(target: &Target, iterations: u64, seed: u64) -> Findings {
         return found;
     }
     for _ in 0..iterations {
-        let input = mutate(&mut rng, &target.seeds, target.dictionary);
+        let input = mutate(&mut rng, target);
         run_one(target, &input, &mut found);
     }
     found
@@ -511,6 +581,9 @@ fn fuzz_smoke() {
     let failures: Vec<String> = quiet_panics(|| {
         targets()
             .iter()
+            // The deep-and-long target's inputs take seconds each on a loaded machine; the
+            // campaign runs it, and `tests/hostile.rs` runs its shapes through the binary.
+            .filter(|target| target.name != "deep-and-long")
             .filter_map(|target| {
                 assert!(
                     !target.seeds.is_empty() || target.name == "original-scene",
@@ -597,9 +670,6 @@ fn the_harness_is_deterministic() {
     let mut a = Rng(7);
     let mut b = Rng(7);
     for _ in 0..100 {
-        assert_eq!(
-            mutate(&mut a, &target.seeds, target.dictionary),
-            mutate(&mut b, &target.seeds, target.dictionary)
-        );
+        assert_eq!(mutate(&mut a, target), mutate(&mut b, target));
     }
 }

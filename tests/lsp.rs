@@ -26,6 +26,15 @@ impl Client {
     }
 
     fn with(options: holoc::lsp::ServerOptions, initialization_options: Value) -> Client {
+        Client::in_folders(options, initialization_options, &[])
+    }
+
+    /// A session whose client opened the workspace folders `folders` (`file:` URIs).
+    fn in_folders(
+        options: holoc::lsp::ServerOptions,
+        initialization_options: Value,
+        folders: &[String],
+    ) -> Client {
         let (server_side, client_side) = Connection::memory();
         let server = std::thread::spawn(move || holoc::lsp::serve(&server_side, options));
         let mut client = Client {
@@ -35,9 +44,15 @@ impl Client {
             published: Vec::new(),
             messages: Vec::new(),
         };
+        let folders: Vec<Value> =
+            folders.iter().map(|uri| json!({"uri": uri, "name": "workspace"})).collect();
         let caps = client.request(
             "initialize",
-            json!({"capabilities": {}, "initializationOptions": initialization_options}),
+            json!({
+                "capabilities": {},
+                "initializationOptions": initialization_options,
+                "workspaceFolders": folders,
+            }),
         );
         assert!(caps["capabilities"]["hoverProvider"].as_bool().unwrap_or(false), "{caps}");
         client.notify("initialized", json!({}));
@@ -594,7 +609,21 @@ fn catalogs_come_from_holoc_toml_beside_the_file() {
         "    size 160 cm x 210 cm x 100 cm\n    asset \"Test_Grand_Piano\"\n",
         1,
     );
-    let mut client = Client::start(false);
+    // Outside the client's workspace folders the configuration is not read.
+    let mut outsider = Client::in_folders(
+        holoc::lsp::ServerOptions { catalogs: Vec::new(), solve_on_save: false },
+        json!({}),
+        &["file:///nonexistent/elsewhere".to_string()],
+    );
+    outsider.open(&uri, &text);
+    let published = outsider.wait_published(|p| p["version"] == 1);
+    assert!(diagnostics_text(&published).contains("E0401"), "{published}");
+    outsider.stop();
+    let mut client = Client::in_folders(
+        holoc::lsp::ServerOptions { catalogs: Vec::new(), solve_on_save: false },
+        json!({}),
+        &[format!("file://{}", dir.display())],
+    );
     client.open(&uri, &text);
     let published = client.wait_published(|p| p["version"] == 1);
     assert!(!diagnostics_text(&published).contains("E0401"), "{published}");

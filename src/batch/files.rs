@@ -27,7 +27,8 @@ pub struct FileHashes {
 }
 
 impl FileHashes {
-    /// The SHA-256 (hex) of the file's bytes, or `unreadable:<path>` when it cannot be read.
+    /// The SHA-256 (hex) of the file's bytes, or `unreadable:<path>` when it cannot be read or
+    /// is not a regular file.
     pub fn hash(&self, path: &Path) -> String {
         let lock = || self.known.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
         let Some(now) = stamp(path) else {
@@ -38,7 +39,12 @@ impl FileHashes {
                 return hash.clone();
             }
         }
-        let hash = match std::fs::read(path) {
+        // Only a regular file is read here (a named pipe or a device would block or never
+        // end); the job's own read reports any other kind, with the limits of every input.
+        if !std::fs::metadata(path).is_ok_and(|m| m.is_file()) {
+            return format!("unreadable:{}", path.display());
+        }
+        let hash = match crate::source::read_input(path, crate::resolve::MAX_CATALOG_BYTES) {
             Ok(bytes) => crate::resolve::sha256_hex(&bytes),
             Err(_) => return format!("unreadable:{}", path.display()),
         };

@@ -89,43 +89,38 @@ pub fn exit_for(diagnostics: &[Diagnostic]) -> ExitCode {
     reason = "the error is printed at once; it is rare and never propagated far"
 )]
 pub fn read_source(sources: &mut SourceMap, path: &Path) -> Result<FileId, Diagnostic> {
-    use std::io::Read as _;
     let cannot = |e: &dyn std::fmt::Display| {
         Diagnostic::new(Code::E0001, format!("cannot read `{}`: {e}", path.display()))
             .with_help("check the path and the file's permissions")
     };
     // A named pipe is refused before it is opened (opening one waits for a writer); the pipe
-    // of a shell's `<(…)` is a link to an anonymous pipe and is read like a file.
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::FileTypeExt as _;
-        if std::fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_fifo()) {
-            return Err(cannot(&"it is a named pipe").with_help(
-                "give a file; to read a stream, use `<(command)` or a file written first",
-            ));
-        }
-    }
-    let file = std::fs::File::open(path).map_err(|e| cannot(&e))?;
-    if file.metadata().is_ok_and(|m| m.is_dir()) {
-        return Err(cannot(&"it is a folder").with_help("give a file, not a folder"));
-    }
-    // Regular files, pipes and devices are read alike, up to the limit: `/dev/zero` or a
-    // runaway pipe ends with an error instead of filling the memory.
-    let mut bytes = Vec::new();
-    file.take(MAX_INPUT_BYTES + 1).read_to_end(&mut bytes).map_err(|e| cannot(&e))?;
-    if bytes.len() as u64 > MAX_INPUT_BYTES {
-        return Err(Diagnostic::new(
-            Code::E0001,
-            format!(
-                "`{}` is larger than {} MiB, the most holoc reads",
-                path.display(),
-                MAX_INPUT_BYTES / (1024 * 1024)
-            ),
-        )
-        .with_help(
-            "a scene, an answer or a house is far smaller; check that this is the right file",
-        ));
-    }
+    // of a shell's `<(…)` and devices are read up to the limit and for at most
+    // `source::STREAM_TIMEOUT`: `/dev/zero` or a runaway pipe ends with an error instead of
+    // filling the memory or waiting for ever.
+    let bytes =
+        match crate::source::read_input(path, MAX_INPUT_BYTES) {
+            Ok(bytes) => bytes,
+            Err(e @ crate::source::ReadError::NamedPipe) => {
+                return Err(cannot(&e).with_help(
+                    "give a file; to read a stream, use `<(command)` or a file written first",
+                ))
+            }
+            Err(crate::source::ReadError::Folder) => {
+                return Err(cannot(&"it is a folder").with_help("give a file, not a folder"))
+            }
+            Err(crate::source::ReadError::TooLarge(_)) => return Err(Diagnostic::new(
+                Code::E0001,
+                format!(
+                    "`{}` is larger than {} MiB, the most holoc reads",
+                    path.display(),
+                    MAX_INPUT_BYTES / (1024 * 1024)
+                ),
+            )
+            .with_help(
+                "a scene, an answer or a house is far smaller; check that this is the right file",
+            )),
+            Err(e) => return Err(cannot(&e)),
+        };
     let text = String::from_utf8(bytes).map_err(|e| {
         Diagnostic::new(
             Code::E0003,
@@ -165,21 +160,41 @@ pub fn emit_beside(
     let data = |text: String| if stdout_taken { err(&text) } else { out(&text) };
     let mut sorted = diagnostics.to_vec();
     diag::sort(&mut sorted);
+    let errors = sorted.iter().filter(|d| d.is_error()).count();
+    let warnings = sorted.len() - errors;
+    let more = |shown: &mut Vec<Diagnostic>| {
+        let hidden = diag::cap_per_file(shown, diag::MAX_SHOWN_PER_FILE);
+        move || {
+            if hidden > 0 {
+                err(&format!(
+                    "... and {hidden} more diagnostic(s) not shown (at most {} per file; \
+                     `--format json` lists them all)\n",
+                    diag::MAX_SHOWN_PER_FILE
+                ));
+            }
+        }
+    };
     match format {
         DiagFormat::Human => {
+            let mut shown = sorted.clone();
+            let closing = more(&mut shown);
             let text = diag::format::render_human(
                 sources,
-                &sorted,
+                &shown,
                 HumanOptions { color: color.enabled(), width: 100 },
             );
             err(&text);
-            let errors = sorted.iter().filter(|d| d.is_error()).count();
-            let warnings = sorted.len() - errors;
+            closing();
             if errors + warnings > 0 {
                 err(&format!("{errors} error(s), {warnings} warning(s)\n"));
             }
         }
-        DiagFormat::Short => err(&diag::format::render_short(sources, &sorted)),
+        DiagFormat::Short => {
+            let mut shown = sorted.clone();
+            let closing = more(&mut shown);
+            err(&diag::format::render_short(sources, &shown));
+            closing();
+        }
         DiagFormat::Json => data(diag::format::render_json(sources, &sorted)),
         DiagFormat::Lsp => data(diag::lsp::render_lsp(sources, &sorted)),
     }
@@ -187,8 +202,14 @@ pub fn emit_beside(
 
 /// Prints one diagnostic that has no source (I/O, usage) to stderr.
 pub fn emit_plain(d: &Diagnostic) {
-    let help = d.help.as_ref().map(|h| format!("  help: {h}\n")).unwrap_or_default();
-    err(&format!("{}[{}]: {}\n{help}", d.severity.as_str(), d.code.as_str(), d.message));
+    let help =
+        d.help.as_ref().map(|h| format!("  help: {}\n", diag::visible(h))).unwrap_or_default();
+    err(&format!(
+        "{}[{}]: {}\n{help}",
+        d.severity.as_str(),
+        d.code.as_str(),
+        diag::visible(&d.message)
+    ));
 }
 
 /// Writes `contents` to `path`.

@@ -66,6 +66,7 @@ codes! {
     E0104 "invalid-string" "a string has an unknown escape or no closing quote";
     E0105 "missing-unit" "a length or angle is written without its unit";
     E0106 "wrong-unit" "a value carries a unit of the wrong kind";
+    E0107 "nesting-too-deep" "blocks are nested deeper than holoc reads";
 
     E0201 "unknown-object" "a reference names no object of the room";
     E0202 "unknown-room" "a reference names no room";

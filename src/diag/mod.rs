@@ -212,6 +212,48 @@ pub fn sort(diagnostics: &mut [Diagnostic]) {
         .sort_by_key(|d| d.primary.as_ref().map(|l| (l.span.file, l.span.start, l.span.end)));
 }
 
+/// The most diagnostics of one file that `human` and `short` output print and that the language
+/// server publishes for one document; the rest are counted in a closing line (`json` and `lsp`
+/// output list them all). Pairwise checks summarise past [`PAIR_DETAIL_LIMIT`] pairs, so that
+/// the number of diagnostics stays linear in the input.
+pub const MAX_SHOWN_PER_FILE: usize = 100;
+
+/// The most pairs (rooms that overlap, floor objects that overlap) a pairwise check reports one
+/// by one; past it, each room or object gets one diagnostic with the number of others.
+pub const PAIR_DETAIL_LIMIT: usize = 32;
+
+/// Keeps the first `max` diagnostics of each file (in the order given; diagnostics without a
+/// place count as one file) and returns how many were left out.
+pub fn cap_per_file(diagnostics: &mut Vec<Diagnostic>, max: usize) -> usize {
+    let mut seen: std::collections::HashMap<Option<crate::source::FileId>, usize> =
+        std::collections::HashMap::new();
+    let before = diagnostics.len();
+    diagnostics.retain(|d| {
+        let n = seen.entry(d.primary.as_ref().map(|l| l.span.file)).or_insert(0);
+        *n += 1;
+        *n <= max
+    });
+    before - diagnostics.len()
+}
+
+/// Text safe to print on a terminal: every control character but a line break and a tab is
+/// written as an escape (`\u{1b}`), so that a name in a file cannot move the cursor, set the
+/// window title or hide what follows.
+pub fn visible(text: &str) -> std::borrow::Cow<'_, str> {
+    if !text.chars().any(|c| c.is_control() && c != '\n' && c != '\t') {
+        return std::borrow::Cow::Borrowed(text);
+    }
+    let mut out = String::with_capacity(text.len() + 8);
+    for c in text.chars() {
+        if c.is_control() && c != '\n' && c != '\t' {
+            out.push_str(&c.escape_unicode().to_string());
+        } else {
+            out.push(c);
+        }
+    }
+    std::borrow::Cow::Owned(out)
+}
+
 /// The text of `file` with the fixes of `diagnostics` that edit it applied (last first, so
 /// that spans stay valid); a fix that overlaps one already applied, or whose span is not in the
 /// text, is skipped.

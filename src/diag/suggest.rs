@@ -7,15 +7,23 @@
 /// The smallest similarity (0…1) for a candidate to be suggested.
 pub const THRESHOLD: f64 = 0.6;
 
-/// The candidates closest to `name`, best first (at most three).
+/// The longest name (in characters) that gets suggestions; a longer name, or a candidate
+/// longer than this, is not compared (the comparison costs the product of the two lengths).
+pub const MAX_NAME_CHARS: usize = 64;
+
+/// The candidates closest to `name`, best first (at most three). A name or candidate longer
+/// than [`MAX_NAME_CHARS`] gets or gives none.
 pub fn closest<'a, I>(name: &str, candidates: I) -> Vec<String>
 where
     I: IntoIterator<Item = &'a str>,
 {
+    if name.chars().count() > MAX_NAME_CHARS {
+        return Vec::new();
+    }
     let lower = name.to_lowercase();
     let mut scored: Vec<(f64, String)> = candidates
         .into_iter()
-        .filter(|c| !c.is_empty() && *c != name)
+        .filter(|c| !c.is_empty() && *c != name && c.chars().count() <= MAX_NAME_CHARS)
         .filter_map(|c| {
             let cl = c.to_lowercase();
             let mut score = strsim::normalized_damerau_levenshtein(&lower, &cl);
@@ -73,6 +81,8 @@ mod tests {
         let names = ["sofa-0", "coffee_table-0", "tv_stand-0"];
         assert_eq!(closest("sofa-1", names), vec!["sofa-0".to_string()]);
         assert!(closest("wardrobe", names).is_empty());
+        let long = "sofa-".repeat(4000);
+        assert!(closest(&long, [long.as_str(), "sofa-0"]).is_empty());
         assert_eq!(
             did_you_mean(&["a".into(), "b".into()]).as_deref(),
             Some("did you mean `a` or `b`?")

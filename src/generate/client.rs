@@ -296,16 +296,24 @@ impl HttpLlm {
 
     /// Removes the API key from a text that came from the network, and cuts it to 300
     /// characters (for error messages).
+    ///
+    /// The key is removed from the whole text before the cut, and a cut that ends in the first
+    /// characters of the key loses them too, so no part of the key reaches the message.
     fn scrub(&self, text: &str) -> String {
-        let text: String = text.chars().take(300).collect();
-        self.redact(&text)
+        let redacted = self.redact(text);
+        let cut: String = redacted.chars().take(300).collect();
+        match self.options.api_key.as_deref().filter(|k| !k.is_empty()) {
+            Some(key) => drop_key_prefix(&cut, key),
+            None => cut,
+        }
     }
 
     /// Removes the API key from a whole text that came from the network (an answer): a server
-    /// that echoes it must not put it into the scene, the transcript or any excerpt.
+    /// that echoes it must not put it into the scene, the transcript or any excerpt. Every
+    /// escape form is matched (see [`redact_key`]).
     fn redact(&self, text: &str) -> String {
         match self.options.api_key.as_deref().filter(|k| !k.is_empty()) {
-            Some(key) => text.replace(key, "[redacted]"),
+            Some(key) => redact_key(text, key),
             None => text.to_owned(),
         }
     }
@@ -324,6 +332,120 @@ impl HttpLlm {
         }
         body
     }
+}
+
+/// The text with every occurrence of `key` replaced by `[redacted]`, whatever the form each of
+/// its characters is written in: as itself, as a JSON escape (`\u0073`, any case, `\/`), as
+/// percent-encoding of its UTF-8 bytes (`%73`, any case), or as an HTML character reference
+/// (`&#115;`, `&#x73;`). Forms may be mixed within one occurrence. Linear in the text times the
+/// key's length.
+pub fn redact_key(text: &str, key: &str) -> String {
+    if key.is_empty() {
+        return text.to_owned();
+    }
+    let first = key.chars().next().unwrap_or_default();
+    let mut out = String::with_capacity(text.len());
+    let mut i = 0;
+    while i < text.len() {
+        let c = text[i..].chars().next().unwrap_or_default();
+        let may_start = c == first || matches!(c, '\\' | '%' | '&');
+        if may_start {
+            if let Some(end) = key_at(text, i, key) {
+                out.push_str("[redacted]");
+                i = end;
+                continue;
+            }
+        }
+        out.push(c);
+        i += c.len_utf8();
+    }
+    out
+}
+
+/// Where an occurrence of `key` (in any of [`redact_key`]'s forms) starting at byte `at` ends.
+fn key_at(text: &str, at: usize, key: &str) -> Option<usize> {
+    let bytes = text.as_bytes();
+    let mut i = at;
+    for c in key.chars() {
+        i = char_at(text, bytes, i, c)?;
+    }
+    Some(i)
+}
+
+/// Where the character `c`, written in one of [`redact_key`]'s forms at byte `i`, ends.
+fn char_at(text: &str, bytes: &[u8], i: usize, c: char) -> Option<usize> {
+    let rest = text.get(i..)?;
+    if rest.starts_with(c) {
+        return Some(i + c.len_utf8());
+    }
+    let hex = |s: &str| u32::from_str_radix(s, 16).ok();
+    match bytes.get(i)? {
+        b'\\' => {
+            if c == '/' && rest.starts_with("\\/") {
+                return Some(i + 2);
+            }
+            let code =
+                rest.get(2..6).filter(|_| rest[1..].starts_with(['u', 'U'])).and_then(hex)?;
+            (code == c as u32).then_some(i + 6)
+        }
+        b'%' => {
+            let mut buf = [0u8; 4];
+            let mut j = i;
+            for &b in c.encode_utf8(&mut buf).as_bytes() {
+                let byte =
+                    text.get(j..j + 3).filter(|s| s.starts_with('%')).and_then(|s| hex(&s[1..]))?;
+                if byte != u32::from(b) {
+                    return None;
+                }
+                j += 3;
+            }
+            Some(j)
+        }
+        b'&' => {
+            let end = rest.get(..12).unwrap_or(rest).find(';')?;
+            let code = rest.get(2..end).filter(|_| rest.starts_with("&#"))?;
+            let code = match code.strip_prefix(['x', 'X']) {
+                Some(h) => hex(h)?,
+                None => code.parse().ok()?,
+            };
+            (code == c as u32).then_some(i + end + 1)
+        }
+        _ => None,
+    }
+}
+
+/// The text without a last run that begins the key (at least its first four characters, or
+/// the whole key when shorter, in any of [`redact_key`]'s forms): what a cut right inside the
+/// key would leave.
+fn drop_key_prefix(text: &str, key: &str) -> String {
+    let n = key.chars().count();
+    let least = n.min(4);
+    let bytes = text.as_bytes();
+    // The longest form of a character is 12 bytes (`%xx` for each of 4 bytes).
+    let from = text.len().saturating_sub(12 * n);
+    for p in (from..text.len()).filter(|&p| text.is_char_boundary(p)) {
+        let mut i = p;
+        let mut matched = 0;
+        for c in key.chars() {
+            if i == text.len() {
+                break;
+            }
+            match char_at(text, bytes, i, c) {
+                Some(end) => {
+                    i = end;
+                    matched += 1;
+                }
+                None => {
+                    matched = 0;
+                    break;
+                }
+            }
+        }
+        if i == text.len() && matched >= least && matched < n {
+            return format!("{}[redacted]", &text[..p]);
+        }
+    }
+    text.to_owned()
 }
 
 fn retry_after(response: &reqwest::blocking::Response) -> Option<Duration> {
@@ -414,9 +536,16 @@ impl Llm for HttpLlm {
                     };
                     match status {
                         200..=299 => {
-                            return parse_completion(&self.redact(&text)).map_err(|reason| {
-                                LlmError::InvalidResponse { reason: self.scrub(&reason) }
-                            })
+                            // The raw body and the decoded answer are both redacted: an
+                            // escape the JSON decoding turns into the key is caught too.
+                            return parse_completion(&self.redact(&text))
+                                .map(|mut answer| {
+                                    answer.text = self.redact(&answer.text);
+                                    answer
+                                })
+                                .map_err(|reason| LlmError::InvalidResponse {
+                                    reason: self.scrub(&reason),
+                                });
                         }
                         401 | 403 => {
                             return Err(LlmError::Unauthorized { status, body: self.scrub(&text) })
@@ -525,6 +654,7 @@ impl Llm for ReplayLlm {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::fmt::Write as _;
 
     #[test]
     fn backoff_doubles_and_is_capped() {
@@ -545,6 +675,87 @@ mod tests {
         let client = HttpLlm::new(options);
         assert!(!format!("{client:?}").contains("sk-secret-123"));
         assert_eq!(client.scrub("echo sk-secret-123!"), "echo [redacted]!");
+    }
+
+    /// A character of the key written in one of the forms a server may use.
+    fn encode(c: char, form: u8) -> String {
+        match form % 6 {
+            0 => c.to_string(),
+            1 => format!("\\u{:04x}", c as u32),
+            2 => format!("\\u{:04X}", c as u32),
+            3 => {
+                let mut buf = [0u8; 4];
+                c.encode_utf8(&mut buf).bytes().fold(String::new(), |mut s, b| {
+                    let _ = write!(s, "%{b:02x}");
+                    s
+                })
+            }
+            4 => {
+                let mut buf = [0u8; 4];
+                c.encode_utf8(&mut buf).bytes().fold(String::new(), |mut s, b| {
+                    let _ = write!(s, "%{b:02X}");
+                    s
+                })
+            }
+            _ => format!("&#{};", c as u32),
+        }
+    }
+
+    /// Every form [`encode`] writes, decoded.
+    fn decode(text: &str) -> String {
+        let mut out = text.to_string();
+        for k in 0..6u8 {
+            for c in (0x20u8..0x7f).map(char::from) {
+                out = out.replace(&encode(c, k), &c.to_string());
+            }
+        }
+        out
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(300))]
+        #[test]
+        fn the_key_never_survives_in_any_form(
+            key in "[A-Za-z0-9_-]{8,40}",
+            forms in proptest::collection::vec(0u8..6, 40),
+            before in "[ -~]{0,320}",
+            after in "[ -~]{0,40}",
+            cut in 0usize..400,
+        ) {
+            let key = format!("sk-{key}");
+            let encoded: String =
+                key.chars().zip(forms.iter().cycle()).map(|(c, &f)| encode(c, f)).collect();
+            let text = format!("{before}{encoded}{after}");
+            let redacted = redact_key(&text, &key);
+            proptest::prop_assert!(!redacted.contains(&key));
+            proptest::prop_assert!(!decode(&redacted).contains(&key), "{redacted}");
+            // An error message cuts the body: no prefix of the key is left at the cut.
+            let mut options = HttpOptions::new("http://x", "m");
+            options.api_key = Some(key.clone());
+            let client = HttpLlm::new(options);
+            let body: String = text.chars().take(cut.max(1)).collect();
+            let scrubbed = client.scrub(&body);
+            let plain = decode(&scrubbed);
+            proptest::prop_assert!(!plain.contains(&key), "{scrubbed}");
+            for n in 4..key.len() {
+                proptest::prop_assert!(!plain.ends_with(&key[..n]), "{scrubbed}");
+            }
+        }
+    }
+
+    #[test]
+    fn escaped_keys_are_redacted() {
+        let key = "sk-abc/123";
+        for text in [
+            "x sk-abc/123 y",
+            "x \\u0073\\u006b-abc\\/123 y",
+            "x %73%6B%2dabc%2F123 y",
+            "x &#115;&#x6b;-abc/123 y",
+        ] {
+            assert_eq!(redact_key(text, key), "x [redacted] y", "{text}");
+        }
+        assert_eq!(drop_key_prefix("error: sk-ab", key), "error: [redacted]");
+        assert_eq!(drop_key_prefix("error: sk", key), "error: sk");
     }
 
     #[test]

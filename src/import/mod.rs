@@ -20,6 +20,7 @@ mod stages;
 pub mod transcript;
 
 pub use scene::{import_holodeck_scene, import_transcript};
+pub use stages::MAX_JSON_NESTING;
 pub use transcript::{Exchange, ModelInfo, Totals, Transcript, Usage};
 
 use crate::ast;

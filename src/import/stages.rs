@@ -938,6 +938,19 @@ fn extract_json<T: serde::de::DeserializeOwned>(
                 .with_primary(span, "the JSON read"),
         );
     }
+    // JSON5's reader recurses without a bound: a body nested deeper than strict JSON reads is
+    // refused before either reader sees it.
+    if let Some(at) = json_too_deep(body) {
+        d.push(
+            Diagnostic::new(
+                Code::E0706,
+                format!("the {stage} answer nests brackets deeper than {MAX_JSON_NESTING} levels"),
+            )
+            .with_primary(Span::new(file, a + at, a + at + 1), "too deep")
+            .with_help("answer with one flat JSON value"),
+        );
+        return None;
+    }
     match serde_json::from_str::<T>(body) {
         Ok(v) => Some((v, span)),
         Err(e1) => match json5::from_str::<T>(body) {
@@ -965,6 +978,39 @@ fn extract_json<T: serde::de::DeserializeOwned>(
             }
         },
     }
+}
+
+/// The deepest nesting of brackets an answer's JSON may have (serde_json's own limit).
+pub const MAX_JSON_NESTING: usize = 128;
+
+/// The offset of the first `{` or `[` nested deeper than [`MAX_JSON_NESTING`], outside strings
+/// (double- or single-quoted, as JSON5 allows). One pass, no recursion.
+fn json_too_deep(body: &str) -> Option<usize> {
+    let bytes = body.as_bytes();
+    let mut depth = 0usize;
+    let mut quote: Option<u8> = None;
+    let mut i = 0;
+    while i < bytes.len() {
+        let b = bytes[i];
+        match quote {
+            Some(_) if b == b'\\' => i += 1,
+            Some(q) if b == q => quote = None,
+            Some(_) => {}
+            None => match b {
+                b'"' | b'\'' => quote = Some(b),
+                b'{' | b'[' => {
+                    depth += 1;
+                    if depth > MAX_JSON_NESTING {
+                        return Some(i);
+                    }
+                }
+                b'}' | b']' => depth = depth.saturating_sub(1),
+                _ => {}
+            },
+        }
+        i += 1;
+    }
+    None
 }
 
 fn key_norm(k: &str) -> String {

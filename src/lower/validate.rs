@@ -8,7 +8,7 @@
 //! their room and do not overlap (warnings: AI2-THOR loads such houses); asset ids that are
 //! not built-in AI2-THOR assets get a warning. Diagnostics point at the id in the file where one can be found.
 
-use std::collections::{BTreeMap, BTreeSet};
+use std::collections::{BTreeMap, BTreeSet, HashMap};
 
 use serde_json::Value;
 
@@ -47,6 +47,56 @@ struct Ctx<'a> {
     text: &'a str,
     file: FileId,
     diags: Vec<Diagnostic>,
+    /// Where each `"key": "value"` pair of string literals stands, as written (quotes
+    /// included), built on the first look-up: every look-up after it is constant time, so
+    /// a house with many diagnostics is not read again for each.
+    pairs: std::cell::OnceCell<HashMap<(&'a str, &'a str), Vec<usize>>>,
+}
+
+/// The end (one past the closing quote) of the JSON string starting at `at`.
+fn string_end(bytes: &[u8], at: usize) -> Option<usize> {
+    let mut i = at + 1;
+    while i < bytes.len() {
+        match bytes[i] {
+            b'\\' => i += 2,
+            b'"' => return Some(i + 1),
+            _ => i += 1,
+        }
+    }
+    None
+}
+
+/// Every `"key": "value"` pair of string literals of a JSON text, by their raw text (key
+/// without quotes, value with them), with the value's offsets. One pass.
+fn string_pairs(text: &str) -> HashMap<(&str, &str), Vec<usize>> {
+    let bytes = text.as_bytes();
+    let mut pairs: HashMap<(&str, &str), Vec<usize>> = HashMap::new();
+    let skip_ws = |mut i: usize| {
+        while i < bytes.len() && bytes[i].is_ascii_whitespace() {
+            i += 1;
+        }
+        i
+    };
+    let mut i = 0;
+    while i < bytes.len() {
+        if bytes[i] != b'"' {
+            i += 1;
+            continue;
+        }
+        let Some(key_end) = string_end(bytes, i) else { break };
+        let colon = skip_ws(key_end);
+        if bytes.get(colon) == Some(&b':') {
+            let v = skip_ws(colon + 1);
+            if bytes.get(v) == Some(&b'"') {
+                let Some(v_end) = string_end(bytes, v) else { break };
+                pairs.entry((&text[i + 1..key_end - 1], &text[v..v_end])).or_default().push(v);
+                i = v_end;
+                continue;
+            }
+        }
+        i = key_end;
+    }
+    pairs
 }
 
 impl Ctx<'_> {
@@ -54,22 +104,11 @@ impl Ctx<'_> {
     /// found).
     fn span_of(&self, key: &str, value: &str, nth: usize) -> Span {
         let quoted = serde_json::to_string(value).unwrap_or_default();
-        let mut seen = 0;
-        let mut from = 0;
-        while let Some(pos) = self.text[from..].find(&quoted) {
-            let at = from + pos;
-            let before = self.text[..at].trim_end();
-            if let Some(b) = before.strip_suffix(':') {
-                if b.trim_end().ends_with(&format!("\"{key}\"")) {
-                    if seen == nth {
-                        return Span::new(self.file, at, at + quoted.len());
-                    }
-                    seen += 1;
-                }
-            }
-            from = at + quoted.len().max(1);
+        let pairs = self.pairs.get_or_init(|| string_pairs(self.text));
+        match pairs.get(&(key, quoted.as_str())).and_then(|at| at.get(nth)) {
+            Some(&at) => Span::new(self.file, at, at + quoted.len()),
+            None => Span::new(self.file, 0, self.text.len().min(1)),
         }
-        Span::new(self.file, 0, self.text.len().min(1))
     }
 
     /// The span of the first `"key"` of the file (whole file start if not found).
@@ -134,6 +173,44 @@ fn hole(v: &Value) -> Option<([f64; 2], [f64; 2])> {
     Some(([num(a, "x")?, num(a, "y")?], [num(b, "x")?, num(b, "y")?]))
 }
 
+/// The largest coordinate (`x`, `y`, `z` anywhere in the house) validate reads, metres.
+pub const MAX_COORDINATE_M: f64 = 1e5;
+
+/// The places (JSON pointers) of the coordinates beyond [`MAX_COORDINATE_M`], at most 20, in
+/// document order. Walks the value without recursion.
+fn absurd_numbers(value: &Value) -> Vec<(String, f64)> {
+    let mut found = Vec::new();
+    let mut pending: Vec<(String, &Value)> = vec![(String::new(), value)];
+    while let Some((path, v)) = pending.pop() {
+        match v {
+            Value::Object(map) => {
+                for (k, x) in map.iter().rev() {
+                    pending.push((format!("{path}/{k}"), x));
+                }
+            }
+            Value::Array(list) => {
+                for (i, x) in list.iter().enumerate().rev() {
+                    pending.push((format!("{path}/{i}"), x));
+                }
+            }
+            Value::Number(n) => {
+                let key = path.rsplit('/').next().unwrap_or_default();
+                if matches!(key, "x" | "y" | "z") {
+                    let x = n.as_f64().unwrap_or(f64::INFINITY);
+                    if !x.is_finite() || x.abs() > MAX_COORDINATE_M {
+                        found.push((path, x));
+                        if found.len() == 20 {
+                            break;
+                        }
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+    found
+}
+
 /// Validates the house JSON in `file`.
 pub fn validate(
     sources: &SourceMap,
@@ -142,7 +219,7 @@ pub fn validate(
     objects_catalog: &Catalog,
 ) -> Outcome<ValidationReport> {
     let text = sources.get(file).text.as_str();
-    let mut ctx = Ctx { text, file, diags: Vec::new() };
+    let mut ctx = Ctx { text, file, diags: Vec::new(), pairs: std::cell::OnceCell::new() };
     let value: Value = match serde_json::from_str(text) {
         Ok(v) => v,
         Err(e) => {
@@ -192,6 +269,26 @@ pub fn validate(
                 Diagnostic::new(Code::E0601, format!("the house does not follow the schema {msg}"))
                     .with_primary(Span::new(file, 0, text.len().min(1)), "in this file")
                     .with_help("see `data/house.schema.json` for the expected fields"),
+            );
+        }
+        return Outcome::new(ValidationReport::default(), ctx.diags);
+    }
+    // A coordinate no house has (1e308, or beyond a hundred kilometres) is an error before any
+    // geometry is computed with it.
+    let absurd = absurd_numbers(&value);
+    if !absurd.is_empty() {
+        for (path, x) in absurd {
+            let key = path.rsplit('/').next().unwrap_or_default().to_string();
+            ctx.push(
+                Diagnostic::new(
+                    Code::E0601,
+                    format!(
+                        "the house does not follow the schema at `{path}`: {x:e} is beyond \
+                         {MAX_COORDINATE_M:e} m, the largest coordinate holoc reads"
+                    ),
+                )
+                .with_primary(ctx.span_of_key(&key), "this value")
+                .with_help("coordinates are metres from the house's origin; fix the number"),
             );
         }
         return Outcome::new(ValidationReport::default(), ctx.diags);
@@ -413,17 +510,36 @@ pub fn validate(
             );
         }
     }
-    for i in 0..footprints.len() {
-        for j in i + 1..footprints.len() {
-            let (a, b) = (&footprints[i], &footprints[j]);
-            if a.room != b.room {
+    // Pairs of footprints that overlap: candidates by a sweep over their bounds along x
+    // (near-linear unless many overlap), then the exact test.
+    let bounds: Vec<Aabb> = footprints.iter().map(Footprint::bounds).collect();
+    let mut by_x: Vec<usize> = (0..footprints.len()).collect();
+    by_x.sort_by(|&i, &j| bounds[i].min[0].total_cmp(&bounds[j].min[0]).then(i.cmp(&j)));
+    let mut pairs: Vec<(usize, usize)> = Vec::new();
+    for (k, &i) in by_x.iter().enumerate() {
+        for &j in &by_x[k + 1..] {
+            if bounds[j].min[0] > bounds[i].max[0] + VALIDATE_TOLERANCE_M {
+                break;
+            }
+            let (lo, hi) = (i.min(j), i.max(j));
+            let (a, b) = (&footprints[lo], &footprints[hi]);
+            if a.room != b.room
+                || bounds[j].min[1] > bounds[i].max[1] + VALIDATE_TOLERANCE_M
+                || bounds[i].min[1] > bounds[j].max[1] + VALIDATE_TOLERANCE_M
+            {
                 continue;
             }
             let ((ia, sa), (ib, sb)) = (a.shape(), b.shape());
-            if !intersection_test(&ia, &sa, &ib, &sb).unwrap_or(false) {
-                continue;
+            if intersection_test(&ia, &sa, &ib, &sb).unwrap_or(false) {
+                pairs.push((lo, hi));
             }
-            let (ba, bb) = (a.bounds(), b.bounds());
+        }
+    }
+    pairs.sort_unstable();
+    if pairs.len() <= crate::diag::PAIR_DETAIL_LIMIT {
+        for &(i, j) in &pairs {
+            let (a, b) = (&footprints[i], &footprints[j]);
+            let (ba, bb) = (&bounds[i], &bounds[j]);
             let overlap_x = ba.max[0].min(bb.max[0]) - ba.min[0].max(bb.min[0]);
             let overlap_z = ba.max[1].min(bb.max[1]) - ba.min[1].max(bb.min[1]);
             let span = ctx.span_of("id", b.id, 0);
@@ -447,6 +563,39 @@ pub fn validate(
                 .with_secondary(other, "this one")
                 .with_note("AI2-THOR loads overlapping objects (ProcTHOR tucks chairs under tables), but holoc's layouts never overlap")
                 .with_help("move one of them"),
+            );
+        }
+    } else {
+        // Many pairs: one diagnostic per object that overlaps others, with their number.
+        let mut others: Vec<Vec<usize>> = vec![Vec::new(); footprints.len()];
+        for &(i, j) in &pairs {
+            others[i].push(j);
+            others[j].push(i);
+        }
+        for (i, list) in others.iter().enumerate().filter(|(_, l)| !l.is_empty()) {
+            let fp = &footprints[i];
+            let named: Vec<String> =
+                list.iter().take(3).map(|&j| format!("`{}`", footprints[j].id)).collect();
+            let more = if list.len() > 3 { ", …" } else { "" };
+            let span = ctx.span_of("id", fp.id, 0);
+            ctx.push(
+                Diagnostic::new(
+                    Code::W0608,
+                    format!(
+                        "floor object `{}` overlaps {} floor object{}",
+                        fp.id,
+                        list.len(),
+                        if list.len() == 1 { "" } else { "s" }
+                    ),
+                )
+                .with_primary(span, format!("overlaps {}{more}", named.join(", ")))
+                .with_note(format!(
+                    "{} pairs of floor objects overlap in this house; past {} they are \
+                     counted per object",
+                    pairs.len(),
+                    crate::diag::PAIR_DETAIL_LIMIT
+                ))
+                .with_help("move the objects apart"),
             );
         }
     }

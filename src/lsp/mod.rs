@@ -11,12 +11,13 @@
 //! and discards the result of one that is running).
 //!
 //! Catalogs come from the initialization options (`{"catalogs": ["a.json.gz"]}`) and from the
-//! nearest `holoc.toml` in the document's folder or above it (`catalogs = ["assets.json"]`,
-//! paths relative to the file).
+//! nearest `holoc.toml` in the document's folder or above it, inside the workspace folders the
+//! client opened (`catalogs = ["assets.json"]`, paths relative to the file).
 
 pub mod document;
 pub mod features;
 pub mod index;
+pub mod transport;
 
 use crate::resolve::Catalog;
 use crossbeam_channel::{Receiver, Sender};
@@ -42,10 +43,10 @@ pub struct ServerOptions {
 
 /// Runs the server on stdin and stdout until the client says `exit`.
 pub fn run_stdio(options: ServerOptions) -> Result<(), String> {
-    let (connection, io) = Connection::stdio();
+    let (connection, io) = transport::stdio();
     serve(&connection, options)?;
     drop(connection);
-    io.join().map_err(|e| e.to_string())
+    io.join()
 }
 
 /// The server's capabilities.
@@ -104,6 +105,7 @@ pub fn serve(connection: &Connection, options: ServerOptions) -> Result<(), Stri
         catalogs,
         catalog_cache: HashMap::new(),
         configs: HashMap::new(),
+        roots: workspace_roots(&init),
         dirty: BTreeSet::new(),
         jobs: options.solve_on_save.then_some(jobs),
         cancel: BTreeMap::new(),
@@ -145,6 +147,8 @@ struct Server {
     catalog_cache: HashMap<Vec<PathBuf>, Arc<Catalog>>,
     /// Each `holoc.toml` read: when it was modified and the catalogs it lists.
     configs: HashMap<PathBuf, (Option<std::time::SystemTime>, Vec<PathBuf>)>,
+    /// The client's workspace folders: where `holoc.toml` is looked up.
+    roots: Vec<PathBuf>,
     /// Documents whose diagnostics must be (re)published.
     dirty: BTreeSet<String>,
     /// The background solver's queue, when solving on save is on.
@@ -278,7 +282,7 @@ impl Server {
     fn catalog_for(&mut self, uri: &str) -> Arc<Catalog> {
         let mut paths = self.catalogs.clone();
         let file = uri_path(uri);
-        if let Some(found) = file.as_deref().and_then(find_config) {
+        if let Some(found) = file.as_deref().and_then(|f| find_config(f, &self.roots)) {
             // Read again only when the file changed; a bad one is reported once.
             let modified = std::fs::metadata(&found).and_then(|m| m.modified()).ok();
             let known = self.configs.get(&found).filter(|(when, _)| *when == modified);
@@ -323,7 +327,9 @@ impl Server {
             let Some(doc) = self.analysed(&uri) else { continue };
             let version = doc.version;
             let Some(analysis) = doc.analysis.as_ref() else { continue };
-            let diagnostics = features::diagnostics(analysis, doc.solved.as_ref());
+            let mut diagnostics = features::diagnostics(analysis, doc.solved.as_ref());
+            // An editor shows a bounded list, as `holoc check` prints one.
+            diagnostics.truncate(crate::diag::MAX_SHOWN_PER_FILE);
             let Ok(uri) = Uri::from_str(&uri) else { continue };
             self.notify::<notification::PublishDiagnostics>(lsp_types::PublishDiagnosticsParams {
                 uri,
@@ -593,9 +599,44 @@ pub fn uri_path(uri: &str) -> Option<PathBuf> {
     String::from_utf8(out).ok().map(PathBuf::from)
 }
 
-/// The nearest `holoc.toml` in the file's folder or a folder above it.
-fn find_config(file: &Path) -> Option<PathBuf> {
-    file.ancestors().skip(1).map(|dir| dir.join("holoc.toml")).find(|p| p.is_file())
+/// The largest `holoc.toml` the server reads, bytes.
+pub const MAX_CONFIG_BYTES: u64 = 1024 * 1024;
+
+/// The nearest `holoc.toml` in the file's folder or a folder above it, inside one of the
+/// workspace folders the client opened (a folder above them, shared with other users, never
+/// chooses the catalogs). Without workspace folders, none is read.
+fn find_config(file: &Path, roots: &[PathBuf]) -> Option<PathBuf> {
+    file.ancestors()
+        .skip(1)
+        .filter(|dir| roots.iter().any(|root| dir.starts_with(root)))
+        .map(|dir| dir.join("holoc.toml"))
+        .find(|p| p.is_file())
+}
+
+/// The workspace folders of the `initialize` parameters (`workspaceFolders`, else `rootUri`,
+/// else `rootPath`), as paths.
+fn workspace_roots(init: &serde_json::Value) -> Vec<PathBuf> {
+    let folders: Vec<PathBuf> = init
+        .get("workspaceFolders")
+        .and_then(serde_json::Value::as_array)
+        .map(|list| {
+            list.iter()
+                .filter_map(|f| f.get("uri").and_then(serde_json::Value::as_str))
+                .filter_map(uri_path)
+                .collect()
+        })
+        .unwrap_or_default();
+    if !folders.is_empty() {
+        return folders;
+    }
+    if let Some(root) = init.get("rootUri").and_then(serde_json::Value::as_str).and_then(uri_path) {
+        return vec![root];
+    }
+    init.get("rootPath")
+        .and_then(serde_json::Value::as_str)
+        .map(PathBuf::from)
+        .into_iter()
+        .collect()
 }
 
 /// The catalogs a `holoc.toml` lists, relative to its folder.
@@ -609,7 +650,10 @@ fn read_config(path: &Path) -> Result<Vec<PathBuf>, String> {
         #[serde(default, rename = "test")]
         _test: Option<toml::Value>,
     }
-    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let bytes = crate::source::read_input(path, MAX_CONFIG_BYTES)
+        .map_err(|e| format!("{}: {e}", path.display()))?;
+    let text = String::from_utf8(bytes)
+        .map_err(|_| format!("{}: the file is not UTF-8 text", path.display()))?;
     let config: Config = toml::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
     let dir = path.parent().unwrap_or(Path::new("."));
     Ok(config.catalogs.into_iter().map(|p| dir.join(p)).collect())

@@ -69,6 +69,9 @@ pub fn parse_cached(
     cache: &mut ParseCache,
 ) -> Outcome<ast::File> {
     let text = &sources.get(file).text;
+    if let Some(too_deep) = too_deep(sources, file) {
+        return too_deep;
+    }
     let Some(starts) = chunk_starts(text) else { return parse_whole(sources, file) };
     let mut used = std::collections::HashMap::new();
     let mut used_groups = std::collections::HashMap::new();
@@ -389,6 +392,9 @@ fn literal_at(text: &str, i: usize) -> Literal {
 /// Parses the whole text at once, with no cache: what [`parse_cached`] falls back to, and the
 /// reference the tests hold it to.
 pub fn parse_whole(sources: &SourceMap, file: FileId) -> Outcome<ast::File> {
+    if let Some(too_deep) = too_deep(sources, file) {
+        return too_deep;
+    }
     let text = &sources.get(file).text;
     let mut builder = Builder { file, text, diagnostics: Vec::new() };
     let whole = Span::new(file, 0, text.len());
@@ -409,6 +415,67 @@ pub fn parse_whole(sources: &SourceMap, file: FileId) -> Outcome<ast::File> {
         }
     };
     Outcome::new(ast, builder.diagnostics)
+}
+
+/// The deepest nesting of braces the parser reads. The grammar is recursive in its blocks
+/// (`instance` and `on top` blocks hold statements that open blocks, a bad line's braces are
+/// matched), and so are the AST's walkers; a scene needs four levels, and this bound keeps
+/// every recursion over a file within a small stack (a 2 MiB thread reads it).
+pub const MAX_NESTING: usize = 64;
+
+/// The byte offset of the first `{` nested deeper than [`MAX_NESTING`], outside strings and
+/// comments (a string ends at its line's end, as the grammar reads it). One pass, no recursion.
+pub(crate) fn first_too_deep(text: &str) -> Option<usize> {
+    let bytes = text.as_bytes();
+    let mut depth = 0usize;
+    let mut i = 0;
+    while i < bytes.len() {
+        match bytes[i] {
+            b'{' => {
+                depth += 1;
+                if depth > MAX_NESTING {
+                    return Some(i);
+                }
+            }
+            b'}' => depth = depth.saturating_sub(1),
+            b'"' => {
+                i += 1;
+                while i < bytes.len() && !matches!(bytes[i], b'"' | b'\n' | b'\r') {
+                    i += if bytes[i] == b'\\' { 2 } else { 1 };
+                }
+            }
+            b'/' if bytes.get(i + 1) == Some(&b'/') => {
+                while i < bytes.len() && bytes[i] != b'\n' {
+                    i += 1;
+                }
+            }
+            b'/' if bytes.get(i + 1) == Some(&b'*') => {
+                i = text[i + 2..].find("*/").map_or(bytes.len(), |close| i + 2 + close + 1);
+            }
+            _ => {}
+        }
+        i += 1;
+    }
+    None
+}
+
+/// For a text nested deeper than [`MAX_NESTING`]: the whole text as one unreadable item and
+/// E0107 at the first brace too deep. The grammar is never run on such a text.
+fn too_deep(sources: &SourceMap, file: FileId) -> Option<Outcome<ast::File>> {
+    let text = &sources.get(file).text;
+    let at = first_too_deep(text)?;
+    let whole = Span::new(file, 0, text.len());
+    let d = Diagnostic::new(
+        Code::E0107,
+        format!("blocks are nested deeper than {MAX_NESTING} levels; the file is not read further"),
+    )
+    .with_primary(Span::new(file, at, at + 1), format!("level {}", MAX_NESTING + 1))
+    .with_help("remove the extra braces: a scene's blocks close within four levels");
+    let ast = ast::File {
+        items: vec![ast::Item::Error(ast::ErrorNode { text: text.clone(), span: whole })],
+        span: whole,
+    };
+    Some(Outcome::new(ast, vec![d]))
 }
 
 /// Parses a text that is not in a source map (tests, the importer's round-trip check).

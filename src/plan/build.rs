@@ -392,49 +392,104 @@ impl Ctx<'_> {
         total
     }
 
+    /// E0305 or E0306 for two rooms whose floors share `inter` square metres.
+    fn overlap_diagnostic(&self, a: usize, b: usize, inter: f64) -> Diagnostic {
+        let (ra, rb) = (&self.rooms[a], &self.rooms[b]);
+        let (na, nb) = (self.room_name(RoomId(a)), self.room_name(RoomId(b)));
+        if near(inter, ra.area_m2) || inter >= ra.area_m2 - 1e-4 {
+            Diagnostic::new(Code::E0306, format!("room `{na}` lies inside room `{nb}`"))
+                .with_primary(ra.name_span, "this room")
+                .with_secondary(rb.name_span, "is inside this one")
+                .with_help(format!("cut `{na}` out of the outline of `{nb}`, or move it"))
+        } else if inter >= rb.area_m2 - 1e-4 {
+            Diagnostic::new(Code::E0306, format!("room `{nb}` lies inside room `{na}`"))
+                .with_primary(rb.name_span, "this room")
+                .with_secondary(ra.name_span, "is inside this one")
+                .with_help(format!("cut `{nb}` out of the outline of `{na}`, or move it"))
+        } else {
+            Diagnostic::new(
+                Code::E0305,
+                format!("rooms `{na}` and `{nb}` overlap by {} m²", m(inter)),
+            )
+            .with_primary(rb.name_span, format!("overlaps `{na}`"))
+            .with_secondary(ra.name_span, format!("overlaps `{nb}`"))
+            .with_help("move the corners so that the rooms only share walls")
+        }
+    }
+
     /// Overlap, containment, isolation and connectivity. Returns whether the plan is valid.
     fn relations(&mut self) -> bool {
         let n = self.rooms.len();
         let mut ok = true;
         let mut adjacent = vec![Vec::new(); n];
-        for a in 0..n {
-            for b in a + 1..n {
-                let (ra, rb) = (&self.rooms[a], &self.rooms[b]);
-                let inter = rectilinear_intersection_area(&ra.corners, &rb.corners);
-                if inter > 1e-4 {
-                    ok = false;
-                    let (na, nb) = (
-                        self.room_name(RoomId(a)).to_owned(),
-                        self.room_name(RoomId(b)).to_owned(),
-                    );
-                    let d = if near(inter, ra.area_m2) || inter >= ra.area_m2 - 1e-4 {
-                        Diagnostic::new(Code::E0306, format!("room `{na}` lies inside room `{nb}`"))
-                            .with_primary(ra.name_span, "this room")
-                            .with_secondary(rb.name_span, "is inside this one")
-                            .with_help(format!(
-                                "cut `{na}` out of the outline of `{nb}`, or move it"
-                            ))
-                    } else if inter >= rb.area_m2 - 1e-4 {
-                        Diagnostic::new(Code::E0306, format!("room `{nb}` lies inside room `{na}`"))
-                            .with_primary(rb.name_span, "this room")
-                            .with_secondary(ra.name_span, "is inside this one")
-                            .with_help(format!(
-                                "cut `{nb}` out of the outline of `{na}`, or move it"
-                            ))
-                    } else {
-                        Diagnostic::new(
-                            Code::E0305,
-                            format!("rooms `{na}` and `{nb}` overlap by {} m²", m(inter)),
-                        )
-                        .with_primary(rb.name_span, format!("overlaps `{na}`"))
-                        .with_secondary(ra.name_span, format!("overlaps `{nb}`"))
-                        .with_help("move the corners so that the rooms only share walls")
-                    };
-                    self.diags.push(d);
-                } else if self.shared_length(a, b) > EPS_M {
-                    adjacent[a].push(b);
-                    adjacent[b].push(a);
+        // Pairs whose outlines' bounds meet, by a sweep along x: only they can overlap or share
+        // a wall (near-linear in the rooms unless many overlap), in the order of the rooms.
+        let boxes: Vec<Aabb> = self.rooms.iter().map(|r| Aabb::of(&r.corners)).collect();
+        let mut by_x: Vec<usize> = (0..n).collect();
+        by_x.sort_by(|&i, &j| boxes[i].min[0].total_cmp(&boxes[j].min[0]).then(i.cmp(&j)));
+        let mut candidates: Vec<(usize, usize)> = Vec::new();
+        for (k, &i) in by_x.iter().enumerate() {
+            for &j in &by_x[k + 1..] {
+                if boxes[j].min[0] > boxes[i].max[0] + EPS_M {
+                    break;
                 }
+                if boxes[j].min[1] <= boxes[i].max[1] + EPS_M
+                    && boxes[i].min[1] <= boxes[j].max[1] + EPS_M
+                {
+                    candidates.push((i.min(j), i.max(j)));
+                }
+            }
+        }
+        candidates.sort_unstable();
+        let mut overlaps: Vec<(usize, usize, f64)> = Vec::new();
+        for (a, b) in candidates {
+            let inter =
+                rectilinear_intersection_area(&self.rooms[a].corners, &self.rooms[b].corners);
+            if inter > 1e-4 {
+                ok = false;
+                overlaps.push((a, b, inter));
+            } else if self.shared_length(a, b) > EPS_M {
+                adjacent[a].push(b);
+                adjacent[b].push(a);
+            }
+        }
+        if overlaps.len() <= crate::diag::PAIR_DETAIL_LIMIT {
+            for &(a, b, inter) in &overlaps {
+                let d = self.overlap_diagnostic(a, b, inter);
+                self.diags.push(d);
+            }
+        } else {
+            // Many pairs: one diagnostic per room that overlaps others, with their number.
+            let mut others: Vec<Vec<usize>> = vec![Vec::new(); n];
+            for &(a, b, _) in &overlaps {
+                others[a].push(b);
+                others[b].push(a);
+            }
+            for (a, list) in others.iter().enumerate().filter(|(_, l)| !l.is_empty()) {
+                let name = self.room_name(RoomId(a)).to_owned();
+                let mut d = Diagnostic::new(
+                    Code::E0305,
+                    format!(
+                        "room `{name}` overlaps {} other room{}",
+                        list.len(),
+                        if list.len() == 1 { "" } else { "s" }
+                    ),
+                )
+                .with_primary(self.rooms[a].name_span, "this room");
+                for &b in list.iter().take(3) {
+                    d = d.with_secondary(
+                        self.rooms[b].name_span,
+                        format!("overlaps `{}`", self.room_name(RoomId(b))),
+                    );
+                }
+                d = d
+                    .with_note(format!(
+                        "{} pairs of rooms overlap; past {} they are counted per room",
+                        overlaps.len(),
+                        crate::diag::PAIR_DETAIL_LIMIT
+                    ))
+                    .with_help("move the corners so that the rooms only share walls");
+                self.diags.push(d);
             }
         }
         if !ok || n < 2 {

@@ -701,9 +701,24 @@ pub fn render_svg(drawing: &Drawing) -> String {
     doc = doc.add(north);
     doc = doc.add(panel);
 
-    let mut out = doc.to_string();
+    let mut out = xml_chars(doc.to_string());
     out.push('\n');
     out
+}
+
+/// The document with every character XML 1.0 does not allow (C0 controls other than tab and
+/// line breaks, U+FFFE, U+FFFF) replaced by U+FFFD. The `svg` crate escapes `<`, `>`, `&` and
+/// quotes; a name read from a file may still hold a control character, and one such character
+/// makes the whole document not well-formed. holoc's own markup holds none, so only text
+/// taken from the scene is changed.
+fn xml_chars(svg: String) -> String {
+    let allowed = |c: char| {
+        matches!(c, '\t' | '\n' | '\r') || (c >= ' ' && c != '\u{FFFE}' && c != '\u{FFFF}')
+    };
+    if svg.chars().all(allowed) {
+        return svg;
+    }
+    svg.chars().map(|c| if allowed(c) { c } else { '\u{FFFD}' }).collect()
 }
 
 #[cfg(test)]

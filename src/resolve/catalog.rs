@@ -378,16 +378,11 @@ fn catalog_name(path: &Path) -> String {
 /// take about 150 MB; a gzip bomb stops here instead of filling the memory.
 pub const MAX_CATALOG_BYTES: u64 = 512 * 1024 * 1024;
 
-/// The bytes of a catalog file (at most one byte more than [`MAX_CATALOG_BYTES`] is read;
-/// [`catalog_text`] refuses that much).
+/// The bytes of a catalog file, at most [`MAX_CATALOG_BYTES`].
 fn read_catalog_bytes(path: &Path) -> Result<Vec<u8>, String> {
-    let file = std::fs::File::open(path).map_err(|e| e.to_string())?;
-    if file.metadata().is_ok_and(|m| m.is_dir()) {
-        return Err("it is a folder".to_string());
-    }
-    let mut bytes = Vec::new();
-    file.take(MAX_CATALOG_BYTES + 1).read_to_end(&mut bytes).map_err(|e| e.to_string())?;
-    Ok(bytes)
+    // Only a regular file is read whole; a device or pipe is read up to the limit and for at
+    // most `source::STREAM_TIMEOUT`, a named pipe is refused (see `source::read_input`).
+    crate::source::read_input(path, MAX_CATALOG_BYTES).map_err(|e| e.to_string())
 }
 
 /// E0403 for a catalog file that cannot be read.

@@ -22,7 +22,7 @@ pub mod structure;
 mod text;
 
 pub(crate) use catalog::sha256_hex;
-pub use catalog::{Asset, Catalog, CatalogSource, PlacementKind, Placements};
+pub use catalog::{Asset, Catalog, CatalogSource, PlacementKind, Placements, MAX_CATALOG_BYTES};
 pub use index::{
     rank, rank_top, Candidate, Query, BM25_B, BM25_K1, HEAD_SHARE, RELEVANCE_THRESHOLD,
     RELEVANCE_WEIGHT, SIZE_WEIGHT,

@@ -190,9 +190,22 @@ pub(crate) fn unplaced(problem: &RoomProblem, u: &Unplaced) -> Diagnostic {
     d.with_help(help)
 }
 
-/// W0502: a pinned pose breaks a hard rule; it is kept as pinned.
+/// W0502: a pinned pose breaks a hard rule; it is kept as pinned. A pin that puts the object
+/// (partly) outside its room is E0502 instead: the house would not validate (E0607, W0609),
+/// and build never writes a house validate rejects.
 pub(crate) fn pin_breaks(problem: &RoomProblem, index: usize, rule: HardRule) -> Diagnostic {
     let o = &problem.objects[index];
+    if rule == HardRule::InsideRoom {
+        let d = Diagnostic::new(
+            Code::E0502,
+            format!("the pinned pose of `{}` puts it outside room `{}`", o.id, problem.name),
+        )
+        .with_help("move the pin (`at`) inside the room, or remove it to let the solver choose");
+        return match o.span {
+            Some(s) => d.with_primary(s, "pinned here"),
+            None => d,
+        };
+    }
     let d = Diagnostic::new(
         Code::W0502,
         format!("the pinned pose of `{}` breaks the rule `{}`", o.id, rule.describe()),

@@ -5,6 +5,9 @@
 //! They are turned into lines and columns (1-based for people, 0-based UTF-16 for LSP) only
 //! through [`SourceFile::line_col`] and [`SourceFile::lsp_position`].
 
+mod read;
+
+pub use read::{read_input, ReadError, STREAM_TIMEOUT};
 use std::fmt;
 
 /// Identifies one file in a [`SourceMap`].

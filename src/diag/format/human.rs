@@ -4,6 +4,30 @@ use crate::source::SourceMap;
 use miette::{GraphicalReportHandler, GraphicalTheme, LabeledSpan, NamedSource, SourceSpan};
 use std::fmt;
 use std::fmt::Write as _;
+use std::sync::Arc;
+
+use crate::diag::visible;
+
+/// The texts excerpts are drawn from, one per file and render (a file's text is shared by all
+/// its diagnostics, never copied for each).
+type Texts = std::collections::HashMap<crate::source::FileId, Arc<String>>;
+
+/// A source text with every control character but line breaks and tabs replaced by a
+/// character of the same length in bytes (`?` for one byte, `¿` for the two of a C1 control),
+/// so that byte offsets stay valid and an excerpt cannot drive the terminal.
+fn terminal_safe(text: &str) -> String {
+    if !text.chars().any(|c| c.is_control() && !matches!(c, '\n' | '\t' | '\r')) {
+        return text.to_string();
+    }
+    text.chars()
+        .map(|c| match c {
+            '\n' | '\t' | '\r' => c,
+            c if c.is_control() && c.len_utf8() == 1 => '?',
+            c if c.is_control() => '¿',
+            c => c,
+        })
+        .collect()
+}
 
 /// How human diagnostics are drawn.
 #[derive(Clone, Copy, Debug)]
@@ -30,7 +54,7 @@ const LONG_LABEL_LINES: usize = 10;
 /// A diagnostic paired with its source, in the shape miette renders.
 struct Report<'a> {
     diagnostic: &'a Diagnostic,
-    source: Option<NamedSource<String>>,
+    source: Option<NamedSource<Arc<String>>>,
     labels: Vec<LabeledSpan>,
     footer: Option<String>,
 }
@@ -43,7 +67,7 @@ impl fmt::Debug for Report<'_> {
 
 impl fmt::Display for Report<'_> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(&self.diagnostic.message)
+        f.write_str(&visible(&self.diagnostic.message))
     }
 }
 
@@ -65,9 +89,9 @@ impl miette::Diagnostic for Report<'_> {
     fn help<'b>(&'b self) -> Option<Box<dyn fmt::Display + 'b>> {
         match (&self.diagnostic.help, &self.footer) {
             (None, None) => None,
-            (Some(h), None) => Some(Box::new(h.clone())),
-            (None, Some(f)) => Some(Box::new(f.clone())),
-            (Some(h), Some(f)) => Some(Box::new(format!("{h}\n{f}"))),
+            (Some(h), None) => Some(Box::new(visible(h).into_owned())),
+            (None, Some(f)) => Some(Box::new(visible(f).into_owned())),
+            (Some(h), Some(f)) => Some(Box::new(visible(&format!("{h}\n{f}")).into_owned())),
         }
     }
 
@@ -84,13 +108,17 @@ impl miette::Diagnostic for Report<'_> {
     }
 }
 
-fn report<'a>(sources: &SourceMap, d: &'a Diagnostic) -> Report<'a> {
+fn report<'a>(sources: &SourceMap, texts: &mut Texts, d: &'a Diagnostic) -> Report<'a> {
     let mut footer_lines: Vec<String> = Vec::new();
     let mut labels = Vec::new();
     let mut source = None;
     if let Some(primary) = &d.primary {
         if let Some(file) = sources.try_get(primary.span.file) {
-            source = Some(NamedSource::new(file.name.clone(), file.text.clone()));
+            let text = texts
+                .entry(primary.span.file)
+                .or_insert_with(|| Arc::new(terminal_safe(&file.text)))
+                .clone();
+            source = Some(NamedSource::new(visible(&file.name), text));
             let to_span = |s: crate::source::Span| SourceSpan::from((s.start as usize, s.len()));
             let line_of = |offset: u32| file.line_col(offset as usize).line;
             // A label over a whole block points at its first line (the header): the excerpt
@@ -103,7 +131,7 @@ fn report<'a>(sources: &SourceMap, d: &'a Diagnostic) -> Report<'a> {
                     head.end = head.start + i as u32;
                 }
             }
-            let text = (!primary.text.is_empty()).then(|| primary.text.clone());
+            let text = (!primary.text.is_empty()).then(|| visible(&primary.text).into_owned());
             labels.push(LabeledSpan::new_primary_with_span(text, to_span(head)));
             let primary_line = line_of(head.start);
             for l in &d.secondary {
@@ -122,7 +150,7 @@ fn report<'a>(sources: &SourceMap, d: &'a Diagnostic) -> Report<'a> {
                             span.end = span.start + i as u32;
                         }
                     }
-                    let text = (!l.text.is_empty()).then(|| l.text.clone());
+                    let text = (!l.text.is_empty()).then(|| visible(&l.text).into_owned());
                     labels.push(LabeledSpan::new_with_span(text, to_span(span)));
                 } else if let Some(p) = place(sources, l.span) {
                     footer_lines.push(format!("{}:{}:{}: {}", p.file, p.line, p.column, l.text));
@@ -148,8 +176,9 @@ pub fn render_human(
     let handler =
         GraphicalReportHandler::new_themed(theme).with_width(options.width).with_links(false);
     let mut out = String::new();
+    let mut texts = Texts::new();
     for d in diagnostics {
-        let r = report(sources, d);
+        let r = report(sources, &mut texts, d);
         // A diagnostic the renderer cannot draw (miette has panicked on odd spans) is printed
         // plainly: one bad excerpt never costs the user the other diagnostics.
         DRAWING.with(|f| f.set(true));
@@ -161,13 +190,18 @@ pub fn render_human(
         match drawn {
             Ok(Ok(text)) => out.push_str(&text),
             _ => {
-                let _ =
-                    writeln!(out, "{}[{}]: {}", d.severity.as_str(), d.code.as_str(), d.message);
+                let _ = writeln!(
+                    out,
+                    "{}[{}]: {}",
+                    d.severity.as_str(),
+                    d.code.as_str(),
+                    visible(&d.message)
+                );
                 if let Some(p) = d.primary.as_ref().and_then(|l| place(sources, l.span)) {
-                    let _ = writeln!(out, "  at {}:{}:{}", p.file, p.line, p.column);
+                    let _ = writeln!(out, "  at {}:{}:{}", visible(p.file), p.line, p.column);
                 }
                 if let Some(help) = &d.help {
-                    let _ = writeln!(out, "  help: {help}");
+                    let _ = writeln!(out, "  help: {}", visible(help));
                 }
             }
         }

@@ -11,10 +11,10 @@ pub fn render_short(sources: &SourceMap, diagnostics: &[Diagnostic]) -> String {
             .primary
             .as_ref()
             .and_then(|l| place(sources, l.span))
-            .map(|p| format!("{}:{}:{}: ", p.file, p.line, p.column))
+            .map(|p| format!("{}:{}:{}: ", crate::diag::visible(p.file), p.line, p.column))
             .unwrap_or_default();
-        let _ =
-            writeln!(out, "{location}{}[{}]: {}", d.severity.as_str(), d.code.as_str(), d.message);
+        let message = crate::diag::visible(&d.message);
+        let _ = writeln!(out, "{location}{}[{}]: {message}", d.severity.as_str(), d.code.as_str());
     }
     out
 }

@@ -1,0 +1,270 @@
+//! Time and peak memory of `holoc check`, `build`, `validate` and `lsp` on inputs 10× and 100×
+//! the largest example and on the hostile shapes of `tests/hostile.rs` (deep nesting, rooms that
+//! all overlap, a crowded house, a very long name, the largest input holoc reads).
+//!
+//! Run by hand with `cargo bench --bench hostile_bench`; it prints a table (seconds and peak
+//! resident memory of each run, from `/usr/bin/time` when it is there) that
+//! `book/src/design/robustness.md` records. The targets: every stage near-linear in the input,
+//! and no input of 32 MiB or less over 10 s or 1 GB.
+
+#![allow(clippy::print_stdout, reason = "the benchmark prints its table")]
+
+use std::fmt::Write as _;
+use std::io::{BufRead as _, Read as _, Write as _};
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+/// The classroom example repeated `n` times: rooms in a row, each with its door to the one
+/// before (the first to the outside).
+fn classrooms(n: usize) -> String {
+    let example = std::fs::read_to_string("examples/classroom.holo").expect("the example");
+    let start = example.find("room classroom").expect("the room");
+    let end = example.find("\ndoor exterior").expect("the door");
+    let room = &example[start..end];
+    let mut text = String::from("scene \"classrooms\" {\n  wall height 3 m\n  seed 21\n}\n\n");
+    for i in 0..n {
+        let x = 7 * i;
+        let copy = room
+            .replacen("room classroom \"classroom\"", &format!("room c{i} \"classroom {i}\""), 1)
+            .replacen(
+                "corners in m (0, 0) (0, 8) (7, 8) (7, 0)",
+                &format!("corners in m ({x}, 0) ({x}, 8) ({}, 8) ({}, 0)", x + 7, x + 7),
+                1,
+            )
+            .replacen("window east", "window north", 1);
+        text.push_str(&copy);
+        text.push('\n');
+    }
+    text.push_str("door exterior -- c0 : doorway single\n");
+    for i in 1..n {
+        let _ = writeln!(text, "door c{} -- c{i} : doorway single", i - 1);
+    }
+    text
+}
+
+/// `n` rooms on the same square.
+fn overlapping(n: usize) -> String {
+    let mut text = String::new();
+    for i in 0..n {
+        let _ =
+            writeln!(text, "room r{i} \"r\" {{\n  corners in m (0, 0) (0, 4) (4, 4) (4, 0)\n}}");
+    }
+    text.push_str("door exterior -- r0 : doorway single\n");
+    text
+}
+
+/// Braces nested `n` deep inside a room.
+fn nested(n: usize) -> String {
+    format!(
+        "room a \"a\" {{\n  corners in m (0, 0) (0, 4) (4, 4) (4, 0)\n  {}{}\n}}\n",
+        "{".repeat(n),
+        "}".repeat(n)
+    )
+}
+
+/// A reference to an object whose name is `n` characters long.
+fn long_name(n: usize) -> String {
+    let name = "x".repeat(n);
+    format!(
+        "room a \"a\" {{\n  corners in m (0, 0) (0, 4) (4, 4) (4, 0)\n  object t \"table\" {{ near {name} }}\n}}\ndoor exterior -- a : doorway single\n"
+    )
+}
+
+/// About `bytes` of comment lines after the classroom: the largest input holoc reads.
+fn padded(bytes: usize) -> String {
+    let mut text = classrooms(1);
+    let line = "// a comment line that fills the file with bytes and nothing else\n";
+    while text.len() + line.len() < bytes {
+        text.push_str(line);
+    }
+    text
+}
+
+/// The house of the bedroom example with its bed copied `n` times on the same spot.
+fn crowded_house(holoc: &Path, dir: &Path, n: usize) -> String {
+    let out =
+        Command::new(holoc).args(["build", "examples/bedroom.holo", "-q", "-o", "-"]).output();
+    let out = out.expect("holoc builds");
+    let mut house: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
+    let objects = house["objects"].as_array_mut().expect("objects");
+    let bed = objects
+        .iter()
+        .find(|o| o["assetId"].as_str().is_some_and(|a| a.starts_with("Bed")))
+        .cloned()
+        .expect("a bed");
+    for k in 0..n {
+        let mut copy = bed.clone();
+        copy["id"] = serde_json::json!(format!("copy-{k}"));
+        copy["children"] = serde_json::json!([]);
+        objects.push(copy);
+    }
+    let _ = dir;
+    serde_json::to_string(&house).expect("prints")
+}
+
+/// Seconds and peak resident memory (MB, when `/usr/bin/time` is there) of one command.
+fn measure(args: &[&std::ffi::OsStr], holoc: &Path) -> (f64, Option<f64>, Option<i32>) {
+    let time = Path::new("/usr/bin/time");
+    let started = Instant::now();
+    let out = if time.exists() {
+        Command::new(time).args(["-f", "%M"]).arg(holoc).args(args).output()
+    } else {
+        Command::new(holoc).args(args).output()
+    }
+    .expect("runs");
+    let seconds = started.elapsed().as_secs_f64();
+    let peak = time.exists().then(|| {
+        let err = String::from_utf8_lossy(&out.stderr);
+        err.lines().last().and_then(|l| l.trim().parse::<f64>().ok()).map_or(0.0, |kb| kb / 1024.0)
+    });
+    (seconds, peak, out.status.code())
+}
+
+/// Seconds from opening `text` in `holoc lsp` to its first diagnostics, and the peak memory
+/// of the server (from `/proc`, read just before it is told to exit).
+fn lsp(holoc: &Path, text: &str) -> (f64, Option<f64>) {
+    let mut child = Command::new(holoc)
+        .arg("lsp")
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("starts");
+    let mut input = child.stdin.take().expect("stdin");
+    let mut output = std::io::BufReader::new(child.stdout.take().expect("stdout"));
+    let mut send = |value: serde_json::Value| {
+        let body = value.to_string();
+        input.write_all(format!("Content-Length: {}\r\n\r\n{body}", body.len()).as_bytes())
+    };
+    let mut read = || -> serde_json::Value {
+        let mut length = 0;
+        loop {
+            let mut line = String::new();
+            if output.read_line(&mut line).unwrap_or(0) == 0 {
+                return serde_json::Value::Null;
+            }
+            if line.trim_end().is_empty() {
+                break;
+            }
+            if let Some(n) = line.trim_end().strip_prefix("Content-Length: ") {
+                length = n.parse().unwrap_or(0);
+            }
+        }
+        let mut body = vec![0; length];
+        let _ = output.read_exact(&mut body);
+        serde_json::from_slice(&body).unwrap_or_default()
+    };
+    let _ = send(
+        serde_json::json!({"jsonrpc": "2.0", "id": 1, "method": "initialize", "params": {"capabilities": {}}}),
+    );
+    let _ = read();
+    let _ = send(serde_json::json!({"jsonrpc": "2.0", "method": "initialized", "params": {}}));
+    let started = Instant::now();
+    let _ = send(
+        serde_json::json!({"jsonrpc": "2.0", "method": "textDocument/didOpen", "params": {"textDocument": {"uri": "file:///bench/scene.holo", "languageId": "holo", "version": 1, "text": text}}}),
+    );
+    loop {
+        let message = read();
+        if message.is_null() || message["method"] == "textDocument/publishDiagnostics" {
+            break;
+        }
+    }
+    let seconds = started.elapsed().as_secs_f64();
+    let peak = std::fs::read_to_string(format!("/proc/{}/status", child.id())).ok().and_then(|s| {
+        s.lines()
+            .find_map(|l| l.strip_prefix("VmHWM:"))
+            .and_then(|v| v.trim().trim_end_matches("kB").trim().parse::<f64>().ok())
+            .map(|kb| kb / 1024.0)
+    });
+    let _ = send(serde_json::json!({"jsonrpc": "2.0", "id": 2, "method": "shutdown"}));
+    let _ = send(serde_json::json!({"jsonrpc": "2.0", "method": "exit"}));
+    drop(input);
+    let deadline = Instant::now() + Duration::from_secs(30);
+    while Instant::now() < deadline {
+        if child.try_wait().ok().flatten().is_some() {
+            break;
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let _ = child.kill();
+    let _ = child.wait();
+    (seconds, peak)
+}
+
+fn main() {
+    // `cargo bench` passes `--bench`; a filter argument is not supported.
+    let holoc = PathBuf::from(env!("CARGO_BIN_EXE_holoc"));
+    let dir = std::env::temp_dir().join(format!("holoc-hostile-bench-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("scratch");
+    let cases: Vec<(&str, String, bool)> = vec![
+        ("classroom ×1", classrooms(1), true),
+        ("classroom ×10", classrooms(10), true),
+        ("classroom ×100", classrooms(100), true),
+        ("nesting 4,000", nested(4000), false),
+        ("nesting 1,000,000", nested(1_000_000), false),
+        ("2,000 overlapping rooms", overlapping(2000), false),
+        ("20,000 overlapping rooms", overlapping(20_000), false),
+        ("16,000-character name", long_name(16_000), false),
+        ("1,000,000-character name", long_name(1_000_000), false),
+        ("32 MiB (classroom + comments)", padded(32 * 1024 * 1024 - 1024), true),
+    ];
+    println!("| input | bytes | command | seconds | peak MB | exit |");
+    println!("|---|---:|---|---:|---:|---:|");
+    let row =
+        |name: &str, bytes: usize, command: &str, s: f64, peak: Option<f64>, code: Option<i32>| {
+            let peak = peak.map_or("–".to_string(), |p| format!("{p:.0}"));
+            let code = code.map_or("signal".to_string(), |c| c.to_string());
+            println!("| {name} | {bytes} | {command} | {s:.2} | {peak} | {code} |");
+        };
+    for (name, text, build) in &cases {
+        let file = dir.join("scene.holo");
+        std::fs::write(&file, text).expect("write");
+        let (s, peak, code) = measure(
+            &["check".as_ref(), "--format".as_ref(), "short".as_ref(), file.as_os_str()],
+            &holoc,
+        );
+        let _ = code;
+        row(name, text.len(), "check", s, peak, code);
+        if *build {
+            let house = dir.join("house.json");
+            let args = [
+                "build".as_ref(),
+                "-q".as_ref(),
+                "-o".as_ref(),
+                house.as_os_str(),
+                file.as_os_str(),
+            ];
+            let (s, peak, code) = measure(&args, &holoc);
+            row(name, text.len(), "build", s, peak, code);
+            if house.exists() {
+                let bytes = std::fs::metadata(&house).map_or(0, |m| m.len() as usize);
+                let (s, peak, code) = measure(
+                    &[
+                        "validate".as_ref(),
+                        "--format".as_ref(),
+                        "short".as_ref(),
+                        house.as_os_str(),
+                    ],
+                    &holoc,
+                );
+                row(&format!("{name}: its house"), bytes, "validate", s, peak, code);
+                let _ = std::fs::remove_file(&house);
+            }
+        }
+        let (s, peak) = lsp(&holoc, text);
+        row(name, text.len(), "lsp open → diagnostics", s, peak, Some(0));
+    }
+    for n in [200, 2000] {
+        let house = dir.join("crowded.json");
+        let text = crowded_house(&holoc, &dir, n);
+        std::fs::write(&house, &text).expect("write");
+        let (s, peak, code) = measure(
+            &["validate".as_ref(), "--format".as_ref(), "short".as_ref(), house.as_os_str()],
+            &holoc,
+        );
+        row(&format!("house with {n} beds on one spot"), text.len(), "validate", s, peak, code);
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

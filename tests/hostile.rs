@@ -1,0 +1,371 @@
+//! Hostile and huge inputs, through the binary: deep nesting, pipes and devices where a file is
+//! expected, inputs whose checks are pairwise, absurd numbers, manifests that reach outside
+//! their folder or choose where the key goes, control characters, a malformed language-server
+//! transport. Each ends with a clear diagnostic, in bounded time and memory, with no abort.
+//! (Nothing is timed here: the figures are `benches/hostile_bench.rs`'s.)
+
+mod common;
+#[path = "support/llm_server.rs"]
+mod llm_server;
+
+use std::fmt::Write as _;
+use std::io::{BufRead as _, Read as _, Write as _};
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+
+fn holoc() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_holoc"))
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("holoc-hostile-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("scratch folder");
+    dir
+}
+
+fn stderr(out: &Output) -> String {
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+fn mkfifo(path: &Path) -> bool {
+    Command::new("mkfifo").arg(path).status().is_ok_and(|s| s.success())
+}
+
+/// A process that did not end by a signal (a stack overflow aborts with SIGABRT or SIGSEGV).
+fn no_abort(out: &Output) {
+    assert!(out.status.code().is_some(), "ended by a signal: {:?}\n{}", out.status, stderr(out));
+}
+
+#[test]
+fn deep_nesting_is_a_diagnostic_not_an_abort() {
+    let dir = scratch("deep");
+    let scene = dir.join("deep.holo");
+    let deep = format!(
+        "room a \"a\" {{\n  corners in m (0, 0) (0, 4) (4, 4) (4, 0)\n  {}{}\n}}\n",
+        "{".repeat(4000),
+        "}".repeat(4000)
+    );
+    std::fs::write(&scene, &deep).expect("write");
+    let out = holoc().args(["check", "--format", "short"]).arg(&scene).output().expect("runs");
+    no_abort(&out);
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    assert!(stderr(&out).contains("error[E0107]"), "{}", stderr(&out));
+    assert!(stderr(&out).contains("deeper than 64 levels"), "{}", stderr(&out));
+    let out = holoc().args(["fmt", "--check"]).arg(&scene).output().expect("runs");
+    no_abort(&out);
+    // Deep `instance` blocks (valid statements, nested) in a batch: one job fails, the other
+    // is built, the summary is written.
+    let mut nested = String::from(
+        "room a \"a\" {\n  corners in m (0, 0) (0, 4) (4, 4) (4, 0)\n  object t \"table\" ",
+    );
+    for _ in 0..1000 {
+        nested.push_str("{ instance t-0 ");
+    }
+    nested.push_str(&"}".repeat(1000));
+    nested.push_str("\n}\n");
+    std::fs::write(dir.join("nested.holo"), nested).expect("write");
+    std::fs::copy("examples/bedroom.holo", dir.join("bedroom.holo")).expect("copy");
+    std::fs::write(
+        dir.join("jobs.jsonl"),
+        "{\"build\": \"nested.holo\"}\n{\"build\": \"bedroom.holo\"}\n",
+    )
+    .expect("write");
+    let out = holoc()
+        .args(["batch", "-q", "--jobs", "2"])
+        .arg(dir.join("jobs.jsonl"))
+        .arg("-o")
+        .arg(dir.join("out"))
+        .output()
+        .expect("runs");
+    no_abort(&out);
+    let summary = std::fs::read_to_string(dir.join("out/summary.json")).expect("a summary");
+    assert!(summary.contains("E0107"), "{summary}");
+    assert!(summary.contains("\"done\""), "{summary}");
+}
+
+#[test]
+fn a_deeply_nested_json_answer_is_refused() {
+    let dir = scratch("json");
+    let answer = dir.join("objects.txt");
+    std::fs::write(&answer, format!("{}{}", "{\"a\": ".repeat(5000), "}".repeat(5000)))
+        .expect("write");
+    let out = holoc()
+        .args(["import", "--stage", "objects", "--room", "living room", "--format", "short"])
+        .arg(&answer)
+        .output()
+        .expect("runs");
+    no_abort(&out);
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    assert!(stderr(&out).contains("deeper than 128 levels"), "{}", stderr(&out));
+}
+
+#[test]
+fn pipes_and_devices_are_never_waited_on_for_ever() {
+    let dir = scratch("fifo");
+    let fifo = dir.join("catalog.json");
+    if !mkfifo(&fifo) {
+        common::skip("pipes_and_devices_are_never_waited_on_for_ever", "no mkfifo here");
+        return;
+    }
+    // A catalog that is a named pipe: refused at once by build and assets.
+    let out = holoc()
+        .args(["build", "examples/bedroom.holo", "-q", "-o", "-", "--catalog"])
+        .arg(&fifo)
+        .output()
+        .expect("runs");
+    assert!(stderr(&out).contains("it is a named pipe"), "{}", stderr(&out));
+    let out = holoc().args(["assets", "search", "chair", "--catalog"]).arg(&fifo).output();
+    assert!(stderr(&out.expect("runs")).contains("it is a named pipe"));
+    // In a batch: the scene and the catalog may be pipes, and `/dev/zero` a scene.
+    std::fs::copy("examples/bedroom.holo", dir.join("bedroom.holo")).expect("copy");
+    let scene_fifo = dir.join("scene.holo");
+    assert!(mkfifo(&scene_fifo));
+    let mut manifest = String::new();
+    let _ = writeln!(manifest, "{{\"build\": \"scene.holo\"}}");
+    let _ = writeln!(manifest, "{{\"build\": \"bedroom.holo\", \"catalog\": [\"catalog.json\"]}}");
+    let _ = writeln!(manifest, "{{\"build\": \"/dev/zero\"}}");
+    let _ = writeln!(manifest, "{{\"build\": \"bedroom.holo\"}}");
+    std::fs::write(dir.join("jobs.jsonl"), manifest).expect("write");
+    let out = holoc()
+        .args(["batch", "-q"])
+        .arg(dir.join("jobs.jsonl"))
+        .arg("-o")
+        .arg(dir.join("out"))
+        .output()
+        .expect("runs");
+    no_abort(&out);
+    let summary = std::fs::read_to_string(dir.join("out/summary.json")).expect("a summary");
+    assert!(summary.contains("it is a named pipe"), "{summary}");
+    assert!(summary.contains("larger than 32 MiB"), "{summary}");
+    assert!(summary.contains("\"done\""), "{summary}");
+    // A manifest that is a pipe is refused too.
+    let manifest_fifo = dir.join("manifest.jsonl");
+    assert!(mkfifo(&manifest_fifo));
+    let out = holoc()
+        .args(["batch", "-q"])
+        .arg(&manifest_fifo)
+        .arg("-o")
+        .arg(dir.join("o2"))
+        .output()
+        .expect("runs");
+    assert_eq!(out.status.code(), Some(2));
+    assert!(stderr(&out).contains("it is a named pipe"), "{}", stderr(&out));
+}
+
+/// `n` rooms of 4 m × 4 m, every one on the same square.
+fn overlapping_rooms(n: usize) -> String {
+    let mut text = String::new();
+    for i in 0..n {
+        let _ = writeln!(
+            text,
+            "room r{i} \"room {i}\" {{\n  corners in m (0, 0) (0, 4) (4, 4) (4, 0)\n}}"
+        );
+    }
+    text.push_str("door exterior -- r0 : doorway single\n");
+    text
+}
+
+#[test]
+fn pairwise_checks_are_summarised() {
+    let dir = scratch("pairs");
+    let scene = dir.join("rooms.holo");
+    std::fs::write(&scene, overlapping_rooms(2000)).expect("write");
+    let out = holoc().args(["check", "--format", "json"]).arg(&scene).output().expect("runs");
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
+    let list = json["diagnostics"].as_array().expect("a list");
+    assert!(list.len() <= 2000, "{} diagnostics", list.len());
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.contains("room `r0` overlaps 1999 other rooms"),
+        "{}",
+        &text[..2000.min(text.len())]
+    );
+    // Human output shows at most 100 per file and says how many more there are.
+    let out = holoc().args(["check", "--format", "short"]).arg(&scene).output().expect("runs");
+    let err = stderr(&out);
+    assert!(err.lines().count() <= 102, "{} lines", err.lines().count());
+    assert!(err.contains("and 1900 more diagnostic(s) not shown"), "{err}");
+    // A few overlaps are still reported pair by pair.
+    std::fs::write(&scene, overlapping_rooms(3)).expect("write");
+    let out = holoc().args(["check", "--format", "short"]).arg(&scene).output().expect("runs");
+    assert!(stderr(&out).contains("lies inside room"), "{}", stderr(&out));
+}
+
+/// A house of the bedroom example with its first floor object copied `n` times.
+fn crowded_house(n: usize) -> String {
+    let out =
+        holoc().args(["build", "examples/bedroom.holo", "-q", "-o", "-"]).output().expect("builds");
+    assert!(out.status.success(), "{}", stderr(&out));
+    let mut house: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
+    let objects = house["objects"].as_array_mut().expect("objects");
+    let bed = objects
+        .iter()
+        .find(|o| o["assetId"].as_str().is_some_and(|a| a.starts_with("Bed")))
+        .expect("a bed")
+        .clone();
+    for k in 0..n {
+        let mut copy = bed.clone();
+        copy["id"] = serde_json::json!(format!("copy-{k}"));
+        copy["children"] = serde_json::json!([]);
+        objects.push(copy);
+    }
+    serde_json::to_string_pretty(&house).expect("prints")
+}
+
+#[test]
+fn validate_summarises_pairs_and_refuses_absurd_numbers() {
+    let dir = scratch("validate");
+    let house = dir.join("house.json");
+    std::fs::write(&house, crowded_house(200)).expect("write");
+    let out = holoc().args(["validate", "--format", "short"]).arg(&house).output().expect("runs");
+    no_abort(&out);
+    let err = stderr(&out);
+    assert!(err.contains("overlaps 200 floor objects"), "{err}");
+    assert!(err.lines().filter(|l| l.contains("W0608")).count() <= 100, "{err}");
+    // 1e308 as a coordinate: an error, not a panic.
+    let text = std::fs::read_to_string(&house).expect("read");
+    let at = text.find("\"x\": ").expect("a coordinate") + 5;
+    let end = at + text[at..].find([',', '\n']).expect("end");
+    let absurd = format!("{}1e308{}", &text[..at], &text[end..]);
+    std::fs::write(&house, absurd).expect("write");
+    let out = holoc().args(["validate", "--format", "short"]).arg(&house).output().expect("runs");
+    no_abort(&out);
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    assert!(stderr(&out).contains("is beyond 1e5 m"), "{}", stderr(&out));
+}
+
+#[test]
+fn a_pin_outside_its_room_is_an_error_at_build() {
+    let text = std::fs::read_to_string("examples/bedroom.holo").expect("example");
+    let pinned = text.replacen(
+        "    size 160 cm x 210 cm x 100 cm\n",
+        "    size 160 cm x 210 cm x 100 cm\n    at 40 m, 40 m\n",
+        1,
+    );
+    assert_ne!(pinned, text, "the example has the bed's size line");
+    let dir = scratch("pin");
+    std::fs::write(dir.join("pinned.holo"), pinned).expect("write");
+    let out = holoc()
+        .args(["build", "--format", "short", "-o"])
+        .arg(dir.join("house.json"))
+        .arg(dir.join("pinned.holo"))
+        .output()
+        .expect("runs");
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    assert!(stderr(&out).contains("error[E0502]"), "{}", stderr(&out));
+    assert!(!dir.join("house.json").exists(), "no house that validate would reject");
+}
+
+#[test]
+fn the_documented_door_asset_form_parses() {
+    let dir = scratch("door");
+    let text = std::fs::read_to_string("examples/bedroom.holo").expect("example");
+    let line = text.lines().find(|l| l.starts_with("door ")).expect("a door line");
+    let (head, _) = line.split_once(':').expect("a door kind");
+    let written = text.replacen(line, &format!("{head}: doorway asset \"Doorway_1\""), 1);
+    std::fs::write(dir.join("door.holo"), written).expect("write");
+    let out = holoc().args(["check", "--format", "short"]).arg(dir.join("door.holo")).output();
+    let out = out.expect("runs");
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+}
+
+
+
+#[test]
+fn control_characters_never_reach_the_terminal() {
+    let dir = scratch("control");
+    let text = std::fs::read_to_string("examples/bedroom.holo").expect("example");
+    let hostile = text.replacen("\"bed\"", "\"bed\\u{1b}]0;pwned\\u{7}\"", 1);
+    assert_ne!(hostile, text);
+    std::fs::write(dir.join("c.holo"), &hostile).expect("write");
+    std::fs::write(dir.join("raw.holo"), text.replacen("seed 1", "seed 1 \u{1b}[2J", 1))
+        .expect("write");
+    for file in ["c.holo", "raw.holo"] {
+        for format in ["human", "short"] {
+            let out = holoc()
+                .args(["check", "--color", "never", "--format", format])
+                .arg(dir.join(file))
+                .output()
+                .expect("runs");
+            let err = stderr(&out);
+            assert!(!err.contains('\u{1b}') && !err.contains('\u{7}'), "{file} {format}: {err:?}");
+        }
+    }
+    // The SVG stays well-formed XML: checked by a real parser.
+    let out = holoc()
+        .args(["render", "-o"])
+        .arg(dir.join("plan.svg"))
+        .arg(dir.join("c.holo"))
+        .output()
+        .expect("runs");
+    assert!(out.status.success(), "{}", stderr(&out));
+    let svg = std::fs::read_to_string(dir.join("plan.svg")).expect("svg");
+    roxmltree::Document::parse(&svg).expect("the SVG is well-formed XML");
+    assert!(!svg.contains('\u{1b}'));
+}
+
+/// One framed message of the language server protocol.
+fn frame(body: &str) -> String {
+    format!("Content-Length: {}\r\n\r\n{body}", body.len())
+}
+
+/// Reads one framed message.
+fn read_message(reader: &mut impl std::io::BufRead) -> serde_json::Value {
+    let mut length = 0;
+    loop {
+        let mut line = String::new();
+        assert!(reader.read_line(&mut line).expect("reads") > 0, "the server ended");
+        let line = line.trim_end();
+        if line.is_empty() {
+            break;
+        }
+        if let Some(n) = line.strip_prefix("Content-Length: ") {
+            length = n.parse().expect("a length");
+        }
+    }
+    let mut body = vec![0; length];
+    reader.read_exact(&mut body).expect("a body");
+    serde_json::from_slice(&body).expect("json")
+}
+
+#[test]
+fn the_language_server_skips_bad_frames() {
+    let mut child = holoc()
+        .arg("lsp")
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("starts");
+    let mut input = child.stdin.take().expect("stdin");
+    let mut output = std::io::BufReader::new(child.stdout.take().expect("stdout"));
+    let mut send = |text: &str| input.write_all(text.as_bytes()).expect("writes");
+    send(&frame(r#"{"jsonrpc":"2.0","id":1,"method":"initialize","params":{"capabilities":{}}}"#));
+    let init = read_message(&mut output);
+    assert_eq!(init["id"], 1, "{init}");
+    send(&frame(r#"{"jsonrpc":"2.0","method":"initialized","params":{}}"#));
+    // Garbage, a request that is not one (answered), a huge length (refused, its body skipped).
+    send(&frame("{this is not json"));
+    send(&frame(r#"{"jsonrpc":"2.0","id":2,"method":7}"#));
+    let answer = read_message(&mut output);
+    assert_eq!(answer["id"], 2, "{answer}");
+    assert!(answer["error"]["code"].is_number(), "{answer}");
+    // The server still answers after them.
+    send(&frame(r#"{"jsonrpc":"2.0","id":3,"method":"shutdown"}"#));
+    let answer = read_message(&mut output);
+    assert_eq!(answer["id"], 3, "{answer}");
+    send("Content-Length: 100000000000\r\n\r\n");
+    // The skipped body would be 100 GB; the server is still reading it, so end the input
+    // here and check the process ends cleanly instead of aborting in an allocation.
+    drop(input);
+    let status = child.wait().expect("ends");
+    assert!(status.code().is_some(), "ended by a signal: {status:?}");
+    let mut err = String::new();
+    child.stderr.take().expect("stderr").read_to_string(&mut err).expect("reads");
+    assert!(err.contains("skipped a message that is not JSON:"), "{err}");
+    assert!(err.contains("skipped a message that is not JSON-RPC"), "{err}");
+    assert!(err.contains("over the limit"), "{err}");
+    let _ = output.fill_buf();
+}
