@@ -310,12 +310,18 @@ fn two_batch_folders_pair_by_job() {
             .args(["batch", "manifest.jsonl", "-q", "-o", out])
             .output()
             .expect("holoc runs");
-        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        assert!(
+            o.status.success(),
+            "{:?}: {}{}",
+            o.status,
+            String::from_utf8_lossy(&o.stdout),
+            String::from_utf8_lossy(&o.stderr)
+        );
     };
     batch("before");
     std::fs::write(
         dir.join("study.holo"),
-        study.replace("asset \"Desk_229_1\"\n    at 5 m", "asset \"Desk_310_1\"\n    at 5.2 m"),
+        study.replace("asset \"Desk_229_1\"\n    at 5 m", "asset \"Desk_303_1\"\n    at 5.2 m"),
     )
     .expect("written");
     batch("after");
@@ -340,7 +346,7 @@ fn two_batch_folders_pair_by_job() {
     let (code, full) = diff(&[]);
     assert_eq!(code, Some(1));
     assert!(full.contains("== study\nstudy:\n"), "{full}");
-    assert!(full.contains("desk-0 (study) asset Desk_229_1 → Desk_310_1"), "{full}");
+    assert!(full.contains("desk-0 (study) asset Desk_229_1 → Desk_303_1"), "{full}");
     let (code, json) = diff(&["--format", "json", "--stat"]);
     assert_eq!(code, Some(1));
     let v: Value = serde_json::from_str(&json).expect("one JSON document");

@@ -271,8 +271,6 @@ fn the_documented_door_asset_form_parses() {
     assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
 }
 
-
-
 #[test]
 fn control_characters_never_reach_the_terminal() {
     let dir = scratch("control");

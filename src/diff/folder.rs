@@ -1,7 +1,8 @@
 //! Reading the houses the diff compares from files, and pairing two folders of houses.
 //!
 //! A folder's houses are: each subfolder with a `house.json` (a `holoc batch` job folder),
-//! named by the `id` of its `job.json` (else the folder's name), with its `report.json`; and
+//! named by the `id` of its `job.json` or, in a `holoc batch` output, by the job its
+//! `summary.json` gives the folder's hash (else the folder's name), with its `report.json`; and
 //! each file `NAME.house.json` or `NAME.json` at the top (not `summary*.json`, `job.json` or
 //! `*.report.json`), named `NAME`, with `NAME.report.json` beside it when there is one. Two
 //! folders are paired by those names, so two batch runs pair by job even though a changed job
@@ -90,6 +91,21 @@ pub fn entries(folder: &Path) -> std::io::Result<Vec<Entry>> {
     let mut paths: Vec<PathBuf> =
         std::fs::read_dir(folder)?.filter_map(|e| e.ok().map(|e| e.path())).collect();
     paths.sort();
+    // A `holoc batch` output names each job's folder by its hash; its summary says which job
+    // (manifest `id`) each hash is.
+    let ids: std::collections::BTreeMap<String, String> =
+        std::fs::read_to_string(folder.join("summary.json"))
+            .ok()
+            .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
+            .and_then(|v| v.get("jobs").and_then(|j| j.as_array()).cloned())
+            .unwrap_or_default()
+            .iter()
+            .filter_map(|j| {
+                let hash = j.get("hash")?.as_str()?;
+                let id = j.get("id")?.as_str()?;
+                Some((hash.to_string(), id.to_string()))
+            })
+            .collect();
     for path in paths {
         let Some(name) = path.file_name().and_then(|n| n.to_str()).map(str::to_string) else {
             continue;
@@ -106,6 +122,7 @@ pub fn entries(folder: &Path) -> std::io::Result<Vec<Entry>> {
                 .ok()
                 .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
                 .and_then(|v| v.get("id").and_then(|i| i.as_str()).map(str::to_string))
+                .or_else(|| ids.get(&name).cloned())
                 .unwrap_or_else(|| name.clone());
             let report = Some(path.join("report.json")).filter(|p| p.is_file());
             out.push(Entry { key, house, report });
