@@ -20,8 +20,11 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 fn scenes() -> Vec<PathBuf> {
-    let named: Vec<PathBuf> =
-        std::env::args().skip(1).filter(|a| a.ends_with(".holo")).map(PathBuf::from).collect();
+    let named: Vec<PathBuf> = std::env::args()
+        .skip(1)
+        .map(PathBuf::from)
+        .filter(|p| p.extension().is_some_and(|e| e.eq_ignore_ascii_case("holo")))
+        .collect();
     if !named.is_empty() {
         return named;
     }

@@ -756,6 +756,11 @@ fn flatten<'h>(
     }
 }
 
+/// A house material's tint without its alpha (the export's surfaces are opaque).
+fn rgb(c: Option<crate::lower::thor::Rgba>) -> Option<crate::lower::thor::Rgb> {
+    c.map(|c| crate::lower::thor::Rgb { r: c.r, g: c.g, b: c.b })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -772,9 +777,4 @@ mod tests {
         // x turns +y to +z, then y turns +z to +x.
         assert!((v - Vector3::new(1.0, 0.0, 0.0)).norm() < 1e-12);
     }
-}
-
-/// A house material's tint without its alpha (the export's surfaces are opaque).
-fn rgb(c: Option<crate::lower::thor::Rgba>) -> Option<crate::lower::thor::Rgb> {
-    c.map(|c| crate::lower::thor::Rgb { r: c.r, g: c.g, b: c.b })
 }

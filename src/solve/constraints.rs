@@ -154,7 +154,7 @@ impl Rect {
             }
         }
         t1 - t0 > 1e-9 && {
-            let mid = (t0 + t1) / 2.0;
+            let mid = f64::midpoint(t0, t1);
             let m = [a[0] + d[0] * mid, a[1] + d[1] * mid];
             m[0] > self.min_x + EPS
                 && m[0] < self.max_x - EPS
