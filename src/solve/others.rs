@@ -371,7 +371,7 @@ impl Rows {
 }
 
 /// Places the small objects: on the surfaces of their receptacle (a mattress, a seat, the
-/// shelves of a bookcase, a table top: [`surfaces::carrier`]) in the order they are declared,
+/// shelves of a bookcase, a table top: [`carrier`]) in the order they are declared,
 /// row by row, then spread over each surface so that none hugs its edges; flat things of one
 /// name that find no room side by side are piled. Things on a bar (a towel holder) hang from
 /// it side by side, in layers when the bar is full.
