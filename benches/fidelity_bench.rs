@@ -169,12 +169,14 @@ fn pairs_outside(built: &Built, catalog: &Catalog) -> (usize, usize) {
     (outside, total)
 }
 
-/// Walls whose design names a colour, and of them the ones the house tints.
+/// Rooms whose wall design names a colour (not white), and of them the ones whose inner walls
+/// the house tints.
 fn wall_colours(built: &Built) -> (usize, usize) {
     let (mut asked, mut written) = (0, 0);
     for room in &built.scene.rooms {
         let Some(design) = &room.wall_design else { continue };
-        if holoc::resolve::colors::find(design).is_none() {
+        // A white design is a white material, never a tint.
+        if holoc::resolve::colors::find(design).is_none_or(|c| c.is_white()) {
             continue;
         }
         asked += 1;
@@ -184,7 +186,7 @@ fn wall_colours(built: &Built) -> (usize, usize) {
             .house
             .walls
             .iter()
-            .filter(|w| w.room_id == *id)
+            .filter(|w| w.room_id == *id && !w.id.ends_with("|exterior"))
             .all(|w| w.material.color.is_some());
         written += usize::from(tinted);
     }
