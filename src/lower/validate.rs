@@ -813,7 +813,7 @@ fn resting_checks(ctx: &mut Ctx<'_>, top: &[Value], objects_catalog: &Catalog, v
         // A towel holder's towels hang from its bar: their top at the holder's top.
         let bar = s(o, "assetId")
             .and_then(|a| objects_catalog.get(a))
-            .is_some_and(|a| matches!(a.object_type.as_str(), "TowelHolder" | "HandTowelHolder"));
+            .is_some_and(|a| crate::solve::surfaces::has_bar(&a.object_type));
         for c in arr(o, "children") {
             let (Some([_, ch, _]), Some(cy), Some(cid)) = (size(c), y_of(c), s(c, "id")) else {
                 continue;

@@ -90,12 +90,18 @@ pub fn carrier(thor_type: Option<&str>, size: [f64; 3], margin: f64) -> Carrier 
             [-w / 2.0, w / 2.0, -d / 2.0 + 0.25 * d, d / 2.0],
             true,
         )]),
-        "towelholder" | "handtowelholder" => Carrier::Bar { y: h, length: w },
+        _ if has_bar(&t) => Carrier::Bar { y: h, length: w },
         "shelf" | "shelvingunit" | "bookcase" | "tvstand" => {
             Carrier::Surfaces(shelves(size, margin))
         }
         _ => Carrier::Surfaces(vec![top(h, whole, false)]),
     }
+}
+
+/// Whether a receptacle of this AI2-THOR type hangs what it carries from a bar (a towel
+/// holder), case aside: what hangs there has its top at the receptacle's top.
+pub fn has_bar(thor_type: &str) -> bool {
+    matches!(thor_type.to_ascii_lowercase().as_str(), "towelholder" | "handtowelholder")
 }
 
 /// The surfaces of a bookcase: a shelf every [`SHELF_PITCH_M`] or so from the bottom board up,
