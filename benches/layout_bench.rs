@@ -28,11 +28,26 @@ fn median_time(problem: &RoomProblem, opts: &SolveOptions, runs: usize) -> Durat
     times[times.len() / 2]
 }
 
+/// The slope of `ln y` against `ln x` by least squares: the exponent of a power law.
+fn fitted_exponent(points: &[(f64, f64)]) -> f64 {
+    let n = points.len() as f64;
+    let (lx, ly): (Vec<f64>, Vec<f64>) = points.iter().map(|(x, y)| (x.ln(), y.ln())).unzip();
+    let mx = lx.iter().sum::<f64>() / n;
+    let my = ly.iter().sum::<f64>() / n;
+    let sxy: f64 = lx.iter().zip(&ly).map(|(x, y)| (x - mx) * (y - my)).sum();
+    let sxx: f64 = lx.iter().map(|x| (x - mx) * (x - mx)).sum();
+    sxy / sxx
+}
+
 fn table(rooms: &[(String, RoomProblem)]) {
     println!(
         "| room | objects | DFS median ms | nodes | placed | DFS sat | clearances kept | largest pocket m² | greedy ms | greedy sat | MILP ms | MILP placed | MILP sat | overlaps |"
     );
     println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+    let (mut sat_all, mut total_all, mut placed_all, mut objects_all) = (0, 0, 0, 0);
+    let mut slowest = (Duration::ZERO, String::new());
+    let mut times = Vec::new();
+    let mut generated = Vec::new();
     for (name, p) in rooms {
         let dfs = SolveOptions::default();
         let milp = SolveOptions { solver: Solver::Milp, ..SolveOptions::default() };
@@ -52,6 +67,17 @@ fn table(rooms: &[(String, RoomProblem)]) {
             .flat_map(|(i, a)| out.floor[i + 1..].iter().map(move |b| (a, b)))
             .filter(|(a, b)| a.footprint.overlaps(&b.footprint))
             .count();
+        sat_all += ok;
+        total_all += total;
+        placed_all += out.floor.len();
+        objects_all += p.objects.len();
+        times.push(t);
+        if t > slowest.0 {
+            slowest = (t, name.clone());
+        }
+        if name.starts_with("generated_") {
+            generated.push((p.objects.len() as f64, t.as_secs_f64()));
+        }
         let (ck, ct) = solve::use_clearances_kept(p, &out);
         let pocket = solve::largest_pocket_m2(p, &out, dfs.agent_radius_m);
         println!(
@@ -66,6 +92,40 @@ fn table(rooms: &[(String, RoomProblem)]) {
             mo.floor.len(),
             p.objects.len(),
         );
+    }
+    times.sort();
+    println!();
+    println!(
+        "all rooms: {placed_all}/{objects_all} placed, {sat_all}/{total_all} constraints kept ({:.3}), median {:.1} ms, slowest {:.1} ms ({})",
+        sat_all as f64 / total_all.max(1) as f64,
+        times.get(times.len() / 2).map_or(0.0, |t| t.as_secs_f64() * 1000.0),
+        slowest.0.as_secs_f64() * 1000.0,
+        slowest.1,
+    );
+    if generated.len() >= 2 {
+        println!(
+            "solve time against objects over the generated rooms: exponent {:.2} (1.0 is linear)",
+            fitted_exponent(&generated)
+        );
+    }
+    println!();
+    println!("| room | budget | placed | kept | ms |");
+    println!("|---|---|---|---|---|");
+    for (name, p) in rooms.iter().filter(|(n, _)| {
+        ["restaurant_34", "restaurant_tables_first", "generated_80", "packed_bedroom_60"]
+            .contains(&n.as_str())
+    }) {
+        let mut last = (0, 0);
+        for budget in [1000, 2000, 4000, 8000, 10_000] {
+            let opts = SolveOptions { node_budget: budget, ..SolveOptions::default() };
+            let t = Instant::now();
+            let out = solve::solve_room(p, &opts).value;
+            let ms = t.elapsed().as_secs_f64() * 1000.0;
+            let r = (out.floor.len(), out.constraint_tally(p).0);
+            let worse = if r < last { " (worse!)" } else { "" };
+            println!("| {name} | {budget} | {} | {}{worse} | {ms:.1} |", r.0, r.1);
+            last = r;
+        }
     }
 }
 

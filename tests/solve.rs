@@ -86,7 +86,13 @@ fn check_hard_rules(problem: &RoomProblem, layout: &RoomLayout) {
                 problem.objects[a.index].id
             );
         }
-        assert!(a.constraints[0].measure.satisfied, "{}: global broken", problem.name);
+        // `edge` is soft: an edge object no wall pose could take stands elsewhere, reported.
+        assert!(
+            a.constraints[0].measure.satisfied
+                || problem.objects[a.index].global == GlobalKind::Edge,
+            "{}: global broken",
+            problem.name
+        );
     }
 }
 
@@ -484,5 +490,73 @@ fn a_pin_that_cuts_the_room_off_is_reported() {
             out.value.pinned_breaks
         );
         assert!(out.diagnostics.iter().any(|d| d.code.as_str() == "W0502"));
+    }
+}
+
+/// The rank of a layout in the documented order: objects placed, then constraints kept.
+fn rank(problem: &RoomProblem, layout: &RoomLayout) -> (usize, usize) {
+    (layout.floor.len(), layout.constraint_tally(problem).0)
+}
+
+/// More search never loses what less search found: the search walks the same nodes first and
+/// keeps the best complete layout under the documented order.
+#[test]
+fn a_larger_budget_never_gives_a_worse_layout() {
+    for name in ["restaurant_34", "restaurant_tables_first", "packed_bedroom_60", "kitchen"] {
+        let problem = solve_corpus::load(&solve_corpus::corpus_dir().join(format!("{name}.json")));
+        let mut last = (0, 0);
+        for budget in [20, 100, 400, 1000, 2500] {
+            let opts = SolveOptions { node_budget: budget, ..SolveOptions::default() };
+            let r = rank(&problem, &solve::solve_room(&problem, &opts).value);
+            assert!(r >= last, "{name}: budget {budget} gives {r:?}, less gave {last:?}");
+            last = r;
+        }
+    }
+}
+
+/// How many chairs `around` a table keep the relation, and how many there are.
+fn chairs_at_tables(problem: &RoomProblem, layout: &RoomLayout) -> (usize, usize) {
+    let mut kept = 0;
+    for p in &layout.floor {
+        kept += p
+            .constraints
+            .iter()
+            .filter(|c| c.kind == Some(RelationKind::Around) && c.measure.satisfied)
+            .count();
+    }
+    let total = problem
+        .objects
+        .iter()
+        .flat_map(|o| &o.constraints)
+        .filter(|c| c.kind == RelationKind::Around)
+        .count();
+    (kept, total)
+}
+
+/// A restaurant written tables first, then every chair: the tables keep room for their chairs
+/// instead of being pulled together, and the chairs sit at their own table.
+#[test]
+fn crowded_rooms_keep_their_groups() {
+    for (name, at_least) in [("restaurant_tables_first", 23), ("restaurant_34", 23)] {
+        let problem = solve_corpus::load(&solve_corpus::corpus_dir().join(format!("{name}.json")));
+        let out = solve::solve_room(&problem, &SolveOptions::default()).value;
+        let (kept, total) = chairs_at_tables(&problem, &out);
+        assert_eq!(total, 24, "{name}");
+        assert!(kept >= at_least, "{name}: {kept} of {total} chairs at their table");
+    }
+    // Rows of desks, each chair in front of its desk and facing it.
+    let problem = solve_corpus::load(&solve_corpus::corpus_dir().join("classroom_rows.json"));
+    let out = solve::solve_room(&problem, &SolveOptions::default()).value;
+    assert_eq!(out.floor.len(), problem.objects.len());
+    for p in out.floor.iter().filter(|p| problem.objects[p.index].id.starts_with("chair-")) {
+        for c in &p.constraints {
+            assert!(c.measure.satisfied, "{}: {} not kept", problem.objects[p.index].id, c.text);
+        }
+    }
+    // Generated rooms of 40 and 80 objects: everything placed.
+    for name in ["generated_40", "generated_80", "packed_bedroom_60"] {
+        let problem = solve_corpus::load(&solve_corpus::corpus_dir().join(format!("{name}.json")));
+        let out = solve::solve_room(&problem, &SolveOptions::default()).value;
+        assert_eq!(out.floor.len(), problem.objects.len(), "{name}: {:?}", out.unplaced);
     }
 }

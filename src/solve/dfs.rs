@@ -201,8 +201,8 @@ pub(crate) fn derived_candidates(
         // The gaps the object's relations to this target mean (a coffee table 0.3–0.6 m in
         // front of its sofa, `near` not touching): their ends and middle; and the seats of a
         // table the object is one of the chairs around.
-        for d in obj.constraints.iter().filter(|d| d.target == c.target) {
-            let m = super::meaning_of(prep.problem, k, d);
+        for (di, _) in obj.constraints.iter().enumerate().filter(|(_, d)| d.target == c.target) {
+            let m = prep.meaning(k, di);
             if let Some(ring) = &m.ring {
                 for pose in constraints::seat_poses(tp, t.size, ring) {
                     if prep.static_rule(k, &pose).is_none() {
@@ -273,10 +273,10 @@ pub(crate) fn fast_score(
 ) -> f64 {
     let obj = &prep.problem.objects[k];
     let mut s = 0.0;
-    for c in &obj.constraints {
+    for (ci, c) in obj.constraints.iter().enumerate() {
         if let (Some(Some(tp)), Some(t)) = (poses.get(c.target), prep.problem.objects.get(c.target))
         {
-            let meaning = super::meaning_of(prep.problem, k, c);
+            let meaning = prep.meaning(k, ci);
             let m = constraints::relation_fit(c.kind, &meaning, pose, obj.size, tp, t.size);
             s += constraints::weight(c.kind) * m.score + if m.satisfied { sat_value } else { 0.0 };
         }
@@ -296,11 +296,11 @@ impl Scorer {
     fn new(prep: &Prepared<'_>, k: usize, poses: &[Option<Pose>], sat_value: f64) -> Scorer {
         let obj = &prep.problem.objects[k];
         let mut relations = Vec::new();
-        for c in &obj.constraints {
+        for (ci, c) in obj.constraints.iter().enumerate() {
             if let (Some(Some(tp)), Some(t)) =
                 (poses.get(c.target), prep.problem.objects.get(c.target))
             {
-                let meaning = super::meaning_of(prep.problem, k, c);
+                let meaning = prep.meaning(k, ci);
                 relations.push((
                     c.kind,
                     meaning,
@@ -332,6 +332,9 @@ struct Dependent {
     /// The gaps (metres) its other relations to the same target allow: `near` caps it,
     /// `far` sets a floor.
     gaps: (f64, f64),
+    /// One of the chairs around a table: it needs one of the table's seats, not any free
+    /// zone beside it.
+    ring: bool,
 }
 
 /// A side relation of a later object to a placed one that can still be kept: its free zones
@@ -339,6 +342,39 @@ struct Dependent {
 struct Promise {
     zones: Vec<Rect>,
     next_to: Vec<Rect>,
+}
+
+/// The seats of a placed table that chairs still to come need: the free seat zones and how
+/// many chairs are still to come.
+struct SeatPromise {
+    seats: Vec<Rect>,
+    need: usize,
+}
+
+impl SeatPromise {
+    /// How many of the chairs to come lose their seat if `fp` is placed.
+    fn broken_by(&self, fp: &Rect) -> usize {
+        let covered = self.seats.iter().filter(|z| z.overlaps(fp)).count();
+        let left = self.seats.len() - covered;
+        self.need.saturating_sub(left) - self.need.saturating_sub(self.seats.len())
+    }
+}
+
+/// How far behind a chair at a table's seat the seat's zone reaches (metres): the room to pull
+/// the chair out and sit down, kept free of other furniture and of other tables' seats.
+const SEAT_BACK_M: f64 = 0.4;
+
+/// The zone a chair of `ring` needs at a seat pose: its footprint and [`SEAT_BACK_M`] behind.
+fn seat_zone(pose: &Pose, ring: &constraints::SeatRing) -> Rect {
+    let fp = footprint(pose, ring.seat);
+    let [fx, fz] = pose.rot.front();
+    // The chair faces the table; its back is the other way.
+    Rect {
+        min_x: fp.min_x - if fx > 0.5 { SEAT_BACK_M } else { 0.0 },
+        max_x: fp.max_x + if fx < -0.5 { SEAT_BACK_M } else { 0.0 },
+        min_z: fp.min_z - if fz > 0.5 { SEAT_BACK_M } else { 0.0 },
+        max_z: fp.max_z + if fz < -0.5 { SEAT_BACK_M } else { 0.0 },
+    }
 }
 
 /// The static candidates of one object with what the search asks of them at every node.
@@ -476,10 +512,17 @@ struct Search<'p, 'a> {
     /// Per object, the later objects' side relations (`in front of`, `behind`, …) that target
     /// it, with the gaps the later object's other relations to it allow.
     dependents: Vec<Vec<Dependent>>,
+    /// Per object, the ring of chairs around it when it is a table with chairs `around` it.
+    rings: Vec<Option<constraints::SeatRing>>,
     budget: u64,
     seed: u64,
     nodes: u64,
     best: Option<State>,
+    /// The best complete layout found so far under the documented order (objects placed, then
+    /// constraints kept as the report measures them, then score), with that measure: what the
+    /// search returns. Every layout the search improves on is measured, so a larger budget,
+    /// which walks the same nodes first, never returns a worse layout.
+    kept: Option<(State, Rank)>,
     pin_breaks: Vec<(usize, HardRule)>,
     /// Target contexts by object and the bits of its targets' poses.
     contexts: RefCell<HashMap<ContextKey, Rc<TargetContext>>>,
@@ -520,6 +563,12 @@ impl Search<'_, '_> {
         if k == n {
             if self.better(st.value) {
                 self.best = Some(st.clone());
+                let mut finished = st.clone();
+                self.finish(&mut finished);
+                let rank = rank(self.prep, &finished);
+                if self.kept.as_ref().is_none_or(|(_, r)| rank.beats(r)) {
+                    self.kept = Some((finished, rank));
+                }
             }
             return;
         }
@@ -616,7 +665,16 @@ impl Search<'_, '_> {
         if let Some(found) = self.node_answers.get(&key) {
             return Rc::clone(found);
         }
-        let found = Rc::new(self.candidates(k, st));
+        let mut found = self.candidates(k, st);
+        if found.0.is_empty() && self.prep.problem.objects[k].global == GlobalKind::Edge {
+            // `edge` is soft: with no wall pose left, the object stands elsewhere now, so that
+            // what relates to it is placed after it, not left without it.
+            let elsewhere = self.anywhere_at_node(k, st);
+            if !elsewhere.is_empty() {
+                found = (elsewhere, None);
+            }
+        }
+        let found = Rc::new(found);
         if self.node_answers.len() >= MAX_NODE_ANSWERS {
             self.node_answers.clear();
         }
@@ -712,13 +770,41 @@ impl Search<'_, '_> {
 
     /// What candidate `c` of object `k` leaves for the side relations later objects have to
     /// `k`: how many still find a free zone, and how many find one right next to `k`.
-    fn room_left_for_dependents(&self, k: usize, c: &Cand, placed: &[Rect]) -> (usize, usize) {
-        self.room_left_where(k, c, |z| self.zone_free(z, placed))
+    fn room_left_for_dependents(
+        &self,
+        k: usize,
+        c: &Cand,
+        placed: &[Rect],
+        reserved: &[Rect],
+    ) -> (usize, usize) {
+        let (kept, close) = self.room_left_where(k, c, |z| self.zone_free(z, placed));
+        let seats = self.seats_left(k, c, |z| {
+            self.zone_free(z, placed) && !reserved.iter().any(|r| r.overlaps(z))
+        });
+        (kept + seats, close + seats)
+    }
+
+    /// How many of the chairs around table `k` still find a seat with the table at `c`: the
+    /// table's seats whose zone is `free`, as many as there are chairs.
+    fn seats_left(&self, k: usize, c: &Cand, free: impl Fn(&Rect) -> bool) -> usize {
+        let Some(ring) = &self.rings[k] else { return 0 };
+        let chairs = self.dependents[k].iter().filter(|d| d.ring).count();
+        if chairs == 0 {
+            return 0;
+        }
+        let size = self.prep.problem.objects[k].size;
+        let free_seats = constraints::seat_poses(&c.pose, size, ring)
+            .iter()
+            .filter(|p| free(&seat_zone(p, ring)))
+            .count();
+        free_seats.min(chairs)
     }
 
     /// [`Search::room_left_for_dependents`] with nothing placed: what no node can exceed.
     fn room_left_static(&self, k: usize, c: &Cand) -> (u8, u8) {
         let (kept, close) = self.room_left_where(k, c, |z| self.zone_open(z));
+        let seats = self.seats_left(k, c, |z| self.zone_open(z));
+        let (kept, close) = (kept + seats, close + seats);
         let small = |n: usize| u8::try_from(n).unwrap_or(u8::MAX);
         (small(kept), small(close))
     }
@@ -727,7 +813,7 @@ impl Search<'_, '_> {
         let size = self.prep.problem.objects[k].size;
         let bounds = &self.prep.room.bounds;
         let (mut kept, mut close) = (0, 0);
-        for d in &self.dependents[k] {
+        for d in self.dependents[k].iter().filter(|d| !d.ring) {
             let dep = &self.prep.problem.objects[d.object];
             let side = dep.size[0].min(dep.size[1]);
             let (mut some_free, mut some_free_next_to) = (false, false);
@@ -820,7 +906,7 @@ impl Search<'_, '_> {
         for (t, deps) in self.dependents.iter().enumerate().take(k) {
             let Some(tp) = st.poses[t] else { continue };
             let t_size = prep.problem.objects[t].size;
-            for d in deps.iter().filter(|d| d.object > k) {
+            for d in deps.iter().filter(|d| d.object > k && !d.ring) {
                 let (all, next_to) = self.zones_of(d, &tp, t_size);
                 let free = |v: Vec<Rect>| -> Vec<Rect> {
                     v.into_iter().filter(|z| self.zone_free(z, &st.fps)).collect()
@@ -834,15 +920,89 @@ impl Search<'_, '_> {
         out
     }
 
-    /// Places object `k` of a finished layout anywhere (ignoring its global constraint) at its
-    /// best-scored pose that keeps the other hard rules, if it has one.
-    fn place_anywhere(&self, k: usize, st: &mut State) {
+    /// The seats of placed tables that chairs after `k` still need, free at this node.
+    fn open_seats(&self, k: usize, st: &State) -> Vec<SeatPromise> {
+        let prep = self.prep;
+        let mut out = Vec::new();
+        for (t, ring) in self.rings.iter().enumerate().take(k) {
+            let (Some(ring), Some(tp)) = (ring, st.poses[t]) else { continue };
+            let need = self.dependents[t].iter().filter(|d| d.ring && d.object > k).count();
+            if need == 0 {
+                continue;
+            }
+            let seats: Vec<Rect> = constraints::seat_poses(&tp, prep.problem.objects[t].size, ring)
+                .iter()
+                .map(|p| seat_zone(p, ring))
+                .filter(|z| self.zone_free(z, &st.fps))
+                .collect();
+            if !seats.is_empty() {
+                out.push(SeatPromise { seats, need });
+            }
+        }
+        out
+    }
+
+    /// The best-scored poses of `edge` object `k` anywhere in the room (at most
+    /// [`REACH_TRIES`], best first) that keep every hard rule but its `edge` at this node.
+    fn anywhere_at_node(&self, k: usize, st: &State) -> Vec<(Cand, f64)> {
+        let prep = self.prep;
+        let clearances = self.clearance_context(k, st);
+        let scorer = Scorer::new(prep, k, &st.poses, self.sat_value);
+        let mut scored: Vec<(f64, usize, Cand)> = anywhere_candidates(prep, k, self.seed)
+            .into_iter()
+            .enumerate()
+            .filter(|(_, c)| {
+                !st.fps.iter().any(|f| f.overlaps(&c.fp)) && self.clearances_kept(k, c, &clearances)
+            })
+            .map(|(i, c)| (scorer.score(&c), i, c))
+            .collect();
+        scored.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
+        scored.into_iter().take(REACH_TRIES).map(|(s, _, c)| (c, s)).collect()
+    }
+
+    /// Completes a layout the search finished: every object it left out is tried again against
+    /// the finished layout (its own candidates, then, for an `edge` object, poses anywhere in
+    /// the room: `edge` is soft) and stands at its best-scored pose that keeps every hard rule.
+    /// One that still finds none gets the reason the finished layout gives, so the report never
+    /// names a rule that a free pose would keep.
+    fn finish(&self, st: &mut State) {
+        let prep = self.prep;
+        let objects = &prep.problem.objects;
+        for (k, obj) in objects.iter().enumerate() {
+            if st.poses[k].is_some() || obj.pin.is_some() {
+                continue;
+            }
+            let mut cands = self.statics[k].cands.clone();
+            cands.extend(derived_candidates(prep, k, &st.poses));
+            let mut why = self.place_best(k, st, &cands);
+            if why.is_some() && obj.global == GlobalKind::Edge {
+                let anywhere = anywhere_candidates(prep, k, self.seed);
+                why = self.place_best(k, st, &anywhere).or(why);
+            }
+            if let Some(why) = why {
+                st.fails[k] = Some(why);
+            }
+        }
+    }
+
+    /// Places object `k` at the best-scored of `cands` that keeps every hard rule with the
+    /// layout `st` (no overlap, use-clearances, reachability), or says why none does.
+    fn place_best(&self, k: usize, st: &mut State, cands: &[Cand]) -> Option<Reason> {
         let prep = self.prep;
         let clearances = self.clearance_context(k, st);
         let mut best: Option<(f64, Cand)> = None;
-        for c in anywhere_candidates(prep, k, self.seed) {
-            if st.fps.iter().any(|f| f.overlaps(&c.fp)) || !self.clearances_kept(k, &c, &clearances)
-            {
+        let (mut overlapping, mut cleared_out, mut boxed) = (0usize, 0usize, 0usize);
+        let mut blockers: BTreeMap<usize, usize> = BTreeMap::new();
+        for c in cands {
+            if let Some(i) = st.poses.iter().enumerate().position(|(i, p)| {
+                p.is_some_and(|p| footprint(&p, prep.problem.objects[i].size).overlaps(&c.fp))
+            }) {
+                overlapping += 1;
+                *blockers.entry(i).or_insert(0) += 1;
+                continue;
+            }
+            if !self.clearances_kept(k, c, &clearances) {
+                cleared_out += 1;
                 continue;
             }
             let s = fast_score(prep, k, &c.pose, &st.poses, self.sat_value);
@@ -856,13 +1016,42 @@ impl Search<'_, '_> {
             st.fps.pop();
             reach.mark(&mut st.occ, &c.fp, -1);
             if ok {
-                best = Some((s, c));
+                best = Some((s, *c));
+            } else {
+                boxed += 1;
             }
         }
         if let Some((s, c)) = best {
             st.fails[k] = None;
             self.place(k, c.pose, c.fp, self.placed_value + s, "dfs", st);
+            return None;
         }
+        if cands.is_empty() {
+            return Some(static_reason(&self.static_fails[k]));
+        }
+        if boxed >= overlapping.max(cleared_out) {
+            return Some((
+                HardRule::Reachable,
+                "every free pose would leave a placed object (or itself) unreachable from the door"
+                    .to_string(),
+            ));
+        }
+        if cleared_out > overlapping {
+            return Some((
+                HardRule::UseClearance,
+                "every free pose stands in the space another object needs for its use (or blocks \
+                 its own)"
+                    .to_string(),
+            ));
+        }
+        let mut names: Vec<(usize, &str)> =
+            blockers.iter().map(|(&i, &n)| (n, prep.problem.objects[i].id.as_str())).collect();
+        names.sort_by(|a, b| b.0.cmp(&a.0).then(a.1.cmp(b.1)));
+        let list: Vec<String> = names.iter().take(3).map(|(_, n)| format!("`{n}`")).collect();
+        Some((
+            HardRule::NoOverlap,
+            format!("every pose overlaps an object already placed ({})", list.join(", ")),
+        ))
     }
 
     /// What the use-clearance rule needs at a node for object `k`: the placed footprints, the
@@ -971,6 +1160,11 @@ impl Search<'_, '_> {
         // stops once that bound falls below the worst key kept: no candidate after it could
         // be kept. Ties go to the earlier position, which is the seeded order.
         let promises = self.open_promises(k, st);
+        let seat_promises = self.open_seats(k, st);
+        // The seats other tables keep for their chairs: this object's own chairs do not take
+        // them.
+        let reserved: Vec<Rect> =
+            seat_promises.iter().flat_map(|p| p.seats.iter().copied()).collect();
         let order =
             |a: &(f64, usize, f64), b: &(f64, usize, f64)| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1));
         // The placed footprint a candidate overlaps first (lowest index), if any.
@@ -1011,9 +1205,10 @@ impl Search<'_, '_> {
             }
             let sides = sides(i, &c);
             let s = step.score;
-            let (kept, close) = self.room_left_for_dependents(k, &c, &st.fps);
+            let (kept, close) = self.room_left_for_dependents(k, &c, &st.fps, &reserved);
             let covers = |zones: &[Rect]| zones.iter().all(|z| z.overlaps(&c.fp));
-            let broken = promises.iter().filter(|p| covers(&p.zones)).count();
+            let broken = promises.iter().filter(|p| covers(&p.zones)).count()
+                + seat_promises.iter().map(|p| p.broken_by(&c.fp)).sum::<usize>();
             let crowded =
                 promises.iter().filter(|p| !p.next_to.is_empty() && covers(&p.next_to)).count();
             let key = s
@@ -1069,6 +1264,37 @@ impl Search<'_, '_> {
         }
         (top.into_iter().map(|(_, i, s)| (pick(i), s)).collect(), None)
     }
+}
+
+/// Where a complete layout stands in the documented order: objects placed, constraints kept
+/// (measured as the report measures them), then the weighted score.
+#[derive(Clone, Copy, Debug)]
+struct Rank {
+    placed: usize,
+    kept: usize,
+    score: f64,
+}
+
+impl Rank {
+    /// Strictly better (a tie keeps the layout found first).
+    fn beats(&self, other: &Rank) -> bool {
+        (self.placed, self.kept)
+            .cmp(&(other.placed, other.kept))
+            .then(self.score.total_cmp(&(other.score + 1e-9)))
+            .is_gt()
+    }
+}
+
+fn rank(prep: &Prepared<'_>, st: &State) -> Rank {
+    let mut r = Rank { placed: 0, kept: 0, score: 0.0 };
+    for (k, pose) in st.poses.iter().enumerate() {
+        let Some(pose) = pose else { continue };
+        let (reports, score) = measure_object(prep.problem, &prep.room, k, pose, &st.poses);
+        r.placed += 1;
+        r.kept += reports.iter().filter(|c| c.measure.satisfied).count();
+        r.score += score;
+    }
+    r
 }
 
 pub(crate) fn static_reason(fails: &BTreeMap<HardRule, usize>) -> (HardRule, String) {
@@ -1143,11 +1369,23 @@ pub(crate) fn run(
                 gaps.1 = gaps.0;
             }
             gaps.1 = gaps.1.min(constraints::SIDE_MAX_M.max(gaps.0));
-            dependents[c.target].push(Dependent { object: j, kind: c.kind, gaps });
+            let ring = c.kind == RelationKind::Around
+                && super::meaning_of(prep.problem, j, c).ring.is_some();
+            dependents[c.target].push(Dependent { object: j, kind: c.kind, gaps, ring });
         }
     }
+    let rings = (0..n)
+        .map(|t| {
+            if dependents[t].iter().any(|d| d.ring) {
+                super::seat_ring(prep.problem, t)
+            } else {
+                None
+            }
+        })
+        .collect();
     let mut search = Search {
         dependents,
+        rings,
         prep,
         placed_value,
         sat_value,
@@ -1158,6 +1396,7 @@ pub(crate) fn run(
         seed: options.seed,
         nodes: 0,
         best: None,
+        kept: None,
         pin_breaks: Vec::new(),
         contexts: RefCell::new(HashMap::new()),
         reach_answers: HashMap::new(),
@@ -1185,17 +1424,15 @@ pub(crate) fn run(
     }
     let nodes = search.nodes;
     let pin_breaks = std::mem::take(&mut search.pin_breaks);
-    let mut best = search.best.take().unwrap_or(st);
-    // `edge` is soft: an edge object that no wall pose could take is stood elsewhere, at its
-    // best-scored pose that keeps every hard rule, its `edge` reported as not kept.
-    for k in 0..n {
-        if best.poses[k].is_none()
-            && prep.problem.objects[k].global == GlobalKind::Edge
-            && prep.problem.objects[k].pin.is_none()
-        {
-            search.place_anywhere(k, &mut best);
+    // `edge` is soft: an edge object that no wall pose could take is stood elsewhere, its
+    // `edge` reported as not kept (done for every layout kept, see `Search::finish`).
+    let best = match search.kept.take() {
+        Some((best, _)) => best,
+        None => {
+            search.finish(&mut st);
+            st
         }
-    }
+    };
     let mut layout = RoomLayout { nodes, ..RoomLayout::default() };
     for k in 0..n {
         let obj = &prep.problem.objects[k];

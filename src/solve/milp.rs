@@ -172,12 +172,16 @@ fn solve_one(
     }
     // Soft relations.
     let scale = b.width() + b.depth();
-    for c in &obj.constraints {
+    for (ci, c) in obj.constraints.iter().enumerate() {
         let (Some(Some(tp)), Some(t)) = (poses.get(c.target), prep.problem.objects.get(c.target))
         else {
             continue;
         };
         let tf = footprint(tp, t.size);
+        // The gap range the relation means for this pair (a coffee table 0.3–0.6 m in front of
+        // its sofa, `near` not touching): the same meanings as the DFS and the report.
+        let meaning = prep.meaning(k, ci);
+        let (gap_min, gap_max) = (meaning.min_gap, meaning.max_gap);
         let w = constraints::weight(c.kind);
         let tfront = tp.rot.front();
         let tright = tp.rot.right();
@@ -185,7 +189,11 @@ fn solve_one(
             // Footprint beyond the target's side along `axis`, centre within its extent across.
             let ind = m.binary();
             let near_side = far_side(x, z, h, [-axis[0], -axis[1]]);
-            m.cons.push(constraint!(-near_side >= proj_max(&tf, axis) - big * (1.0 - ind)));
+            let edge = proj_max(&tf, axis);
+            m.cons.push(constraint!(-near_side.clone() >= edge + gap_min - big * (1.0 - ind)));
+            if gap_max.is_finite() {
+                m.cons.push(constraint!(-near_side <= edge + gap_max + big * (1.0 - ind)));
+            }
             let across = [axis[1], -axis[0]];
             let (a0, a1) = proj_range(&tf, across);
             let c_across = along(x, z, across);
@@ -216,7 +224,17 @@ fn solve_one(
         };
         match c.kind {
             RelationKind::Near => {
-                let ind = within(&mut m, constraints::NEAR_MAX_M);
+                let ind = within(&mut m, gap_max.min(constraints::NEAR_MAX_M));
+                if gap_min > 0.0 {
+                    // Not touching: clear of the target grown by the smallest gap on one side.
+                    let g = tf.grow(gap_min);
+                    let (l, r, s, n) = (m.binary(), m.binary(), m.binary(), m.binary());
+                    m.cons.push(constraint!(x + h[0] <= g.min_x + big * (1.0 - l)));
+                    m.cons.push(constraint!(x - h[0] >= g.max_x - big * (1.0 - r)));
+                    m.cons.push(constraint!(z + h[1] <= g.min_z + big * (1.0 - s)));
+                    m.cons.push(constraint!(z - h[1] >= g.max_z - big * (1.0 - n)));
+                    m.cons.push(constraint!(l + r + s + n >= ind));
+                }
                 let (u, v) = (m.vars.add(variable().min(0.0)), m.vars.add(variable().min(0.0)));
                 m.cons.push(constraint!(u >= x - tp.x));
                 m.cons.push(constraint!(u >= tp.x - x));

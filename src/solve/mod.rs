@@ -347,9 +347,16 @@ pub(crate) struct Prepared<'a> {
     pub reach: constraints::ReachGrid,
     /// The room's walls with their inward normals.
     pub walls: Vec<([f64; 2], [f64; 2], [f64; 2])>,
+    /// Per object and relation, what the relation means ([`meaning_of`], worked out once).
+    pub meanings: Vec<Vec<Meaning>>,
 }
 
 impl Prepared<'_> {
+    /// What relation `c` of floor object `k` means.
+    pub(crate) fn meaning(&self, k: usize, c: usize) -> Meaning {
+        self.meanings[k][c]
+    }
+
     /// The static hard rule (inside the room, global, door zones, front clearance, windows)
     /// that floor object `k` breaks at `pose`, if any.
     pub(crate) fn static_rule(&self, k: usize, pose: &Pose) -> Option<constraints::HardRule> {
@@ -412,7 +419,13 @@ pub fn solve_room(problem: &RoomProblem, options: &SolveOptions) -> Outcome<Room
     let windows = others::window_zones(problem, &room);
     let reach = constraints::ReachGrid::new(&room, &keep_out, options.agent_radius_m);
     let walls = room.walls();
-    let prep = Prepared { problem, room, keep_out, windows, reach, walls };
+    let meanings = problem
+        .objects
+        .iter()
+        .enumerate()
+        .map(|(k, o)| o.constraints.iter().map(|c| meaning_of(problem, k, c)).collect())
+        .collect();
+    let prep = Prepared { problem, room, keep_out, windows, reach, walls, meanings };
     let mut layout = match options.solver {
         Solver::Dfs => dfs::solve(&prep, options),
         Solver::Milp => milp::solve(&prep, options),

@@ -232,6 +232,87 @@ room("windowed_bedroom", rect(4, 4), [
           {"wall": 3, "from": 3.0, "to": 4.0, "bottom": 0.0, "top": 2.1, "window": False}],
    wall_objects=[{"id": "painting-0", "size": [0.8, 0.05, 0.6], "above": "bed-0", "height": 1.5}])
 
+# Crowded rooms written as models write them: the anchors first, their members after (a
+# restaurant's tables, then every chair), the case where tables were pulled flush against each
+# other and chairs lost their table.
+rest = [obj("counter-0", [2.4, 0.7, 1.1])]
+for t in range(6):
+    rest.append(obj(f"table-{t}", [0.9, 0.9, 0.75], "middle", [("far", "counter-0")] if t == 0 else [("near", f"table-{t-1}")]))
+for t in range(6):
+    rest += [obj(f"chair-{t}{c}", [0.45, 0.45, 0.9], "middle", [("around", f"table-{t}")]) for c in range(4)]
+rest += [obj(f"plant-{k}", [0.45, 0.45, 1.3]) for k in range(2)]
+room("restaurant_tables_first", rect(8, 9), rest, keep_out=[door(3.5, 0, 4.5, 1)],
+     holes=[{"wall": 1, "from": 2, "to": 6, "bottom": 0.6, "top": 2.2, "window": True}])
+
+# A classroom of 5 rows of 2 desks, the desks listed first and each chair after them: the case
+# where desks were stacked into one column and no chair stood at its desk.
+cls = [obj("teacher_desk-0", [1.4, 0.7, 0.75], "edge"),
+       obj("teacher_chair-0", [0.55, 0.55, 1.0], "middle", [("in front of", "teacher_desk-0"), ("near", "teacher_desk-0"), ("face to", "teacher_desk-0")])]
+for k in range(10):
+    rel = [("far", "teacher_desk-0"), ("face to", "teacher_desk-0")] if k == 0 else [("near", f"desk-{k-1}"), ("face same as", f"desk-{k-1}")]
+    cls.append(obj(f"desk-{k}", [1.0, 0.5, 0.75], "middle", rel))
+for k in range(10):
+    cls.append(obj(f"chair-{k}", [0.45, 0.45, 0.85], "middle", [("in front of", f"desk-{k}"), ("near", f"desk-{k}"), ("face to", f"desk-{k}")]))
+cls.append(obj("bookshelf-0", [1.0, 0.35, 1.8]))
+room("classroom_rows", rect(7, 8), cls, keep_out=[door(0, 0, 1, 1)],
+     holes=[{"wall": 0, "from": 2, "to": 6, "bottom": 0.8, "top": 2.2, "window": True}])
+
+# A bedroom whose furniture covers 60% of its floor.
+room("packed_bedroom_60", rect(3.5, 4), [
+    obj("bed-0", [1.6, 2.0, 0.6]),
+    obj("nightstand-0", [0.45, 0.4, 0.55], "edge", [("left of", "bed-0"), ("near", "bed-0")]),
+    obj("nightstand-1", [0.45, 0.4, 0.55], "edge", [("right of", "bed-0"), ("near", "bed-0")]),
+    obj("wardrobe-0", [1.2, 0.6, 2.0], "edge", [("far", "bed-0")]),
+    obj("dresser-0", [1.0, 0.5, 0.9], "edge"),
+    obj("desk-0", [1.1, 0.55, 0.75], "edge"),
+    obj("chair-0", [0.45, 0.45, 0.9], "middle", [("in front of", "desk-0"), ("near", "desk-0"), ("face to", "desk-0")]),
+    obj("bookshelf-0", [0.8, 0.3, 1.8], "edge"),
+    obj("armchair-0", [0.75, 0.75, 0.9], "edge"),
+    obj("side_table-0", [0.4, 0.4, 0.55], "edge", [("near", "armchair-0")]),
+    obj("floor_lamp-0", [0.35, 0.35, 1.6], "edge", [("near", "armchair-0")]),
+    obj("chest-0", [0.9, 0.45, 0.5], "edge"),
+    obj("plant-0", [0.4, 0.4, 1.0], "edge"),
+    obj("laundry_hamper-0", [0.4, 0.35, 0.6], "edge"),
+], keep_out=[door(0, 0, 1, 1)], holes=[{"wall": 2, "from": 1.2, "to": 2.4, "bottom": 0.9, "top": 2.1, "window": True}])
+
+
+def generated(n, seed):
+    """A room of `n` floor objects made by a fixed-seed generator: groups as scenes have them
+    (a table with its chairs, a desk with its chair, a sofa with its coffee table, shelves along
+    the walls), about 2.2 square metres of floor per object."""
+    import random
+    rng = random.Random(seed)
+    objects = []
+    def add(o):
+        if len(objects) < n:
+            objects.append(o)
+    g = 0
+    while len(objects) < n:
+        kind = rng.choice(["dining", "desk", "lounge", "storage", "storage"])
+        if kind == "dining":
+            add(obj(f"table-{g}", [1.2, 0.8, 0.75], "middle"))
+            for c in range(4):
+                add(obj(f"chair-{g}-{c}", [0.45, 0.45, 0.9], "middle", [("around", f"table-{g}")]))
+        elif kind == "desk":
+            add(obj(f"desk-{g}", [1.2, 0.6, 0.75], "edge"))
+            add(obj(f"desk_chair-{g}", [0.5, 0.5, 0.9], "middle", [("in front of", f"desk-{g}"), ("near", f"desk-{g}"), ("face to", f"desk-{g}")]))
+        elif kind == "lounge":
+            add(obj(f"sofa-{g}", [2.0, 0.9, 0.85], "edge"))
+            add(obj(f"coffee_table-{g}", [1.0, 0.6, 0.45], "middle", [("in front of", f"sofa-{g}"), ("near", f"sofa-{g}"), ("face to", f"sofa-{g}")]))
+            add(obj(f"side_table-{g}", [0.45, 0.45, 0.55], "edge", [("side of", f"sofa-{g}"), ("near", f"sofa-{g}")]))
+        else:
+            add(obj(f"shelf-{g}", [round(rng.uniform(0.6, 1.2), 2), 0.4, 1.8], "edge"))
+            add(obj(f"plant-{g}", [0.4, 0.4, 1.0], "edge", [("near", f"shelf-{g}")]))
+        g += 1
+    area = 2.2 * n
+    w = round((area * 1.25) ** 0.5, 1)
+    d = round(area / w, 1)
+    room(f"generated_{n}", rect(w, d), objects, keep_out=[door(0, 0, 1, 1), door(w - 1, d - 1, w, d)])
+
+
+for n in (10, 20, 40, 80):
+    generated(n, 26)
+
 for name, r in rooms.items():
     with open(os.path.join(OUT, name + ".json"), "w") as f:
         json.dump(r, f, indent=1)
