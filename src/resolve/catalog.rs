@@ -11,6 +11,7 @@ use serde_json::Value;
 use sha2::{Digest, Sha256};
 
 use super::index::TextIndex;
+use std::sync::{Arc, OnceLock};
 use super::text::camel_words;
 use crate::diag::{Code, Diagnostic, Outcome};
 use crate::source::{FileId, SourceMap, Span};
@@ -173,13 +174,26 @@ pub struct Catalog {
     assets: Vec<Asset>,
     by_id: BTreeMap<String, usize>,
     sources: Vec<CatalogSource>,
-    pub(crate) index: TextIndex,
+    /// The word index, built the first time a query needs it and shared by clones: a build
+    /// with nothing to resolve never builds it, and every build of a process that uses only
+    /// the embedded catalog (a batch, the language server) shares one.
+    index: Arc<OnceLock<TextIndex>>,
 }
 
 impl Catalog {
     /// The embedded default catalog: AI2-THOR's built-in object assets (ProcTHOR commit
     /// 53d5bd4), without doors, doorframes and windows.
     pub fn embedded() -> Catalog {
+        static EMBEDDED: OnceLock<Catalog> = OnceLock::new();
+        EMBEDDED.get_or_init(Catalog::parse_embedded).clone()
+    }
+
+    /// The word index of the catalog's assets.
+    pub(crate) fn index(&self) -> &TextIndex {
+        self.index.get_or_init(|| TextIndex::build(&self.assets))
+    }
+
+    fn parse_embedded() -> Catalog {
         let mut name = "procthor-builtin".to_string();
         let mut version = None;
         let mut assets = Vec::new();
@@ -237,7 +251,10 @@ impl Catalog {
                 Err(message) => diagnostics.push(unreadable(&name, &message)),
             }
         }
-        catalog.index = TextIndex::build(&catalog.assets);
+        if !paths.is_empty() {
+            // Other assets: another index, built when first needed.
+            catalog.index = Arc::default();
+        }
         Outcome::new(catalog, diagnostics)
     }
 
@@ -313,12 +330,11 @@ impl Catalog {
             assets: Vec::new(),
             by_id: BTreeMap::new(),
             sources,
-            index: TextIndex::default(),
+            index: Arc::default(),
         };
         for asset in assets {
             catalog.insert(asset);
         }
-        catalog.index = TextIndex::build(&catalog.assets);
         catalog
     }
 

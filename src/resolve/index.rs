@@ -152,7 +152,7 @@ pub fn rank(catalog: &Catalog, query: &Query, seed: u64) -> Vec<Candidate> {
 
 /// The best `limit` candidates of [`rank`], in the same order, without building the rest.
 pub fn rank_top(catalog: &Catalog, query: &Query, seed: u64, limit: usize) -> Vec<Candidate> {
-    let n_docs = catalog.index.n_docs();
+    let n_docs = catalog.index().n_docs();
     if n_docs == 0 || limit == 0 {
         return Vec::new();
     }
@@ -176,7 +176,7 @@ fn rank_with(
     limit: usize,
     scores: &mut [f64],
 ) -> Vec<Candidate> {
-    let index = &catalog.index;
+    let index = catalog.index();
     // The noun phrase names the thing; what follows it (`with drawers`) only describes it.
     let (noun_phrase, rest) = text::split_phrase(&query.category);
     let category = text::normalize(&noun_phrase);
