@@ -53,6 +53,14 @@ fn batch(args: &[&str], manifest: &Path, out: &Path) -> Output {
         .expect("holoc runs")
 }
 
+/// [`batch`] for manifests whose generate jobs name the test's loopback server: a job may
+/// choose its server only with `--allow-job-base-url`.
+fn batch_llm(args: &[&str], manifest: &Path, out: &Path) -> Output {
+    let mut all = vec!["--allow-job-base-url"];
+    all.extend_from_slice(args);
+    batch(&all, manifest, out)
+}
+
 /// Every job folder of `out` with the bytes of its files.
 fn folders(out: &Path) -> BTreeMap<String, BTreeMap<String, Vec<u8>>> {
     let mut all = BTreeMap::new();
@@ -213,13 +221,13 @@ fn generate_jobs_run_against_the_loopback_server_and_reuse_their_answers() {
     )
     .expect("write");
     let out = dir.join("out");
-    let first = batch(&["--llm-concurrency", "2"], &manifest, &out);
+    let first = batch_llm(&["--llm-concurrency", "2"], &manifest, &out);
     assert_eq!(first.status.code(), Some(1), "{}", String::from_utf8_lossy(&first.stderr));
     assert_eq!(summary(&out.join("summary.json"))["jobs"][0]["stage"], "generate");
     let paid = server.calls();
     assert!(paid >= 4, "floor plan, wall height, doorways, windows: {paid}");
     refuse.store(false, Ordering::SeqCst);
-    let second = batch(&[], &manifest, &out);
+    let second = batch_llm(&[], &manifest, &out);
     assert!(second.status.success(), "{}", String::from_utf8_lossy(&second.stderr));
     let asked_again = server.calls() - paid;
     let jobs = folders(&out);
@@ -237,10 +245,10 @@ fn generate_jobs_run_against_the_loopback_server_and_reuse_their_answers() {
             .replace(&server.base_url, &clean.base_url),
     )
     .expect("write");
-    let full = batch(&[], &fresh, &dir.join("fresh"));
+    let full = batch_llm(&[], &fresh, &dir.join("fresh"));
     assert!(full.status.success());
     assert_eq!(asked_again + 3, clean.calls(), "a re-run never pays twice for an answer");
-    let third = batch(&[], &manifest, &out);
+    let third = batch_llm(&[], &manifest, &out);
     assert!(third.status.success());
     assert_eq!(server.calls() - paid, asked_again, "a finished job asks nothing");
 }
@@ -284,7 +292,7 @@ fn a_refused_question_is_asked_again_by_the_next_run_and_force_asks_everything()
     }));
     let manifest = generate_manifest(&dir, &server.base_url, &[7]);
     let out = dir.join("out");
-    let first = batch(&[], &manifest, &out);
+    let first = batch_llm(&[], &manifest, &out);
     assert_eq!(first.status.code(), Some(1), "{}", String::from_utf8_lossy(&first.stderr));
     let record = &summary(&out.join("summary.json"))["jobs"][0];
     assert_eq!(record["stage"], "generate", "{record}");
@@ -292,7 +300,7 @@ fn a_refused_question_is_asked_again_by_the_next_run_and_force_asks_everything()
     let floor_plans = |log: &[String]| log.iter().filter(|s| *s == "floor-plan").count();
     let before = asked.lock().expect("log").clone();
     refuse.store(false, Ordering::SeqCst);
-    let second = batch(&[], &manifest, &out);
+    let second = batch_llm(&[], &manifest, &out);
     assert!(second.status.success(), "{}", String::from_utf8_lossy(&second.stderr));
     let after = asked.lock().expect("log").clone();
     let new: Vec<&String> = after[before.len()..].iter().collect();
@@ -302,7 +310,7 @@ fn a_refused_question_is_asked_again_by_the_next_run_and_force_asks_everything()
     assert_eq!(record["status"], "done");
     assert_eq!(record["tries"], 2, "{record}");
     // `--force` asks every question again.
-    let forced = batch(&["--force"], &manifest, &out);
+    let forced = batch_llm(&["--force"], &manifest, &out);
     assert!(forced.status.success());
     assert_eq!(floor_plans(&asked.lock().expect("log")), floor_plans(&after) + 1);
 }
@@ -320,7 +328,7 @@ fn a_passing_model_error_is_retried_within_the_run_and_counted() {
     }));
     let manifest = generate_manifest(&dir, &server.base_url, &[3]);
     let out = dir.join("out");
-    let run = batch(&[], &manifest, &out);
+    let run = batch_llm(&[], &manifest, &out);
     assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
     let record = &summary(&out.join("summary.json"))["jobs"][0];
     assert_eq!(record["model_retries"], 1, "{record}");
@@ -340,7 +348,7 @@ fn retry_failed_tries_a_failed_job_again_in_the_same_run() {
     }));
     let manifest = generate_manifest(&dir, &server.base_url, &[5]);
     let out = dir.join("out");
-    let run = batch(&["--retry-failed"], &manifest, &out);
+    let run = batch_llm(&["--retry-failed"], &manifest, &out);
     assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
     let record = &summary(&out.join("summary.json"))["jobs"][0];
     assert_eq!(record["status"], "done");
@@ -361,7 +369,7 @@ fn model_requests_overlap_up_to_llm_concurrency_whatever_jobs_says() {
         clean_answer(a)
     }));
     let manifest = generate_manifest(&dir, &server.base_url, &[1, 2, 3, 4, 5, 6]);
-    let run = batch(&["--jobs", "1", "--llm-concurrency", "4"], &manifest, &dir.join("out"));
+    let run = batch_llm(&["--jobs", "1", "--llm-concurrency", "4"], &manifest, &dir.join("out"));
     assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
     let peak = most.load(Ordering::SeqCst);
     assert!((3..=4).contains(&peak), "requests in flight at most: {peak}");
@@ -777,4 +785,54 @@ fn a_failed_import_writes_no_scene() {
     let run = holoc().arg("import").arg(&empty).arg("-o").arg(&scene).output().expect("runs");
     assert_eq!(run.status.code(), Some(1), "{}", String::from_utf8_lossy(&run.stderr));
     assert!(!scene.exists(), "an import with errors makes no file");
+}
+
+/// A manifest from someone else can make holoc read only files below its folder, and cannot
+/// send the API key to a server of its choosing.
+#[test]
+fn a_manifest_reads_only_its_folder_and_chooses_no_server() {
+    let dir = scratch("confined");
+    let outside = dir.join("outside.holo");
+    std::fs::copy("examples/bedroom.holo", &outside).expect("copy");
+    let inner = dir.join("inner");
+    std::fs::create_dir_all(&inner).expect("mkdir");
+    std::fs::copy("examples/bedroom.holo", inner.join("bedroom.holo")).expect("copy");
+    let manifest = inner.join("m.jsonl");
+    std::fs::write(
+        &manifest,
+        "{\"build\": \"bedroom.holo\"}\n{\"build\": \"../outside.holo\"}\n\
+         {\"generate\": \"a bedroom\", \"base_url\": \"http://127.0.0.1:1/v1\"}\n",
+    )
+    .expect("write");
+    let out = dir.join("out");
+    let run = holoc()
+        .arg("batch")
+        .arg(&manifest)
+        .args(["-o"])
+        .arg(&out)
+        .arg("-q")
+        .env("HOLOC_API_KEY", "sk-secret")
+        .output()
+        .expect("runs");
+    assert_eq!(run.status.code(), Some(1), "{}", String::from_utf8_lossy(&run.stderr));
+    let failures = std::fs::read_to_string(out.join("failures.jsonl")).expect("failures");
+    assert!(failures.contains("outside the manifest's folder"), "{failures}");
+    assert!(failures.contains("may not choose its model server"), "{failures}");
+    assert!(!failures.contains("sk-secret"));
+    let jobs = summary(&out.join("summary.json"))["jobs"].as_array().expect("jobs").clone();
+    let ok = jobs.iter().filter(|j| j["status"] == "done").count();
+    assert_eq!(ok, 1, "only the job inside the folder builds: {jobs:?}");
+    // With `--allow-outside` the outside file is read.
+    let out2 = dir.join("out2");
+    let run = holoc()
+        .arg("batch")
+        .arg(&manifest)
+        .args(["-o"])
+        .arg(&out2)
+        .args(["-q", "--allow-outside"])
+        .output()
+        .expect("runs");
+    assert_eq!(run.status.code(), Some(1));
+    let jobs = summary(&out2.join("summary.json"))["jobs"].as_array().expect("jobs").clone();
+    assert_eq!(jobs.iter().filter(|j| j["status"] == "done").count(), 2, "{jobs:?}");
 }

@@ -297,6 +297,29 @@ impl Summary {
     }
 }
 
+/// The first of the job's paths (its input and catalogs) that lies outside `base`, the
+/// manifest's folder, once links are followed: a manifest from someone else must not make
+/// holoc read whatever file the user can read. A path that does not exist is judged by its
+/// text (below the folder, no `..`).
+pub fn outside_folder(job: &Job, base: &Path) -> Option<PathBuf> {
+    let folder = if base.as_os_str().is_empty() { Path::new(".") } else { base };
+    let root = std::fs::canonicalize(folder).ok()?;
+    let inside = |p: &Path| match std::fs::canonicalize(p) {
+        Ok(real) => real.starts_with(&root),
+        Err(_) => p.strip_prefix(base).is_ok_and(|rest| {
+            rest.components().all(|c| {
+                matches!(c, std::path::Component::Normal(_) | std::path::Component::CurDir)
+            })
+        }),
+    };
+    job.input.iter().chain(&job.catalogs).find(|p| !inside(p)).cloned()
+}
+
+/// The origin (scheme, host, port) of a URL, to compare where requests go.
+pub(crate) fn origin(url: &str) -> Option<String> {
+    reqwest::Url::parse(url).ok().map(|u| u.origin().ascii_serialization())
+}
+
 /// The lines of a manifest, numbered from 1, without a byte order mark.
 pub fn manifest_lines(text: &str) -> impl Iterator<Item = (usize, &str)> {
     text.strip_prefix('\u{feff}').unwrap_or(text).lines().enumerate().map(|(k, l)| (k + 1, l))

@@ -55,6 +55,16 @@ pub struct RunOptions {
     /// The first pause before a model request that failed for a passing reason is sent again
     /// (it doubles each time, up to 30 s).
     pub model_backoff: Duration,
+    /// The manifest's folder: a job reads only files below it unless `allow_outside`.
+    pub manifest_dir: PathBuf,
+    /// Jobs may read inputs and catalogs outside the manifest's folder (`--allow-outside`).
+    pub allow_outside: bool,
+    /// The run's model server (`--base-url`, else `HOLOC_BASE_URL`, else holoc's default):
+    /// the only server the API key is sent to.
+    pub base_url: String,
+    /// A job may name its own server (`--allow-job-base-url`); it gets the key only when it
+    /// is the run's server.
+    pub allow_job_base_url: bool,
     /// Numbers the scratch folders of the jobs of this run.
     counter: AtomicU64,
 }
@@ -73,6 +83,13 @@ impl RunOptions {
             api_key: None,
             llm: Permits::new(llm),
             cpu: Permits::new(jobs),
+            manifest_dir: PathBuf::from("."),
+            allow_outside: false,
+            base_url: std::env::var("HOLOC_BASE_URL")
+                .ok()
+                .filter(|u| !u.trim().is_empty())
+                .unwrap_or_else(|| crate::generate::client::DEFAULT_BASE_URL.to_string()),
+            allow_job_base_url: false,
             catalogs: CatalogCache::default(),
             files: FileHashes::default(),
             model_backoff: Duration::from_secs(1),
@@ -299,8 +316,27 @@ fn run_generate_job(job: &Job, options: &RunOptions, token: &Token) -> Work {
     crate::cancel::stage("generate");
     let text = job.spec.generate.clone().unwrap_or_default();
     let seed = job.spec.seed.unwrap_or(1);
-    let mut http = HttpOptions::new(job.spec.resolved_base_url(), job.spec.resolved_model());
-    http.api_key.clone_from(&options.api_key);
+    let base_url = match &job.spec.base_url {
+        Some(url) if options.allow_job_base_url => url.clone(),
+        Some(_) => {
+            return failed(
+                "manifest",
+                vec![Diagnostic::new(
+                    Code::E0005,
+                    "a job may not choose its model server (`base_url`): give `--base-url` (or \
+                     `HOLOC_BASE_URL`) for the run, or `--allow-job-base-url`",
+                )],
+            )
+        }
+        None => options.base_url.clone(),
+    };
+    // The key goes to the run's own server only: a job's server elsewhere gets none.
+    let same_server = super::origin(&base_url).is_some()
+        && super::origin(&base_url) == super::origin(&options.base_url);
+    let mut http = HttpOptions::new(base_url, job.spec.resolved_model());
+    if same_server {
+        http.api_key.clone_from(&options.api_key);
+    }
     http.seed = Some(seed);
     // Passing errors are retried here, without holding a model permit while waiting.
     http.retries = 0;
@@ -466,6 +502,12 @@ enum Ended {
     TimedOut { stage: &'static str, stopped: bool },
 }
 
+/// The stack of each job's thread, bytes: room for the deepest recursion a job can reach
+/// (blocks nest at most `parse::MAX_NESTING` levels, JSON answers a bounded depth) many times
+/// over. A stack overflow aborts the whole process and cannot be caught like a panic, so the
+/// depth is bounded where the input is read and the stack sized for it.
+pub const WORKER_STACK_BYTES: usize = 16 * 1024 * 1024;
+
 /// Runs the job's work on a thread of its own under the time limit.
 fn work_once(job: &Job, options: &Arc<RunOptions>) -> Ended {
     let token = Token::new(if job.spec.generate.is_some() { "generate" } else { "input" });
@@ -475,10 +517,26 @@ fn work_once(job: &Job, options: &Arc<RunOptions>) -> Ended {
     let thread_token = Arc::clone(&token);
     let spawned = std::thread::Builder::new()
         .name(format!("job-{}", job.line))
-        .stack_size(16 * 1024 * 1024)
+        .stack_size(WORKER_STACK_BYTES)
         .spawn(move || {
             thread_token.install();
             let work = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+                let outside = (!thread_options.allow_outside)
+                    .then(|| super::outside_folder(&thread_job, &thread_options.manifest_dir))
+                    .flatten();
+                if let Some(path) = outside {
+                    return failed(
+                        "manifest",
+                        vec![Diagnostic::new(
+                            Code::E0005,
+                            format!(
+                                "`{}` is outside the manifest's folder: a manifest reads only \
+                                 files below its folder (give `--allow-outside` to lift this)",
+                                path.display()
+                            ),
+                        )],
+                    );
+                }
                 if thread_job.spec.generate.is_some() {
                     run_generate_job(&thread_job, &thread_options, &thread_token)
                 } else {

@@ -58,6 +58,19 @@ pub struct BatchArgs {
     /// `failures.jsonl`); for schedulers that restart a task that exits with another status.
     #[arg(long)]
     pub allow_failures: bool,
+    /// Let jobs read inputs and catalogs outside the manifest's folder (by default a job that
+    /// names such a file fails: a manifest from someone else cannot make holoc read any file
+    /// you can read).
+    #[arg(long)]
+    pub allow_outside: bool,
+    /// The model server of generate jobs, before `/chat/completions` (default:
+    /// `HOLOC_BASE_URL`, else holoc's default). The API key is sent to this server only.
+    #[arg(long)]
+    pub base_url: Option<String>,
+    /// Let a job name its own server (`base_url`); it gets the API key only when it is the
+    /// run's server. Without this flag such a job fails.
+    #[arg(long)]
+    pub allow_job_base_url: bool,
     /// Seconds between progress lines when stderr is not a terminal (a log).
     #[arg(long, default_value_t = 60.0)]
     pub progress_every: f64,
@@ -167,6 +180,12 @@ pub fn run(args: &BatchArgs) -> ExitCode {
         RunOptions::new(out.clone(), scratch.dir.clone(), threads, args.llm_concurrency);
     options.force = args.force;
     options.retry_failed = args.retry_failed;
+    options.manifest_dir = base.to_path_buf();
+    options.allow_outside = args.allow_outside;
+    options.allow_job_base_url = args.allow_job_base_url;
+    if let Some(url) = &args.base_url {
+        options.base_url.clone_from(url);
+    }
     if let Some(t) = args.job_timeout {
         options.job_timeout = t;
     }
