@@ -22,7 +22,10 @@ struct Client {
 
 impl Client {
     fn start(solve_on_save: bool) -> Client {
-        Client::with(holoc::lsp::ServerOptions { catalogs: Vec::new(), objathor: None, solve_on_save }, json!({}))
+        Client::with(
+            holoc::lsp::ServerOptions { catalogs: Vec::new(), objathor: None, solve_on_save },
+            json!({}),
+        )
     }
 
     fn with(options: holoc::lsp::ServerOptions, initialization_options: Value) -> Client {

@@ -239,7 +239,8 @@ fn build_text(name: &str, text: String, job: &Job, options: &RunOptions, files: 
             &|_| None,
         ));
     }
-    let Some(product) = built.value.filter(|_| !diagnostics.iter().any(Diagnostic::is_error)) else {
+    let Some(product) = built.value.filter(|_| !diagnostics.iter().any(Diagnostic::is_error))
+    else {
         let stage = diagnostics.iter().find(|d| d.is_error()).map_or("build", |d| stage_of(d.code));
         return failed(stage, diagnostics);
     };

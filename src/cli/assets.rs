@@ -241,7 +241,8 @@ fn search(args: &SearchArgs) -> ExitCode {
     if catalog.objathor().is_some() {
         // The objathor folder's candidates too, merged by their lexical score.
         candidates.extend(resolve::objathor::rank(&catalog, &query, 0, args.limit.max(1)));
-        let lexical = |c: &resolve::Candidate| c.features.as_ref().map_or(c.score, |f| f.lexical_score);
+        let lexical =
+            |c: &resolve::Candidate| c.features.as_ref().map_or(c.score, |f| f.lexical_score);
         candidates.sort_by(|a, b| lexical(b).total_cmp(&lexical(a)));
     }
     let options = resolve::ResolveOptions { stand_ins: !args.no_stand_ins };

@@ -388,14 +388,13 @@ pub fn run(args: &GenerateArgs) -> ExitCode {
     }
     let mut build_failed = false;
     if args.build && !generated.holo.is_empty() && !failed {
-        build_failed =
-            !build_house(
-                &generated.holo,
-                args.output.as_deref(),
-                &args.catalogs,
-                args.color,
-                args.quiet,
-            );
+        build_failed = !build_house(
+            &generated.holo,
+            args.output.as_deref(),
+            &args.catalogs,
+            args.color,
+            args.quiet,
+        );
     }
     let model_failed = outcome.diagnostics.iter().any(|d| {
         matches!(

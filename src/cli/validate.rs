@@ -80,7 +80,9 @@ fn objathor_on_disk(
         if let Some(id) = object.get("assetId").and_then(serde_json::Value::as_str) {
             ids.push(id.to_string());
         }
-        stack.extend(object.get("children").and_then(serde_json::Value::as_array).into_iter().flatten());
+        stack.extend(
+            object.get("children").and_then(serde_json::Value::as_array).into_iter().flatten(),
+        );
     }
     let span_of = |uid: &str| {
         let start = text.find(&format!("\"{uid}\""))?;

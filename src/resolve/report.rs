@@ -114,7 +114,8 @@ pub fn report(scene: &Scene, catalog: &Catalog, resolved: &Resolved) -> Value {
                 "path": s.path,
                 "assets": s.n_assets,
             });
-            if let (Some(o), Some(map)) = (objathor.filter(|o| o.source == i), entry.as_object_mut())
+            if let (Some(o), Some(map)) =
+                (objathor.filter(|o| o.source == i), entry.as_object_mut())
             {
                 map.insert("folder".into(), json!(o.root.display().to_string()));
                 map.insert("scoring".into(), json!(o.scoring.as_str()));

@@ -651,8 +651,12 @@ impl State<'_> {
             }
             if pick == objathor::Pick::Seeded {
                 let scores: Vec<f64> = extra.iter().map(|c| c.score).collect();
-                let order =
-                    objathor::seeded_order(&scores, objathor::pick_pool(kind), self.seed, &what.name);
+                let order = objathor::seeded_order(
+                    &scores,
+                    objathor::pick_pool(kind),
+                    self.seed,
+                    &what.name,
+                );
                 extra = order.into_iter().map(|i| extra[i]).collect();
             }
             match mix {
@@ -662,8 +666,10 @@ impl State<'_> {
                     }
                 }
                 objathor::Mix::Score => {
-                    let lexical = |c: &Candidate| c.features.as_ref().map_or(c.score, |f| f.lexical_score);
-                    let (mut a, mut b) = (good.into_iter().peekable(), extra.into_iter().peekable());
+                    let lexical =
+                        |c: &Candidate| c.features.as_ref().map_or(c.score, |f| f.lexical_score);
+                    let (mut a, mut b) =
+                        (good.into_iter().peekable(), extra.into_iter().peekable());
                     let mut merged = Vec::new();
                     loop {
                         let take_a = match (a.peek(), b.peek()) {

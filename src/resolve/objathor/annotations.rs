@@ -83,8 +83,8 @@ pub fn read_entry(uid: &str, entry: &Value, source: usize) -> Result<(Asset, Ent
         return Err("it is not a JSON object".into());
     }
     let ann = entry.get("annotations").filter(|a| a.is_object()).unwrap_or(entry);
-    let placements = flags_of(ann)
-        .ok_or("it has none of `onFloor`, `onWall`, `onObject`, `onCeiling`")?;
+    let placements =
+        flags_of(ann).ok_or("it has none of `onFloor`, `onWall`, `onObject`, `onCeiling`")?;
     let meta = entry
         .get("assetMetadata")
         .or_else(|| entry.get("thor_metadata").and_then(|t| t.get("assetMetadata")))

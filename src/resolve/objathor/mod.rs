@@ -370,13 +370,10 @@ fn read_features(path: &Path, keys: &[&str]) -> Result<FeatureFile, String> {
     for (i, key) in keys.iter().enumerate() {
         match pickle.f16_array(key)? {
             Some(array) => {
-                let rows = F16Rows::new(&bytes, &pickle, array).map_err(|e| format!("`{key}`: {e}"))?;
+                let rows =
+                    F16Rows::new(&bytes, &pickle, array).map_err(|e| format!("`{key}`: {e}"))?;
                 if rows.len() != uids.len() {
-                    return Err(format!(
-                        "`{key}` has {} rows for {} uids",
-                        rows.len(),
-                        uids.len()
-                    ));
+                    return Err(format!("`{key}` has {} rows for {} uids", rows.len(), uids.len()));
                 }
                 arrays.push(((*key).to_string(), rows));
             }
@@ -398,7 +395,11 @@ fn feature_path(root: &Path, name: &str) -> Option<PathBuf> {
 /// adding the annotations' text to `sources`. Returns the diagnostics: E0404 for a folder that
 /// cannot be used, E0403/W0402 for the annotations as for any catalog, W0405 for feature files
 /// that cannot be used, E0405 for a scoring mode that cannot run.
-pub fn load(options: &ObjathorOptions, catalog: &mut Catalog, sources: &mut SourceMap) -> Vec<Diagnostic> {
+pub fn load(
+    options: &ObjathorOptions,
+    catalog: &mut Catalog,
+    sources: &mut SourceMap,
+) -> Vec<Diagnostic> {
     let mut diags = Vec::new();
     let (root, annotations_path) = match version_folder(options) {
         Ok(found) => found,
@@ -429,18 +430,22 @@ pub fn load(options: &ObjathorOptions, catalog: &mut Catalog, sources: &mut Sour
             return diags;
         }
     };
-    let version = root.file_name().map_or_else(|| "unknown".into(), |n| n.to_string_lossy().into_owned());
+    let version =
+        root.file_name().map_or_else(|| "unknown".into(), |n| n.to_string_lossy().into_owned());
     let file = sources.add(name.clone(), text);
     let source = catalog.sources().len();
     let parsed = parse(&sources.get(file).text, file, source, &mut diags);
     let mut files = vec![(name.clone(), sha256.clone())];
-    let (start, end, entries) = catalog.append_objathor(parsed, CatalogSource {
-        name: "objathor".into(),
-        version: Some(version.clone()),
-        sha256,
-        path: Some(name),
-        n_assets: 0,
-    });
+    let (start, end, entries) = catalog.append_objathor(
+        parsed,
+        CatalogSource {
+            name: "objathor".into(),
+            version: Some(version.clone()),
+            sha256,
+            path: Some(name),
+            n_assets: 0,
+        },
+    );
 
     // Feature rows by asset.
     let uid_to_k: HashMap<&str, usize> =
@@ -486,7 +491,8 @@ pub fn load(options: &ObjathorOptions, catalog: &mut Catalog, sources: &mut Sour
             Err(why) => diags.push(features_warning(path, &why)),
         }
     }
-    let dims: Vec<usize> = [&features.img, &features.text].iter().filter_map(|r| r.as_ref().map(|r| r.dim)).collect();
+    let dims: Vec<usize> =
+        [&features.img, &features.text].iter().filter_map(|r| r.as_ref().map(|r| r.dim)).collect();
     if dims.windows(2).any(|w| w[0] != w[1]) {
         diags.push(features_warning(
             clip_path.as_deref().unwrap_or(&root),
@@ -548,7 +554,12 @@ pub fn load(options: &ObjathorOptions, catalog: &mut Catalog, sources: &mut Sour
 
 /// The assets and entries of an annotations text (an object keyed by uid), with a warning for
 /// each unusable entry.
-fn parse(text: &str, file: FileId, source: usize, diags: &mut Vec<Diagnostic>) -> Vec<(Asset, Entry)> {
+fn parse(
+    text: &str,
+    file: FileId,
+    source: usize,
+    diags: &mut Vec<Diagnostic>,
+) -> Vec<(Asset, Entry)> {
     let object: super::catalog::OrderedObject = match serde_json::from_str(text) {
         Ok(v) => v,
         Err(e) => {
@@ -672,7 +683,11 @@ pub fn rank(catalog: &Catalog, query: &Query, seed: u64, limit: usize) -> Vec<Ca
 /// room's (longer with longer, shorter with shorter, height with the wall's), the footprint at
 /// most half the floor's box, and a wall object no deeper than 3 × its smaller other side.
 /// `room` is `[long side, short side, wall height]` in metres.
-pub fn fits_room(bbox_m: [f64; 3], kind: PlacementKind, room: [f64; 3]) -> Result<(), &'static str> {
+pub fn fits_room(
+    bbox_m: [f64; 3],
+    kind: PlacementKind,
+    room: [f64; 3],
+) -> Result<(), &'static str> {
     if !matches!(kind, PlacementKind::Floor | PlacementKind::Wall) {
         return Ok(());
     }
@@ -747,8 +762,7 @@ fn fnv1a(text: &str) -> u64 {
 }
 
 /// The names an asset's model file may have in its folder (the hook runner reads any).
-pub const MODEL_FILES: [&str; 6] =
-    ["pkl.gz", "pkl", "json.gz", "json", "msgpack.gz", "msgpack"];
+pub const MODEL_FILES: [&str; 6] = ["pkl.gz", "pkl", "json.gz", "json", "msgpack.gz", "msgpack"];
 
 /// The textures every asset folder holds.
 pub const TEXTURES: [&str; 3] = ["albedo.jpg", "normal.jpg", "emission.jpg"];
@@ -760,9 +774,13 @@ pub fn missing_on_disk(assets_dir: &Path, uid: &str) -> Option<String> {
         return Some(format!("there is no folder `{}`", folder.display()));
     }
     if !MODEL_FILES.iter().any(|ext| folder.join(format!("{uid}.{ext}")).is_file()) {
-        return Some(format!("`{}` has no `{uid}.pkl.gz` (nor `.json`, `.msgpack`)", folder.display()));
+        return Some(format!(
+            "`{}` has no `{uid}.pkl.gz` (nor `.json`, `.msgpack`)",
+            folder.display()
+        ));
     }
-    let missing: Vec<&str> = TEXTURES.iter().copied().filter(|t| !folder.join(t).is_file()).collect();
+    let missing: Vec<&str> =
+        TEXTURES.iter().copied().filter(|t| !folder.join(t).is_file()).collect();
     if missing.is_empty() {
         None
     } else {
@@ -808,12 +826,10 @@ pub fn check_on_disk<'a>(
     uids.iter()
         .filter_map(|uid| {
             let why = missing_on_disk(dir, uid)?;
-            let mut d = Diagnostic::new(
-                Code::E0615,
-                format!("the objathor asset `{uid}` is not on disk"),
-            )
-            .with_note(why)
-            .with_help(format!(
+            let mut d =
+                Diagnostic::new(Code::E0615, format!("the objathor asset `{uid}` is not on disk"))
+                    .with_note(why)
+                    .with_help(format!(
                 "download it (objathor's `download_assets`), or pin another asset than `{uid}`"
             ));
             if let Some(span) = span_of(uid) {

@@ -45,9 +45,17 @@ enum Node {
     Dict(Vec<(usize, usize)>),
     Global(String, String),
     /// `func(*args)`, then `BUILD` with `state` when there is one.
-    Object { func: usize, args: usize, state: Option<usize> },
+    Object {
+        func: usize,
+        args: usize,
+        state: Option<usize>,
+    },
     /// The result of `NEWOBJ`: `cls.__new__(cls, *args)`.
-    New { class: usize, args: usize, state: Option<usize> },
+    New {
+        class: usize,
+        args: usize,
+        state: Option<usize>,
+    },
 }
 
 /// A read pickle: its nodes and the top value.
@@ -194,7 +202,10 @@ impl Machine<'_> {
                 0x80 => {
                     let proto = self.uint(1)?;
                     if proto > 5 {
-                        return err(at, format!("pickle protocol {proto} is not read (2 to 5 are)"));
+                        return err(
+                            at,
+                            format!("pickle protocol {proto} is not read (2 to 5 are)"),
+                        );
                     }
                 }
                 0x95 => {
@@ -484,9 +495,7 @@ impl<'a> Pickle<'a> {
         let array = self.array(id).map_err(|e| format!("`{key}`: {e}"))?;
         let (kind, width, big_endian) = array.dtype;
         if (kind, width) != ('f', 2) {
-            return Err(format!(
-                "`{key}` is an array of `{kind}{width}`, not of float16 (`f2`)"
-            ));
+            return Err(format!("`{key}` is an array of `{kind}{width}`, not of float16 (`f2`)"));
         }
         let n: usize = array.shape.iter().product();
         let len = self.array_bytes(&array.bytes).len();
@@ -588,7 +597,9 @@ impl<'a> Pickle<'a> {
     fn buffer(&self, id: usize) -> Result<ArrayBytes, String> {
         match &self.nodes[id] {
             Node::Bytes(r) => Ok(ArrayBytes::InFile(r.clone())),
-            Node::Object { func, args, .. } if self.global(*func) == Some(("_codecs", "encode")) => {
+            Node::Object { func, args, .. }
+                if self.global(*func) == Some(("_codecs", "encode")) =>
+            {
                 // Protocol 2: `_codecs.encode(text, "latin1")`.
                 let a = self.items(*args).ok_or("bad `_codecs.encode` arguments")?;
                 let (Some(Node::Str(text)), Some(Node::Str(enc))) =
@@ -624,10 +635,7 @@ impl<'a> Pickle<'a> {
             return Err("not a numpy array".into());
         };
         match self.global(*func) {
-            Some((
-                "numpy.core.multiarray" | "numpy._core.multiarray",
-                "_reconstruct",
-            )) => {
+            Some(("numpy.core.multiarray" | "numpy._core.multiarray", "_reconstruct")) => {
                 let state = state.ok_or("a numpy array without its state")?;
                 let s = self.items(state).ok_or("a numpy array's state is not a tuple")?;
                 let [_, shape, dtype, fortran, data] = s else {
@@ -973,7 +981,10 @@ mod tests {
                     &[
                         ("uids", Value::Strings(uids.clone())),
                         ("img_features", Value::F16 { shape: vec![2, 2, 3], bits: bits.clone() }),
-                        ("text_features", Value::F16 { shape: vec![2, 3], bits: bits[..6].to_vec() }),
+                        (
+                            "text_features",
+                            Value::F16 { shape: vec![2, 3], bits: bits[..6].to_vec() },
+                        ),
                     ],
                     protocol,
                     modules,
