@@ -12,7 +12,7 @@ use holoc::resolve::objathor::fixture::{
     fixture_uid, write_fixture, FixtureOptions, FIXTURE_ASSETS, FIXTURE_VERSION,
 };
 use holoc::resolve::objathor::pickle::{NumpyModules, Pickle};
-use holoc::resolve::objathor::{Mix, ObjathorOptions, Pick, Scoring};
+use holoc::resolve::objathor::{fits_room, Mix, ObjathorOptions, Pick, Scoring};
 use holoc::resolve::{self, Catalog, PlacementKind, Query};
 use holoc::source::SourceMap;
 use std::path::{Path, PathBuf};
@@ -244,7 +244,6 @@ fn the_original_filters_hold() {
     // Built-in first: the sofa is AI2-THOR's.
     assert!(chosen(&resolved, &scene, "sofa-0").starts_with("Sofa_"));
     assert_eq!(name_of(&chosen(&resolved, &scene, "cat_tower-0")), "cat_tower");
-    use resolve::objathor::fits_room;
     let room = [5.0, 4.0, 2.5];
     assert!(
         fits_room([4.5, 0.9, 2.0], PlacementKind::Floor, room).is_err(),

@@ -119,7 +119,10 @@ pub fn report(scene: &Scene, catalog: &Catalog, resolved: &Resolved) -> Value {
             {
                 map.insert("folder".into(), json!(o.root.display().to_string()));
                 map.insert("scoring".into(), json!(o.scoring.as_str()));
-                map.insert("scoringAsked".into(), json!(o.scoring_asked.map(|m| m.as_str())));
+                map.insert(
+                    "scoringAsked".into(),
+                    json!(o.scoring_asked.map(super::objathor::Scoring::as_str)),
+                );
                 map.insert("pseudoQuery".into(), json!(o.pseudo_query_space()));
                 map.insert("mix".into(), json!(o.mix.as_str()));
                 map.insert("pick".into(), json!(o.pick.as_str()));

@@ -238,7 +238,7 @@ fn annotation(name: &str, uid: &str) -> Value {
         "receptacle": name == "cat_tower",
         "frontView": 1,
         "onFloor": flags[0], "onWall": flags[1], "onObject": flags[2], "onCeiling": flags[3],
-        "pose_z_rot_angle": 1.5708, "scale": 1.5, "z_axis_scale": true,
+        "pose_z_rot_angle": 1.25, "scale": 1.5, "z_axis_scale": true,
         "license_info": license(&format!("maker_{name}")),
     });
     let meta = json!({"assetMetadata": {"boundingBox": bbox, "secondaryProperties": []}});

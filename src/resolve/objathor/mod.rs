@@ -253,10 +253,12 @@ impl Objathor {
     }
 }
 
-fn folder_error(dir: &Path, message: String, help: &str) -> Diagnostic {
-    Diagnostic::new(Code::E0404, message)
-        .with_note(format!("`--objathor` is `{}`", dir.display()))
-        .with_help(help.to_string())
+fn folder_error(dir: &Path, message: String, help: &str) -> Box<Diagnostic> {
+    Box::new(
+        Diagnostic::new(Code::E0404, message)
+            .with_note(format!("`--objathor` is `{}`", dir.display()))
+            .with_help(help.to_string()),
+    )
 }
 
 fn annotations_in(dir: &Path) -> Option<PathBuf> {
@@ -265,7 +267,7 @@ fn annotations_in(dir: &Path) -> Option<PathBuf> {
 
 /// The version folder `options` names: `dir` itself when it holds the annotations (or its
 /// `version` subfolder), else the one version folder under it.
-fn version_folder(options: &ObjathorOptions) -> Result<(PathBuf, PathBuf), Diagnostic> {
+fn version_folder(options: &ObjathorOptions) -> Result<(PathBuf, PathBuf), Box<Diagnostic>> {
     let dir = &options.dir;
     if !dir.is_dir() {
         return Err(folder_error(
@@ -403,7 +405,7 @@ pub fn load(
     let mut diags = Vec::new();
     let (root, annotations_path) = match version_folder(options) {
         Ok(found) => found,
-        Err(d) => return vec![d],
+        Err(d) => return vec![*d],
     };
     let clip_path = feature_path(&root, "clip_features");
     let sbert_path = feature_path(&root, "sbert_features");
@@ -598,9 +600,8 @@ pub struct FeatureScore {
 pub fn rank(catalog: &Catalog, query: &Query, seed: u64, limit: usize) -> Vec<Candidate> {
     let Some(obj) = catalog.objathor() else { return Vec::new() };
     let lexical = super::index::rank_in(catalog, &obj.index, obj.start, query, seed, limit);
-    let features = match (&obj.features, obj.scoring) {
-        (Some(f), Scoring::Features) => f,
-        _ => return lexical,
+    let (Some(features), Scoring::Features) = (&obj.features, obj.scoring) else {
+        return lexical;
     };
     let Some(img) = &features.img else { return lexical };
     let dim = img.dim;

@@ -259,9 +259,8 @@ impl Machine<'_> {
                 b'X' => self.string(4)?,
                 0x8c => self.string(1)?,
                 0x8d => self.string(8)?,
-                b'B' => self.bytes(4)?,
+                b'B' | b'T' => self.bytes(4)?,
                 b'C' | b'U' => self.bytes(1)?,
-                b'T' => self.bytes(4)?,
                 0x8e | 0x96 => self.bytes(8)?,
                 b't' => {
                     let items = self.pop_mark(at)?;
