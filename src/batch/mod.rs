@@ -497,6 +497,22 @@ mod tests {
     }
 
     #[test]
+    fn a_job_names_its_objathor_folder_relative_to_the_manifest() {
+        let line = r#"{"build": "a.holo", "objathor": "assets/2023_09_23", "objathor_scoring": "lexical", "objathor_pick": "seeded"}"#;
+        let job = read_line(1, line, Path::new("m")).expect("a line").expect("a job");
+        let o = job.objathor.expect("an objathor folder");
+        assert_eq!(o.dir, Path::new("m").join("assets/2023_09_23"));
+        assert_eq!(o.scoring, Some(crate::resolve::objathor::Scoring::Lexical));
+        assert_eq!(o.pick, crate::resolve::objathor::Pick::Seeded);
+        let bad = r#"{"build": "a.holo", "objathor": "x", "objathor_mix": "half"}"#;
+        let err = read_line(1, bad, Path::new(".")).expect("a line").expect_err("not a job");
+        assert!(err.message.contains("unknown objathor mix `half`"), "{}", err.message);
+        // Without the folder, the job's identity is what it was.
+        let plain = read_line(1, r#"{"build": "a.holo"}"#, Path::new(".")).expect("a line");
+        assert!(plain.expect("a job").objathor.is_none());
+    }
+
+    #[test]
     fn missing_shards_are_named() {
         let part = |s: &str| Summary { shards: vec![s.into()], ..Summary::default() };
         assert_eq!(Summary::missing_shards(&[part("0/3"), part("2/3"), part("1/3")]), None);

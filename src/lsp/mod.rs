@@ -701,3 +701,26 @@ fn read_config(path: &Path) -> Result<Config, String> {
     .map_err(|e| format!("{}: {e}", path.display()))?;
     Ok((config.catalogs.into_iter().map(|p| dir.join(p)).collect(), objathor))
 }
+
+#[cfg(test)]
+mod config_tests {
+    use super::*;
+
+    #[test]
+    fn holoc_toml_names_the_objathor_folder_relative_to_itself() {
+        let dir = tempfile::tempdir().expect("a folder");
+        let path = dir.path().join("holoc.toml");
+        std::fs::write(
+            &path,
+            "catalogs = [\"a.json\"]\nobjathor = \"assets/2023_09_23\"\nobjathor_mix = \"score\"\n",
+        )
+        .expect("written");
+        let (catalogs, objathor) = read_config(&path).expect("read");
+        assert_eq!(catalogs, vec![dir.path().join("a.json")]);
+        let o = objathor.expect("the folder");
+        assert_eq!(o.dir, dir.path().join("assets/2023_09_23"));
+        assert_eq!(o.mix, crate::resolve::objathor::Mix::Score);
+        std::fs::write(&path, "objathor = \"x\"\nobjathor_pick = \"random\"\n").expect("written");
+        assert!(read_config(&path).is_err());
+    }
+}
