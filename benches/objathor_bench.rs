@@ -38,6 +38,17 @@ fn peak_rss_mb() -> Option<f64> {
     Some(kb / 1024.0)
 }
 
+/// CPU seconds this process has used (user + system), from `/proc/self/stat`: the figure that
+/// does not depend on what else the machine runs.
+fn cpu_s() -> f64 {
+    let Ok(stat) = std::fs::read_to_string("/proc/self/stat") else { return f64::NAN };
+    let Some(after) = stat.rsplit_once(')').map(|(_, r)| r) else { return f64::NAN };
+    let fields: Vec<&str> = after.split_whitespace().collect();
+    let ticks = |i: usize| fields.get(i).and_then(|f| f.parse::<f64>().ok()).unwrap_or(f64::NAN);
+    // utime and stime are fields 14 and 15 of the line (11 and 12 after the name), in 1/100 s.
+    (ticks(11) + ticks(12)) / 100.0
+}
+
 fn folder() -> PathBuf {
     let base = Path::new("target").join("objathor-bench");
     let root = base.join("synthetic");
@@ -54,6 +65,7 @@ fn main() {
     let root = folder();
     let before = peak_rss_mb();
     let started = Instant::now();
+    let cpu = cpu_s();
     let mut sources = SourceMap::new();
     let options = ObjathorOptions { dir: root, ..ObjathorOptions::default() };
     let loaded = Catalog::load_with(&[] as &[PathBuf], Some(&options), &mut sources);
@@ -62,8 +74,9 @@ fn main() {
     let catalog = loaded.value;
     let obj = catalog.objathor().expect("loaded");
     println!(
-        "load: {:.3} s for {} assets, scoring {} ({})",
+        "load: {:.3} s ({:.2} s of CPU) for {} assets, scoring {} ({})",
         load_s,
+        cpu_s() - cpu,
         obj.end - obj.start,
         obj.scoring.as_str(),
         obj.pseudo_query_space().unwrap_or("-")
@@ -75,6 +88,7 @@ fn main() {
         PlacementKind::Ceiling,
     ];
     let started = Instant::now();
+    let cpu = cpu_s();
     let mut good = 0usize;
     for i in 0..1000 {
         let (category, description) = QUERIES[i % QUERIES.len()];
@@ -88,9 +102,35 @@ fn main() {
         good += ranked.iter().filter(|c| c.is_good_enough()).count();
     }
     let query_s = started.elapsed().as_secs_f64();
-    println!("1000 queries: {query_s:.3} s ({good} good candidates in all)");
+    println!(
+        "1000 queries: {query_s:.3} s ({:.2} s of CPU; {good} good candidates in all)",
+        cpu_s() - cpu
+    );
     match (before, peak_rss_mb()) {
         (Some(b), Some(a)) => println!("peak memory: {a:.0} MB (before loading: {b:.0} MB)"),
         _ => println!("peak memory: not known on this system"),
     }
+    // The same queries ranked by words only, for comparison.
+    drop(catalog);
+    let options =
+        ObjathorOptions { scoring: Some(holoc::resolve::objathor::Scoring::Lexical), ..options };
+    let lexical =
+        Catalog::load_with(&[] as &[PathBuf], Some(&options), &mut SourceMap::new()).value;
+    let started = Instant::now();
+    let cpu = cpu_s();
+    for i in 0..1000 {
+        let (category, description) = QUERIES[i % QUERIES.len()];
+        let query = Query {
+            category: category.to_string(),
+            description: Some(format!("{description} {i}")),
+            size_m: Some([0.5 + (i % 7) as f64 * 0.2, 0.8, 0.6]),
+            kind: Some(kinds[i % kinds.len()]),
+        };
+        std::hint::black_box(holoc::resolve::objathor::rank(&lexical, &query, i as u64, 128));
+    }
+    println!(
+        "1000 queries, lexical only: {:.3} s ({:.2} s of CPU)",
+        started.elapsed().as_secs_f64(),
+        cpu_s() - cpu
+    );
 }
