@@ -113,7 +113,11 @@ fn main() {
     let thread = std::thread::spawn(move || {
         holoc::lsp::serve(
             &server,
-            holoc::lsp::ServerOptions { catalogs: Vec::new(), solve_on_save: false },
+            holoc::lsp::ServerOptions {
+                catalogs: Vec::new(),
+                objathor: None,
+                solve_on_save: false,
+            },
         )
     });
     let send = |m: Message| client.sender.send(m).expect("the server listens");

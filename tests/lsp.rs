@@ -22,7 +22,10 @@ struct Client {
 
 impl Client {
     fn start(solve_on_save: bool) -> Client {
-        Client::with(holoc::lsp::ServerOptions { catalogs: Vec::new(), solve_on_save }, json!({}))
+        Client::with(
+            holoc::lsp::ServerOptions { catalogs: Vec::new(), objathor: None, solve_on_save },
+            json!({}),
+        )
     }
 
     fn with(options: holoc::lsp::ServerOptions, initialization_options: Value) -> Client {
@@ -611,7 +614,7 @@ fn catalogs_come_from_holoc_toml_beside_the_file() {
     );
     // Outside the client's workspace folders the configuration is not read.
     let mut outsider = Client::in_folders(
-        holoc::lsp::ServerOptions { catalogs: Vec::new(), solve_on_save: false },
+        holoc::lsp::ServerOptions { catalogs: Vec::new(), objathor: None, solve_on_save: false },
         json!({}),
         &["file:///nonexistent/elsewhere".to_string()],
     );
@@ -620,7 +623,7 @@ fn catalogs_come_from_holoc_toml_beside_the_file() {
     assert!(diagnostics_text(&published).contains("E0401"), "{published}");
     outsider.stop();
     let mut client = Client::in_folders(
-        holoc::lsp::ServerOptions { catalogs: Vec::new(), solve_on_save: false },
+        holoc::lsp::ServerOptions { catalogs: Vec::new(), objathor: None, solve_on_save: false },
         json!({}),
         &[format!("file://{}", dir.display())],
     );
@@ -640,7 +643,7 @@ fn catalogs_come_from_holoc_toml_beside_the_file() {
     assert!(diagnostics_text(&published).contains("E0401"), "{published}");
     // And from the initialization options.
     let mut third = Client::with(
-        holoc::lsp::ServerOptions { catalogs: Vec::new(), solve_on_save: false },
+        holoc::lsp::ServerOptions { catalogs: Vec::new(), objathor: None, solve_on_save: false },
         json!({"catalogs": [dir.join("mine.json")]}),
     );
     third.open(&uri, &text);

@@ -78,8 +78,16 @@ impl CatalogCache {
     pub const MAX_SETS: usize = 8;
 
     /// The catalog set of `paths`, loaded now or earlier; `files` gives their hashes.
-    pub fn get(&self, paths: &[PathBuf], files: &FileHashes) -> LoadedCatalogs {
-        let key: Vec<String> = paths.iter().map(|p| files.hash(p)).collect();
+    pub fn get(
+        &self,
+        paths: &[PathBuf],
+        objathor: Option<&crate::resolve::objathor::ObjathorOptions>,
+        files: &FileHashes,
+    ) -> LoadedCatalogs {
+        let mut key: Vec<String> = paths.iter().map(|p| files.hash(p)).collect();
+        if let Some(o) = objathor {
+            key.push(format!("objathor {o:?}"));
+        }
         // A job that panicked while holding a lock leaves a map that is still whole (only
         // whole inserts and clears happen under it).
         let lock = || self.sets.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
@@ -91,7 +99,7 @@ impl CatalogCache {
             return Arc::clone(found);
         }
         let mut sources = SourceMap::new();
-        let loaded = Catalog::load(paths, &mut sources);
+        let loaded = Catalog::load_with(paths, objathor, &mut sources);
         let set = Arc::new((loaded.value, sources, loaded.diagnostics));
         let mut sets = lock();
         if sets.len() >= Self::MAX_SETS {

@@ -61,6 +61,21 @@ pub struct JobSpec {
     /// Whether stand-ins fill in (default true).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub stand_ins: Option<bool>,
+    /// An objathor version folder (or base), relative to the manifest's folder.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub objathor: Option<String>,
+    /// The version folder under `objathor`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub objathor_version: Option<String>,
+    /// `lexical`, `features` or `clip`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub objathor_scoring: Option<String>,
+    /// `builtin-first` or `score`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub objathor_mix: Option<String>,
+    /// `argmax` or `seeded`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub objathor_pick: Option<String>,
     /// The model of a generate job (default: `HOLOC_MODEL`, else holoc's default).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub model: Option<String>,
@@ -105,6 +120,8 @@ pub struct Job {
     pub input: Option<PathBuf>,
     /// The catalogs, as paths.
     pub catalogs: Vec<PathBuf>,
+    /// The objathor folder and how it is used.
+    pub objathor: Option<crate::resolve::objathor::ObjathorOptions>,
 }
 
 /// A manifest line that is not a job.
@@ -396,10 +413,21 @@ pub fn read_line(line: usize, raw: &str, base: &Path) -> Option<Result<Job, Mani
             crate::solve::MAX_NODE_BUDGET
         ));
     }
+    let objathor = match crate::resolve::objathor::ObjathorOptions::from_words(
+        base,
+        spec.objathor.as_deref().map(Path::new),
+        spec.objathor_version.as_deref(),
+        spec.objathor_scoring.as_deref(),
+        spec.objathor_mix.as_deref(),
+        spec.objathor_pick.as_deref(),
+    ) {
+        Ok(o) => o,
+        Err(message) => return error(format!("is not a job: {message}")),
+    };
     let input = spec.build.as_ref().map(|p| base.join(p));
     let catalogs: Vec<PathBuf> = spec.catalog.iter().map(|c| base.join(c)).collect();
     let id = spec.id.clone().unwrap_or_else(|| format!("line-{line}"));
-    Some(Ok(Job { line, id, spec, hash: String::new(), input, catalogs }))
+    Some(Ok(Job { line, id, spec, hash: String::new(), input, catalogs, objathor }))
 }
 
 /// A failed result for a manifest line that is not a job (E0005).
@@ -438,6 +466,20 @@ pub fn job_hash(job: &Job, files: &FileHashes) -> String {
         "catalogs": job.catalogs.iter().map(|p| files.hash(p)).collect::<Vec<_>>(),
         "model": model,
     });
+    // With an objathor folder, its annotations' bytes are part of the identity too (the key
+    // is unchanged without one).
+    let key = match &job.objathor {
+        Some(o) => {
+            let dir = o.version.as_ref().map_or_else(|| o.dir.clone(), |v| o.dir.join(v));
+            let annotations = ["annotations.json.gz", "annotations.json"]
+                .iter()
+                .map(|n| dir.join(n))
+                .find(|p| p.is_file())
+                .map(|p| files.hash(&p));
+            serde_json::json!({"job": key, "objathor": annotations})
+        }
+        None => key,
+    };
     crate::resolve::sha256_hex(key.to_string().as_bytes())[..16].to_string()
 }
 
@@ -475,6 +517,22 @@ mod tests {
         let failure = manifest_failure(&errors[1]);
         assert_eq!(failure.id, "x");
         assert_eq!(failure.codes, vec!["E0005"]);
+    }
+
+    #[test]
+    fn a_job_names_its_objathor_folder_relative_to_the_manifest() {
+        let line = r#"{"build": "a.holo", "objathor": "assets/2023_09_23", "objathor_scoring": "lexical", "objathor_pick": "seeded"}"#;
+        let job = read_line(1, line, Path::new("m")).expect("a line").expect("a job");
+        let o = job.objathor.expect("an objathor folder");
+        assert_eq!(o.dir, Path::new("m").join("assets/2023_09_23"));
+        assert_eq!(o.scoring, Some(crate::resolve::objathor::Scoring::Lexical));
+        assert_eq!(o.pick, crate::resolve::objathor::Pick::Seeded);
+        let bad = r#"{"build": "a.holo", "objathor": "x", "objathor_mix": "half"}"#;
+        let err = read_line(1, bad, Path::new(".")).expect("a line").expect_err("not a job");
+        assert!(err.message.contains("unknown objathor mix `half`"), "{}", err.message);
+        // Without the folder, the job's identity is what it was.
+        let plain = read_line(1, r#"{"build": "a.holo"}"#, Path::new(".")).expect("a line");
+        assert!(plain.expect("a job").objathor.is_none());
     }
 
     #[test]

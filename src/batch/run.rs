@@ -231,7 +231,7 @@ fn solver_of(job: &Job) -> Solver {
 fn build_text(name: &str, text: String, job: &Job, options: &RunOptions, files: Files) -> Work {
     let _cpu = options.cpu.acquire();
     crate::cancel::stage("catalog");
-    let loaded = options.catalogs.get(&job.catalogs, &options.files);
+    let loaded = options.catalogs.get(&job.catalogs, job.objathor.as_ref(), &options.files);
     let (catalog, catalog_sources, catalog_diagnostics) = &*loaded;
     if catalog_diagnostics.iter().any(Diagnostic::is_error) {
         return failed("catalog", catalog_diagnostics.clone());
@@ -248,7 +248,16 @@ fn build_text(name: &str, text: String, job: &Job, options: &RunOptions, files: 
     let built = build(&sources, file, &build_options);
     let mut diagnostics = catalog_diagnostics.clone();
     diagnostics.extend(built.diagnostics);
-    let Some(product) = built.value else {
+    if let Some(product) = &built.value {
+        // Before anything is written: the objathor assets the house uses must be on disk.
+        diagnostics.extend(crate::resolve::objathor::check_on_disk(
+            catalog,
+            product.objects.iter().map(|o| o.asset_id.as_str()),
+            &|_| None,
+        ));
+    }
+    let Some(product) = built.value.filter(|_| !diagnostics.iter().any(Diagnostic::is_error))
+    else {
         let stage = diagnostics.iter().find(|d| d.is_error()).map_or("build", |d| stage_of(d.code));
         return failed(stage, diagnostics);
     };

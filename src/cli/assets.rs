@@ -15,12 +15,46 @@ pub struct CatalogArgs {
     /// annotations (`.json` or `.json.gz`). Repeatable; later files win on id clashes.
     #[arg(long = "catalog", value_name = "FILE")]
     pub catalogs: Vec<PathBuf>,
+    /// The original Holodeck's assets: an objathor version folder (the one with
+    /// `annotations.json.gz`, `features/` and `assets/`), or the base folder with
+    /// `--objathor-version`.
+    #[arg(long, value_name = "DIR")]
+    pub objathor: Option<PathBuf>,
+    /// The version folder under `--objathor` (e.g. `2023_09_23`).
+    #[arg(long, value_name = "VERSION")]
+    pub objathor_version: Option<String>,
+    /// How objathor assets are ranked: `lexical` (words and size), `features` (the stored CLIP
+    /// rows; the default when the folder has them) or `clip` (not available in this build).
+    #[arg(long, value_name = "MODE", value_parser = ["lexical", "features", "clip"])]
+    pub objathor_scoring: Option<String>,
+    /// `builtin-first` (default: objathor assets only for what the other catalogs lack) or
+    /// `score` (both, merged by score).
+    #[arg(long, value_name = "HOW", value_parser = ["builtin-first", "score"])]
+    pub objathor_mix: Option<String>,
+    /// `argmax` (default: the best objathor asset) or `seeded` (a draw from the softmax of the
+    /// best 10, 5 for small objects, from the scene's seed).
+    #[arg(long, value_name = "HOW", value_parser = ["argmax", "seeded"])]
+    pub objathor_pick: Option<String>,
 }
 
 impl CatalogArgs {
-    /// Loads the embedded catalog and the files, adding the files' text to `sources`.
+    /// Loads the embedded catalog and the files, then the objathor folder, adding the files'
+    /// text to `sources`.
     pub fn load(&self, sources: &mut SourceMap) -> Outcome<Catalog> {
-        Catalog::load(&self.catalogs, sources)
+        Catalog::load_with(&self.catalogs, self.objathor_options().as_ref(), sources)
+    }
+
+    /// What `--objathor` and its companions ask (`None` without `--objathor`).
+    pub fn objathor_options(&self) -> Option<resolve::objathor::ObjathorOptions> {
+        use resolve::objathor::{Mix, ObjathorOptions, Pick, Scoring};
+        let dir = self.objathor.clone()?;
+        Some(ObjathorOptions {
+            dir,
+            version: self.objathor_version.clone(),
+            scoring: self.objathor_scoring.as_deref().and_then(Scoring::parse),
+            mix: self.objathor_mix.as_deref().and_then(Mix::parse).unwrap_or_default(),
+            pick: self.objathor_pick.as_deref().and_then(Pick::parse).unwrap_or_default(),
+        })
     }
 }
 
@@ -168,7 +202,7 @@ fn load(catalog: &CatalogArgs, color: ColorChoice) -> Option<Catalog> {
     let mut sources = SourceMap::new();
     let outcome = catalog.load(&mut sources);
     common::emit(&sources, &outcome.diagnostics, DiagFormat::Human, color);
-    if outcome.diagnostics.iter().any(|d| d.code == Code::E0403) {
+    if outcome.diagnostics.iter().any(|d| d.code == Code::E0403 || d.is_error()) {
         return None;
     }
     Some(outcome.value)
@@ -203,7 +237,14 @@ fn search(args: &SearchArgs) -> ExitCode {
             resolve::Query { category: args.query.clone(), description: None, size_m: size, kind }
         }
     };
-    let candidates = resolve::rank(&catalog, &query, 0);
+    let mut candidates = resolve::rank(&catalog, &query, 0);
+    if catalog.objathor().is_some() {
+        // The objathor folder's candidates too, merged by their lexical score.
+        candidates.extend(resolve::objathor::rank(&catalog, &query, 0, args.limit.max(1)));
+        let lexical =
+            |c: &resolve::Candidate| c.features.as_ref().map_or(c.score, |f| f.lexical_score);
+        candidates.sort_by(|a, b| lexical(b).total_cmp(&lexical(a)));
+    }
     let options = resolve::ResolveOptions { stand_ins: !args.no_stand_ins };
     let resolution = resolve::resolve_query(
         &catalog,

@@ -271,6 +271,17 @@ pub(crate) fn run_build(
     };
     let mut built = crate::compile::build(sources, file, &options);
     built.diagnostics.splice(0..0, loaded.diagnostics);
+    // Before anything is written: the objathor assets the house uses must be on disk.
+    if let Some(product) = &built.value {
+        built.diagnostics.extend(crate::resolve::objathor::check_on_disk(
+            &catalog,
+            product.objects.iter().map(|o| o.asset_id.as_str()),
+            &|_| None,
+        ));
+        if built.diagnostics.iter().any(crate::diag::Diagnostic::is_error) {
+            built.value = None;
+        }
+    }
     common::emit_beside(
         sources,
         &built.diagnostics,

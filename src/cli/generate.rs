@@ -86,6 +86,9 @@ pub struct GenerateArgs {
     /// `.json`. Needs `-o`.
     #[arg(long, requires = "output")]
     pub build: bool,
+    /// User asset catalogs and the objathor folder `--build` resolves against.
+    #[command(flatten)]
+    pub catalogs: super::assets::CatalogArgs,
     /// No progress, no cost summary and no warnings on stderr (errors are still printed).
     #[arg(long, short)]
     pub quiet: bool,
@@ -385,8 +388,13 @@ pub fn run(args: &GenerateArgs) -> ExitCode {
     }
     let mut build_failed = false;
     if args.build && !generated.holo.is_empty() && !failed {
-        build_failed =
-            !build_house(&generated.holo, args.output.as_deref(), args.color, args.quiet);
+        build_failed = !build_house(
+            &generated.holo,
+            args.output.as_deref(),
+            &args.catalogs,
+            args.color,
+            args.quiet,
+        );
     }
     let model_failed = outcome.diagnostics.iter().any(|d| {
         matches!(
@@ -433,19 +441,34 @@ pub fn house_path(output: &std::path::Path) -> PathBuf {
 fn build_house(
     holo: &str,
     output: Option<&std::path::Path>,
+    catalogs: &super::assets::CatalogArgs,
     color: ColorChoice,
     quiet: bool,
 ) -> bool {
     let mut sources = crate::source::SourceMap::new();
+    let loaded = catalogs.load(&mut sources);
+    if loaded.has_errors() {
+        common::emit(&sources, &loaded.diagnostics, common::DiagFormat::Human, color);
+        return false;
+    }
+    let catalog = loaded.value;
     let name = output.map_or_else(|| "<generated>.holo".to_string(), |p| p.display().to_string());
     let file = sources.add(name, holo.to_string());
-    let catalog = crate::resolve::Catalog::embedded();
     let options = crate::compile::BuildOptions::new(&catalog);
-    let built = crate::compile::build(&sources, file, &options);
+    let mut built = crate::compile::build(&sources, file, &options);
+    built.diagnostics.splice(0..0, loaded.diagnostics);
+    if let Some(product) = &built.value {
+        built.diagnostics.extend(crate::resolve::objathor::check_on_disk(
+            &catalog,
+            product.objects.iter().map(|o| o.asset_id.as_str()),
+            &|_| None,
+        ));
+    }
+    let failed = built.diagnostics.iter().any(Diagnostic::is_error);
     let shown: Vec<Diagnostic> =
         built.diagnostics.iter().filter(|d| !quiet || d.is_error()).cloned().collect();
     common::emit(&sources, &shown, common::DiagFormat::Human, color);
-    let Some(product) = built.value else { return false };
+    let Some(product) = built.value.filter(|_| !failed) else { return false };
     let Some(output) = output.filter(|p| p.as_os_str() != "-") else {
         common::emit_plain(&Diagnostic::new(
             Code::E0004,

@@ -22,6 +22,7 @@ pub struct LspArgs {
 pub fn run(args: &LspArgs) -> ExitCode {
     let options = crate::lsp::ServerOptions {
         catalogs: args.catalogs.catalogs.clone(),
+        objathor: args.catalogs.objathor_options(),
         solve_on_save: !args.no_solve,
     };
     match crate::lsp::run_stdio(options) {

@@ -83,6 +83,17 @@ struct Config {
     /// Catalogs every command of the project uses (relative to the file's folder).
     #[serde(default)]
     catalogs: Vec<PathBuf>,
+    /// The objathor folder every command of the project uses (relative to the file's folder),
+    /// and how it is used.
+    objathor: Option<PathBuf>,
+    /// The version folder under `objathor`.
+    objathor_version: Option<String>,
+    /// `lexical`, `features` or `clip`.
+    objathor_scoring: Option<String>,
+    /// `builtin-first` or `score`.
+    objathor_mix: Option<String>,
+    /// `argmax` or `seeded`.
+    objathor_pick: Option<String>,
     /// The `[test]` table.
     #[serde(default)]
     test: TestConfig,
@@ -335,7 +346,23 @@ pub fn run(args: &TestArgs) -> ExitCode {
     let mut base = SourceMap::new();
     let mut catalog_paths: Vec<PathBuf> = config.catalogs.iter().map(|c| root.join(c)).collect();
     catalog_paths.extend(args.catalogs.catalogs.iter().cloned());
-    let loaded = Catalog::load(&catalog_paths, &mut base);
+    let objathor = match args.catalogs.objathor_options() {
+        Some(o) => Some(o),
+        None => match crate::resolve::objathor::ObjathorOptions::from_words(
+            &root,
+            config.objathor.as_deref(),
+            config.objathor_version.as_deref(),
+            config.objathor_scoring.as_deref(),
+            config.objathor_mix.as_deref(),
+            config.objathor_pick.as_deref(),
+        ) {
+            Ok(o) => o,
+            Err(message) => {
+                return usage(&Diagnostic::new(Code::E0004, format!("holoc.toml: {message}")));
+            }
+        },
+    };
+    let loaded = Catalog::load_with(&catalog_paths, objathor.as_ref(), &mut base);
     if loaded.has_errors() {
         common::emit(&base, &loaded.diagnostics, common::DiagFormat::Human, args.color);
         return ExitCode::from(2);

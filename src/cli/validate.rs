@@ -46,6 +46,7 @@ pub fn run(args: &ValidateArgs) -> ExitCode {
                     &catalog,
                 );
                 diagnostics.extend(outcome.diagnostics);
+                diagnostics.extend(objathor_on_disk(&sources, id, &catalog));
             }
             Err(d) => {
                 common::emit_plain(&d);
@@ -58,4 +59,34 @@ pub fn run(args: &ValidateArgs) -> ExitCode {
         return ExitCode::from(2);
     }
     common::exit_for(&diagnostics)
+}
+
+/// The on-disk check of the objathor assets a house uses (`--objathor`): every `assetId` of its
+/// objects and their children, each reported at its first place in the file.
+fn objathor_on_disk(
+    sources: &SourceMap,
+    file: crate::source::FileId,
+    catalog: &crate::resolve::Catalog,
+) -> Vec<crate::diag::Diagnostic> {
+    if catalog.objathor().is_none() {
+        return Vec::new();
+    }
+    let text = &sources.get(file).text;
+    let Ok(house) = serde_json::from_str::<serde_json::Value>(text) else { return Vec::new() };
+    let mut ids = Vec::new();
+    let mut stack: Vec<&serde_json::Value> =
+        house.get("objects").and_then(serde_json::Value::as_array).into_iter().flatten().collect();
+    while let Some(object) = stack.pop() {
+        if let Some(id) = object.get("assetId").and_then(serde_json::Value::as_str) {
+            ids.push(id.to_string());
+        }
+        stack.extend(
+            object.get("children").and_then(serde_json::Value::as_array).into_iter().flatten(),
+        );
+    }
+    let span_of = |uid: &str| {
+        let start = text.find(&format!("\"{uid}\""))?;
+        Some(crate::source::Span::new(file, start, start + uid.len() + 2))
+    };
+    crate::resolve::objathor::check_on_disk(catalog, ids.iter().map(String::as_str), &span_of)
 }

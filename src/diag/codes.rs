@@ -136,6 +136,8 @@ codes! {
     W0611 "object-sunk" "an object's bottom is under the floor";
     W0612 "item-not-resting" "an item nested on a receptacle does not rest on its top";
     W0613 "agent-in-furniture" "the agent starts inside or against a floor object";
+    E0615 "objathor-asset-missing" "a chosen objathor asset is not in the folder's `assets/`";
+    W0614 "objathor-assets-fetched" "the objathor folder has no `assets/`: the assets are fetched when the house loads";
     W0608 "objects-overlap" "the footprints of two floor objects overlap";
     W0609 "object-crosses-wall" "a floor object's footprint reaches through a wall of its room";
     E0401 "unknown-asset" "a pinned asset id is in no catalog";
@@ -145,6 +147,9 @@ codes! {
     W0402 "invalid-catalog-entry" "a catalog entry is malformed and is skipped";
     W0403 "stand-in-asset" "an asset of another type that does the same job stands in for a thing the catalog lacks";
     W0404 "placed-otherwise" "an object is placed in a way its catalog type does not list, as people place such things";
+    E0404 "unusable-objathor-folder" "the folder given with `--objathor` is not an objathor version folder or base";
+    E0405 "scoring-mode-unavailable" "the objathor scoring mode asked cannot run with this folder or build";
+    W0405 "unusable-features" "an objathor feature file is missing or cannot be read, and is not used";
     E0701 "unreadable-line" "a line of an answer does not have the shape its stage expects";
     E0702 "invalid-value" "a field of an answer holds a value that cannot be used";
     E0703 "unknown-answer-room" "an answer names a room the floor plan does not have";

@@ -19,6 +19,7 @@ pub mod features;
 pub mod index;
 pub mod transport;
 
+use crate::resolve::objathor::ObjathorOptions;
 use crate::resolve::Catalog;
 use crossbeam_channel::{Receiver, Sender};
 use document::{Analysis, Document, RelationOutcome, Solved};
@@ -37,6 +38,8 @@ use std::sync::Arc;
 pub struct ServerOptions {
     /// Catalogs given on the command line (`holoc lsp --catalog FILE`).
     pub catalogs: Vec<PathBuf>,
+    /// The objathor folder of the command line (`--objathor DIR`).
+    pub objathor: Option<crate::resolve::objathor::ObjathorOptions>,
     /// Whether layout solves run in the background on open and save.
     pub solve_on_save: bool,
 }
@@ -98,11 +101,27 @@ pub fn serve(connection: &Connection, options: ServerOptions) -> Result<(), Stri
     {
         catalogs.extend(paths.iter().filter_map(|p| p.as_str().map(PathBuf::from)));
     }
+    let mut objathor = options.objathor.clone();
+    if let Some(o) = init.get("initializationOptions").filter(|o| o.get("objathor").is_some()) {
+        let word = |k: &str| o.get(k).and_then(serde_json::Value::as_str);
+        // A bad setting leaves the command line's folder in force.
+        if let Ok(found) = crate::resolve::objathor::ObjathorOptions::from_words(
+            Path::new(""),
+            word("objathor").map(Path::new),
+            word("objathorVersion"),
+            word("objathorScoring"),
+            word("objathorMix"),
+            word("objathorPick"),
+        ) {
+            objathor = found;
+        }
+    }
     let (jobs, results) = solve_worker();
     let mut server = Server {
         sender: connection.sender.clone(),
         documents: BTreeMap::new(),
         catalogs,
+        objathor,
         catalog_cache: HashMap::new(),
         configs: HashMap::new(),
         roots: workspace_roots(&init),
@@ -143,10 +162,12 @@ struct Server {
     documents: BTreeMap<String, Document>,
     /// Catalogs of the command line and the initialization options.
     catalogs: Vec<PathBuf>,
-    /// Loaded catalogs by their list of files.
-    catalog_cache: HashMap<Vec<PathBuf>, Arc<Catalog>>,
+    /// The objathor folder of the command line or the initialization options.
+    objathor: Option<ObjathorOptions>,
+    /// Loaded catalogs by their list of files and objathor folder.
+    catalog_cache: HashMap<(Vec<PathBuf>, Option<ObjathorOptions>), Arc<Catalog>>,
     /// Each `holoc.toml` read: when it was modified and the catalogs it lists.
-    configs: HashMap<PathBuf, (Option<std::time::SystemTime>, Vec<PathBuf>)>,
+    configs: HashMap<PathBuf, (Option<std::time::SystemTime>, Config)>,
     /// The client's workspace folders: where `holoc.toml` is looked up.
     roots: Vec<PathBuf>,
     /// Documents whose diagnostics must be (re)published.
@@ -281,6 +302,7 @@ impl Server {
     /// `holoc.toml`, loaded once per list.
     fn catalog_for(&mut self, uri: &str) -> Arc<Catalog> {
         let mut paths = self.catalogs.clone();
+        let mut objathor = self.objathor.clone();
         let file = uri_path(uri);
         if let Some(found) = file.as_deref().and_then(|f| find_config(f, &self.roots)) {
             // Read again only when the file changed; a bad one is reported once.
@@ -291,25 +313,29 @@ impl Server {
                 None => {
                     let listed = read_config(&found).unwrap_or_else(|message| {
                         self.show(lsp_types::MessageType::WARNING, message);
-                        Vec::new()
+                        (Vec::new(), None)
                     });
                     self.configs.insert(found, (modified, listed.clone()));
                     listed
                 }
             };
-            paths.extend(listed);
+            paths.extend(listed.0);
+            if listed.1.is_some() {
+                objathor = listed.1;
+            }
         }
-        if let Some(catalog) = self.catalog_cache.get(&paths) {
+        let key = (paths, objathor);
+        if let Some(catalog) = self.catalog_cache.get(&key) {
             return Arc::clone(catalog);
         }
         let mut sources = crate::source::SourceMap::new();
-        let loaded = Catalog::load(&paths, &mut sources);
+        let loaded = Catalog::load_with(&key.0, key.1.as_ref(), &mut sources);
         if !loaded.diagnostics.is_empty() {
             let text = crate::diag::format::render_short(&sources, &loaded.diagnostics);
             self.show(lsp_types::MessageType::WARNING, format!("holoc catalogs:\n{text}"));
         }
         let catalog = Arc::new(loaded.value);
-        self.catalog_cache.insert(paths, Arc::clone(&catalog));
+        self.catalog_cache.insert(key, Arc::clone(&catalog));
         catalog
     }
 
@@ -639,13 +665,21 @@ fn workspace_roots(init: &serde_json::Value) -> Vec<PathBuf> {
         .collect()
 }
 
-/// The catalogs a `holoc.toml` lists, relative to its folder.
-fn read_config(path: &Path) -> Result<Vec<PathBuf>, String> {
+/// What a `holoc.toml` gives the server: its catalogs and its objathor folder.
+type Config = (Vec<PathBuf>, Option<ObjathorOptions>);
+
+/// The catalogs and objathor folder a `holoc.toml` lists, relative to its folder.
+fn read_config(path: &Path) -> Result<Config, String> {
     #[derive(serde::Deserialize)]
     #[serde(deny_unknown_fields)]
     struct Config {
         #[serde(default)]
         catalogs: Vec<PathBuf>,
+        objathor: Option<PathBuf>,
+        objathor_version: Option<String>,
+        objathor_scoring: Option<String>,
+        objathor_mix: Option<String>,
+        objathor_pick: Option<String>,
         /// The `[test]` table of `holoc test`, not the language server's.
         #[serde(default, rename = "test")]
         _test: Option<toml::Value>,
@@ -656,5 +690,37 @@ fn read_config(path: &Path) -> Result<Vec<PathBuf>, String> {
         .map_err(|_| format!("{}: the file is not UTF-8 text", path.display()))?;
     let config: Config = toml::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
     let dir = path.parent().unwrap_or(Path::new("."));
-    Ok(config.catalogs.into_iter().map(|p| dir.join(p)).collect())
+    let objathor = ObjathorOptions::from_words(
+        dir,
+        config.objathor.as_deref(),
+        config.objathor_version.as_deref(),
+        config.objathor_scoring.as_deref(),
+        config.objathor_mix.as_deref(),
+        config.objathor_pick.as_deref(),
+    )
+    .map_err(|e| format!("{}: {e}", path.display()))?;
+    Ok((config.catalogs.into_iter().map(|p| dir.join(p)).collect(), objathor))
+}
+
+#[cfg(test)]
+mod config_tests {
+    use super::*;
+
+    #[test]
+    fn holoc_toml_names_the_objathor_folder_relative_to_itself() {
+        let dir = tempfile::tempdir().expect("a folder");
+        let path = dir.path().join("holoc.toml");
+        std::fs::write(
+            &path,
+            "catalogs = [\"a.json\"]\nobjathor = \"assets/2023_09_23\"\nobjathor_mix = \"score\"\n",
+        )
+        .expect("written");
+        let (catalogs, objathor) = read_config(&path).expect("read");
+        assert_eq!(catalogs, vec![dir.path().join("a.json")]);
+        let o = objathor.expect("the folder");
+        assert_eq!(o.dir, dir.path().join("assets/2023_09_23"));
+        assert_eq!(o.mix, crate::resolve::objathor::Mix::Score);
+        std::fs::write(&path, "objathor = \"x\"\nobjathor_pick = \"random\"\n").expect("written");
+        assert!(read_config(&path).is_err());
+    }
 }

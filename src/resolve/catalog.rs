@@ -178,6 +178,8 @@ pub struct Catalog {
     /// with nothing to resolve never builds it, and every build of a process that uses only
     /// the embedded catalog (a batch, the language server) shares one.
     index: Arc<OnceLock<TextIndex>>,
+    /// The objathor version folder (`--objathor`), whose assets come after all others.
+    objathor: Option<Box<super::objathor::Objathor>>,
 }
 
 impl Catalog {
@@ -241,6 +243,16 @@ impl Catalog {
     /// file's text is added to `sources` so that diagnostics can point into it; a bad entry is a
     /// warning naming the file and the entry, and the rest of the file still loads.
     pub fn load(paths: &[impl AsRef<Path>], sources: &mut SourceMap) -> Outcome<Catalog> {
+        Catalog::load_with(paths, None, sources)
+    }
+
+    /// [`Catalog::load`], then the objathor version folder `objathor` names, if any, after
+    /// every other catalog (see `resolve::objathor`).
+    pub fn load_with(
+        paths: &[impl AsRef<Path>],
+        objathor: Option<&super::objathor::ObjathorOptions>,
+        sources: &mut SourceMap,
+    ) -> Outcome<Catalog> {
         let mut catalog = Catalog::embedded();
         let mut diagnostics = Vec::new();
         for path in paths {
@@ -255,7 +267,54 @@ impl Catalog {
             // Other assets: another index, built when first needed.
             catalog.index = Arc::default();
         }
+        if let Some(options) = objathor {
+            // The word index covers the assets before objathor's, which have their own.
+            let _ = catalog.index();
+            diagnostics.extend(super::objathor::load(options, &mut catalog, sources));
+        }
         Outcome::new(catalog, diagnostics)
+    }
+
+    /// Appends an objathor folder's assets (an id already known keeps its earlier asset) under
+    /// a new source: their range in [`Catalog::assets`] and the entries of the ones added.
+    pub(crate) fn append_objathor(
+        &mut self,
+        parsed: Vec<(Asset, super::objathor::annotations::Entry)>,
+        mut source: CatalogSource,
+    ) -> (usize, usize, Vec<super::objathor::annotations::Entry>) {
+        let start = self.assets.len();
+        let mut entries = Vec::with_capacity(parsed.len());
+        for (asset, entry) in parsed {
+            if self.by_id.contains_key(&asset.id) {
+                continue;
+            }
+            self.by_id.insert(asset.id.clone(), self.assets.len());
+            self.assets.push(asset);
+            entries.push(entry);
+        }
+        source.n_assets = entries.len();
+        self.sources.push(source);
+        (start, self.assets.len(), entries)
+    }
+
+    /// Keeps the loaded objathor folder.
+    pub(crate) fn set_objathor(&mut self, objathor: super::objathor::Objathor) {
+        self.objathor = Some(Box::new(objathor));
+    }
+
+    /// The objathor version folder, when one was given.
+    pub fn objathor(&self) -> Option<&super::objathor::Objathor> {
+        self.objathor.as_deref()
+    }
+
+    /// Whether the asset comes from the objathor version folder.
+    pub fn is_objathor(&self, asset: &Asset) -> bool {
+        self.objathor.as_ref().is_some_and(|o| o.source == asset.source)
+    }
+
+    /// The place of the asset with this id in [`Catalog::assets`].
+    pub fn index_of(&self, id: &str) -> Option<usize> {
+        self.by_id.get(id).copied()
     }
 
     /// Reads one user catalog file (its bytes, JSON plain or gzip) without building a catalog:
@@ -326,8 +385,13 @@ impl Catalog {
     }
 
     fn from_parts(assets: Vec<Asset>, sources: Vec<CatalogSource>) -> Catalog {
-        let mut catalog =
-            Catalog { assets: Vec::new(), by_id: BTreeMap::new(), sources, index: Arc::default() };
+        let mut catalog = Catalog {
+            assets: Vec::new(),
+            by_id: BTreeMap::new(),
+            sources,
+            index: Arc::default(),
+            objathor: None,
+        };
         for asset in assets {
             catalog.insert(asset);
         }
@@ -398,14 +462,14 @@ fn read_catalog_bytes(path: &Path) -> Result<Vec<u8>, String> {
 }
 
 /// E0403 for a catalog file that cannot be read.
-fn unreadable(name: &str, message: &str) -> Diagnostic {
+pub(crate) fn unreadable(name: &str, message: &str) -> Diagnostic {
     Diagnostic::new(Code::E0403, format!("cannot read catalog `{name}`: {message}"))
         .with_help("check the path given to `--catalog`")
 }
 
 /// The text of a catalog file's bytes: gzip is decompressed (at most [`MAX_CATALOG_BYTES`]),
 /// and the text must be UTF-8.
-fn catalog_text(bytes: &[u8]) -> Result<String, String> {
+pub(crate) fn catalog_text(bytes: &[u8]) -> Result<String, String> {
     let too_large = || format!("it is larger than {} MiB", MAX_CATALOG_BYTES / (1024 * 1024));
     if bytes.len() as u64 > MAX_CATALOG_BYTES {
         return Err(too_large());
@@ -432,7 +496,7 @@ struct Parsed {
 }
 
 /// A JSON object with its keys in file order (serde_json's map would sort them).
-struct OrderedObject(Vec<(String, Value)>);
+pub(crate) struct OrderedObject(pub(crate) Vec<(String, Value)>);
 
 impl<'de> serde::Deserialize<'de> for OrderedObject {
     fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
@@ -456,7 +520,7 @@ impl<'de> serde::Deserialize<'de> for OrderedObject {
 
 /// Finds the span of `"key"` at or after `from` (entries are located by searching the text,
 /// since the JSON parser keeps no positions).
-fn key_span(text: &str, file: FileId, key: &str, from: &mut usize) -> Span {
+pub(crate) fn key_span(text: &str, file: FileId, key: &str, from: &mut usize) -> Span {
     let quoted = format!("\"{key}\"");
     let start = text.get(*from..).and_then(|t| t.find(&quoted)).map(|i| i + *from);
     match start {
@@ -549,7 +613,7 @@ fn entry_id(entry: &Value) -> Option<String> {
         .map(str::to_string)
 }
 
-fn json_error(text: &str, file: FileId, e: &serde_json::Error) -> Diagnostic {
+pub(crate) fn json_error(text: &str, file: FileId, e: &serde_json::Error) -> Diagnostic {
     let offset = line_col_offset(text, e.line(), e.column());
     Diagnostic::new(Code::E0403, format!("the catalog is not valid JSON: {e}"))
         .with_primary(Span::new(file, offset, (offset + 1).min(text.len())), "the JSON breaks here")
@@ -567,7 +631,7 @@ fn line_col_offset(text: &str, line: usize, column: usize) -> usize {
     text.len()
 }
 
-fn bad_entry(file: FileId, span: Span, entry: &str, why: &str) -> Diagnostic {
+pub(crate) fn bad_entry(file: FileId, span: Span, entry: &str, why: &str) -> Diagnostic {
     let _ = file;
     Diagnostic::new(Code::W0402, format!("catalog entry `{entry}` is skipped: {why}"))
         .with_primary(span, "this entry")
@@ -591,7 +655,7 @@ fn builtin_type_placements() -> &'static BTreeMap<String, (Placements, String)> 
     })
 }
 
-fn flags_of(obj: &Value) -> Option<Placements> {
+pub(crate) fn flags_of(obj: &Value) -> Option<Placements> {
     let get = |k: &str| obj.get(k).and_then(Value::as_bool);
     let flags = [get("onFloor"), get("onWall"), get("onObject"), get("onCeiling")];
     if flags.iter().all(Option::is_none) {
@@ -739,7 +803,7 @@ fn push_objathor(
 }
 
 /// A bounding box given as `{x, y, z}`, `{size: {x, y, z}}` or `{min, max}`, in metres.
-fn bbox_of(value: &Value) -> Result<[f64; 3], String> {
+pub(crate) fn bbox_of(value: &Value) -> Result<[f64; 3], String> {
     let xyz = |v: &Value| -> Option<[f64; 3]> {
         Some([v.get("x")?.as_f64()?, v.get("y")?.as_f64()?, v.get("z")?.as_f64()?])
     };

@@ -133,14 +133,21 @@ pub struct Candidate {
     pub size_diff_m: Option<f64>,
     /// `RELEVANCE_WEIGHT × relevance − SIZE_WEIGHT × size_diff_m`.
     pub score: f64,
+    /// For an objathor asset scored by its features: the parts of that score (then `score` is
+    /// `clip + sbert − SIZE_WEIGHT × size_diff_m`).
+    pub features: Option<super::objathor::FeatureScore>,
     pub(crate) idx: usize,
     pub(crate) tie: u64,
 }
 
 impl Candidate {
-    /// Whether the candidate is good enough to resolve an object.
+    /// Whether the candidate is good enough to resolve an object: its relevance, or for a
+    /// candidate scored by features, its CLIP part against the original's threshold.
     pub fn is_good_enough(&self) -> bool {
-        self.relevance >= RELEVANCE_THRESHOLD
+        match &self.features {
+            Some(f) => f.clip > f.threshold,
+            None => self.relevance >= RELEVANCE_THRESHOLD,
+        }
     }
 }
 
@@ -152,7 +159,20 @@ pub fn rank(catalog: &Catalog, query: &Query, seed: u64) -> Vec<Candidate> {
 
 /// The best `limit` candidates of [`rank`], in the same order, without building the rest.
 pub fn rank_top(catalog: &Catalog, query: &Query, seed: u64, limit: usize) -> Vec<Candidate> {
-    let n_docs = catalog.index().n_docs();
+    rank_in(catalog, catalog.index(), 0, query, seed, limit)
+}
+
+/// [`rank_top`] over another index of the catalog's assets, whose document `d` is the asset
+/// `offset + d` (the objathor folder's own index).
+pub(crate) fn rank_in(
+    catalog: &Catalog,
+    index: &TextIndex,
+    offset: usize,
+    query: &Query,
+    seed: u64,
+    limit: usize,
+) -> Vec<Candidate> {
+    let n_docs = index.n_docs();
     if n_docs == 0 || limit == 0 {
         return Vec::new();
     }
@@ -161,7 +181,7 @@ pub fn rank_top(catalog: &Catalog, query: &Query, seed: u64, limit: usize) -> Ve
         if scores.len() < n_docs {
             scores.resize(n_docs, 0.0);
         }
-        rank_with(catalog, query, seed, limit, scores)
+        rank_with(catalog, index, offset, query, seed, limit, scores)
     })
 }
 
@@ -171,12 +191,13 @@ thread_local! {
 
 fn rank_with(
     catalog: &Catalog,
+    index: &TextIndex,
+    offset: usize,
     query: &Query,
     seed: u64,
     limit: usize,
     scores: &mut [f64],
 ) -> Vec<Candidate> {
-    let index = catalog.index();
     // The noun phrase names the thing; what follows it (`with drawers`) only describes it.
     let (noun_phrase, rest) = text::split_phrase(&query.category);
     let category = text::normalize(&noun_phrase);
@@ -257,7 +278,7 @@ fn rank_with(
             let relevance =
                 HEAD_SHARE * f64::from(u8::from(head_match)) + (1.0 - HEAD_SHARE) * text;
             let size_diff_m = desired.map(|want| {
-                let b = sorted3(catalog.asset_at(d).bbox_m);
+                let b = sorted3(catalog.asset_at(offset + d).bbox_m);
                 ((want[0] - b[0]).abs() + (want[1] - b[1]).abs() + (want[2] - b[2]).abs()) / 3.0
             });
             let score = RELEVANCE_WEIGHT * relevance - SIZE_WEIGHT * size_diff_m.unwrap_or(0.0);
@@ -274,7 +295,8 @@ fn rank_with(
         .collect();
     let order = |a: &Light, b: &Light| {
         b.score.total_cmp(&a.score).then(a.tie.cmp(&b.tie)).then_with(|| {
-            catalog.asset_at(a.doc as usize).id.cmp(&catalog.asset_at(b.doc as usize).id)
+            let id = |l: &Light| &catalog.asset_at(offset + l.doc as usize).id;
+            id(a).cmp(id(b))
         })
     };
     if limit < light.len() {
@@ -285,7 +307,7 @@ fn rank_with(
     light
         .into_iter()
         .map(|l| {
-            let asset = catalog.asset_at(l.doc as usize);
+            let asset = catalog.asset_at(offset + l.doc as usize);
             Candidate {
                 asset_id: asset.id.clone(),
                 object_type: asset.object_type.clone(),
@@ -295,7 +317,8 @@ fn rank_with(
                 relevance: l.relevance,
                 size_diff_m: l.size_diff_m,
                 score: l.score,
-                idx: l.doc as usize,
+                features: None,
+                idx: offset + l.doc as usize,
                 tie: l.tie,
             }
         })

@@ -14,6 +14,7 @@ pub mod colors;
 mod errors;
 mod index;
 pub mod kinds;
+pub mod objathor;
 pub mod receptacles;
 mod report;
 mod select;

@@ -65,12 +65,19 @@ fn resolution(res: &Resolution, catalog: &Catalog, mut head: Map<String, Value>)
             head.insert(
                 "scoreParts".into(),
                 c.parts.as_ref().map_or(Value::Null, |p| {
-                    json!({
+                    let mut parts = json!({
                         "relevance": r4(p.relevance),
                         "headMatch": p.head_match,
                         "text": r4(p.text),
                         "sizeDiffM": p.size_diff_m.map(r4),
-                    })
+                    });
+                    if let (Some(f), Some(map)) = (&p.features, parts.as_object_mut()) {
+                        map.insert("clip".into(), r4(f.clip));
+                        map.insert("sbert".into(), f.sbert.map_or(Value::Null, r4));
+                        map.insert("clipThreshold".into(), r4(f.threshold));
+                        map.insert("lexicalScore".into(), r4(f.lexical_score));
+                    }
+                    parts
                 }),
             );
             head.insert(
@@ -94,17 +101,43 @@ fn resolution(res: &Resolution, catalog: &Catalog, mut head: Map<String, Value>)
 /// catalog), then per object, small object and ceiling object the chosen asset with its score
 /// parts and runner-up, or why it is unresolved; and the list of everything left out.
 pub fn report(scene: &Scene, catalog: &Catalog, resolved: &Resolved) -> Value {
+    let objathor = catalog.objathor();
     let catalogs: Vec<Value> = catalog
         .sources()
         .iter()
-        .map(|s| {
-            json!({
+        .enumerate()
+        .map(|(i, s)| {
+            let mut entry = json!({
                 "name": s.name,
                 "version": s.version,
                 "sha256": s.sha256,
                 "path": s.path,
                 "assets": s.n_assets,
-            })
+            });
+            if let (Some(o), Some(map)) =
+                (objathor.filter(|o| o.source == i), entry.as_object_mut())
+            {
+                map.insert("folder".into(), json!(o.root.display().to_string()));
+                map.insert("scoring".into(), json!(o.scoring.as_str()));
+                map.insert(
+                    "scoringAsked".into(),
+                    json!(o.scoring_asked.map(super::objathor::Scoring::as_str)),
+                );
+                map.insert("pseudoQuery".into(), json!(o.pseudo_query_space()));
+                map.insert("mix".into(), json!(o.mix.as_str()));
+                map.insert("pick".into(), json!(o.pick.as_str()));
+                map.insert("assetsFolder".into(), json!(o.assets_dir.is_some()));
+                map.insert(
+                    "files".into(),
+                    Value::Array(
+                        o.files
+                            .iter()
+                            .map(|(path, sha)| json!({"path": path, "sha256": sha}))
+                            .collect(),
+                    ),
+                );
+            }
+            entry
         })
         .collect();
     let mut objects = Vec::new();
@@ -158,11 +191,68 @@ pub fn report(scene: &Scene, catalog: &Catalog, resolved: &Resolved) -> Value {
             ceilings.push(v);
         }
     }
-    json!({
+    let mut out = json!({
         "catalogs": catalogs,
         "objects": objects,
         "smallObjects": small,
         "ceilings": ceilings,
         "unresolved": unresolved,
-    })
+    });
+    if let (Some(o), Some(map)) = (objathor, out.as_object_mut()) {
+        map.insert("attributions".into(), attributions(scene, catalog, resolved, o));
+    }
+    out
+}
+
+/// The objathor assets the scene uses, by uid, each with its licence, creator and page and the
+/// objects that use it: what the house owes its creators (Objaverse assets are mostly CC-BY).
+fn attributions(
+    scene: &Scene,
+    catalog: &Catalog,
+    resolved: &Resolved,
+    objathor: &super::objathor::Objathor,
+) -> Value {
+    let mut used: std::collections::BTreeMap<String, Vec<String>> =
+        std::collections::BTreeMap::new();
+    let mut note = |res: &Resolution, what: String| {
+        if let Some(c) = res.choice() {
+            if catalog.index_of(&c.asset_id).is_some_and(|i| objathor.holds(i)) {
+                used.entry(c.asset_id.clone()).or_default().push(what);
+            }
+        }
+    };
+    for room in &scene.rooms {
+        for &id in &room.objects {
+            let obj = scene.object(id);
+            if let Some(res) = resolved.objects.get(id.0) {
+                note(res, obj.name.clone());
+            }
+            for (k, item) in obj.on_top.iter().enumerate() {
+                for (i, res) in resolved.small.get(&(id, k)).into_iter().flatten().enumerate() {
+                    note(res, format!("{}#{i} on {}", item.item, obj.name));
+                }
+            }
+        }
+        if let Some(res) = resolved.ceilings.get(&room.id) {
+            note(res, format!("ceiling ({})", room.name));
+        }
+    }
+    Value::Array(
+        used.into_iter()
+            .map(|(uid, objects)| {
+                let license = catalog.index_of(&uid).and_then(|i| objathor.license(i));
+                let field = |f: fn(&super::objathor::annotations::License) -> &Option<String>| {
+                    license.and_then(|l| f(l).clone())
+                };
+                json!({
+                    "assetId": uid,
+                    "objects": objects,
+                    "license": field(|l| &l.license),
+                    "creator": field(|l| &l.creator_display_name).or_else(|| field(|l| &l.creator_username)),
+                    "creatorProfileUrl": field(|l| &l.creator_profile_url),
+                    "uri": field(|l| &l.uri),
+                })
+            })
+            .collect(),
+    )
 }

@@ -7,7 +7,7 @@ use super::catalog::{Catalog, PlacementKind};
 use super::errors;
 use super::index::{rank_top, Candidate, Query};
 use super::standins;
-use super::{kinds, receptacles, text};
+use super::{kinds, objathor, receptacles, text};
 
 /// Types the catalog has only as things on furniture that people also hang on a wall.
 pub const WALL_MOUNTED: &[&str] =
@@ -248,6 +248,11 @@ fn dump_resolution(res: &Resolution, catalog: &Catalog) -> String {
 
 /// The parts of a score in words: `7.512 = 10×0.936 − 10×0.185 m`.
 pub(crate) fn parts_text(c: &Candidate) -> String {
+    if let Some(f) = &c.features {
+        let sbert = f.sbert.map(|s| format!(" + {s:.3} sbert")).unwrap_or_default();
+        let size = c.size_diff_m.map(|d| format!(" − 10×{d:.3} m")).unwrap_or_default();
+        return format!("{:.3} = {:.3} clip{sbert}{size}", c.score, f.clip);
+    }
     match c.size_diff_m {
         Some(d) => format!("{:.3} = 10×{:.3} − 10×{d:.3} m", c.score, c.relevance),
         None => format!("{:.3} = 10×{:.3}", c.score, c.relevance),
@@ -328,6 +333,8 @@ pub fn resolve_cached(
         top_type: None,
         typical: BTreeMap::new(),
         too_large: None,
+        room_box: None,
+        objathor_cache: BTreeMap::new(),
     };
     let resolved = resolve_scene(scene, &mut state);
     cache.made_with = Some(made_with);
@@ -348,6 +355,7 @@ fn resolve_scene(scene: &Scene, state: &mut State<'_>) -> Resolved {
     };
 
     for room in &scene.rooms {
+        state.room_box = room_box(room, scene.wall_height_m);
         // Object groups of the room, in order of first instance.
         let mut groups: Vec<(String, Vec<ObjectId>)> = Vec::new();
         let mut group_index: std::collections::HashMap<&str, usize> =
@@ -418,6 +426,7 @@ fn resolve_scene(scene: &Scene, state: &mut State<'_>) -> Resolved {
         }
         state.top = None;
         state.top_type = None;
+        state.room_box = None;
         if let Some(ceiling) = &room.ceiling {
             let category =
                 ceiling.description.rsplit(',').next().unwrap_or(&ceiling.description).to_string();
@@ -476,6 +485,8 @@ pub fn resolve_query(
         top_type: None,
         typical: BTreeMap::new(),
         too_large: None,
+        room_box: None,
+        objathor_cache: BTreeMap::new(),
     };
     let what = Subject {
         name: query.category.clone(),
@@ -548,6 +559,11 @@ struct State<'a> {
     typical: BTreeMap<String, Option<f64>>,
     /// The last on-object asset rejected as too large in `choose`, for the warning.
     too_large: Option<String>,
+    /// While resolving a room's floor and wall objects: its `[long side, short side, wall
+    /// height]`, metres, for the objathor size filters.
+    room_box: Option<[f64; 3]>,
+    /// Objathor rankings already computed, by query text.
+    objathor_cache: BTreeMap<RankKey, std::rc::Rc<Vec<Candidate>>>,
 }
 
 impl State<'_> {
@@ -567,6 +583,24 @@ impl State<'_> {
         }
         let list = std::rc::Rc::new(rank_top(self.catalog, query, self.seed, RANK_LIMIT));
         self.cache.insert(key, std::rc::Rc::clone(&list));
+        list
+    }
+
+    fn objathor_ranked(&mut self, query: &Query) -> std::rc::Rc<Vec<Candidate>> {
+        if self.catalog.objathor().is_none() {
+            return std::rc::Rc::new(Vec::new());
+        }
+        let key = (
+            query.category.clone(),
+            query.description.clone().unwrap_or_default(),
+            format!("{:?}", query.size_m),
+            query.kind.map_or("", PlacementKind::as_str),
+        );
+        if let Some(hit) = self.objathor_cache.get(&key) {
+            return std::rc::Rc::clone(hit);
+        }
+        let list = std::rc::Rc::new(objathor::rank(self.catalog, query, self.seed, RANK_LIMIT));
+        self.objathor_cache.insert(key, std::rc::Rc::clone(&list));
         list
     }
 
@@ -595,6 +629,59 @@ impl State<'_> {
                 self.too_large.get_or_insert_with(|| c.asset_id.clone());
             } else {
                 good.push(c);
+            }
+        }
+        // The objathor folder's assets: for what the other catalogs have nothing good for, or
+        // merged with theirs by lexical score.
+        let objathor_ranked = self.objathor_ranked(query);
+        if let Some(obj) = self.catalog.objathor() {
+            let (mix, pick) = (obj.mix, obj.pick);
+            let mut extra: Vec<&Candidate> = Vec::new();
+            for c in objathor_ranked.iter().filter(|c| c.is_good_enough()) {
+                if self.room_box.is_some_and(|r| objathor::fits_room(c.bbox_m, kind, r).is_err()) {
+                    continue;
+                }
+                if kind == PlacementKind::OnObject
+                    && self.is_too_large(query, c.bbox_m, &c.object_type)
+                {
+                    self.too_large.get_or_insert_with(|| c.asset_id.clone());
+                    continue;
+                }
+                extra.push(c);
+            }
+            if pick == objathor::Pick::Seeded {
+                let scores: Vec<f64> = extra.iter().map(|c| c.score).collect();
+                let order = objathor::seeded_order(
+                    &scores,
+                    objathor::pick_pool(kind),
+                    self.seed,
+                    &what.name,
+                );
+                extra = order.into_iter().map(|i| extra[i]).collect();
+            }
+            match mix {
+                objathor::Mix::BuiltinFirst => {
+                    if good.is_empty() {
+                        good = extra;
+                    }
+                }
+                objathor::Mix::Score => {
+                    let lexical =
+                        |c: &Candidate| c.features.as_ref().map_or(c.score, |f| f.lexical_score);
+                    let (mut a, mut b) =
+                        (good.into_iter().peekable(), extra.into_iter().peekable());
+                    let mut merged = Vec::new();
+                    loop {
+                        let take_a = match (a.peek(), b.peek()) {
+                            (Some(x), Some(y)) => x.score >= lexical(y),
+                            (Some(_), None) => true,
+                            (None, Some(_)) => false,
+                            (None, None) => break,
+                        };
+                        merged.extend(if take_a { a.next() } else { b.next() });
+                    }
+                    good = merged;
+                }
             }
         }
         if wants_receptacle && good.iter().any(|c| self.catalog.asset_at(c.idx).receptacle) {
@@ -674,7 +761,12 @@ impl State<'_> {
                 Variance::Same => pool[0],
                 Variance::Varied => pool[i % pool.len()],
             };
-            let runner_up = ranked.iter().find(|c| c.asset_id != pick.asset_id).cloned();
+            let from = if self.catalog.objathor().is_some_and(|o| o.holds(pick.idx)) {
+                &objathor_ranked
+            } else {
+                &ranked
+            };
+            let runner_up = from.iter().find(|c| c.asset_id != pick.asset_id).cloned();
             let asset = self.catalog.asset_at(pick.idx);
             self.used.entry(asset.id.clone()).or_default().insert(what.room);
             out.push(Resolution::Chosen(Choice {
@@ -871,6 +963,18 @@ impl State<'_> {
             }
         }
     }
+}
+
+/// A room's `[long side, short side, wall height]`, metres: the sides of its corners' box.
+fn room_box(room: &crate::check::Room, wall_height_m: f64) -> Option<[f64; 3]> {
+    let first = room.corners.first()?;
+    let (mut lo, mut hi) = (*first, *first);
+    for c in &room.corners {
+        lo = [lo[0].min(c[0]), lo[1].min(c[1])];
+        hi = [hi[0].max(c[0]), hi[1].max(c[1])];
+    }
+    let (dx, dz) = (hi[0] - lo[0], hi[1] - lo[1]);
+    Some([dx.max(dz), dx.min(dz), wall_height_m])
 }
 
 /// Whether an asset's set of rooms leaves it free for `room` (unused, or used only there).

@@ -1,0 +1,233 @@
+//! The objathor feature files: CLIP image features (`img_features`, assets × views × 768),
+//! CLIP text features of the descriptions (`text_features`, assets × 768, later versions) and
+//! SBERT features (assets × 768), all float16, each with the `uids` that order its rows.
+//!
+//! The files' bytes are kept as read and rows are decoded when a query looks at them: 50,000
+//! assets take 230 MB of image features as float16 and twice that as float32.
+
+use std::sync::Arc;
+
+use super::pickle::{f16_to_f32, ArrayBytes, Pickle};
+
+/// A matrix of float16 rows inside a file's bytes.
+#[derive(Clone)]
+pub struct F16Rows {
+    bytes: Arc<Vec<u8>>,
+    start: usize,
+    rows: usize,
+    /// Vectors per row (views of an image row; 1 for text rows).
+    pub views: usize,
+    /// Length of one vector.
+    pub dim: usize,
+    big_endian: bool,
+}
+
+impl std::fmt::Debug for F16Rows {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "F16Rows({} × {} × {})", self.rows, self.views, self.dim)
+    }
+}
+
+/// The float32 value of a finite float16 (normal or subnormal), without a branch: its bits
+/// moved into a float32 and scaled by 2^112, both exact.
+pub fn finite_f16_to_f32(h: u16) -> f32 {
+    let h = u32::from(h);
+    let magnitude = f32::from_bits((h & 0x7fff) << 13) * f32::from_bits(0x7780_0000);
+    f32::from_bits(magnitude.to_bits() | ((h & 0x8000) << 16))
+}
+
+/// The float32 value of every float16, by bits.
+fn table() -> &'static [f32] {
+    static TABLE: std::sync::OnceLock<Vec<f32>> = std::sync::OnceLock::new();
+    TABLE.get_or_init(|| (0..=u16::MAX).map(f16_to_f32).collect())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_branchless_decoding_is_exact_for_every_finite_float16() {
+        for h in 0..=u16::MAX {
+            if h & 0x7c00 != 0x7c00 {
+                assert_eq!(finite_f16_to_f32(h).to_bits(), f16_to_f32(h).to_bits(), "{h:#06x}");
+            }
+        }
+    }
+
+    #[test]
+    fn cosines_are_those_of_the_decoded_vectors() {
+        let v: Vec<f32> = (0..19).map(|i| (i as f32 - 7.0) / 8.0).collect();
+        let bits: Vec<u16> = v.iter().map(|x| super::super::pickle::f32_to_f16(*x)).collect();
+        let rows = F16Rows::from_bits(&bits, 1, 1, 19);
+        let mut q = vec![0f32; 19];
+        q[3] = 1.0;
+        let norm = v.iter().map(|x| x * x).sum::<f32>().sqrt();
+        assert!((rows.cosine(&q, 0, 0) - v[3] / norm).abs() < 1e-6);
+        let mut inf = bits.clone();
+        inf[0] = 0x7c00;
+        assert!(F16Rows::from_bits(&inf, 1, 1, 19).cosine(&q, 0, 0).is_nan());
+    }
+}
+
+impl F16Rows {
+    /// The rows of an array read from a pickle whose bytes are `file`.
+    pub(crate) fn new(
+        file: &Arc<Vec<u8>>,
+        pickle: &Pickle<'_>,
+        array: super::pickle::F16Array,
+    ) -> Result<F16Rows, String> {
+        let (rows, views, dim) = match array.shape[..] {
+            [n, v, d] => (n, v, d),
+            [n, d] => (n, 1, d),
+            _ => return Err(format!("its shape {:?} has neither 2 nor 3 sides", array.shape)),
+        };
+        if dim == 0 || views == 0 {
+            return Err(format!("its shape {:?} has an empty side", array.shape));
+        }
+        let (bytes, start) = match &array.bytes {
+            ArrayBytes::InFile(r) => (Arc::clone(file), r.start),
+            ArrayBytes::Owned(_) => (Arc::new(pickle.array_bytes(&array.bytes).to_vec()), 0),
+        };
+        Ok(F16Rows { bytes, start, rows, views, dim, big_endian: array.big_endian })
+    }
+
+    /// Rows made from float16 bits (tests).
+    pub fn from_bits(bits: &[u16], rows: usize, views: usize, dim: usize) -> F16Rows {
+        let bytes: Vec<u8> = bits.iter().flat_map(|b| b.to_le_bytes()).collect();
+        F16Rows { bytes: Arc::new(bytes), start: 0, rows, views, dim, big_endian: false }
+    }
+
+    /// Number of rows.
+    pub fn len(&self) -> usize {
+        self.rows
+    }
+
+    /// Whether there are no rows.
+    pub fn is_empty(&self) -> bool {
+        self.rows == 0
+    }
+
+    fn vector_bytes(&self, row: usize, view: usize) -> &[u8] {
+        let n = 2 * self.dim;
+        let at = self.start + (row * self.views + view) * n;
+        &self.bytes[at..at + n]
+    }
+
+    /// Decodes one vector into `out` (of length `dim`).
+    pub fn decode(&self, row: usize, view: usize, out: &mut [f32]) {
+        let t = table();
+        let big = self.big_endian;
+        for (o, c) in out.iter_mut().zip(self.vector_bytes(row, view).chunks_exact(2)) {
+            let b = [c[0], c[1]];
+            *o = t[usize::from(if big { u16::from_be_bytes(b) } else { u16::from_le_bytes(b) })];
+        }
+    }
+
+    /// The cosine between a unit vector `q` and one vector of a row (0 for a zero vector).
+    /// Eight running sums in a fixed order: the same result on every machine (the compiler
+    /// may run the eight at once; it never reorders a sum).
+    pub fn cosine(&self, q: &[f32], row: usize, view: usize) -> f32 {
+        let bytes = self.vector_bytes(row, view);
+        let big = self.big_endian;
+        let bits = |c: &[u8]| {
+            let b = [c[0], c[1]];
+            if big {
+                u16::from_be_bytes(b)
+            } else {
+                u16::from_le_bytes(b)
+            }
+        };
+        // Infinities and NaNs (never in real feature files) and big-endian files take the
+        // exact table, one element at a time; the rest the branchless decoding, eight at once.
+        let special = big || bytes.chunks_exact(2).any(|c| bits(c) & 0x7c00 == 0x7c00);
+        let mut dot = [0f32; 8];
+        let mut sq = [0f32; 8];
+        let (mut blocks, mut qs) = (bytes.chunks_exact(16), q.chunks_exact(8));
+        if !special {
+            for (block, qb) in (&mut blocks).zip(&mut qs) {
+                let (Ok(block), Ok(qb)) = (<&[u8; 16]>::try_from(block), <&[f32; 8]>::try_from(qb))
+                else {
+                    continue;
+                };
+                let mut v = [0f32; 8];
+                for (i, x) in v.iter_mut().enumerate() {
+                    *x = finite_f16_to_f32(u16::from_le_bytes([block[2 * i], block[2 * i + 1]]));
+                }
+                for i in 0..8 {
+                    dot[i] += v[i] * qb[i];
+                    sq[i] += v[i] * v[i];
+                }
+            }
+        }
+        // What is left (all of it on the exact path), each element in its lane.
+        let done = (bytes.len() / 16 - blocks.len()) * 8;
+        let t = table();
+        for (k, (c, qv)) in bytes[2 * done..].chunks_exact(2).zip(&q[done..]).enumerate() {
+            let v = t[usize::from(bits(c))];
+            dot[k % 8] += v * qv;
+            sq[k % 8] += v * v;
+        }
+        let dot: f32 = dot.iter().sum();
+        let sq: f32 = sq.iter().sum();
+        if sq > 0.0 {
+            dot / sq.sqrt()
+        } else {
+            0.0
+        }
+    }
+
+    /// The largest cosine over a row's views.
+    pub fn max_cosine(&self, q: &[f32], row: usize) -> f32 {
+        (0..self.views).map(|v| self.cosine(q, row, v)).fold(f32::NEG_INFINITY, f32::max)
+    }
+
+    /// Adds the unit vectors of a row's views, averaged, to `sum`.
+    pub fn add_unit_mean(&self, row: usize, sum: &mut [f32]) {
+        let mut v = vec![0f32; self.dim];
+        for view in 0..self.views {
+            self.decode(row, view, &mut v);
+            normalize(&mut v);
+            for (s, x) in sum.iter_mut().zip(&v) {
+                *s += x / self.views as f32;
+            }
+        }
+    }
+}
+
+/// Scales `v` to unit length (a zero vector stays zero).
+pub fn normalize(v: &mut [f32]) {
+    let n: f32 = v.iter().map(|x| x * x).sum::<f32>().sqrt();
+    if n > 0.0 {
+        for x in v.iter_mut() {
+            *x /= n;
+        }
+    }
+}
+
+/// The feature rows of one version folder, each with the asset it belongs to.
+#[derive(Clone, Debug, Default)]
+pub struct Features {
+    /// CLIP image features (views × dim per row).
+    pub img: Option<F16Rows>,
+    /// CLIP text features of the descriptions.
+    pub text: Option<F16Rows>,
+    /// SBERT features of the descriptions.
+    pub sbert: Option<F16Rows>,
+    /// Per objathor asset (by its place in the folder's range): its CLIP row, or `u32::MAX`.
+    pub clip_row: Vec<u32>,
+    /// Per objathor asset: its SBERT row, or `u32::MAX`.
+    pub sbert_row: Vec<u32>,
+}
+
+impl Features {
+    /// The CLIP row of the `k`-th asset of the folder.
+    pub fn clip_row_of(&self, k: usize) -> Option<usize> {
+        self.clip_row.get(k).filter(|r| **r != u32::MAX).map(|r| *r as usize)
+    }
+
+    /// The SBERT row of the `k`-th asset of the folder.
+    pub fn sbert_row_of(&self, k: usize) -> Option<usize> {
+        self.sbert_row.get(k).filter(|r| **r != u32::MAX).map(|r| *r as usize)
+    }
+}

@@ -1,0 +1,465 @@
+//! Writes objathor version folders for tests and benchmarks: a small hand-made one whose
+//! feature vectors are chosen so that rankings, thresholds, the size term and the filters can be
+//! asserted exactly ([`write_fixture`]), and a large synthetic one ([`write_synthetic`]).
+//!
+//! The feature vectors have [`FIXTURE_DIM`] components. Axis `k` stands for one kind of thing
+//! (0 cat tower, 1 mirror, 2 curtains, 3 whiteboard, 4 lamp, 5 cat toy, 6 sofa and painting); axis 7 is the
+//! rest. A CLIP text row is the unit vector of its kind's axis; an image view is `axis + b ×
+//! e7`, whose cosine with the axis is `1 / √(1 + b²)`: b = 2.5 → 0.3714, 2.75 → 0.3417,
+//! 3 → 0.3162, 3.25 → 0.2941 (all exact in float16).
+
+use std::io::Write as _;
+use std::path::{Path, PathBuf};
+
+use serde_json::{json, Value};
+
+use super::pickle::{f32_to_f16, write, NumpyModules, Value as PickleValue};
+
+/// Length of the fixture's feature vectors.
+pub const FIXTURE_DIM: usize = 8;
+
+/// The fixture's version name.
+pub const FIXTURE_VERSION: &str = "2023_09_23";
+
+/// One fixture asset: a name for tests, its uid, its annotation, its kind axis and the `b` of
+/// its three image views.
+pub struct FixtureAsset {
+    /// A short name tests use.
+    pub name: &'static str,
+    /// Its uid (32 hex digits).
+    pub uid: &'static str,
+    /// The axis of its kind.
+    pub axis: usize,
+    /// The `b` of each view (see the module's documentation).
+    pub views: [f32; 3],
+}
+
+/// The fixture's assets. `whiteboard`'s folder is missing from `assets/`.
+pub const FIXTURE_ASSETS: &[FixtureAsset] = &[
+    FixtureAsset {
+        name: "cat_tower",
+        uid: "0a0c1d5e7f9a4b3c8d2e6f1a3b5c7d90",
+        axis: 0,
+        views: [3.25, 2.5, 3.0],
+    },
+    FixtureAsset {
+        name: "cat_tree",
+        uid: "1b1d2e6f8a0b4c5d9e3f7a2b4c6d8e01",
+        axis: 0,
+        views: [2.75, 3.0, 3.25],
+    },
+    FixtureAsset {
+        name: "cat_bed",
+        uid: "2c2e3f7a9b1c4d6e8f4a8b3c5d7e9f12",
+        axis: 0,
+        views: [3.25, 3.25, 3.25],
+    },
+    FixtureAsset {
+        name: "round_mirror",
+        uid: "3d3f4a8b0c2d4e7f9a5b9c4d6e8f0a23",
+        axis: 1,
+        views: [2.75, 2.75, 3.0],
+    },
+    FixtureAsset {
+        name: "mirror_box",
+        uid: "4e4a5b9c1d3e4f8a0b6c0d5e7f9a1b34",
+        axis: 1,
+        views: [2.5, 2.5, 2.5],
+    },
+    FixtureAsset {
+        name: "linen_curtains",
+        uid: "5f5b6c0d2e4f4a9b1c7d1e6f8a0b2c45",
+        axis: 2,
+        views: [2.75, 2.75, 3.0],
+    },
+    FixtureAsset {
+        name: "tall_curtains",
+        uid: "6a6c7d1e3f5a4b0c2d8e2f7a9b1c3d56",
+        axis: 2,
+        views: [2.5, 2.5, 2.5],
+    },
+    FixtureAsset {
+        name: "window_frame",
+        uid: "7b7d8e2f4a6b4c1d3e9f3a8b0c2d4e67",
+        axis: 1,
+        views: [2.5, 2.5, 2.5],
+    },
+    FixtureAsset {
+        name: "huge_sofa",
+        uid: "8c8e9f3a5b7c4d2e4f0a4b9c1d3e5f78",
+        axis: 6,
+        views: [2.5, 2.5, 2.5],
+    },
+    FixtureAsset {
+        name: "whiteboard",
+        uid: "9d9f0a4b6c8d4e3f5a1b5c0d2e4f6a89",
+        axis: 3,
+        views: [2.5, 2.75, 2.75],
+    },
+    FixtureAsset {
+        name: "pendant_lamp",
+        uid: "a0a1b5c7d9e04f4a6b2c6d1e3f5a7b9a",
+        axis: 4,
+        views: [2.75, 2.75, 2.75],
+    },
+    FixtureAsset {
+        name: "cat_figurine",
+        uid: "b1b2c6d8e0f14a5b7c3d7e2f4a6b8c0b",
+        axis: 5,
+        views: [2.5, 3.0, 3.0],
+    },
+    FixtureAsset {
+        name: "projector",
+        uid: "c2c3d7e9f1a24b6c8d4e8f3a5b7c9d1c",
+        axis: 4,
+        views: [2.5, 2.5, 2.5],
+    },
+    FixtureAsset {
+        name: "abstract_painting",
+        uid: "d3d4e8f0a2b34c7d9e5f9a4b6c8d0e2d",
+        axis: 6,
+        views: [2.5, 2.5, 2.75],
+    },
+];
+
+/// The fixture asset named `name`'s uid.
+pub fn fixture_uid(name: &str) -> &'static str {
+    FIXTURE_ASSETS.iter().find(|a| a.name == name).map_or("", |a| a.uid)
+}
+
+fn license(user: &str) -> Value {
+    json!({
+        "license": "by",
+        "uri": format!("https://api.sketchfab.com/v3/models/{user}"),
+        "creator_username": user,
+        "creator_display_name": user.to_uppercase(),
+        "creator_profile_url": format!("https://sketchfab.com/{user}"),
+    })
+}
+
+/// The annotation entry of each fixture asset: every field objathor writes, the three shapes of
+/// bounding box, and both nestings (`annotations` or the fields at the top).
+fn annotation(name: &str, uid: &str) -> Value {
+    let xyz = |x: f64, y: f64, z: f64| json!({"x": x, "y": y, "z": z});
+    let (category, description, flags, bbox): (&str, &str, [bool; 4], Value) = match name {
+        "cat_tower" => (
+            "cat tower",
+            "a carpeted cat tower with three platforms",
+            [true, false, false, false],
+            xyz(0.6, 1.5, 0.6),
+        ),
+        "cat_tree" => (
+            "cat tree",
+            "a tall sisal scratching post for cats",
+            [true, false, false, false],
+            json!({"size": xyz(0.5, 1.8, 0.5)}),
+        ),
+        "cat_bed" => (
+            "cat bed",
+            "a round plush bed for a cat",
+            [true, false, true, false],
+            json!({"min": xyz(-0.25, 0.0, -0.25), "max": xyz(0.25, 0.2, 0.25)}),
+        ),
+        "round_mirror" => (
+            "mirror",
+            "a round wall mirror with a brass rim",
+            [false, true, false, false],
+            json!({"min": xyz(-0.4, -0.4, -0.015), "max": xyz(0.4, 0.4, 0.015)}),
+        ),
+        "mirror_box" => (
+            "mirror",
+            "a deep mirrored wall cabinet",
+            [false, true, false, false],
+            xyz(0.3, 0.3, 1.2),
+        ),
+        "linen_curtains" => (
+            "curtains",
+            "long linen curtains on a rod",
+            [false, true, false, false],
+            xyz(1.5, 1.9, 0.1),
+        ),
+        "tall_curtains" => (
+            "curtains",
+            "floor to ceiling velvet curtains",
+            [false, true, false, false],
+            xyz(1.5, 2.4, 0.1),
+        ),
+        "window_frame" => (
+            "window frame",
+            "a wooden window frame",
+            [true, true, false, false],
+            xyz(1.0, 1.2, 0.1),
+        ),
+        "huge_sofa" => {
+            ("sofa", "a huge sectional sofa", [true, false, false, false], xyz(4.5, 0.9, 2.0))
+        }
+        "whiteboard" => (
+            "whiteboard",
+            "a whiteboard with an aluminium frame",
+            [false, true, false, false],
+            xyz(1.8, 1.2, 0.05),
+        ),
+        "pendant_lamp" => (
+            "pendant lamp",
+            "a pendant lamp with a metal shade",
+            [false, false, false, true],
+            xyz(0.4, 0.6, 0.4),
+        ),
+        "cat_figurine" => (
+            "cat figurine",
+            "a small ceramic cat figurine",
+            [false, false, true, false],
+            xyz(0.1, 0.15, 0.08),
+        ),
+        "abstract_painting" => (
+            "painting",
+            "an abstract painting in a thin black frame",
+            [false, true, false, false],
+            xyz(0.9, 0.7, 0.04),
+        ),
+        _ => (
+            "projector",
+            "a ceiling projector on a long pole",
+            [false, false, false, true],
+            xyz(0.4, 1.4, 0.4),
+        ),
+    };
+    let ann = json!({
+        "uid": uid,
+        "category": category,
+        "description": description,
+        "description_auto": format!("A 3D model of a {category}."),
+        "synset": format!("{}.n.01", category.replace(' ', "_")),
+        "wn_version": "oewn:2022",
+        "near_synsets": {format!("{}.n.02", category.replace(' ', "_")): 0.5},
+        "width": 100.0, "depth": 50.0, "height": 80.0,
+        "volume": 12.5, "mass": 3.0,
+        "materials": ["wood", "fabric"], "composition": [0.6, 0.4],
+        "receptacle": name == "cat_tower",
+        "frontView": 1,
+        "onFloor": flags[0], "onWall": flags[1], "onObject": flags[2], "onCeiling": flags[3],
+        "pose_z_rot_angle": 1.25, "scale": 1.5, "z_axis_scale": true,
+        "license_info": license(&format!("maker_{name}")),
+    });
+    let meta = json!({"assetMetadata": {"boundingBox": bbox, "secondaryProperties": []}});
+    if name == "cat_bed" || name == "projector" {
+        // The fields at the top, as some exports write them.
+        let mut flat = ann;
+        if let Some(o) = flat.as_object_mut() {
+            o.insert("thor_metadata".into(), meta);
+        }
+        flat
+    } else {
+        json!({"annotations": ann, "thor_metadata": meta})
+    }
+}
+
+/// What [`write_fixture`] writes.
+#[derive(Clone, Copy, Debug)]
+pub struct FixtureOptions {
+    /// The pickle protocol of the feature files (2 to 5).
+    pub protocol: u8,
+    /// The numpy module names of the feature files.
+    pub modules: NumpyModules,
+    /// Whether `features/` is written.
+    pub features: bool,
+    /// Whether `assets/` is written (every asset but `whiteboard`).
+    pub assets: bool,
+}
+
+impl Default for FixtureOptions {
+    fn default() -> Self {
+        FixtureOptions { protocol: 4, modules: NumpyModules::Core, features: true, assets: true }
+    }
+}
+
+fn write_gz(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    let mut gz = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::default());
+    gz.write_all(bytes)?;
+    std::fs::write(path, gz.finish()?)
+}
+
+/// Writes the fixture version folder `<dir>/2023_09_23` and returns its path.
+pub fn write_fixture(dir: &Path, options: FixtureOptions) -> std::io::Result<PathBuf> {
+    let root = dir.join(FIXTURE_VERSION);
+    std::fs::create_dir_all(&root)?;
+    let mut map = serde_json::Map::new();
+    for a in FIXTURE_ASSETS {
+        map.insert(a.uid.to_string(), annotation(a.name, a.uid));
+    }
+    write_gz(&root.join("annotations.json.gz"), Value::Object(map).to_string().as_bytes())?;
+    if options.features {
+        std::fs::create_dir_all(root.join("features"))?;
+        let uids: Vec<String> = FIXTURE_ASSETS.iter().map(|a| a.uid.to_string()).collect();
+        let mut img = Vec::new();
+        let mut text = Vec::new();
+        let mut sbert = Vec::new();
+        for a in FIXTURE_ASSETS {
+            for b in a.views {
+                let mut v = [0f32; FIXTURE_DIM];
+                v[a.axis] = 1.0;
+                v[7] = b;
+                img.extend(v.iter().map(|x| f32_to_f16(*x)));
+            }
+            let mut t = [0f32; FIXTURE_DIM];
+            t[a.axis] = 1.0;
+            text.extend(t.iter().map(|x| f32_to_f16(*x)));
+            // SBERT rows: the kind's axis and a little of the rest.
+            let mut s = [0f32; FIXTURE_DIM];
+            s[a.axis] = 1.0;
+            s[7] = 0.5;
+            sbert.extend(s.iter().map(|x| f32_to_f16(*x)));
+        }
+        let n = FIXTURE_ASSETS.len();
+        let clip = write(
+            &[
+                ("uids", PickleValue::Strings(uids.clone())),
+                ("img_features", PickleValue::F16 { shape: vec![n, 3, FIXTURE_DIM], bits: img }),
+                ("text_features", PickleValue::F16 { shape: vec![n, FIXTURE_DIM], bits: text }),
+            ],
+            options.protocol,
+            options.modules,
+        );
+        std::fs::write(root.join("features").join("clip_features.pkl"), clip)?;
+        let sbert = write(
+            &[
+                ("uids", PickleValue::Strings(uids)),
+                ("text_features", PickleValue::F16 { shape: vec![n, FIXTURE_DIM], bits: sbert }),
+            ],
+            options.protocol,
+            options.modules,
+        );
+        std::fs::write(root.join("features").join("sbert_features.pkl"), sbert)?;
+    }
+    if options.assets {
+        for a in FIXTURE_ASSETS.iter().filter(|a| a.name != "whiteboard") {
+            write_asset_folder(&root.join("assets"), a.uid)?;
+        }
+    }
+    Ok(root)
+}
+
+/// A stub asset folder: the model file and the three textures (placeholder bytes).
+pub fn write_asset_folder(assets: &Path, uid: &str) -> std::io::Result<()> {
+    let folder = assets.join(uid);
+    std::fs::create_dir_all(&folder)?;
+    write_gz(&folder.join(format!("{uid}.pkl.gz")), b"stub")?;
+    for t in super::TEXTURES {
+        std::fs::write(folder.join(t), b"stub")?;
+    }
+    Ok(())
+}
+
+const NOUNS: &[&str] = &[
+    "sofa",
+    "chair",
+    "table",
+    "desk",
+    "bed",
+    "lamp",
+    "shelf",
+    "cabinet",
+    "stool",
+    "bench",
+    "television",
+    "plant",
+    "rug",
+    "mirror",
+    "painting",
+    "clock",
+    "vase",
+    "book",
+    "piano",
+    "guitar",
+    "treadmill",
+    "fridge",
+    "sink",
+    "wardrobe",
+    "ottoman",
+    "speaker",
+    "monitor",
+    "whiteboard",
+    "chandelier",
+    "mug",
+    "bowl",
+    "bottle",
+    "basket",
+    "box",
+    "statue",
+    "pillow",
+    "curtains",
+    "cat tower",
+    "projector",
+    "stove",
+];
+const ADJECTIVES: &[&str] = &[
+    "modern", "vintage", "wooden", "metal", "grey", "white", "black", "red", "blue", "green",
+    "leather", "velvet", "glass", "small", "large", "round", "square", "tall", "low", "rustic",
+];
+
+/// Writes a synthetic version folder `<dir>/synthetic` with `n` annotations and float16
+/// features (`n × views × dim` image rows, `n × dim` text and SBERT rows) from `seed`; no
+/// `assets/` folder. For the benchmark.
+pub fn write_synthetic(
+    dir: &Path,
+    n: usize,
+    views: usize,
+    dim: usize,
+    seed: u64,
+) -> std::io::Result<PathBuf> {
+    use rand::{Rng as _, SeedableRng as _};
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+    let root = dir.join("synthetic");
+    std::fs::create_dir_all(root.join("features"))?;
+    let mut map = serde_json::Map::new();
+    let mut uids = Vec::with_capacity(n);
+    for i in 0..n {
+        let uid =
+            format!("{:032x}", (i as u128).wrapping_mul(0x9e37_79b9_7f4a_7c15_f39c_c060_5ced_c835));
+        let noun = NOUNS[rng.gen_range(0..NOUNS.len())];
+        let a = ADJECTIVES[rng.gen_range(0..ADJECTIVES.len())];
+        let b = ADJECTIVES[rng.gen_range(0..ADJECTIVES.len())];
+        let kind = rng.gen_range(0..4);
+        let size = [rng.gen_range(0.1..2.5), rng.gen_range(0.05..2.2), rng.gen_range(0.05..1.5)];
+        map.insert(
+            uid.clone(),
+            json!({
+                "annotations": {
+                    "uid": uid, "category": noun,
+                    "description": format!("a {a} {b} {noun}"),
+                    "onFloor": kind == 0, "onWall": kind == 1, "onObject": kind == 2, "onCeiling": kind == 3,
+                    "license_info": license(&format!("user{}", i % 997)),
+                },
+                "thor_metadata": {"assetMetadata": {"boundingBox": {"x": size[0], "y": size[1], "z": size[2]}}},
+            }),
+        );
+        uids.push(uid);
+    }
+    write_gz(&root.join("annotations.json.gz"), Value::Object(map).to_string().as_bytes())?;
+    let mut random_rows = |rows: usize| -> Vec<u16> {
+        (0..rows * dim).map(|_| f32_to_f16(rng.gen_range(-0.06f32..0.06))).collect()
+    };
+    let img = random_rows(n * views);
+    let text = random_rows(n);
+    let sbert = random_rows(n);
+    let clip = write(
+        &[
+            ("uids", PickleValue::Strings(uids.clone())),
+            ("img_features", PickleValue::F16 { shape: vec![n, views, dim], bits: img }),
+            ("text_features", PickleValue::F16 { shape: vec![n, dim], bits: text }),
+        ],
+        4,
+        NumpyModules::Core,
+    );
+    std::fs::write(root.join("features").join("clip_features.pkl"), clip)?;
+    let sbert = write(
+        &[
+            ("uids", PickleValue::Strings(uids)),
+            ("text_features", PickleValue::F16 { shape: vec![n, dim], bits: sbert }),
+        ],
+        4,
+        NumpyModules::Core,
+    );
+    std::fs::write(root.join("features").join("sbert_features.pkl"), sbert)?;
+    Ok(root)
+}

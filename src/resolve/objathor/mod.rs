@@ -1,0 +1,842 @@
+//! The original Holodeck's own assets as a catalog: an objathor version folder
+//! (`annotations.json.gz`, `features/clip_features.pkl`, `features/sbert_features.pkl`,
+//! `assets/<uid>/…`) given with `--objathor DIR`.
+//!
+//! Its assets are appended to the [`Catalog`] after every other catalog, with a word index of
+//! their own, so that the built-in choices do not change when the folder is added. A query
+//! is ranked against them by [`rank`] in one of three [`Scoring`] modes; `resolve` takes
+//! built-in assets first and these for the rest, or mixes the two by score ([`Mix`]), and
+//! picks among the best by the seed ([`Pick`]). [`check_on_disk`] tells whether the chosen
+//! assets are where AI2-THOR's `ProceduralAssetHookRunner` will look for them.
+
+pub mod annotations;
+pub mod features;
+pub mod fixture;
+pub mod pickle;
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use super::catalog::{Asset, Catalog, CatalogSource, PlacementKind};
+use super::index::{Candidate, Query, TextIndex, SIZE_WEIGHT};
+use crate::diag::{Code, Diagnostic};
+use crate::source::{FileId, SourceMap, Span};
+use annotations::{Entry, License};
+use features::{F16Rows, Features};
+
+/// The largest feature file holoc reads, bytes.
+pub const MAX_FEATURES_BYTES: u64 = 4 * 1024 * 1024 * 1024;
+
+/// The original's CLIP thresholds (×100 cosine) by placement: floor and wall objects 31,
+/// small objects 30, ceiling objects 29. They test the CLIP part of a score only.
+pub fn clip_threshold(kind: PlacementKind) -> f64 {
+    match kind {
+        PlacementKind::Floor | PlacementKind::Wall => 31.0,
+        PlacementKind::OnObject => 30.0,
+        PlacementKind::Ceiling => 29.0,
+    }
+}
+
+/// How many of the best candidates the seeded pick draws from: 10, or 5 for small objects (the
+/// original's top 10 and top 5).
+pub fn pick_pool(kind: PlacementKind) -> usize {
+    if kind == PlacementKind::OnObject {
+        5
+    } else {
+        10
+    }
+}
+
+/// How many of the best lexical matches make the pseudo-query of the `features` mode.
+pub const SEED_MATCHES: usize = 4;
+
+/// How objathor assets are ranked.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum Scoring {
+    /// Words only: BM25 relevance and the size term, as for every catalog.
+    Lexical,
+    /// The stored CLIP rows, without a model: the best lexical matches make a pseudo-query in
+    /// CLIP space and candidates are ranked by `100·max cos` (+ SBERT cos) − the size term.
+    Features,
+    /// The original's formula with a CLIP text tower: not available in this build.
+    Clip,
+}
+
+impl Scoring {
+    /// The word used on the command line and in the report.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Scoring::Lexical => "lexical",
+            Scoring::Features => "features",
+            Scoring::Clip => "clip",
+        }
+    }
+
+    /// Parses [`Scoring::as_str`].
+    pub fn parse(text: &str) -> Option<Scoring> {
+        match text.trim() {
+            "lexical" => Some(Scoring::Lexical),
+            "features" => Some(Scoring::Features),
+            "clip" => Some(Scoring::Clip),
+            _ => None,
+        }
+    }
+}
+
+/// How objathor assets and the other catalogs' assets are combined.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Mix {
+    /// The other catalogs first; objathor assets only for what they have nothing good for.
+    #[default]
+    BuiltinFirst,
+    /// Both, merged by their lexical score.
+    Score,
+}
+
+impl Mix {
+    /// The word used on the command line and in the report.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Mix::BuiltinFirst => "builtin-first",
+            Mix::Score => "score",
+        }
+    }
+
+    /// Parses [`Mix::as_str`].
+    pub fn parse(text: &str) -> Option<Mix> {
+        match text.trim() {
+            "builtin-first" => Some(Mix::BuiltinFirst),
+            "score" => Some(Mix::Score),
+            _ => None,
+        }
+    }
+}
+
+/// How one asset is taken from the good candidates.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Pick {
+    /// The best one.
+    #[default]
+    Argmax,
+    /// A draw from the softmax of the best 10 (5 for small objects) scores, from the seed.
+    Seeded,
+}
+
+impl Pick {
+    /// The word used on the command line and in the report.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Pick::Argmax => "argmax",
+            Pick::Seeded => "seeded",
+        }
+    }
+
+    /// Parses [`Pick::as_str`].
+    pub fn parse(text: &str) -> Option<Pick> {
+        match text.trim() {
+            "argmax" => Some(Pick::Argmax),
+            "seeded" => Some(Pick::Seeded),
+            _ => None,
+        }
+    }
+}
+
+/// What `--objathor` and its companions ask.
+#[derive(Clone, Debug, Default, PartialEq, Eq, Hash)]
+pub struct ObjathorOptions {
+    /// A version folder, or the base folder that holds version folders.
+    pub dir: PathBuf,
+    /// The version folder's name under `dir` (`2023_09_23`).
+    pub version: Option<String>,
+    /// The scoring mode; `None` is `features` when the folder has CLIP features, else `lexical`.
+    pub scoring: Option<Scoring>,
+    /// How objathor assets and the other catalogs combine.
+    pub mix: Mix,
+    /// How one asset is taken from the good ones.
+    pub pick: Pick,
+}
+
+impl ObjathorOptions {
+    /// The options written as words (`holoc.toml`, a batch job, the language server's
+    /// settings), the folder relative to `base`; `Ok(None)` without a folder, an error naming
+    /// the first word that is not one of its setting's.
+    pub fn from_words(
+        base: &Path,
+        dir: Option<&Path>,
+        version: Option<&str>,
+        scoring: Option<&str>,
+        mix: Option<&str>,
+        pick: Option<&str>,
+    ) -> Result<Option<ObjathorOptions>, String> {
+        let Some(dir) = dir else { return Ok(None) };
+        let scoring = match scoring {
+            Some(s) => Some(Scoring::parse(s).ok_or_else(|| {
+                format!("unknown objathor scoring `{s}` (lexical, features or clip)")
+            })?),
+            None => None,
+        };
+        let mix = match mix {
+            Some(s) => Mix::parse(s)
+                .ok_or_else(|| format!("unknown objathor mix `{s}` (builtin-first or score)"))?,
+            None => Mix::default(),
+        };
+        let pick = match pick {
+            Some(s) => Pick::parse(s)
+                .ok_or_else(|| format!("unknown objathor pick `{s}` (argmax or seeded)"))?,
+            None => Pick::default(),
+        };
+        Ok(Some(ObjathorOptions {
+            dir: base.join(dir),
+            version: version.map(str::to_string),
+            scoring,
+            mix,
+            pick,
+        }))
+    }
+}
+
+/// A loaded objathor version folder, kept by the catalog.
+#[derive(Clone, Debug)]
+pub struct Objathor {
+    /// The version folder.
+    pub root: PathBuf,
+    /// Its version (the folder's name).
+    pub version: String,
+    /// Index of its source in [`Catalog::sources`].
+    pub source: usize,
+    /// Its assets are the catalog's assets `start..end`.
+    pub start: usize,
+    /// One past its last asset.
+    pub end: usize,
+    /// Every other field of each asset's entry, by its place in the range.
+    pub entries: Vec<Entry>,
+    /// The feature rows, when the folder has them.
+    pub features: Option<Arc<Features>>,
+    /// The `assets/` folder, when there is one.
+    pub assets_dir: Option<PathBuf>,
+    /// The scoring mode in force.
+    pub scoring: Scoring,
+    /// The scoring mode asked (`None`: chosen from what the folder holds).
+    pub scoring_asked: Option<Scoring>,
+    /// How it combines with the other catalogs.
+    pub mix: Mix,
+    /// How one asset is taken.
+    pub pick: Pick,
+    /// The files read, with their SHA-256: what the catalog lock records.
+    pub files: Vec<(String, String)>,
+    pub(crate) index: TextIndex,
+}
+
+impl Objathor {
+    /// Whether the catalog's asset at `idx` is one of this folder's.
+    pub fn holds(&self, idx: usize) -> bool {
+        (self.start..self.end).contains(&idx)
+    }
+
+    /// The entry of the catalog's asset at `idx`, when it is one of this folder's.
+    pub fn entry(&self, idx: usize) -> Option<&Entry> {
+        idx.checked_sub(self.start).and_then(|k| self.entries.get(k))
+    }
+
+    /// The licence of the catalog's asset at `idx`.
+    pub fn license(&self, idx: usize) -> Option<&License> {
+        self.entry(idx).and_then(|e| e.license.as_ref())
+    }
+
+    /// Whether the `features` mode uses CLIP text rows (else the view-averaged image rows) for
+    /// its pseudo-query.
+    pub fn pseudo_query_space(&self) -> Option<&'static str> {
+        let f = self.features.as_ref()?;
+        f.img.as_ref()?;
+        Some(if f.text.is_some() { "clip-text" } else { "clip-image" })
+    }
+}
+
+fn folder_error(dir: &Path, message: String, help: &str) -> Box<Diagnostic> {
+    Box::new(
+        Diagnostic::new(Code::E0404, message)
+            .with_note(format!("`--objathor` is `{}`", dir.display()))
+            .with_help(help.to_string()),
+    )
+}
+
+fn annotations_in(dir: &Path) -> Option<PathBuf> {
+    ["annotations.json.gz", "annotations.json"].iter().map(|n| dir.join(n)).find(|p| p.is_file())
+}
+
+/// The version folder `options` names: `dir` itself when it holds the annotations (or its
+/// `version` subfolder), else the one version folder under it.
+fn version_folder(options: &ObjathorOptions) -> Result<(PathBuf, PathBuf), Box<Diagnostic>> {
+    let dir = &options.dir;
+    if !dir.is_dir() {
+        return Err(folder_error(
+            dir,
+            format!("the objathor folder `{}` does not exist", dir.display()),
+            "give the folder objathor downloaded into (e.g. `~/.objathor-assets/2023_09_23`)",
+        ));
+    }
+    if let Some(version) = &options.version {
+        let sub = dir.join(version);
+        if let Some(a) = annotations_in(&sub) {
+            return Ok((sub, a));
+        }
+        if dir.file_name().is_some_and(|n| n.to_string_lossy() == *version) {
+            if let Some(a) = annotations_in(dir) {
+                return Ok((dir.clone(), a));
+            }
+        }
+        return Err(folder_error(
+            dir,
+            format!("the objathor folder has no version `{version}` with an `annotations.json.gz`"),
+            "check `--objathor-version`, or give the version folder itself",
+        ));
+    }
+    if let Some(a) = annotations_in(dir) {
+        return Ok((dir.clone(), a));
+    }
+    let mut versions: Vec<(String, PathBuf)> = std::fs::read_dir(dir)
+        .map(|entries| {
+            entries
+                .flatten()
+                .filter_map(|e| {
+                    let path = e.path();
+                    let a = annotations_in(&path)?;
+                    Some((e.file_name().to_string_lossy().into_owned(), a))
+                })
+                .collect()
+        })
+        .unwrap_or_default();
+    versions.sort();
+    match versions.len() {
+        0 => Err(folder_error(
+            dir,
+            format!(
+                "the objathor folder `{}` has no `annotations.json.gz`, nor a version folder with one",
+                dir.display()
+            ),
+            "give a version folder such as `~/.objathor-assets/2023_09_23`",
+        )),
+        1 => {
+            let (name, a) = versions.remove(0);
+            Ok((dir.join(name), a))
+        }
+        _ => {
+            let names: Vec<String> = versions.iter().map(|(n, _)| format!("`{n}`")).collect();
+            Err(folder_error(
+                dir,
+                format!("the objathor folder holds several versions: {}", names.join(", ")),
+                "choose one with `--objathor-version`",
+            ))
+        }
+    }
+}
+
+fn features_warning(path: &Path, why: &str) -> Diagnostic {
+    Diagnostic::new(
+        Code::W0405,
+        format!("the objathor features file `{}` is not used: {why}", path.display()),
+    )
+    .with_help(
+        "download the features with objathor's `download_features` script, or score with \
+         `--objathor-scoring lexical`",
+    )
+}
+
+/// A feature file read: the arrays it holds and the SHA-256 of its bytes.
+struct FeatureFile {
+    uids: Vec<String>,
+    arrays: Vec<(String, F16Rows)>,
+    sha256: String,
+}
+
+/// Reads a pickled feature file (gzip allowed) with the arrays `keys` (the first required).
+fn read_features(path: &Path, keys: &[&str]) -> Result<FeatureFile, String> {
+    let bytes = crate::source::read_input(path, MAX_FEATURES_BYTES).map_err(|e| e.to_string())?;
+    let sha256 = super::sha256_hex(&bytes);
+    let bytes = if bytes.starts_with(&[0x1f, 0x8b]) {
+        use std::io::Read as _;
+        let mut out = Vec::new();
+        flate2::read::GzDecoder::new(&bytes[..])
+            .take(MAX_FEATURES_BYTES + 1)
+            .read_to_end(&mut out)
+            .map_err(|e| format!("bad gzip data: {e}"))?;
+        out
+    } else {
+        bytes
+    };
+    let bytes = Arc::new(bytes);
+    let pickle = pickle::Pickle::read(&bytes).map_err(|e| format!("not a readable pickle: {e}"))?;
+    let uids = pickle.strings("uids")?.ok_or("it has no `uids`")?;
+    let mut arrays = Vec::new();
+    for (i, key) in keys.iter().enumerate() {
+        match pickle.f16_array(key)? {
+            Some(array) => {
+                let rows =
+                    F16Rows::new(&bytes, &pickle, array).map_err(|e| format!("`{key}`: {e}"))?;
+                if rows.len() != uids.len() {
+                    return Err(format!("`{key}` has {} rows for {} uids", rows.len(), uids.len()));
+                }
+                arrays.push(((*key).to_string(), rows));
+            }
+            None if i == 0 => return Err(format!("it has no `{key}`")),
+            None => {}
+        }
+    }
+    Ok(FeatureFile { uids, arrays, sha256 })
+}
+
+fn feature_path(root: &Path, name: &str) -> Option<PathBuf> {
+    [format!("{name}.pkl"), format!("{name}.pkl.gz")]
+        .iter()
+        .map(|n| root.join("features").join(n))
+        .find(|p| p.is_file())
+}
+
+/// Loads the version folder `options` names into `catalog` (after every other catalog),
+/// adding the annotations' text to `sources`. Returns the diagnostics: E0404 for a folder that
+/// cannot be used, E0403/W0402 for the annotations as for any catalog, W0405 for feature files
+/// that cannot be used, E0405 for a scoring mode that cannot run.
+pub fn load(
+    options: &ObjathorOptions,
+    catalog: &mut Catalog,
+    sources: &mut SourceMap,
+) -> Vec<Diagnostic> {
+    let mut diags = Vec::new();
+    let (root, annotations_path) = match version_folder(options) {
+        Ok(found) => found,
+        Err(d) => return vec![*d],
+    };
+    let clip_path = feature_path(&root, "clip_features");
+    let sbert_path = feature_path(&root, "sbert_features");
+    // The annotations, the CLIP features and the SBERT features are read and hashed at once.
+    let (annotations, (clip, sbert)) = rayon::join(
+        || {
+            let bytes = crate::source::read_input(&annotations_path, super::MAX_CATALOG_BYTES)
+                .map_err(|e| e.to_string())?;
+            let sha = super::sha256_hex(&bytes);
+            super::catalog::catalog_text(&bytes).map(|text| (text, sha))
+        },
+        || {
+            rayon::join(
+                || clip_path.as_ref().map(|p| read_features(p, &["img_features", "text_features"])),
+                || sbert_path.as_ref().map(|p| read_features(p, &["text_features"])),
+            )
+        },
+    );
+    let name = annotations_path.display().to_string();
+    let (text, sha256) = match annotations {
+        Ok(found) => found,
+        Err(message) => {
+            diags.push(super::catalog::unreadable(&name, &message));
+            return diags;
+        }
+    };
+    let version =
+        root.file_name().map_or_else(|| "unknown".into(), |n| n.to_string_lossy().into_owned());
+    let file = sources.add(name.clone(), text);
+    let source = catalog.sources().len();
+    let parsed = parse(&sources.get(file).text, file, source, &mut diags);
+    let mut files = vec![(name.clone(), sha256.clone())];
+    let (start, end, entries) = catalog.append_objathor(
+        parsed,
+        CatalogSource {
+            name: "objathor".into(),
+            version: Some(version.clone()),
+            sha256,
+            path: Some(name),
+            n_assets: 0,
+        },
+    );
+
+    // Feature rows by asset.
+    let uid_to_k: HashMap<&str, usize> =
+        (start..end).map(|i| (catalog.asset_at(i).id.as_str(), i - start)).collect();
+    let mut features = Features::default();
+    let rows_of = |uids: &[String]| -> Vec<u32> {
+        let mut rows = vec![u32::MAX; end - start];
+        for (r, uid) in uids.iter().enumerate() {
+            if let Some(&k) = uid_to_k.get(uid.as_str()) {
+                rows[k] = r as u32;
+            }
+        }
+        rows
+    };
+    if let (Some(path), Some(result)) = (&clip_path, clip) {
+        match result {
+            Ok(file) => {
+                features.clip_row = rows_of(&file.uids);
+                for (key, rows) in file.arrays {
+                    if key == "img_features" {
+                        features.img = Some(rows);
+                    } else {
+                        features.text = Some(rows);
+                    }
+                }
+                files.push((path.display().to_string(), file.sha256));
+            }
+            Err(why) => diags.push(features_warning(path, &why)),
+        }
+    } else {
+        diags.push(features_warning(
+            &root.join("features").join("clip_features.pkl"),
+            "there is no such file",
+        ));
+    }
+    if let (Some(path), Some(result)) = (&sbert_path, sbert) {
+        match result {
+            Ok(file) => {
+                features.sbert_row = rows_of(&file.uids);
+                features.sbert = file.arrays.into_iter().next().map(|(_, rows)| rows);
+                files.push((path.display().to_string(), file.sha256));
+            }
+            Err(why) => diags.push(features_warning(path, &why)),
+        }
+    }
+    let dims: Vec<usize> =
+        [&features.img, &features.text].iter().filter_map(|r| r.as_ref().map(|r| r.dim)).collect();
+    if dims.windows(2).any(|w| w[0] != w[1]) {
+        diags.push(features_warning(
+            clip_path.as_deref().unwrap_or(&root),
+            "its image and text features have different lengths",
+        ));
+        features.img = None;
+        features.text = None;
+    }
+    let has_clip = features.img.is_some();
+    let scoring = match options.scoring {
+        Some(Scoring::Clip) => {
+            diags.push(
+                Diagnostic::new(
+                    Code::E0405,
+                    "the scoring mode `clip` is not available in this build of holoc",
+                )
+                .with_note(
+                    "it needs a CLIP ViT-L-14 text tower run in process; holoc has no such model",
+                )
+                .with_help("use `--objathor-scoring features` (the stored CLIP rows, no model) or `lexical`"),
+            );
+            Scoring::Lexical
+        }
+        Some(Scoring::Features) if !has_clip => {
+            diags.push(
+                Diagnostic::new(
+                    Code::E0405,
+                    "the scoring mode `features` needs the folder's CLIP features, which are not usable",
+                )
+                .with_note(format!("looked for `{}`", root.join("features").join("clip_features.pkl").display()))
+                .with_help("download the features, or use `--objathor-scoring lexical`"),
+            );
+            Scoring::Lexical
+        }
+        Some(s) => s,
+        None if has_clip => Scoring::Features,
+        None => Scoring::Lexical,
+    };
+    let assets_dir = Some(root.join("assets")).filter(|p| p.is_dir());
+    let index = TextIndex::build(&catalog.assets()[start..end]);
+    catalog.set_objathor(Objathor {
+        root,
+        version,
+        source,
+        start,
+        end,
+        entries,
+        features: has_clip.then(|| Arc::new(features)),
+        assets_dir,
+        scoring,
+        scoring_asked: options.scoring,
+        mix: options.mix,
+        pick: options.pick,
+        files,
+        index,
+    });
+    diags
+}
+
+/// The assets and entries of an annotations text (an object keyed by uid), with a warning for
+/// each unusable entry.
+fn parse(
+    text: &str,
+    file: FileId,
+    source: usize,
+    diags: &mut Vec<Diagnostic>,
+) -> Vec<(Asset, Entry)> {
+    let object: super::catalog::OrderedObject = match serde_json::from_str(text) {
+        Ok(v) => v,
+        Err(e) => {
+            diags.push(super::catalog::json_error(text, file, &e));
+            return Vec::new();
+        }
+    };
+    let mut cursor = 0usize;
+    let mut out = Vec::with_capacity(object.0.len());
+    for (uid, value) in &object.0 {
+        let span = super::catalog::key_span(text, file, uid, &mut cursor);
+        match annotations::read_entry(uid, value, source) {
+            Ok(pair) => out.push(pair),
+            Err(why) => diags.push(super::catalog::bad_entry(file, span, uid, &why)),
+        }
+    }
+    out
+}
+
+/// The parts of a `features` score: `clip + sbert − 10 × size`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FeatureScore {
+    /// `100 × max over views cos(pseudo-query, image view)`.
+    pub clip: f64,
+    /// `cos(SBERT pseudo-query, SBERT row)`, when the folder has SBERT features.
+    pub sbert: Option<f64>,
+    /// The threshold the CLIP part must pass.
+    pub threshold: f64,
+    /// The candidate's lexical score (what `--objathor-mix score` compares).
+    pub lexical_score: f64,
+}
+
+/// Ranks the folder's assets for `query`: lexically (the best [`super::RANK_LIMIT`] by words
+/// and size), then, in the `features` mode, re-scored by their CLIP rows against the
+/// pseudo-query of the best [`SEED_MATCHES`] lexical matches. Best first; ties by the seed.
+pub fn rank(catalog: &Catalog, query: &Query, seed: u64, limit: usize) -> Vec<Candidate> {
+    let Some(obj) = catalog.objathor() else { return Vec::new() };
+    let lexical = super::index::rank_in(catalog, &obj.index, obj.start, query, seed, limit);
+    let (Some(features), Scoring::Features) = (&obj.features, obj.scoring) else {
+        return lexical;
+    };
+    let Some(img) = &features.img else { return lexical };
+    let dim = img.dim;
+    // The pseudo-query: the mean of the best good matches' unit rows.
+    let seeds: Vec<usize> = lexical
+        .iter()
+        .filter(|c| c.is_good_enough())
+        .filter_map(|c| features.clip_row_of(c.idx - obj.start))
+        .take(SEED_MATCHES)
+        .collect();
+    if seeds.is_empty() {
+        // Nothing the words name well enough: nothing is good enough.
+        return lexical;
+    }
+    let mut q = vec![0f32; dim];
+    let mut v = vec![0f32; dim];
+    for &row in &seeds {
+        match &features.text {
+            Some(text) => {
+                text.decode(row, 0, &mut v);
+                features::normalize(&mut v);
+                for (s, x) in q.iter_mut().zip(&v) {
+                    *s += x;
+                }
+            }
+            None => img.add_unit_mean(row, &mut q),
+        }
+    }
+    features::normalize(&mut q);
+    let sbert_q = features.sbert.as_ref().and_then(|sbert| {
+        let rows: Vec<usize> = lexical
+            .iter()
+            .filter(|c| c.is_good_enough())
+            .filter_map(|c| features.sbert_row_of(c.idx - obj.start))
+            .take(SEED_MATCHES)
+            .collect();
+        if rows.is_empty() {
+            return None;
+        }
+        let mut sq = vec![0f32; sbert.dim];
+        let mut sv = vec![0f32; sbert.dim];
+        for row in rows {
+            sbert.decode(row, 0, &mut sv);
+            features::normalize(&mut sv);
+            for (s, x) in sq.iter_mut().zip(&sv) {
+                *s += x;
+            }
+        }
+        features::normalize(&mut sq);
+        Some((sbert, sq))
+    });
+    let threshold = clip_threshold(query.kind.unwrap_or(PlacementKind::Floor));
+    let mut out: Vec<Candidate> = lexical
+        .into_iter()
+        .filter_map(|c| {
+            let k = c.idx - obj.start;
+            let row = features.clip_row_of(k)?;
+            let clip = 100.0 * f64::from(img.max_cosine(&q, row));
+            let sbert = sbert_q.as_ref().and_then(|(rows, sq)| {
+                features.sbert_row_of(k).map(|r| f64::from(rows.cosine(sq, r, 0)))
+            });
+            let score = clip + sbert.unwrap_or(0.0) - SIZE_WEIGHT * c.size_diff_m.unwrap_or(0.0);
+            Some(Candidate {
+                features: Some(FeatureScore { clip, sbert, threshold, lexical_score: c.score }),
+                score,
+                ..c
+            })
+        })
+        .collect();
+    out.sort_by(|a, b| {
+        b.score
+            .total_cmp(&a.score)
+            .then(a.tie.cmp(&b.tie))
+            .then_with(|| a.asset_id.cmp(&b.asset_id))
+    });
+    out
+}
+
+/// Whether an objathor asset fits the room as the original asks: each side at most 0.8 of the
+/// room's (longer with longer, shorter with shorter, height with the wall's), the footprint at
+/// most half the floor's box, and a wall object no deeper than 3 × its smaller other side.
+/// `room` is `[long side, short side, wall height]` in metres.
+pub fn fits_room(
+    bbox_m: [f64; 3],
+    kind: PlacementKind,
+    room: [f64; 3],
+) -> Result<(), &'static str> {
+    if !matches!(kind, PlacementKind::Floor | PlacementKind::Wall) {
+        return Ok(());
+    }
+    let [x, y, z] = bbox_m;
+    let (long, short) = if x >= z { (x, z) } else { (z, x) };
+    if long > 0.8 * room[0] + 1e-9 || short > 0.8 * room[1] + 1e-9 || y > 0.8 * room[2] + 1e-9 {
+        return Err("a side is longer than 0.8 of the room's");
+    }
+    if long * short > 0.5 * room[0] * room[1] + 1e-9 {
+        return Err("its footprint is more than half the floor");
+    }
+    if kind == PlacementKind::Wall && z > 3.0 * x.min(y) + 1e-9 {
+        return Err("it is too deep for a wall object");
+    }
+    Ok(())
+}
+
+/// `e^x` for `x ≤ 0` with only additions, multiplications and divisions (the same bits on every
+/// machine): a Taylor series at `x / 1024`, squared ten times.
+fn exp_neg(x: f64) -> f64 {
+    if x < -700.0 {
+        return 0.0;
+    }
+    let y = x / 1024.0;
+    let mut term = 1.0;
+    let mut sum = 1.0;
+    for k in 1..10 {
+        term *= y / f64::from(k);
+        sum += term;
+    }
+    for _ in 0..10 {
+        sum *= sum;
+    }
+    sum
+}
+
+/// The order in which a seeded pick takes the good candidates: successive draws without
+/// replacement from the softmax of the best `pool` scores (the original's `torch.multinomial`
+/// over `softmax(scores)`, seeded), then the rest in rank order.
+pub fn seeded_order(scores: &[f64], pool: usize, seed: u64, salt: &str) -> Vec<usize> {
+    use rand::{Rng as _, SeedableRng as _};
+    let n = scores.len().min(pool);
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed ^ fnv1a(salt));
+    let mut left: Vec<usize> = (0..n).collect();
+    let mut order = Vec::with_capacity(scores.len());
+    while !left.is_empty() {
+        let top = left.iter().map(|&i| scores[i]).fold(f64::NEG_INFINITY, f64::max);
+        let weights: Vec<f64> = left.iter().map(|&i| exp_neg(scores[i] - top)).collect();
+        let total: f64 = weights.iter().sum();
+        let mut draw = rng.gen::<f64>() * total;
+        let mut at = left.len() - 1;
+        for (k, w) in weights.iter().enumerate() {
+            if draw < *w {
+                at = k;
+                break;
+            }
+            draw -= w;
+        }
+        order.push(left.remove(at));
+    }
+    order.extend(n..scores.len());
+    order
+}
+
+fn fnv1a(text: &str) -> u64 {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for b in text.bytes() {
+        h ^= u64::from(b);
+        h = h.wrapping_mul(0x0100_0000_01b3);
+    }
+    h
+}
+
+/// The names an asset's model file may have in its folder (the hook runner reads any).
+pub const MODEL_FILES: [&str; 6] = ["pkl.gz", "pkl", "json.gz", "json", "msgpack.gz", "msgpack"];
+
+/// The textures every asset folder holds.
+pub const TEXTURES: [&str; 3] = ["albedo.jpg", "normal.jpg", "emission.jpg"];
+
+/// What is missing of one asset's folder, in words; `None` when it is complete.
+pub fn missing_on_disk(assets_dir: &Path, uid: &str) -> Option<String> {
+    let folder = assets_dir.join(uid);
+    if !folder.is_dir() {
+        return Some(format!("there is no folder `{}`", folder.display()));
+    }
+    if !MODEL_FILES.iter().any(|ext| folder.join(format!("{uid}.{ext}")).is_file()) {
+        return Some(format!(
+            "`{}` has no `{uid}.pkl.gz` (nor `.json`, `.msgpack`)",
+            folder.display()
+        ));
+    }
+    let missing: Vec<&str> =
+        TEXTURES.iter().copied().filter(|t| !folder.join(t).is_file()).collect();
+    if missing.is_empty() {
+        None
+    } else {
+        Some(format!("`{}` lacks {}", folder.display(), missing.join(", ")))
+    }
+}
+
+/// Checks that every objathor asset of `asset_ids` is on disk where the hook runner looks:
+/// with an `assets/` folder, each must have its folder, model file and textures (E0615 naming
+/// it); without one, one warning that the assets are fetched when the house loads (W0614).
+/// `span_of` gives where an id is written (a house file), when there is such a place.
+pub fn check_on_disk<'a>(
+    catalog: &Catalog,
+    asset_ids: impl IntoIterator<Item = &'a str>,
+    span_of: &dyn Fn(&str) -> Option<Span>,
+) -> Vec<Diagnostic> {
+    let Some(obj) = catalog.objathor() else { return Vec::new() };
+    let mut uids: Vec<&str> = asset_ids
+        .into_iter()
+        .filter(|id| catalog.index_of(id).is_some_and(|i| obj.holds(i)))
+        .collect();
+    uids.sort_unstable();
+    uids.dedup();
+    if uids.is_empty() {
+        return Vec::new();
+    }
+    let Some(dir) = &obj.assets_dir else {
+        return vec![Diagnostic::new(
+            Code::W0614,
+            format!(
+                "{} objathor asset{} will be fetched when the house loads: `{}` has no `assets` folder",
+                uids.len(),
+                if uids.len() == 1 { "" } else { "s" },
+                obj.root.display()
+            ),
+        )
+        .with_note(format!("for example `{}`", uids[0]))
+        .with_help(
+            "load the house with objathor's web hook runner (version 2024_08_16), or download the \
+             assets and give that folder",
+        )];
+    };
+    uids.iter()
+        .filter_map(|uid| {
+            let why = missing_on_disk(dir, uid)?;
+            let mut d =
+                Diagnostic::new(Code::E0615, format!("the objathor asset `{uid}` is not on disk"))
+                    .with_note(why)
+                    .with_help(format!(
+                "download it (objathor's `download_assets`), or pin another asset than `{uid}`"
+            ));
+            if let Some(span) = span_of(uid) {
+                d = d.with_primary(span, "chosen here");
+            }
+            Some(d)
+        })
+        .collect()
+}

@@ -1,0 +1,530 @@
+//! The original Holodeck's assets as a catalog (`--objathor`): a generated fixture version
+//! folder (`resolve::objathor::fixture`: a dozen annotations with every field and the three
+//! box shapes, feature pickles with hand-picked vectors, stub asset folders with one missing),
+//! the pickle reader on real numpy pickles (`tests/objathor/pickles/`), the scoring modes, the
+//! filters, the seeded pick, the report's lock and attributions, the on-disk check, the command
+//! line, and a real objathor folder when one is present.
+
+mod common;
+
+use holoc::compile::{build, BuildOptions};
+use holoc::resolve::objathor::fixture::{
+    fixture_uid, write_fixture, FixtureOptions, FIXTURE_ASSETS, FIXTURE_VERSION,
+};
+use holoc::resolve::objathor::pickle::{NumpyModules, Pickle};
+use holoc::resolve::objathor::{fits_room, Mix, ObjathorOptions, Pick, Scoring};
+use holoc::resolve::{self, Catalog, PlacementKind, Query};
+use holoc::source::SourceMap;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+const CAT_ROOM: &str = "tests/objathor/cat_room.holo";
+
+/// A fixture version folder in a fresh temporary folder (kept alive by the returned guard).
+fn fixture(options: FixtureOptions) -> (tempfile::TempDir, PathBuf) {
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let root = write_fixture(dir.path(), options).expect("the fixture is written");
+    (dir, root)
+}
+
+fn options(dir: &Path) -> ObjathorOptions {
+    ObjathorOptions { dir: dir.to_path_buf(), ..ObjathorOptions::default() }
+}
+
+fn load(options: &ObjathorOptions) -> (Catalog, Vec<holoc::diag::Diagnostic>) {
+    let mut sources = SourceMap::new();
+    let loaded = Catalog::load_with(&[] as &[PathBuf], Some(options), &mut sources);
+    (loaded.value, loaded.diagnostics)
+}
+
+fn codes(diags: &[holoc::diag::Diagnostic]) -> Vec<&'static str> {
+    diags.iter().map(|d| d.code.as_str()).collect()
+}
+
+fn query(category: &str, description: &str, kind: PlacementKind) -> Query {
+    Query {
+        category: category.into(),
+        description: Some(description.into()).filter(|d: &String| !d.is_empty()),
+        size_m: None,
+        kind: Some(kind),
+    }
+}
+
+fn name_of(uid: &str) -> &'static str {
+    FIXTURE_ASSETS.iter().find(|a| a.uid == uid).map_or("?", |a| a.name)
+}
+
+#[test]
+fn every_field_and_box_shape_is_read() {
+    let (_dir, root) = fixture(FixtureOptions::default());
+    let (catalog, diags) = load(&options(&root));
+    assert!(diags.is_empty(), "{diags:?}");
+    let obj = catalog.objathor().expect("loaded");
+    assert_eq!(obj.version, FIXTURE_VERSION);
+    assert_eq!(obj.end - obj.start, FIXTURE_ASSETS.len());
+    assert_eq!(obj.scoring, Scoring::Features);
+    assert_eq!(obj.pseudo_query_space(), Some("clip-text"));
+    // The three box shapes, in metres.
+    let bbox = |name: &str| catalog.get(fixture_uid(name)).expect("there").bbox_m;
+    assert_eq!(bbox("cat_tower"), [0.6, 1.5, 0.6]);
+    assert_eq!(bbox("cat_tree"), [0.5, 1.8, 0.5]);
+    assert_eq!(bbox("cat_bed"), [0.5, 0.2, 0.5]);
+    let idx = catalog.index_of(fixture_uid("cat_tower")).expect("there");
+    let entry = obj.entry(idx).expect("an entry");
+    assert_eq!(entry.synset.as_deref(), Some("cat_tower.n.01"));
+    assert_eq!(entry.wn_version.as_deref(), Some("oewn:2022"));
+    assert_eq!(entry.size_cm, [Some(100.0), Some(50.0), Some(80.0)]);
+    assert_eq!(entry.materials, vec!["wood", "fabric"]);
+    assert_eq!(entry.composition, vec![0.6, 0.4]);
+    assert_eq!(entry.front_view, Some(1));
+    assert_eq!(entry.z_axis_scale, Some(true));
+    assert_eq!(entry.near_synsets, vec![("cat_tower.n.02".to_string(), 0.5)]);
+    assert_eq!(entry.description_auto.as_deref(), Some("A 3D model of a cat tower."));
+    let license = entry.license.as_ref().expect("a licence");
+    assert_eq!(license.license.as_deref(), Some("by"));
+    assert_eq!(license.creator_username.as_deref(), Some("maker_cat_tower"));
+    assert!(catalog.get(fixture_uid("cat_tower")).expect("there").receptacle);
+    // The entry written flat (fields at the top) reads the same.
+    let bed = catalog.get(fixture_uid("cat_bed")).expect("there");
+    assert!(bed.placements.on_floor && bed.placements.on_object);
+    // The lock: the annotations and both feature files, hashed.
+    assert_eq!(obj.files.len(), 3);
+    assert!(obj.files.iter().all(|(_, sha)| sha.len() == 64));
+    let source = &catalog.sources()[obj.source];
+    assert_eq!(source.name, "objathor");
+    assert_eq!(source.version.as_deref(), Some(FIXTURE_VERSION));
+}
+
+#[test]
+fn real_numpy_pickles_of_every_protocol_and_module_name_read() {
+    // Made by `tests/objathor/pickles/make.py` with numpy 1.26 (`numpy.core`) and numpy 2.4
+    // (`numpy._core`), protocols 2 to 5.
+    let expected_img: [f32; 12] = [
+        0.5,
+        -0.25,
+        1.0,
+        0.0,
+        2.0,
+        -1.5,
+        65504.0,
+        6.1e-5,
+        -0.0,
+        0.333_251_95,
+        0.099_975_586,
+        1.192_092_9e-7,
+    ];
+    let mut seen = 0;
+    for numpy in ["np1", "np2"] {
+        for protocol in 2..=5 {
+            let path = format!("tests/objathor/pickles/clip_{numpy}_p{protocol}.pkl");
+            let bytes = std::fs::read(&path).expect("the pickle is in the repository");
+            let p = Pickle::read(&bytes).unwrap_or_else(|e| panic!("{path}: {e}"));
+            assert_eq!(
+                p.strings("uids").expect("ok"),
+                Some(vec!["a".repeat(32), "b".repeat(32)]),
+                "{path}"
+            );
+            let img = p.f16_array("img_features").expect("ok").expect("there");
+            assert_eq!(img.shape, vec![2, 2, 3], "{path}");
+            let values: Vec<f32> = p
+                .array_bytes(&img.bytes)
+                .chunks_exact(2)
+                .map(|c| {
+                    holoc::resolve::objathor::pickle::f16_to_f32(u16::from_le_bytes([c[0], c[1]]))
+                })
+                .collect();
+            for (got, want) in values.iter().zip(expected_img) {
+                assert!((got - want).abs() <= want.abs() * 1e-3 + 1e-7, "{path}: {got} vs {want}");
+            }
+            let text = p.f16_array("text_features").expect("ok").expect("there");
+            assert_eq!(text.shape, vec![2, 3]);
+            seen += 1;
+        }
+    }
+    assert_eq!(seen, 8);
+}
+
+#[test]
+fn the_fixture_loads_with_every_protocol_and_module_name() {
+    for protocol in 2..=5 {
+        for modules in [NumpyModules::Core, NumpyModules::UnderscoreCore] {
+            let (_dir, root) =
+                fixture(FixtureOptions { protocol, modules, ..FixtureOptions::default() });
+            let (catalog, diags) = load(&options(&root));
+            assert!(diags.is_empty(), "protocol {protocol} {modules:?}: {diags:?}");
+            assert_eq!(catalog.objathor().expect("loaded").scoring, Scoring::Features);
+        }
+    }
+}
+
+/// The names of the ranked candidates, with their CLIP part and whether each is good enough.
+fn ranked(catalog: &Catalog, q: &Query) -> Vec<(&'static str, f64, bool)> {
+    resolve::objathor::rank(catalog, q, 0, 128)
+        .iter()
+        .map(|c| {
+            (
+                name_of(&c.asset_id),
+                c.features.as_ref().map_or(f64::NAN, |f| f.clip),
+                c.is_good_enough(),
+            )
+        })
+        .collect()
+}
+
+fn near(a: f64, b: f64) -> bool {
+    (a - b).abs() < 1e-3
+}
+
+#[test]
+fn features_rank_by_the_best_view_against_the_threshold() {
+    let (_dir, root) = fixture(FixtureOptions::default());
+    let (catalog, _) = load(&options(&root));
+    let got = ranked(&catalog, &query("cat tower", "", PlacementKind::Floor));
+    // The pseudo-query is the cat tower's text row (axis 0): its best view has b = 2.5 (37.14),
+    // the cat tree's 2.75 (34.17), the cat bed's 3.25 (29.41, under the floor threshold 31).
+    let names: Vec<&str> = got.iter().map(|g| g.0).collect();
+    assert_eq!(names, vec!["cat_tower", "cat_tree", "cat_bed"]);
+    assert!(near(got[0].1, 37.139) && got[0].2);
+    assert!(near(got[1].1, 34.174) && got[1].2, "the features find the cat tree the words miss");
+    assert!(near(got[2].1, 29.408) && !got[2].2);
+    // Lexically, the cat tree's head (`tree`) is not the query's: it is not good enough.
+    let lexical = ObjathorOptions { scoring: Some(Scoring::Lexical), ..options(&root) };
+    let (catalog, _) = load(&lexical);
+    let good: Vec<&str> =
+        resolve::objathor::rank(&catalog, &query("cat tower", "", PlacementKind::Floor), 0, 128)
+            .iter()
+            .filter(|c| c.is_good_enough())
+            .map(|c| name_of(&c.asset_id))
+            .collect();
+    assert_eq!(good, vec!["cat_tower"]);
+}
+
+#[test]
+fn the_size_term_and_sbert_part_are_in_the_score() {
+    let (_dir, root) = fixture(FixtureOptions::default());
+    let (catalog, _) = load(&options(&root));
+    let q = Query { size_m: Some([0.5, 0.5, 1.8]), ..query("cat tower", "", PlacementKind::Floor) };
+    let list = resolve::objathor::rank(&catalog, &q, 0, 128);
+    let tower = list.iter().find(|c| name_of(&c.asset_id) == "cat_tower").expect("ranked");
+    let tree = list.iter().find(|c| name_of(&c.asset_id) == "cat_tree").expect("ranked");
+    // Sorted sizes: tower (0.6, 0.6, 1.5) vs (0.5, 0.5, 1.8): mean |Δ| = 0.1667 m; the tree fits.
+    assert!(near(tower.size_diff_m.expect("a size"), 0.5 / 3.0));
+    assert!(near(tree.size_diff_m.expect("a size"), 0.0));
+    let f = tower.features.as_ref().expect("features");
+    assert!(near(f.sbert.expect("sbert"), 1.0));
+    assert!(near(tower.score, f.clip + 1.0 - 10.0 * 0.5 / 3.0));
+    assert!(near(tree.score, 34.174 + 1.0));
+}
+
+fn resolve_cat_room(
+    options: &ObjathorOptions,
+) -> (holoc::resolve::Resolved, holoc::check::Scene, Catalog) {
+    let (catalog, _) = load(options);
+    let mut sources = SourceMap::new();
+    let text = std::fs::read_to_string(CAT_ROOM).expect("the scene");
+    let file = sources.add(CAT_ROOM.to_string(), text);
+    let scene = holoc::compile::check_file(&sources, file).value.expect("the scene checks");
+    let resolved = resolve::resolve(&scene, &catalog, scene.seed).value;
+    (resolved, scene, catalog)
+}
+
+fn chosen(resolved: &holoc::resolve::Resolved, scene: &holoc::check::Scene, name: &str) -> String {
+    let obj = scene.objects.iter().position(|o| o.name == name).expect("the object");
+    resolved.objects[obj].choice().map_or_else(|| "-".into(), |c| c.asset_id.clone())
+}
+
+#[test]
+fn the_original_filters_hold() {
+    let (_dir, root) = fixture(FixtureOptions::default());
+    let (resolved, scene, _) = resolve_cat_room(&options(&root));
+    // The deep mirror cabinet scores higher (37.14) but is too deep for a wall (1.2 > 3 × 0.3).
+    assert_eq!(name_of(&chosen(&resolved, &scene, "mirror-0")), "round_mirror");
+    // The 2.4 m curtains score higher but are taller than 0.8 of the 2.5 m wall.
+    assert_eq!(name_of(&chosen(&resolved, &scene, "curtains-0")), "linen_curtains");
+    // Built-in first: the sofa is AI2-THOR's.
+    assert!(chosen(&resolved, &scene, "sofa-0").starts_with("Sofa_"));
+    assert_eq!(name_of(&chosen(&resolved, &scene, "cat_tower-0")), "cat_tower");
+    let room = [5.0, 4.0, 2.5];
+    assert!(
+        fits_room([4.5, 0.9, 2.0], PlacementKind::Floor, room).is_err(),
+        "longer than 0.8 × 5 m"
+    );
+    assert!(fits_room([3.9, 0.9, 3.1], PlacementKind::Floor, room).is_err(), "footprint over half");
+    assert!(fits_room([3.9, 0.9, 2.5], PlacementKind::Floor, room).is_ok());
+    assert!(fits_room([0.3, 0.3, 1.2], PlacementKind::Wall, room).is_err());
+    assert!(fits_room([0.3, 0.3, 0.9], PlacementKind::Wall, room).is_ok());
+    assert!(fits_room([9.0, 9.0, 9.0], PlacementKind::OnObject, room).is_ok());
+    // Category exclusions and the ceiling height rule: no window frame on a wall or the
+    // floor, no 1.4 m projector on the ceiling.
+    let (catalog, _) = load(&options(&root));
+    for (category, kind, excluded) in [
+        ("window frame", PlacementKind::Wall, "window_frame"),
+        ("window frame", PlacementKind::Floor, "window_frame"),
+        ("projector", PlacementKind::Ceiling, "projector"),
+    ] {
+        let got = ranked(&catalog, &query(category, "", kind));
+        assert!(got.iter().all(|g| g.0 != excluded), "{category} {kind:?}: {got:?}");
+    }
+    let lamp = ranked(&catalog, &query("pendant lamp", "", PlacementKind::Ceiling));
+    assert_eq!(lamp.first().map(|g| (g.0, g.2)), Some(("pendant_lamp", true)));
+}
+
+#[test]
+fn mixing_by_score_and_the_seeded_pick() {
+    let (_dir, root) = fixture(FixtureOptions::default());
+    let q = query("painting", "an abstract painting in a black frame", PlacementKind::Wall);
+    // Built-in first: AI2-THOR has paintings.
+    let (catalog, _) = load(&options(&root));
+    let first = resolve::resolve_query(&catalog, &q, 0, &resolve::ResolveOptions::default()).value;
+    let first = first.choice().expect("chosen").asset_id.clone();
+    assert!(!catalog.objathor().expect("loaded").holds(catalog.index_of(&first).expect("known")));
+    // By score: the objathor painting's words match better.
+    let (catalog, _) = load(&ObjathorOptions { mix: Mix::Score, ..options(&root) });
+    let mixed = resolve::resolve_query(&catalog, &q, 0, &resolve::ResolveOptions::default()).value;
+    let mixed = mixed.choice().expect("chosen");
+    let builtin_best = resolve::rank(&catalog, &q, 0)[0].score;
+    let lexical = mixed
+        .parts
+        .as_ref()
+        .and_then(|p| p.features.as_ref())
+        .map_or(f64::NAN, |f| f.lexical_score);
+    assert_eq!(name_of(&mixed.asset_id), "abstract_painting", "{lexical} vs {builtin_best}");
+    assert!(lexical >= builtin_best);
+    // The seeded draw: the same seed gives the same order, and every order is a permutation.
+    let scores = [35.0, 34.5, 34.0, 20.0];
+    let a = resolve::objathor::seeded_order(&scores, 10, 7, "x");
+    assert_eq!(a, resolve::objathor::seeded_order(&scores, 10, 7, "x"));
+    let mut sorted = a.clone();
+    sorted.sort_unstable();
+    assert_eq!(sorted, vec![0, 1, 2, 3]);
+    let firsts: std::collections::BTreeSet<usize> =
+        (0..64).map(|seed| resolve::objathor::seeded_order(&scores, 10, seed, "x")[0]).collect();
+    assert!(firsts.len() > 1 && !firsts.contains(&3), "{firsts:?}");
+    // Only the best `pool` are drawn; the rest keep their rank order.
+    assert_eq!(&resolve::objathor::seeded_order(&scores, 2, 3, "x")[2..], &[2, 3]);
+    let (resolved, scene, _) =
+        resolve_cat_room(&ObjathorOptions { pick: Pick::Seeded, ..options(&root) });
+    let again = resolve_cat_room(&ObjathorOptions { pick: Pick::Seeded, ..options(&root) });
+    assert_eq!(resolved, again.0);
+    assert!(["cat_tower", "cat_tree"].contains(&name_of(&chosen(
+        &resolved,
+        &scene,
+        "cat_tower-0"
+    ))));
+}
+
+fn holoc(args: &[&str]) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_holoc"))
+        .args(args)
+        .env("NO_COLOR", "1")
+        .output()
+        .expect("holoc runs");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+#[test]
+fn build_writes_houses_the_original_loader_reads_with_attributions() {
+    let (dir, root) = fixture(FixtureOptions::default());
+    let house = dir.path().join("house.json");
+    let report = dir.path().join("report.json");
+    let r = root.to_str().expect("utf-8");
+    let (code, _, err) = holoc(&[
+        "build",
+        CAT_ROOM,
+        "-o",
+        house.to_str().expect("utf-8"),
+        "--report",
+        report.to_str().expect("utf-8"),
+        "--objathor",
+        r,
+        "-q",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&house).expect("written")).expect("JSON");
+    // A bare uid in `assetId`, and a floor object at half its height.
+    let tower = json["objects"]
+        .as_array()
+        .expect("objects")
+        .iter()
+        .find(|o| o["assetId"] == fixture_uid("cat_tower"))
+        .expect("the cat tower");
+    assert!(near(tower["position"]["y"].as_f64().expect("y"), 0.75));
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&report).expect("written")).expect("JSON");
+    let names: Vec<&str> = report["assets"]["attributions"]
+        .as_array()
+        .expect("attributions")
+        .iter()
+        .map(|a| name_of(a["assetId"].as_str().expect("id")))
+        .collect();
+    assert_eq!(names, vec!["cat_tower", "round_mirror", "linen_curtains"]);
+    let lock =
+        report["assets"]["catalogs"].as_array().expect("lock").last().expect("objathor").clone();
+    assert_eq!(lock["version"], FIXTURE_VERSION);
+    assert_eq!(lock["scoring"], "features");
+    assert_eq!(lock["files"].as_array().map(Vec::len), Some(3));
+    // Deterministic: the same input gives the same bytes.
+    let again = dir.path().join("again.json");
+    holoc(&["build", CAT_ROOM, "-o", again.to_str().expect("utf-8"), "--objathor", r, "-q"]);
+    assert_eq!(std::fs::read(&house).expect("one"), std::fs::read(&again).expect("two"));
+    // `holoc validate --objathor` accepts the house; without the folder its uids are unknown.
+    let h = house.to_str().expect("utf-8");
+    let (code, _, err) = holoc(&["validate", h, "--objathor", r]);
+    assert_eq!(code, 0, "{err}");
+    let (code, _, err) = holoc(&["validate", h]);
+    assert_eq!(code, 1);
+    assert!(err.contains("E0614"), "{err}");
+    // An asset folder removed: the house is not loadable (E0615, naming the uid).
+    std::fs::remove_dir_all(root.join("assets").join(fixture_uid("linen_curtains")))
+        .expect("removed");
+    let (code, _, err) = holoc(&["validate", h, "--objathor", r]);
+    assert_eq!(code, 1);
+    assert!(err.contains("E0615") && err.contains(fixture_uid("linen_curtains")), "{err}");
+    let (code, _, err) =
+        holoc(&["build", CAT_ROOM, "-o", again.to_str().expect("utf-8"), "--objathor", r]);
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("E0615") && err.contains(fixture_uid("linen_curtains")), "{err}");
+}
+
+#[test]
+fn a_missing_asset_folder_is_an_error_and_no_assets_folder_a_warning() {
+    let scene = "scene \"s\" {\n  wall height 2.7 m\n  seed 1\n}\n\nroom office \"office\" {\n  corners in m (0, 0) (0, 4) (4, 4) (4, 0)\n  wall object board \"whiteboard\" {\n    height 100 cm\n  }\n}\n\ndoor exterior -- office : doorway single\n";
+    let (dir, root) = fixture(FixtureOptions::default());
+    let holo = dir.path().join("office.holo");
+    std::fs::write(&holo, scene).expect("written");
+    let out = dir.path().join("office.json");
+    let args = |root: &Path| -> Vec<String> {
+        vec![
+            "build".into(),
+            holo.display().to_string(),
+            "-o".into(),
+            out.display().to_string(),
+            "--objathor".into(),
+            root.display().to_string(),
+        ]
+    };
+    let run = |a: Vec<String>| holoc(&a.iter().map(String::as_str).collect::<Vec<_>>());
+    let (code, _, err) = run(args(&root));
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("E0615") && err.contains(fixture_uid("whiteboard")), "{err}");
+    assert!(!out.exists(), "nothing is written");
+    let (dir2, root2) = fixture(FixtureOptions { assets: false, ..FixtureOptions::default() });
+    let (code, _, err) = run(args(&root2));
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(err.matches("W0614").count(), 1, "{err}");
+    drop(dir2);
+}
+
+#[test]
+fn bad_folders_and_feature_files_are_diagnostics() {
+    let (dir, root) = fixture(FixtureOptions::default());
+    // A folder that does not exist; a base with the version; one with two versions.
+    assert_eq!(codes(&load(&options(&dir.path().join("nope"))).1), vec!["E0404"]);
+    let (catalog, diags) = load(&options(dir.path()));
+    assert!(diags.is_empty() && catalog.objathor().is_some());
+    let (catalog, diags) =
+        load(&ObjathorOptions { version: Some(FIXTURE_VERSION.into()), ..options(dir.path()) });
+    assert!(diags.is_empty() && catalog.objathor().is_some());
+    assert_eq!(
+        codes(
+            &load(&ObjathorOptions { version: Some("1999_01_01".into()), ..options(dir.path()) }).1
+        ),
+        vec!["E0404"]
+    );
+    write_fixture(&dir.path().join("more"), FixtureOptions::default()).expect("written");
+    std::fs::rename(dir.path().join("more").join(FIXTURE_VERSION), dir.path().join("2024_08_16"))
+        .expect("moved");
+    assert_eq!(codes(&load(&options(dir.path())).1), vec!["E0404"]);
+    // `clip` is not in this build; `features` without features cannot run.
+    assert_eq!(
+        codes(&load(&ObjathorOptions { scoring: Some(Scoring::Clip), ..options(&root) }).1),
+        vec!["E0405"]
+    );
+    let (_d, bare) = fixture(FixtureOptions { features: false, ..FixtureOptions::default() });
+    let (catalog, diags) = load(&options(&bare));
+    assert_eq!(codes(&diags), vec!["W0405"]);
+    assert_eq!(catalog.objathor().expect("loaded").scoring, Scoring::Lexical);
+    assert_eq!(
+        codes(&load(&ObjathorOptions { scoring: Some(Scoring::Features), ..options(&bare) }).1),
+        vec!["W0405", "E0405"]
+    );
+    // A broken pickle and a pickle of another shape: warnings, and the folder scores lexically.
+    let clip = root.join("features").join("clip_features.pkl");
+    let good = std::fs::read(&clip).expect("there");
+    std::fs::write(&clip, &good[..good.len() / 2]).expect("cut");
+    let (catalog, diags) = load(&options(&root));
+    assert_eq!(codes(&diags), vec!["W0405"]);
+    assert!(diags[0].message.contains("not a readable pickle"), "{}", diags[0].message);
+    assert_eq!(catalog.objathor().expect("loaded").scoring, Scoring::Lexical);
+    let other = holoc::resolve::objathor::pickle::write(
+        &[("uids", holoc::resolve::objathor::pickle::Value::Strings(vec!["x".into()]))],
+        4,
+        NumpyModules::Core,
+    );
+    std::fs::write(&clip, other).expect("written");
+    let diags = load(&options(&root)).1;
+    assert!(diags[0].message.contains("no `img_features`"), "{}", diags[0].message);
+    // Bad annotations: not JSON (E0403), a bad entry (W0402).
+    let ann = root.join("annotations.json.gz");
+    std::fs::write(&ann, b"{not json").expect("written");
+    assert_eq!(codes(&load(&options(&root)).1)[0], "E0403");
+    std::fs::write(&ann, br#"{"u1": {"annotations": {"category": "x"}}}"#).expect("written");
+    assert_eq!(codes(&load(&options(&root)).1)[0], "W0402");
+}
+
+#[test]
+fn every_example_builds_with_the_fixture_folder() {
+    let (_dir, root) = fixture(FixtureOptions::default());
+    let (catalog, _) = load(&options(&root));
+    let embedded = Catalog::embedded();
+    let mut n = 0;
+    for entry in std::fs::read_dir("examples").expect("examples").flatten() {
+        let path = entry.path();
+        if path.extension().is_none_or(|e| e != "holo") {
+            continue;
+        }
+        let mut sources = SourceMap::new();
+        let file = sources
+            .add(path.display().to_string(), std::fs::read_to_string(&path).expect("readable"));
+        let with = build(&sources, file, &BuildOptions::new(&catalog));
+        let without = build(&sources, file, &BuildOptions::new(&embedded));
+        let (Some(with), Some(without)) = (with.value, without.value) else {
+            panic!("{} does not build with the fixture folder", path.display());
+        };
+        assert!(with.objects.len() >= without.objects.len(), "{}", path.display());
+        n += 1;
+    }
+    assert!(n >= 5);
+}
+
+#[test]
+fn a_real_objathor_folder_has_the_counts_and_shapes_it_should() {
+    let dir = std::env::var_os("HOLOC_OBJATHOR_DIR").map(PathBuf::from).or_else(|| {
+        std::env::var_os("HOME")
+            .map(|h| PathBuf::from(h).join(".objathor-assets").join("2023_09_23"))
+    });
+    let Some(dir) = dir.filter(|d| d.join("annotations.json.gz").is_file()) else {
+        common::skip(
+            "a_real_objathor_folder_has_the_counts_and_shapes_it_should",
+            "no objathor folder (set HOLOC_OBJATHOR_DIR, or have ~/.objathor-assets/2023_09_23)",
+        );
+        return;
+    };
+    let (catalog, diags) = load(&options(&dir));
+    assert!(!diags.iter().any(holoc::diag::Diagnostic::is_error), "{diags:?}");
+    let obj = catalog.objathor().expect("loaded");
+    assert!(obj.end - obj.start > 40_000, "{} assets", obj.end - obj.start);
+    let features = obj.features.as_ref().expect("features");
+    let img = features.img.as_ref().expect("image features");
+    assert_eq!((img.views, img.dim), (3, 768));
+    assert!(img.len() > 40_000);
+    let q = query("cat tower", "", PlacementKind::Floor);
+    assert!(resolve::objathor::rank(&catalog, &q, 0, 128)
+        .iter()
+        .any(holoc::resolve::Candidate::is_good_enough));
+}

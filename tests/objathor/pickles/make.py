@@ -1,0 +1,22 @@
+"""Writes the reference pickles of tests/objathor.rs: the same dict (a list of uids and two
+float16 arrays, shaped like objathor's clip_features.pkl) with protocols 2 to 5.
+
+Run once with numpy 1 (`python make.py np1`: module names `numpy.core.…`) and once with
+numpy 2 (`python make.py np2`: `numpy._core.…`); the eight files are committed.
+"""
+
+import pickle
+import sys
+
+import numpy as np
+
+tag = sys.argv[1]
+img = np.array(
+    [[[0.5, -0.25, 1.0], [0.0, 2.0, -1.5]], [[65504.0, 6.1e-05, -0.0], [1.0 / 3, 0.1, 1e-7]]],
+    dtype=np.float16,
+)
+txt = np.array([[1.0, 2.0, 3.0], [-4.0, 0.5, 0.125]], dtype=np.float16)
+obj = {"uids": ["a" * 32, "b" * 32], "img_features": img, "text_features": txt}
+for p in (2, 3, 4, 5):
+    with open(f"clip_{tag}_p{p}.pkl", "wb") as f:
+        pickle.dump(obj, f, protocol=p)
