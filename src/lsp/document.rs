@@ -1,7 +1,7 @@
 //! An open document: its text, its version, and what the compiler made of it.
 
 use super::index::Index;
-use crate::compile::{Analysed, CheckStage};
+use crate::compile::Analysed;
 use crate::diag::Diagnostic;
 use crate::resolve::Catalog;
 use crate::source::{FileId, SourceFile, SourceMap, Span};
@@ -53,8 +53,9 @@ pub struct Document {
     pub analysis: Option<Analysis>,
     /// The last background solve of this document, if its version is the current one.
     pub solved: Option<Solved>,
-    /// What earlier versions' analyses keep for the next (parsed items, asset rankings).
-    pub cache: crate::compile::AnalysisCache,
+    /// What earlier versions' analyses keep for the next (parsed items, asset rankings, the
+    /// last plan and asset choices).
+    pub memo: super::incremental::Memo,
     /// The catalog the analysis and the rankings of `cache` were made with.
     catalog: Option<std::sync::Arc<Catalog>>,
     /// Why the server's text can no longer be trusted to be the editor's (a change it had to
@@ -78,19 +79,18 @@ pub struct Analysis {
 }
 
 impl Analysis {
-    /// Runs parse, check, plan and resolve on `text`, reusing the unchanged top-level items
-    /// of `cache`.
+    /// Runs parse, check, plan and resolve on `text`, reusing what `memo` kept of earlier
+    /// versions where the edit did not touch it (see [`super::incremental`]).
     pub fn new(
         name: &str,
         uri: Option<lsp_types::Uri>,
         text: &str,
         catalog: &Catalog,
-        cache: &mut crate::compile::AnalysisCache,
+        memo: &mut super::incremental::Memo,
     ) -> Analysis {
         let mut sources = SourceMap::new();
         let file = sources.add(name, text);
-        let mut analysed =
-            crate::compile::analyse_cached(&sources, file, catalog, CheckStage::Resolve, cache);
+        let mut analysed = super::incremental::analyse(&sources, file, catalog, memo);
         crate::diag::sort(&mut analysed.diagnostics);
         let index = Index::new(&analysed.ast);
         Analysis { sources, file, analysed, index, uri }
@@ -124,7 +124,7 @@ impl Document {
             text,
             analysis: None,
             solved: None,
-            cache: crate::compile::AnalysisCache::default(),
+            memo: super::incremental::Memo::default(),
             catalog: None,
             out_of_sync: None,
         }
@@ -177,15 +177,15 @@ impl Document {
     pub fn analysis(&mut self, catalog: &std::sync::Arc<Catalog>) -> &Analysis {
         if !self.catalog.as_ref().is_some_and(|c| std::sync::Arc::ptr_eq(c, catalog)) {
             // A catalog edited on disk: every ranking and the analysis are made again.
-            self.cache.ranks = crate::resolve::RankCache::default();
+            self.memo.forget();
             if let Some(old) = self.analysis.take() {
                 discard(old);
             }
             self.catalog = Some(std::sync::Arc::clone(catalog));
         }
-        let (name, text, cache) = (&self.name, &self.text, &mut self.cache);
+        let (name, text, memo) = (&self.name, &self.text, &mut self.memo);
         let uri = self.uri.clone();
-        self.analysis.get_or_insert_with(|| Analysis::new(name, uri, text, catalog, cache))
+        self.analysis.get_or_insert_with(|| Analysis::new(name, uri, text, catalog, memo))
     }
 }
 

@@ -16,6 +16,7 @@
 
 pub mod document;
 pub mod features;
+pub mod incremental;
 pub mod index;
 pub mod transport;
 
