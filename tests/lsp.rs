@@ -943,7 +943,7 @@ fn exit_without_shutdown_ends_the_session_as_an_error() {
 
 #[test]
 fn the_binary_answers_malformed_json_and_exits_by_the_protocol() {
-    use std::io::{BufRead as _, Read as _, Write as _};
+    use std::io::Write as _;
     fn frame(body: &str) -> String {
         format!("Content-Length: {}\r\n\r\n{body}", body.len())
     }
