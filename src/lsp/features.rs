@@ -146,12 +146,13 @@ fn markdown(value: String) -> Hover {
 }
 
 /// Hover: an object's resolved asset, size and score; a relation's meaning and whether it
-/// holds after the last solve (`solving`: whether the server solves on save); a room's label
+/// holds after the last solve (`solving`: whether the server solves on save, and whether a
+/// solve of this version is running); a room's label
 /// and area.
 pub fn hover(
     analysis: &Analysis,
     solved: Option<&Solved>,
-    solving: bool,
+    solving: (bool, bool),
     position: Position,
 ) -> Option<Hover> {
     let offset = analysis.offset(position);
@@ -177,7 +178,12 @@ pub fn hover(
             [one] => {
                 let _ = write!(text, "\n\nAfter the last solve: {}", verdict(one));
             }
-            [] if solved.is_none() && solving => {
+            [] if solved.is_none() && solving.1 => {
+                text.push_str(
+                    "\n\nThe layout of this version is being solved; hover again to see whether it holds.",
+                );
+            }
+            [] if solved.is_none() && solving.0 => {
                 text.push_str("\n\nSave the file to solve the layout and see whether it holds.");
             }
             [] => {}

@@ -552,7 +552,10 @@ impl Server {
                 let p: lsp_types::HoverParams = params(request)?;
                 let at = p.text_document_position_params;
                 let uri = at.text_document.uri;
-                let solving = self.jobs.is_some();
+                // A solve of this version runs while its cancel flag is down.
+                let running =
+                    self.cancel.get(uri.as_str()).is_some_and(|flag| !flag.load(Ordering::SeqCst));
+                let solving = (self.jobs.is_some(), self.jobs.is_some() && running);
                 let (analysis, solved) = self.opened(&uri)?;
                 json(features::hover(analysis, solved, solving, at.position))
             }
