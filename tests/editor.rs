@@ -1,5 +1,6 @@
-//! A real editor against the real binary: neovim (headless) starts `holoc lsp` over stdio, opens
-//! an example, types a typo and reads back the diagnostic the server published. Skipped with a
+//! A real editor against the real binary: neovim (headless), set up by the book's Lua as written,
+//! starts `holoc lsp` over stdio for an example, types a typo and reads back the diagnostic the
+//! server published. Skipped with a
 //! message when `nvim` is not installed (`.ci/run` installs Debian's `neovim`).
 
 mod common;
@@ -23,11 +24,29 @@ fn neovim_shows_the_diagnostic_holoc_lsp_publishes_for_a_typo() {
     let scene = dir.join("bedroom.holo");
     std::fs::copy("examples/bedroom.holo", &scene).expect("copy the example");
     let out = dir.join("out.txt");
+    // The book's Neovim setup, as written: the first Lua block of the Neovim section.
+    let page = std::fs::read_to_string("book/src/cli/lsp.md").expect("the editor page");
+    let section = page.split("### Neovim").nth(1).expect("a Neovim section");
+    let setup = section
+        .split("```lua\n")
+        .nth(1)
+        .and_then(|rest| rest.split("```").next())
+        .expect("a Lua block");
+    let setup_path = dir.join("setup.lua");
+    std::fs::write(&setup_path, setup).expect("write the setup");
+    // `holoc` on the PATH, as the setup names it.
+    let bin = std::path::Path::new(env!("CARGO_BIN_EXE_holoc")).parent().expect("a folder");
+    let path = std::env::join_paths(
+        std::iter::once(bin.to_path_buf())
+            .chain(std::env::split_paths(&std::env::var_os("PATH").unwrap_or_default())),
+    )
+    .expect("a PATH");
     let script = std::path::absolute("tests/editor/neovim.lua").expect("absolute path");
     let mut child = Command::new("nvim")
         .args(["--headless", "--clean", "-n", "-c"])
         .arg(format!("luafile {}", script.display()))
-        .env("HOLOC", env!("CARGO_BIN_EXE_holoc"))
+        .env("PATH", path)
+        .env("HOLO_SETUP", &setup_path)
         .env("HOLO_SCENE", &scene)
         .env("HOLO_OUT", &out)
         .env("XDG_STATE_HOME", &dir)

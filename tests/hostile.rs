@@ -345,8 +345,12 @@ fn the_language_server_skips_bad_frames() {
     let init = read_message(&mut output);
     assert_eq!(init["id"], 1, "{init}");
     send(&frame(r#"{"jsonrpc":"2.0","method":"initialized","params":{}}"#));
-    // Garbage, a request that is not one (answered), a huge length (refused, its body skipped).
+    // Garbage (answered with JSON-RPC's parse error), a request that is not one (answered), a
+    // huge length (refused, its body skipped).
     send(&frame("{this is not json"));
+    let answer = read_message(&mut output);
+    assert_eq!(answer["id"], serde_json::Value::Null, "{answer}");
+    assert_eq!(answer["error"]["code"], -32700, "{answer}");
     send(&frame(r#"{"jsonrpc":"2.0","id":2,"method":7}"#));
     let answer = read_message(&mut output);
     assert_eq!(answer["id"], 2, "{answer}");
@@ -363,7 +367,7 @@ fn the_language_server_skips_bad_frames() {
     assert!(status.code().is_some(), "ended by a signal: {status:?}");
     let mut err = String::new();
     child.stderr.take().expect("stderr").read_to_string(&mut err).expect("reads");
-    assert!(err.contains("skipped a message that is not JSON:"), "{err}");
+    assert!(err.contains("answered a parse error: a message that is not JSON:"), "{err}");
     assert!(err.contains("skipped a message that is not JSON-RPC"), "{err}");
     assert!(err.contains("over the limit"), "{err}");
     let _ = output.fill_buf();

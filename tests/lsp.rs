@@ -12,7 +12,7 @@ const BEDROOM: &str = include_str!("../examples/bedroom.holo");
 /// One editor session against a server thread.
 struct Client {
     conn: Connection,
-    server: Option<std::thread::JoinHandle<Result<(), String>>>,
+    server: Option<std::thread::JoinHandle<Result<holoc::lsp::Ending, String>>>,
     next_id: i32,
     /// Every `publishDiagnostics` received, in order.
     published: Vec<Value>,
@@ -161,7 +161,13 @@ impl Client {
         self.request("shutdown", Value::Null);
         self.notify("exit", Value::Null);
         let result = self.server.take().expect("running").join().expect("the server thread ends");
-        assert_eq!(result, Ok(()));
+        assert_eq!(result, Ok(holoc::lsp::Ending::AfterShutdown));
+    }
+
+    /// Says `exit` without `shutdown`: how the session ended.
+    fn exit_at_once(mut self) -> Result<holoc::lsp::Ending, String> {
+        self.notify("exit", Value::Null);
+        self.server.take().expect("running").join().expect("the server thread ends")
     }
 }
 
@@ -693,4 +699,343 @@ fn bad_requests_get_errors_never_a_crash() {
         client.wait_published(|p| p["diagnostics"] == json!([]) && p["version"].is_null());
     assert_eq!(cleared["uri"], URI);
     client.stop();
+}
+
+/// The labels of a completion answer, and each item's `textEdit` applied to `text`.
+fn completions(
+    client: &mut Client,
+    uri: &str,
+    text: &str,
+    at: (u32, u32),
+) -> Vec<(String, String)> {
+    let items = client.at("textDocument/completion", uri, at);
+    items
+        .as_array()
+        .expect("items")
+        .iter()
+        .map(|item| {
+            let edit = &item["textEdit"];
+            assert!(edit.is_object(), "every item carries a textEdit: {item}");
+            let applied = apply_edits(text, &json!([edit]));
+            let line = applied.lines().nth(at.0 as usize).unwrap_or("").trim().to_string();
+            (item["label"].as_str().unwrap_or("").to_string(), line)
+        })
+        .collect()
+}
+
+#[test]
+fn completion_offers_the_instances_of_counted_groups_on_half_typed_lines() {
+    let mut client = Client::start(false);
+    // Half-typed lines in the wardrobe's block and in `instance nightstand-0`: the file does
+    // not check, and the counts still come from the text.
+    let text = BEDROOM.replacen("    far bed-0\n", "    far bed-0\n    near \n", 1).replacen(
+        "      left of bed-0\n",
+        "      left of bed-0\n      near desk-\n",
+        1,
+    );
+    client.open(URI, &text);
+    let in_wardrobe = find(&text, "    near \n", 0, 9);
+    let got = completions(&mut client, URI, &text, in_wardrobe);
+    let labels: Vec<&str> = got.iter().map(|(l, _)| l.as_str()).collect();
+    // Every instance of the `count 2` group, no bare group name, not the wardrobe itself, no
+    // wall object.
+    assert_eq!(labels, ["bed-0", "nightstand-0", "nightstand-1", "desk-0", "desk_chair-0"]);
+    assert!(got.iter().any(|(_, line)| line == "near nightstand-1"), "{got:?}");
+    // `near desk-` in nightstand-0's own block: accepting `desk-0` gives `near desk-0`, and the
+    // instance itself is not offered (its sibling is).
+    let half = find(&text, "near desk-\n", 0, 10);
+    let got = completions(&mut client, URI, &text, half);
+    let labels: Vec<&str> = got.iter().map(|(l, _)| l.as_str()).collect();
+    assert!(labels.contains(&"nightstand-1") && !labels.contains(&"nightstand-0"), "{labels:?}");
+    let desk = got.iter().find(|(l, _)| l == "desk-0").expect("desk-0 offered");
+    assert_eq!(desk.1, "near desk-0");
+    // A phrase half typed: `in fr` becomes `in front of`, not `in in front of`.
+    let text = BEDROOM.replacen("    far bed-0\n", "    far bed-0\n    in fr\n", 1);
+    client.change(URI, 2, json!([{"text": text}]));
+    let got = completions(&mut client, URI, &text, find(&text, "    in fr\n", 0, 9));
+    let front = got.iter().find(|(l, _)| l == "in front of").expect("offered");
+    assert_eq!(front.1, "in front of");
+    client.stop();
+}
+
+#[test]
+fn relation_hover_and_hints_cover_every_instance_of_a_counted_group() {
+    let mut client = Client::start(true);
+    // `far bed-0` on the nightstand group applies to both instances, which are also near the
+    // bed: it cannot hold for either.
+    let text = BEDROOM.replacen(
+        "    count 2 same\n    edge\n",
+        "    count 2 same\n    edge\n    far bed-0\n",
+        1,
+    );
+    client.open(URI, &text);
+    let solved = client.wait_published(|p| {
+        p["diagnostics"].as_array().is_some_and(|d| d.iter().any(|d| d["severity"] == 4))
+    });
+    let hints: Vec<&str> = solved["diagnostics"]
+        .as_array()
+        .expect("diagnostics")
+        .iter()
+        .filter(|d| d["severity"] == 4)
+        .filter_map(|d| d["message"].as_str())
+        .collect();
+    for n in 0..2 {
+        let needle = format!("`nightstand-{n}` far bed-0 does not hold");
+        assert!(hints.iter().any(|h| h.contains(&needle)), "{needle} in {hints:?}");
+    }
+    let hover = client.at("textDocument/hover", URI, find(&text, "    far bed-0\n", 0, 5));
+    let value = hover["contents"]["value"].as_str().unwrap_or("");
+    assert!(value.contains("holds for 0 of 2 instances"), "{value}");
+    assert!(
+        value.contains("`nightstand-0` far bed-0") && value.contains("`nightstand-1` far bed-0"),
+        "{value}"
+    );
+    client.stop();
+}
+
+#[test]
+fn locations_keep_the_editors_uri_and_link_to_absolute_pages() {
+    let mut client = Client::start(false);
+    // Object `desk` twice: E0203 with "first defined here".
+    let text = BEDROOM.replacen("  object desk_chair ", "  object desk ", 1);
+    for uri in ["file:///nonexistent/a%23b/caf%C3%A9%20%25/bedroom.holo", "untitled:Untitled-1"] {
+        client.open(uri, &text);
+        let published = client.wait_published(|p| p["uri"] == uri);
+        let d = published["diagnostics"]
+            .as_array()
+            .expect("diagnostics")
+            .iter()
+            .find(|d| d["code"] == "E0203")
+            .expect("a duplicate")
+            .clone();
+        assert_eq!(d["relatedInformation"][0]["location"]["uri"], uri, "{d} {published}");
+        let href = d["codeDescription"]["href"].as_str().unwrap_or("");
+        assert!(href.starts_with("file:///") && href.ends_with("/E0203.md"), "{href}");
+        let def = client.at("textDocument/definition", uri, find(&text, "left of bed-0", 0, 9));
+        assert_eq!(def["uri"], uri);
+    }
+    assert_eq!(
+        holoc::diag::lsp::file_uri("/tmp/a#b/café %/x.holo").map(|u| u.as_str().to_string()),
+        Some("file:///tmp/a%23b/caf%C3%A9%20%25/x.holo".to_string())
+    );
+    assert_eq!(
+        holoc::lsp::uri_path("file:///tmp/a%23b/caf%C3%A9%20%25/x.holo"),
+        Some(std::path::PathBuf::from("/tmp/a#b/café %/x.holo"))
+    );
+    client.stop();
+}
+
+#[test]
+fn line_endings_stay_as_the_document_has_them() {
+    let mut client = Client::start(false);
+    let messy = BEDROOM.replace("  object bed \"bed\" {", "object    bed \"bed\"   {");
+    let crlf = messy.replace('\n', "\r\n");
+    client.open(URI, &crlf);
+    let edits = client.request(
+        "textDocument/formatting",
+        json!({"textDocument": {"uri": URI}, "options": {"tabSize": 2, "insertSpaces": true}}),
+    );
+    assert_eq!(apply_edits(&crlf, &edits), BEDROOM.replace('\n', "\r\n"));
+    // Lone carriage returns end lines too: the typo's diagnostic is on its own line.
+    let cr = BEDROOM.replacen("    far bed-0", "    fra bed-0", 1).replace('\n', "\r");
+    client.change(URI, 2, json!([{"text": cr}]));
+    let published = client.wait_published(|p| p["version"] == 2);
+    let lf = cr.replace('\r', "\n");
+    assert_eq!(diagnostics_text(&published), check_text(&lf, 2));
+    let line = find(&lf, "fra bed-0", 0, 0).0;
+    assert!(diagnostics_text(&published).contains(&format!("{line}:4 E0102")), "{published}");
+    client.stop();
+}
+
+#[test]
+fn fixes_never_break_the_file_and_phrases_get_fixed_whole() {
+    let mut client = Client::start(false);
+    // `count 2 cm`: one diagnostic (the unit), no follow-on about `nightstand-1`, and no fix
+    // that renames an instance onto another (E0203).
+    let text = BEDROOM.replacen("count 2 same", "count 2 cm same", 1);
+    client.open(URI, &text);
+    let published = client.wait_published(|p| p["version"] == 1);
+    let shown = diagnostics_text(&published);
+    assert!(shown.contains("E0106") && !shown.contains("E0201"), "{shown}");
+    let end = find(&text, "door exterior", 0, 0);
+    let actions = client.request(
+        "textDocument/codeAction",
+        json!({"textDocument": {"uri": URI}, "range": {"start": {"line": 0, "character": 0}, "end": {"line": end.0, "character": 0}}, "context": {"diagnostics": []}}),
+    );
+    let actions = actions.as_array().expect("actions");
+    assert!(!actions.is_empty());
+    for a in actions {
+        let fixed = apply_edits(&text, &a["edit"]);
+        let after = check_text(&fixed, 1);
+        assert!(!after.contains("E0203") && !after.contains("E0101"), "{a}: {after}");
+    }
+    // A relation misspelt in two of its three words.
+    let text = BEDROOM.replacen("    in front of desk-0", "    in frnt of desk-0", 1);
+    client.change(URI, 2, json!([{"text": text}]));
+    client.wait_published(|p| p["version"] == 2);
+    let at = find(&text, "in frnt", 0, 1);
+    let actions = client.request(
+        "textDocument/codeAction",
+        json!({"textDocument": {"uri": URI}, "range": {"start": {"line": at.0, "character": at.1}, "end": {"line": at.0, "character": at.1}}, "context": {"diagnostics": []}}),
+    );
+    let fix = actions
+        .as_array()
+        .expect("actions")
+        .iter()
+        .find(|a| a["title"] == "replace with `in front of`")
+        .unwrap_or_else(|| panic!("a phrase fix in {actions}"))
+        .clone();
+    assert_eq!(apply_edits(&text, &fix["edit"]), BEDROOM);
+    client.stop();
+}
+
+#[test]
+fn changes_that_cannot_be_applied_are_refused_and_the_document_resynchronized() {
+    let mut client = Client::start(false);
+    client.open(URI, BEDROOM);
+    client.wait_published(|p| p["version"] == 1);
+    let typo = BEDROOM.replacen("    far bed-0", "    fra bed-0", 1);
+    client.change(URI, 3, json!([{"text": typo}]));
+    client.wait_published(|p| p["version"] == 3);
+    // A version that goes back: refused, logged, the user told, the diagnostics cleared.
+    let at = json!({"line": 0, "character": 0});
+    client.change(URI, 2, json!([{"range": {"start": at, "end": at}, "text": "x"}]));
+    let cleared = client.wait_published(|p| p["version"].is_null());
+    assert_eq!(cleared["diagnostics"], json!([]));
+    assert!(
+        client
+            .messages
+            .iter()
+            .any(|m| m["message"].as_str().unwrap_or("").contains("refused a change")),
+        "{:?}",
+        client.messages
+    );
+    let hover = client.response(
+        "textDocument/hover",
+        json!({"textDocument": {"uri": URI}, "position": {"line": 0, "character": 0}}),
+    );
+    assert!(hover.error.expect("out of sync").message.contains("out of sync"));
+    // Ranged changes stay refused; the whole text brings the document back.
+    client.change(URI, 4, json!([{"range": {"start": at, "end": at}, "text": "x"}]));
+    client.change(URI, 5, json!([{"text": BEDROOM}]));
+    let back = client.wait_published(|p| p["version"] == 5);
+    assert_eq!(diagnostics_text(&back), check_text(BEDROOM, 5));
+    // A change whose parameters cannot be read, and one whose range ends before it starts.
+    client.notify(
+        "textDocument/didChange",
+        json!({"textDocument": {"uri": URI, "version": 6}, "contentChanges": "garbage"}),
+    );
+    client.wait_published(|p| p["version"].is_null() && p["diagnostics"] == json!([]));
+    client.change(URI, 7, json!([{"text": BEDROOM}]));
+    client.wait_published(|p| p["version"] == 7);
+    let (s, e) = (json!({"line": 3, "character": 0}), json!({"line": 1, "character": 0}));
+    client.change(URI, 8, json!([{"range": {"start": s, "end": e}, "text": ""}]));
+    client.wait_published(|p| p["version"].is_null() && p["diagnostics"] == json!([]));
+    // Published versions never went back.
+    let versions: Vec<i64> =
+        client.published.iter().filter_map(|p| p["version"].as_i64()).collect();
+    assert!(versions.windows(2).all(|w| w[0] <= w[1]), "{versions:?}");
+    client.stop();
+}
+
+#[test]
+fn exit_without_shutdown_ends_the_session_as_an_error() {
+    let client = Client::start(false);
+    assert_eq!(client.exit_at_once(), Ok(holoc::lsp::Ending::WithoutShutdown));
+}
+
+#[test]
+fn the_binary_answers_malformed_json_and_exits_by_the_protocol() {
+    use std::io::Write as _;
+    fn frame(body: &str) -> String {
+        format!("Content-Length: {}\r\n\r\n{body}", body.len())
+    }
+    fn read_message(out: &mut impl std::io::BufRead) -> Value {
+        let mut length = 0;
+        loop {
+            let mut line = String::new();
+            out.read_line(&mut line).expect("a header");
+            let line = line.trim_end();
+            if line.is_empty() {
+                break;
+            }
+            if let Some(n) = line.strip_prefix("Content-Length: ") {
+                length = n.parse().expect("a length");
+            }
+        }
+        let mut body = vec![0; length];
+        out.read_exact(&mut body).expect("a body");
+        serde_json::from_slice(&body).expect("JSON")
+    }
+    for (shutdown, code) in [(true, 0), (false, 1)] {
+        let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_holoc"))
+            .args(["lsp", "--no-solve"])
+            .stdin(std::process::Stdio::piped())
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::null())
+            .spawn()
+            .expect("holoc lsp starts");
+        let mut input = child.stdin.take().expect("stdin");
+        let mut output = std::io::BufReader::new(child.stdout.take().expect("stdout"));
+        input.write_all(frame("{not json").as_bytes()).expect("write");
+        let answer = read_message(&mut output);
+        assert_eq!(answer["id"], Value::Null, "{answer}");
+        assert_eq!(answer["error"]["code"], -32700, "{answer}");
+        let init = r#"{"jsonrpc":"2.0","id":1,"method":"initialize","params":{"capabilities":{}}}"#;
+        input.write_all(frame(init).as_bytes()).expect("write");
+        assert!(read_message(&mut output)["result"]["capabilities"].is_object());
+        input.write_all(frame("[1, 2").as_bytes()).expect("write");
+        assert_eq!(read_message(&mut output)["error"]["code"], -32700);
+        if shutdown {
+            input
+                .write_all(frame(r#"{"jsonrpc":"2.0","id":2,"method":"shutdown"}"#).as_bytes())
+                .expect("write");
+            assert_eq!(read_message(&mut output)["id"], 2);
+        }
+        input.write_all(frame(r#"{"jsonrpc":"2.0","method":"exit"}"#).as_bytes()).expect("write");
+        let status = child.wait().expect("it exits");
+        assert_eq!(status.code(), Some(code), "shutdown first: {shutdown}");
+    }
+}
+
+#[test]
+fn a_catalog_edited_on_disk_is_read_again() {
+    let dir = std::env::temp_dir().join(format!("holoc-lsp-reload-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("scratch");
+    let catalog = std::fs::read_to_string("tests/catalog/procthor_small.json").expect("catalog");
+    std::fs::write(dir.join("mine.json"), &catalog).expect("write");
+    std::fs::write(dir.join("holoc.toml"), "catalogs = [\"mine.json\"]\n").expect("write");
+    let uri = format!("file://{}/scene.holo", dir.display());
+    let text = BEDROOM.replacen(
+        "    size 160 cm x 210 cm x 100 cm\n",
+        "    size 160 cm x 210 cm x 100 cm\n    asset \"Test_Grand_Piano\"\n",
+        1,
+    );
+    let mut client = Client::in_folders(
+        holoc::lsp::ServerOptions { catalogs: Vec::new(), solve_on_save: false },
+        json!({}),
+        &[format!("file://{}", dir.display())],
+    );
+    client.open(&uri, &text);
+    let published = client.wait_published(|p| p["version"] == 1);
+    assert!(!diagnostics_text(&published).contains("E0401"), "{published}");
+    // The piano leaves the catalog; the editor says a watched file changed.
+    std::fs::write(dir.join("mine.json"), catalog.replace("Test_Grand_Piano", "Test_Other_Piano"))
+        .expect("write");
+    let before = client.published.len();
+    client.notify(
+        "workspace/didChangeWatchedFiles",
+        json!({"changes": [{"uri": format!("file://{}/mine.json", dir.display()), "type": 2}]}),
+    );
+    let again = client.wait_published(|p| diagnostics_text(p).contains("E0401"));
+    assert_eq!(again["version"], 1);
+    assert!(client.published.len() > before);
+    // Without a notification, the next keystroke reads it again too.
+    std::fs::write(dir.join("mine.json"), &catalog).expect("write");
+    client.change(&uri, 2, json!([{"text": text.clone()}]));
+    let fine = client.wait_published(|p| p["version"] == 2);
+    assert!(!diagnostics_text(&fine).contains("E0401"), "{fine}");
+    client.stop();
+    let _ = std::fs::remove_dir_all(&dir);
 }

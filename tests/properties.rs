@@ -1,6 +1,7 @@
 //! Properties of the language front end over the whole corpus and the examples:
 //! formatting round-trips and is idempotent; no input makes the parser or checker panic; the
-//! parser that reuses unchanged top-level items gives exactly what parsing at once gives.
+//! parser that reuses unchanged top-level items gives exactly what parsing at once gives; the
+//! language server's incremental analysis gives exactly what a whole analysis gives.
 
 use proptest::prelude::*;
 use std::path::PathBuf;
@@ -86,6 +87,72 @@ fn front_end(text: &str) {
         &all,
         holoc::diag::format::HumanOptions::default(),
     );
+}
+
+/// The embedded catalog, loaded once.
+fn catalog() -> &'static holoc::resolve::Catalog {
+    static CATALOG: std::sync::OnceLock<holoc::resolve::Catalog> = std::sync::OnceLock::new();
+    CATALOG.get_or_init(holoc::resolve::Catalog::embedded)
+}
+
+/// Analyses each version in turn with one incremental memo (as the language server does for
+/// one document) and holds every result to a whole analysis of the same text; returns how
+/// often the plan and asset resolution were reused.
+fn incremental_equals_whole(
+    versions: &[String],
+) -> Result<holoc::lsp::incremental::Counts, TestCaseError> {
+    let mut memo = holoc::lsp::incremental::Memo::default();
+    for text in versions {
+        let mut sources = holoc::source::SourceMap::new();
+        let file = sources.add("t.holo", text.as_str());
+        let incremental = holoc::lsp::incremental::analyse(&sources, file, catalog(), &mut memo);
+        let whole =
+            holoc::compile::analyse(&sources, file, catalog(), holoc::compile::CheckStage::Resolve);
+        prop_assert_eq!(format!("{incremental:?}"), format!("{whole:?}"), "version:\n{}", text);
+    }
+    Ok(memo.counts)
+}
+
+/// Replaces `cut` bytes at `at` (moved back onto character boundaries) with `insert`.
+fn mutate(text: &str, at: usize, cut: usize, insert: &str) -> String {
+    let mut at = at.min(text.len());
+    while !text.is_char_boundary(at) {
+        at -= 1;
+    }
+    let mut end = (at + cut).min(text.len());
+    while !text.is_char_boundary(end) {
+        end -= 1;
+    }
+    format!("{}{}{}", &text[..at], insert, &text[end..])
+}
+
+/// The byte just after the `nth` (modulo their number) occurrence of one of `bytes`, or 0.
+fn after_nth(text: &str, bytes: &[u8], nth: usize) -> usize {
+    let all: Vec<usize> =
+        text.bytes().enumerate().filter(|(_, b)| bytes.contains(b)).map(|(i, _)| i + 1).collect();
+    if all.is_empty() {
+        0
+    } else {
+        all[nth % all.len()]
+    }
+}
+
+#[test]
+fn typing_in_a_valid_scene_reuses_the_plan_and_gives_the_whole_analysis() {
+    // Typing into every description of the apartment, then into a corner: the plan runs once
+    // for the descriptions, again for the corner.
+    let text = std::fs::read_to_string("examples/apartment_1b1b.holo").expect("readable");
+    let mut versions = vec![text.clone()];
+    let mut current = text;
+    for nth in 0..6 {
+        let at = current.match_indices("describe \"").nth(nth).expect("a description").0 + 10;
+        current = mutate(&current, at, 0, "x");
+        versions.push(current.clone());
+    }
+    current = current.replacen("(5, 7) (5, 0)", "(5, 7.5) (5, 0)", 1);
+    versions.push(current);
+    let counts = incremental_equals_whole(&versions).expect("the same analyses");
+    assert_eq!((counts.planned, counts.plans_reused), (2, 6), "{counts:?}");
 }
 
 /// Tokens that make up plausible and implausible `.holo` text.
@@ -175,6 +242,27 @@ proptest! {
             prop_assert_eq!(format!("{:?}", piecewise.value), format!("{:?}", whole.value));
             prop_assert_eq!(format!("{:?}", piecewise.diagnostics), format!("{:?}", whole.diagnostics));
         }
+    }
+
+    #[test]
+    fn incremental_analysis_equals_whole_analysis(index in 0usize..64, edits in proptest::collection::vec((0usize..64, 0usize..3, 0usize..3, "[a-z0-9 ]{0,3}"), 1..5)) {
+        // Edits after a quote, a digit or a line start of an example or corpus file: inside
+        // descriptions, numbers (corners, sizes) and statements, as a user types.
+        let files = holo_files();
+        let path = &files[index % files.len()];
+        let mut current = std::fs::read_to_string(path).expect("readable");
+        let mut versions = vec![current.clone()];
+        for (nth, class, cut, insert) in edits {
+            let bytes: &[u8] = match class {
+                0 => b"\"",
+                1 => b"0123456789",
+                _ => b"\n",
+            };
+            let at = after_nth(&current, bytes, nth);
+            current = mutate(&current, at, cut, &insert);
+            versions.push(current.clone());
+        }
+        incremental_equals_whole(&versions)?;
     }
 
     #[test]

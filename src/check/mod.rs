@@ -591,11 +591,7 @@ impl Checker {
                 // An out-of-range count is an error; the group still declares as many
                 // instances as it can hold, so references to them do not cascade.
                 n = count(q, "the object count", 1, MAX_GROUP_COUNT, &mut self.diagnostics)
-                    .unwrap_or(if q.value > f64::from(MAX_GROUP_COUNT) {
-                        MAX_GROUP_COUNT
-                    } else {
-                        1
-                    });
+                    .unwrap_or_else(|| fallback_count(q));
             }
         }
         n
@@ -1421,6 +1417,34 @@ impl Checker {
         );
         None
     }
+}
+
+/// The instances a group with an unusable `count` still declares, so that references to them
+/// do not cascade: as many as it can hold when the count is too large, the number written when
+/// only its unit is wrong (`count 2 cm`), else one.
+fn fallback_count(q: &Quantity) -> u32 {
+    if q.value > f64::from(MAX_GROUP_COUNT) {
+        MAX_GROUP_COUNT
+    } else if q.value >= 1.0 && q.value.fract() == 0.0 {
+        q.value as u32
+    } else {
+        1
+    }
+}
+
+/// The number of instances an object group declares, as the checker counts them (its first
+/// `count`, or the fallback of an unusable one): what an editor offers before the file checks.
+pub fn declared_count(o: &ast::Object) -> u32 {
+    o.body
+        .iter()
+        .find_map(|s| match s {
+            ast::ObjectStmt::Count(q, _, _) => Some(
+                count(q, "the object count", 1, MAX_GROUP_COUNT, &mut Vec::new())
+                    .unwrap_or_else(|| fallback_count(q)),
+            ),
+            _ => None,
+        })
+        .unwrap_or(1)
 }
 
 /// Whether `name` is `<group>-<index>` of the given group and instance.

@@ -5,7 +5,14 @@ use crate::diag::{Code, Diagnostic, Fix};
 
 /// A fix that rewrites a quantity (number and unit) as `text`.
 fn rewrite(q: &Quantity, title: &str, text: String) -> Fix {
-    Fix { title: format!("{title}: `{text}`"), span: q.span, replacement: text }
+    // A number without a unit: its span may run over the blank after it, which the fix keeps.
+    let span = if q.unit.is_none() {
+        let end = (q.span.start + q.text.len() as u32).min(q.span.end);
+        crate::source::Span { end, ..q.span }
+    } else {
+        q.span
+    };
+    Fix { title: format!("{title}: `{text}`"), span, replacement: text }
 }
 
 /// Converts a length to metres, or reports why it cannot be one. `default` is a unit given for

@@ -26,7 +26,9 @@ pub fn run(args: &LspArgs) -> ExitCode {
         solve_on_save: !args.no_solve,
     };
     match crate::lsp::run_stdio(options) {
-        Ok(()) => ExitCode::SUCCESS,
+        Ok(crate::lsp::Ending::AfterShutdown) => ExitCode::SUCCESS,
+        // The protocol's exit code for an `exit` that no `shutdown` came before.
+        Ok(crate::lsp::Ending::WithoutShutdown) => ExitCode::from(1),
         Err(message) => {
             common::err(&format!("holoc lsp: {message}\n"));
             ExitCode::from(2)

@@ -16,21 +16,43 @@ fn range(sources: &SourceMap, span: Span) -> Range {
     Range { start: Position::new(l0, c0), end: Position::new(l1, c1) }
 }
 
-fn uri(sources: &SourceMap, span: Span) -> Option<Uri> {
-    let file = sources.try_get(span.file)?;
-    let path = std::path::Path::new(&file.name);
+/// The `file:` URI of a path (made absolute from the working folder), percent-encoded by the
+/// `url` crate: a `#`, `%`, space or `é` in a folder name stays part of the path.
+pub fn file_uri(name: &str) -> Option<Uri> {
+    let path = std::path::Path::new(name);
     let absolute = if path.is_absolute() {
         path.to_path_buf()
     } else {
         std::env::current_dir().ok()?.join(path)
     };
-    Uri::from_str(&format!("file://{}", absolute.display()).replace(' ', "%20")).ok()
+    let url = url::Url::from_file_path(&absolute).ok()?;
+    Uri::from_str(url.as_str()).ok()
 }
 
-/// Converts diagnostics to LSP diagnostics, each paired with the file it belongs to.
+/// How a file of the source map is named in LSP locations, and where a code's page is.
+pub struct Links<'a> {
+    /// The URI of a file, by its name in the source map.
+    pub uri: &'a dyn Fn(&str) -> Option<Uri>,
+    /// The `codeDescription.href` of a code (`None`: no `codeDescription`).
+    pub href: &'a dyn Fn(super::Code) -> Option<Uri>,
+}
+
+/// Converts diagnostics to LSP diagnostics, each paired with the file it belongs to. Files are
+/// named by their path's `file:` URI, and a code's page by its path in the book's sources.
 pub fn to_lsp(
     sources: &SourceMap,
     diagnostics: &[Diagnostic],
+) -> Vec<(String, lsp_types::Diagnostic)> {
+    let links = Links { uri: &file_uri, href: &|code| Uri::from_str(&code.url()).ok() };
+    to_lsp_with(sources, diagnostics, &links)
+}
+
+/// [`to_lsp`] with the language server's names: its documents' URIs as the editor gave them,
+/// and absolute links to the codes' pages.
+pub fn to_lsp_with(
+    sources: &SourceMap,
+    diagnostics: &[Diagnostic],
+    links: &Links<'_>,
 ) -> Vec<(String, lsp_types::Diagnostic)> {
     diagnostics
         .iter()
@@ -47,7 +69,7 @@ pub fn to_lsp(
                 .filter_map(|l| {
                     Some(DiagnosticRelatedInformation {
                         location: Location {
-                            uri: uri(sources, l.span)?,
+                            uri: (links.uri)(&sources.try_get(l.span.file)?.name)?,
                             range: range(sources, l.span),
                         },
                         message: l.text.clone(),
@@ -67,9 +89,7 @@ pub fn to_lsp(
                     Severity::Note => DiagnosticSeverity::INFORMATION,
                 }),
                 code: Some(NumberOrString::String(d.code.as_str().to_string())),
-                code_description: Uri::from_str(&d.code.url())
-                    .ok()
-                    .map(|href| CodeDescription { href }),
+                code_description: (links.href)(d.code).map(|href| CodeDescription { href }),
                 source: Some("holoc".to_string()),
                 message,
                 related_information: (!related.is_empty()).then_some(related),

@@ -1,7 +1,7 @@
 //! An open document: its text, its version, and what the compiler made of it.
 
 use super::index::Index;
-use crate::compile::{Analysed, CheckStage};
+use crate::compile::Analysed;
 use crate::diag::Diagnostic;
 use crate::resolve::Catalog;
 use crate::source::{FileId, SourceFile, SourceMap, Span};
@@ -42,6 +42,9 @@ pub struct RelationOutcome {
 pub struct Document {
     /// The name diagnostics show (the file's path, or the URI).
     pub name: String,
+    /// The URI the editor gave it (a `file:` URI, or `untitled:Untitled-1`), used for every
+    /// location in it.
+    pub uri: Option<lsp_types::Uri>,
     /// The version the client gave.
     pub version: i32,
     /// The current text.
@@ -50,8 +53,14 @@ pub struct Document {
     pub analysis: Option<Analysis>,
     /// The last background solve of this document, if its version is the current one.
     pub solved: Option<Solved>,
-    /// What earlier versions' analyses keep for the next (parsed items, asset rankings).
-    pub cache: crate::compile::AnalysisCache,
+    /// What earlier versions' analyses keep for the next (parsed items, asset rankings, the
+    /// last plan and asset choices).
+    pub memo: super::incremental::Memo,
+    /// The catalog the analysis and the rankings of `cache` were made with.
+    catalog: Option<std::sync::Arc<Catalog>>,
+    /// Why the server's text can no longer be trusted to be the editor's (a change it had to
+    /// refuse), until a change sends the whole text again.
+    pub out_of_sync: Option<String>,
 }
 
 /// The result of every stage before the layout solver on one version of a document.
@@ -65,24 +74,26 @@ pub struct Analysis {
     pub analysed: Analysed,
     /// Declarations and references.
     pub index: Index,
+    /// The document's URI, as the editor gave it.
+    pub uri: Option<lsp_types::Uri>,
 }
 
 impl Analysis {
-    /// Runs parse, check, plan and resolve on `text`, reusing the unchanged top-level items
-    /// of `cache`.
+    /// Runs parse, check, plan and resolve on `text`, reusing what `memo` kept of earlier
+    /// versions where the edit did not touch it (see [`super::incremental`]).
     pub fn new(
         name: &str,
+        uri: Option<lsp_types::Uri>,
         text: &str,
         catalog: &Catalog,
-        cache: &mut crate::compile::AnalysisCache,
+        memo: &mut super::incremental::Memo,
     ) -> Analysis {
         let mut sources = SourceMap::new();
         let file = sources.add(name, text);
-        let mut analysed =
-            crate::compile::analyse_cached(&sources, file, catalog, CheckStage::Resolve, cache);
+        let mut analysed = super::incremental::analyse(&sources, file, catalog, memo);
         crate::diag::sort(&mut analysed.diagnostics);
         let index = Index::new(&analysed.ast);
-        Analysis { sources, file, analysed, index }
+        Analysis { sources, file, analysed, index, uri }
     }
 
     /// The source file.
@@ -105,28 +116,51 @@ impl Analysis {
 
 impl Document {
     /// A document as opened.
-    pub fn new(name: String, version: i32, text: String) -> Document {
+    pub fn new(name: String, uri: Option<lsp_types::Uri>, version: i32, text: String) -> Document {
         Document {
             name,
+            uri,
             version,
             text,
             analysis: None,
             solved: None,
-            cache: crate::compile::AnalysisCache::default(),
+            memo: super::incremental::Memo::default(),
+            catalog: None,
+            out_of_sync: None,
         }
     }
 
     /// Applies one change (a whole new text, or a range replaced) and forgets the analysis.
-    /// A range outside the text is clamped to it, as clients expect.
-    pub fn apply(&mut self, change: TextDocumentContentChangeEvent) {
+    /// A range that runs past the text is clamped to it, as clients expect; a range whose end
+    /// comes before its start is refused (`Err`), as is any ranged change while the document
+    /// is out of sync (a whole text brings it back).
+    pub fn apply(&mut self, change: TextDocumentContentChangeEvent) -> Result<(), String> {
         match change.range {
-            None => self.text = change.text,
+            None => {
+                self.text = change.text;
+                self.out_of_sync = None;
+            }
+            Some(_) if self.out_of_sync.is_some() => {
+                return Err("a ranged change to a document out of sync".to_string());
+            }
             Some(range) => {
                 let file = SourceFile::new("", std::mem::take(&mut self.text));
                 let start = file.offset_of_lsp(range.start.line, range.start.character);
-                let end = file.offset_of_lsp(range.end.line, range.end.character).max(start);
+                let end = file.offset_of_lsp(range.end.line, range.end.character);
+                let backwards = (range.end.line, range.end.character)
+                    < (range.start.line, range.start.character);
                 let mut text = file.text;
-                text.replace_range(start..end, &change.text);
+                if backwards {
+                    self.text = text;
+                    return Err(format!(
+                        "a change whose range ends ({}:{}) before it starts ({}:{})",
+                        range.end.line,
+                        range.end.character,
+                        range.start.line,
+                        range.start.character
+                    ));
+                }
+                text.replace_range(start..end.max(start), &change.text);
                 self.text = text;
             }
         }
@@ -136,12 +170,22 @@ impl Document {
             discard(old);
         }
         self.solved = None;
+        Ok(())
     }
 
-    /// The analysis of the current text, computed if the text changed.
-    pub fn analysis(&mut self, catalog: &Catalog) -> &Analysis {
-        let (name, text, cache) = (&self.name, &self.text, &mut self.cache);
-        self.analysis.get_or_insert_with(|| Analysis::new(name, text, catalog, cache))
+    /// The analysis of the current text, computed if the text or the catalog changed.
+    pub fn analysis(&mut self, catalog: &std::sync::Arc<Catalog>) -> &Analysis {
+        if !self.catalog.as_ref().is_some_and(|c| std::sync::Arc::ptr_eq(c, catalog)) {
+            // A catalog edited on disk: every ranking and the analysis are made again.
+            self.memo.forget();
+            if let Some(old) = self.analysis.take() {
+                discard(old);
+            }
+            self.catalog = Some(std::sync::Arc::clone(catalog));
+        }
+        let (name, text, memo) = (&self.name, &self.text, &mut self.memo);
+        let uri = self.uri.clone();
+        self.analysis.get_or_insert_with(|| Analysis::new(name, uri, text, catalog, memo))
     }
 }
 

@@ -26,11 +26,81 @@ pub fn diagnostics(analysis: &Analysis, solved: Option<&Solved>) -> Vec<lsp_type
         all.extend(solved.diagnostics.iter().cloned());
     }
     crate::diag::sort(&mut all);
-    crate::diag::lsp::to_lsp(&analysis.sources, &all)
+    let mut out: Vec<lsp_types::Diagnostic> = to_lsp(analysis, &all)
         .into_iter()
         .filter(|(file, _)| *file == analysis.source().name)
         .map(|(_, d)| d)
+        .collect();
+    if let Some(solved) = solved {
+        out.extend(relation_hints(analysis, solved));
+    }
+    out
+}
+
+/// Diagnostics in the LSP form, with the server's links: the document's own URI for places in
+/// it (as the editor named it: a `file:` URI, or `untitled:1`), and absolute links to the
+/// codes' pages.
+fn to_lsp(analysis: &Analysis, all: &[Diagnostic]) -> Vec<(String, lsp_types::Diagnostic)> {
+    let name = analysis.source().name.as_str();
+    let uri = |file: &str| {
+        if file == name {
+            analysis.uri.clone()
+        } else {
+            crate::diag::lsp::file_uri(file)
+        }
+    };
+    let links = crate::diag::lsp::Links { uri: &uri, href: &code_href };
+    crate::diag::lsp::to_lsp_with(&analysis.sources, all, &links)
+}
+
+/// The absolute `file:` URI of a code's page in the holoc sources the server was built from,
+/// when they are there (`holoc explain CODE` prints the same page).
+pub fn code_href(code: crate::diag::Code) -> Option<Uri> {
+    use std::sync::OnceLock;
+    static PAGES: OnceLock<Option<std::path::PathBuf>> = OnceLock::new();
+    let dir = PAGES.get_or_init(|| {
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("book/src/diagnostics");
+        dir.is_dir().then_some(dir)
+    });
+    let page = dir.as_ref()?.join(format!("{}.md", code.as_str()));
+    crate::diag::lsp::file_uri(&page.to_string_lossy())
+}
+
+/// One hint per relation of a placed object that does not hold in the last solve (every
+/// instance of a counted group is measured on its own), at the relation as written.
+fn relation_hints(analysis: &Analysis, solved: &Solved) -> Vec<lsp_types::Diagnostic> {
+    solved
+        .relations
+        .iter()
+        .filter(|r| !r.satisfied && r.value.is_finite() && r.span.file == analysis.file)
+        .map(|r| lsp_types::Diagnostic {
+            range: analysis.range(r.span),
+            severity: Some(lsp_types::DiagnosticSeverity::HINT),
+            source: Some("holoc".to_string()),
+            message: format!(
+                "`{}` {} does not hold in the last solve: {}",
+                r.object,
+                r.text,
+                measured(r)
+            ),
+            ..Default::default()
+        })
         .collect()
+}
+
+/// `measured 2.10 m (range 0.10-1.50 m)`.
+fn measured(outcome: &super::document::RelationOutcome) -> String {
+    let mut text = format!("measured {:.2} {}", outcome.value, outcome.unit);
+    match outcome.range {
+        Some((lo, hi)) if hi.is_finite() => {
+            let _ = write!(text, " (range {lo:.2}-{hi:.2} m)");
+        }
+        Some((lo, _)) => {
+            let _ = write!(text, " (at least {lo:.2} m)");
+        }
+        None => {}
+    }
+    text
 }
 
 /// What a relation means, in one sentence (the definitions of the layout semantics).
@@ -76,12 +146,13 @@ fn markdown(value: String) -> Hover {
 }
 
 /// Hover: an object's resolved asset, size and score; a relation's meaning and whether it
-/// holds after the last solve (`solving`: whether the server solves on save); a room's label
+/// holds after the last solve (`solving`: whether the server solves on save, and whether a
+/// solve of this version is running); a room's label
 /// and area.
 pub fn hover(
     analysis: &Analysis,
     solved: Option<&Solved>,
-    solving: bool,
+    solving: (bool, bool),
     position: Position,
 ) -> Option<Hover> {
     let offset = analysis.offset(position);
@@ -95,22 +166,38 @@ pub fn hover(
         } else {
             text.push_str(": not a relation of the language");
         }
-        match solved.and_then(|s| s.relations.iter().find(|r| r.span == relation.span)) {
-            Some(outcome) => {
-                let verdict = if outcome.satisfied { "holds" } else { "does not hold" };
-                let _ = write!(
-                    text,
-                    "\n\nAfter the last solve: `{}` {} {verdict}: measured {:.2} {}",
-                    outcome.object, outcome.text, outcome.value, outcome.unit
-                );
-                if let Some((lo, hi)) = outcome.range {
-                    let _ = write!(text, " (range {lo:.2}-{hi:.2} m)");
-                }
+        // Every instance of a counted group has its own outcome for the one relation written.
+        let outcomes: Vec<&super::document::RelationOutcome> = solved
+            .map(|s| s.relations.iter().filter(|r| r.span == relation.span).collect())
+            .unwrap_or_default();
+        let verdict = |o: &super::document::RelationOutcome| {
+            let verdict = if o.satisfied { "holds" } else { "does not hold" };
+            format!("`{}` {} {verdict}: {}", o.object, o.text, measured(o))
+        };
+        match outcomes.as_slice() {
+            [one] => {
+                let _ = write!(text, "\n\nAfter the last solve: {}", verdict(one));
             }
-            None if solved.is_none() && solving => {
+            [] if solved.is_none() && solving.1 => {
+                text.push_str(
+                    "\n\nThe layout of this version is being solved; hover again to see whether it holds.",
+                );
+            }
+            [] if solved.is_none() && solving.0 => {
                 text.push_str("\n\nSave the file to solve the layout and see whether it holds.");
             }
-            None => {}
+            [] => {}
+            several => {
+                let held = several.iter().filter(|o| o.satisfied).count();
+                let _ = write!(
+                    text,
+                    "\n\nAfter the last solve: holds for {held} of {} instances",
+                    several.len()
+                );
+                for o in several {
+                    let _ = write!(text, "\n- {}", verdict(o));
+                }
+            }
         }
         let mut hover = markdown(text);
         hover.range = Some(analysis.range(relation.words_span));
@@ -377,7 +464,12 @@ pub fn formatting(analysis: &Analysis) -> Result<Vec<TextEdit>, String> {
         return Err("not formatting: the file has syntax errors".to_string());
     }
     let text = &analysis.source().text;
+    // The canonical text with the document's own line breaks (those of its first line).
     let formatted = crate::fmt::print(&analysis.analysed.ast);
+    let formatted = match line_break(text) {
+        "\n" => formatted,
+        other => formatted.replace('\n', other),
+    };
     if &formatted == text {
         return Ok(Vec::new());
     }
@@ -386,6 +478,15 @@ pub fn formatting(analysis: &Analysis) -> Result<Vec<TextEdit>, String> {
         range: Range { start: Position::new(0, 0), end: Position::new(end.0, end.1) },
         new_text: formatted,
     }])
+}
+
+/// The line break a text uses: that of its first line (`\n` when it has none).
+pub fn line_break(text: &str) -> &'static str {
+    match text.find(['\n', '\r']).map(|i| &text.as_bytes()[i..]) {
+        Some([b'\r', b'\n', ..]) => "\r\n",
+        Some([b'\r', ..]) => "\r",
+        _ => "\n",
+    }
 }
 
 /// Code actions: the fixes of the diagnostics that touch `range` (did-you-mean, add a unit,
@@ -404,6 +505,7 @@ pub fn code_actions(
         all.extend(&solved.diagnostics);
     }
     let mut actions = Vec::new();
+    let errors_now = std::cell::OnceCell::new();
     for d in all {
         let Some(primary) = &d.primary else { continue };
         // The cursor may be on the diagnostic's place or on the text a fix rewrites.
@@ -414,8 +516,12 @@ pub fn code_actions(
             continue;
         }
         let lsp_diagnostic = as_sent(analysis, &lsp, d);
-        let preferred = d.fixes.len() == 1;
-        for fix in &d.fixes {
+        // A fix that would add an error (a rename onto a name already declared, E0203) is
+        // not offered; one that is left alone is preferred.
+        let fixes: Vec<&Fix> =
+            d.fixes.iter().filter(|f| !breaks(analysis, f, &errors_now)).collect();
+        let preferred = fixes.len() == 1;
+        for fix in fixes {
             actions.push(CodeActionOrCommand::CodeAction(action(
                 analysis,
                 uri,
@@ -428,6 +534,41 @@ pub fn code_actions(
     actions.extend(repair_action(analysis, uri, start, end, &lsp));
     actions
 }
+
+/// Whether applying `fix` gives the file a syntax or checker error it did not have (compared
+/// by code and message, as spans move).
+fn breaks(analysis: &Analysis, fix: &Fix, errors_now: &std::cell::OnceCell<Vec<Checked>>) -> bool {
+    let text = &analysis.source().text;
+    let (start, end) = (fix.span.start as usize, fix.span.end as usize);
+    if fix.span.file != analysis.file
+        || start > end
+        || !text.is_char_boundary(start)
+        || !text.is_char_boundary(end.min(text.len()))
+        || end > text.len()
+    {
+        return true;
+    }
+    let errors = |text: &str| -> Vec<Checked> {
+        let parsed = crate::parse::parse_str(text);
+        let checked = crate::check::check(&parsed.value);
+        let mut errors: Vec<Checked> = parsed
+            .diagnostics
+            .iter()
+            .chain(&checked.diagnostics)
+            .filter(|d| d.is_error())
+            .map(|d| (d.code, d.message.clone()))
+            .collect();
+        errors.sort();
+        errors
+    };
+    let mut fixed = text.clone();
+    fixed.replace_range(start..end, &fix.replacement);
+    let before = errors_now.get_or_init(|| errors(text));
+    errors(&fixed).iter().any(|e| before.binary_search(e).is_err())
+}
+
+/// An error of the front end, by code and message.
+type Checked = (crate::diag::Code, String);
 
 /// When the floor plan has errors that `holoc repair` can mend: one action that applies the
 /// whole repair (every moved room's new corners), offered on the plan errors and on the
@@ -566,13 +707,16 @@ const OBJECT: &[(&str, &str)] = &[
 ];
 
 /// Completion: the statements of the block around the cursor, relation names in object
-/// blocks, the room's objects and instances after a relation or `above`, rooms after `door`,
-/// and the words of a window or door line.
+/// blocks, the room's instances after a relation or `above`, rooms after `door`, and the words
+/// of a window or door line. Every item carries a `textEdit` over what is being typed (the
+/// word at the cursor, or the words of a phrase such as `in fr` for `in front of`), and the
+/// answer is read from the syntax tree, so it is there while the line is half typed.
 pub fn completion(analysis: &Analysis, position: Position) -> Vec<CompletionItem> {
     let offset = analysis.offset(position);
     let source = analysis.source();
-    let line_start = source.text[..offset].rfind('\n').map_or(0, |i| i + 1);
-    let before = source.text[line_start..offset].trim_start().to_lowercase();
+    let text = source.text.as_str();
+    let line_start = text[..offset].rfind(['\n', '\r']).map_or(0, |i| i + 1);
+    let before = text[line_start..offset].trim_start().to_lowercase();
     let words: Vec<&str> = before.split_whitespace().collect();
     let complete_word = before.ends_with(char::is_whitespace) || before.is_empty();
     // The words before the one being typed.
@@ -581,7 +725,7 @@ pub fn completion(analysis: &Analysis, position: Position) -> Vec<CompletionItem
     let index = &analysis.index;
     let room = index.room_at(offset);
     let in_object = index.object_at(offset).is_some()
-        || enclosing_block(&source.text[..offset])
+        || enclosing_block(&text[..offset])
             .is_some_and(|w| matches!(w.as_str(), "object" | "instance" | "ceiling" | "on"));
 
     let mut items = Vec::new();
@@ -608,55 +752,111 @@ pub fn completion(analysis: &Analysis, position: Position) -> Vec<CompletionItem
             items.extend(room_items(analysis));
             items.push(keyword("exterior", "outside the house"));
         }
-        return items;
-    }
-    if settled.first() == Some(&"window") {
+    } else if settled.first() == Some(&"window") {
         let words: &[&str] = match settled.len() {
             1 => &["north", "east", "south", "west"],
             2 => &["fixed", "hung", "slider"],
             _ => &[],
         };
         items.extend(words.iter().map(|w| keyword(w, "window")));
-        return items;
-    }
-    if relation_or_above {
+    } else if relation_or_above {
         if let Some(room) = room {
-            items.extend(object_items(analysis, room));
+            items.extend(object_items(analysis, room, offset));
         }
-        return items;
-    }
-    if !settled.is_empty() {
-        return items;
-    }
-    let table = if in_object {
-        OBJECT
-    } else if room.is_some() {
-        ROOM
-    } else if enclosing_block(&source.text[..offset]).as_deref() == Some("scene") {
-        SCENE
     } else {
-        TOP
-    };
-    items.extend(table.iter().map(|(label, form)| keyword(label, form)));
-    if in_object {
-        for kind in RelationKind::ALL {
-            items.push(CompletionItem {
-                label: kind.as_str().to_string(),
-                kind: Some(CompletionItemKind::OPERATOR),
-                detail: Some(relation_meaning(kind).to_string()),
-                ..Default::default()
-            });
+        let table = if in_object {
+            OBJECT
+        } else if room.is_some() {
+            ROOM
+        } else if enclosing_block(&text[..offset]).as_deref() == Some("scene") {
+            SCENE
+        } else {
+            TOP
+        };
+        items.extend(table.iter().map(|(label, form)| keyword(label, form)));
+        if in_object {
+            for kind in RelationKind::ALL {
+                items.push(CompletionItem {
+                    label: kind.as_str().to_string(),
+                    kind: Some(CompletionItemKind::OPERATOR),
+                    detail: Some(relation_meaning(kind).to_string()),
+                    ..Default::default()
+                });
+            }
         }
+        // After the first word of a phrase (`in fr`), the phrases it begins.
+        if !settled.is_empty() {
+            items.retain(|item| item.label.contains(' ') && item.label.starts_with(&before));
+        }
+    }
+    let edits = TypedWord::at(text, line_start, offset);
+    for item in &mut items {
+        let (start, end) = edits.range_for(text, &item.label);
+        item.text_edit = Some(lsp_types::CompletionTextEdit::Edit(TextEdit {
+            range: analysis.range(Span::new(analysis.file, start, end)),
+            new_text: item.label.clone(),
+        }));
     }
     items
 }
 
+/// What is being typed at the cursor: the word around it, and where the line's words start.
+struct TypedWord {
+    /// The start of the word at the cursor (identifier characters and `-`).
+    start: usize,
+    /// Its end, after the cursor.
+    end: usize,
+    /// The cursor.
+    cursor: usize,
+    /// The starts of the earlier words of the line, first first.
+    earlier: Vec<usize>,
+}
+
+impl TypedWord {
+    fn at(text: &str, line_start: usize, cursor: usize) -> TypedWord {
+        let is_word = |c: char| c.is_alphanumeric() || c == '_' || c == '-';
+        let before: usize = text[line_start..cursor]
+            .chars()
+            .rev()
+            .take_while(|&c| is_word(c))
+            .map(char::len_utf8)
+            .sum();
+        let line_end = text[cursor..].find(['\n', '\r']).map_or(text.len(), |i| cursor + i);
+        let after: usize =
+            text[cursor..line_end].chars().take_while(|&c| is_word(c)).map(char::len_utf8).sum();
+        let start = cursor - before;
+        let mut earlier = Vec::new();
+        let mut previous_space = true;
+        for (i, c) in text[line_start..start].char_indices() {
+            if previous_space && !c.is_whitespace() {
+                earlier.push(line_start + i);
+            }
+            previous_space = c.is_whitespace();
+        }
+        TypedWord { start, end: cursor + after, cursor, earlier }
+    }
+
+    /// The bytes an item replaces: from the first word of the line from which the text typed
+    /// so far begins the label (`in fr` for `in front of`), else the word at the cursor.
+    fn range_for(&self, text: &str, label: &str) -> (usize, usize) {
+        let label = label.to_lowercase();
+        let start = self
+            .earlier
+            .iter()
+            .copied()
+            .find(|&s| label.starts_with(&text[s..self.cursor].to_lowercase()))
+            .unwrap_or(self.start);
+        (start, self.end)
+    }
+}
+
 fn room_items(analysis: &Analysis) -> Vec<CompletionItem> {
+    let mut seen = std::collections::BTreeSet::new();
     analysis
         .index
         .symbols
         .iter()
-        .filter(|s| s.kind == HoloSymbol::Room)
+        .filter(|s| s.kind == HoloSymbol::Room && seen.insert(s.name.as_str()))
         .map(|s| CompletionItem {
             label: s.name.clone(),
             kind: Some(CompletionItemKind::MODULE),
@@ -666,36 +866,35 @@ fn room_items(analysis: &Analysis) -> Vec<CompletionItem> {
         .collect()
 }
 
-fn object_items(analysis: &Analysis, room: usize) -> Vec<CompletionItem> {
+/// The instances a relation or `above` at `offset` may name: every instance of the room's
+/// floor object groups (`nightstand-0`, `nightstand-1` for `count 2`; a bare group name is
+/// ambiguous for a counted group, so none is offered), but not the object itself (all the
+/// instances of the group whose block holds the cursor, or one instance in its own block).
+fn object_items(analysis: &Analysis, room: usize, offset: usize) -> Vec<CompletionItem> {
+    let index = &analysis.index;
+    let own = index.object_at(offset);
+    let own_instance = own.and_then(|g| {
+        index.symbols[g]
+            .instance_blocks
+            .iter()
+            .find(|(_, _, block)| (block.start as usize) <= offset && offset < (block.end as usize))
+            .map(|&(n, _, _)| n)
+    });
     let mut items = Vec::new();
-    // Instances per group of this room, from the checked scene (1 when it has errors).
-    let room_name = &analysis.index.symbols[room].name;
-    let counts: HashMap<&str, u32> =
-        analysis.analysed.scene.as_ref().map_or_else(HashMap::new, |scene| {
-            scene
-                .rooms
-                .iter()
-                .filter(|r| &r.name == room_name)
-                .flat_map(|r| scene.room_objects(r.id))
-                .map(|o| (o.group.as_str(), o.group_count))
-                .collect()
-        });
-    for (_, object) in analysis.index.objects_of(room) {
-        let count = counts.get(object.name.as_str()).copied().unwrap_or(1);
-        let detail = object.detail.clone();
-        if count == 1 {
-            items.push(CompletionItem {
-                label: object.name.clone(),
-                kind: Some(CompletionItemKind::CLASS),
-                detail: detail.clone(),
-                ..Default::default()
-            });
+    let mut seen = std::collections::BTreeSet::new();
+    for (g, object) in index.objects_of(room) {
+        // The first group of a name is the one the checker keeps; wall objects are no targets.
+        if !seen.insert(object.name.as_str()) || object.kind != HoloSymbol::Object {
+            continue;
         }
-        for n in 0..count.min(50) {
+        for n in 0..object.count {
+            if own == Some(g) && own_instance.is_none_or(|own| own == n) {
+                continue;
+            }
             items.push(CompletionItem {
                 label: format!("{}-{n}", object.name),
                 kind: Some(CompletionItemKind::VARIABLE),
-                detail: detail.clone(),
+                detail: object.detail.clone(),
                 ..Default::default()
             });
         }

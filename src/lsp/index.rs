@@ -36,6 +36,9 @@ pub struct Symbol {
     pub decl_span: Span,
     /// For object groups: `instance NAME { ... }` blocks, as (index, identifier span, block span).
     pub instance_blocks: Vec<(u32, Span, Span)>,
+    /// For object groups: how many instances the group declares (as the checker counts them,
+    /// read from the syntax tree so that it is known while a line is half typed); 1 for rooms.
+    pub count: u32,
 }
 
 /// One place a symbol is named.
@@ -93,6 +96,7 @@ impl Index {
                     name_span: room.id.span,
                     decl_span: room.span,
                     instance_blocks: Vec::new(),
+                    count: 1,
                 });
                 index.declare(r, room.id.span);
             }
@@ -170,6 +174,7 @@ impl Index {
                 name_span: object.id.span,
                 decl_span: object.span,
                 instance_blocks,
+                count: crate::check::declared_count(object),
             });
             self.declare(s, object.id.span);
             self.objects_by_name.entry((r, object.id.name.clone())).or_insert(s);

@@ -16,6 +16,7 @@
 
 pub mod document;
 pub mod features;
+pub mod incremental;
 pub mod index;
 pub mod transport;
 
@@ -29,7 +30,6 @@ use lsp_types::request::Request as _;
 use lsp_types::{notification, request, Uri};
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 use std::path::{Path, PathBuf};
-use std::str::FromStr;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 
@@ -44,12 +44,23 @@ pub struct ServerOptions {
     pub solve_on_save: bool,
 }
 
-/// Runs the server on stdin and stdout until the client says `exit`.
-pub fn run_stdio(options: ServerOptions) -> Result<(), String> {
+/// How a session ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Ending {
+    /// `exit` after `shutdown`: the process exits with 0.
+    AfterShutdown,
+    /// `exit` without `shutdown`, or the input closed first: the process exits with 1, as the
+    /// protocol asks.
+    WithoutShutdown,
+}
+
+/// Runs the server on stdin and stdout until the client says `exit` (or closes its end).
+pub fn run_stdio(options: ServerOptions) -> Result<Ending, String> {
     let (connection, io) = transport::stdio();
-    serve(&connection, options)?;
+    let ending = serve(&connection, options)?;
     drop(connection);
-    io.join()
+    io.join()?;
+    Ok(ending)
 }
 
 /// The server's capabilities.
@@ -89,10 +100,41 @@ pub fn capabilities() -> lsp_types::ServerCapabilities {
     }
 }
 
+/// The `initialize` request's parameters, answering every other request before it with
+/// `ServerNotInitialized` and dropping other notifications; `None` when the client says `exit`
+/// or goes away first.
+fn handshake(connection: &Connection) -> Option<(lsp_server::RequestId, serde_json::Value)> {
+    loop {
+        match connection.receiver.recv().ok()? {
+            Message::Request(r) if r.method == request::Initialize::METHOD => {
+                return Some((r.id, r.params));
+            }
+            Message::Request(r) => {
+                let _ = connection.sender.send(Message::Response(Response::new_err(
+                    r.id,
+                    ErrorCode::ServerNotInitialized as i32,
+                    "the server is not initialized yet".to_string(),
+                )));
+            }
+            Message::Notification(n) if n.method == notification::Exit::METHOD => return None,
+            Message::Notification(_) | Message::Response(_) => {}
+        }
+    }
+}
+
 /// Serves one client on `connection`: the initialize handshake, then messages until `exit`.
-pub fn serve(connection: &Connection, options: ServerOptions) -> Result<(), String> {
+/// Messages may follow `initialize` at once (`initialized` is not awaited before them).
+pub fn serve(connection: &Connection, options: ServerOptions) -> Result<Ending, String> {
     let caps = serde_json::to_value(capabilities()).map_err(|e| e.to_string())?;
-    let init = connection.initialize(caps).map_err(|e| e.to_string())?;
+    let Some((id, init)) = handshake(connection) else { return Ok(Ending::WithoutShutdown) };
+    let result = serde_json::json!({
+        "capabilities": caps,
+        "serverInfo": {"name": "holoc", "version": env!("CARGO_PKG_VERSION")},
+    });
+    connection
+        .sender
+        .send(Message::Response(Response::new_ok(id, result)))
+        .map_err(|e| e.to_string())?;
     let mut catalogs = options.catalogs.clone();
     if let Some(paths) = init
         .get("initializationOptions")
@@ -123,6 +165,7 @@ pub fn serve(connection: &Connection, options: ServerOptions) -> Result<(), Stri
         catalogs,
         objathor,
         catalog_cache: HashMap::new(),
+        published: BTreeMap::new(),
         configs: HashMap::new(),
         roots: workspace_roots(&init),
         dirty: BTreeSet::new(),
@@ -133,9 +176,9 @@ pub fn serve(connection: &Connection, options: ServerOptions) -> Result<(), Stri
     loop {
         crossbeam_channel::select! {
             recv(connection.receiver) -> message => {
-                let Ok(message) = message else { return Ok(()) };
+                let Ok(message) = message else { return Ok(server.ending()) };
                 if server.handle(message) == Flow::Exit {
-                    return Ok(());
+                    return Ok(server.ending());
                 }
             }
             recv(results) -> solved => {
@@ -164,8 +207,11 @@ struct Server {
     catalogs: Vec<PathBuf>,
     /// The objathor folder of the command line or the initialization options.
     objathor: Option<ObjathorOptions>,
-    /// Loaded catalogs by their list of files and objathor folder.
-    catalog_cache: HashMap<(Vec<PathBuf>, Option<ObjathorOptions>), Arc<Catalog>>,
+    /// Loaded catalogs by their list of files and objathor folder, with the files' sizes and
+    /// times when loaded.
+    catalog_cache: HashMap<(Vec<PathBuf>, Option<ObjathorOptions>), (Vec<Stamp>, Arc<Catalog>)>,
+    /// The last version published for each document (a publish never goes back).
+    published: BTreeMap<String, i32>,
     /// Each `holoc.toml` read: when it was modified and the catalogs it lists.
     configs: HashMap<PathBuf, (Option<std::time::SystemTime>, Config)>,
     /// The client's workspace folders: where `holoc.toml` is looked up.
@@ -180,6 +226,14 @@ struct Server {
 }
 
 impl Server {
+    fn ending(&self) -> Ending {
+        if self.shutting_down {
+            Ending::AfterShutdown
+        } else {
+            Ending::WithoutShutdown
+        }
+    }
+
     fn send(&self, message: Message) {
         // The client is gone when this fails; the reader thread ends the loop.
         let _ = self.sender.send(message);
@@ -187,6 +241,11 @@ impl Server {
 
     fn notify<N: lsp_types::notification::Notification>(&self, params: N::Params) {
         self.send(Message::Notification(Notification::new(N::METHOD.to_string(), params)));
+    }
+
+    /// Writes to the editor's log of the server (`window/logMessage`).
+    fn log(&self, kind: lsp_types::MessageType, message: String) {
+        self.notify::<notification::LogMessage>(lsp_types::LogMessageParams { typ: kind, message });
     }
 
     fn show(&self, kind: lsp_types::MessageType, message: String) {
@@ -240,30 +299,21 @@ impl Server {
                 };
                 let uri = p.text_document.uri.as_str().to_string();
                 let name = document_name(&p.text_document.uri);
+                // Opened again without a close: its versions start afresh.
+                self.published.remove(&uri);
                 self.documents.insert(
                     uri.clone(),
-                    Document::new(name, p.text_document.version, p.text_document.text),
+                    Document::new(
+                        name,
+                        Some(p.text_document.uri),
+                        p.text_document.version,
+                        p.text_document.text,
+                    ),
                 );
                 self.dirty.insert(uri.clone());
                 self.schedule_solve(&uri);
             }
-            notification::DidChangeTextDocument::METHOD => {
-                let Ok(p) =
-                    serde_json::from_value::<lsp_types::DidChangeTextDocumentParams>(n.params)
-                else {
-                    return;
-                };
-                let uri = p.text_document.uri.as_str().to_string();
-                if let Some(flag) = self.cancel.remove(&uri) {
-                    flag.store(true, Ordering::SeqCst);
-                }
-                let Some(doc) = self.documents.get_mut(&uri) else { return };
-                for change in p.content_changes {
-                    doc.apply(change);
-                }
-                doc.version = p.text_document.version;
-                self.dirty.insert(uri);
-            }
+            notification::DidChangeTextDocument::METHOD => self.did_change(n.params),
             notification::DidSaveTextDocument::METHOD => {
                 let Ok(p) =
                     serde_json::from_value::<lsp_types::DidSaveTextDocumentParams>(n.params)
@@ -271,6 +321,11 @@ impl Server {
                     return;
                 };
                 self.schedule_solve(p.text_document.uri.as_str());
+            }
+            notification::DidChangeWatchedFiles::METHOD => {
+                // A catalog or `holoc.toml` changed on disk: every document is analysed again
+                // (each is checked against the files' times when it is).
+                self.dirty.extend(self.documents.keys().cloned());
             }
             notification::DidCloseTextDocument::METHOD => {
                 let Ok(p) =
@@ -285,6 +340,7 @@ impl Server {
                 }
                 self.documents.remove(&key);
                 self.dirty.remove(&key);
+                self.published.remove(&key);
                 // Clear what the editor shows for a closed file.
                 self.notify::<notification::PublishDiagnostics>(
                     lsp_types::PublishDiagnosticsParams {
@@ -298,8 +354,79 @@ impl Server {
         }
     }
 
+    /// A change: applied in order, or refused (logged) when it cannot be applied faithfully: a
+    /// version that does not grow, parameters that cannot be read, a range that ends before it
+    /// starts. A refused change leaves the document out of sync: its diagnostics are cleared,
+    /// the user is asked to reopen it, and only a change with the whole text is applied until
+    /// then (what a client sends after reopening, or on its own to resynchronize).
+    fn did_change(&mut self, params: serde_json::Value) {
+        use lsp_types::MessageType;
+        let uri = params
+            .get("textDocument")
+            .and_then(|d| d.get("uri"))
+            .and_then(serde_json::Value::as_str)
+            .map(str::to_string);
+        let parsed = serde_json::from_value::<lsp_types::DidChangeTextDocumentParams>(params);
+        let Some(uri) = uri else {
+            self.log(MessageType::ERROR, "holoc: a didChange without a document; ignored".into());
+            return;
+        };
+        if let Some(flag) = self.cancel.remove(&uri) {
+            flag.store(true, Ordering::SeqCst);
+        }
+        if !self.documents.contains_key(&uri) {
+            self.log(
+                MessageType::WARNING,
+                format!("holoc: a change to `{uri}`, which is not open"),
+            );
+            return;
+        }
+        let refused = match parsed {
+            Err(e) => Some(format!("its parameters cannot be read ({e})")),
+            Ok(p) => {
+                let doc = self.documents.get_mut(&uri).expect("checked above");
+                let version = p.text_document.version;
+                let whole = p.content_changes.iter().any(|c| c.range.is_none());
+                if version <= doc.version && !(doc.out_of_sync.is_some() && whole) {
+                    Some(format!(
+                        "its version {version} does not follow the document's {}",
+                        doc.version
+                    ))
+                } else {
+                    let mut why = None;
+                    for change in p.content_changes {
+                        if let Err(e) = doc.apply(change) {
+                            why = Some(e);
+                            break;
+                        }
+                    }
+                    doc.version = version;
+                    why
+                }
+            }
+        };
+        if let Some(why) = refused {
+            let doc = self.documents.get_mut(&uri).expect("checked above");
+            let first = doc.out_of_sync.is_none();
+            if first {
+                doc.out_of_sync = Some(why.clone());
+            }
+            self.log(MessageType::ERROR, format!("holoc: refused a change to `{uri}`: {why}"));
+            if first {
+                self.show(
+                    MessageType::WARNING,
+                    format!(
+                        "holoc lost track of `{}` ({why}); close and reopen it to see its diagnostics again",
+                        doc_name(&uri)
+                    ),
+                );
+            }
+        }
+        self.dirty.insert(uri);
+    }
+
     /// The catalog for a document: the server's catalogs and those of the nearest
-    /// `holoc.toml`, loaded once per list.
+    /// `holoc.toml`, loaded again when one of the files changes on disk.
     fn catalog_for(&mut self, uri: &str) -> Arc<Catalog> {
         let mut paths = self.catalogs.clone();
         let mut objathor = self.objathor.clone();
@@ -324,9 +451,13 @@ impl Server {
                 objathor = listed.1;
             }
         }
+        // Each file's size and time: a catalog edited on disk is loaded again.
+        let stamps: Vec<Stamp> = paths.iter().map(|p| stamp(p)).collect();
         let key = (paths, objathor);
-        if let Some(catalog) = self.catalog_cache.get(&key) {
-            return Arc::clone(catalog);
+        if let Some((known, catalog)) = self.catalog_cache.get(&key) {
+            if *known == stamps {
+                return Arc::clone(catalog);
+            }
         }
         let mut sources = crate::source::SourceMap::new();
         let loaded = Catalog::load_with(&key.0, key.1.as_ref(), &mut sources);
@@ -335,7 +466,7 @@ impl Server {
             self.show(lsp_types::MessageType::WARNING, format!("holoc catalogs:\n{text}"));
         }
         let catalog = Arc::new(loaded.value);
-        self.catalog_cache.insert(key, Arc::clone(&catalog));
+        self.catalog_cache.insert(key, (stamps, Arc::clone(&catalog)));
         catalog
     }
 
@@ -349,18 +480,38 @@ impl Server {
 
     fn publish_dirty(&mut self) {
         let dirty = std::mem::take(&mut self.dirty);
-        for uri in dirty {
-            let Some(doc) = self.analysed(&uri) else { continue };
+        for key in dirty {
+            let Some(doc) = self.documents.get(&key) else { continue };
+            let Some(uri) = doc.uri.clone() else { continue };
+            if doc.out_of_sync.is_some() {
+                // Nothing is known of the editor's text: show nothing rather than stale lines.
+                self.notify::<notification::PublishDiagnostics>(
+                    lsp_types::PublishDiagnosticsParams {
+                        uri,
+                        diagnostics: Vec::new(),
+                        version: None,
+                    },
+                );
+                continue;
+            }
+            let Some(doc) = self.analysed(&key) else { continue };
             let version = doc.version;
             let Some(analysis) = doc.analysis.as_ref() else { continue };
             let mut diagnostics = features::diagnostics(analysis, doc.solved.as_ref());
             // An editor shows a bounded list, as `holoc check` prints one.
             diagnostics.truncate(crate::diag::MAX_SHOWN_PER_FILE);
-            let Ok(uri) = Uri::from_str(&uri) else { continue };
+            // The version published never goes back, whatever the client sent.
+            let version = match self.published.get(&key) {
+                Some(&last) if version < last => None,
+                _ => {
+                    self.published.insert(key.clone(), version);
+                    Some(version)
+                }
+            };
             self.notify::<notification::PublishDiagnostics>(lsp_types::PublishDiagnosticsParams {
                 uri,
                 diagnostics,
-                version: Some(version),
+                version,
             });
         }
     }
@@ -405,6 +556,12 @@ impl Server {
     /// document that is not open gets.
     fn opened(&mut self, uri: &Uri) -> Result<(&Analysis, Option<&Solved>), (ErrorCode, String)> {
         let not_open = || (ErrorCode::InvalidParams, format!("`{}` is not open", uri.as_str()));
+        if let Some(why) = self.documents.get(uri.as_str()).and_then(|d| d.out_of_sync.clone()) {
+            return Err((
+                ErrorCode::RequestFailed,
+                format!("`{}` is out of sync ({why}); close and reopen it", uri.as_str()),
+            ));
+        }
         let doc = self.analysed(uri.as_str()).ok_or_else(not_open)?;
         let analysis = doc.analysis.as_ref().ok_or_else(not_open)?;
         Ok((analysis, doc.solved.as_ref()))
@@ -422,7 +579,10 @@ impl Server {
                 let p: lsp_types::HoverParams = params(request)?;
                 let at = p.text_document_position_params;
                 let uri = at.text_document.uri;
-                let solving = self.jobs.is_some();
+                // A solve of this version runs while its cancel flag is down.
+                let running =
+                    self.cancel.get(uri.as_str()).is_some_and(|flag| !flag.load(Ordering::SeqCst));
+                let solving = (self.jobs.is_some(), self.jobs.is_some() && running);
                 let (analysis, solved) = self.opened(&uri)?;
                 json(features::hover(analysis, solved, solving, at.position))
             }
@@ -599,30 +759,32 @@ pub fn relation_outcomes(layout: &crate::solve::Layout) -> Vec<RelationOutcome> 
     out
 }
 
-/// The name diagnostics show for a document: its path for a `file:` URI, else the URI.
+/// The name diagnostics show for a document: its path for a `file:` URI, else the URI
+/// (`untitled:Untitled-1` stays what it is).
 fn document_name(uri: &Uri) -> String {
-    uri_path(uri.as_str()).map_or_else(|| uri.as_str().to_string(), |p| p.display().to_string())
+    doc_name(uri.as_str())
 }
 
-/// The path of a `file:` URI, percent-decoded.
+fn doc_name(uri: &str) -> String {
+    uri_path(uri).map_or_else(|| uri.to_string(), |p| p.display().to_string())
+}
+
+/// The path of a `file:` URI, percent-decoded (by the `url` crate); `None` for another scheme.
 pub fn uri_path(uri: &str) -> Option<PathBuf> {
-    let rest = uri.strip_prefix("file://")?;
-    let rest = rest.strip_prefix("localhost").unwrap_or(rest);
-    let bytes = rest.as_bytes();
-    let mut out = Vec::with_capacity(bytes.len());
-    let mut i = 0;
-    while i < bytes.len() {
-        if bytes[i] == b'%' && i + 2 < bytes.len() {
-            if let Some(b) = rest.get(i + 1..i + 3).and_then(|h| u8::from_str_radix(h, 16).ok()) {
-                out.push(b);
-                i += 3;
-                continue;
-            }
-        }
-        out.push(bytes[i]);
-        i += 1;
+    let url = url::Url::parse(uri).ok()?;
+    if url.scheme() != "file" {
+        return None;
     }
-    String::from_utf8(out).ok().map(PathBuf::from)
+    url.to_file_path().ok()
+}
+
+/// What tells that a file changed on disk: its size and modification time (`None` when it
+/// cannot be read).
+type Stamp = Option<(u64, Option<std::time::SystemTime>)>;
+
+fn stamp(path: &Path) -> Stamp {
+    let meta = std::fs::metadata(path).ok()?;
+    Some((meta.len(), meta.modified().ok()))
 }
 
 /// The largest `holoc.toml` the server reads, bytes.

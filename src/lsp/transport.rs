@@ -25,6 +25,18 @@ pub enum Frame {
     Message(Message),
     /// A frame that is not a message, with why, and the id of the request when one is readable.
     Bad(String, Option<RequestId>),
+    /// A body that is not JSON: answered with JSON-RPC's parse error (`id: null`).
+    NotJson(String),
+}
+
+/// The JSON-RPC answer to a body that is not JSON: a parse error whose id is `null`.
+pub fn parse_error(why: &str) -> String {
+    serde_json::json!({
+        "jsonrpc": "2.0",
+        "id": null,
+        "error": {"code": ErrorCode::ParseError as i32, "message": why},
+    })
+    .to_string()
 }
 
 /// Reads the next frame, or `None` at the end of the input.
@@ -101,7 +113,7 @@ pub fn read_frame(input: &mut impl BufRead) -> std::io::Result<Option<Frame>> {
 fn decode(body: &[u8]) -> Frame {
     let value = match serde_json::from_slice::<serde_json::Value>(body) {
         Ok(value) => value,
-        Err(e) => return Frame::Bad(format!("a message that is not JSON: {e}"), None),
+        Err(e) => return Frame::NotJson(format!("a message that is not JSON: {e}")),
     };
     let id = value.get("id").and_then(|id| serde_json::from_value::<RequestId>(id.clone()).ok());
     // A request whose method is not a string would read as a response and be dropped unseen.
@@ -142,10 +154,29 @@ pub fn stdio() -> (Connection, Threads) {
         crossbeam_channel::bounded(0);
     let (to_client, outgoing): (Sender<Message>, Receiver<Message>) = crossbeam_channel::bounded(0);
     let answers = to_client.clone();
+    // Answers `lsp-server`'s messages cannot say (an id that is `null`), already in JSON.
+    let (raw_answers, raw): (Sender<String>, Receiver<String>) = crossbeam_channel::unbounded();
     let writer = std::thread::spawn(move || {
+        use std::io::Write as _;
         let stdout = std::io::stdout();
         let mut stdout = stdout.lock();
-        outgoing.into_iter().try_for_each(|message| message.write(&mut stdout))
+        let mut raw = raw;
+        loop {
+            crossbeam_channel::select! {
+                recv(outgoing) -> message => match message {
+                    Ok(message) => message.write(&mut stdout)?,
+                    Err(_) => return Ok(()),
+                },
+                recv(raw) -> body => match body {
+                    Ok(body) => {
+                        write!(stdout, "Content-Length: {}\r\n\r\n{body}", body.len())?;
+                        stdout.flush()?;
+                    }
+                    // The reader is gone; the messages go on until the server's end closes.
+                    Err(_) => raw = crossbeam_channel::never(),
+                },
+            }
+        }
     });
     let reader = std::thread::spawn(move || {
         let stdin = std::io::stdin();
@@ -157,6 +188,10 @@ pub fn stdio() -> (Connection, Threads) {
                     if to_server.send(message).is_err() || exit {
                         return;
                     }
+                }
+                Ok(Some(Frame::NotJson(why))) => {
+                    eprintln!("holoc lsp: answered a parse error: {why}");
+                    let _ = raw_answers.send(parse_error(&why));
                 }
                 Ok(Some(Frame::Bad(why, id))) => {
                     eprintln!("holoc lsp: skipped {why}");
@@ -189,6 +224,7 @@ mod tests {
                     format!("message {}", serde_json::to_string(&m).unwrap_or_default())
                 }
                 Frame::Bad(why, id) => format!("bad {why} {id:?}"),
+                Frame::NotJson(why) => format!("parse error {why}"),
             });
         }
         out
@@ -212,7 +248,7 @@ mod tests {
         );
         let got = frames(input.as_bytes());
         assert_eq!(got.len(), 6, "{got:#?}");
-        assert!(got[0].starts_with("bad a message that is not JSON"), "{got:#?}");
+        assert!(got[0].starts_with("parse error a message that is not JSON"), "{got:#?}");
         assert!(got[1].contains("Some(RequestId(I32(7)))"), "{got:#?}");
         assert!(got[2].starts_with("bad a message without `Content-Length`"), "{got:#?}");
         assert!(got[3].ends_with("None"), "{got:#?}");

@@ -190,7 +190,16 @@ pub(super) fn bad_line(file: FileId, offset: usize, line: &str, context: Context
                 Err(error) => {
                     let mut d = from_pest(file, offset, &error, context, trimmed);
                     d.message = format!("malformed `{keyword}` statement: {}", d.message);
+                    // A relation of several words misspelt after its first (`in frnt of`).
+                    let phrases: Vec<String> = PHRASES
+                        .iter()
+                        .filter(|p| {
+                            context == Context::Object && p.starts_with(&format!("{keyword} "))
+                        })
+                        .map(|p| (*p).to_string())
+                        .collect();
                     d.with_help(format!("write it as `{form}`"))
+                        .with_fixes(phrase_fixes(file, offset, trimmed, &phrases))
                 }
                 Ok(_) => Diagnostic::new(Code::E0101, format!("malformed `{keyword}` statement"))
                     .with_primary(Span::new(file, offset, offset + trimmed.len()), "")
@@ -234,8 +243,58 @@ pub(super) fn bad_line(file: FileId, offset: usize, line: &str, context: Context
                 Span::new(file, offset, offset + first.len()),
                 &word_fixes,
             ))
+            .with_fixes(phrase_fixes(file, offset, trimmed, &suggestions))
         }
     }
+}
+
+/// Fixes for suggestions of several words (`in front of` for `in frnt of desk-0`): each replaces
+/// the first one to three words of the line, as many as read most like it.
+fn phrase_fixes(
+    file: FileId,
+    offset: usize,
+    line: &str,
+    suggestions: &[String],
+) -> Vec<crate::diag::Fix> {
+    // The end of each of the line's first three words.
+    let mut ends = Vec::new();
+    let mut in_word = false;
+    for (i, c) in line.char_indices() {
+        if c.is_whitespace() {
+            if in_word {
+                ends.push(i);
+            }
+            in_word = false;
+        } else {
+            in_word = true;
+        }
+        if ends.len() == 3 {
+            break;
+        }
+    }
+    if in_word && ends.len() < 3 {
+        ends.push(line.len());
+    }
+    let mut fixes = Vec::new();
+    for phrase in suggestions.iter().filter(|s| s.contains(' ')) {
+        let best = ends
+            .iter()
+            .map(|&end| {
+                let words = line[..end].split_whitespace().collect::<Vec<_>>().join(" ");
+                (strsim::normalized_damerau_levenshtein(&words.to_lowercase(), phrase), end)
+            })
+            .max_by(|a, b| a.0.total_cmp(&b.0).then(b.1.cmp(&a.1)));
+        if let Some((score, end)) = best {
+            let written = &line[..end];
+            if score >= suggest::THRESHOLD && written != phrase.as_str() {
+                fixes.extend(suggest::replacements(
+                    Span::new(file, offset, offset + end),
+                    std::slice::from_ref(phrase),
+                ));
+            }
+        }
+    }
+    fixes
 }
 
 /// Turns a pest error (from the whole file or from one re-read line) into a diagnostic.

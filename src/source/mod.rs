@@ -103,9 +103,7 @@ impl SourceFile {
     /// Makes a file and indexes its lines.
     pub fn new(name: impl Into<String>, text: impl Into<String>) -> SourceFile {
         let text = text.into();
-        let mut line_starts = vec![0];
-        line_starts.extend(text.match_indices('\n').map(|(i, _)| i + 1));
-        SourceFile { name: name.into(), text, line_starts }
+        SourceFile { name: name.into(), line_starts: line_starts(&text), text }
     }
 
     /// The 0-based line index holding byte `offset`.
@@ -146,7 +144,9 @@ impl SourceFile {
     /// the line's end and the text's end; a column inside a surrogate pair rounds down.
     pub fn offset_of_lsp(&self, line: u32, column: u32) -> usize {
         let Some(&start) = self.line_starts.get(line as usize) else { return self.text.len() };
-        let end = self.line_starts.get(line as usize + 1).map_or(self.text.len(), |&e| e - 1);
+        let next = self.line_starts.get(line as usize + 1).copied().unwrap_or(self.text.len());
+        // The line without its break (`\n`, `\r\n` or a lone `\r`).
+        let end = start + self.text[start..next].trim_end_matches(['\n', '\r']).len();
         let mut units = 0u32;
         for (i, c) in self.text[start..end].char_indices() {
             if units + c.len_utf16() as u32 > column {
@@ -175,6 +175,19 @@ impl SourceFile {
         let end = self.clamp(span.end as usize).max(start);
         &self.text[start..end]
     }
+}
+
+/// Where each line starts: after every `\n`, `\r\n` and lone `\r` (the line breaks the grammar
+/// and the Language Server Protocol know).
+fn line_starts(text: &str) -> Vec<usize> {
+    let bytes = text.as_bytes();
+    let mut starts = vec![0];
+    for (i, &b) in bytes.iter().enumerate() {
+        if b == b'\n' || (b == b'\r' && bytes.get(i + 1) != Some(&b'\n')) {
+            starts.push(i + 1);
+        }
+    }
+    starts
 }
 
 /// All files of one compilation.
@@ -233,5 +246,18 @@ mod tests {
         assert_eq!(file.line_col(x), LineCol { line: 2, column: 4 });
         assert_eq!(file.lsp_position(x), (1, 4));
         assert_eq!(file.line_text(2), "çé😀x");
+    }
+
+    #[test]
+    fn lone_carriage_returns_and_crlf_end_lines() {
+        let file = SourceFile::new("t", "ab\rcd\r\nef\ngh");
+        assert_eq!(file.line_count(), 4);
+        assert_eq!(file.lsp_position(3), (1, 0));
+        assert_eq!(file.lsp_position(7), (2, 0));
+        assert_eq!(file.line_text(2), "cd");
+        // A column past the line's end stops before its break.
+        assert_eq!(file.offset_of_lsp(1, 99), 5);
+        assert_eq!(file.offset_of_lsp(0, 99), 2);
+        assert_eq!(file.offset_of_lsp(3, 99), 12);
     }
 }

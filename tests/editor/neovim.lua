@@ -1,9 +1,9 @@
--- Drives `holoc lsp` from a real editor: neovim's built-in LSP client (0.7 and later).
--- Opens $HOLO_SCENE, waits for the server's first diagnostics, turns `far bed-0` into a typo
--- through the buffer (so neovim sends an incremental change), waits for the diagnostic the
+-- Drives `holoc lsp` from a real editor: neovim's built-in LSP client (0.7 and later), set up
+-- by the book's Lua ($HOLO_SETUP, with `holoc` on the PATH). Opens $HOLO_SCENE, checks that its
+-- filetype is `holo` and a client attached, waits for the server's first diagnostics, turns
+-- `far bed-0` into a typo through the buffer (so neovim sends an incremental change), waits for the diagnostic the
 -- server publishes for it, and writes what neovim holds to $HOLO_OUT, one line per diagnostic:
 -- `opened: <codes>`, then `<line> <code> <message>`, then `done`.
-local holoc = os.getenv("HOLOC")
 local scene = os.getenv("HOLO_SCENE")
 local out_path = os.getenv("HOLO_OUT")
 local out = {}
@@ -23,19 +23,22 @@ vim.lsp.handlers["textDocument/publishDiagnostics"] = function(err, result, ctx,
   return default_handler(err, result, ctx, config)
 end
 
+-- The book's setup, as written (book/src/cli/lsp.md), starts the server for the file.
+dofile(os.getenv("HOLO_SETUP"))
 vim.cmd("edit " .. vim.fn.fnameescape(scene))
 local buf = vim.api.nvim_get_current_buf()
-local client = vim.lsp.start_client({
-  name = "holoc",
-  cmd = { holoc, "lsp", "--no-solve" },
-  root_dir = vim.fn.fnamemodify(scene, ":h"),
-  flags = { debounce_text_changes = 0 },
-})
-if not client then
-  finish("error: the client did not start")
+if vim.bo[buf].filetype ~= "holo" then
+  finish("error: the filetype is `" .. vim.bo[buf].filetype .. "`, not holo")
   return
 end
-vim.lsp.buf_attach_client(buf, client)
+local function attached()
+  return next(vim.lsp.buf_get_clients(buf)) ~= nil
+end
+if not vim.wait(30000, attached, 20) then
+  finish("error: no client attached to the buffer")
+  return
+end
+local client = next(vim.lsp.buf_get_clients(buf))
 
 if not vim.wait(30000, function() return published > 0 end, 20) then
   finish("error: no diagnostics after opening")

@@ -1,0 +1,563 @@
+//! Incremental analysis: what an edit did not touch is not computed again.
+//!
+//! The language server analyses every version of a document with the stages before the solver.
+//! The parser already reuses every top-level item and room statement group whose text did not
+//! change (`parse::ParseCache`). After the checker, the floor plan and the asset choices are
+//! reused when their inputs are the same as for the previous version *once the previous spans
+//! are moved by the edit*:
+//!
+//! - the plan reads the scene's settings, rooms (name, label, corners, windows, materials) and
+//!   doors, never its objects: it runs again only when one of those changed, so typing in an
+//!   object block never plans the floor again;
+//! - asset resolution reads the objects (category, description, size, pins, things on top,
+//!   placement kind) in each room's placement order and the ceilings, never corners, windows,
+//!   doors or relations: it runs again only when one of those changed (and then ranks only the
+//!   descriptions that changed, through `resolve::RankCache`).
+//!
+//! An edit is the text between the common prefix and the common suffix of two versions
+//! ([`Shift`]). A span before it stays, a span after it moves by the change in length, a span
+//! that starts or ends inside it cannot be moved: its stage runs again. A stage is a pure
+//! function of its input and copies spans from it without reading their values (but for their
+//! order, which the move keeps), so its output for the moved input is its earlier output with
+//! the same spans moved. The property tests hold this module's analysis to
+//! [`crate::compile::analyse`] through random edits, byte for byte.
+
+use crate::check::{Ceiling, Constraint, Door, GlobalConstraint, Object, Pinned, Placement, Room};
+use crate::check::{Scene, SmallItem, Window};
+use crate::compile::{Analysed, AnalysisCache};
+use crate::diag::{Diagnostic, Fix, Label};
+use crate::plan::{FloorPlan, PlanOptions};
+use crate::resolve::structure::StructureCatalog;
+use crate::resolve::{Catalog, Resolved};
+use crate::source::{FileId, SourceMap, Span};
+
+/// The text an edit replaced: bytes `start..old_end` of the old version became
+/// `start..new_end` of the new one.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Shift {
+    /// Where the two versions start to differ.
+    pub start: usize,
+    /// Where the replaced text ended in the old version.
+    pub old_end: usize,
+    /// Where the new text ends in the new version.
+    pub new_end: usize,
+}
+
+impl Shift {
+    /// The edit between two versions: their common prefix and suffix are unchanged.
+    pub fn between(old: &str, new: &str) -> Shift {
+        let (a, b) = (old.as_bytes(), new.as_bytes());
+        let start = a.iter().zip(b).take_while(|(x, y)| x == y).count();
+        let room = a.len().min(b.len()) - start;
+        let suffix =
+            a.iter().rev().zip(b.iter().rev()).take(room).take_while(|(x, y)| x == y).count();
+        Shift { start, old_end: a.len() - suffix, new_end: b.len() - suffix }
+    }
+
+    /// Where an offset of the old version is in the new one; `None` inside the replaced text.
+    pub fn offset(&self, offset: u32) -> Option<u32> {
+        let o = offset as usize;
+        if o <= self.start {
+            Some(offset)
+        } else if o >= self.old_end {
+            u32::try_from(o - self.old_end + self.new_end).ok()
+        } else {
+            None
+        }
+    }
+
+    /// A span of the old version moved into the new one.
+    pub fn span(&self, span: Span) -> Option<Span> {
+        Some(Span { file: span.file, start: self.offset(span.start)?, end: self.offset(span.end)? })
+    }
+
+    /// A copy of `value` with every span moved, or `None` when one cannot be.
+    pub fn moved<T: Spans + Clone>(&self, value: &T) -> Option<T> {
+        let mut out = value.clone();
+        let mut ok = true;
+        out.spans(&mut |span| match self.span(*span) {
+            Some(moved) => *span = moved,
+            None => ok = false,
+        });
+        ok.then_some(out)
+    }
+}
+
+/// A value holding spans, each of which a function may rewrite.
+pub trait Spans {
+    /// Calls `f` on every span.
+    fn spans(&mut self, f: &mut dyn FnMut(&mut Span));
+}
+
+impl Spans for Span {
+    fn spans(&mut self, f: &mut dyn FnMut(&mut Span)) {
+        f(self);
+    }
+}
+
+impl<T: Spans> Spans for Option<T> {
+    fn spans(&mut self, f: &mut dyn FnMut(&mut Span)) {
+        if let Some(x) = self {
+            x.spans(f);
+        }
+    }
+}
+
+impl<T: Spans> Spans for Vec<T> {
+    fn spans(&mut self, f: &mut dyn FnMut(&mut Span)) {
+        for x in self {
+            x.spans(f);
+        }
+    }
+}
+
+impl<T: Spans> Spans for [T; 2] {
+    fn spans(&mut self, f: &mut dyn FnMut(&mut Span)) {
+        for x in self {
+            x.spans(f);
+        }
+    }
+}
+
+impl<T> Spans for (T, Span) {
+    fn spans(&mut self, f: &mut dyn FnMut(&mut Span)) {
+        f(&mut self.1);
+    }
+}
+
+// Each impl names every field (no `..`), so that a field added later is a compile error here
+// until it says whether it holds a span.
+
+impl Spans for Pinned {
+    fn spans(&mut self, f: &mut dyn FnMut(&mut Span)) {
+        let Pinned { id: _, span } = self;
+        f(span);
+    }
+}
+
+impl Spans for Window {
+    fn spans(&mut self, f: &mut dyn FnMut(&mut Span)) {
+        let Window { wall: _, kind: _, width_m: _, height_m: _, count: _, sill_m: _, asset, span } =
+            self;
+        asset.spans(f);
+        f(span);
+    }
+}
+
+impl Spans for Ceiling {
+    fn spans(&mut self, f: &mut dyn FnMut(&mut Span)) {
+        let Ceiling { description: _, asset, above, at: _, span } = self;
+        asset.spans(f);
+        above.spans(f);
+        f(span);
+    }
+}
+
+impl Spans for Room {
+    fn spans(&mut self, f: &mut dyn FnMut(&mut Span)) {
+        let Room {
+            id: _,
+            name: _,
+            label: _,
+            floor_design: _,
+            wall_design: _,
+            floor_material,
+            wall_material,
+            corners: _,
+            corner_spans,
+            corners_unit_span,
+            windows,
+            objects: _,
+            ceiling,
+            name_span,
+            decl_span,
+        } = self;
+        floor_material.spans(f);
+        wall_material.spans(f);
+        corner_spans.spans(f);
+        corners_unit_span.spans(f);
+        windows.spans(f);
+        ceiling.spans(f);
+        f(name_span);
+        f(decl_span);
+    }
+}
+
+impl Spans for Door {
+    fn spans(&mut self, f: &mut dyn FnMut(&mut Span)) {
+        let Door { index: _, from: _, to: _, kind: _, size: _, style: _, asset, side_spans, span } =
+            self;
+        asset.spans(f);
+        side_spans.spans(f);
+        f(span);
+    }
+}
+
+impl Spans for GlobalConstraint {
+    fn spans(&mut self, f: &mut dyn FnMut(&mut Span)) {
+        let GlobalConstraint { kind: _, span } = self;
+        f(span);
+    }
+}
+
+impl Spans for Constraint {
+    fn spans(&mut self, f: &mut dyn FnMut(&mut Span)) {
+        let Constraint { kind: _, target: _, span, target_span } = self;
+        f(span);
+        f(target_span);
+    }
+}
+
+impl Spans for Placement {
+    fn spans(&mut self, f: &mut dyn FnMut(&mut Span)) {
+        match self {
+            Placement::Floor { global, constraints } => {
+                global.spans(f);
+                constraints.spans(f);
+            }
+            Placement::Wall { above, height_m: _ } => above.spans(f),
+        }
+    }
+}
+
+impl Spans for SmallItem {
+    fn spans(&mut self, f: &mut dyn FnMut(&mut Span)) {
+        let SmallItem { item: _, count: _, variance: _, asset, at: _, facing_deg: _, span } = self;
+        asset.spans(f);
+        f(span);
+    }
+}
+
+impl Spans for Object {
+    fn spans(&mut self, f: &mut dyn FnMut(&mut Span)) {
+        let Object {
+            id: _,
+            room: _,
+            name: _,
+            group: _,
+            index: _,
+            group_count: _,
+            category: _,
+            description: _,
+            size_m: _,
+            variance: _,
+            asset,
+            at: _,
+            facing_deg: _,
+            placement,
+            on_top,
+            name_span,
+            decl_span,
+        } = self;
+        asset.spans(f);
+        placement.spans(f);
+        on_top.spans(f);
+        f(name_span);
+        f(decl_span);
+    }
+}
+
+impl Spans for Label {
+    fn spans(&mut self, f: &mut dyn FnMut(&mut Span)) {
+        let Label { span, text: _ } = self;
+        f(span);
+    }
+}
+
+impl Spans for Fix {
+    fn spans(&mut self, f: &mut dyn FnMut(&mut Span)) {
+        let Fix { title: _, span, replacement: _ } = self;
+        f(span);
+    }
+}
+
+impl Spans for Diagnostic {
+    fn spans(&mut self, f: &mut dyn FnMut(&mut Span)) {
+        let Diagnostic {
+            code: _,
+            severity: _,
+            message: _,
+            primary,
+            secondary,
+            help: _,
+            notes: _,
+            fixes,
+        } = self;
+        primary.spans(f);
+        secondary.spans(f);
+        fixes.spans(f);
+    }
+}
+
+impl Spans for FloorPlan {
+    fn spans(&mut self, f: &mut dyn FnMut(&mut Span)) {
+        let FloorPlan {
+            seed: _,
+            wall_height_m: _,
+            rooms,
+            walls: _,
+            doors,
+            windows,
+            open_connections,
+            skybox: _,
+            time_of_day: _,
+            ceiling_material: _,
+            agent: _,
+        } = self;
+        for room in rooms {
+            f(&mut room.name_span);
+        }
+        for door in doors {
+            door.span.spans(f);
+        }
+        for window in windows {
+            f(&mut window.span);
+        }
+        for open in open_connections {
+            f(&mut open.span);
+        }
+    }
+}
+
+impl Spans for Resolved {
+    fn spans(&mut self, _: &mut dyn FnMut(&mut Span)) {
+        // Asset choices hold no spans (their diagnostics do).
+        let Resolved { objects: _, ceilings: _, ceiling_lights: _, small: _ } = self;
+    }
+}
+
+/// A stage's output with its diagnostics.
+#[derive(Clone, Debug)]
+struct Output<T> {
+    value: T,
+    diagnostics: Vec<Diagnostic>,
+}
+
+impl<T: Spans> Spans for Output<T> {
+    fn spans(&mut self, f: &mut dyn FnMut(&mut Span)) {
+        self.value.spans(f);
+        self.diagnostics.spans(f);
+    }
+}
+
+/// What the plan reads of a scene: everything but its objects.
+#[derive(Clone, Debug, PartialEq)]
+struct PlanInput {
+    wall_height_m: f64,
+    seed: u64,
+    ceiling_material: Option<Pinned>,
+    ceiling_design: Option<String>,
+    rooms: Vec<Room>,
+    doors: Vec<Door>,
+}
+
+impl PlanInput {
+    fn of(scene: &Scene) -> PlanInput {
+        PlanInput {
+            wall_height_m: scene.wall_height_m,
+            seed: scene.seed,
+            ceiling_material: scene.ceiling_material.clone(),
+            ceiling_design: scene.ceiling_design.clone(),
+            rooms: scene
+                .rooms
+                .iter()
+                .map(|r| Room { objects: Vec::new(), ceiling: None, ..r.clone() })
+                .collect(),
+            doors: scene.doors.clone(),
+        }
+    }
+}
+
+impl Spans for PlanInput {
+    fn spans(&mut self, f: &mut dyn FnMut(&mut Span)) {
+        self.ceiling_material.spans(f);
+        self.rooms.spans(f);
+        self.doors.spans(f);
+    }
+}
+
+/// What asset resolution reads of a scene: the rooms' placement orders and ceilings, the
+/// objects without their relations, the seed.
+#[derive(Clone, Debug, PartialEq)]
+struct ResolveInput {
+    seed: u64,
+    rooms: Vec<Room>,
+    objects: Vec<Object>,
+}
+
+impl ResolveInput {
+    fn of(scene: &Scene) -> ResolveInput {
+        ResolveInput {
+            seed: scene.seed,
+            rooms: scene
+                .rooms
+                .iter()
+                .map(|r| Room {
+                    corners: Vec::new(),
+                    corner_spans: Vec::new(),
+                    corners_unit_span: None,
+                    windows: Vec::new(),
+                    floor_design: None,
+                    wall_design: None,
+                    floor_material: None,
+                    wall_material: None,
+                    ..r.clone()
+                })
+                .collect(),
+            objects: scene
+                .objects
+                .iter()
+                .map(|o| {
+                    let placement = match &o.placement {
+                        Placement::Floor { .. } => {
+                            Placement::Floor { global: None, constraints: Vec::new() }
+                        }
+                        Placement::Wall { .. } => Placement::Wall { above: None, height_m: None },
+                    };
+                    Object { placement, ..o.clone() }
+                })
+                .collect(),
+        }
+    }
+}
+
+impl Spans for ResolveInput {
+    fn spans(&mut self, f: &mut dyn FnMut(&mut Span)) {
+        self.rooms.spans(f);
+        self.objects.spans(f);
+    }
+}
+
+/// What the analyses of earlier versions of a document leave for the next: the parse cache
+/// and asset rankings, and the last inputs and outputs of the plan and of asset resolution with
+/// the text they were made for.
+#[derive(Debug, Default)]
+pub struct Memo {
+    /// Parsed items and asset rankings.
+    pub cache: AnalysisCache,
+    /// The last plan: the text it was made for, its input and its output.
+    plan: Option<(std::rc::Rc<str>, PlanInput, Output<FloorPlan>)>,
+    /// The last asset resolution, likewise.
+    resolve: Option<(std::rc::Rc<str>, ResolveInput, Output<Resolved>)>,
+    /// How often each stage ran and was reused (for the tests and the benchmark).
+    pub counts: Counts,
+}
+
+/// How often the plan and asset resolution ran, and how often their last output was reused.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Counts {
+    /// Plans made.
+    pub planned: u64,
+    /// Plans reused.
+    pub plans_reused: u64,
+    /// Resolutions made.
+    pub resolved: u64,
+    /// Resolutions reused.
+    pub resolutions_reused: u64,
+}
+
+impl Memo {
+    /// Forgets every output (the catalog changed): the next analysis runs every stage.
+    pub fn forget(&mut self) {
+        self.plan = None;
+        self.resolve = None;
+        self.cache.ranks = crate::resolve::RankCache::default();
+    }
+}
+
+/// Runs every stage before the solver on file `file` of `sources` with `catalog`, as
+/// [`crate::compile::analyse`] does (the same products and diagnostics, in the same order),
+/// reusing what `memo` kept of the previous version where the edit did not touch it.
+pub fn analyse(sources: &SourceMap, file: FileId, catalog: &Catalog, memo: &mut Memo) -> Analysed {
+    let text: std::rc::Rc<str> = std::rc::Rc::from(sources.get(file).text.as_str());
+    let parsed = crate::parse::parse_cached(sources, file, &mut memo.cache.parse);
+    let mut analysed = Analysed {
+        ast: parsed.value,
+        scene: None,
+        plan: None,
+        resolved: None,
+        diagnostics: parsed.diagnostics,
+    };
+    let has_errors = |d: &[Diagnostic]| d.iter().any(Diagnostic::is_error);
+    let parse_failed = has_errors(&analysed.diagnostics);
+    let checked = crate::check::check(&analysed.ast);
+    analysed.diagnostics.extend(checked.diagnostics);
+    if parse_failed || has_errors(&analysed.diagnostics) {
+        return analysed;
+    }
+    let scene = checked.value;
+
+    let input = PlanInput::of(&scene);
+    let reused = memo.plan.take().and_then(|(made_for, before, output)| {
+        let shift = Shift::between(&made_for, &text);
+        let moved = shift.moved(&before)?;
+        (moved == input).then(|| shift.moved(&output)).flatten()
+    });
+    let planned = match reused {
+        Some(output) => {
+            memo.counts.plans_reused += 1;
+            output
+        }
+        None => {
+            memo.counts.planned += 1;
+            let planned =
+                crate::plan::plan_with(&scene, StructureCatalog::builtin(), PlanOptions::default());
+            Output { value: planned.value, diagnostics: planned.diagnostics }
+        }
+    };
+    memo.plan = Some((std::rc::Rc::clone(&text), input, planned.clone()));
+    analysed.diagnostics.extend(planned.diagnostics);
+    if has_errors(&analysed.diagnostics) {
+        analysed.scene = Some(scene);
+        return analysed;
+    }
+    analysed.plan = Some(planned.value);
+
+    let input = ResolveInput::of(&scene);
+    let reused = memo.resolve.take().and_then(|(made_for, before, output)| {
+        let shift = Shift::between(&made_for, &text);
+        let moved = shift.moved(&before)?;
+        (moved == input).then(|| shift.moved(&output)).flatten()
+    });
+    let resolved = match reused {
+        Some(output) => {
+            memo.counts.resolutions_reused += 1;
+            output
+        }
+        None => {
+            memo.counts.resolved += 1;
+            let resolved = crate::resolve::resolve_cached(
+                &scene,
+                catalog,
+                scene.seed,
+                &crate::resolve::ResolveOptions::default(),
+                &mut memo.cache.ranks,
+            );
+            Output { value: resolved.value, diagnostics: resolved.diagnostics }
+        }
+    };
+    memo.resolve = Some((text, input, resolved.clone()));
+    analysed.diagnostics.extend(resolved.diagnostics);
+    analysed.resolved = Some(resolved.value);
+    analysed.scene = Some(scene);
+    analysed
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_shift_moves_what_follows_the_edit_and_refuses_what_it_cut() {
+        let shift = Shift::between("abcdef", "abXYZef");
+        assert_eq!(shift, Shift { start: 2, old_end: 4, new_end: 5 });
+        assert_eq!(shift.offset(1), Some(1));
+        assert_eq!(shift.offset(2), Some(2));
+        assert_eq!(shift.offset(3), None);
+        assert_eq!(shift.offset(4), Some(5));
+        assert_eq!(shift.offset(6), Some(7));
+        let same = Shift::between("aaa", "aaaa");
+        assert_eq!(same, Shift { start: 3, old_end: 3, new_end: 4 });
+        assert_eq!(Shift::between("", "x"), Shift { start: 0, old_end: 0, new_end: 1 });
+    }
+}
