@@ -199,6 +199,9 @@ enum Flow {
     Exit,
 }
 
+/// What a document's catalog is made of: the catalog files and the objathor folder.
+type CatalogKey = (Vec<PathBuf>, Option<ObjathorOptions>);
+
 struct Server {
     sender: Sender<Message>,
     /// Open documents by URI.
@@ -209,7 +212,7 @@ struct Server {
     objathor: Option<ObjathorOptions>,
     /// Loaded catalogs by their list of files and objathor folder, with the files' sizes and
     /// times when loaded.
-    catalog_cache: HashMap<(Vec<PathBuf>, Option<ObjathorOptions>), (Vec<Stamp>, Arc<Catalog>)>,
+    catalog_cache: HashMap<CatalogKey, (Vec<Stamp>, Arc<Catalog>)>,
     /// The last version published for each document (a publish never goes back).
     published: BTreeMap<String, i32>,
     /// Each `holoc.toml` read: when it was modified and the catalogs it lists.
