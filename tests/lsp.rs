@@ -1013,7 +1013,7 @@ fn a_catalog_edited_on_disk_is_read_again() {
         1,
     );
     let mut client = Client::in_folders(
-        holoc::lsp::ServerOptions { catalogs: Vec::new(), solve_on_save: false },
+        holoc::lsp::ServerOptions { catalogs: Vec::new(), solve_on_save: false, objathor: None },
         json!({}),
         &[format!("file://{}", dir.display())],
     );
