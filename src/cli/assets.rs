@@ -208,6 +208,16 @@ fn load(catalog: &CatalogArgs, color: ColorChoice) -> Option<Catalog> {
     Some(outcome.value)
 }
 
+/// How `assets search` names a kind of placement in its verdict.
+fn kind_words(kind: PlacementKind) -> &'static str {
+    match kind {
+        PlacementKind::Floor => "a floor object",
+        PlacementKind::Wall => "a wall object",
+        PlacementKind::OnObject => "a thing on furniture",
+        PlacementKind::Ceiling => "a ceiling object",
+    }
+}
+
 fn f3(v: [f64; 3]) -> String {
     format!("{:.2}×{:.2}×{:.2}", v[0], v[1], v[2])
 }
@@ -246,9 +256,17 @@ fn search(args: &SearchArgs) -> ExitCode {
         candidates.sort_by(|a, b| lexical(b).total_cmp(&lexical(a)));
     }
     let options = resolve::ResolveOptions { stand_ins: !args.no_stand_ins };
+    // The verdict is for one kind of placement: the one asked, else the first the best
+    // candidate allows (a coffee machine stands on furniture), else the floor; it is named.
+    let verdict_kind = kind
+        .or_else(|| {
+            let best = catalog.get(&candidates.first()?.asset_id)?;
+            PlacementKind::ALL.into_iter().find(|k| best.allows(*k))
+        })
+        .unwrap_or(PlacementKind::Floor);
     let resolution = resolve::resolve_query(
         &catalog,
-        &resolve::Query { kind: Some(kind.unwrap_or(PlacementKind::Floor)), ..query.clone() },
+        &resolve::Query { kind: Some(verdict_kind), ..query.clone() },
         0,
         &options,
     )
@@ -309,7 +327,18 @@ fn search(args: &SearchArgs) -> ExitCode {
                     f3(c.bbox_m)
                 );
             } else if resolution.choice().is_none() {
-                s.push_str("   →  nothing: a build leaves it out (W0401)\n");
+                let _ = writeln!(
+                    s,
+                    "   →  nothing as {}: a build leaves it out (W0401)",
+                    kind_words(verdict_kind)
+                );
+            } else if let Some(c) = resolution.choice().filter(|_| kind.is_none()) {
+                let _ = writeln!(
+                    s,
+                    "   →  as {}: a build takes `{}`",
+                    kind_words(verdict_kind),
+                    c.asset_id
+                );
             }
             for (i, c) in shown.iter().enumerate() {
                 let good = if c.is_good_enough() { "" } else { "  (below threshold)" };
