@@ -1092,37 +1092,11 @@ fn measure_relation_with<const VALUE: bool>(
             Measure::yes_no(ok, sl.max(sr), "m")
         }
         RelationKind::Around if meaning.ring.is_some() => {
-            // At one of the seats the group shares: the distance to the nearest, and facing
-            // the table as that seat does.
             let seats = meaning
                 .ring
                 .map(|r| seat_poses(target, target_size_of(target, &tf), &r))
                 .unwrap_or_default();
-            let nearest = seats
-                .iter()
-                .map(|p| ((p.x - me.x).hypot(p.z - me.z), p.rot))
-                .min_by(|a, b| a.0.total_cmp(&b.0));
-            let (dist, rot) = nearest.unwrap_or((f64::INFINITY, me.rot));
-            let at_seat = dist <= SEAT_TOLERANCE_M + EPS && rot == me.rot;
-            let facing = faces(me, &tf);
-            let gap = gap();
-            let close = gap <= meaning.max_gap + EPS;
-            // Drawn to the seats: most for standing at one, some for being close and facing.
-            let toward = (1.0 - dist / 2.0).clamp(0.0, 1.0);
-            // At a seat, the nearer its middle the better, so that chairs stand evenly.
-            let score = if at_seat {
-                1.0 - 0.1 * dist / SEAT_TOLERANCE_M
-            } else {
-                0.3 * toward
-                    + if facing && close {
-                        0.5
-                    } else if facing {
-                        0.2
-                    } else {
-                        0.0
-                    }
-            };
-            Measure { satisfied: at_seat, score, value: dist.min(1e9), unit: "m" }
+            around_seats(meaning, me, &mf, &tf, &seats)
         }
         RelationKind::Around => {
             let facing = faces(me, &tf);
@@ -1173,7 +1147,38 @@ fn measure_relation_with<const VALUE: bool>(
 
 /// The footprint size `[width, depth]` at rotation 0 of an object at `pose` whose footprint is
 /// `fp` (a quarter turn swaps the two).
-fn target_size_of(pose: &Pose, fp: &Rect) -> [f64; 2] {
+/// `around` a table for one of the chairs that share its seats (`seats`, as [`seat_poses`]
+/// gives them for the table's pose): at one of them, facing the table as that seat does; the
+/// distance to the nearest is the measure. The search works the seats out once per table pose.
+pub fn around_seats(meaning: &Meaning, me: &Pose, mf: &Rect, tf: &Rect, seats: &[Pose]) -> Measure {
+    let nearest = seats
+        .iter()
+        .map(|p| ((p.x - me.x).hypot(p.z - me.z), p.rot))
+        .min_by(|a, b| a.0.total_cmp(&b.0));
+    let (dist, rot) = nearest.unwrap_or((f64::INFINITY, me.rot));
+    let at_seat = dist <= SEAT_TOLERANCE_M + EPS && rot == me.rot;
+    let facing = faces(me, tf);
+    let gap = mf.gap(tf);
+    let close = gap <= meaning.max_gap + EPS;
+    // Drawn to the seats: most for standing at one, some for being close and facing.
+    let toward = (1.0 - dist / 2.0).clamp(0.0, 1.0);
+    // At a seat, the nearer its middle the better, so that chairs stand evenly.
+    let score = if at_seat {
+        1.0 - 0.1 * dist / SEAT_TOLERANCE_M
+    } else {
+        0.3 * toward
+            + if facing && close {
+                0.5
+            } else if facing {
+                0.2
+            } else {
+                0.0
+            }
+    };
+    Measure { satisfied: at_seat, score, value: dist.min(1e9), unit: "m" }
+}
+
+pub(crate) fn target_size_of(pose: &Pose, fp: &Rect) -> [f64; 2] {
     let right = pose.rot.right();
     if right[0].abs() > 0.5 {
         [fp.width(), fp.depth()]

@@ -288,7 +288,9 @@ pub(crate) fn fast_score(
 /// target is placed, with its meaning, weight and the target's pose and footprint worked out
 /// once. Gives [`fast_score`]'s value to the bit.
 struct Scorer {
-    relations: Vec<(RelationKind, constraints::Meaning, f64, Pose, Rect)>,
+    /// Each relation with its meaning, weight, the target's pose and footprint, and, for a
+    /// chair around a table, the table's seats.
+    relations: Vec<(RelationKind, constraints::Meaning, f64, Pose, Rect, Vec<Pose>)>,
     sat_value: f64,
 }
 
@@ -301,13 +303,15 @@ impl Scorer {
                 (poses.get(c.target), prep.problem.objects.get(c.target))
             {
                 let meaning = prep.meaning(k, ci);
-                relations.push((
-                    c.kind,
-                    meaning,
-                    constraints::weight(c.kind),
-                    *tp,
-                    footprint(tp, t.size),
-                ));
+                let tf = footprint(tp, t.size);
+                // As the shared measure works them out, to the bit.
+                let seats = match (&meaning.ring, c.kind) {
+                    (Some(ring), RelationKind::Around) => {
+                        constraints::seat_poses(tp, constraints::target_size_of(tp, &tf), ring)
+                    }
+                    _ => Vec::new(),
+                };
+                relations.push((c.kind, meaning, constraints::weight(c.kind), *tp, tf, seats));
             }
         }
         Scorer { relations, sat_value }
@@ -315,8 +319,12 @@ impl Scorer {
 
     fn score(&self, c: &Cand) -> f64 {
         let mut s = 0.0;
-        for (kind, meaning, weight, tp, tf) in &self.relations {
-            let m = constraints::relation_fit_with(*kind, meaning, &c.pose, &c.fp, tp, tf);
+        for (kind, meaning, weight, tp, tf, seats) in &self.relations {
+            let m = if seats.is_empty() {
+                constraints::relation_fit_with(*kind, meaning, &c.pose, &c.fp, tp, tf)
+            } else {
+                constraints::around_seats(meaning, &c.pose, &c.fp, tf, seats)
+            };
             s += weight * m.score + if m.satisfied { self.sat_value } else { 0.0 };
         }
         s
