@@ -141,3 +141,36 @@ fn repair_writes_the_corners_and_build_repair_builds() {
     let built = holoc().args(["build", "-q", "-o"]).arg(dir.join("h2.json")).arg(&scene).output();
     assert!(built.expect("holoc runs").status.success(), "the repaired file builds");
 }
+
+/// `-` reads standard input in `check` and `fmt`; `fmt --write -` is refused.
+#[test]
+fn check_and_fmt_read_standard_input() {
+    use std::io::Write as _;
+    let scene = std::fs::read("examples/bedroom.holo").expect("example");
+    let run = |args: &[&str]| {
+        let mut child = holoc()
+            .args(args)
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .expect("runs");
+        child.stdin.take().expect("stdin").write_all(&scene).expect("write");
+        child.wait_with_output().expect("output")
+    };
+    let check = run(&["check", "-"]);
+    assert_eq!(check.status.code(), Some(0), "{}", String::from_utf8_lossy(&check.stderr));
+    let fmt = run(&["fmt", "-"]);
+    assert_eq!(fmt.status.code(), Some(0));
+    assert_eq!(fmt.stdout, scene, "the example is formatted already");
+    let write = run(&["fmt", "--write", "-"]);
+    assert_eq!(write.status.code(), Some(2));
+}
+
+/// `explain` without a code says what to give.
+#[test]
+fn explain_without_a_code_names_list() {
+    let out = holoc().arg("explain").output().expect("runs");
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--list"));
+}

@@ -97,8 +97,27 @@ pub fn read_source(sources: &mut SourceMap, path: &Path) -> Result<FileId, Diagn
     // of a shell's `<(…)` and devices are read up to the limit and for at most
     // `source::STREAM_TIMEOUT`: `/dev/zero` or a runaway pipe ends with an error instead of
     // filling the memory or waiting for ever.
+    // `-` is standard input (`cat a.holo | holoc check -`), read up to the same limit.
+    let read = if path.as_os_str() == "-" {
+        use std::io::Read as _;
+        let mut bytes = Vec::new();
+        std::io::stdin()
+            .lock()
+            .take(MAX_INPUT_BYTES.saturating_add(1))
+            .read_to_end(&mut bytes)
+            .map_err(|e| crate::source::ReadError::Io(e.to_string()))
+            .and_then(|_| {
+                if bytes.len() as u64 > MAX_INPUT_BYTES {
+                    Err(crate::source::ReadError::TooLarge(MAX_INPUT_BYTES))
+                } else {
+                    Ok(bytes)
+                }
+            })
+    } else {
+        crate::source::read_input(path, MAX_INPUT_BYTES)
+    };
     let bytes =
-        match crate::source::read_input(path, MAX_INPUT_BYTES) {
+        match read {
             Ok(bytes) => bytes,
             Err(e @ crate::source::ReadError::NamedPipe) => {
                 return Err(cannot(&e).with_help(
@@ -132,7 +151,9 @@ pub fn read_source(sources: &mut SourceMap, path: &Path) -> Result<FileId, Diagn
         )
         .with_help("save the file as UTF-8")
     })?;
-    Ok(sources.add(path.display().to_string(), text))
+    let name =
+        if path.as_os_str() == "-" { "<stdin>".to_string() } else { path.display().to_string() };
+    Ok(sources.add(name, text))
 }
 
 /// The largest input file holoc reads (a scene, an answer, a transcript, a house), bytes.

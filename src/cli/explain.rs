@@ -8,7 +8,6 @@ use std::process::ExitCode;
 #[derive(Debug, clap::Args)]
 pub struct ExplainArgs {
     /// A code (`E0201`) or its name (`unknown-object`); `--list` prints them all.
-    #[arg(required_unless_present = "list")]
     pub code: Option<String>,
     /// List every code with its name and summary.
     #[arg(long)]
@@ -23,7 +22,16 @@ pub fn run(args: &ExplainArgs) -> ExitCode {
         }
         return ExitCode::SUCCESS;
     }
-    let text = args.code.as_deref().unwrap_or_default();
+    let Some(text) = args.code.as_deref() else {
+        let d = Diagnostic::new(Code::E0004, "which code? `holoc explain` takes a code or a name")
+            .with_help_opt(Some(
+                "`holoc explain E0201` (or `holoc explain unknown-object`) prints its page; \
+                 `holoc explain --list` prints every code"
+                    .to_string(),
+            ));
+        super::common::emit_plain(&d);
+        return ExitCode::from(2);
+    };
     match Code::parse(text) {
         Some(code) => {
             common::out(code.page());

@@ -32,6 +32,10 @@ pub fn run(args: &FmtArgs) -> ExitCode {
     let mut sources = SourceMap::new();
     let mut status = ExitCode::SUCCESS;
     for path in &args.files {
+        if args.write && path.as_os_str() == "-" {
+            common::err("`fmt --write -`: standard input cannot be written back; leave out `--write` to print the formatted text\n");
+            return ExitCode::from(2);
+        }
         let id = match common::read_source(&mut sources, path) {
             Ok(id) => id,
             Err(d) => {

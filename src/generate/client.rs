@@ -153,9 +153,14 @@ impl LlmError {
             .with_help("check that `--base-url` points at an OpenAI-compatible API"),
             LlmError::MissingReplay { stage, room, attempt } => {
                 let room = room.as_ref().map(|r| format!(", room `{r}`")).unwrap_or_default();
+                let which = if *attempt == 0 {
+                    "its first ask".to_string()
+                } else {
+                    format!("repair round {attempt}")
+                };
                 Diagnostic::new(
                     Code::E0810,
-                    format!("the replayed transcript has no answer for stage `{stage}`{room}, attempt {attempt}"),
+                    format!("the replayed transcript has no answer for stage `{stage}`{room}, {which}"),
                 )
                 .with_help("replay with the prompts and options the transcript was recorded with, or use `holoc import`")
             }

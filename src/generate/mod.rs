@@ -421,8 +421,13 @@ impl Run<'_> {
                     self.cancelled.store(true, Ordering::SeqCst);
                     let mut d = error.to_diagnostic();
                     let room_note = room.map(|r| format!(", room `{r}`")).unwrap_or_default();
+                    let which = if attempt == 0 {
+                        "its first ask".to_string()
+                    } else {
+                        format!("repair round {attempt}")
+                    };
                     d = d.with_note(format!(
-                        "while asking stage `{}`{room_note}, attempt {attempt}",
+                        "while asking stage `{}`{room_note}, {which}",
                         stage.as_str()
                     ));
                     asked.diagnostics.push(d);

@@ -27,8 +27,9 @@ pub(crate) fn dump(plan: &FloorPlan, scene: &Scene) -> String {
     let mut out = String::new();
     let _ = writeln!(
         out,
-        "plan: {} rooms, wall height {} m, seed {}",
+        "plan: {} room{}, wall height {} m, seed {}",
         plan.rooms.len(),
+        if plan.rooms.len() == 1 { "" } else { "s" },
         f(plan.wall_height_m),
         plan.seed
     );

@@ -75,12 +75,26 @@ pub(crate) fn stand_in(
     Diagnostic::new(
         Code::W0403,
         format!(
-            "no asset of its own for `{}` (\"{}\"); a {} (`{}`) stands in",
-            what.name, what.description, asset.object_type, asset.id
+            "no asset of its own for `{}` (\"{}\"); {} {} (`{}`) stands in",
+            what.name,
+            what.description,
+            article(&asset.object_type),
+            asset.object_type,
+            asset.id
         ),
     )
-    .with_primary(what.span, format!("a {} stands in", asset.object_type))
-    .with_note(format!("a {} for a {}: {}", asset.object_type, line.key, line.reason))
+    .with_primary(
+        what.span,
+        format!("{} {} stands in", article(&asset.object_type), asset.object_type),
+    )
+    .with_note(format!(
+        "{} {} for {} {}: {}",
+        article(&asset.object_type),
+        asset.object_type,
+        article(&line.key),
+        line.key,
+        line.reason
+    ))
     .with_help("pin an asset with `asset \"…\"`, add a catalog that has one with `--catalog`, or build with `--no-stand-ins` to leave it out")
 }
 
@@ -197,4 +211,12 @@ pub(crate) fn no_match(
         )
     };
     d.with_help(help)
+}
+
+/// `a` or `an` before a word, by its first letter (`an Ottoman`, `a DogBed`).
+fn article(word: &str) -> &'static str {
+    match word.chars().next().map(|c| c.to_ascii_lowercase()) {
+        Some('a' | 'e' | 'i' | 'o' | 'u') => "an",
+        _ => "a",
+    }
 }
