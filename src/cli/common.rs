@@ -101,18 +101,17 @@ pub fn read_source(sources: &mut SourceMap, path: &Path) -> Result<FileId, Diagn
     let read = if path.as_os_str() == "-" {
         use std::io::Read as _;
         let mut bytes = Vec::new();
-        std::io::stdin()
+        match std::io::stdin()
             .lock()
             .take(MAX_INPUT_BYTES.saturating_add(1))
             .read_to_end(&mut bytes)
-            .map_err(|e| crate::source::ReadError::Io(e.to_string()))
-            .and_then(|_| {
-                if bytes.len() as u64 > MAX_INPUT_BYTES {
-                    Err(crate::source::ReadError::TooLarge(MAX_INPUT_BYTES))
-                } else {
-                    Ok(bytes)
-                }
-            })
+        {
+            Err(e) => Err(crate::source::ReadError::Io(e.to_string())),
+            Ok(_) if bytes.len() as u64 > MAX_INPUT_BYTES => {
+                Err(crate::source::ReadError::TooLarge(MAX_INPUT_BYTES))
+            }
+            Ok(_) => Ok(bytes),
+        }
     } else {
         crate::source::read_input(path, MAX_INPUT_BYTES)
     };

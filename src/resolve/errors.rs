@@ -91,7 +91,7 @@ pub(crate) fn stand_in(
         "{} {} for {} {}: {}",
         article(&asset.object_type),
         asset.object_type,
-        article(&line.key),
+        article(line.key),
         line.key,
         line.reason
     ))
