@@ -53,7 +53,8 @@ fn run(manifest: &Path, out: &Path, jobs: usize) -> (f64, Option<u64>) {
             .arg(manifest)
             .arg("-o")
             .arg(out)
-            .args(["-q", "--jobs", &jobs.to_string()])
+            // The examples are outside the manifests' scratch folder.
+            .args(["-q", "--allow-outside", "--jobs", &jobs.to_string()])
             .output()
     } else {
         Command::new(holoc)
@@ -61,7 +62,8 @@ fn run(manifest: &Path, out: &Path, jobs: usize) -> (f64, Option<u64>) {
             .arg(manifest)
             .arg("-o")
             .arg(out)
-            .args(["-q", "--jobs", &jobs.to_string()])
+            // The examples are outside the manifests' scratch folder.
+            .args(["-q", "--allow-outside", "--jobs", &jobs.to_string()])
             .output()
     }
     .expect("holoc runs");
@@ -95,7 +97,7 @@ fn run_with(manifest: &Path, out: &Path, extra: &[&str]) -> f64 {
         .arg(manifest)
         .arg("-o")
         .arg(out)
-        .arg("-q")
+        .args(["-q", "--allow-outside", "--allow-job-base-url"])
         .args(extra)
         .output()
         .expect("holoc runs");
