@@ -594,7 +594,7 @@ pub struct FeatureScore {
     pub lexical_score: f64,
 }
 
-/// Ranks the folder's assets for `query`: lexically (the best [`super::RANK_LIMIT`] by words
+/// Ranks the folder's assets for `query`: lexically (the best `RANK_LIMIT` (128) by words
 /// and size), then, in the `features` mode, re-scored by their CLIP rows against the
 /// pseudo-query of the best [`SEED_MATCHES`] lexical matches. Best first; ties by the seed.
 pub fn rank(catalog: &Catalog, query: &Query, seed: u64, limit: usize) -> Vec<Candidate> {

@@ -10,7 +10,7 @@
 //! error with the byte offset, never a panic; sizes are checked against the bytes left before
 //! anything is allocated.
 //!
-//! [`write`] is the inverse for tests and benchmarks: it writes such a dict the way numpy does,
+//! [`write()`] is the inverse for tests and benchmarks: it writes such a dict the way numpy does,
 //! in any of the four protocols and with either module name.
 
 use std::ops::Range;
@@ -760,7 +760,7 @@ pub enum NumpyModules {
     UnderscoreCore,
 }
 
-/// A value [`write`] can write.
+/// A value [`write()`] can write.
 #[derive(Clone, Debug)]
 pub enum Value {
     /// A list of strings.
