@@ -836,3 +836,32 @@ fn a_manifest_reads_only_its_folder_and_chooses_no_server() {
     let jobs = summary(&out2.join("summary.json"))["jobs"].as_array().expect("jobs").clone();
     assert_eq!(jobs.iter().filter(|j| j["status"] == "done").count(), 2, "{jobs:?}");
 }
+
+/// A run leaves the hashes of the files it read for the next one, which reads a file again only
+/// when its size or time stamp changed; a damaged memo is ignored.
+#[test]
+fn file_hashes_are_kept_for_the_next_run() {
+    use sha2::Digest as _;
+    let dir = scratch("memo");
+    std::fs::copy("examples/bedroom.holo", dir.join("bedroom.holo")).expect("copy");
+    let manifest = dir.join("m.jsonl");
+    std::fs::write(&manifest, "{\"build\": \"bedroom.holo\"}\n").expect("write");
+    let out = dir.join("out");
+    assert_eq!(batch(&[], &manifest, &out).status.code(), Some(0));
+    let memo = std::fs::read_to_string(out.join(".cache/file-hashes.tsv")).expect("memo");
+    let bytes = std::fs::read(dir.join("bedroom.holo")).expect("read");
+    let sha: String = sha2::Sha256::digest(&bytes).iter().map(|b| format!("{b:02x}")).collect();
+    assert!(memo.lines().any(|l| l.starts_with(&sha) && l.ends_with("bedroom.holo")), "{memo}");
+    // The second run skips the finished job, with the memo or with a damaged one.
+    let second = batch(&[], &manifest, &out);
+    assert_eq!(second.status.code(), Some(0));
+    assert_eq!(summary(&out.join("summary.json"))["skipped"], 1);
+    std::fs::write(out.join(".cache/file-hashes.tsv"), "garbage\tline\n\u{0}\n").expect("damage");
+    assert_eq!(batch(&[], &manifest, &out).status.code(), Some(0));
+    assert_eq!(summary(&out.join("summary.json"))["skipped"], 1);
+    // A changed file is a new job.
+    std::fs::write(dir.join("bedroom.holo"), [bytes.as_slice(), b"\n// changed\n"].concat())
+        .expect("change");
+    assert_eq!(batch(&[], &manifest, &out).status.code(), Some(0));
+    assert_eq!(summary(&out.join("summary.json"))["done"], 1);
+}

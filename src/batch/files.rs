@@ -8,6 +8,7 @@ use crate::diag::Diagnostic;
 use crate::resolve::Catalog;
 use crate::source::SourceMap;
 use std::collections::HashMap;
+use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex};
 use std::time::SystemTime;
@@ -18,6 +19,11 @@ type Stamp = (u64, Option<SystemTime>);
 fn stamp(path: &Path) -> Option<Stamp> {
     let meta = std::fs::metadata(path).ok()?;
     Some((meta.len(), meta.modified().ok()))
+}
+
+/// Where a run keeps the hashes of the files it read, for the next run into the same folder.
+fn memo_path(out: &Path) -> PathBuf {
+    out.join(".cache").join("file-hashes.tsv")
 }
 
 /// The SHA-256 of the files a run reads, by path.
@@ -50,6 +56,64 @@ impl FileHashes {
         };
         lock().insert(path.to_path_buf(), (now, hash.clone()));
         hash
+    }
+
+    /// The hashes a previous run left in `out` (`.cache/file-hashes.tsv`): a file whose size and
+    /// time stamp are those recorded is not read again, so resuming jobs that name a large
+    /// catalog costs no reading of it. A missing or damaged memo is an empty one.
+    pub fn load(out: &Path) -> FileHashes {
+        let mut known = HashMap::new();
+        let text = std::fs::read_to_string(memo_path(out)).unwrap_or_default();
+        for line in text.lines() {
+            let mut f = line.splitn(4, '\t');
+            let (Some(hash), Some(len), Some(time), Some(path)) =
+                (f.next(), f.next(), f.next(), f.next())
+            else {
+                continue;
+            };
+            let Ok(len) = len.parse::<u64>() else { continue };
+            let time = match time {
+                "-" => None,
+                t => match t.split_once('.').map(|(s, n)| (s.parse::<u64>(), n.parse::<u32>())) {
+                    Some((Ok(s), Ok(n))) if n < 1_000_000_000 => {
+                        SystemTime::UNIX_EPOCH.checked_add(std::time::Duration::new(s, n))
+                    }
+                    _ => continue,
+                },
+            };
+            if hash.len() == 64 && hash.bytes().all(|b| b.is_ascii_hexdigit()) {
+                known.insert(PathBuf::from(path), ((len, time), hash.to_string()));
+            }
+        }
+        FileHashes { known: Mutex::new(known) }
+    }
+
+    /// Writes what the run knows for the next one (atomically, through `scratch`): the paths,
+    /// sizes, time stamps and hashes, sorted by path. Paths with a tab or a line break are left
+    /// out (they are hashed again).
+    pub fn save(&self, out: &Path, scratch: &Path) -> std::io::Result<()> {
+        let known = self.known.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+        let mut rows: Vec<(&PathBuf, &(Stamp, String))> = known.iter().collect();
+        rows.sort_by(|a, b| a.0.cmp(b.0));
+        let mut text = String::new();
+        for (path, ((len, time), hash)) in rows {
+            let Some(p) = path.to_str().filter(|p| !p.contains(['\t', '\n', '\r'])) else {
+                continue;
+            };
+            let time = match time.and_then(|t| t.duration_since(SystemTime::UNIX_EPOCH).ok()) {
+                Some(d) => format!("{}.{:09}", d.as_secs(), d.subsec_nanos()),
+                None => "-".to_string(),
+            };
+            let _ = writeln!(text, "{hash}\t{len}\t{time}\t{p}");
+        }
+        drop(known);
+        let path = memo_path(out);
+        if let Some(parent) = path.parent() {
+            std::fs::create_dir_all(parent)?;
+        }
+        let tmp = scratch.join("file-hashes.tsv");
+        std::fs::write(&tmp, text)?;
+        std::fs::rename(&tmp, &path)
     }
 
     /// The file's size in bytes (0 when it cannot be read).

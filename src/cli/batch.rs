@@ -180,6 +180,7 @@ pub fn run(args: &BatchArgs) -> ExitCode {
         RunOptions::new(out.clone(), scratch.dir.clone(), threads, args.llm_concurrency);
     options.force = args.force;
     options.retry_failed = args.retry_failed;
+    options.files = batch::FileHashes::load(out);
     options.manifest_dir = base.to_path_buf();
     options.allow_outside = args.allow_outside;
     options.allow_job_base_url = args.allow_job_base_url;
@@ -338,6 +339,8 @@ pub fn run(args: &BatchArgs) -> ExitCode {
     progress.finish(started);
     let counts = log.counts;
     let records = log.finish(&shards, out, &suffix);
+    // The hashes for the next run (a failure to write them only costs that run a read).
+    let _ = options.files.save(out, &scratch.dir);
     scratch.finish();
     if let Err((e, unwritten)) = &records {
         let mut d = Diagnostic::new(
