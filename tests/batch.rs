@@ -841,7 +841,6 @@ fn a_manifest_reads_only_its_folder_and_chooses_no_server() {
 /// when its size or time stamp changed; a damaged memo is ignored.
 #[test]
 fn file_hashes_are_kept_for_the_next_run() {
-    use sha2::Digest as _;
     let dir = scratch("memo");
     std::fs::copy("examples/bedroom.holo", dir.join("bedroom.holo")).expect("copy");
     let manifest = dir.join("m.jsonl");
@@ -850,7 +849,7 @@ fn file_hashes_are_kept_for_the_next_run() {
     assert_eq!(batch(&[], &manifest, &out).status.code(), Some(0));
     let memo = std::fs::read_to_string(out.join(".cache/file-hashes.tsv")).expect("memo");
     let bytes = std::fs::read(dir.join("bedroom.holo")).expect("read");
-    let sha: String = sha2::Sha256::digest(&bytes).iter().map(|b| format!("{b:02x}")).collect();
+    let sha = holoc::resolve::sha256_hex(&bytes);
     assert!(memo.lines().any(|l| l.starts_with(&sha) && l.ends_with("bedroom.holo")), "{memo}");
     // The second run skips the finished job, with the memo or with a damaged one.
     let second = batch(&[], &manifest, &out);
