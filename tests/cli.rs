@@ -175,3 +175,16 @@ fn explain_without_a_code_names_list() {
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("--list"));
 }
+
+/// `holoc completions` prints a script for each shell that knows the subcommands.
+#[test]
+fn completions_know_the_subcommands() {
+    for shell in ["bash", "zsh", "fish"] {
+        let out = holoc().args(["completions", shell]).output().expect("runs");
+        assert_eq!(out.status.code(), Some(0), "{shell}");
+        let text = String::from_utf8_lossy(&out.stdout);
+        for sub in ["build", "check", "batch", "completions"] {
+            assert!(text.contains(sub), "{shell}: {sub}");
+        }
+    }
+}

@@ -8,6 +8,7 @@ pub mod batch;
 pub mod build;
 pub mod check;
 pub mod common;
+pub mod completions;
 pub mod diff;
 pub mod explain;
 pub mod export;
@@ -68,6 +69,8 @@ pub enum Command {
     Export(export::ExportArgs),
     /// Write a self-contained HTML page that shows a house in 3D.
     View(view::ViewArgs),
+    /// Print the shell completion script (`holoc completions bash > ~/.local/share/bash-completion/completions/holoc`).
+    Completions(completions::CompletionsArgs),
 }
 
 /// Runs a parsed command line.
@@ -89,5 +92,6 @@ pub fn run(cli: Cli) -> ExitCode {
         Command::Validate(args) => validate::run(args),
         Command::Export(args) => export::run(args),
         Command::View(args) => view::run(args),
+        Command::Completions(args) => completions::run(args),
     }
 }
