@@ -1,7 +1,7 @@
 //! Whole scenes: holoc transcripts and original Holodeck scene files.
 
 use super::draft::{DObject, DOnTop};
-use super::stages::no_constraints;
+use super::stages::no_constraints_in_file;
 use super::transcript::Transcript;
 use super::{import_answer, ImportContext, ImportOptions, Stage};
 use crate::ast;
@@ -89,7 +89,7 @@ pub fn import_transcript(
         .map(|r| r.id.clone())
         .collect();
     for r in unconstrained {
-        no_constraints(&ctx, &r, span, &mut diags);
+        no_constraints_in_file(&ctx, &r, span, &mut diags);
     }
     crate::diag::sort(&mut diags);
     Outcome::new(ctx.file(), diags)
@@ -226,7 +226,7 @@ pub fn import_holodeck_scene(
     let span = Span::new(FileId(0), 0, 0);
     let ids: Vec<String> = ctx.draft.rooms.iter().map(|r| r.id.clone()).collect();
     for r in ids {
-        no_constraints(&ctx, &r, span, &mut diags);
+        no_constraints_in_file(&ctx, &r, span, &mut diags);
     }
     crate::diag::sort(&mut diags);
     Outcome::new(ctx.file(), diags)

@@ -1746,6 +1746,38 @@ pub(crate) fn no_constraints(ctx: &ImportContext, room: &str, span: Span, d: &mu
     }
 }
 
+/// One W0705 for a room of a file that has no constraint answer at all: its floor objects
+/// without constraints, counted, with their names in a note (one line, not one per object).
+pub(crate) fn no_constraints_in_file(ctx: &ImportContext, room: &str, span: Span, d: &mut Diags) {
+    let Some(r) = ctx.draft.room(room) else { return };
+    let mut names = Vec::new();
+    for o in r.objects.iter().filter(|o| !o.wall) {
+        for (i, inst) in o.instances.iter().enumerate().take(o.count.max(1) as usize) {
+            if inst.order.is_none() && inst.at.is_none() {
+                names.push(format!("`{}-{i}`", o.id));
+            }
+        }
+    }
+    if names.is_empty() {
+        return;
+    }
+    let n = names.len();
+    let shown: Vec<String> = names.iter().take(8).cloned().collect();
+    let more = if n > 8 { format!(" and {} more", n - 8) } else { String::new() };
+    d.push(
+        Diagnostic::new(
+            Code::W0705,
+            format!(
+                "the {n} floor object{} of `{}` have no constraints; they will be placed at an edge",
+                if n == 1 { "" } else { "s" },
+                r.label
+            ),
+        )
+        .with_primary(span, "the file has no constraint answer for this room")
+        .with_note(format!("{}{more}", shown.join(", "))),
+    );
+}
+
 // ---------------------------------------------------------------------------------------------
 // Wall constraints.
 
