@@ -1052,14 +1052,8 @@ impl Search<'_, '_> {
                     .to_string(),
             ));
         }
-        let mut names: Vec<(usize, &str)> =
-            blockers.iter().map(|(&i, &n)| (n, prep.problem.objects[i].id.as_str())).collect();
-        names.sort_by(|a, b| b.0.cmp(&a.0).then(a.1.cmp(b.1)));
-        let list: Vec<String> = names.iter().take(3).map(|(_, n)| format!("`{n}`")).collect();
-        Some((
-            HardRule::NoOverlap,
-            format!("every pose overlaps an object already placed ({})", list.join(", ")),
-        ))
+        let names = blockers.iter().map(|(&i, &n)| (n, prep.problem.objects[i].id.as_str()));
+        Some(overlap_reason(names))
     }
 
     /// What the use-clearance rule needs at a node for object `k`: the placed footprints, the
@@ -1254,21 +1248,10 @@ impl Search<'_, '_> {
         }
         if top.is_empty() {
             let placed: Vec<usize> = (0..k).filter(|&i| st.poses[i].is_some()).collect();
-            let mut names: Vec<(usize, String)> = blockers
-                .iter()
-                .filter_map(|(&slot, &count)| {
-                    placed.get(slot).map(|&i| (count, prep.problem.objects[i].id.clone()))
-                })
-                .collect();
-            names.sort_by(|a, b| b.0.cmp(&a.0).then(a.1.cmp(&b.1)));
-            let list: Vec<String> = names.iter().take(3).map(|(_, n)| format!("`{n}`")).collect();
-            return (
-                Vec::new(),
-                Some((
-                    HardRule::NoOverlap,
-                    format!("every pose overlaps an object already placed ({})", list.join(", ")),
-                )),
-            );
+            let names = blockers.iter().filter_map(|(&slot, &count)| {
+                placed.get(slot).map(|&i| (count, prep.problem.objects[i].id.as_str()))
+            });
+            return (Vec::new(), Some(overlap_reason(names)));
         }
         (top.into_iter().map(|(_, i, s)| (pick(i), s)).collect(), None)
     }
@@ -1303,6 +1286,18 @@ fn rank(prep: &Prepared<'_>, st: &State) -> Rank {
         r.score += score;
     }
     r
+}
+
+/// W0501's reason when every pose overlaps placed objects: the (at most three) objects in the
+/// way of the most poses, given as (poses blocked, id).
+fn overlap_reason<'a>(blockers: impl Iterator<Item = (usize, &'a str)>) -> Reason {
+    let mut names: Vec<(usize, &str)> = blockers.collect();
+    names.sort_by(|a, b| b.0.cmp(&a.0).then(a.1.cmp(b.1)));
+    let list: Vec<String> = names.iter().take(3).map(|(_, n)| format!("`{n}`")).collect();
+    (
+        HardRule::NoOverlap,
+        format!("every pose overlaps an object already placed ({})", list.join(", ")),
+    )
 }
 
 pub(crate) fn static_reason(fails: &BTreeMap<HardRule, usize>) -> (HardRule, String) {
