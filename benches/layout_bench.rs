@@ -41,9 +41,9 @@ fn fitted_exponent(points: &[(f64, f64)]) -> f64 {
 
 fn table(rooms: &[(String, RoomProblem)]) {
     println!(
-        "| room | objects | DFS median ms | nodes | placed | DFS sat | clearances kept | largest pocket m² | greedy ms | greedy sat | MILP ms | MILP placed | MILP sat | overlaps |"
+        "| room | objects | DFS median ms | nodes | found at | placed | DFS sat | clearances kept | largest pocket m² | greedy ms | greedy sat | MILP ms | MILP placed | MILP sat | overlaps |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     let (mut sat_all, mut total_all, mut placed_all, mut objects_all) = (0, 0, 0, 0);
     let mut slowest = (Duration::ZERO, String::new());
     let mut times = Vec::new();
@@ -81,10 +81,11 @@ fn table(rooms: &[(String, RoomProblem)]) {
         let (ck, ct) = solve::use_clearances_kept(p, &out);
         let pocket = solve::largest_pocket_m2(p, &out, dfs.agent_radius_m);
         println!(
-            "| {name} | {} | {:.1} | {} | {}/{} | {ok}/{total} | {ck}/{ct} | {pocket:.2} | {:.1} | {gok}/{total} | {:.0} | {}/{} | {mok}/{total} | {overlaps} |",
+            "| {name} | {} | {:.1} | {} | {} | {}/{} | {ok}/{total} | {ck}/{ct} | {pocket:.2} | {:.1} | {gok}/{total} | {:.0} | {}/{} | {mok}/{total} | {overlaps} |",
             p.objects.len(),
             t.as_secs_f64() * 1000.0,
             out.nodes,
+            out.found_at,
             out.floor.len(),
             p.objects.len(),
             tg.as_secs_f64() * 1000.0,
@@ -130,8 +131,23 @@ fn table(rooms: &[(String, RoomProblem)]) {
 }
 
 fn main() {
-    let rooms = solve_corpus::load_all();
-    if std::env::args().any(|a| a == "--table") {
+    let mut rooms = solve_corpus::load_all();
+    // `--only NAME` keeps one room (for profiling with `--table` or `--repeat`).
+    let args: Vec<String> = std::env::args().collect();
+    if let Some(name) = args.iter().position(|a| a == "--only").and_then(|i| args.get(i + 1)) {
+        rooms.retain(|(n, _)| n == name);
+    }
+    // `--repeat N` solves each room N times and prints nothing else: a loop for a profiler.
+    if let Some(n) = args.iter().position(|a| a == "--repeat").and_then(|i| args.get(i + 1)) {
+        let n: usize = n.parse().unwrap_or(1);
+        for (_, p) in &rooms {
+            for _ in 0..n {
+                black_box(solve::solve_room(black_box(p), &SolveOptions::default()));
+            }
+        }
+        return;
+    }
+    if args.iter().any(|a| a == "--table") {
         table(&rooms);
         return;
     }

@@ -528,3 +528,86 @@ fn a_real_objathor_folder_has_the_counts_and_shapes_it_should() {
         .iter()
         .any(holoc::resolve::Candidate::is_good_enough));
 }
+
+/// Issue 25's bookshelf of books and photo frames: AI2-THOR's built-in assets have no frame
+/// small enough to stand on a shelf, so without objathor the frames are reported (W0401) and
+/// never stood in for by a wall painting; with the fixture's small `picture frame` they stand on
+/// the bookshelf beside the books.
+#[test]
+fn photo_frames_stand_on_the_bookshelf_with_objathor() {
+    const FRAMES: &str = "tests/objathor/frames_on_a_shelf.holo";
+    let (dir, root) = fixture(FixtureOptions::default());
+    let run = |with_objathor: bool| -> (serde_json::Value, serde_json::Value, String) {
+        let tag = if with_objathor { "with" } else { "without" };
+        let house = dir.path().join(format!("{tag}.json"));
+        let report = dir.path().join(format!("{tag}-report.json"));
+        let mut args = vec![
+            "build".to_string(),
+            FRAMES.to_string(),
+            "-o".to_string(),
+            house.display().to_string(),
+            "--report".to_string(),
+            report.display().to_string(),
+            "-q".to_string(),
+        ];
+        if with_objathor {
+            args.extend(["--objathor".to_string(), root.display().to_string()]);
+        }
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let (code, _, err) = holoc(&args);
+        assert_eq!(code, 0, "{err}");
+        let err = err.clone();
+        let read = |p: &Path| -> serde_json::Value {
+            serde_json::from_str(&std::fs::read_to_string(p).expect("written")).expect("JSON")
+        };
+        (read(&house), read(&report), err)
+    };
+    let frame_uid = fixture_uid("photo_frame");
+    let objects = |house: &serde_json::Value| -> Vec<serde_json::Value> {
+        house["objects"].as_array().expect("objects").clone()
+    };
+    let is_frame_id = |o: &serde_json::Value| {
+        o["children"]
+            .as_array()
+            .into_iter()
+            .flatten()
+            .chain(std::iter::once(o))
+            .any(|c| c["id"].as_str().is_some_and(|i| i.contains("frame")))
+    };
+
+    let (house, report, _) = run(false);
+    // Without objathor no frame is in the house (no wall painting on the shelf) and each of
+    // the six is in `not_placed` with W0401.
+    assert!(!objects(&house).iter().any(is_frame_id), "{house}");
+    let reported: Vec<&serde_json::Value> = report["layout"]
+        .as_array()
+        .expect("rooms")
+        .iter()
+        .flat_map(|room| room["not_placed"].as_array().into_iter().flatten())
+        .filter(|u| u["object"].as_str().is_some_and(|i| i.starts_with("photo frame")))
+        .collect();
+    assert_eq!(reported.len(), 6, "{}", report["layout"]);
+    assert!(reported.iter().all(|u| u["code"] == "W0401"), "{reported:?}");
+
+    let (house, _, err) = run(true);
+    // Things on top are the children of their receptacle in the house.
+    let shelf = objects(&house)
+        .into_iter()
+        .find(|o| o["id"].as_str().is_some_and(|i| i.starts_with("bookshelf")))
+        .expect("the bookshelf");
+    let on_shelf = shelf["children"].as_array().cloned().unwrap_or_default();
+    let frames = on_shelf.iter().filter(|o| o["assetId"] == frame_uid).count();
+    let books = on_shelf
+        .iter()
+        .filter(|o| o["id"].as_str().is_some_and(|i| i.starts_with("book-")))
+        .count();
+    assert!(frames >= 1 && books >= 1, "{frames} frames and {books} books on the shelf: {err}");
+    // No frame anywhere else.
+    let elsewhere = objects(&house)
+        .iter()
+        .filter(|o| !o["id"].as_str().is_some_and(|i| i.starts_with("bookshelf")))
+        .flat_map(|o| o["children"].as_array().cloned().unwrap_or_default())
+        .filter(|o| o["assetId"] == frame_uid)
+        .count();
+    assert_eq!(elsewhere, 0);
+}

@@ -203,10 +203,10 @@ pub(crate) fn no_match(
     }
     let has_kind = catalog.assets().iter().any(|a| a.allows(kind));
     let help = if has_kind {
-        "describe it with words the catalog uses, pin an asset with `asset \"…\"`, or add a catalog with `--catalog`".to_string()
+        "describe it with words the catalog uses, pin an asset with `asset \"…\"`, or add a catalog with `--catalog` (the original Holodeck's assets with `--objathor`)".to_string()
     } else {
         format!(
-            "the catalogs have no asset that can be placed {}; add one with `--catalog`",
+            "the catalogs have no asset that can be placed {}; add one with `--catalog` (the original Holodeck's assets with `--objathor`)",
             kind_phrase(kind)
         )
     };

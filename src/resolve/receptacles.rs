@@ -31,6 +31,16 @@ fn pairs() -> &'static Pairs {
     })
 }
 
+/// Whether the table can judge a thing of `item_type`: an AI2-THOR object type (one word,
+/// capitalised: `Book`, `HousePlant`). An objathor asset whose annotation has no AI2-THOR type
+/// has its category as type (`picture frame`), which ProcTHOR's houses never held: the pair
+/// rule neither prefers nor refuses it, as the original system put such assets on any
+/// receptacle.
+pub fn judges(item_type: &str) -> bool {
+    item_type.chars().next().is_some_and(|c| c.is_ascii_uppercase())
+        && item_type.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
+}
+
 /// Whether a thing of `item_type` may be put on a receptacle of `receptacle_type`: the pair is
 /// in the table. `false` for a receptacle type the table does not know (see
 /// [`is_receptacle_type`]) and for an item type never put on this receptacle.

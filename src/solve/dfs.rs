@@ -19,6 +19,7 @@ use rand_chacha::ChaCha8Rng;
 use super::constraints::{
     self, footprint, half_extents, HardRule, Occupancy, Pose, ReachBase, Rect, Rot,
 };
+use super::grid::FootprintGrid;
 use super::{measure_object, PlacedFloor, Prepared, RoomLayout, SolveOptions, Unplaced};
 use crate::check::scene::{GlobalKind, RelationKind};
 
@@ -491,8 +492,13 @@ fn touching(fp: &Rect, blocked: impl Fn(&Rect) -> bool) -> u8 {
 /// relates to each) and the zones placed objects keep free from it (all of a list, or one of
 /// a bed's open sides).
 struct Clearances {
-    placed: Vec<(Rect, bool)>,
-    zones: Vec<(Vec<Rect>, bool)>,
+    /// The placed footprints (those `related` to the object being placed are not in its way).
+    placed: FootprintGrid,
+    related: Vec<bool>,
+    /// The zones that must stay wholly free of the object (the `all` lists), bucketed.
+    keep_free: FootprintGrid,
+    /// The lists of zones of which one must stay free (a bed's open sides).
+    one_free: Vec<Vec<Rect>>,
 }
 
 /// Why an object has no pose: the rule and the words.
@@ -531,6 +537,8 @@ struct Search<'p, 'a> {
     /// search returns. Every layout the search improves on is measured, so a larger budget,
     /// which walks the same nodes first, never returns a worse layout.
     kept: Option<(State, Rank)>,
+    /// The nodes walked when `kept` was found.
+    found_at: u64,
     pin_breaks: Vec<(usize, HardRule)>,
     /// Target contexts by object and the bits of its targets' poses.
     contexts: RefCell<HashMap<ContextKey, Rc<TargetContext>>>,
@@ -576,6 +584,7 @@ impl Search<'_, '_> {
                 let rank = rank(self.prep, &finished);
                 if self.kept.as_ref().is_none_or(|(_, r)| rank.beats(r)) {
                     self.kept = Some((finished, rank));
+                    self.found_at = self.nodes;
                 }
             }
             return;
@@ -782,7 +791,7 @@ impl Search<'_, '_> {
         &self,
         k: usize,
         c: &Cand,
-        placed: &[Rect],
+        placed: &FootprintGrid,
         reserved: &[Rect],
     ) -> (usize, usize) {
         let (kept, close) = self.room_left_where(k, c, |z| self.zone_free(z, placed));
@@ -908,7 +917,7 @@ impl Search<'_, '_> {
     /// still be kept, with their free zones. A pose of `k` that covers all of a promise's
     /// zones breaks the relation in advance; one that covers its free zones next to the target
     /// pushes the later object away.
-    fn open_promises(&self, k: usize, st: &State) -> Vec<Promise> {
+    fn open_promises(&self, k: usize, placed: &FootprintGrid, st: &State) -> Vec<Promise> {
         let prep = self.prep;
         let mut out = Vec::new();
         for (t, deps) in self.dependents.iter().enumerate().take(k) {
@@ -917,7 +926,7 @@ impl Search<'_, '_> {
             for d in deps.iter().filter(|d| d.object > k && !d.ring) {
                 let (all, next_to) = self.zones_of(d, &tp, t_size);
                 let free = |v: Vec<Rect>| -> Vec<Rect> {
-                    v.into_iter().filter(|z| self.zone_free(z, &st.fps)).collect()
+                    v.into_iter().filter(|z| self.zone_free(z, placed)).collect()
                 };
                 let promise = Promise { zones: free(all), next_to: free(next_to) };
                 if !promise.zones.is_empty() {
@@ -929,7 +938,7 @@ impl Search<'_, '_> {
     }
 
     /// The seats of placed tables that chairs after `k` still need, free at this node.
-    fn open_seats(&self, k: usize, st: &State) -> Vec<SeatPromise> {
+    fn open_seats(&self, k: usize, placed: &FootprintGrid, st: &State) -> Vec<SeatPromise> {
         let prep = self.prep;
         let mut out = Vec::new();
         for (t, ring) in self.rings.iter().enumerate().take(k) {
@@ -941,7 +950,7 @@ impl Search<'_, '_> {
             let seats: Vec<Rect> = constraints::seat_poses(&tp, prep.problem.objects[t].size, ring)
                 .iter()
                 .map(|p| seat_zone(p, ring))
-                .filter(|z| self.zone_free(z, &st.fps))
+                .filter(|z| self.zone_free(z, placed))
                 .collect();
             if !seats.is_empty() {
                 out.push(SeatPromise { seats, need });
@@ -956,12 +965,11 @@ impl Search<'_, '_> {
         let prep = self.prep;
         let clearances = self.clearance_context(k, st);
         let scorer = Scorer::new(prep, k, &st.poses, self.sat_value);
+        let placed = FootprintGrid::new(&prep.room.bounds, st.fps.clone());
         let mut scored: Vec<(f64, usize, Cand)> = anywhere_candidates(prep, k, self.seed)
             .into_iter()
             .enumerate()
-            .filter(|(_, c)| {
-                !st.fps.iter().any(|f| f.overlaps(&c.fp)) && self.clearances_kept(k, c, &clearances)
-            })
+            .filter(|(_, c)| !placed.any_overlap(&c.fp) && self.clearances_kept(k, c, &clearances))
             .map(|(i, c)| (scorer.score(&c), i, c))
             .collect();
         scored.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
@@ -1065,7 +1073,9 @@ impl Search<'_, '_> {
                 || objects[b].constraints.iter().any(|x| x.target == a)
         };
         let mut placed = Vec::new();
-        let mut zones = Vec::new();
+        let mut related_to_k = Vec::new();
+        let mut keep_free = Vec::new();
+        let mut one_free = Vec::new();
         for (i, o) in objects.iter().enumerate() {
             let Some(p) = st.poses[i] else { continue };
             if i == k {
@@ -1073,7 +1083,8 @@ impl Search<'_, '_> {
             }
             let fp = footprint(&p, o.size);
             let rel = related(i, k);
-            placed.push((fp, rel));
+            placed.push(fp);
+            related_to_k.push(rel);
             let (z, all) = constraints::use_zones(o.role, &p, o.size, o.height);
             if z.is_empty() || rel {
                 continue;
@@ -1095,9 +1106,19 @@ impl Search<'_, '_> {
                     })
                     .collect()
             };
-            zones.push((z, all));
+            if all {
+                keep_free.extend(z);
+            } else {
+                one_free.push(z);
+            }
         }
-        Clearances { placed, zones }
+        let bounds = &self.prep.room.bounds;
+        Clearances {
+            placed: FootprintGrid::new(bounds, placed),
+            related: related_to_k,
+            keep_free: FootprintGrid::new(bounds, keep_free),
+            one_free,
+        }
     }
 
     /// Whether candidate `c` of object `k` keeps the use-clearances: its own (inside the room
@@ -1108,24 +1129,18 @@ impl Search<'_, '_> {
         let obj = &self.prep.problem.objects[k];
         let (zones, all) = constraints::use_zones(obj.role, &c.pose, obj.size, obj.height);
         let own_free = |z: &Rect| {
-            self.prep.room.contains_rect(z)
-                && ctx.placed.iter().all(|(fp, rel)| *rel || !z.overlaps(fp))
+            self.prep.room.contains_rect(z) && !ctx.placed.any_overlap_where(z, |i| !ctx.related[i])
         };
         let own_ok = zones.is_empty()
             || if all { zones.iter().all(own_free) } else { zones.iter().any(own_free) };
         own_ok
-            && ctx.zones.iter().all(|(z, all)| {
-                if *all {
-                    z.iter().all(|r| !r.overlaps(&c.fp))
-                } else {
-                    z.is_empty() || z.iter().any(|r| !r.overlaps(&c.fp))
-                }
-            })
+            && !ctx.keep_free.any_overlap(&c.fp)
+            && ctx.one_free.iter().all(|z| z.is_empty() || z.iter().any(|r| !r.overlaps(&c.fp)))
     }
 
     /// Whether a zone is inside the room, outside the door zones and free of footprints.
-    fn zone_free(&self, z: &Rect, placed: &[Rect]) -> bool {
-        self.zone_open(z) && !placed.iter().any(|f| f.overlaps(z))
+    fn zone_free(&self, z: &Rect, placed: &FootprintGrid) -> bool {
+        self.zone_open(z) && !placed.any_overlap(z)
     }
 
     /// Whether a zone is inside the room and outside the door zones.
@@ -1148,9 +1163,8 @@ impl Search<'_, '_> {
         let set = &self.statics[k];
         let n_static = set.cands.len();
         let pick = |i: usize| if i < n_static { set.cands[i] } else { derived[i - n_static] };
-        // The placed footprints grown by the contact distance: a candidate that overlaps one
-        // but not the footprint itself touches it.
-        let grown: Vec<Rect> = st.fps.iter().map(|fp| fp.grow(CONTACT_M)).collect();
+        // The placed footprints, bucketed: each question below looks only at those near it.
+        let placed = FootprintGrid::new(&prep.room.bounds, st.fps.clone());
         let mut blockers: BTreeMap<usize, usize> = BTreeMap::new();
         let mut cleared_out = 0usize;
         let clearances = self.clearance_context(k, st);
@@ -1161,8 +1175,8 @@ impl Search<'_, '_> {
         // The candidates are met in the order of an upper bound of their key, so the walk
         // stops once that bound falls below the worst key kept: no candidate after it could
         // be kept. Ties go to the earlier position, which is the seeded order.
-        let promises = self.open_promises(k, st);
-        let seat_promises = self.open_seats(k, st);
+        let promises = self.open_promises(k, &placed, st);
+        let seat_promises = self.open_seats(k, &placed, st);
         // The seats other tables keep for their chairs: this object's own chairs do not take
         // them.
         let reserved: Vec<Rect> =
@@ -1170,22 +1184,22 @@ impl Search<'_, '_> {
         let order =
             |a: &(f64, usize, f64), b: &(f64, usize, f64)| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1));
         // The placed footprint a candidate overlaps first (lowest index), if any.
-        let first_blocker =
-            |c: &Cand| st.fps.iter().position(|f| f.overlaps(&c.fp)).unwrap_or(usize::MAX);
-        // The sides of a candidate that touch a wall or a placed footprint.
+        let first_blocker = |c: &Cand| placed.first_overlap(&c.fp).unwrap_or(usize::MAX);
+        // The sides of a candidate that touch a wall or a placed footprint: a placed footprint
+        // grown by the contact distance that the candidate overlaps (while the footprint itself
+        // does not) is touched.
         let sides = |i: usize, c: &Cand| {
             if i < n_static {
                 let mut sides = set.wall_touch[i];
-                for (fp, grown) in st.fps.iter().zip(&grown) {
-                    if c.fp.overlaps(grown) {
+                placed.near(&c.fp.grow(CONTACT_M), |j| {
+                    let fp = &placed.rects()[j];
+                    if c.fp.overlaps(&fp.grow(CONTACT_M)) {
                         sides |= touching(&c.fp, |m| m.overlaps(fp));
                     }
-                }
+                });
                 sides
             } else {
-                touching(&c.fp, |m| {
-                    !prep.room.contains_rect(m) || st.fps.iter().any(|f| f.overlaps(m))
-                })
+                touching(&c.fp, |m| !prep.room.contains_rect(m) || placed.any_overlap(m))
             }
         };
         let mut top: Vec<(f64, usize, f64)> = Vec::with_capacity(REACH_TRIES + 1);
@@ -1207,7 +1221,7 @@ impl Search<'_, '_> {
             }
             let sides = sides(i, &c);
             let s = step.score;
-            let (kept, close) = self.room_left_for_dependents(k, &c, &st.fps, &reserved);
+            let (kept, close) = self.room_left_for_dependents(k, &c, &placed, &reserved);
             let covers = |zones: &[Rect]| zones.iter().all(|z| z.overlaps(&c.fp));
             let broken = promises.iter().filter(|p| covers(&p.zones)).count()
                 + seat_promises.iter().map(|p| p.broken_by(&c.fp)).sum::<usize>();
@@ -1400,6 +1414,7 @@ pub(crate) fn run(
         nodes: 0,
         best: None,
         kept: None,
+        found_at: 0,
         pin_breaks: Vec::new(),
         contexts: RefCell::new(HashMap::new()),
         reach_answers: HashMap::new(),
@@ -1436,7 +1451,7 @@ pub(crate) fn run(
             st
         }
     };
-    let mut layout = RoomLayout { nodes, ..RoomLayout::default() };
+    let mut layout = RoomLayout { nodes, found_at: search.found_at, ..RoomLayout::default() };
     for k in 0..n {
         let obj = &prep.problem.objects[k];
         if let Some(pose) = best.poses[k] {

@@ -12,6 +12,7 @@
 pub mod constraints;
 mod dfs;
 mod errors;
+mod grid;
 mod milp;
 mod others;
 mod pipeline;
@@ -320,6 +321,9 @@ pub struct RoomLayout {
     pub score: f64,
     /// Search nodes used.
     pub nodes: u64,
+    /// Search nodes walked when the layout returned was found (the rest of the walk found
+    /// nothing better).
+    pub found_at: u64,
     /// Pinned floor objects (index) whose pose breaks a hard rule; they stay as pinned.
     pub pinned_breaks: Vec<(usize, HardRule)>,
     /// Small objects put on another receptacle than the one declared, because that one may not

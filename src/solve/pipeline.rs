@@ -302,6 +302,7 @@ pub fn solve(
                 let here = type_of(small.on);
                 let refused = here.as_deref().is_some_and(|t| {
                     crate::resolve::is_receptacle_type(t)
+                        && crate::resolve::receptacles::judges(&c.object_type)
                         && !crate::resolve::allowed_on(&c.object_type, t)
                 });
                 if refused && !c.pinned {

@@ -3,8 +3,8 @@
 //! asserted exactly ([`write_fixture`]), and a large synthetic one ([`write_synthetic`]).
 //!
 //! The feature vectors have [`FIXTURE_DIM`] components. Axis `k` stands for one kind of thing
-//! (0 cat tower, 1 mirror, 2 curtains, 3 whiteboard, 4 lamp, 5 cat toy, 6 sofa and painting); axis 7 is the
-//! rest. A CLIP text row is the unit vector of its kind's axis; an image view is `axis + b ×
+//! (0 cat tower, 1 mirror, 2 curtains, 3 whiteboard, 4 lamp, 5 cat toy, 6 sofa, painting and
+//! photo frame); axis 7 is the rest. A CLIP text row is the unit vector of its kind's axis; an image view is `axis + b ×
 //! e7`, whose cosine with the axis is `1 / √(1 + b²)`: b = 2.5 → 0.3714, 2.75 → 0.3417,
 //! 3 → 0.3162, 3.25 → 0.2941 (all exact in float16).
 
@@ -120,6 +120,12 @@ pub const FIXTURE_ASSETS: &[FixtureAsset] = &[
         axis: 6,
         views: [2.5, 2.5, 2.75],
     },
+    FixtureAsset {
+        name: "photo_frame",
+        uid: "e4e5f9a1b3c44d8e0f6a0b5c7d9e1f3e",
+        axis: 6,
+        views: [2.5, 2.75, 2.75],
+    },
 ];
 
 /// The fixture asset named `name`'s uid.
@@ -210,6 +216,12 @@ fn annotation(name: &str, uid: &str) -> Value {
             "a small ceramic cat figurine",
             [false, false, true, false],
             xyz(0.1, 0.15, 0.08),
+        ),
+        "photo_frame" => (
+            "picture frame",
+            "a small standing photo frame of dark wood",
+            [false, false, true, false],
+            xyz(0.2, 0.25, 0.06),
         ),
         "abstract_painting" => (
             "painting",

@@ -1,0 +1,216 @@
+//! A uniform bucket grid over a room's floor holding the footprints placed at a search node, so
+//! that "does this rectangle overlap a placed footprint, and which one first" looks only at
+//! the footprints near the rectangle instead of every one placed.
+//!
+//! The search asks that question for every candidate pose of every node (the first blocker of
+//! a pose, the sides it touches, whether a dependent's zone or a seat is still free, whether a
+//! use-clearance is kept), so with a linear scan a node costs candidates × objects placed and a
+//! room of N objects costs about N² per node walked. With the grid a question costs the
+//! footprints in the few cells the rectangle covers, which stays flat as the room fills.
+//!
+//! Answers are exactly those of the linear scan: a cell range is computed by clamping to the
+//! grid, which keeps any two overlapping rectangles in a shared cell (clamping is monotone, and
+//! [`Rect::overlaps`] needs the interiors to meet), every footprint found is tested with
+//! [`Rect::overlaps`] itself, and "first" means the lowest index, as a scan from the start
+//! would give.
+
+use super::constraints::Rect;
+
+/// The side of a cell, metres, unless the room is so large that the grid would pass
+/// [`MAX_CELLS_PER_SIDE`] cells on a side.
+const CELL_M: f64 = 0.5;
+
+/// The most cells on a side.
+const MAX_CELLS_PER_SIDE: usize = 64;
+
+/// The footprints placed at a node, bucketed by the cells they cover.
+pub(crate) struct FootprintGrid {
+    rects: Vec<Rect>,
+    x0: f64,
+    z0: f64,
+    inv_cell: f64,
+    nx: usize,
+    nz: usize,
+    /// Per cell (row-major, x fastest), the indices of the footprints covering it, ascending.
+    cells: Vec<Vec<u32>>,
+}
+
+impl FootprintGrid {
+    /// The grid over `bounds` (the room's bounding box) holding `rects`.
+    pub(crate) fn new(bounds: &Rect, rects: Vec<Rect>) -> FootprintGrid {
+        let (w, d) = (bounds.width().max(0.0), bounds.depth().max(0.0));
+        let longest = w.max(d);
+        let cell = if longest / CELL_M > MAX_CELLS_PER_SIDE as f64 {
+            longest / MAX_CELLS_PER_SIDE as f64
+        } else {
+            CELL_M
+        };
+        let count = |extent: f64| -> usize {
+            let n = (extent / cell).ceil();
+            if n.is_finite() && n >= 1.0 {
+                (n as usize).min(MAX_CELLS_PER_SIDE)
+            } else {
+                1
+            }
+        };
+        let (nx, nz) = (count(w), count(d));
+        let x0 = if bounds.min_x.is_finite() { bounds.min_x } else { 0.0 };
+        let z0 = if bounds.min_z.is_finite() { bounds.min_z } else { 0.0 };
+        let mut grid = FootprintGrid {
+            rects,
+            x0,
+            z0,
+            inv_cell: 1.0 / cell,
+            nx,
+            nz,
+            cells: vec![Vec::new(); nx * nz],
+        };
+        for i in 0..grid.rects.len() {
+            let Ok(index) = u32::try_from(i) else { break };
+            let (xs, zs) = grid.span(&grid.rects[i]);
+            for cz in zs.0..=zs.1 {
+                for cx in xs.0..=xs.1 {
+                    grid.cells[cz * nx + cx].push(index);
+                }
+            }
+        }
+        grid
+    }
+
+    /// The cell index of coordinate `v` along an axis starting at `origin` with `n` cells,
+    /// clamped into the grid.
+    fn cell_of(&self, v: f64, origin: f64, n: usize) -> usize {
+        // Truncation is the floor for what is not negative (and no libm call on a hot path).
+        let c = (v - origin) * self.inv_cell;
+        if c >= 0.0 {
+            (c as usize).min(n - 1)
+        } else {
+            0
+        }
+    }
+
+    /// The inclusive cell ranges along x and z a rectangle covers, clamped into the grid.
+    fn span(&self, r: &Rect) -> ((usize, usize), (usize, usize)) {
+        let xs = (self.cell_of(r.min_x, self.x0, self.nx), self.cell_of(r.max_x, self.x0, self.nx));
+        let zs = (self.cell_of(r.min_z, self.z0, self.nz), self.cell_of(r.max_z, self.z0, self.nz));
+        ((xs.0, xs.1.max(xs.0)), (zs.0, zs.1.max(zs.0)))
+    }
+
+    /// Calls `f` with the index of every footprint in a cell `r` covers (a footprint in
+    /// several such cells comes several times); stops when `f` returns `false`.
+    fn for_each_near(&self, r: &Rect, mut f: impl FnMut(usize) -> bool) {
+        let (xs, zs) = self.span(r);
+        for cz in zs.0..=zs.1 {
+            for cx in xs.0..=xs.1 {
+                for &i in &self.cells[cz * self.nx + cx] {
+                    if !f(i as usize) {
+                        return;
+                    }
+                }
+            }
+        }
+    }
+
+    /// The lowest index of a footprint `r` overlaps, if any.
+    pub(crate) fn first_overlap(&self, r: &Rect) -> Option<usize> {
+        let mut first: Option<usize> = None;
+        self.for_each_near(r, |i| {
+            if first.is_none_or(|f| i < f) && self.rects[i].overlaps(r) {
+                first = Some(i);
+            }
+            true
+        });
+        first
+    }
+
+    /// Whether `r` overlaps any footprint.
+    pub(crate) fn any_overlap(&self, r: &Rect) -> bool {
+        let mut found = false;
+        self.for_each_near(r, |i| {
+            found = self.rects[i].overlaps(r);
+            !found
+        });
+        found
+    }
+
+    /// The footprints held, in the order given.
+    pub(crate) fn rects(&self) -> &[Rect] {
+        &self.rects
+    }
+
+    /// Whether `r` overlaps any footprint for which `counts` holds.
+    pub(crate) fn any_overlap_where(&self, r: &Rect, counts: impl Fn(usize) -> bool) -> bool {
+        let mut found = false;
+        self.for_each_near(r, |i| {
+            found = counts(i) && self.rects[i].overlaps(r);
+            !found
+        });
+        found
+    }
+
+    /// Calls `f` with every footprint index that `r` may overlap (each at least once, in no
+    /// particular order; some may not overlap `r`: the caller tests).
+    pub(crate) fn near(&self, r: &Rect, mut f: impl FnMut(usize)) {
+        self.for_each_near(r, |i| {
+            f(i);
+            true
+        });
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::{Rng as _, SeedableRng as _};
+
+    fn rect(x: f64, z: f64, w: f64, d: f64) -> Rect {
+        Rect { min_x: x, min_z: z, max_x: x + w, max_z: z + d }
+    }
+
+    #[test]
+    fn answers_as_a_linear_scan_does() {
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
+        for room in [rect(0.0, 0.0, 4.0, 3.0), rect(-2.0, 1.0, 40.0, 0.5), rect(0.0, 0.0, 0.1, 0.1)]
+        {
+            let rects: Vec<Rect> = (0..60)
+                .map(|_| {
+                    rect(
+                        rng.gen_range(room.min_x - 1.0..room.max_x + 1.0),
+                        rng.gen_range(room.min_z - 1.0..room.max_z + 1.0),
+                        rng.gen_range(0.0..2.0),
+                        rng.gen_range(0.0..2.0),
+                    )
+                })
+                .collect();
+            let grid = FootprintGrid::new(&room, rects.clone());
+            for _ in 0..2000 {
+                let q = rect(
+                    rng.gen_range(room.min_x - 2.0..room.max_x + 2.0),
+                    rng.gen_range(room.min_z - 2.0..room.max_z + 2.0),
+                    rng.gen_range(0.0..3.0),
+                    rng.gen_range(0.0..3.0),
+                );
+                let first = rects.iter().position(|r| r.overlaps(&q));
+                assert_eq!(grid.first_overlap(&q), first);
+                assert_eq!(grid.any_overlap(&q), first.is_some());
+                let odd = rects.iter().enumerate().any(|(i, r)| i % 2 == 1 && r.overlaps(&q));
+                assert_eq!(grid.any_overlap_where(&q, |i| i % 2 == 1), odd);
+                let mut seen = vec![false; rects.len()];
+                grid.near(&q, |i| seen[i] = true);
+                assert!(rects.iter().enumerate().all(|(i, r)| !r.overlaps(&q) || seen[i]));
+            }
+        }
+    }
+
+    #[test]
+    fn touching_rectangles_and_edge_cells() {
+        // Footprints meeting exactly on a cell line do not overlap; ones crossing it do.
+        let rects = [rect(0.0, 0.0, 0.5, 0.5), rect(0.5, 0.0, 0.5, 0.5)];
+        let grid = FootprintGrid::new(&rect(0.0, 0.0, 2.0, 2.0), rects.to_vec());
+        assert_eq!(grid.first_overlap(&rect(0.5, 0.5, 0.5, 0.5)), None);
+        assert_eq!(grid.first_overlap(&rect(0.4, 0.4, 0.2, 0.2)), Some(0));
+        // Far outside the grid is clamped into its edge cells.
+        assert_eq!(grid.first_overlap(&rect(-10.0, -10.0, 10.3, 10.3)), Some(0));
+        assert!(!grid.any_overlap(&rect(f64::NAN, 0.0, 1.0, 1.0)));
+    }
+}
