@@ -657,7 +657,7 @@ fn things_on_top_are_the_things_people_put_there() {
     let w0401 = outcome
         .diagnostics
         .iter()
-        .find(|d| d.code.as_str() == "W0401")
+        .find(|d| d.code.as_str() == "W0401" && d.message.contains("photo frame"))
         .expect("the frames are reported");
     assert!(w0401.notes.iter().any(|n| n.contains("too large")), "{:?}", w0401.notes);
 
@@ -670,7 +670,15 @@ fn things_on_top_are_the_things_people_put_there() {
     assert!(resolve::allowed_on("HousePlant", "SideTable"));
 
     assert_eq!(object_type("cat_bed-0").as_deref(), Some("DogBed"));
-    assert_eq!(object_type("curtains-0").as_deref(), Some("Blinds"));
+    // The only blind of the catalog is a 20 cm roll: too far from 2 m curtains to stand in.
+    assert_eq!(object_type("curtains-0"), None);
+    assert!(
+        outcome.diagnostics.iter().any(|d| d.code.as_str() == "W0401"
+            && d.message.contains("curtains-0")
+            && d.notes.iter().any(|n| n.contains("Blinds") && n.contains("size ratio"))),
+        "{:?}",
+        outcome.diagnostics
+    );
     let papers = res.small[&(id("desk-0"), 0)][0].choice().expect("papers");
     assert_eq!(papers.object_type, "Newspaper", "never toilet paper");
 
@@ -681,14 +689,57 @@ fn things_on_top_are_the_things_people_put_there() {
         .map(|d| d.message.clone())
         .collect();
     // (A cat bed ranks a dog bed good enough by its words: no stand-in, no warning.)
-    for (what, with) in
-        [("plant_stand", "SideTable"), ("curtains", "Blinds"), ("papers", "Newspaper")]
-    {
+    for (what, with) in [("plant_stand", "SideTable"), ("papers", "Newspaper")] {
         assert!(
             stood_in.iter().any(|m| m.contains(what) && m.contains(with)),
             "W0403 says a {with} stood in for {what}: {stood_in:?}"
         );
     }
+}
+
+/// Stand-ins say how far their size is from the size asked and are refused past
+/// `MAX_STAND_IN_RATIO` (issue 33): the bedroom's 1 × 2 m wardrobe gets the nearest dresser by
+/// height, within the ratio, not a 0.89 m tall one 1.91 m wide; a 4 m wardrobe gets none, and
+/// the warning names the dresser refused; a wall clock is never a desk clock hung on a wall.
+#[test]
+fn stand_ins_keep_to_the_size_ratio() {
+    let resolve_text = |text: &str| {
+        let mut sources = SourceMap::new();
+        let id = sources.add("t.holo", text);
+        let scene = holoc::compile::check_file(&sources, id).value.expect("checks");
+        let catalog = Catalog::embedded();
+        let outcome = resolve::resolve(&scene, &catalog, scene.seed);
+        (scene, outcome)
+    };
+    let wardrobe = |height_cm: u32| {
+        format!(
+            "scene \"t\" {{ seed 0 }}\nroom a \"a\" {{\n  corners in m (0, 0) (0, 5) (5, 5) (5, 0)\n  object wardrobe \"wardrobe\" {{\n    describe \"tall white two-door wardrobe\"\n    size 100 cm x 60 cm x {height_cm} cm\n    edge\n  }}\n  wall object clock \"wall clock\" {{\n    describe \"round wall clock\"\n    size 30 cm x 5 cm x 30 cm\n  }}\n}}\n"
+        )
+    };
+    let (scene, outcome) = resolve_text(&wardrobe(200));
+    let chosen = outcome.value.object(scene.objects[0].id).expect("a dresser stands in");
+    assert_eq!(chosen.object_type, "Dresser");
+    let ratio = chosen.size_ratio.expect("a size was asked");
+    assert!(ratio <= resolve::standins::MAX_STAND_IN_RATIO, "{ratio}");
+    assert!(chosen.bbox_m[1] >= 1.2, "the tallest dressers are nearest: {chosen:?}");
+    let w0403 = outcome.diagnostics.iter().find(|d| d.code.as_str() == "W0403").expect("W0403");
+    assert!(w0403.message.contains(&format!("size ratio {ratio:.2}")), "{}", w0403.message);
+    assert!(w0403.notes.iter().any(|n| n.contains("for 100 × 60 × 200 cm asked")), "{w0403:?}");
+    // The wall clock: no asset of its own, and no desk clock hung on the wall.
+    assert!(outcome.value.object(scene.objects[1].id).is_none(), "{:?}", outcome.diagnostics);
+    assert!(!outcome.diagnostics.iter().any(|d| d.code.as_str() == "W0404"));
+
+    let (scene, outcome) = resolve_text(&wardrobe(400));
+    assert!(outcome.value.object(scene.objects[0].id).is_none(), "no dresser is 4 m tall");
+    let w0401 = outcome
+        .diagnostics
+        .iter()
+        .find(|d| d.code.as_str() == "W0401" && d.message.contains("wardrobe-0"))
+        .expect("W0401");
+    assert!(
+        w0401.notes.iter().any(|n| n.contains("a Dresser could be used") && n.contains("more than 2")),
+        "{w0401:?}"
+    );
 }
 
 /// `stack of papers` never matches toilet paper by its words (`paper` alone names a material,

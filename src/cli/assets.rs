@@ -289,6 +289,7 @@ fn search(args: &SearchArgs) -> ExitCode {
                     "standInReason": c.stand_in,
                     "kindOf": c.kind_of,
                     "placedAs": c.placed_as,
+                    "sizeRatio": c.size_ratio,
                 }));
             }
             list.extend(shown.iter().map(|c| {
@@ -317,6 +318,10 @@ fn search(args: &SearchArgs) -> ExitCode {
                     .or_else(|| c.stand_in.as_ref().map(|r| format!("stands in: {r}")))
                     .unwrap_or_default();
                 let way = c.placed_as.as_ref().map(|w| format!(", placed {w}")).unwrap_or_default();
+                let way = match c.size_ratio {
+                    Some(r) => format!("{way}, size ratio {r:.2}"),
+                    None => way,
+                };
                 let _ = writeln!(
                     s,
                     "{:>4}  {:<32} {:<16} {}{way}  {}",

@@ -88,7 +88,7 @@ pub fn run(args: &ImportArgs) -> ExitCode {
                 }
             }
             Ok(value) => {
-                let out = import::import_holodeck_scene(&value, &mut sources, &options);
+                let out = import::import_holodeck_scene_file(&value, &mut sources, file, &options);
                 (crate::fmt::print(&out.value), out.diagnostics)
             }
             Err(e) => {

@@ -29,6 +29,8 @@ pub(crate) struct DRoom {
     pub comments: Vec<String>,
     /// Whether the room was created by a stage other than the floor plan.
     pub implicit: bool,
+    /// Where the floor plan names it (its name on its line), when it does.
+    pub span: Option<Span>,
 }
 
 #[derive(Clone, Debug)]
@@ -67,6 +69,8 @@ pub(crate) struct DObject {
     pub comments: Vec<String>,
     /// Position in the constraint answer (None: not mentioned).
     pub order: Option<usize>,
+    /// Where the object selection declares it (its key or category), when it does.
+    pub span: Option<Span>,
 }
 
 #[derive(Clone, Debug, Default)]

@@ -5,7 +5,8 @@
 //!   before it (the `generate` driver uses it to get diagnostics for repair prompts);
 //! - [`import_transcript`] rebuilds a whole scene from a holoc [`Transcript`];
 //! - [`import_holodeck_scene`] rebuilds one from an original Holodeck scene JSON, optionally
-//!   pinning the solved layout ([`ImportOptions::keep_layout`]).
+//!   pinning the solved layout ([`ImportOptions::keep_layout`]); [`import_holodeck_scene_file`]
+//!   does the same for a scene read from a file and points its diagnostics at the file's lines.
 //!
 //! Every unusable line becomes an `E07xx` error with a span into the answer and is kept in the
 //! output as a `// raw <stage>: …` comment; tolerated noise becomes a `W07xx` warning that says
@@ -15,11 +16,12 @@
 mod draft;
 mod front;
 mod grammar;
+mod locate;
 mod scene;
 mod stages;
 pub mod transcript;
 
-pub use scene::{import_holodeck_scene, import_transcript};
+pub use scene::{import_holodeck_scene, import_holodeck_scene_file, import_transcript};
 pub use stages::MAX_JSON_NESTING;
 pub use transcript::{Exchange, ModelInfo, Totals, Transcript, Usage};
 

@@ -537,7 +537,12 @@ fn floor_plan(text: &str, file: FileId, ctx: &mut ImportContext, d: &mut Diags) 
                 .with_primary(fields[0].span, format!("renamed `{id}`")),
             );
         }
-        let mut room = super::draft::DRoom { id, label, ..super::draft::DRoom::default() };
+        let mut room = super::draft::DRoom {
+            id,
+            label,
+            span: Some(fields[0].span),
+            ..super::draft::DRoom::default()
+        };
         room.floor = (!fields[1].is_na()).then(|| fields[1].text.clone());
         room.walls = (!fields[2].is_na()).then(|| fields[2].text.clone());
         match front::vertex_list(&fields[3].text) {
@@ -1137,7 +1142,7 @@ fn objects_json(text: &str, file: FileId, ctx: &mut ImportContext, d: &mut Diags
             );
         }
         seen.push(id.clone());
-        let mut o = DObject { id, category, count: 1, ..DObject::default() };
+        let mut o = DObject { id, category, count: 1, span: Some(span), ..DObject::default() };
         match get("description") {
             Some(serde_json::Value::String(s)) => o.describe = Some(s.clone()),
             _ => d.push(
@@ -1373,6 +1378,7 @@ fn objects_pipe(text: &str, file: FileId, ctx: &mut ImportContext, d: &mut Diags
             describe: (!desc.is_na()).then(|| desc.text.clone()),
             count,
             variance: variance.filter(|v| count > 1 || *v != "same").map(str::to_string),
+            span: Some(cat.span),
             ..DObject::default()
         };
         o.fit();
@@ -1725,57 +1731,95 @@ fn floor_constraints(text: &str, file: FileId, ctx: &mut ImportContext, d: &mut 
     no_constraints(ctx, &room, Span::new(file, 0, 0), d);
 }
 
-/// W0705 for every floor object (or instance) the constraint answer did not mention.
-pub(crate) fn no_constraints(ctx: &ImportContext, room: &str, span: Span, d: &mut Diags) {
-    let Some(r) = ctx.draft.room(room) else { return };
+/// The instances of a room's floor objects that have no constraints and no pinned position:
+/// per object, the object and its instance names.
+pub(crate) fn unconstrained<'r>(r: &'r super::draft::DRoom) -> Vec<(&'r DObject, Vec<String>)> {
+    let mut out = Vec::new();
     for o in r.objects.iter().filter(|o| !o.wall) {
-        for (i, inst) in o.instances.iter().enumerate().take(o.count.max(1) as usize) {
-            if inst.order.is_none() && inst.at.is_none() {
-                d.push(
-                    Diagnostic::new(
-                        Code::W0705,
-                        format!(
-                            "`{}-{i}` in `{}` has no constraints; it will be placed at an edge",
-                            o.id, r.label
-                        ),
-                    )
-                    .with_primary(span, "not mentioned by the constraint answer"),
-                );
-            }
+        let names: Vec<String> = o
+            .instances
+            .iter()
+            .enumerate()
+            .take(o.count.max(1) as usize)
+            .filter(|(_, inst)| inst.order.is_none() && inst.at.is_none())
+            .map(|(i, _)| format!("{}-{i}", o.id))
+            .collect();
+        if !names.is_empty() {
+            out.push((o, names));
         }
+    }
+    out
+}
+
+/// `a`, `a and b`, `a, b and c`, each in backticks.
+pub(crate) fn name_list(names: &[String]) -> String {
+    let quoted: Vec<String> = names.iter().map(|n| format!("`{n}`")).collect();
+    match quoted.as_slice() {
+        [] => String::new(),
+        [one] => one.clone(),
+        [init @ .., last] => format!("{} and {last}", init.join(", ")),
     }
 }
 
-/// One W0705 for a room of a file that has no constraint answer at all: its floor objects
-/// without constraints, counted, with their names in a note (one line, not one per object).
-pub(crate) fn no_constraints_in_file(ctx: &ImportContext, room: &str, span: Span, d: &mut Diags) {
+/// W0705 for the floor objects the constraint answer (at `answer`) did not mention: one per
+/// object, at the line of the object selection that declares it (at the answer when none
+/// does), naming its instances.
+pub(crate) fn no_constraints(ctx: &ImportContext, room: &str, answer: Span, d: &mut Diags) {
     let Some(r) = ctx.draft.room(room) else { return };
-    let mut names = Vec::new();
-    for o in r.objects.iter().filter(|o| !o.wall) {
-        for (i, inst) in o.instances.iter().enumerate().take(o.count.max(1) as usize) {
-            if inst.order.is_none() && inst.at.is_none() {
-                names.push(format!("`{}-{i}`", o.id));
-            }
-        }
+    for (o, names) in unconstrained(r) {
+        let (verb, pronoun) = if names.len() == 1 { ("has", "it") } else { ("have", "they") };
+        let message = format!(
+            "{} in `{}` {verb} no constraints; {pronoun} will be placed at an edge",
+            name_list(&names),
+            r.label
+        );
+        let mut diagnostic = Diagnostic::new(Code::W0705, message);
+        diagnostic = match o.span {
+            Some(span) => diagnostic
+                .with_primary(span, "declared here")
+                .with_secondary(answer, "the constraint answer does not mention it"),
+            None => diagnostic.with_primary(answer, "not mentioned by the constraint answer"),
+        };
+        d.push(diagnostic);
     }
+}
+
+/// One W0705 for a room of a transcript that has no constraint answer for it at all: its floor
+/// objects without constraints, counted, with their names in a note (one line, not one per
+/// object), at the room's line in the floor plan (at `fallback` when no line names it).
+pub(crate) fn no_constraints_in_file(
+    ctx: &ImportContext,
+    room: &str,
+    fallback: Span,
+    d: &mut Diags,
+) {
+    let Some(r) = ctx.draft.room(room) else { return };
+    let names: Vec<String> = unconstrained(r).into_iter().flat_map(|(_, names)| names).collect();
     if names.is_empty() {
         return;
     }
     let n = names.len();
-    let shown: Vec<String> = names.iter().take(8).cloned().collect();
-    let more = if n > 8 { format!(" and {} more", n - 8) } else { String::new() };
+    let (objects, verb, pronoun) =
+        if n == 1 { ("object", "has", "it") } else { ("objects", "have", "they") };
     d.push(
         Diagnostic::new(
             Code::W0705,
             format!(
-                "the {n} floor object{} of `{}` have no constraints; they will be placed at an edge",
-                if n == 1 { "" } else { "s" },
+                "the {n} floor {objects} of `{}` {verb} no constraints; {pronoun} will be placed at an edge",
                 r.label
             ),
         )
-        .with_primary(span, "the file has no constraint answer for this room")
-        .with_note(format!("{}{more}", shown.join(", "))),
+        .with_primary(r.span.unwrap_or(fallback), "no constraint answer for this room")
+        .with_note(shown_names(&names)),
     );
+}
+
+/// The first 8 names, in backticks, and how many more there are.
+pub(crate) fn shown_names(names: &[String]) -> String {
+    let shown: Vec<String> = names.iter().take(8).map(|n| format!("`{n}`")).collect();
+    let more =
+        if names.len() > 8 { format!(" and {} more", names.len() - 8) } else { String::new() };
+    format!("{}{more}", shown.join(", "))
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -339,29 +339,83 @@ pub(super) fn from_pest(
     d
 }
 
-/// The diagnostic for a block left open, when the text has one: braces are matched outside
-/// strings and comments, and a `}` closes the block whose opening line is indented as it is
-/// (so that `room a {` … `object c { edge` … `}` reports the object's `{`, not the room's). The
-/// diagnostic points at the `{` that is never closed and at the place it should have been
-/// closed: before the `}` that closed the enclosing block instead, or at the end of the file.
-pub(crate) fn unclosed_brace(file: FileId, text: &str) -> Option<Diagnostic> {
-    let indent_of = |at: usize| {
-        let line_start = text[..at].rfind('\n').map_or(0, |i| i + 1);
-        text[line_start..].chars().take_while(|c| *c == ' ' || *c == '\t').count()
-    };
-    // Open braces: (position, indentation of their line). The indentation of the current line
-    // is kept as the scan goes, so that the scan stays linear.
-    let mut open: Vec<(usize, usize)> = Vec::new();
-    // The first brace found unclosed, and where its block should have ended.
-    let mut unclosed: Option<(usize, usize)> = None;
+/// A block left open: its diagnostic, and the text that closes it where it should have been
+/// closed, for the parser to read the rest of the file as if it were there.
+pub(crate) struct Unclosed {
+    /// E0101 at the `{` never closed, with a label where its `}` belongs.
+    pub diagnostic: Diagnostic,
+    /// Where the closing text goes, in the text scanned.
+    pub insert_at: usize,
+    /// The closing text: a line break and a `}` indented as the block's first line.
+    pub insert: String,
+}
+
+/// An open `{` while braces are matched.
+struct OpenBrace {
+    /// Its byte offset.
+    at: usize,
+    /// The indentation of its line.
+    indent: usize,
+    /// Whether a line of its body is indented deeper than its own line.
+    deeper_body: bool,
+}
+
+/// The first block left open in a text, when it has one.
+///
+/// Braces are matched outside strings and comments, and indentation says where a block ended
+/// when its `}` is missing: in a block whose body is indented deeper than its opening line, a
+/// later line that starts a statement (not a `}`) indented no deeper than that opening line is
+/// the block's next sibling, so the block ended before it; a `}` closes the block whose opening line is indented as it is
+/// (so that `room a {` … `object c { edge` … `}` reports the object's `{`, not the room's); a
+/// block so found, or left open at the end of the file, that is indented deeper than the block
+/// around it ended before its first later line at its own indentation.
+/// The diagnostic points at the `{` that is never closed and at the place it should have been
+/// closed: after the last line of its body, before the next block at its indentation, before the
+/// `}` that closed the enclosing block instead, or at the end of the file.
+pub(crate) fn unclosed_brace(file: FileId, text: &str) -> Option<Unclosed> {
     let bytes = text.as_bytes();
     let line_indent =
         |from: usize| bytes[from..].iter().take_while(|b| **b == b' ' || **b == b'\t').count();
+    let mut open: Vec<OpenBrace> = Vec::new();
+    // The first brace found unclosed: its offset, its line's indentation, where the text of
+    // the next block starts and what tells so.
+    let mut unclosed: Option<(usize, usize, usize, Boundary)> = None;
     let mut indent = line_indent(0);
     let mut i = 0;
+    // Whether `i` is at the first character of a line, after its indentation.
+    let mut at_line_start = true;
     while i < bytes.len() {
+        if at_line_start {
+            at_line_start = false;
+            i += indent;
+            let rest = &text[i.min(text.len())..];
+            let starts_statement = !rest.is_empty()
+                && !rest.starts_with(['\n', '\r', '}', ';'])
+                && !rest.starts_with("//")
+                && !rest.starts_with("/*");
+            if starts_statement {
+                // A block opened on an earlier line at this indentation or deeper, whose body is
+                // indented deeper than it, ended before this line.
+                if let Some(top) = open.last() {
+                    if top.deeper_body && indent <= top.indent {
+                        let line_start = i - indent;
+                        unclosed = Some((top.at, top.indent, line_start, Boundary::Sibling));
+                        break;
+                    }
+                }
+                if let Some(top) = open.last_mut() {
+                    if indent > top.indent {
+                        top.deeper_body = true;
+                    }
+                }
+            }
+            continue;
+        }
         match bytes[i] {
-            b'\n' => indent = line_indent(i + 1),
+            b'\n' => {
+                indent = line_indent(i + 1);
+                at_line_start = true;
+            }
             b'"' => {
                 i += 1;
                 while i < bytes.len() && bytes[i] != b'"' && bytes[i] != b'\n' {
@@ -369,6 +423,7 @@ pub(crate) fn unclosed_brace(file: FileId, text: &str) -> Option<Diagnostic> {
                 }
                 if bytes.get(i) == Some(&b'\n') {
                     indent = line_indent(i + 1);
+                    at_line_start = true;
                 }
             }
             b'/' if bytes.get(i + 1) == Some(&b'/') => {
@@ -377,16 +432,20 @@ pub(crate) fn unclosed_brace(file: FileId, text: &str) -> Option<Diagnostic> {
                 }
                 if i < bytes.len() {
                     indent = line_indent(i + 1);
+                    at_line_start = true;
                 }
             }
-            b'{' => open.push((i, indent)),
+            b'/' if bytes.get(i + 1) == Some(&b'*') => {
+                let end = text[i + 2..].find("*/").map_or(bytes.len(), |close| i + 2 + close + 2);
+                // A comment over several lines: what follows it is not a line start.
+                i = end.saturating_sub(1);
+            }
+            b'{' => open.push(OpenBrace { at: i, indent, deeper_body: false }),
             b'}' => {
                 // Blocks opened deeper than this `}` and still open were never closed.
-                while open.len() > 1 && open.last().is_some_and(|&(_, k)| k > indent) {
-                    let (at, _) = open.pop().unwrap_or_default();
-                    if unclosed.is_none() {
-                        unclosed = Some((at, i));
-                    }
+                if let Some(top) = open.last().filter(|o| open.len() > 1 && o.indent > indent) {
+                    unclosed = Some((top.at, top.indent, i, Boundary::Brace));
+                    break;
                 }
                 open.pop();
             }
@@ -394,53 +453,110 @@ pub(crate) fn unclosed_brace(file: FileId, text: &str) -> Option<Diagnostic> {
         }
         i += 1;
     }
-    let (at, should_close) = match (unclosed, open.first()) {
-        (Some(found), _) => found,
-        (None, Some(&(at, _))) => (open.last().map_or(at, |&(a, _)| a), text.len()),
-        (None, None) => return None,
-    };
-    let header_start = text[..at].rfind('\n').map_or(0, |i| i + 1);
-    let header: String = {
-        let whole = text[header_start..at].trim();
-        let short: String = whole.chars().take(40).collect();
-        if short.len() < whole.len() {
-            format!("{short}…")
-        } else {
-            short
+    let (at, indent, mut should_close, mut boundary) = match unclosed {
+        Some(found) => found,
+        None => {
+            let last = open.last()?;
+            (last.at, last.indent, text.len(), Boundary::End)
         }
     };
-    let mut d = Diagnostic::new(
+    // A block indented deeper than the block around it, whose body is not indented deeper than
+    // itself (`object c { edge` then `corners …` at the object's indentation): now that it is
+    // known to be left open, a later line at its indentation is still its next sibling.
+    let parent_indent = open.len().checked_sub(2).map(|k| open[k].indent);
+    if boundary != Boundary::Sibling && parent_indent.is_some_and(|p| indent > p) {
+        if let Some(line_start) = first_line_at_or_above(text, at, should_close, indent) {
+            should_close = line_start;
+            boundary = Boundary::Sibling;
+        }
+    }
+    let header_start = text[..at].rfind('\n').map_or(0, |i| i + 1);
+    let header = short_line(&text[header_start..at]);
+    // The `}` goes after the last line of the block's body (not on empty or comment lines).
+    let close_at = last_content_end(text, at, should_close);
+    let help = match boundary {
+        Boundary::Sibling => {
+            let line_end = text[should_close..].find('\n').map_or(text.len(), |n| should_close + n);
+            let next = short_line(&text[should_close..line_end]);
+            format!("add the missing `}}` before `{next}`")
+        }
+        Boundary::Brace => {
+            "add the missing `}` before the `}` that closes the block around it".into()
+        }
+        Boundary::End => "add the missing `}` at the end of the file".into(),
+    };
+    let diagnostic = Diagnostic::new(
         Code::E0101,
         format!(
             "`{}{{` is never closed",
             if header.is_empty() { String::new() } else { format!("{header} ") }
         ),
     )
-    .with_primary(Span::new(file, at, at + 1), "this block is never closed");
-    let close_at = if should_close >= text.len() {
-        // At the end of the file: before the first later line indented no deeper than the
-        // block's own line (the next statement of the enclosing block), else at the end.
-        let own_indent = indent_of(at);
-        let after_header = text[at..].find('\n').map_or(text.len(), |i| at + i + 1);
-        let mut last_content_end = text[..after_header].trim_end().len();
-        let mut found = None;
-        let mut pos = after_header;
-        for line in text[after_header..].split_inclusive('\n') {
-            let trimmed = line.trim();
-            let indent = line.len() - line.trim_start().len();
-            if !trimmed.is_empty() && !trimmed.starts_with("//") {
-                if indent <= own_indent && !trimmed.starts_with('}') {
-                    found = Some(last_content_end);
-                    break;
-                }
-                last_content_end = pos + line.trim_end().len();
-            }
-            pos += line.len();
+    .with_primary(Span::new(file, at, at + 1), "this block is never closed")
+    .with_secondary(Span::new(file, close_at, close_at), "its `}` belongs here")
+    .with_help(help);
+    // On a line of its own, indented as the block's first line, so that the next scan matches it
+    // to this block.
+    let insert = format!("\n{}}}", " ".repeat(indent));
+    Some(Unclosed { diagnostic, insert_at: close_at, insert })
+}
+
+/// The start of the first line after the line of `open` and before `before` that starts a
+/// statement (not a `}`, an empty line or a comment) indented no deeper than `indent`.
+fn first_line_at_or_above(text: &str, open: usize, before: usize, indent: usize) -> Option<usize> {
+    let mut pos = text[open..].find('\n').map(|i| open + i + 1)?;
+    while pos < before {
+        let line_end = text[pos..].find('\n').map_or(text.len(), |n| pos + n + 1);
+        let line = &text[pos..line_end.min(before)];
+        let rest = line.trim_start_matches([' ', '\t']);
+        let starts_statement = !rest.trim().is_empty()
+            && !rest.starts_with(['}', ';'])
+            && !rest.starts_with("//")
+            && !rest.starts_with("/*");
+        if starts_statement && line.len() - rest.len() <= indent {
+            return Some(pos);
         }
-        found.unwrap_or_else(|| text.trim_end().len())
+        pos = line_end;
+    }
+    None
+}
+
+/// What tells where a block left open ended.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Boundary {
+    /// The next statement at the block's indentation.
+    Sibling,
+    /// A `}` that closes the block around it.
+    Brace,
+    /// The end of the file.
+    End,
+}
+
+/// A line's text, trimmed and cut to 40 characters.
+fn short_line(line: &str) -> String {
+    let whole = line.trim();
+    let short: String = whole.chars().take(40).collect();
+    if short.len() < whole.len() {
+        format!("{short}…")
     } else {
-        text[..should_close].rfind('\n').map_or(should_close, |i| i)
-    };
-    d = d.with_secondary(Span::new(file, close_at, close_at), "its `}` belongs here");
-    Some(d.with_help("add the missing `}` where the block ends"))
+        short
+    }
+}
+
+/// The end of the last line before `before` (and after the line of `open`) that holds more than
+/// blanks and a comment; the end of `open`'s line when there is none.
+fn last_content_end(text: &str, open: usize, before: usize) -> usize {
+    let after_header = text[open..].find('\n').map_or(text.len(), |i| open + i + 1).min(before);
+    let mut end = text[..after_header].trim_end().len().max(open + 1);
+    let mut pos = after_header;
+    while pos < before {
+        let line_end = text[pos..].find('\n').map_or(text.len(), |n| pos + n + 1).min(before);
+        let line = &text[pos..line_end];
+        let trimmed = line.trim();
+        if !trimmed.is_empty() && !trimmed.starts_with("//") && !trimmed.starts_with("/*") {
+            end = pos + line.trim_end().len();
+        }
+        pos = line_end;
+    }
+    end
 }

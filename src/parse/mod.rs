@@ -96,7 +96,7 @@ pub fn parse_cached(
                 None => return parse_whole(sources, file),
             },
         };
-        let m = relocate::Move { file, delta: start as i64 };
+        let m = relocate::Move::shift(file, start as i64);
         let mut piece_items = chunk.items.clone();
         relocate::Relocate::relocate(&mut piece_items, m);
         if let (Some(end), Some(first)) = (previous_end, piece_items.first()) {
@@ -174,12 +174,12 @@ fn parse_room_by_groups(piece: &str, cache: &GroupMap, used: &mut GroupMap) -> O
             }
             room.span.end += body_len as u32;
         } else {
-            relocate::Relocate::relocate(item, relocate::Move { file: FileId(0), delta: body_len });
+            relocate::Relocate::relocate(item, relocate::Move::shift(FileId(0), body_len));
         }
     }
     for d in &mut parsed.diagnostics {
         if d.primary.as_ref().is_some_and(|p| after(p.span)) {
-            relocate::Relocate::relocate(d, relocate::Move { file: FileId(0), delta: body_len });
+            relocate::Relocate::relocate(d, relocate::Move::shift(FileId(0), body_len));
         }
     }
     let mut stmts: Vec<ast::RoomStmt> = Vec::new();
@@ -193,10 +193,8 @@ fn parse_room_by_groups(piece: &str, cache: &GroupMap, used: &mut GroupMap) -> O
             Some((key, hit)) => (std::rc::Rc::clone(key), std::rc::Rc::clone(hit)),
             None => (std::rc::Rc::from(text), std::rc::Rc::new(parse_group(text)?)),
         };
-        let m = relocate::Move {
-            file: FileId(0),
-            delta: (open + 1 + start) as i64 - GROUP_PREFIX.len() as i64,
-        };
+        let m =
+            relocate::Move::shift(FileId(0), (open + 1 + start) as i64 - GROUP_PREFIX.len() as i64);
         let mut group_stmts = group.stmts.clone();
         relocate::Relocate::relocate(&mut group_stmts, m);
         if let (Some(end), Some(first)) = (previous_end, group_stmts.first()) {
@@ -391,30 +389,74 @@ fn literal_at(text: &str, i: usize) -> Literal {
 
 /// Parses the whole text at once, with no cache: what [`parse_cached`] falls back to, and the
 /// reference the tests hold it to.
+///
+/// A block left open makes pest fail at the end of the file. Each such block is reported
+/// (E0101 at its `{`, with where its `}` belongs) and the text is read again with a `}` where the
+/// block ended, so that the blocks after it are still read and their problems reported; the
+/// tree's spans are those of the file (the inserted `}` is empty, at the end of the block).
 pub fn parse_whole(sources: &SourceMap, file: FileId) -> Outcome<ast::File> {
     if let Some(too_deep) = too_deep(sources, file) {
         return too_deep;
     }
-    let text = &sources.get(file).text;
-    let mut builder = Builder { file, text, diagnostics: Vec::new() };
-    let whole = Span::new(file, 0, text.len());
-    let ast = match HoloParser::parse(Rule::file, text) {
-        Ok(mut pairs) => {
-            let file_pair = pairs.next().expect("the file rule always yields one pair");
-            builder.file(file_pair)
+    let original = &sources.get(file).text;
+    let whole = Span::new(file, 0, original.len());
+    // The text read, and what was inserted into it: (offset in the text read, length).
+    let mut text = original.clone();
+    let mut inserted: Vec<(usize, usize)> = Vec::new();
+    let mut unclosed = Vec::new();
+    // Every round closes one more block, so there are at most as many rounds as `{`.
+    let rounds = original.bytes().filter(|b| *b == b'{').count() + 1;
+    for _ in 0..rounds {
+        let error = match HoloParser::parse(Rule::file, &text) {
+            Ok(mut pairs) => {
+                let file_pair = pairs.next().expect("the file rule always yields one pair");
+                let mut builder = Builder { file, text: &text, diagnostics: Vec::new() };
+                let mut ast = builder.file(file_pair);
+                let mut diagnostics = builder.diagnostics;
+                let m = relocate::Move { file, delta: 0, inserted: &inserted };
+                relocate::Relocate::relocate(&mut ast.items, m);
+                relocate::Relocate::relocate(&mut diagnostics, m);
+                ast.span = whole;
+                unclosed.extend(diagnostics);
+                // Source order: the recovery's diagnostics among the others.
+                unclosed.sort_by_key(|d| d.primary.as_ref().map_or(0, |p| p.span.start));
+                return Outcome::new(ast, unclosed);
+            }
+            Err(error) => error,
+        };
+        let Some(found) = errors::unclosed_brace(file, &text) else {
+            let mut diagnostic = errors::from_pest(file, 0, &error, Context::Top, &text);
+            relocate::Relocate::relocate(
+                &mut diagnostic,
+                relocate::Move { file, delta: 0, inserted: &inserted },
+            );
+            unclosed.push(diagnostic);
+            break;
+        };
+        let mut diagnostic = found.diagnostic;
+        relocate::Relocate::relocate(
+            &mut diagnostic,
+            relocate::Move { file, delta: 0, inserted: &inserted },
+        );
+        // A `}` that did not close the block (it fell in a comment): no second report.
+        if unclosed.iter().any(|d: &Diagnostic| d.primary == diagnostic.primary) {
+            break;
         }
-        Err(error) => {
-            // A block left open makes the whole file fail at its end; say which block.
-            let diagnostic = errors::unclosed_brace(file, text)
-                .unwrap_or_else(|| errors::from_pest(file, 0, &error, Context::Top, text));
-            builder.diagnostics.push(diagnostic);
-            ast::File {
-                items: vec![ast::Item::Error(ast::ErrorNode { text: text.clone(), span: whole })],
-                span: whole,
+        unclosed.push(diagnostic);
+        text.insert_str(found.insert_at, &found.insert);
+        for (pos, _) in &mut inserted {
+            if *pos >= found.insert_at {
+                *pos += found.insert.len();
             }
         }
+        inserted.push((found.insert_at, found.insert.len()));
+        inserted.sort_unstable();
+    }
+    let ast = ast::File {
+        items: vec![ast::Item::Error(ast::ErrorNode { text: original.clone(), span: whole })],
+        span: whole,
     };
-    Outcome::new(ast, builder.diagnostics)
+    Outcome::new(ast, unclosed)
 }
 
 /// The deepest nesting of braces the parser reads. The grammar is recursive in its blocks

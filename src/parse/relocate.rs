@@ -11,9 +11,33 @@ use crate::source::{FileId, Span};
 
 /// A relocation: the file the spans now belong to and how far they move.
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct Move {
+pub(crate) struct Move<'a> {
     pub file: FileId,
     pub delta: i64,
+    /// Text the parser read that the file does not hold (the `}` recovery inserts for a block
+    /// left open), as (offset in the text read, length), in order: offsets after an insertion
+    /// move back by its length, offsets inside one move to where it was inserted.
+    pub inserted: &'a [(usize, usize)],
+}
+
+impl Move<'_> {
+    /// A plain shift by `delta` into `file`.
+    pub(crate) fn shift(file: FileId, delta: i64) -> Move<'static> {
+        Move { file, delta, inserted: &[] }
+    }
+
+    /// Where the offset `at` of the text read lies in the file.
+    fn offset(&self, at: u32) -> u32 {
+        let at = at as usize;
+        let mut removed = 0usize;
+        for &(pos, len) in self.inserted {
+            if pos >= at {
+                break;
+            }
+            removed += (at - pos).min(len);
+        }
+        (((at - removed) as i64) + self.delta).max(0) as u32
+    }
 }
 
 /// Something with spans to move.
@@ -24,8 +48,8 @@ pub(crate) trait Relocate {
 impl Relocate for Span {
     fn relocate(&mut self, m: Move) {
         self.file = m.file;
-        self.start = (i64::from(self.start) + m.delta).max(0) as u32;
-        self.end = (i64::from(self.end) + m.delta).max(0) as u32;
+        self.start = m.offset(self.start);
+        self.end = m.offset(self.end);
     }
 }
 

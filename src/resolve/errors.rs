@@ -71,11 +71,14 @@ pub(crate) fn stand_in(
     what: &Subject,
     asset: &Asset,
     line: &super::standins::StandIn,
+    ratio: Option<f64>,
+    asked_m: Option<[f64; 3]>,
 ) -> Diagnostic {
-    Diagnostic::new(
+    let off = ratio.map_or(String::new(), |r| format!(", size ratio {r:.2}"));
+    let mut d = Diagnostic::new(
         Code::W0403,
         format!(
-            "no asset of its own for `{}` (\"{}\"); {} {} (`{}`) stands in",
+            "no asset of its own for `{}` (\"{}\"); {} {} (`{}`) stands in{off}",
             what.name,
             what.description,
             article(&asset.object_type),
@@ -94,13 +97,64 @@ pub(crate) fn stand_in(
         article(line.key),
         line.key,
         line.reason
-    ))
-    .with_help("pin an asset with `asset \"…\"`, add a catalog that has one with `--catalog`, or build with `--no-stand-ins` to leave it out")
+    ));
+    if let (Some(r), Some(asked)) = (ratio, asked_m) {
+        d = d.with_note(size_note(asset, asked, r));
+    }
+    d.with_help("pin an asset with `asset \"…\"`, add a catalog that has one with `--catalog`, or build with `--no-stand-ins` to leave it out")
+}
+
+/// `w × d × h cm`, rounded to whole centimetres.
+fn cm3(w: f64, d: f64, h: f64) -> String {
+    let cm = |m: f64| format!("{:.0}", m * 100.0);
+    format!("{} × {} × {} cm", cm(w), cm(d), cm(h))
+}
+
+/// The note that compares an asset's size with the size asked.
+fn size_note(asset: &Asset, asked_m: [f64; 3], ratio: f64) -> String {
+    let [x, y, z] = asset.bbox_m;
+    format!(
+        "`{}` is {} (width × depth × height) for {} asked: size ratio {ratio:.2}, at most {} is accepted",
+        asset.id,
+        cm3(x, z, y),
+        cm3(asked_m[0], asked_m[1], asked_m[2]),
+        super::standins::MAX_STAND_IN_RATIO
+    )
+}
+
+/// The note of a thing whose nearest stand-in (or placement otherwise) was refused for its
+/// size.
+pub(crate) fn refused_note(
+    catalog: &Catalog,
+    asset_id: &str,
+    ratio: f64,
+    query: &super::index::Query,
+    kind: PlacementKind,
+) -> String {
+    let Some(asset) = catalog.get(asset_id) else { return String::new() };
+    let asked =
+        query.size_m.map_or(String::new(), |a| format!(" for {} asked", cm3(a[0], a[1], a[2])));
+    let [x, y, z] = asset.bbox_m;
+    format!(
+        "{} {} could be used {} (`{}`, {}{asked}), but its size ratio {ratio:.2} is more than {}",
+        article(&asset.object_type),
+        asset.object_type,
+        kind_phrase(kind),
+        asset.id,
+        cm3(x, z, y),
+        super::standins::MAX_STAND_IN_RATIO
+    )
 }
 
 /// W0404: a thing placed in a way its catalog type does not list (a microwave on the wall).
-pub(crate) fn placed_otherwise(what: &Subject, asset: &Asset, kind: PlacementKind) -> Diagnostic {
-    Diagnostic::new(
+pub(crate) fn placed_otherwise(
+    what: &Subject,
+    asset: &Asset,
+    kind: PlacementKind,
+    ratio: Option<f64>,
+    asked_m: Option<[f64; 3]>,
+) -> Diagnostic {
+    let d = Diagnostic::new(
         Code::W0404,
         format!(
             "no asset for `{}` (\"{}\") can be placed {}; {} (`{}`) is placed {} anyway",
@@ -123,7 +177,11 @@ pub(crate) fn placed_otherwise(what: &Subject, asset: &Asset, kind: PlacementKin
         with_article(&asset.object_type),
         kind_phrase(kind)
     ))
-    .with_help("declare it where the catalog places it (e.g. `on top` of furniture), or pin an asset with `asset \"…\"`")
+    .with_help("declare it where the catalog places it (e.g. `on top` of furniture), or pin an asset with `asset \"…\"`");
+    match (ratio, asked_m) {
+        (Some(r), Some(asked)) => d.with_note(size_note(asset, asked, r)),
+        _ => d,
+    }
 }
 
 /// `a Sofa`, `an AlarmClock`.

@@ -54,6 +54,9 @@ fn resolution(res: &Resolution, catalog: &Catalog, mut head: Map<String, Value>)
             if let Some(way) = &c.placed_as {
                 head.insert("placedAs".into(), json!(way));
             }
+            if let Some(ratio) = c.size_ratio {
+                head.insert("sizeRatio".into(), json!(r4(ratio)));
+            }
             head.insert("assetId".into(), json!(c.asset_id));
             head.insert("objectType".into(), json!(c.object_type));
             head.insert("catalog".into(), json!(source.name));

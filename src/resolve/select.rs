@@ -10,8 +10,9 @@ use super::standins;
 use super::{kinds, objathor, receptacles, text};
 
 /// Types the catalog has only as things on furniture that people also hang on a wall.
-pub const WALL_MOUNTED: &[&str] =
-    &["Television", "Microwave", "AlarmClock", "Painting", "Mirror", "LightSwitch", "Watch"];
+/// An alarm clock or a watch is not among them: the catalog's are desk clocks with a base and
+/// wristwatches, and a wall clock made of one hangs a desk clock on the wall.
+pub const WALL_MOUNTED: &[&str] = &["Television", "Microwave", "Painting", "Mirror", "LightSwitch"];
 /// Types the catalog has only on the wall that people also stand on furniture (a framed
 /// photograph on a shelf).
 pub const ON_FURNITURE: &[&str] = &["Painting"];
@@ -99,6 +100,9 @@ pub struct Choice {
     /// When the asset is placed in another way than its catalog allows (a microwave hung on
     /// the wall): that way, in words.
     pub placed_as: Option<String>,
+    /// For a stand-in or a thing placed otherwise, with a size asked: how far the asset's size
+    /// is from it (`resolve::standins::size_ratio`; at most `MAX_STAND_IN_RATIO`).
+    pub size_ratio: Option<f64>,
 }
 
 impl Choice {
@@ -116,6 +120,7 @@ impl Choice {
             stand_in: None,
             kind_of: None,
             placed_as: None,
+            size_ratio: None,
         }
     }
 }
@@ -333,6 +338,7 @@ pub fn resolve_cached(
         top_type: None,
         typical: BTreeMap::new(),
         too_large: None,
+        refused: None,
         room_box: None,
         objathor_cache: BTreeMap::new(),
     };
@@ -485,6 +491,7 @@ pub fn resolve_query(
         top_type: None,
         typical: BTreeMap::new(),
         too_large: None,
+        refused: None,
         room_box: None,
         objathor_cache: BTreeMap::new(),
     };
@@ -559,6 +566,9 @@ struct State<'a> {
     typical: BTreeMap<String, Option<f64>>,
     /// The last on-object asset rejected as too large in `choose`, for the warning.
     too_large: Option<String>,
+    /// The nearest stand-in (or thing placed otherwise) refused in `choose` for its size: the
+    /// asset and its size ratio, for the warning.
+    refused: Option<(String, f64)>,
     /// While resolving a room's floor and wall objects: its `[long side, short side, wall
     /// height]`, metres, for the objathor size filters.
     room_box: Option<[f64; 3]>,
@@ -622,6 +632,7 @@ impl State<'_> {
         let kind = query.kind.unwrap_or(PlacementKind::Floor);
         let ranked = self.ranked(query);
         self.too_large = None;
+        self.refused = None;
         let mut good: Vec<&Candidate> = Vec::new();
         for c in ranked.iter().filter(|c| c.is_good_enough()) {
             if kind == PlacementKind::OnObject && self.is_too_large(query, c.bbox_m, &c.object_type)
@@ -746,6 +757,9 @@ impl State<'_> {
                 if let Some(id) = &self.too_large {
                     d = d.with_note(errors::too_large_note(self.catalog, id, query));
                 }
+                if let Some((id, ratio)) = &self.refused {
+                    d = d.with_note(errors::refused_note(self.catalog, id, *ratio, query, kind));
+                }
                 self.report_once(what.span, d);
                 out.push(Resolution::Unresolved(Unresolved {
                     reason: format!(
@@ -852,10 +866,19 @@ impl State<'_> {
                     self.too_large.get_or_insert_with(|| asset.id.clone());
                     continue;
                 }
-                self.report_once(what.span, errors::placed_otherwise(what, asset, kind));
+                let ratio = query.size_m.map(|want| standins::size_ratio(asset.bbox_m, want, kind));
+                if let Some(r) = ratio.filter(|r| *r > standins::MAX_STAND_IN_RATIO + 1e-9) {
+                    self.refused.get_or_insert_with(|| (asset.id.clone(), r));
+                    continue;
+                }
+                self.report_once(
+                    what.span,
+                    errors::placed_otherwise(what, asset, kind, ratio, query.size_m),
+                );
                 self.used.entry(asset.id.clone()).or_default().insert(what.room);
                 return Some(Resolution::Chosen(Choice {
                     placed_as: Some(errors::kind_phrase(kind).to_string()),
+                    size_ratio: ratio,
                     ..Choice::of(asset)
                 }));
             }
@@ -879,17 +902,23 @@ impl State<'_> {
         // A stand-in for a thing with things on top must itself hold things (no plant on a
         // plant).
         let types = self.holding_types(line.types, wants_receptacle);
-        let asset = standins::pick_of_types(self.catalog, &types, kind, query.size_m)?;
+        let (asset, ratio) = standins::pick_stand_in(self.catalog, &types, kind, query.size_m)?;
+        if let Some(r) = ratio.filter(|r| *r > standins::MAX_STAND_IN_RATIO + 1e-9) {
+            // Too far from the size asked: a 0.89 m dresser is no 2 m wardrobe.
+            self.refused.get_or_insert_with(|| (asset.id.clone(), r));
+            return None;
+        }
         if kind == PlacementKind::OnObject
             && self.is_too_large(query, asset.bbox_m, &asset.object_type)
         {
             self.too_large.get_or_insert_with(|| asset.id.clone());
             return None;
         }
-        self.report_once(what.span, errors::stand_in(what, asset, line));
+        self.report_once(what.span, errors::stand_in(what, asset, line, ratio, query.size_m));
         self.used.entry(asset.id.clone()).or_default().insert(what.room);
         Some(Resolution::Chosen(Choice {
             stand_in: Some(line.reason.to_owned()),
+            size_ratio: ratio,
             ..Choice::of(asset)
         }))
     }

@@ -306,16 +306,97 @@ pub fn lookup(category: &str) -> Option<&'static StandIn> {
     line.filter(|l| !l.types.is_empty())
 }
 
-/// The asset that stands in: of the line's types in order, the asset of the right placement
-/// kind whose sorted size is closest to the wanted one (or the first in catalog order without a
-/// wanted size). `None` when the catalog has none of them.
+/// A stand-in (or a thing placed in a way its type does not list, W0404) is refused when its
+/// size ratio ([`size_ratio`]) to the size asked is above this: an asset of another type may be
+/// at most twice as large or half as large as the thing, side by side. Twice is the bound the
+/// things on top already keep (`resolve::MAX_SIZE_RATIO`); it lets a 1.30 m dresser stand in
+/// for a 2 m wardrobe, and keeps out a 0.89 m tall one.
+pub const MAX_STAND_IN_RATIO: f64 = 2.0;
+
+/// The shortest side a size ratio compares, metres: sides below it count as 1 cm, so that a
+/// thing written with no depth is not infinitely far from any asset.
+const RATIO_MIN_SIDE_M: f64 = 0.01;
+
+/// How far an asset's size is from the size asked: the largest, over the sides compared, of
+/// the longer length over the shorter (1 is the same size, 2 twice as large or half as large on
+/// some side). `asset_m` is an asset's bounding box (x width, y height, z depth), `asked_m` the
+/// size written (width, depth, height). Which sides are compared depends on how the thing is
+/// placed, since its asset stands upright and turns only about the vertical:
+/// - on the floor or at the ceiling: the heights, and the two horizontal sides sorted (a thing
+///   on the floor turns, so its width may be the asset's depth);
+/// - on a wall: the width along the wall and the height (not the thickness, a few centimetres
+///   either way);
+/// - on top of another object: the two longest sides of each, sorted (a book may lie or stand).
+pub fn size_ratio(asset_m: [f64; 3], asked_m: [f64; 3], kind: PlacementKind) -> f64 {
+    let side = |a: f64, b: f64| {
+        let (a, b) = (a.max(RATIO_MIN_SIDE_M), b.max(RATIO_MIN_SIDE_M));
+        a.max(b) / a.min(b)
+    };
+    let sorted2 = |a: f64, b: f64| if a <= b { [a, b] } else { [b, a] };
+    let [x, y, z] = asset_m;
+    let [width, depth, height] = asked_m;
+    match kind {
+        PlacementKind::Floor | PlacementKind::Ceiling => {
+            let (h, w) = (sorted2(x, z), sorted2(width, depth));
+            side(y, height).max(side(h[0], w[0])).max(side(h[1], w[1]))
+        }
+        PlacementKind::Wall => side(x, width).max(side(y, height)),
+        PlacementKind::OnObject => {
+            let longest_two = |mut v: [f64; 3]| {
+                v.sort_by(f64::total_cmp);
+                [v[1], v[2]]
+            };
+            let (a, b) = (longest_two(asset_m), longest_two(asked_m));
+            side(a[0], b[0]).max(side(a[1], b[1]))
+        }
+    }
+}
+
+/// The asset that stands in, of the line's types (see [`pick_stand_in`]).
 pub fn pick<'c>(
     catalog: &'c Catalog,
     line: &StandIn,
     kind: PlacementKind,
     size_m: Option<[f64; 3]>,
-) -> Option<&'c Asset> {
-    pick_of_types(catalog, line.types, kind, size_m)
+) -> Option<(&'c Asset, Option<f64>)> {
+    pick_stand_in(catalog, line.types, kind, size_m)
+}
+
+/// The asset that stands in: of `types` in order, the first type's asset of the right placement
+/// kind with the smallest size ratio to the asked size (ties: catalog order), with that ratio;
+/// a later type only when the earlier ones have no asset within [`MAX_STAND_IN_RATIO`]. When
+/// no type has one within it, the nearest asset of all, which the caller refuses. Without an
+/// asked size, the first asset in catalog order of the first type that has one, and no ratio.
+/// `None` when the catalog has none of the types.
+pub fn pick_stand_in<'c>(
+    catalog: &'c Catalog,
+    types: &[&str],
+    kind: PlacementKind,
+    size_m: Option<[f64; 3]>,
+) -> Option<(&'c Asset, Option<f64>)> {
+    let mut nearest: Option<(&Asset, Option<f64>)> = None;
+    for ty in types {
+        let mut best: Option<(&Asset, Option<f64>)> = None;
+        for asset in catalog.assets().iter().filter(|a| a.object_type == *ty && a.allows(kind)) {
+            let ratio = size_m.map(|want| size_ratio(asset.bbox_m, want, kind));
+            let better = match (best, ratio) {
+                (None, _) => true,
+                (Some((_, Some(b))), Some(r)) => r < b - 1e-12,
+                _ => false,
+            };
+            if better {
+                best = Some((asset, ratio));
+            }
+        }
+        let Some(best) = best else { continue };
+        if best.1.is_none_or(|r| r <= MAX_STAND_IN_RATIO + 1e-9) {
+            return Some(best);
+        }
+        if nearest.is_none_or(|(_, n)| best.1 < n) {
+            nearest = Some(best);
+        }
+    }
+    nearest
 }
 
 /// Of `types` in order, the asset of the right placement kind whose sorted size is closest to
@@ -375,6 +456,42 @@ mod tests {
         assert!(lookup("privacy curtain").is_none(), "known to have no stand-in");
         assert!(lookup("wrapping paper").is_none());
         assert!(lookup("wall mirror").is_none());
+    }
+
+    #[test]
+    fn size_ratio_compares_the_sides_a_placement_keeps() {
+        // A 1.91 m wide, 0.89 m tall dresser for a 1 m wide, 2 m tall wardrobe: the heights
+        // decide (2.25), not the sorted sides (which would match its width to the height).
+        let dresser = [1.9121, 0.8935, 0.7207];
+        let wardrobe = [1.0, 0.6, 2.0];
+        let r = size_ratio(dresser, wardrobe, PlacementKind::Floor);
+        assert!((r - 2.0 / 0.8935).abs() < 1e-9, "{r}");
+        assert!(r > MAX_STAND_IN_RATIO);
+        // Turned on the floor: width and depth are compared sorted.
+        let r = size_ratio([0.6, 2.0, 1.0], wardrobe, PlacementKind::Floor);
+        assert!((r - 1.0).abs() < 1e-9, "{r}");
+        // On a wall the thickness does not count.
+        let r = size_ratio([0.6, 0.8, 0.05], [0.6, 0.01, 0.8], PlacementKind::Wall);
+        assert!((r - 1.0).abs() < 1e-9, "{r}");
+        // A thing written with no depth is compared as 1 cm.
+        let r = size_ratio([1.0, 1.0, 0.0], [1.0, 0.0, 1.0], PlacementKind::Floor);
+        assert!(r.is_finite());
+    }
+
+    #[test]
+    fn the_stand_in_is_the_nearest_in_size_and_refused_past_the_ratio() {
+        let catalog = Catalog::embedded();
+        let (asset, ratio) =
+            pick_stand_in(&catalog, &["Dresser"], PlacementKind::Floor, Some([1.0, 0.6, 2.0]))
+                .expect("a dresser");
+        let ratio = ratio.expect("a size was asked");
+        assert!(ratio <= MAX_STAND_IN_RATIO, "{} at {ratio}", asset.id);
+        assert!(asset.bbox_m[1] > 1.2, "the tallest dressers are nearest: {}", asset.id);
+        // A 4 m wardrobe: no dresser is within twice, the nearest is given to be refused.
+        let (_, ratio) =
+            pick_stand_in(&catalog, &["Dresser"], PlacementKind::Floor, Some([1.0, 0.6, 4.0]))
+                .expect("a dresser");
+        assert!(ratio.expect("a ratio") > MAX_STAND_IN_RATIO);
     }
 
     #[test]
