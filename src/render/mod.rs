@@ -312,6 +312,17 @@ fn scale_bar_m(plan_width_m: f64) -> f64 {
         .unwrap_or(0.5)
 }
 
+/// What one object label says and where it may go: the centre of what it names, and the top
+/// and bottom of its footprints (pixels).
+struct LabelJob {
+    text: String,
+    center: (f64, f64),
+    top: f64,
+    bottom: f64,
+    /// For items on top: the receptacle and the item's name, and how many there are.
+    items: Option<(String, String, usize)>,
+}
+
 /// Draws the plan as an SVG document.
 pub fn render_svg(drawing: &Drawing) -> String {
     let mut xs: Vec<f64> = Vec::new();
@@ -370,16 +381,6 @@ pub fn render_svg(drawing: &Drawing) -> String {
 
     let mut key: Vec<(usize, String)> = Vec::new();
     let mut objects = Group::new().set("id", "objects");
-    // What each label says and where it may go: the centre of what it names, and the top and
-    // bottom of its footprints (pixels).
-    struct LabelJob {
-        text: String,
-        center: (f64, f64),
-        top: f64,
-        bottom: f64,
-        /// For items on top: the receptacle and the item's name, and how many there are.
-        items: Option<(String, String, usize)>,
-    }
     let mut jobs: Vec<LabelJob> = Vec::new();
     for o in &drawing.objects {
         let half = [o.size[0] / 2.0, o.size[1] / 2.0];
