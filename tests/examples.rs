@@ -122,6 +122,47 @@ fn golden_apartment_house_and_plan() {
     });
 }
 
+/// The plan's labels are the scene's names (issue 33): the apartment's two dining chairs are
+/// told apart by their instance number, the other things are not numbered, no label is an
+/// identifier, the books on the coffee table get one label with their count, and the double
+/// door to the outside is drawn double.
+#[test]
+fn plan_labels_are_names() {
+    let (_, built, _) = build_example(Path::new("examples/apartment_1b1b.holo"), Solver::Dfs);
+    let built = built.expect("builds");
+    let drawing = holoc::render::drawing(&built);
+    let label = |name: &str| {
+        drawing.objects.iter().find(|o| o.name == name).map(|o| o.label.clone()).expect(name)
+    };
+    assert_eq!(label("dining_chair-0"), "dining chair 0");
+    assert_eq!(label("dining_chair-1"), "dining chair 1");
+    assert_eq!(label("coffee_table-0"), "coffee table");
+    assert_eq!(label("sofa-0"), "sofa");
+    let svg = holoc::render::render_svg(&drawing);
+    let group = svg.split("id=\"object-labels\"").nth(1).expect("labels");
+    let group = group.split("</g>").next().expect("their group");
+    let labels: Vec<&str> = group
+        .split("</text>")
+        .filter_map(|t| t.rsplit('>').next())
+        .map(str::trim)
+        .filter(|t| !t.is_empty())
+        .collect();
+    assert!(labels.contains(&"dining chair 1"), "{labels:?}");
+    for o in &drawing.objects {
+        assert!(!labels.contains(&o.name.as_str()), "`{}` is labelled by its id", o.name);
+    }
+    let books = drawing
+        .objects
+        .iter()
+        .filter(|o| o.label == "book" && o.on.as_deref() == Some("coffee_table-0"))
+        .count();
+    assert!(books >= 2, "the coffee table holds books");
+    let counted = format!("book ×{books}");
+    assert_eq!(labels.iter().filter(|l| **l == counted).count(), 1, "{labels:?}");
+    let exterior = drawing.doors.iter().filter(|d| d.double).count();
+    assert_eq!(exterior, 1, "the door to the outside is double");
+}
+
 /// The plan draws exactly the house: one footprint per object of the house, with its name at
 /// its position, and nothing else; what the scene asked for and the house lacks is listed as
 /// left out.

@@ -284,7 +284,7 @@ fn scene_file_warnings_point_at_their_lines() {
         out.diagnostics.iter().find(|d| d.code == Code::W0701).expect("the numbering is noise");
     let (_, line, column) = place(&sources, numbering);
     assert_eq!(line, line_of("\"raw_doorway_plan\""));
-    assert_eq!(&text.lines().nth(line - 1).expect("line")[column - 1..column + 1], "1.");
+    assert_eq!(&text.lines().nth(line - 1).expect("line")[column - 1..=column], "1.");
     // The same file with its layout kept: no pose for anything, so one W0705 as well, with the
     // objects labelled.
     let kept = import::import_holodeck_scene_file(

@@ -737,7 +737,10 @@ fn stand_ins_keep_to_the_size_ratio() {
         .find(|d| d.code.as_str() == "W0401" && d.message.contains("wardrobe-0"))
         .expect("W0401");
     assert!(
-        w0401.notes.iter().any(|n| n.contains("a Dresser could be used") && n.contains("more than 2")),
+        w0401
+            .notes
+            .iter()
+            .any(|n| n.contains("a Dresser could be used") && n.contains("more than 2")),
         "{w0401:?}"
     );
 }

@@ -229,9 +229,9 @@ mod tests {
         // `été z`: é is two bytes decoded, six in the text.
         let at = |decoded| json.string_offset(f.value.0, decoded).expect("offset");
         assert_eq!(&TEXT[at(0)..at(0) + 6], "\\u00e9");
-        assert_eq!(&TEXT[at(2)..at(2) + 1], "t");
+        assert_eq!(&TEXT[at(2)..=at(2)], "t");
         assert_eq!(&TEXT[at(3)..at(3) + 6], "\\u00e9");
-        assert_eq!(&TEXT[at(5)..at(5) + 1], " ");
-        assert_eq!(&TEXT[at(6)..at(6) + 1], "z");
+        assert_eq!(&TEXT[at(5)..=at(5)], " ");
+        assert_eq!(&TEXT[at(6)..=at(6)], "z");
     }
 }

@@ -1733,7 +1733,7 @@ fn floor_constraints(text: &str, file: FileId, ctx: &mut ImportContext, d: &mut 
 
 /// The instances of a room's floor objects that have no constraints and no pinned position:
 /// per object, the object and its instance names.
-pub(crate) fn unconstrained<'r>(r: &'r super::draft::DRoom) -> Vec<(&'r DObject, Vec<String>)> {
+pub(crate) fn unconstrained(r: &super::draft::DRoom) -> Vec<(&DObject, Vec<String>)> {
     let mut out = Vec::new();
     for o in r.objects.iter().filter(|o| !o.wall) {
         let names: Vec<String> = o

@@ -83,6 +83,8 @@ pub struct DrawDoor {
     /// A unit vector, perpendicular to the wall, towards the side the leaf swings into
     /// (`None` for frames and open connections, which have no leaf).
     pub swing: Option<[f64; 2]>,
+    /// Whether it has two leaves, hinged at both ends of the opening (a double door).
+    pub double: bool,
     /// A short label (e.g. `doorway`).
     pub label: String,
 }
@@ -103,8 +105,13 @@ pub enum ObjectLevel {
 /// An object's footprint.
 #[derive(Clone, Debug)]
 pub struct DrawObject {
-    /// Its name, e.g. `sofa-0`.
+    /// Its identifier, e.g. `sofa-0` (the footprint's title).
     pub name: String,
+    /// What the plan calls it: its name in the scene (`sofa`, `dining chair 1`, `book`).
+    pub label: String,
+    /// For an item on top of another object, that object's identifier: the items of one name
+    /// on one object get one label, with their count (`book ×3`).
+    pub on: Option<String>,
     /// Centre of the footprint, metres.
     pub center: [f64; 2],
     /// Width (x at facing 0) and depth, metres.
@@ -305,6 +312,17 @@ fn scale_bar_m(plan_width_m: f64) -> f64 {
         .unwrap_or(0.5)
 }
 
+/// What one object label says and where it may go: the centre of what it names, and the top
+/// and bottom of its footprints (pixels).
+struct LabelJob {
+    text: String,
+    center: (f64, f64),
+    top: f64,
+    bottom: f64,
+    /// For items on top: the receptacle and the item's name, and how many there are.
+    items: Option<(String, String, usize)>,
+}
+
 /// Draws the plan as an SVG document.
 pub fn render_svg(drawing: &Drawing) -> String {
     let mut xs: Vec<f64> = Vec::new();
@@ -363,8 +381,7 @@ pub fn render_svg(drawing: &Drawing) -> String {
 
     let mut key: Vec<(usize, String)> = Vec::new();
     let mut objects = Group::new().set("id", "objects");
-    // Names go above every footprint, so that no later footprint covers them.
-    let mut names = Group::new().set("id", "object-labels");
+    let mut jobs: Vec<LabelJob> = Vec::new();
     for o in &drawing.objects {
         let half = [o.size[0] / 2.0, o.size[1] / 2.0];
         let corners: Vec<[f64; 2]> =
@@ -398,36 +415,73 @@ pub fn render_svg(drawing: &Drawing) -> String {
                 Circle::new().set("cx", n(fx)).set("cy", n(fy)).set("r", 3).set("fill", stroke),
             );
         }
-        // The name at the centre, or just above or below the footprint; where all three
-        // would cover another label, a number that the key beside the plan explains.
+        objects = objects.add(g);
         let ys: Vec<f64> = corners.iter().map(|c| px(*c, min, max_z).1).collect();
         let top = ys.iter().copied().fold(f64::INFINITY, f64::min);
         let bottom = ys.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-        let spots = [cy + 3.0, top - 3.0, bottom + LABEL_FONT + 1.0];
+        // Items of one name on one object share a label: at their middle, with their count.
+        if let (ObjectLevel::Small, Some(on)) = (o.level, &o.on) {
+            let same = jobs
+                .iter_mut()
+                .find(|j| j.items.as_ref().is_some_and(|(r, item, _)| r == on && *item == o.label));
+            if let Some(job) = same {
+                let count = job.items.as_ref().map_or(1, |(_, _, k)| *k);
+                let weight = count as f64;
+                job.center = (
+                    (job.center.0 * weight + cx) / (weight + 1.0),
+                    (job.center.1 * weight + cy) / (weight + 1.0),
+                );
+                job.top = job.top.min(top);
+                job.bottom = job.bottom.max(bottom);
+                if let Some((_, _, k)) = &mut job.items {
+                    *k += 1;
+                }
+                continue;
+            }
+            jobs.push(LabelJob {
+                text: o.label.clone(),
+                center: (cx, cy),
+                top,
+                bottom,
+                items: Some((on.clone(), o.label.clone(), 1)),
+            });
+            continue;
+        }
+        jobs.push(LabelJob { text: o.label.clone(), center: (cx, cy), top, bottom, items: None });
+    }
+    // Names go above every footprint, so that no later footprint covers them: at the centre,
+    // or just above or below the footprint; where all three would cover another label, a
+    // number that the key beside the plan explains.
+    let mut names = Group::new().set("id", "object-labels");
+    for job in jobs {
+        let label = match &job.items {
+            Some((_, item, count)) if *count > 1 => format!("{item} ×{count}"),
+            _ => job.text,
+        };
+        let (cx, cy) = job.center;
+        let spots = [cy + 3.0, job.top - 3.0, job.bottom + LABEL_FONT + 1.0];
         let free = spots
             .iter()
-            .map(|&y| (y, PxBox::text(cx, y, &o.name, LABEL_FONT)))
+            .map(|&y| (y, PxBox::text(cx, y, &label, LABEL_FONT)))
             .find(|(_, b)| !taken.iter().any(|t| t.overlaps(b)));
         match free {
             Some((y, b)) => {
                 taken.push(b);
-                names = names.add(
-                    text(cx, y, LABEL_FONT, "#222222", o.name.clone()).set("text-anchor", "middle"),
-                );
+                names = names
+                    .add(text(cx, y, LABEL_FONT, "#222222", label).set("text-anchor", "middle"));
             }
             None => {
                 let number = key.len() + 1;
-                key.push((number, o.name.clone()));
-                let label = number.to_string();
-                taken.push(PxBox::text(cx, cy + 3.0, &label, LABEL_FONT));
+                key.push((number, label));
+                let mark = number.to_string();
+                taken.push(PxBox::text(cx, cy + 3.0, &mark, LABEL_FONT));
                 names = names.add(
-                    text(cx, cy + 3.0, LABEL_FONT, "#222222", label)
+                    text(cx, cy + 3.0, LABEL_FONT, "#222222", mark)
                         .set("text-anchor", "middle")
                         .set("font-weight", "bold"),
                 );
             }
         }
-        objects = objects.add(g);
     }
 
     // The panel: title, legend, key, left-out objects, relations not kept.
@@ -443,14 +497,28 @@ pub fn render_svg(drawing: &Drawing) -> String {
     panel = panel.add(text(x0, y, 12.0, "#222222", "Legend").set("font-weight", "bold"));
     y += 8.0;
     let mut legend = Group::new().set("id", "legend");
-    let swatch = |level: ObjectLevel| object_style(level);
-    for ((fill, stroke, dash), what) in [
-        (swatch(ObjectLevel::Floor), "floor object (dot: its front)"),
-        (swatch(ObjectLevel::Wall), "wall object"),
-        (swatch(ObjectLevel::Small), "item on top of another object"),
-        (swatch(ObjectLevel::Ceiling), "ceiling object"),
-        (("#f6c6c6", "#d98080", "4 3"), "keep-out zone (door, open connection)"),
-    ] {
+    // Only what the plan draws.
+    let drawn = |level: ObjectLevel| drawing.objects.iter().any(|o| o.level == level);
+    let swatches = [
+        (
+            drawn(ObjectLevel::Floor),
+            object_style(ObjectLevel::Floor),
+            "floor object (dot: its front)",
+        ),
+        (drawn(ObjectLevel::Wall), object_style(ObjectLevel::Wall), "wall object"),
+        (
+            drawn(ObjectLevel::Small),
+            object_style(ObjectLevel::Small),
+            "item on top of another object",
+        ),
+        (drawn(ObjectLevel::Ceiling), object_style(ObjectLevel::Ceiling), "ceiling object"),
+        (
+            !drawing.keep_out.is_empty(),
+            ("#f6c6c6", "#d98080", "4 3"),
+            "keep-out zone (door, open connection)",
+        ),
+    ];
+    for (_, (fill, stroke, dash), what) in swatches.into_iter().filter(|s| s.0) {
         legend = legend
             .add(
                 Rectangle::new()
@@ -465,12 +533,14 @@ pub fn render_svg(drawing: &Drawing) -> String {
             .add(text(x0 + 30.0, y + 10.0, 11.0, "#222222", what));
         y += PANEL_LINE;
     }
-    for (stroke, width, dash, what) in [
-        ("#333333", 6.0, "none", "wall"),
-        ("#6fb7e9", 6.0, "none", "window"),
-        ("#8a5a2b", 2.0, "3 3", "door: leaf and swing"),
-        ("#d62728", 2.0, "6 3", "relation not kept"),
-    ] {
+    let leaves = drawing.doors.iter().any(|d| d.swing.is_some());
+    let strokes = [
+        (!drawing.walls.is_empty(), "#333333", 6.0, "none", "wall"),
+        (!drawing.windows.is_empty(), "#6fb7e9", 6.0, "none", "window"),
+        (leaves, "#8a5a2b", 2.0, "3 3", "door: leaf and swing"),
+        (!drawing.violations.is_empty(), "#d62728", 2.0, "6 3", "relation not kept"),
+    ];
+    for (_, stroke, width, dash, what) in strokes.into_iter().filter(|s| s.0) {
         legend = legend
             .add(
                 line((x0, y + 6.0), (x0 + 22.0, y + 6.0))
@@ -510,7 +580,7 @@ pub fn render_svg(drawing: &Drawing) -> String {
         panel,
         &mut y,
         format!("Left out ({})", drawing.left_out.len()),
-        drawing.left_out.iter().map(|l| format!("{}: {}", l.name, l.reason)).collect(),
+        left_out_lines(&drawing.left_out),
         "#d62728",
     );
     panel = list(
@@ -585,35 +655,20 @@ pub fn render_svg(drawing: &Drawing) -> String {
         let (x2, y2) = px(d.opening.b, min, max_z);
         doors = doors.add(line((x1, y1), (x2, y2)).set("stroke", "#ffffff").set("stroke-width", 8));
         if let Some(s) = d.swing {
-            // The leaf, opened at 90° from the hinge (end a), and its swing arc.
-            let len = (d.opening.b[0] - d.opening.a[0]).hypot(d.opening.b[1] - d.opening.a[1]);
-            let tip = [d.opening.a[0] + s[0] * len, d.opening.a[1] + s[1] * len];
-            let (tx, ty) = px(tip, min, max_z);
-            let r = len * SCALE;
-            // The arc goes from the open leaf's tip back to the closed position around the
-            // hinge; in SVG (y down) a positive cross product turns clockwise (sweep 1).
-            let cross = (tx - x1) * (y2 - y1) - (ty - y1) * (x2 - x1);
-            let sweep = u8::from(cross > 0.0);
-            doors = doors
-                .add(line((x1, y1), (tx, ty)).set("stroke", "#8a5a2b").set("stroke-width", 2))
-                .add(
-                    Path::new()
-                        .set(
-                            "d",
-                            format!(
-                                "M {} {} A {} {} 0 0 {sweep} {} {}",
-                                n(tx),
-                                n(ty),
-                                n(r),
-                                n(r),
-                                n(x2),
-                                n(y2)
-                            ),
-                        )
-                        .set("fill", "none")
-                        .set("stroke", "#8a5a2b")
-                        .set("stroke-dasharray", "3 3"),
-                );
+            // Each leaf opened at 90° from its hinge, and its swing arc back to where it closes:
+            // one leaf hinged at end a, or two leaves of half the width hinged at both ends.
+            let leaves: Vec<([f64; 2], [f64; 2])> = if d.double {
+                let mid = [
+                    f64::midpoint(d.opening.a[0], d.opening.b[0]),
+                    f64::midpoint(d.opening.a[1], d.opening.b[1]),
+                ];
+                vec![(d.opening.a, mid), (d.opening.b, mid)]
+            } else {
+                vec![(d.opening.a, d.opening.b)]
+            };
+            for (hinge, closed) in leaves {
+                doors = door_leaf(doors, hinge, closed, s, min, max_z);
+            }
         }
         let label_at = px(
             [
@@ -706,6 +761,74 @@ pub fn render_svg(drawing: &Drawing) -> String {
     out
 }
 
+/// The lines of the left-out list: things of one name left out for one reason share a line,
+/// with their count (`book ×10: its receptacle `wall_shelf-0` is left out`), in the order of
+/// their first.
+fn left_out_lines(left_out: &[LeftOut]) -> Vec<String> {
+    // `book-3` → `book`; a name without an instance number stays as it is.
+    let base = |name: &str| match name.rsplit_once('-') {
+        Some((head, n)) if !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit()) => {
+            head.to_string()
+        }
+        _ => name.to_string(),
+    };
+    let mut groups: Vec<(String, &str, Vec<&str>)> = Vec::new();
+    for l in left_out {
+        let key = base(&l.name);
+        match groups.iter_mut().find(|(k, reason, _)| *k == key && *reason == l.reason) {
+            Some((_, _, names)) => names.push(&l.name),
+            None => groups.push((key, &l.reason, vec![&l.name])),
+        }
+    }
+    groups
+        .into_iter()
+        .map(|(key, reason, names)| match names.as_slice() {
+            [one] => format!("{one}: {reason}"),
+            _ => format!("{key} ×{}: {reason}", names.len()),
+        })
+        .collect()
+}
+
+/// Adds a door leaf hinged at `hinge`, closed towards `closed`, opened at 90° towards `swing`,
+/// and its swing arc.
+fn door_leaf(
+    doors: Group,
+    hinge: [f64; 2],
+    closed: [f64; 2],
+    swing: [f64; 2],
+    min: [f64; 2],
+    max_z: f64,
+) -> Group {
+    let len = (closed[0] - hinge[0]).hypot(closed[1] - hinge[1]);
+    let tip = [hinge[0] + swing[0] * len, hinge[1] + swing[1] * len];
+    let (x1, y1) = px(hinge, min, max_z);
+    let (x2, y2) = px(closed, min, max_z);
+    let (tx, ty) = px(tip, min, max_z);
+    let r = len * SCALE;
+    // The arc goes from the open leaf's tip back to the closed position around the hinge; in
+    // SVG (y down) a positive cross product turns clockwise (sweep 1).
+    let cross = (tx - x1) * (y2 - y1) - (ty - y1) * (x2 - x1);
+    let sweep = u8::from(cross > 0.0);
+    doors.add(line((x1, y1), (tx, ty)).set("stroke", "#8a5a2b").set("stroke-width", 2)).add(
+        Path::new()
+            .set(
+                "d",
+                format!(
+                    "M {} {} A {} {} 0 0 {sweep} {} {}",
+                    n(tx),
+                    n(ty),
+                    n(r),
+                    n(r),
+                    n(x2),
+                    n(y2)
+                ),
+            )
+            .set("fill", "none")
+            .set("stroke", "#8a5a2b")
+            .set("stroke-dasharray", "3 3"),
+    )
+}
+
 /// The document with every character XML 1.0 does not allow (C0 controls other than tab and
 /// line breaks, U+FFFE, U+FFFF) replaced by U+FFFD. The `svg` crate escapes `<`, `>`, `&` and
 /// quotes; a name read from a file may still hold a control character, and one such character
@@ -737,12 +860,15 @@ mod tests {
             doors: vec![DrawDoor {
                 opening: DrawSegment { a: [2.0, 0.0], b: [3.0, 0.0] },
                 swing: Some([0.0, 1.0]),
+                double: false,
                 label: "doorway".into(),
             }],
             windows: vec![DrawSegment { a: [5.0, 1.0], b: [5.0, 2.5] }],
             keep_out: vec![vec![[2.0, 0.0], [2.0, 1.0], [3.0, 1.0], [3.0, 0.0]]],
             objects: vec![DrawObject {
                 name: "sofa-0".into(),
+                label: "sofa".into(),
+                on: None,
                 center: [1.0, 2.0],
                 size: [2.0, 0.9],
                 facing_deg: 90.0,
@@ -781,5 +907,122 @@ mod tests {
         }
         // A sofa facing east (90°) is 0.9 m wide along x: its polygon spans x from 0.55 to 1.45 m.
         assert!(a.contains("135.00,"), "{a}");
+    }
+
+    fn object(name: &str, label: &str, on: Option<&str>, center: [f64; 2]) -> DrawObject {
+        DrawObject {
+            name: name.into(),
+            label: label.into(),
+            on: on.map(str::to_owned),
+            center,
+            size: [0.2, 0.2],
+            facing_deg: 0.0,
+            level: if on.is_some() { ObjectLevel::Small } else { ObjectLevel::Floor },
+        }
+    }
+
+    /// The texts of the object labels.
+    fn labels(svg: &str) -> Vec<String> {
+        let group = svg.split("id=\"object-labels\"").nth(1).unwrap_or("");
+        let group = group.split("</g>").next().unwrap_or("");
+        group
+            .split("</text>")
+            .filter_map(|t| t.rsplit('>').next())
+            .map(str::trim)
+            .filter(|t| !t.is_empty())
+            .map(str::to_owned)
+            .collect()
+    }
+
+    #[test]
+    fn items_of_one_name_on_one_receptacle_get_one_label_with_their_count() {
+        let room = DrawRoom {
+            label: "study".into(),
+            polygon: vec![[0.0, 0.0], [0.0, 6.0], [6.0, 6.0], [6.0, 0.0]],
+        };
+        let drawing = Drawing {
+            rooms: vec![room],
+            objects: vec![
+                object("shelf-0", "bookshelf", None, [1.0, 1.0]),
+                object("desk-0", "desk", None, [4.0, 4.0]),
+                object("book-0", "book", Some("shelf-0"), [0.8, 1.0]),
+                object("book-1", "book", Some("shelf-0"), [1.0, 1.0]),
+                object("book-2", "book", Some("shelf-0"), [1.2, 1.0]),
+                object("book-0", "book", Some("desk-0"), [4.0, 4.0]),
+                object("lamp-0", "lamp", Some("desk-0"), [4.2, 4.0]),
+            ],
+            ..Drawing::default()
+        };
+        let svg = render_svg(&drawing);
+        let mut got = labels(&svg);
+        got.sort();
+        assert_eq!(got, ["book", "book ×3", "bookshelf", "desk", "lamp"], "{svg}");
+        // Every footprint is still drawn, each with its identifier.
+        assert_eq!(svg.matches("class=\"object\"").count(), 7);
+        assert!(svg.contains("data-name=\"book-2\""));
+    }
+
+    #[test]
+    fn the_legend_lists_only_what_is_drawn() {
+        let drawing = Drawing {
+            rooms: vec![DrawRoom {
+                label: "a".into(),
+                polygon: vec![[0.0, 0.0], [0.0, 4.0], [4.0, 4.0], [4.0, 0.0]],
+            }],
+            walls: vec![DrawSegment { a: [0.0, 0.0], b: [0.0, 4.0] }],
+            objects: vec![object("sofa-0", "sofa", None, [1.0, 1.0])],
+            ..Drawing::default()
+        };
+        let svg = render_svg(&drawing);
+        let legend = svg.split("id=\"legend\"").nth(1).expect("a legend");
+        let legend = legend.split("</g>").next().expect("its group");
+        let entries: Vec<&str> = legend
+            .split("</text>")
+            .filter_map(|t| t.rsplit('>').next())
+            .map(str::trim)
+            .filter(|t| !t.is_empty())
+            .collect();
+        assert_eq!(entries, ["floor object (dot: its front)", "wall"]);
+    }
+
+    #[test]
+    fn things_left_out_for_one_reason_share_a_line() {
+        let left = |name: &str, reason: &str| LeftOut { name: name.into(), reason: reason.into() };
+        let lines = left_out_lines(&[
+            left("book-0", "its receptacle `shelf-0` is left out"),
+            left("lamp-0", "no free spot"),
+            left("book-1", "its receptacle `shelf-0` is left out"),
+            left("book-2", "the top of `desk-0` is full"),
+        ]);
+        assert_eq!(
+            lines,
+            [
+                "book ×2: its receptacle `shelf-0` is left out",
+                "lamp-0: no free spot",
+                "book-2: the top of `desk-0` is full"
+            ]
+        );
+    }
+
+    #[test]
+    fn a_double_door_has_two_leaves() {
+        let door = |double: bool| DrawDoor {
+            opening: DrawSegment { a: [1.0, 0.0], b: [3.0, 0.0] },
+            swing: Some([0.0, 1.0]),
+            double,
+            label: "doorway".into(),
+        };
+        let leaves = |double: bool| {
+            let drawing = Drawing { doors: vec![door(double)], ..Drawing::default() };
+            let svg = render_svg(&drawing);
+            let doors = svg.split("id=\"doors\"").nth(1).expect("doors");
+            let doors = doors.split("</g>").next().expect("their group").to_string();
+            (doors.matches("<path").count(), doors)
+        };
+        assert_eq!(leaves(false).0, 1);
+        let (arcs, doors) = leaves(true);
+        assert_eq!(arcs, 2, "{doors}");
+        // Each leaf is half the opening (1 m, 100 px) and closes at the middle (x = 2 m).
+        assert!(doors.contains(" A 100.00 100.00 "), "{doors}");
     }
 }

@@ -8,12 +8,19 @@
 use super::{
     DrawDoor, DrawObject, DrawRoom, DrawSegment, DrawViolation, Drawing, LeftOut, ObjectLevel,
 };
-use crate::check::scene::DoorKind;
+use crate::check::scene::{DoorKind, DoorSize};
 use crate::compile::Built;
+use crate::resolve::structure::StructureCatalog;
 
 /// What the layout knows of one object the house may hold.
 struct Known {
     name: String,
+    /// What the scene calls it (its category, the `on top` line's item, the ceiling's words).
+    label: String,
+    /// For a small object, the receptacle's name.
+    on: Option<String>,
+    /// The instance number of a floor or wall object.
+    index: Option<u32>,
     size: [f64; 2],
     level: ObjectLevel,
     used: bool,
@@ -43,9 +50,14 @@ pub fn drawing(built: &Built) -> Drawing {
         let len = dx.hypot(dz);
         // The leaf swings into the room on the right of the segment (the room of its wall).
         let swing = (door.kind == DoorKind::Doorway && len > 0.0).then(|| [dz / len, -dx / len]);
+        // Double by its asset, else by the statement it comes from.
+        let size = StructureCatalog::builtin().door(&door.asset_id).map(|a| a.size).or_else(|| {
+            built.scene.doors.iter().find(|s| Some(s.span) == door.span).and_then(|s| s.size)
+        });
         d.doors.push(DrawDoor {
             opening: DrawSegment { a, b },
             swing,
+            double: size == Some(DoorSize::Double),
             label: door.kind.as_str().to_string(),
         });
     }
@@ -57,40 +69,64 @@ pub fn drawing(built: &Built) -> Drawing {
     let mut known: Vec<(String, Vec<Known>)> = Vec::new();
     for solved in &built.layout.rooms {
         let problem = &solved.problem;
+        let scene_object =
+            |ids: &[crate::check::ObjectId], k: usize| ids.get(k).map(|id| built.scene.object(*id));
         let mut list = Vec::new();
         for placed in &solved.layout.floor {
             let o = &problem.objects[placed.index];
+            let scene = scene_object(&solved.floor_ids, placed.index);
             list.push(Known {
                 name: o.id.clone(),
+                label: scene.map_or_else(|| o.id.clone(), |s| spoken(&s.category)),
+                on: None,
+                index: scene.map(|s| s.index),
                 size: o.size,
                 level: ObjectLevel::Floor,
                 used: false,
             });
         }
         for p in &solved.layout.wall {
-            let size = problem
-                .wall_objects
-                .iter()
-                .find(|w| w.id == p.id)
+            let index = problem.wall_objects.iter().position(|w| w.id == p.id);
+            let size = index
+                .map(|k| &problem.wall_objects[k])
                 .map_or([0.2, 0.2], |w| [w.size[0], w.size[1]]);
-            list.push(Known { name: p.id.clone(), size, level: ObjectLevel::Wall, used: false });
+            let scene = index.and_then(|k| scene_object(&solved.wall_ids, k));
+            list.push(Known {
+                name: p.id.clone(),
+                label: scene.map_or_else(|| p.id.clone(), |s| spoken(&s.category)),
+                on: None,
+                index: scene.map(|s| s.index),
+                size,
+                level: ObjectLevel::Wall,
+                used: false,
+            });
         }
         for p in &solved.layout.small {
-            let size = problem
-                .small_objects
-                .iter()
-                .find(|s| s.id == p.id)
-                .map_or([0.2, 0.2], |s| [s.size[0], s.size[1]]);
+            let small = problem.small_objects.iter().find(|s| s.id == p.id);
+            let size = small.map_or([0.2, 0.2], |s| [s.size[0], s.size[1]]);
+            let name = p.id.split('|').next().unwrap_or(&p.id).to_string();
+            let on = p.on.or(small.map(|s| s.on)).map(|holder| match holder {
+                crate::solve::Holder::Floor(k) => problem.objects.get(k).map(|o| o.id.clone()),
+                crate::solve::Holder::Wall(k) => problem.wall_objects.get(k).map(|o| o.id.clone()),
+            });
             list.push(Known {
-                name: p.id.split('|').next().unwrap_or(&p.id).to_string(),
+                label: small.map_or_else(|| name.clone(), |s| spoken(&s.item)),
+                name,
+                on: on.flatten(),
+                index: None,
                 size,
                 level: ObjectLevel::Small,
                 used: false,
             });
         }
         if let (Some(_), Some(c)) = (&solved.layout.ceiling, &problem.ceiling) {
+            let description =
+                built.scene.room(solved.room).ceiling.as_ref().map(|c| c.description.as_str());
             list.push(Known {
                 name: "ceiling".to_string(),
+                label: description.map_or_else(|| "ceiling".to_string(), short_name),
+                on: None,
+                index: None,
                 size: [c.size[0], c.size[1]],
                 level: ObjectLevel::Ceiling,
                 used: false,
@@ -99,29 +135,37 @@ pub fn drawing(built: &Built) -> Drawing {
         known.push((plan.room(solved.room).thor_id.clone(), list));
     }
 
+    // The objects of each room, with the scene's names for their labels.
+    let mut room_of: Vec<String> = Vec::new();
+    let mut numbers: Vec<Option<u32>> = Vec::new();
     for object in built.house.all_objects() {
         let entry = known
             .iter_mut()
             .filter(|(room, _)| *room == object.room_id)
             .flat_map(|(_, list)| list.iter_mut())
             .find(|k| !k.used && k.name == object.object_name);
-        let (size, level) = match entry {
+        let (size, level, label, on, index) = match entry {
             Some(k) => {
                 k.used = true;
-                (k.size, k.level)
+                (k.size, k.level, k.label.clone(), k.on.clone(), k.index)
             }
             // The house holds something the layout does not describe: drawn small, never
             // hidden.
-            None => ([0.2, 0.2], ObjectLevel::Small),
+            None => ([0.2, 0.2], ObjectLevel::Small, object.object_name.clone(), None, None),
         };
         d.objects.push(DrawObject {
             name: object.object_name.clone(),
+            label,
+            on,
             center: [object.position.x, object.position.z],
             size,
             facing_deg: object.rotation.y,
             level,
         });
+        room_of.push(object.room_id.clone());
+        numbers.push(index);
     }
+    number_alike(&mut d.objects, &room_of, &numbers);
 
     for solved in &built.layout.rooms {
         let problem = &solved.problem;
@@ -162,4 +206,52 @@ pub fn drawing(built: &Built) -> Drawing {
         }
     }
     d
+}
+
+/// A name as people write it: `sectional_sofa` (a key of an imported answer) is `sectional sofa`.
+fn spoken(name: &str) -> String {
+    name.replace('_', " ")
+}
+
+/// A short name for a long description: its last two words (`round flush mount ceiling
+/// light` → `ceiling light`), or all of it when it has no more.
+fn short_name(description: &str) -> String {
+    let words: Vec<&str> = description.split_whitespace().collect();
+    words[words.len().saturating_sub(2)..].join(" ")
+}
+
+/// Gives the floor, wall and ceiling objects of a room that share a name their instance
+/// number (`dining chair 0`, `dining chair 1`), and those still alike (two groups of one
+/// category) their identifier; items on top keep their name (they are counted instead).
+fn number_alike(objects: &mut [DrawObject], rooms: &[String], numbers: &[Option<u32>]) {
+    let alike = |objects: &[DrawObject], i: usize| {
+        objects.iter().enumerate().any(|(j, o)| {
+            j != i
+                && o.level != ObjectLevel::Small
+                && rooms[j] == rooms[i]
+                && o.label == objects[i].label
+        })
+    };
+    let numbered: Vec<Option<String>> = (0..objects.len())
+        .map(|i| {
+            let o = &objects[i];
+            (o.level != ObjectLevel::Small && alike(objects, i)).then(|| match numbers[i] {
+                Some(n) => format!("{} {n}", o.label),
+                None => o.name.clone(),
+            })
+        })
+        .collect();
+    for (o, label) in objects.iter_mut().zip(numbered) {
+        if let Some(label) = label {
+            o.label = label;
+        }
+    }
+    let still: Vec<bool> = (0..objects.len())
+        .map(|i| objects[i].level != ObjectLevel::Small && alike(objects, i))
+        .collect();
+    for (o, same) in objects.iter_mut().zip(still) {
+        if same {
+            o.label.clone_from(&o.name);
+        }
+    }
 }
