@@ -516,7 +516,8 @@ fn every_object_asked_is_placed_or_reported() {
             for solved in &built.layout.rooms {
                 let label = built.plan.room(solved.room).thor_id.clone();
                 let p = &solved.problem;
-                for &(i, _, to) in &solved.layout.moved {
+                for m in &solved.layout.moved {
+                    let (i, to) = (m.small, m.to);
                     let asked_as = p.small_objects[i].id.clone();
                     let item = asked_as.split('|').next().unwrap_or_default().to_string();
                     let holder = match to {

@@ -446,6 +446,79 @@ fn flat_things_that_do_not_fit_side_by_side_are_piled() {
     assert!(out.unplaced.iter().all(|u| u.reason.contains("is full")), "{:?}", out.unplaced);
 }
 
+/// A thing moved off a receptacle that people do not put it on goes to the nearest one that
+/// takes it *and has room for it*: with the nearer side table's top full, the lamp goes to the
+/// farther one; with both full it is left out, and the reason names both.
+#[test]
+fn a_moved_thing_goes_to_the_next_receptacle_when_the_nearest_is_full() {
+    let floor = |id: &str, size: [f64; 2], height: f64, thor: &str, pin: [f64; 2]| FloorObject {
+        id: id.into(),
+        size,
+        height,
+        global: GlobalKind::Edge,
+        role: holoc::solve::Role::Other,
+        constraints: Vec::new(),
+        pin: Some(holoc::solve::Pose { x: pin[0], z: pin[1], rot: holoc::solve::Rot::R0 }),
+        thor_type: Some(thor.into()),
+        span: None,
+    };
+    let small = |id: &str, item: &str, on: usize, size: [f64; 3], elsewhere: Option<Vec<usize>>| {
+        SmallObject {
+            id: id.into(),
+            item: item.into(),
+            size,
+            on: holoc::solve::Holder::Floor(on),
+            elsewhere: elsewhere.map(|v| v.into_iter().map(holoc::solve::Holder::Floor).collect()),
+            span: None,
+        }
+    };
+    let problem = |fill_far: bool| {
+        let mut small_objects = vec![
+            // A plant that fills the near table's 0.4 m top.
+            small("plant-0|near-0", "plant", 1, [0.36, 0.36, 0.4], None),
+            small("lamp-0|chair-0", "lamp", 0, [0.3, 0.3, 0.5], Some(vec![1, 2])),
+        ];
+        if fill_far {
+            small_objects.insert(1, small("vase-0|far-0", "vase", 2, [0.36, 0.36, 0.3], None));
+        }
+        RoomProblem {
+            name: "den".into(),
+            outline: vec![[0.0, 0.0], [0.0, 4.0], [4.0, 4.0], [4.0, 0.0]],
+            wall_height: 2.7,
+            keep_out: Vec::new(),
+            walls: Vec::new(),
+            objects: vec![
+                floor("chair-0", [0.8, 0.8], 0.9, "ArmChair", [1.0, 0.5]),
+                floor("near-0", [0.4, 0.4], 0.6, "SideTable", [1.8, 0.3]),
+                floor("far-0", [0.4, 0.4], 0.6, "SideTable", [3.5, 0.3]),
+            ],
+            wall_objects: Vec::new(),
+            small_objects,
+            ceiling: None,
+            span: None,
+        }
+    };
+    let out = solve::solve_room(&problem(false), &SolveOptions::default()).value;
+    let lamp = out.small.iter().find(|p| p.id == "lamp-0|chair-0");
+    let lamp = lamp.unwrap_or_else(|| panic!("the lamp is left out: {:?}", out.unplaced));
+    assert_eq!(lamp.on, Some(holoc::solve::Holder::Floor(2)), "{lamp:?}");
+    assert!((lamp.position_m[0] - 3.5).abs() < 0.2, "{lamp:?}");
+    assert!(out.small.iter().any(|p| p.id == "plant-0|near-0"), "the plant keeps its table");
+    assert_eq!(out.moved.len(), 1, "{:?}", out.moved);
+    assert_eq!(out.moved[0].to, holoc::solve::Holder::Floor(2));
+    assert_eq!(out.moved[0].full, vec![holoc::solve::Holder::Floor(1)]);
+
+    let out = solve::solve_room(&problem(true), &SolveOptions::default()).value;
+    assert!(out.small.iter().all(|p| p.id != "lamp-0|chair-0"), "{:?}", out.small);
+    assert!(out.moved.is_empty(), "{:?}", out.moved);
+    let left = out.unplaced.iter().find(|u| u.id == "lamp-0|chair-0");
+    let left = left.unwrap_or_else(|| panic!("the lamp is not reported: {:?}", out.unplaced));
+    assert!(left.reason.contains("`near-0`") && left.reason.contains("`far-0`"), "{}", left.reason);
+    // The things declared on the tables keep them.
+    assert!(out.small.iter().any(|p| p.id == "plant-0|near-0"));
+    assert!(out.small.iter().any(|p| p.id == "vase-0|far-0"));
+}
+
 /// A pinned pose is held to every hard rule the search keeps, reachability included: a
 /// cabinet pinned across a corridor, 45 cm from either wall, cuts off the room behind it for a
 /// 0.25 m agent and is reported (W0502), by both

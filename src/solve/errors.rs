@@ -121,13 +121,9 @@ pub(crate) fn holder_name(problem: &RoomProblem, h: super::Holder) -> &str {
 
 /// W0506: a thing was put on another receptacle of the room than the one declared, because
 /// that one may not carry it.
-pub(crate) fn moved(
-    problem: &RoomProblem,
-    i: usize,
-    from: super::Holder,
-    to: super::Holder,
-) -> Diagnostic {
-    let s = &problem.small_objects[i];
+pub(crate) fn moved(problem: &RoomProblem, m: &super::Moved) -> Diagnostic {
+    let (from, to) = (m.from, m.to);
+    let s = &problem.small_objects[m.small];
     let name = s.id.split('|').next().unwrap_or(&s.id);
     let d = Diagnostic::new(
         Code::W0506,
@@ -137,11 +133,22 @@ pub(crate) fn moved(
             holder_name(problem, from)
         ),
     )
-    .with_note(format!(
-        "people do not put such a thing on `{}` (the pairs of ProcTHOR's receptacles); `{}` is the nearest receptacle of the room that takes it",
-        holder_name(problem, from),
-        holder_name(problem, to)
-    ))
+    .with_note(if m.full.is_empty() {
+        format!(
+            "people do not put such a thing on `{}` (the pairs of ProcTHOR's receptacles); `{}` is the nearest receptacle of the room that takes it",
+            holder_name(problem, from),
+            holder_name(problem, to)
+        )
+    } else {
+        let full: Vec<String> =
+            m.full.iter().map(|&h| format!("`{}`", holder_name(problem, h))).collect();
+        format!(
+            "people do not put such a thing on `{}` (the pairs of ProcTHOR's receptacles); `{}` is the nearest receptacle of the room that takes it and has room for it ({} nearer, full)",
+            holder_name(problem, from),
+            holder_name(problem, to),
+            full.join(", ")
+        )
+    })
     .with_help("put it on top of a receptacle that takes it");
     match s.span {
         Some(span) => d.with_primary(span, "declared on a receptacle that does not take it"),

@@ -327,8 +327,22 @@ pub struct RoomLayout {
     /// Pinned floor objects (index) whose pose breaks a hard rule; they stay as pinned.
     pub pinned_breaks: Vec<(usize, HardRule)>,
     /// Small objects put on another receptacle than the one declared, because that one may not
-    /// carry them: `(small object index, declared receptacle, receptacle used)`.
-    pub moved: Vec<(usize, Holder, Holder)>,
+    /// carry them.
+    pub moved: Vec<Moved>,
+}
+
+/// A small object put on another receptacle than the one declared, because people do not put
+/// such a thing there (W0506).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Moved {
+    /// The small object's index.
+    pub small: usize,
+    /// The receptacle declared.
+    pub from: Holder,
+    /// The receptacle used.
+    pub to: Holder,
+    /// The nearer receptacles that take it but were full, nearest first.
+    pub full: Vec<Holder>,
 }
 
 impl RoomLayout {
@@ -441,8 +455,8 @@ pub fn solve_room(problem: &RoomProblem, options: &SolveOptions) -> Outcome<Room
     for u in &layout.unplaced {
         diags.push(errors::unplaced(problem, u));
     }
-    for &(i, from, to) in &layout.moved {
-        diags.push(errors::moved(problem, i, from, to));
+    for m in &layout.moved {
+        diags.push(errors::moved(problem, m));
     }
     Outcome::new(layout, diags)
 }

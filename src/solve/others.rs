@@ -377,58 +377,110 @@ impl Rows {
 /// it side by side, in layers when the bar is full.
 fn place_small(prep: &Prepared<'_>, layout: &mut RoomLayout) {
     let problem = prep.problem;
-    let mut by_holder: BTreeMap<Holder, Vec<usize>> = BTreeMap::new();
-    let mut results: Vec<Option<PlacedObject>> = vec![None; problem.small_objects.len()];
-    let mut reasons: Vec<Option<(String, Code)>> = vec![None; problem.small_objects.len()];
+    let n = problem.small_objects.len();
+    let mut results: Vec<Option<PlacedObject>> = vec![None; n];
+    let mut reasons: Vec<Option<(String, Code)>> = vec![None; n];
+    // Per small object its receptacles to try, in order: its own, or, when people do not put
+    // it there, the placed receptacles of the room that take it, nearest first.
+    let mut choices: Vec<Vec<Holder>> = Vec::with_capacity(n);
     for (i, s) in problem.small_objects.iter().enumerate() {
         let Some(elsewhere) = &s.elsewhere else {
-            by_holder.entry(s.on).or_default().push(i);
+            choices.push(vec![s.on]);
             continue;
         };
-        // Its receptacle may not carry it: the nearest placed one that may.
         let from = Receptacle::of(prep, layout, s.on).ok().map(|r| r.centre);
-        let nearest = elsewhere
+        let d = |c: &[f64; 2]| from.map_or(0.0, |f| (c[0] - f[0]).hypot(c[1] - f[1]));
+        let mut near: Vec<(usize, Holder, f64)> = elsewhere
             .iter()
-            .filter_map(|&h| Receptacle::of(prep, layout, h).ok().map(|r| (h, r.centre)))
             .enumerate()
-            .min_by(|(ia, (_, a)), (ib, (_, b))| {
-                let d = |c: &[f64; 2]| from.map_or(0.0, |f| (c[0] - f[0]).hypot(c[1] - f[1]));
-                d(a).total_cmp(&d(b)).then(ia.cmp(ib))
+            .filter_map(|(k, &h)| {
+                Receptacle::of(prep, layout, h).ok().map(|r| (k, h, d(&r.centre)))
             })
-            .map(|(_, (h, _))| h);
-        match nearest {
-            Some(h) => {
-                by_holder.entry(h).or_default().push(i);
-                layout.moved.push((i, s.on, h));
-            }
-            None => {
-                reasons[i] = Some((
-                    format!(
-                        "people do not put it on `{}`, and no receptacle of the room that takes it is placed",
-                        super::errors::holder_name(problem, s.on)
-                    ),
-                    Code::W0506,
-                ));
+            .collect();
+        near.sort_by(|a, b| a.2.total_cmp(&b.2).then(a.0.cmp(&b.0)));
+        if near.is_empty() {
+            reasons[i] = Some((
+                format!(
+                    "people do not put it on `{}`, and no receptacle of the room that takes it is placed",
+                    super::errors::holder_name(problem, s.on)
+                ),
+                Code::W0506,
+            ));
+        }
+        choices.push(near.into_iter().map(|(_, h, _)| h).collect());
+    }
+    // A moved thing goes to the nearest receptacle that takes it; when that one is full, to the
+    // next. Each round sets every receptacle's things again (those meant for it first, then the
+    // moved ones, each in declaration order), so the outcome does not depend on the order in
+    // which receptacles fill; it ends because each round moves some thing one choice on.
+    let mut pick = vec![0usize; n];
+    loop {
+        let mut by_holder: BTreeMap<Holder, Vec<usize>> = BTreeMap::new();
+        for moved in [false, true] {
+            for (i, s) in problem.small_objects.iter().enumerate() {
+                if s.elsewhere.is_some() == moved {
+                    if let Some(&h) = choices[i].get(pick[i]) {
+                        by_holder.entry(h).or_default().push(i);
+                    }
+                }
             }
         }
-    }
-    for (&on, items) in &by_holder {
-        let rec = match Receptacle::of(prep, layout, on) {
-            Ok(r) => r,
-            Err(reason) => {
-                for &i in items {
-                    reasons[i] = Some((reason.clone(), Code::W0503));
+        for (i, r) in results.iter_mut().enumerate() {
+            *r = None;
+            if !choices[i].is_empty() {
+                reasons[i] = None;
+            }
+        }
+        for (&on, items) in &by_holder {
+            let rec = match Receptacle::of(prep, layout, on) {
+                Ok(r) => r,
+                Err(reason) => {
+                    for &i in items {
+                        reasons[i] = Some((reason.clone(), Code::W0503));
+                    }
+                    continue;
                 }
-                continue;
+            };
+            match &rec.carrier {
+                Carrier::Bar { y, length } => {
+                    hang(problem, &rec, on, *y, *length, items, &mut results, &mut reasons);
+                }
+                Carrier::Surfaces(surfaces) => {
+                    set_on_surfaces(problem, &rec, on, surfaces, items, &mut results, &mut reasons);
+                }
             }
-        };
-        match &rec.carrier {
-            Carrier::Bar { y, length } => {
-                hang(problem, &rec, on, *y, *length, items, &mut results, &mut reasons);
+        }
+        let mut next = false;
+        for (i, s) in problem.small_objects.iter().enumerate() {
+            if s.elsewhere.is_some() && results[i].is_none() && pick[i] + 1 < choices[i].len() {
+                pick[i] += 1;
+                next = true;
             }
-            Carrier::Surfaces(surfaces) => {
-                set_on_surfaces(problem, &rec, on, surfaces, items, &mut results, &mut reasons);
-            }
+        }
+        if !next {
+            break;
+        }
+    }
+    for (i, s) in problem.small_objects.iter().enumerate() {
+        if s.elsewhere.is_none() || choices[i].is_empty() {
+            continue;
+        }
+        if results[i].is_some() {
+            let full = choices[i][..pick[i]].to_vec();
+            layout.moved.push(super::Moved { small: i, from: s.on, to: choices[i][pick[i]], full });
+        } else if matches!(&reasons[i], Some((_, Code::W0501))) {
+            let tried: Vec<String> = choices[i]
+                .iter()
+                .map(|&h| format!("`{}`", super::errors::holder_name(problem, h)))
+                .collect();
+            reasons[i] = Some((
+                format!(
+                    "people do not put it on `{}`, and every receptacle of the room that takes it has no room for it ({})",
+                    super::errors::holder_name(problem, s.on),
+                    tried.join(", ")
+                ),
+                Code::W0501,
+            ));
         }
     }
     for (i, res) in results.into_iter().enumerate() {
