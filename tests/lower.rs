@@ -219,3 +219,74 @@ fn hallway_with_a_desk(
     };
     (scene, planned, desk)
 }
+
+/// Things on a receptacle AI2-THOR has no asset for (a floating wall shelf) go to the room's
+/// receptacles that take them, in the order declared (W0506 says where and why), named by where
+/// they are; a name taken there by a thing declared on it gets the next free number, so ids
+/// stay unique.
+#[test]
+fn things_on_a_receptacle_without_an_asset_go_to_one_that_takes_them() {
+    let text = r#"scene "a reading wall" { seed 1 }
+
+room den "den" {
+  corners in m (0, 0) (0, 4) (4, 4) (4, 0)
+  object bookshelf "bookshelf" {
+    describe "tall wooden bookshelf"
+    edge
+    on top "book" x2 varied
+  }
+  wall object wall_shelf "wall shelf" {
+    describe "floating wall shelf"
+    size 120 cm x 25 cm x 20 cm
+    on top "book" x3 varied
+  }
+}
+
+door exterior -- den : doorway single
+"#;
+    let mut sources = SourceMap::new();
+    let id = sources.add("reading.holo".to_string(), text.to_string());
+    let catalog = holoc::resolve::Catalog::embedded();
+    let out = holoc::compile::build(&sources, id, &holoc::compile::BuildOptions::new(&catalog));
+    let codes: Vec<String> = out.diagnostics.iter().map(|d| d.code.as_str().to_string()).collect();
+    let built = out.value.unwrap_or_else(|| panic!("does not build: {codes:?}"));
+    let books: Vec<String> = built
+        .house
+        .all_objects()
+        .iter()
+        .filter(|o| o.id.starts_with("book-"))
+        .map(|o| o.id.clone())
+        .collect();
+    assert_eq!(
+        books,
+        [
+            "book-0|bookshelf-0 (den)",
+            "book-1|bookshelf-0 (den)",
+            "book-2|bookshelf-0 (den)",
+            "book-3|bookshelf-0 (den)",
+            "book-4|bookshelf-0 (den)"
+        ],
+        "{codes:?}"
+    );
+    let moved: Vec<&holoc::diag::Diagnostic> =
+        out.diagnostics.iter().filter(|d| d.code.as_str().to_string() == "W0506").collect();
+    assert_eq!(moved.len(), 3, "{codes:?}");
+    assert!(
+        moved.iter().all(|d| d.message.contains("instead of `wall_shelf-0`")),
+        "{:?}",
+        moved.iter().map(|d| &d.message).collect::<Vec<_>>()
+    );
+    // The shelf itself is reported as having no asset.
+    assert!(codes.iter().any(|c| c == "W0401"), "{codes:?}");
+    // And the house is one `holoc validate` accepts.
+    let json = built.house.to_json_string();
+    let mut sources = SourceMap::new();
+    let id = sources.add("house.json", json);
+    let outcome =
+        validate(&sources, id, StructureCatalog::builtin(), &holoc::resolve::Catalog::embedded());
+    assert!(
+        outcome.diagnostics.iter().all(|d| !d.is_error()),
+        "{}",
+        common::render(&sources, &outcome.diagnostics)
+    );
+}

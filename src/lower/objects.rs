@@ -12,7 +12,7 @@ use crate::check::scene::Scene;
 use crate::plan::FloorPlan;
 use crate::resolve::{Resolution, Resolved};
 use crate::solve::Layout;
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 
 fn round6(v: f64) -> f64 {
     let r = (v * 1e6).round() / 1e6;
@@ -68,10 +68,22 @@ pub fn objects(
         for (i, s) in solved.problem.small_objects.iter().enumerate().rev() {
             by_id.entry(s.id.as_str()).or_default().push(i);
         }
+        // A thing moved to another receptacle (W0506) is named by where it is; when that name
+        // is taken by a thing declared there, it takes the next free number.
+        let mut taken: BTreeSet<String> = BTreeSet::new();
+        for placed in &solved.layout.small {
+            let declared = |s: &crate::solve::SmallObject| {
+                s.id == placed.id && s.elsewhere.is_none() && s.absent.is_none()
+            };
+            if solved.problem.small_objects.iter().any(declared) {
+                taken.insert(placed.id.clone());
+            }
+        }
         for placed in &solved.layout.small {
             let Some(index) = by_id.get_mut(placed.id.as_str()).and_then(Vec::pop) else {
                 continue;
             };
+            let small = &solved.problem.small_objects[index];
             let (receptacle, line, copy) = solved.small_keys[index];
             let Some(choice) = resolved
                 .small
@@ -89,11 +101,17 @@ pub fn objects(
             }
             .unwrap_or(receptacle);
             let receptacle_name = &scene.object(receptacle).name;
+            let mut name = placed.id.split('|').next().unwrap_or(&placed.id).to_string();
+            if small.elsewhere.is_some() || small.absent.is_some() {
+                let mut n = 0;
+                while taken.contains(&format!("{name}|{receptacle_name}")) {
+                    name = format!("{}-{n}", small.item);
+                    n += 1;
+                }
+                taken.insert(format!("{name}|{receptacle_name}"));
+            }
             out.push(LoweredObject {
-                id: format!(
-                    "{}|{receptacle_name} ({label})",
-                    placed.id.split('|').next().unwrap_or(&placed.id)
-                ),
+                id: format!("{name}|{receptacle_name} ({label})"),
                 asset_id: choice.asset_id.clone(),
                 room: solved.room,
                 position_m: position(placed.position_m),
@@ -102,7 +120,7 @@ pub fn objects(
                 // on or stands on a wall object stays put (physics would drop a towel off its
                 // bar).
                 kinematic: matches!(placed.on, Some(crate::solve::Holder::Wall(_))),
-                object_name: placed.id.split('|').next().unwrap_or(&placed.id).to_string(),
+                object_name: name,
                 parent: Some(format!("{receptacle_name} ({label})")),
             });
         }

@@ -125,6 +125,27 @@ pub(crate) fn moved(problem: &RoomProblem, m: &super::Moved) -> Diagnostic {
     let (from, to) = (m.from, m.to);
     let s = &problem.small_objects[m.small];
     let name = s.id.split('|').next().unwrap_or(&s.id);
+    if let Some(absent) = &m.absent {
+        let mut note = format!(
+            "its receptacle `{absent}` is left out: no asset matches it (W0401); `{}` is the first receptacle of the room, in the order declared, that takes it and has room for it",
+            holder_name(problem, to)
+        );
+        if !m.full.is_empty() {
+            let full: Vec<String> =
+                m.full.iter().map(|&h| format!("`{}`", holder_name(problem, h))).collect();
+            note.push_str(&format!(" ({} before it, full)", full.join(", ")));
+        }
+        let d = Diagnostic::new(
+            Code::W0506,
+            format!("`{name}` is put on `{}` instead of `{absent}`", holder_name(problem, to)),
+        )
+        .with_note(note)
+        .with_help("give its receptacle an asset (`--catalog`, `--objathor`), or put the thing on a receptacle of the room");
+        return match s.span {
+            Some(span) => d.with_primary(span, "declared on a receptacle that is left out"),
+            None => d,
+        };
+    }
     let d = Diagnostic::new(
         Code::W0506,
         format!(

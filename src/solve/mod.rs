@@ -199,6 +199,9 @@ pub struct SmallObject {
     /// placed with room for it takes it (W0506), else it is left out. `None`: it stays on its
     /// receptacle.
     pub elsewhere: Option<Vec<Holder>>,
+    /// When the receptacle it is declared on is left out before the layout (no asset): that
+    /// receptacle's name. `on` is then the first of `elsewhere`, which is never `None`.
+    pub absent: Option<String>,
     /// Where it is declared.
     pub span: Option<Span>,
 }
@@ -343,6 +346,9 @@ pub struct Moved {
     pub to: Holder,
     /// The nearer receptacles that take it but were full, nearest first.
     pub full: Vec<Holder>,
+    /// The receptacle declared when it is left out for want of an asset (then `from` is the
+    /// first receptacle tried).
+    pub absent: Option<String>,
 }
 
 impl RoomLayout {

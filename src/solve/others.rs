@@ -388,7 +388,13 @@ fn place_small(prep: &Prepared<'_>, layout: &mut RoomLayout) {
             choices.push(vec![s.on]);
             continue;
         };
-        let from = Receptacle::of(prep, layout, s.on).ok().map(|r| r.centre);
+        // Nearest to where it was declared; in the order declared when that receptacle is
+        // left out.
+        let from = if s.absent.is_some() {
+            None
+        } else {
+            Receptacle::of(prep, layout, s.on).ok().map(|r| r.centre)
+        };
         let d = |c: &[f64; 2]| from.map_or(0.0, |f| (c[0] - f[0]).hypot(c[1] - f[1]));
         let mut near: Vec<(usize, Holder, f64)> = elsewhere
             .iter()
@@ -401,8 +407,8 @@ fn place_small(prep: &Prepared<'_>, layout: &mut RoomLayout) {
         if near.is_empty() {
             reasons[i] = Some((
                 format!(
-                    "people do not put it on `{}`, and no receptacle of the room that takes it is placed",
-                    super::errors::holder_name(problem, s.on)
+                    "{}, and no receptacle of the room that takes it is placed",
+                    why_elsewhere(problem, s)
                 ),
                 Code::W0506,
             ));
@@ -467,7 +473,13 @@ fn place_small(prep: &Prepared<'_>, layout: &mut RoomLayout) {
         }
         if results[i].is_some() {
             let full = choices[i][..pick[i]].to_vec();
-            layout.moved.push(super::Moved { small: i, from: s.on, to: choices[i][pick[i]], full });
+            layout.moved.push(super::Moved {
+                small: i,
+                from: s.on,
+                to: choices[i][pick[i]],
+                full,
+                absent: s.absent.clone(),
+            });
         } else if matches!(&reasons[i], Some((_, Code::W0501))) {
             let tried: Vec<String> = choices[i]
                 .iter()
@@ -475,8 +487,8 @@ fn place_small(prep: &Prepared<'_>, layout: &mut RoomLayout) {
                 .collect();
             reasons[i] = Some((
                 format!(
-                    "people do not put it on `{}`, and every receptacle of the room that takes it has no room for it ({})",
-                    super::errors::holder_name(problem, s.on),
+                    "{}, and every receptacle of the room that takes it has no room for it ({})",
+                    why_elsewhere(problem, s),
                     tried.join(", ")
                 ),
                 Code::W0501,
@@ -498,6 +510,14 @@ fn place_small(prep: &Prepared<'_>, layout: &mut RoomLayout) {
                 }
             }
         }
+    }
+}
+
+/// Why a small thing is not on the receptacle it is declared on.
+fn why_elsewhere(problem: &RoomProblem, s: &super::SmallObject) -> String {
+    match &s.absent {
+        Some(name) => format!("its receptacle `{name}` is left out (no asset)"),
+        None => format!("people do not put it on `{}`", super::errors::holder_name(problem, s.on)),
     }
 }
 

@@ -321,6 +321,41 @@ pub fn solve(
                 }
             }
         }
+        // The things on a receptacle left out for want of an asset (a floating wall shelf
+        // AI2-THOR has no asset for) go to the room's receptacles that take them, in the order
+        // they are declared, when one has room (W0506 says where); else they are left out.
+        let mut rehomed: std::collections::BTreeSet<String> = std::collections::BTreeSet::new();
+        for &(_, id) in no_asset.iter().filter(|(r, _)| *r == room.id) {
+            let o = scene.object(id);
+            for (item_id, line, copy) in item_ids(o) {
+                let key = (id, line, copy);
+                let Some(c) = choice(&key) else { continue };
+                let takes: Vec<super::Holder> = holders
+                    .iter()
+                    .filter(|(_, t)| {
+                        t.as_deref().is_some_and(|t| {
+                            crate::resolve::is_receptacle_type(t)
+                                && (!crate::resolve::receptacles::judges(&c.object_type)
+                                    || crate::resolve::allowed_on(&c.object_type, t))
+                        })
+                    })
+                    .map(|(h, _)| *h)
+                    .collect();
+                let Some(&first) = takes.first() else { continue };
+                let item = &o.on_top[line];
+                problem.small_objects.push(super::SmallObject {
+                    id: item_id.clone(),
+                    item: item.item.clone(),
+                    size: bbox_to_size(c.bbox_m),
+                    on: first,
+                    elsewhere: Some(takes),
+                    absent: Some(o.name.clone()),
+                    span: Some(item.span),
+                });
+                small_keys.push(key);
+                rehomed.insert(item_id);
+            }
+        }
         let room_options = SolveOptions {
             seed: options.seed ^ (room.id.0 as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15),
             ..*options
@@ -357,7 +392,26 @@ pub fn solve(
                 why(resolved.objects.get(id.0)),
                 Code::W0401,
             ));
-            items_follow(o, unplaced);
+            // Its things that were not taken elsewhere: left out for want of an asset of their
+            // own (W0401) or with it (W0503).
+            for (item_id, line, copy) in item_ids(o) {
+                if rehomed.contains(&item_id) {
+                    continue;
+                }
+                let r = resolved.small.get(&(id, line)).and_then(|v| v.get(copy as usize));
+                unplaced.push(match r.and_then(Resolution::choice) {
+                    Some(_) => left_out(
+                        item_id,
+                        "small",
+                        format!(
+                            "its receptacle `{}` is left out, and no receptacle of the room takes it",
+                            o.name
+                        ),
+                        Code::W0503,
+                    ),
+                    None => left_out(item_id, "small", why(r), Code::W0401),
+                });
+            }
         }
         for (id, (receptacle, line, copy)) in without_asset {
             let r = resolved.small.get(&(receptacle, line)).and_then(|v| v.get(copy as usize));

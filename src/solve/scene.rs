@@ -155,6 +155,7 @@ fn items_on(o: &Object, on: Holder, sizes: &dyn Sizes) -> Vec<SmallObject> {
                 size: sizes.small(item),
                 on,
                 elsewhere: None,
+                absent: None,
                 span: Some(item.span),
             }
         })

@@ -164,6 +164,7 @@ pub fn load(path: &Path) -> RoomProblem {
                 size: s.size,
                 on: holoc::solve::Holder::Floor(index(&s.on)),
                 elsewhere: None,
+                absent: None,
                 span: None,
             })
             .collect(),
