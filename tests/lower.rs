@@ -290,3 +290,48 @@ door exterior -- den : doorway single
         common::render(&sources, &outcome.diagnostics)
     );
 }
+
+/// When furniture fills the room the plan starts the agent in (a bed pinned across a small
+/// hall), the agent starts on free floor of another room, never inside furniture: the house
+/// passes `holoc validate` without W0613.
+#[test]
+fn the_agent_starts_in_another_room_when_the_first_is_full() {
+    let text = r#"scene "a hall filled by a bed" { seed 1 }
+
+room hall "hall" {
+  corners in m (0, 0) (0, 2.4) (2.1, 2.4) (2.1, 0)
+  object bed "bed" {
+    asset "Bed_1"
+    at 1.05 m, 1.2 m
+    facing 0 deg
+  }
+}
+
+room study "study" {
+  corners in m (2.1, 0) (2.1, 2.4) (5.1, 2.4) (5.1, 0)
+}
+
+door exterior -- hall : doorway single
+door hall -- study : doorway single
+"#;
+    let mut sources = SourceMap::new();
+    let id = sources.add("full.holo".to_string(), text.to_string());
+    let catalog = holoc::resolve::Catalog::embedded();
+    let out = holoc::compile::build(&sources, id, &holoc::compile::BuildOptions::new(&catalog));
+    let built = out.value.unwrap_or_else(|| {
+        panic!("does not build:\n{}", common::render(&sources, &out.diagnostics))
+    });
+    let json = built.house.to_json_string();
+    let value: serde_json::Value = serde_json::from_str(&json).expect("house json");
+    let x = value["metadata"]["agent"]["position"]["x"].as_f64().expect("agent x");
+    assert!(x > 2.1 + 0.25, "the agent starts at x = {x}, not in the study");
+    let mut sources = SourceMap::new();
+    let id = sources.add("house.json", json);
+    let outcome =
+        validate(&sources, id, StructureCatalog::builtin(), &holoc::resolve::Catalog::embedded());
+    assert!(
+        outcome.diagnostics.iter().all(|d| d.code.as_str() != "W0613"),
+        "{}",
+        common::render(&sources, &outcome.diagnostics)
+    );
+}

@@ -31,18 +31,35 @@ fn distance_to_rect_below(p: Point, r: &Rect, bound: f64) -> f64 {
     geo::distance_below([0.0, 0.0], [dx, dz], bound)
 }
 
-/// The agent's start on free floor (see the module's description).
+/// The agent's start on free floor (see the module's description). When the plan's start room
+/// has no free cell (furniture fills it), the other rooms are tried in the plan's order; when
+/// none has one, the plan's pose is kept.
 pub fn agent_start(plan: &FloorPlan, layout: &Layout) -> AgentPose {
     let pose = plan.agent;
-    let Some(room) = plan.rooms.get(pose.room.0) else { return pose };
+    let others = (0..plan.rooms.len()).filter(|&r| r != pose.room.0);
+    for r in std::iter::once(pose.room.0).chain(others) {
+        if let Some(p) = free_start(plan, layout, crate::check::scene::RoomId(r)) {
+            return AgentPose {
+                room: crate::check::scene::RoomId(r),
+                position: [geo::round6(p[0]), geo::round6(p[1])],
+                ..pose
+            };
+        }
+    }
+    pose
+}
+
+/// The best free cell of room `id` reachable from one of its doors, if any.
+fn free_start(plan: &FloorPlan, layout: &Layout, id: crate::check::scene::RoomId) -> Option<Point> {
+    let room = plan.rooms.get(id.0)?;
     let poly = &room.polygon;
     if poly.len() < 3 {
-        return pose;
+        return None;
     }
     let footprints: Vec<Rect> = layout
         .rooms
         .iter()
-        .filter(|r| r.room == pose.room)
+        .filter(|r| r.room == id)
         .flat_map(|r| r.layout.floor.iter().map(|p| p.footprint))
         .collect();
     let doors: Vec<(Point, Point)> = plan
@@ -140,8 +157,5 @@ pub fn agent_start(plan: &FloorPlan, layout: &Layout) -> AgentPose {
             None => best = Some((room_around, geo::distance(p, room.centroid), p)),
         }
     }
-    match best {
-        Some((_, _, p)) => AgentPose { position: [geo::round6(p[0]), geo::round6(p[1])], ..pose },
-        None => pose,
-    }
+    best.map(|(_, _, p)| p)
 }
