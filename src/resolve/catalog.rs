@@ -171,8 +171,10 @@ pub struct CatalogSource {
 /// clashes, with a word index for ranking.
 #[derive(Clone, Debug)]
 pub struct Catalog {
-    assets: Vec<Asset>,
-    by_id: BTreeMap<String, usize>,
+    /// The assets and their index by id, shared by clones until one of them adds assets (a
+    /// build clones the embedded catalog; copying 1,600 assets would cost more than the build).
+    assets: Arc<Vec<Asset>>,
+    by_id: Arc<BTreeMap<String, usize>>,
     sources: Vec<CatalogSource>,
     /// The word index, built the first time a query needs it and shared by clones: a build
     /// with nothing to resolve never builds it, and every build of a process that uses only
@@ -232,7 +234,8 @@ impl Catalog {
         let source = CatalogSource {
             name,
             version,
-            sha256: sha256_hex(EMBEDDED_TSV.as_bytes()),
+            // Hashed by build.rs: the same bytes as `EMBEDDED_TSV`.
+            sha256: env!("HOLOC_EMBEDDED_CATALOG_SHA256").to_string(),
             path: None,
             n_assets: assets.len(),
         };
@@ -284,12 +287,14 @@ impl Catalog {
     ) -> (usize, usize, Vec<super::objathor::annotations::Entry>) {
         let start = self.assets.len();
         let mut entries = Vec::with_capacity(parsed.len());
+        let assets = Arc::make_mut(&mut self.assets);
+        let by_id = Arc::make_mut(&mut self.by_id);
         for (asset, entry) in parsed {
-            if self.by_id.contains_key(&asset.id) {
+            if by_id.contains_key(&asset.id) {
                 continue;
             }
-            self.by_id.insert(asset.id.clone(), self.assets.len());
-            self.assets.push(asset);
+            by_id.insert(asset.id.clone(), assets.len());
+            assets.push(asset);
             entries.push(entry);
         }
         source.n_assets = entries.len();
@@ -386,8 +391,8 @@ impl Catalog {
 
     fn from_parts(assets: Vec<Asset>, sources: Vec<CatalogSource>) -> Catalog {
         let mut catalog = Catalog {
-            assets: Vec::new(),
-            by_id: BTreeMap::new(),
+            assets: Arc::new(Vec::with_capacity(assets.len())),
+            by_id: Arc::default(),
             sources,
             index: Arc::default(),
             objathor: None,
@@ -399,11 +404,12 @@ impl Catalog {
     }
 
     fn insert(&mut self, asset: Asset) {
+        let assets = Arc::make_mut(&mut self.assets);
         if let Some(&idx) = self.by_id.get(&asset.id) {
-            self.assets[idx] = asset;
+            assets[idx] = asset;
         } else {
-            self.by_id.insert(asset.id.clone(), self.assets.len());
-            self.assets.push(asset);
+            Arc::make_mut(&mut self.by_id).insert(asset.id.clone(), assets.len());
+            assets.push(asset);
         }
     }
 
@@ -840,6 +846,7 @@ mod tests {
     fn embedded_catalog_loads_without_structure() {
         let c = Catalog::embedded();
         assert!(c.assets().len() > 1500);
+        assert_eq!(c.sources()[0].sha256, sha256_hex(EMBEDDED_TSV.as_bytes()));
         assert!(c.get("Sofa_201_1").is_some());
         assert!(c.assets().iter().all(|a| a.object_type != "Doorway" && a.object_type != "Window"));
         assert_eq!(c.sources()[0].name, "procthor-builtin");
