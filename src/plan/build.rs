@@ -107,6 +107,9 @@ const UNLIKELY_CEILINGS: [&str; 8] =
 
 /// The material every ceiling falls back on: a painted white drywall.
 pub const DEFAULT_CEILING_MATERIAL: &str = "EggshellDrywall";
+/// The most overlaps counted for one room as the sweep meets them (see `relations`): past it
+/// the plan's counts are lower bounds and the work stays linear in the rooms.
+const OVERLAPS_COUNTED_PER_ROOM: usize = 64;
 
 /// The default ceiling: the first room's wall material when it is a painted finish (drywall or
 /// plaster), so ceiling and walls match; otherwise (brick, tile, marble, wood panelling…) a
@@ -427,31 +430,44 @@ impl Ctx<'_> {
         let boxes: Vec<Aabb> = self.rooms.iter().map(|r| Aabb::of(&r.corners)).collect();
         let mut by_x: Vec<usize> = (0..n).collect();
         by_x.sort_by(|&i, &j| boxes[i].min[0].total_cmp(&boxes[j].min[0]).then(i.cmp(&j)));
-        let mut candidates: Vec<(usize, usize)> = Vec::new();
+        // A room's overlaps are counted up to `OVERLAPS_COUNTED_PER_ROOM` as the sweep meets
+        // them, so that thousands of rooms drawn over each other cost a bounded number of exact
+        // intersections each (the plan is an error either way; its counts then say "at least").
+        let mut overlaps: Vec<(usize, usize, f64)> = Vec::new();
+        let mut touching: Vec<(usize, usize)> = Vec::new();
+        let mut capped = false;
         for (k, &i) in by_x.iter().enumerate() {
+            let mut hits = 0usize;
             for &j in &by_x[k + 1..] {
                 if boxes[j].min[0] > boxes[i].max[0] + EPS_M {
                     break;
                 }
-                if boxes[j].min[1] <= boxes[i].max[1] + EPS_M
-                    && boxes[i].min[1] <= boxes[j].max[1] + EPS_M
+                if boxes[j].min[1] > boxes[i].max[1] + EPS_M
+                    || boxes[i].min[1] > boxes[j].max[1] + EPS_M
                 {
-                    candidates.push((i.min(j), i.max(j)));
+                    continue;
+                }
+                let (a, b) = (i.min(j), i.max(j));
+                let inter =
+                    rectilinear_intersection_area(&self.rooms[a].corners, &self.rooms[b].corners);
+                if inter > 1e-4 {
+                    ok = false;
+                    overlaps.push((a, b, inter));
+                    hits += 1;
+                    if hits >= OVERLAPS_COUNTED_PER_ROOM {
+                        capped = true;
+                        break;
+                    }
+                } else if self.shared_length(a, b) > EPS_M {
+                    touching.push((a, b));
                 }
             }
         }
-        candidates.sort_unstable();
-        let mut overlaps: Vec<(usize, usize, f64)> = Vec::new();
-        for (a, b) in candidates {
-            let inter =
-                rectilinear_intersection_area(&self.rooms[a].corners, &self.rooms[b].corners);
-            if inter > 1e-4 {
-                ok = false;
-                overlaps.push((a, b, inter));
-            } else if self.shared_length(a, b) > EPS_M {
-                adjacent[a].push(b);
-                adjacent[b].push(a);
-            }
+        overlaps.sort_unstable_by(|x, y| (x.0, x.1).cmp(&(y.0, y.1)));
+        touching.sort_unstable();
+        for &(a, b) in &touching {
+            adjacent[a].push(b);
+            adjacent[b].push(a);
         }
         if overlaps.len() <= crate::diag::PAIR_DETAIL_LIMIT {
             for &(a, b, inter) in &overlaps {
@@ -470,7 +486,8 @@ impl Ctx<'_> {
                 let mut d = Diagnostic::new(
                     Code::E0305,
                     format!(
-                        "room `{name}` overlaps {} other room{}",
+                        "room `{name}` overlaps {}{} other room{}",
+                        if capped { "at least " } else { "" },
                         list.len(),
                         if list.len() == 1 { "" } else { "s" }
                     ),
@@ -483,11 +500,19 @@ impl Ctx<'_> {
                     );
                 }
                 d = d
-                    .with_note(format!(
-                        "{} pairs of rooms overlap; past {} they are counted per room",
-                        overlaps.len(),
-                        crate::diag::PAIR_DETAIL_LIMIT
-                    ))
+                    .with_note(if capped {
+                        format!(
+                            "at least {} pairs of rooms overlap; past {} they are counted per room, and each room's count stops at {OVERLAPS_COUNTED_PER_ROOM}",
+                            overlaps.len(),
+                            crate::diag::PAIR_DETAIL_LIMIT
+                        )
+                    } else {
+                        format!(
+                            "{} pairs of rooms overlap; past {} they are counted per room",
+                            overlaps.len(),
+                            crate::diag::PAIR_DETAIL_LIMIT
+                        )
+                    })
                     .with_help("move the corners so that the rooms only share walls");
                 self.diags.push(d);
             }
