@@ -10,17 +10,32 @@
 //! without either comes back unchanged. Otherwise:
 //!
 //! 1. **Outline clean-up**, of outlines with a repeated corner or a slanted edge: repeated
-//!    corners and corners in the middle of a straight wall are dropped; an edge slanted by at most [`MAX_MOVE_M`] is made straight by moving the corner
-//!    whose coordinate no other room shares (the other one is aligned with the plan); when
-//!    neither or both are, the rounder coordinate stays (`5` rather than `5.3`).
-//! 2. **Repair steps**, at most [`MAX_STEPS`], each from the plan the last one left. The
-//!    candidates of a step are:
+//!    corners and corners in the middle of a straight wall are dropped; an edge slanted by at
+//!    most [`MAX_MOVE_M`] is made straight by moving the corner whose coordinate no nearby room
+//!    shares (the other one is aligned with the rooms around it; a room far off on the same
+//!    line does not count); when neither or both are, the rounder coordinate stays (`5` rather
+//!    than `5.3`).
+//! 2. **One room moved back whole**: the *suspects* (rooms that overlap another, leave a gap
+//!    to another, touch no room, or do not touch a room they have a door to) are tried at
+//!    every translation that puts one of their wall coordinates onto a wall coordinate of a
+//!    nearby room: at most [`MAX_MOVE_M`] along each axis, or [`MAX_TRANSLATION_M`] in all for
+//!    a room apart from a room it has a door to. A translation counts only when it leaves
+//!    fewer of the room's wall coordinates off the other rooms' lines than it had (the room
+//!    goes back onto the plan's lines, not along them) and makes none of them less round
+//!    unless it lands on a line (a wall drawn at `8` with nothing beside it stays at `8`: the
+//!    other wall was drawn wrong, and step 3 moves that one alone). The candidates go in the
+//!    order of: within [`MAX_MOVE_M`] first, the near misses they leave (see below), the
+//!    room's coordinates left off the lines, the distance moved, whether the plan's lowest x
+//!    and z stay (the drawing's origin), the roundness of the new coordinates, then the room's
+//!    outline and the move, so that the order rooms are declared in does not matter. The
+//!    first that makes the plan clean (no error, no gap) is the repair.
+//! 3. Otherwise, **repair steps**, at most [`MAX_STEPS`], each from the plan the last one left.
+//!    The candidates of a step are:
 //!    - *one room at a time*: for every room, each of its wall coordinates snapped onto a
 //!      facing wall of another room at most [`MAX_MOVE_M`] away (one or two per axis), or the
-//!      whole room moved by the distance that makes one of its walls meet a facing wall (a
-//!      shifted room moves back whole), by the gap to a room it has a door to (at most
-//!      [`MAX_TRANSLATION_M`]), or slid along the wall of a room it has a door to but meets
-//!      only at a corner (at most [`MAX_SLIDE_M`]);
+//!      whole room moved by the distance that makes one of its walls meet a facing wall, by
+//!      the gap to a room it has a door to (at most [`MAX_TRANSLATION_M`]), or slid along the
+//!      wall of a room it has a door to but meets only at a corner (at most [`MAX_SLIDE_M`]);
 //!    - *every room at once*: facing walls of different rooms within the bound joined, each
 //!      group at the coordinate that moves the least length of wall, then detached rooms moved
 //!      onto the room they have a door to.
@@ -31,16 +46,18 @@
 //!    rooms, then leaves the fewest near misses (wall coordinates of neighbouring rooms less
 //!    than the bound apart but not equal), then takes away the least wall rooms shared, then
 //!    moves the fewest corners, then sweeps the least floor; the last tie goes to the room
-//!    declared first. A room whose walls already meet
-//!    its neighbours' therefore stays, whatever the order the rooms are declared in, and a room
-//!    never becomes narrower than [`super::MIN_ROOM_SIDE_M`] (that is an error, E0303).
+//!    declared later (as W0308's fix: an answer is drawn room after room, each fitted to those
+//!    before). A room whose walls already meet its neighbours' therefore stays, whatever the
+//!    order the rooms are declared in, and a room never becomes narrower than
+//!    [`super::MIN_ROOM_SIDE_M`] (that is an error, E0303).
 //!
 //! The result is kept only when every room's area changes by at most [`MAX_AREA_CHANGE`] (a
 //! room narrower than [`super::MIN_ROOM_SIDE_M`] as written is exempt: it must grow) and
 //! the whole repair is never worse than the plan as written; otherwise the plan is returned as
 //! written. Steps go on until no candidate improves the plan, so repairing a repaired plan
-//! (even one still with errors) changes nothing: repair is idempotent. What it cannot fix is
-//! left for the plan stage to report.
+//! (even one still with errors) changes nothing: repair is idempotent (a plan repaired by
+//! step 2 is clean, so it comes back unchanged). What it cannot fix is left for the plan stage
+//! to report.
 
 use std::collections::BTreeMap;
 
