@@ -434,6 +434,8 @@ struct Row {
     idempotent: usize,
     /// Plans repaired (changed), valid or not.
     changed: usize,
+    /// Changed plans not equal to the plan meant (numbering for `REPAIR_BENCH_DUMP`).
+    missed: usize,
 }
 
 fn main() {
@@ -482,6 +484,23 @@ fn main() {
                 row.changed += 1;
                 if same_plan(&out.corners, base) {
                     row.meant += 1;
+                } else if let Some(dir) = std::env::var_os("REPAIR_BENCH_DUMP") {
+                    // The plans not brought back to the plan meant, with the meant and the
+                    // repaired text, to study.
+                    row.missed += 1;
+                    let path = std::path::Path::new(&dir).join(format!(
+                        "missed-{}-{}.holo",
+                        kind.replace(' ', "_"),
+                        row.missed
+                    ));
+                    let mut dump = text.clone();
+                    for l in base.to_holo().lines() {
+                        let _ = writeln!(dump, "// meant: {l}");
+                    }
+                    for l in out.text.lines() {
+                        let _ = writeln!(dump, "// repaired: {l}");
+                    }
+                    let _ = std::fs::write(path, dump);
                 }
                 let others = out
                     .corners
@@ -703,6 +722,16 @@ fn generate_figures(bases: &[Plan]) {
                 .filter(|e| e.stage == "floor-plan" && e.usage.is_some())
                 .count();
             if outcome.has_errors() || outcome.value.holo.is_empty() {
+                // `REPAIR_BENCH_DUMP=DIR` keeps the answers that ended in no scene, with the
+                // run's errors.
+                if let Some(dir) = std::env::var_os("REPAIR_BENCH_DUMP") {
+                    let mut dump = text.clone();
+                    for d in outcome.diagnostics.iter().filter(|d| d.is_error()) {
+                        let _ = writeln!(dump, "// error: {} {}", d.code.as_str(), d.message);
+                    }
+                    let path = std::path::Path::new(&dir).join(format!("no-scene-{runs}.holo"));
+                    let _ = std::fs::write(path, dump);
+                }
                 continue;
             }
             let mut sources = SourceMap::new();

@@ -242,3 +242,138 @@ proptest! {
         prop_assert!(!again.changed, "{}", repaired.text);
     }
 }
+
+/// The rooms' outlines of a text, by room name (checker only).
+fn outlines(text: &str) -> Vec<(String, Vec<[f64; 2]>)> {
+    let mut sources = SourceMap::new();
+    let id = sources.add("plan.holo", text.to_string());
+    let scene = holoc::compile::check_file(&sources, id).value.expect("a checked scene");
+    scene.rooms.iter().map(|r| (r.name.clone(), r.corners.clone())).collect()
+}
+
+fn same_corners(a: &[[f64; 2]], b: &[[f64; 2]]) -> bool {
+    a.len() == b.len()
+        && a.iter().zip(b).all(|(p, q)| (p[0] - q[0]).abs() < 1e-6 && (p[1] - q[1]).abs() < 1e-6)
+}
+
+/// The lines of `text` that declare rooms other than `room`.
+fn other_room_lines<'a>(text: &'a str, room: &str) -> Vec<&'a str> {
+    let own = format!("room {room} ");
+    text.lines().filter(|l| l.starts_with("room ") && !l.starts_with(&own)).collect()
+}
+
+/// Issue 27: the laundry drawn 19 cm into the hallway is repaired by moving the laundry alone
+/// (its north wall back onto the hallway's); the hallway, the kitchen and the living room are
+/// written byte for byte as they were, whichever room is declared first.
+#[test]
+fn laundry_into_the_hallway_moves_only_the_laundry() {
+    for fixture in ["laundry_into_hallway", "laundry_declared_first"] {
+        let path = format!("tests/corpus/repair/{fixture}.holo");
+        let text = std::fs::read_to_string(&path).expect("fixture");
+        let repaired = repair_text(&path, &text);
+        assert!(repaired.changed, "{fixture}");
+        assert_eq!(other_room_lines(&repaired.text, "laundry"), other_room_lines(&text, "laundry"));
+        let laundry = outlines(&repaired.text)
+            .into_iter()
+            .find(|(name, _)| name == "laundry")
+            .expect("the laundry")
+            .1;
+        assert!(
+            same_corners(&laundry, &[[7.0, 0.0], [7.0, 4.0], [11.5, 4.0], [11.5, 0.0]]),
+            "{fixture}: {laundry:?}"
+        );
+        assert_eq!(plan_errors(&repaired.text), Vec::<&str>::new(), "{fixture}");
+    }
+}
+
+/// A bedroom drawn 30 cm east of where it belongs goes back whole: its four corners move by
+/// the same 30 cm, its area stays, and the other rooms are written as they were, in any of
+/// the six declaration orders.
+#[test]
+fn a_shifted_room_moves_back_whole_in_any_declaration_order() {
+    let rooms = [
+        "room living \"living room\" { corners in m (0, 0) (0, 6) (5, 6) (5, 0) }",
+        "room kitchen \"kitchen\" { corners in m (5, 0) (5, 3) (9, 3) (9, 0) }",
+        "room bedroom \"bedroom\" { corners in m (5.3, 3) (5.3, 6) (9.3, 6) (9.3, 3) }",
+    ];
+    let orders = [[0, 1, 2], [0, 2, 1], [1, 0, 2], [1, 2, 0], [2, 0, 1], [2, 1, 0]];
+    for order in orders {
+        let mut text = String::from("scene \"shifted\" { seed 1 }\n");
+        for i in order {
+            text.push_str(rooms[i]);
+            text.push('\n');
+        }
+        text.push_str(
+            "door exterior -- living : doorway single\n\
+             door living -- kitchen : doorway single\n\
+             door living -- bedroom : doorway single\n",
+        );
+        let repaired = repair_text("shifted.holo", &text);
+        assert!(repaired.changed, "{order:?}");
+        assert!(repaired.area_change < 1e-9, "{order:?}: moved whole, not resized");
+        assert_eq!(other_room_lines(&repaired.text, "bedroom"), other_room_lines(&text, "bedroom"));
+        let bedroom =
+            outlines(&repaired.text).into_iter().find(|(n, _)| n == "bedroom").expect("bedroom").1;
+        assert!(
+            same_corners(&bedroom, &[[5.0, 3.0], [5.0, 6.0], [9.0, 6.0], [9.0, 3.0]]),
+            "{order:?}: {bedroom:?}"
+        );
+    }
+}
+
+/// A wall drawn 20 cm into the next room is not a shifted room: the wrong wall moves alone and
+/// the far wall, drawn at a round 8 m with nothing beside it, stays.
+#[test]
+fn a_wall_drawn_wrong_moves_alone() {
+    let text = "scene \"overlap\" { seed 1 }\n\
+                room living \"living room\" { corners in m (0, 0) (0, 5) (4, 5) (4, 0) }\n\
+                room bedroom \"bedroom\" { corners in m (3.8, 0) (3.8, 4) (8, 4) (8, 0) }\n\
+                door exterior -- living : doorway single\n\
+                door living -- bedroom : doorway single\n";
+    let repaired = repair_text("overlap.holo", text);
+    let bedroom =
+        outlines(&repaired.text).into_iter().find(|(n, _)| n == "bedroom").expect("bedroom").1;
+    assert!(
+        same_corners(&bedroom, &[[4.0, 0.0], [4.0, 4.0], [8.0, 4.0], [8.0, 0.0]]),
+        "{bedroom:?}"
+    );
+    assert_eq!(other_room_lines(&repaired.text, "bedroom"), other_room_lines(text, "bedroom"));
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig {
+        cases: 120,
+        rng_seed: proptest::test_runner::RngSeed::Fixed(0x7368_6966),
+        failure_persistence: None,
+        ..ProptestConfig::default()
+    })]
+
+    /// A room of a valid plan shifted along one axis by 5 to 50 cm: when the plan needs repair,
+    /// the repair gives back the plan as it was meant, and no other room moves.
+    #[test]
+    fn a_shifted_room_comes_back_to_the_plan_meant(
+        which in 1usize..3,
+        along_x in proptest::bool::ANY,
+        cm in 5i32..=50,
+        sign in prop_oneof![Just(-1.0f64), Just(1.0f64)],
+    ) {
+        let d = sign * f64::from(cm) / 100.0;
+        let (dx, dz) = if along_x { (d, 0.0) } else { (0.0, d) };
+        let text = broken_plan(which, dx, dz);
+        let repaired = repair_text("shifted.holo", &text);
+        if repaired.changed {
+            let meant = outlines(&broken_plan(which, 0.0, 0.0));
+            let got = outlines(&repaired.text);
+            for ((name, a), (_, b)) in got.iter().zip(&meant) {
+                prop_assert!(same_corners(a, b), "{name}: {a:?} is not {b:?}\n{text}");
+            }
+            let shifted = ["living", "kitchen", "bedroom"][which];
+            prop_assert_eq!(
+                other_room_lines(&repaired.text, shifted),
+                other_room_lines(&text, shifted)
+            );
+        } else {
+            prop_assert_eq!(plan_errors(&text), Vec::<&str>::new(), "{}", text);
+        }
+    }
+}

@@ -10,17 +10,32 @@
 //! without either comes back unchanged. Otherwise:
 //!
 //! 1. **Outline clean-up**, of outlines with a repeated corner or a slanted edge: repeated
-//!    corners and corners in the middle of a straight wall are dropped; an edge slanted by at most [`MAX_MOVE_M`] is made straight by moving the corner
-//!    whose coordinate no other room shares (the other one is aligned with the plan); when
-//!    neither or both are, the rounder coordinate stays (`5` rather than `5.3`).
-//! 2. **Repair steps**, at most [`MAX_STEPS`], each from the plan the last one left. The
-//!    candidates of a step are:
+//!    corners and corners in the middle of a straight wall are dropped; an edge slanted by at
+//!    most [`MAX_MOVE_M`] is made straight by moving the corner whose coordinate no nearby room
+//!    shares (the other one is aligned with the rooms around it; a room far off on the same
+//!    line does not count); when neither or both are, the rounder coordinate stays (`5` rather
+//!    than `5.3`).
+//! 2. **One room moved back whole**: the *suspects* (rooms that overlap another, leave a gap
+//!    to another, touch no room, or do not touch a room they have a door to) are tried at
+//!    every translation that puts one of their wall coordinates onto a wall coordinate of a
+//!    nearby room: at most [`MAX_MOVE_M`] along each axis, or [`MAX_TRANSLATION_M`] in all for
+//!    a room apart from a room it has a door to. A translation counts only when it leaves
+//!    fewer of the room's wall coordinates off the other rooms' lines than it had (the room
+//!    goes back onto the plan's lines, not along them) and makes none of them less round
+//!    unless it lands on a line (a wall drawn at `8` with nothing beside it stays at `8`: the
+//!    other wall was drawn wrong, and step 3 moves that one alone). The candidates go in the
+//!    order of: within [`MAX_MOVE_M`] first, the near misses they leave (see below), the
+//!    room's coordinates left off the lines, the distance moved, whether the plan's lowest x
+//!    and z stay (the drawing's origin), the roundness of the new coordinates, then the room's
+//!    outline and the move, so that the order rooms are declared in does not matter. The
+//!    first that makes the plan clean (no error, no gap) is the repair.
+//! 3. Otherwise, **repair steps**, at most [`MAX_STEPS`], each from the plan the last one left.
+//!    The candidates of a step are:
 //!    - *one room at a time*: for every room, each of its wall coordinates snapped onto a
 //!      facing wall of another room at most [`MAX_MOVE_M`] away (one or two per axis), or the
-//!      whole room moved by the distance that makes one of its walls meet a facing wall (a
-//!      shifted room moves back whole), by the gap to a room it has a door to (at most
-//!      [`MAX_TRANSLATION_M`]), or slid along the wall of a room it has a door to but meets
-//!      only at a corner (at most [`MAX_SLIDE_M`]);
+//!      whole room moved by the distance that makes one of its walls meet a facing wall, by
+//!      the gap to a room it has a door to (at most [`MAX_TRANSLATION_M`]), or slid along the
+//!      wall of a room it has a door to but meets only at a corner (at most [`MAX_SLIDE_M`]);
 //!    - *every room at once*: facing walls of different rooms within the bound joined, each
 //!      group at the coordinate that moves the least length of wall, then detached rooms moved
 //!      onto the room they have a door to.
@@ -31,16 +46,18 @@
 //!    rooms, then leaves the fewest near misses (wall coordinates of neighbouring rooms less
 //!    than the bound apart but not equal), then takes away the least wall rooms shared, then
 //!    moves the fewest corners, then sweeps the least floor; the last tie goes to the room
-//!    declared first. A room whose walls already meet
-//!    its neighbours' therefore stays, whatever the order the rooms are declared in, and a room
-//!    never becomes narrower than [`super::MIN_ROOM_SIDE_M`] (that is an error, E0303).
+//!    declared later (as W0308's fix: an answer is drawn room after room, each fitted to those
+//!    before). A room whose walls already meet its neighbours' therefore stays, whatever the
+//!    order the rooms are declared in, and a room never becomes narrower than
+//!    [`super::MIN_ROOM_SIDE_M`] (that is an error, E0303).
 //!
 //! The result is kept only when every room's area changes by at most [`MAX_AREA_CHANGE`] (a
 //! room narrower than [`super::MIN_ROOM_SIDE_M`] as written is exempt: it must grow) and
 //! the whole repair is never worse than the plan as written; otherwise the plan is returned as
 //! written. Steps go on until no candidate improves the plan, so repairing a repaired plan
-//! (even one still with errors) changes nothing: repair is idempotent. What it cannot fix is
-//! left for the plan stage to report.
+//! (even one still with errors) changes nothing: repair is idempotent (a plan repaired by
+//! step 2 is clean, so it comes back unchanged). What it cannot fix is left for the plan stage
+//! to report.
 
 use std::collections::BTreeMap;
 
@@ -105,6 +122,13 @@ pub fn repair(scene: &Scene, catalog: &StructureCatalog) -> Outcome<Repair> {
         }
     }
     let mut bad = Badness::of(scene, &state.rooms, catalog);
+    // A room drawn off as a whole goes back whole, and alone, when that is enough.
+    if !bad.is_clean() {
+        if let Some(rooms) = move_one_room_back(scene, &state.rooms, catalog) {
+            state.rooms = rooms;
+            bad = Badness::of(scene, &state.rooms, catalog);
+        }
+    }
     for _ in 0..MAX_STEPS {
         if bad.is_clean() {
             break;
@@ -291,7 +315,7 @@ impl Badness {
 /// (in mm, so that float noise does not decide: a room that shares its walls with the plan
 /// stays), corners moved, floor swept (the area between each moved room's old and new
 /// outline, in mm², so that a shorter wall moves rather than a longer one), then the sequence
-/// number (the room declared first).
+/// number (the room declared last first, then every room at once).
 type Cost = (usize, usize, u64, usize, u64, usize);
 
 /// The best next step from `state` (see the module documentation), with its badness; `None`
@@ -310,7 +334,9 @@ fn best_step(
             next.rooms = rooms;
             let others = other_coordinates(&next.rooms, r);
             clean_outline(&mut next.rooms[r], &mut next.origins[r], &others);
-            let seq = r;
+            // On a true tie the room declared later moves (as W0308's fix has it): an answer
+            // is drawn room after room, each fitted to those before.
+            let seq = state.rooms.len() - 1 - r;
             candidates.push((cost(&state.rooms, &next.rooms, seq), next));
         }
     }
@@ -355,6 +381,243 @@ fn best_step(
     best.map(|(_, _, s, b)| (s, b))
 }
 
+/// The most plans [`move_one_room_back`] gives to the plan stage.
+const MAX_WHOLE_MOVES_TRIED: usize = 32;
+
+/// The order among whole-room moves (see [`move_one_room_back`]): beyond [`MAX_MOVE_M`] on an
+/// axis, near misses left, the room's wall coordinates left off the other rooms' lines, the
+/// distance in mm, whether the plan's lowest x or z moved, the roundness of the room's new
+/// coordinates, the room's outline as written (sorted corners, mm), the move (mm).
+type WholeMoveOrder = (bool, usize, usize, u64, bool, u32, Vec<(i64, i64)>, [i64; 2]);
+
+/// The plan made clean (no error, no gap) by moving one room whole, or `None` (see the
+/// module documentation). Only *suspects* move: rooms that overlap another, leave a gap to
+/// another, or do not touch a room they have a door to (or any room). Each suspect is tried
+/// at every translation that puts one of its wall coordinates onto a wall coordinate of a
+/// nearby room, at most [`MAX_MOVE_M`] along each axis ([`MAX_TRANSLATION_M`] for a room
+/// apart from a room it has a door to), and that leaves fewer of its wall coordinates off
+/// the other rooms' lines than it had (a room goes back onto the plan's lines, not along
+/// them). The candidates go in the order of: within [`MAX_MOVE_M`] first, the near misses
+/// they leave, the room's coordinates left off the lines, the distance moved, whether the
+/// plan's lowest x and z stay (the drawing's origin), the roundness of the new coordinates,
+/// then the room's outline and the move (so that the order rooms are declared in does not
+/// matter); the first clean one is taken.
+fn move_one_room_back(
+    scene: &Scene,
+    rooms: &[Vec<[f64; 2]>],
+    catalog: &StructureCatalog,
+) -> Option<Vec<Vec<[f64; 2]>>> {
+    let n = rooms.len();
+    if n < 2 {
+        return None;
+    }
+    let links = door_links(scene, n);
+    let mut suspect = vec![false; n];
+    for a in 0..n {
+        for b in a + 1..n {
+            if overlap(&rooms[a], &rooms[b]) {
+                suspect[a] = true;
+                suspect[b] = true;
+            }
+        }
+    }
+    for gap in facing_gaps(rooms) {
+        suspect[gap.moving] = true;
+        suspect[gap.staying] = true;
+    }
+    let mut apart = vec![false; n];
+    for r in 0..n {
+        for &o in &links[r] {
+            if !touch(&rooms[r], &rooms[o]) {
+                apart[r] = true;
+                suspect[r] = true;
+            }
+        }
+        if !(0..n).any(|o| o != r && touch(&rooms[r], &rooms[o])) {
+            suspect[r] = true;
+        }
+    }
+    let coords = room_coordinates(rooms);
+    let near_before: Vec<usize> = (0..n)
+        .map(|r| (0..n).filter(|&o| o != r).map(|o| pair_near_misses(rooms, &coords, r, o)).sum())
+        .collect();
+    let off_before: Vec<usize> = (0..n).map(|r| off_lines(&coords, r)).collect();
+    let total_before: usize = near_before.iter().sum::<usize>() / 2;
+    let lowest = |rs: &[Vec<[f64; 2]>], axis: usize| {
+        rs.iter().map(|c| extent(c, axis).0).fold(f64::INFINITY, f64::min)
+    };
+    let origin = [lowest(rooms, 0), lowest(rooms, 1)];
+    let mm = |v: f64| (v * 1e3).round() as i64;
+    let mut candidates: Vec<(WholeMoveOrder, usize, [f64; 2])> = Vec::new();
+    for r in (0..n).filter(|&r| suspect[r]) {
+        let bound = if apart[r] { MAX_TRANSLATION_M } else { MAX_MOVE_M };
+        let mut deltas: [Vec<f64>; 2] = [vec![0.0], vec![0.0]];
+        for (axis, out) in deltas.iter_mut().enumerate() {
+            for o in (0..n).filter(|&o| o != r) {
+                let g = box_gap(&rooms[r], &rooms[o]);
+                if g[0] > bound + SAME_M || g[1] > bound + SAME_M {
+                    continue;
+                }
+                for &v in &coords[r][axis] {
+                    for &t in &coords[o][axis] {
+                        let d = t - v;
+                        if d.abs() > SAME_M && d.abs() <= bound + SAME_M {
+                            out.push(d);
+                        }
+                    }
+                }
+            }
+            out.sort_by(f64::total_cmp);
+            out.dedup_by(|a, b| (*a - *b).abs() <= SAME_M);
+        }
+        let mut outline: Vec<(i64, i64)> = rooms[r].iter().map(|p| (mm(p[0]), mm(p[1]))).collect();
+        outline.sort_unstable();
+        for &dx in &deltas[0] {
+            for &dz in &deltas[1] {
+                if dx.abs() <= SAME_M && dz.abs() <= SAME_M {
+                    continue;
+                }
+                let moved: Vec<[f64; 2]> =
+                    rooms[r].iter().map(|p| [p[0] + dx, p[1] + dz]).collect();
+                let mut next = rooms.to_vec();
+                next[r] = moved;
+                if dx.hypot(dz) > bound + SAME_M
+                    || (0..n).any(|o| o != r && overlap(&next[r], &next[o]))
+                {
+                    continue;
+                }
+                let next_coords = {
+                    let mut c = coords.clone();
+                    c[r] = room_coordinates(&next[r..=r]).swap_remove(0);
+                    c
+                };
+                // The room's wall coordinates off the plan's lines: a move must leave fewer
+                // than there were (a room goes back onto the lines, not along them).
+                let off = off_lines(&next_coords, r);
+                if off >= off_before[r] || !keeps_roundness(&coords, r, [dx, dz]) {
+                    continue;
+                }
+                let near_after: usize = (0..n)
+                    .filter(|&o| o != r)
+                    .map(|o| pair_near_misses(&next, &next_coords, r, o))
+                    .sum();
+                let near = total_before + near_after - near_before[r];
+                let origin_moved = (lowest(&next, 0) - origin[0]).abs() > SAME_M
+                    || (lowest(&next, 1) - origin[1]).abs() > SAME_M;
+                let round: u32 =
+                    next_coords[r].iter().flatten().map(|&v| roundness(v)).sum::<u32>();
+                let order = (
+                    dx.abs().max(dz.abs()) > MAX_MOVE_M + SAME_M,
+                    near,
+                    off,
+                    (dx.hypot(dz) * 1e3).round() as u64,
+                    origin_moved,
+                    round,
+                    outline.clone(),
+                    [mm(dx), mm(dz)],
+                );
+                candidates.push((order, r, [dx, dz]));
+            }
+        }
+    }
+    candidates.sort_by(|a, b| a.0.cmp(&b.0));
+    let mut tried = 0;
+    for (_, r, [dx, dz]) in candidates {
+        let mut next = rooms.to_vec();
+        for p in &mut next[r] {
+            p[0] += dx;
+            p[1] += dz;
+        }
+        if !facing_gaps(&next).is_empty() {
+            continue;
+        }
+        if tried == MAX_WHOLE_MOVES_TRIED {
+            break;
+        }
+        tried += 1;
+        if Badness::of(scene, &next, catalog).is_clean() {
+            return Some(next);
+        }
+    }
+    None
+}
+
+/// Per room and axis, its distinct wall coordinates, sorted.
+fn room_coordinates(rooms: &[Vec<[f64; 2]>]) -> Vec<[Vec<f64>; 2]> {
+    rooms
+        .iter()
+        .map(|c| {
+            let mut out = [Vec::new(), Vec::new()];
+            for (axis, slot) in out.iter_mut().enumerate() {
+                let mut vs: Vec<f64> = c.iter().map(|p| p[axis]).collect();
+                vs.sort_by(f64::total_cmp);
+                vs.dedup_by(|a, b| (*a - *b).abs() <= SAME_M);
+                *slot = vs;
+            }
+            out
+        })
+        .collect()
+}
+
+/// Whether moving room `r` by `delta` leaves each of its moved wall coordinates either on a
+/// line of another room or as round as it was: a wall drawn at `8` next to nothing stays
+/// there (the other wall was drawn wrong), a wall at `8.2` may go back to `8`.
+fn keeps_roundness(coords: &[[Vec<f64>; 2]], r: usize, delta: [f64; 2]) -> bool {
+    (0..2).all(|axis| {
+        delta[axis].abs() <= SAME_M
+            || coords[r][axis].iter().all(|&v| {
+                let w = v + delta[axis];
+                roundness(w) <= roundness(v)
+                    || coords
+                        .iter()
+                        .enumerate()
+                        .any(|(o, c)| o != r && c[axis].iter().any(|&u| (u - w).abs() <= SAME_M))
+            })
+    })
+}
+
+/// How many of room `r`'s wall coordinates (per axis, distinct) no other room has.
+fn off_lines(coords: &[[Vec<f64>; 2]], r: usize) -> usize {
+    (0..2)
+        .map(|axis| {
+            coords[r][axis]
+                .iter()
+                .filter(|&&v| {
+                    !coords
+                        .iter()
+                        .enumerate()
+                        .any(|(o, c)| o != r && c[axis].iter().any(|&w| (w - v).abs() <= SAME_M))
+                })
+                .count()
+        })
+        .sum()
+}
+
+/// The near misses (see [`near_misses`]) between rooms `a` and `b`.
+fn pair_near_misses(
+    rooms: &[Vec<[f64; 2]>],
+    coords: &[[Vec<f64>; 2]],
+    a: usize,
+    b: usize,
+) -> usize {
+    let g = box_gap(&rooms[a], &rooms[b]);
+    let mut n = 0;
+    for axis in 0..2 {
+        if g[1 - axis] > MAX_MOVE_M {
+            continue;
+        }
+        for &u in &coords[a][axis] {
+            for &v in &coords[b][axis] {
+                let d = (u - v).abs();
+                if d > SAME_M && d < MAX_MOVE_M - SAME_M {
+                    n += 1;
+                }
+            }
+        }
+    }
+    n
+}
+
 /// Pairs of rooms joined by a door or open connection, per room.
 fn door_links(scene: &Scene, n: usize) -> Vec<Vec<usize>> {
     let mut links = vec![Vec::new(); n];
@@ -373,21 +636,23 @@ fn door_links(scene: &Scene, n: usize) -> Vec<Vec<usize>> {
     links
 }
 
-/// How many pairs of rooms overlap (bounding boxes that share area, then exactly).
+/// How many pairs of rooms overlap.
 fn overlap_count(rooms: &[Vec<[f64; 2]>]) -> usize {
     let mut n = 0;
     for a in 0..rooms.len() {
         for b in a + 1..rooms.len() {
-            let g = box_gap(&rooms[a], &rooms[b]);
-            if g[0] < -1e-3
-                && g[1] < -1e-3
-                && crate::geometry::rectilinear_intersection_area(&rooms[a], &rooms[b]) > 1e-4
-            {
+            if overlap(&rooms[a], &rooms[b]) {
                 n += 1;
             }
         }
     }
     n
+}
+
+/// Whether two rooms share floor (bounding boxes that share area, then exactly).
+fn overlap(a: &[[f64; 2]], b: &[[f64; 2]]) -> bool {
+    let g = box_gap(a, b);
+    g[0] < -1e-3 && g[1] < -1e-3 && crate::geometry::rectilinear_intersection_area(a, b) > 1e-4
 }
 
 /// The cost of going from `before` to `after` (see [`Cost`]).
@@ -451,46 +716,26 @@ fn shared_length(p: &[[f64; 2]], q: &[[f64; 2]]) -> f64 {
 /// Wall coordinates of neighbouring rooms (boxes at most the bound apart on the other axis)
 /// that are less than the bound apart but not equal: the marks of a plan drawn slightly off.
 fn near_misses(rooms: &[Vec<[f64; 2]>]) -> usize {
-    let coords: Vec<[Vec<f64>; 2]> = rooms
-        .iter()
-        .map(|c| {
-            let mut out = [Vec::new(), Vec::new()];
-            for (axis, slot) in out.iter_mut().enumerate() {
-                let mut vs: Vec<f64> = c.iter().map(|p| p[axis]).collect();
-                vs.sort_by(f64::total_cmp);
-                vs.dedup_by(|a, b| (*a - *b).abs() <= SAME_M);
-                *slot = vs;
-            }
-            out
-        })
-        .collect();
+    let coords = room_coordinates(rooms);
     let mut n = 0;
     for a in 0..rooms.len() {
         for b in a + 1..rooms.len() {
-            let g = box_gap(&rooms[a], &rooms[b]);
-            for axis in 0..2 {
-                if g[1 - axis] > MAX_MOVE_M {
-                    continue;
-                }
-                for &u in &coords[a][axis] {
-                    for &v in &coords[b][axis] {
-                        let d = (u - v).abs();
-                        if d > SAME_M && d < MAX_MOVE_M - SAME_M {
-                            n += 1;
-                        }
-                    }
-                }
-            }
+            n += pair_near_misses(rooms, &coords, a, b);
         }
     }
     n
 }
 
-/// Per axis, every wall coordinate of the rooms other than `r`, sorted.
+/// Per axis, every wall coordinate of the rooms other than `r` near it (bounding boxes at
+/// most [`MAX_MOVE_M`] apart: the lines a wall of `r` can be aligned with), sorted.
 fn other_coordinates(rooms: &[Vec<[f64; 2]>], r: usize) -> [Vec<f64>; 2] {
     let mut out = [Vec::new(), Vec::new()];
     for (o, c) in rooms.iter().enumerate() {
         if o == r {
+            continue;
+        }
+        let g = box_gap(&rooms[r], c);
+        if g[0] > MAX_MOVE_M || g[1] > MAX_MOVE_M {
             continue;
         }
         for p in c {
