@@ -269,7 +269,7 @@ door exterior -- den : doorway single
         "{codes:?}"
     );
     let moved: Vec<&holoc::diag::Diagnostic> =
-        out.diagnostics.iter().filter(|d| d.code.as_str().to_string() == "W0506").collect();
+        out.diagnostics.iter().filter(|d| d.code.as_str() == "W0506").collect();
     assert_eq!(moved.len(), 3, "{codes:?}");
     assert!(
         moved.iter().all(|d| d.message.contains("instead of `wall_shelf-0`")),

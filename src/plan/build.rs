@@ -463,7 +463,7 @@ impl Ctx<'_> {
                 }
             }
         }
-        overlaps.sort_unstable_by(|x, y| (x.0, x.1).cmp(&(y.0, y.1)));
+        overlaps.sort_unstable_by_key(|x| (x.0, x.1));
         touching.sort_unstable();
         for &(a, b) in &touching {
             adjacent[a].push(b);

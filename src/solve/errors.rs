@@ -126,15 +126,13 @@ pub(crate) fn moved(problem: &RoomProblem, m: &super::Moved) -> Diagnostic {
     let s = &problem.small_objects[m.small];
     let name = s.id.split('|').next().unwrap_or(&s.id);
     if let Some(absent) = &m.absent {
-        let mut note = format!(
-            "its receptacle `{absent}` is left out: no asset matches it (W0401); `{}` is the first receptacle of the room, in the order declared, that takes it and has room for it",
-            holder_name(problem, to)
+        let full: Vec<String> =
+            m.full.iter().map(|&h| format!("`{}`", holder_name(problem, h))).collect();
+        let note = format!(
+            "its receptacle `{absent}` is left out: no asset matches it (W0401); `{}` is the first receptacle of the room, in the order declared, that takes it and has room for it{}",
+            holder_name(problem, to),
+            if full.is_empty() { String::new() } else { format!(" ({} before it, full)", full.join(", ")) }
         );
-        if !m.full.is_empty() {
-            let full: Vec<String> =
-                m.full.iter().map(|&h| format!("`{}`", holder_name(problem, h))).collect();
-            note.push_str(&format!(" ({} before it, full)", full.join(", ")));
-        }
         let d = Diagnostic::new(
             Code::W0506,
             format!("`{name}` is put on `{}` instead of `{absent}`", holder_name(problem, to)),
