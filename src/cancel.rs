@@ -53,6 +53,31 @@ impl Token {
     }
 }
 
+/// The current thread's token, to install on the threads its work fans out to.
+pub fn current() -> Option<Arc<Token>> {
+    CURRENT.with(|c| c.borrow().clone())
+}
+
+/// Makes `token` the current thread's until the returned guard is dropped, which puts back the
+/// token the thread had (for a piece of work run on a pool thread that others share).
+pub fn scoped(token: Option<Arc<Token>>) -> Scope {
+    let before = CURRENT.with(|c| std::mem::replace(&mut *c.borrow_mut(), token));
+    Scope { before }
+}
+
+/// The guard of [`scoped`].
+#[must_use = "the token is put back when the guard is dropped"]
+pub struct Scope {
+    before: Option<Arc<Token>>,
+}
+
+impl Drop for Scope {
+    fn drop(&mut self) {
+        let before = self.before.take();
+        CURRENT.with(|c| *c.borrow_mut() = before);
+    }
+}
+
 /// Whether the current thread's work was asked to stop (false without a token).
 pub fn requested() -> bool {
     CURRENT.with(|c| c.borrow().as_ref().is_some_and(|t| t.is_cancelled()))
@@ -82,5 +107,23 @@ mod tests {
         token.cancel();
         assert!(requested());
         std::thread::spawn(|| assert!(!requested())).join().expect("thread");
+    }
+
+    #[test]
+    fn a_scoped_token_goes_with_the_work_and_is_put_back() {
+        let job = Token::new("solve");
+        job.cancel();
+        let given = Some(Arc::clone(&job));
+        std::thread::spawn(move || {
+            assert!(!requested());
+            {
+                let _scope = scoped(given);
+                assert!(requested());
+            }
+            // The pool thread's own (none) is back.
+            assert!(!requested());
+        })
+        .join()
+        .expect("thread");
     }
 }

@@ -203,203 +203,211 @@ pub fn solve(
         kept.rooms[room.0].objects.retain(|o| *o != id);
     }
     let sizes = ResolvedSizes { scene: &kept, resolved };
-    let mut rooms = Vec::new();
-    for room in &kept.rooms {
-        // A cancelled batch job (`crate::cancel`) solves no more rooms; its result is dropped.
-        if crate::cancel::requested() {
-            break;
-        }
-        let plan_room = plan.room(room.id);
-        let mut keep_out: Vec<Vec<[f64; 2]>> = plan_room.door_keep_out.clone();
-        keep_out.extend(plan_room.open_boxes.iter().cloned());
-        let walls: Vec<WallSegment> = plan
-            .room_walls(room.id)
-            .map(|w| {
-                let mut holes = Vec::new();
-                if let Some(h) = &w.hole {
-                    holes.push(WallHole {
-                        from_m: h.start_m,
-                        to_m: h.end_m,
-                        bottom_m: h.bottom_m,
-                        top_m: h.top_m,
-                        window: h.kind == HoleKind::Window,
-                    });
-                }
-                if w.empty {
-                    holes.push(WallHole {
-                        from_m: 0.0,
-                        to_m: w.width_m,
-                        bottom_m: 0.0,
-                        top_m: scene.wall_height_m,
-                        window: false,
-                    });
-                }
-                WallSegment { a: w.start, b: w.end, holes }
-            })
-            .collect();
-        let mut problem = room_problem(&kept, room.id, &sizes, keep_out, walls);
-        problem.outline.clone_from(&plan_room.corners);
-        if room.ceiling.is_some()
-            && resolved.ceilings.get(&room.id).is_none_or(|r| r.choice().is_none())
-        {
-            problem.ceiling = None;
-        }
-        let floor_ids: Vec<ObjectId> =
-            room.objects.iter().copied().filter(|id| kept.object(*id).is_floor()).collect();
-        let wall_ids: Vec<ObjectId> =
-            room.objects.iter().copied().filter(|id| !kept.object(*id).is_floor()).collect();
-        // The items on top, in the problem's order: object by object as the room lists them
-        // (floor and wall objects alike), line by line, copy by copy.
-        let mut small_keys = Vec::new();
-        for &id in &room.objects {
-            for (_, k, copy) in item_ids(kept.object(id)) {
-                small_keys.push((id, k, copy));
+    // Rooms are solved independently (each with its own seed), on as many threads as rayon
+    // has, and gathered in room order: the output does not depend on the threads. A batch job's
+    // cancellation token goes with its rooms to the threads that solve them.
+    let token = crate::cancel::current();
+    let solve_one =
+        |room: &crate::check::scene::Room| -> Option<(SolvedRoom, Vec<crate::diag::Diagnostic>)> {
+            let _token = crate::cancel::scoped(token.clone());
+            // A cancelled batch job (`crate::cancel`) solves no more rooms; its result is dropped.
+            if crate::cancel::requested() {
+                return None;
             }
-        }
-        // Each copy of a small object has its own asset, hence its own size; a copy without an
-        // asset (reported by resolve, W0401) takes no room on its receptacle and is listed as
-        // left out.
-        let choice = |&(receptacle, line, copy): &(ObjectId, usize, u32)| {
-            resolved
-                .small
-                .get(&(receptacle, line))
-                .and_then(|v| v.get(copy as usize))
-                .and_then(Resolution::choice)
-        };
-        let has_asset: Vec<bool> = small_keys.iter().map(|k| choice(k).is_some()).collect();
-        let mut without_asset: Vec<(String, (ObjectId, usize, u32))> = Vec::new();
-        let mut n = 0;
-        problem.small_objects.retain(|s| {
-            n += 1;
-            let keep = has_asset.get(n - 1).copied().unwrap_or(false);
-            if !keep {
-                if let Some(&key) = small_keys.get(n - 1) {
-                    without_asset.push((s.id.clone(), key));
+            let mut diagnostics = Vec::new();
+            let plan_room = plan.room(room.id);
+            let mut keep_out: Vec<Vec<[f64; 2]>> = plan_room.door_keep_out.clone();
+            keep_out.extend(plan_room.open_boxes.iter().cloned());
+            let walls: Vec<WallSegment> = plan
+                .room_walls(room.id)
+                .map(|w| {
+                    let mut holes = Vec::new();
+                    if let Some(h) = &w.hole {
+                        holes.push(WallHole {
+                            from_m: h.start_m,
+                            to_m: h.end_m,
+                            bottom_m: h.bottom_m,
+                            top_m: h.top_m,
+                            window: h.kind == HoleKind::Window,
+                        });
+                    }
+                    if w.empty {
+                        holes.push(WallHole {
+                            from_m: 0.0,
+                            to_m: w.width_m,
+                            bottom_m: 0.0,
+                            top_m: scene.wall_height_m,
+                            window: false,
+                        });
+                    }
+                    WallSegment { a: w.start, b: w.end, holes }
+                })
+                .collect();
+            let mut problem = room_problem(&kept, room.id, &sizes, keep_out, walls);
+            problem.outline.clone_from(&plan_room.corners);
+            if room.ceiling.is_some()
+                && resolved.ceilings.get(&room.id).is_none_or(|r| r.choice().is_none())
+            {
+                problem.ceiling = None;
+            }
+            let floor_ids: Vec<ObjectId> =
+                room.objects.iter().copied().filter(|id| kept.object(*id).is_floor()).collect();
+            let wall_ids: Vec<ObjectId> =
+                room.objects.iter().copied().filter(|id| !kept.object(*id).is_floor()).collect();
+            // The items on top, in the problem's order: object by object as the room lists them
+            // (floor and wall objects alike), line by line, copy by copy.
+            let mut small_keys = Vec::new();
+            for &id in &room.objects {
+                for (_, k, copy) in item_ids(kept.object(id)) {
+                    small_keys.push((id, k, copy));
                 }
             }
-            keep
-        });
-        small_keys.retain(|k| choice(k).is_some());
-        // The receptacles of the room by AI2-THOR type, for things whose declared receptacle
-        // may not carry them (ProcTHOR's receptacle pairs): a desk lamp on an armchair goes to
-        // the nearest side table.
-        let holders: Vec<(super::Holder, Option<String>)> = (problem.objects.iter())
-            .enumerate()
-            .map(|(i, o)| (super::Holder::Floor(i), o.thor_type.clone()))
-            .chain(
-                problem
-                    .wall_objects
-                    .iter()
-                    .enumerate()
-                    .map(|(i, o)| (super::Holder::Wall(i), o.thor_type.clone())),
-            )
-            .collect();
-        let type_of =
-            |h: super::Holder| holders.iter().find(|(x, _)| *x == h).and_then(|(_, t)| t.clone());
-        for (small, key) in problem.small_objects.iter_mut().zip(&small_keys) {
-            if let Some(c) = choice(key) {
-                small.size = bbox_to_size(c.bbox_m);
-                let here = type_of(small.on);
-                let refused = here.as_deref().is_some_and(|t| {
-                    crate::resolve::is_receptacle_type(t)
-                        && crate::resolve::receptacles::judges(&c.object_type)
-                        && !crate::resolve::allowed_on(&c.object_type, t)
-                });
-                if refused && !c.pinned {
-                    small.elsewhere = Some(
-                        holders
-                            .iter()
-                            .filter(|(h, t)| {
-                                *h != small.on
-                                    && t.as_deref().is_some_and(|t| {
-                                        crate::resolve::allowed_on(&c.object_type, t)
-                                    })
+            // Each copy of a small object has its own asset, hence its own size; a copy without an
+            // asset (reported by resolve, W0401) takes no room on its receptacle and is listed as
+            // left out.
+            let choice = |&(receptacle, line, copy): &(ObjectId, usize, u32)| {
+                resolved
+                    .small
+                    .get(&(receptacle, line))
+                    .and_then(|v| v.get(copy as usize))
+                    .and_then(Resolution::choice)
+            };
+            let has_asset: Vec<bool> = small_keys.iter().map(|k| choice(k).is_some()).collect();
+            let mut without_asset: Vec<(String, (ObjectId, usize, u32))> = Vec::new();
+            let mut n = 0;
+            problem.small_objects.retain(|s| {
+                n += 1;
+                let keep = has_asset.get(n - 1).copied().unwrap_or(false);
+                if !keep {
+                    if let Some(&key) = small_keys.get(n - 1) {
+                        without_asset.push((s.id.clone(), key));
+                    }
+                }
+                keep
+            });
+            small_keys.retain(|k| choice(k).is_some());
+            // The receptacles of the room by AI2-THOR type, for things whose declared receptacle
+            // may not carry them (ProcTHOR's receptacle pairs): a desk lamp on an armchair goes to
+            // the nearest side table.
+            let holders: Vec<(super::Holder, Option<String>)> = (problem.objects.iter())
+                .enumerate()
+                .map(|(i, o)| (super::Holder::Floor(i), o.thor_type.clone()))
+                .chain(
+                    problem
+                        .wall_objects
+                        .iter()
+                        .enumerate()
+                        .map(|(i, o)| (super::Holder::Wall(i), o.thor_type.clone())),
+                )
+                .collect();
+            let type_of = |h: super::Holder| {
+                holders.iter().find(|(x, _)| *x == h).and_then(|(_, t)| t.clone())
+            };
+            for (small, key) in problem.small_objects.iter_mut().zip(&small_keys) {
+                if let Some(c) = choice(key) {
+                    small.size = bbox_to_size(c.bbox_m);
+                    let here = type_of(small.on);
+                    let refused = here.as_deref().is_some_and(|t| {
+                        crate::resolve::is_receptacle_type(t)
+                            && crate::resolve::receptacles::judges(&c.object_type)
+                            && !crate::resolve::allowed_on(&c.object_type, t)
+                    });
+                    if refused && !c.pinned {
+                        small.elsewhere = Some(
+                            holders
+                                .iter()
+                                .filter(|(h, t)| {
+                                    *h != small.on
+                                        && t.as_deref().is_some_and(|t| {
+                                            crate::resolve::allowed_on(&c.object_type, t)
+                                        })
+                                })
+                                .map(|(h, _)| *h)
+                                .collect(),
+                        );
+                    }
+                }
+            }
+            // The things on a receptacle left out for want of an asset (a floating wall shelf
+            // AI2-THOR has no asset for) go to the room's receptacles that take them, in the order
+            // they are declared, when one has room (W0506 says where); else they are left out.
+            let mut rehomed: std::collections::BTreeSet<String> = std::collections::BTreeSet::new();
+            for &(_, id) in no_asset.iter().filter(|(r, _)| *r == room.id) {
+                let o = scene.object(id);
+                for (item_id, line, copy) in item_ids(o) {
+                    let key = (id, line, copy);
+                    let Some(c) = choice(&key) else { continue };
+                    let takes: Vec<super::Holder> = holders
+                        .iter()
+                        .filter(|(_, t)| {
+                            t.as_deref().is_some_and(|t| {
+                                crate::resolve::is_receptacle_type(t)
+                                    && (!crate::resolve::receptacles::judges(&c.object_type)
+                                        || crate::resolve::allowed_on(&c.object_type, t))
                             })
-                            .map(|(h, _)| *h)
-                            .collect(),
-                    );
-                }
-            }
-        }
-        // The things on a receptacle left out for want of an asset (a floating wall shelf
-        // AI2-THOR has no asset for) go to the room's receptacles that take them, in the order
-        // they are declared, when one has room (W0506 says where); else they are left out.
-        let mut rehomed: std::collections::BTreeSet<String> = std::collections::BTreeSet::new();
-        for &(_, id) in no_asset.iter().filter(|(r, _)| *r == room.id) {
-            let o = scene.object(id);
-            for (item_id, line, copy) in item_ids(o) {
-                let key = (id, line, copy);
-                let Some(c) = choice(&key) else { continue };
-                let takes: Vec<super::Holder> = holders
-                    .iter()
-                    .filter(|(_, t)| {
-                        t.as_deref().is_some_and(|t| {
-                            crate::resolve::is_receptacle_type(t)
-                                && (!crate::resolve::receptacles::judges(&c.object_type)
-                                    || crate::resolve::allowed_on(&c.object_type, t))
                         })
-                    })
-                    .map(|(h, _)| *h)
-                    .collect();
-                let Some(&first) = takes.first() else { continue };
-                let item = &o.on_top[line];
-                problem.small_objects.push(super::SmallObject {
-                    id: item_id.clone(),
-                    item: item.item.clone(),
-                    size: bbox_to_size(c.bbox_m),
-                    on: first,
-                    elsewhere: Some(takes),
-                    absent: Some(o.name.clone()),
-                    span: Some(item.span),
-                });
-                small_keys.push(key);
-                rehomed.insert(item_id);
-            }
-        }
-        let room_options = SolveOptions {
-            seed: options.seed ^ (room.id.0 as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15),
-            ..*options
-        };
-        let mut solved = super::solve_room(&problem, &room_options);
-        diagnostics.extend(solved.diagnostics);
-        let unplaced = &mut solved.value.unplaced;
-        let left_out = |id: String, kind: &'static str, reason: String, code: Code| {
-            super::Unplaced { id, kind, rule: None, reason, code }
-        };
-        let kind_of = |o: &crate::check::scene::Object| if o.is_floor() { "floor" } else { "wall" };
-        // What stands on an object that is left out goes with it.
-        let items_follow = |o: &crate::check::scene::Object,
-                            unplaced: &mut Vec<super::Unplaced>| {
-            for (id, ..) in item_ids(o) {
-                unplaced.push(left_out(
-                    id,
-                    "small",
-                    format!("its receptacle `{}` is left out", o.name),
-                    Code::W0503,
-                ));
-            }
-        };
-        // Why resolve found no asset, in its words.
-        let why = |r: Option<&Resolution>| match r {
-            Some(Resolution::Unresolved(u)) => u.reason.clone(),
-            _ => "no catalog asset matches it well enough".to_string(),
-        };
-        for &(_, id) in no_asset.iter().filter(|(r, _)| *r == room.id) {
-            let o = scene.object(id);
-            unplaced.push(left_out(
-                o.name.clone(),
-                kind_of(o),
-                why(resolved.objects.get(id.0)),
-                Code::W0401,
-            ));
-            // Its things that were not taken elsewhere: left out for want of an asset of their
-            // own (W0401) or with it (W0503).
-            for (item_id, line, copy) in item_ids(o) {
-                if rehomed.contains(&item_id) {
-                    continue;
+                        .map(|(h, _)| *h)
+                        .collect();
+                    let Some(&first) = takes.first() else { continue };
+                    let item = &o.on_top[line];
+                    problem.small_objects.push(super::SmallObject {
+                        id: item_id.clone(),
+                        item: item.item.clone(),
+                        size: bbox_to_size(c.bbox_m),
+                        on: first,
+                        elsewhere: Some(takes),
+                        absent: Some(o.name.clone()),
+                        span: Some(item.span),
+                    });
+                    small_keys.push(key);
+                    rehomed.insert(item_id);
                 }
-                let r = resolved.small.get(&(id, line)).and_then(|v| v.get(copy as usize));
-                unplaced.push(match r.and_then(Resolution::choice) {
+            }
+            let room_options = SolveOptions {
+                seed: options.seed ^ (room.id.0 as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15),
+                ..*options
+            };
+            let mut solved = super::solve_room(&problem, &room_options);
+            diagnostics.extend(solved.diagnostics);
+            let unplaced = &mut solved.value.unplaced;
+            let left_out = |id: String, kind: &'static str, reason: String, code: Code| {
+                super::Unplaced { id, kind, rule: None, reason, code }
+            };
+            let kind_of =
+                |o: &crate::check::scene::Object| if o.is_floor() { "floor" } else { "wall" };
+            // What stands on an object that is left out goes with it.
+            let items_follow =
+                |o: &crate::check::scene::Object, unplaced: &mut Vec<super::Unplaced>| {
+                    for (id, ..) in item_ids(o) {
+                        unplaced.push(left_out(
+                            id,
+                            "small",
+                            format!("its receptacle `{}` is left out", o.name),
+                            Code::W0503,
+                        ));
+                    }
+                };
+            // Why resolve found no asset, in its words.
+            let why = |r: Option<&Resolution>| match r {
+                Some(Resolution::Unresolved(u)) => u.reason.clone(),
+                _ => "no catalog asset matches it well enough".to_string(),
+            };
+            for &(_, id) in no_asset.iter().filter(|(r, _)| *r == room.id) {
+                let o = scene.object(id);
+                unplaced.push(left_out(
+                    o.name.clone(),
+                    kind_of(o),
+                    why(resolved.objects.get(id.0)),
+                    Code::W0401,
+                ));
+                // Its things that were not taken elsewhere: left out for want of an asset of their
+                // own (W0401) or with it (W0503).
+                for (item_id, line, copy) in item_ids(o) {
+                    if rehomed.contains(&item_id) {
+                        continue;
+                    }
+                    let r = resolved.small.get(&(id, line)).and_then(|v| v.get(copy as usize));
+                    unplaced.push(match r.and_then(Resolution::choice) {
                     Some(_) => left_out(
                         item_id,
                         "small",
@@ -411,80 +419,93 @@ pub fn solve(
                     ),
                     None => left_out(item_id, "small", why(r), Code::W0401),
                 });
+                }
             }
-        }
-        for (id, (receptacle, line, copy)) in without_asset {
-            let r = resolved.small.get(&(receptacle, line)).and_then(|v| v.get(copy as usize));
-            unplaced.push(left_out(id, "small", why(r), Code::W0401));
-        }
-        if room.ceiling.is_some()
-            && problem.ceiling.is_none()
-            && !resolved.ceiling_lights.contains_key(&room.id)
-        {
-            unplaced.push(left_out(
-                format!("ceiling ({})", room.name),
-                "ceiling",
-                why(resolved.ceilings.get(&room.id)),
-                Code::W0401,
-            ));
-        }
-        for (_, id, targets) in dependents.iter().filter(|(r, ..)| *r == room.id) {
-            let o = scene.object(*id);
-            let u = left_out(
-                o.name.clone(),
-                "floor",
-                format!("`{}` is there for {targets}, which is left out", o.name),
-                Code::W0503,
-            );
-            diagnostics.push(super::errors::dependent_left_out(&u, Some(o.name_span)));
-            unplaced.push(u);
-            items_follow(o, unplaced);
-        }
-        let beyond: Vec<ObjectId> =
-            over_limit.iter().filter(|(r, _)| *r == room.id).map(|&(_, id)| id).collect();
-        if let Some(&first) = beyond.first() {
-            let object = scene.object(first);
-            diagnostics.push(
-                crate::diag::Diagnostic::new(
-                    Code::W0504,
-                    format!(
+            for (id, (receptacle, line, copy)) in without_asset {
+                let r = resolved.small.get(&(receptacle, line)).and_then(|v| v.get(copy as usize));
+                unplaced.push(left_out(id, "small", why(r), Code::W0401));
+            }
+            if room.ceiling.is_some()
+                && problem.ceiling.is_none()
+                && !resolved.ceiling_lights.contains_key(&room.id)
+            {
+                unplaced.push(left_out(
+                    format!("ceiling ({})", room.name),
+                    "ceiling",
+                    why(resolved.ceilings.get(&room.id)),
+                    Code::W0401,
+                ));
+            }
+            for (_, id, targets) in dependents.iter().filter(|(r, ..)| *r == room.id) {
+                let o = scene.object(*id);
+                let u = left_out(
+                    o.name.clone(),
+                    "floor",
+                    format!("`{}` is there for {targets}, which is left out", o.name),
+                    Code::W0503,
+                );
+                diagnostics.push(super::errors::dependent_left_out(&u, Some(o.name_span)));
+                unplaced.push(u);
+                items_follow(o, unplaced);
+            }
+            let beyond: Vec<ObjectId> =
+                over_limit.iter().filter(|(r, _)| *r == room.id).map(|&(_, id)| id).collect();
+            if let Some(&first) = beyond.first() {
+                let object = scene.object(first);
+                diagnostics.push(
+                    crate::diag::Diagnostic::new(
+                        Code::W0504,
+                        format!(
                         "room `{}` has {} floor objects; the {} after the first {} are left out",
                         room.name,
                         super::MAX_FLOOR_OBJECTS_PER_ROOM + beyond.len(),
                         beyond.len(),
                         super::MAX_FLOOR_OBJECTS_PER_ROOM
                     ),
-                )
-                .with_primary(object.name_span, "the first object left out")
-                .with_help("split the room, or leave out objects; a real room holds a few dozen"),
-            );
-            for &id in &beyond {
-                let o = scene.object(id);
-                unplaced.push(left_out(
-                    o.name.clone(),
-                    "floor",
-                    format!(
-                        "the room holds more than {} floor objects",
-                        super::MAX_FLOOR_OBJECTS_PER_ROOM
+                    )
+                    .with_primary(object.name_span, "the first object left out")
+                    .with_help(
+                        "split the room, or leave out objects; a real room holds a few dozen",
                     ),
-                    Code::W0504,
-                ));
-                items_follow(o, unplaced);
+                );
+                for &id in &beyond {
+                    let o = scene.object(id);
+                    unplaced.push(left_out(
+                        o.name.clone(),
+                        "floor",
+                        format!(
+                            "the room holds more than {} floor objects",
+                            super::MAX_FLOOR_OBJECTS_PER_ROOM
+                        ),
+                        Code::W0504,
+                    ));
+                    items_follow(o, unplaced);
+                }
             }
-        }
-        rooms.push(SolvedRoom {
-            room: room.id,
-            problem,
-            layout: solved.value,
-            floor_ids,
-            wall_ids,
-            small_keys,
-            given_up: given_up
-                .iter()
-                .filter(|(r, _)| *r == room.id)
-                .map(|(_, g)| g.clone())
-                .collect(),
-        });
+            let solved_room = SolvedRoom {
+                room: room.id,
+                problem,
+                layout: solved.value,
+                floor_ids,
+                wall_ids,
+                small_keys,
+                given_up: given_up
+                    .iter()
+                    .filter(|(r, _)| *r == room.id)
+                    .map(|(_, g)| g.clone())
+                    .collect(),
+            };
+            Some((solved_room, diagnostics))
+        };
+    let per_room: Vec<_> = {
+        use rayon::prelude::*;
+        kept.rooms.par_iter().map(solve_one).collect()
+    };
+    let mut rooms = Vec::with_capacity(per_room.len());
+    for one in per_room {
+        let Some((solved_room, room_diagnostics)) = one else { break };
+        diagnostics.extend(room_diagnostics);
+        rooms.push(solved_room);
     }
     Outcome::new(Layout { rooms }, diagnostics)
 }
