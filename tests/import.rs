@@ -140,27 +140,32 @@ fn import_corpus() {
     assert!(mismatches.is_empty(), "{}", mismatches.join("\n\n"));
 }
 
-/// The 8 real Holodeck scenes (reads `../shared/data/real-scenes`, relative to the repository
-/// root; skipped with a message when absent) import to `.holo` files that `check` accepts,
-/// with and without `--keep-layout`, deterministically.
-#[test]
-fn real_holodeck_scenes_import_and_check() {
-    let Some(dir) = common::shared("data/real-scenes", "real_holodeck_scenes_import_and_check")
-    else {
-        return;
-    };
+/// The original Holodeck scene files of `../shared/data/real-scenes` (the ProcTHOR houses
+/// beside them left out), in name order; `None` after saying that `test` is skipped when the
+/// folder is absent.
+fn real_holodeck_scenes(test: &str) -> Option<Vec<std::path::PathBuf>> {
+    let dir = common::shared("data/real-scenes", test)?;
     let Ok(entries) = std::fs::read_dir(&dir) else {
         panic!("{} is not a readable folder", dir.display());
     };
     let mut paths: Vec<_> = entries
         .filter_map(Result::ok)
-        .map(|e| std::fs::DirEntry::path(&e))
+        .map(|e| e.path())
         .filter(|p| p.extension().is_some_and(|e| e == "json"))
         .filter(|p| {
             !p.file_name().and_then(|n| n.to_str()).is_some_and(|n| n.starts_with("procthor-"))
         })
         .collect();
     paths.sort();
+    Some(paths)
+}
+
+/// The 8 real Holodeck scenes (reads `../shared/data/real-scenes`, relative to the repository
+/// root; skipped with a message when absent) import to `.holo` files that `check` accepts,
+/// with and without `--keep-layout`, deterministically.
+#[test]
+fn real_holodeck_scenes_import_and_check() {
+    let Some(paths) = real_holodeck_scenes("real_holodeck_scenes_import_and_check") else { return };
     assert_eq!(paths.len(), 8, "expected the 8 Holodeck scenes");
     for path in paths {
         let value: serde_json::Value =
@@ -327,20 +332,9 @@ fn an_object_left_out_of_the_constraints_is_warned_at_its_declaration() {
 /// most (reads `../shared/data/real-scenes`; skipped with a message when absent).
 #[test]
 fn real_scene_warnings_point_into_the_file() {
-    let Some(dir) = common::shared("data/real-scenes", "real_scene_warnings_point_into_the_file")
-    else {
+    let Some(paths) = real_holodeck_scenes("real_scene_warnings_point_into_the_file") else {
         return;
     };
-    let mut paths: Vec<_> = std::fs::read_dir(&dir)
-        .expect("a readable folder")
-        .filter_map(Result::ok)
-        .map(|e| e.path())
-        .filter(|p| p.extension().is_some_and(|e| e == "json"))
-        .filter(|p| {
-            !p.file_name().and_then(|n| n.to_str()).is_some_and(|n| n.starts_with("procthor-"))
-        })
-        .collect();
-    paths.sort();
     for path in paths {
         let text = std::fs::read_to_string(&path).expect("readable");
         let value: serde_json::Value = serde_json::from_str(&text).expect("json");
@@ -525,21 +519,9 @@ fn grouped_instances_keep_the_models_order() {
 /// (W0506); every house has unique ids. Reads `../shared/data/real-scenes`.
 #[test]
 fn real_holodeck_scenes_keep_what_has_an_asset() {
-    let Some(dir) =
-        common::shared("data/real-scenes", "real_holodeck_scenes_keep_what_has_an_asset")
-    else {
+    let Some(paths) = real_holodeck_scenes("real_holodeck_scenes_keep_what_has_an_asset") else {
         return;
     };
-    let mut paths: Vec<_> = std::fs::read_dir(&dir)
-        .expect("readable folder")
-        .filter_map(Result::ok)
-        .map(|e| e.path())
-        .filter(|p| p.extension().is_some_and(|e| e == "json"))
-        .filter(|p| {
-            !p.file_name().and_then(|n| n.to_str()).is_some_and(|n| n.starts_with("procthor-"))
-        })
-        .collect();
-    paths.sort();
     let catalog = holoc::resolve::Catalog::embedded();
     let (mut placed_all, mut with_asset_all) = (0usize, 0usize);
     let mut lines = Vec::new();

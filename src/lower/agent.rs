@@ -8,6 +8,7 @@
 //! the candidates; among them the one with the most room around it (up to 0.8 m) and then the
 //! nearest to the room's centre wins. No cell is free: the plan's pose is kept.
 
+use crate::check::scene::RoomId;
 use crate::geometry::{self as geo, Aabb, Point};
 use crate::plan::{AgentPose, FloorPlan};
 use crate::solve::{Layout, Rect};
@@ -38,9 +39,9 @@ pub fn agent_start(plan: &FloorPlan, layout: &Layout) -> AgentPose {
     let pose = plan.agent;
     let others = (0..plan.rooms.len()).filter(|&r| r != pose.room.0);
     for r in std::iter::once(pose.room.0).chain(others) {
-        if let Some(p) = free_start(plan, layout, crate::check::scene::RoomId(r)) {
+        if let Some(p) = free_start(plan, layout, RoomId(r)) {
             return AgentPose {
-                room: crate::check::scene::RoomId(r),
+                room: RoomId(r),
                 position: [geo::round6(p[0]), geo::round6(p[1])],
                 ..pose
             };
@@ -50,7 +51,7 @@ pub fn agent_start(plan: &FloorPlan, layout: &Layout) -> AgentPose {
 }
 
 /// The best free cell of room `id` reachable from one of its doors, if any.
-fn free_start(plan: &FloorPlan, layout: &Layout, id: crate::check::scene::RoomId) -> Option<Point> {
+fn free_start(plan: &FloorPlan, layout: &Layout, id: RoomId) -> Option<Point> {
     let room = plan.rooms.get(id.0)?;
     let poly = &room.polygon;
     if poly.len() < 3 {

@@ -70,15 +70,14 @@ pub fn objects(
         }
         // A thing moved to another receptacle (W0506) is named by where it is; when that name
         // is taken by a thing declared there, it takes the next free number.
-        let mut taken: BTreeSet<String> = BTreeSet::new();
-        for placed in &solved.layout.small {
-            let declared = |s: &crate::solve::SmallObject| {
-                s.id == placed.id && s.elsewhere.is_none() && s.absent.is_none()
-            };
-            if solved.problem.small_objects.iter().any(declared) {
-                taken.insert(placed.id.clone());
-            }
-        }
+        let declared: BTreeSet<&str> = (solved.problem.small_objects.iter())
+            .filter(|s| s.elsewhere.is_none() && s.absent.is_none())
+            .map(|s| s.id.as_str())
+            .collect();
+        let mut taken: BTreeSet<String> = (solved.layout.small.iter())
+            .filter(|p| declared.contains(p.id.as_str()))
+            .map(|p| p.id.clone())
+            .collect();
         for placed in &solved.layout.small {
             let Some(index) = by_id.get_mut(placed.id.as_str()).and_then(Vec::pop) else {
                 continue;

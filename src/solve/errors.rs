@@ -125,9 +125,9 @@ pub(crate) fn moved(problem: &RoomProblem, m: &super::Moved) -> Diagnostic {
     let (from, to) = (m.from, m.to);
     let s = &problem.small_objects[m.small];
     let name = s.id.split('|').next().unwrap_or(&s.id);
+    let full: Vec<String> =
+        m.full.iter().map(|&h| format!("`{}`", holder_name(problem, h))).collect();
     if let Some(absent) = &m.absent {
-        let full: Vec<String> =
-            m.full.iter().map(|&h| format!("`{}`", holder_name(problem, h))).collect();
         let note = format!(
             "its receptacle `{absent}` is left out: no asset matches it (W0401); `{}` is the first receptacle of the room, in the order declared, that takes it and has room for it{}",
             holder_name(problem, to),
@@ -159,8 +159,6 @@ pub(crate) fn moved(problem: &RoomProblem, m: &super::Moved) -> Diagnostic {
             holder_name(problem, to)
         )
     } else {
-        let full: Vec<String> =
-            m.full.iter().map(|&h| format!("`{}`", holder_name(problem, h))).collect();
         format!(
             "people do not put such a thing on `{}` (the pairs of ProcTHOR's receptacles); `{}` is the nearest receptacle of the room that takes it and has room for it ({} nearer, full)",
             holder_name(problem, from),
