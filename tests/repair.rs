@@ -377,3 +377,119 @@ proptest! {
         }
     }
 }
+
+/// A room drawn too small or too large about its centre, none of its walls on the plan's lines,
+/// goes back into the place the plan has for it: each wall onto its neighbour's line, an outer
+/// wall with no line beside it as far as the opposite wall moved (the room scaled back), the
+/// other rooms written as they were, in any declaration order. A bathroom drawn 40 cm short on
+/// every side grows back past the area bound: it fills its place exactly.
+#[test]
+fn a_scaled_room_goes_back_into_its_place() {
+    let cases = [
+        // Shrunk by 40 cm on every side, its east wall the house's outer wall.
+        (
+            "room bathroom \"bathroom\" { corners in m (8.4, 3.4) (8.4, 6.6) (9.6, 6.6) (9.6, 3.4) }",
+            [[8.0, 3.0], [8.0, 7.0], [10.0, 7.0], [10.0, 3.0]],
+        ),
+        // Grown by 10 cm on every side.
+        (
+            "room bathroom \"bathroom\" { corners in m (7.9, 2.9) (7.9, 7.1) (10.1, 7.1) (10.1, 2.9) }",
+            [[8.0, 3.0], [8.0, 7.0], [10.0, 7.0], [10.0, 3.0]],
+        ),
+    ];
+    let others = [
+        "room living \"living room\" { corners in m (0, 0) (0, 7) (5, 7) (5, 0) }",
+        "room kitchen \"kitchen\" { corners in m (5, 0) (5, 3) (10, 3) (10, 0) }",
+        "room bedroom \"bedroom\" { corners in m (5, 3) (5, 7) (8, 7) (8, 3) }",
+    ];
+    for (bathroom, meant) in cases {
+        for first in [true, false] {
+            let mut text = String::from("scene \"scaled\" { seed 1 }\n");
+            let mut lines: Vec<&str> = others.to_vec();
+            if first {
+                lines.insert(0, bathroom);
+            } else {
+                lines.push(bathroom);
+            }
+            for l in &lines {
+                text.push_str(l);
+                text.push('\n');
+            }
+            text.push_str(
+                "door exterior -- living : doorway single\n\
+                 door living -- kitchen : doorway single\n\
+                 door living -- bedroom : doorway single\n\
+                 door bedroom -- bathroom : doorway single\n",
+            );
+            let repaired = repair_text("scaled.holo", &text);
+            assert!(repaired.changed, "{bathroom}");
+            assert_eq!(
+                other_room_lines(&repaired.text, "bathroom"),
+                other_room_lines(&text, "bathroom"),
+                "{bathroom}: only the bathroom moves"
+            );
+            let got = outlines(&repaired.text)
+                .into_iter()
+                .find(|(n, _)| n == "bathroom")
+                .expect("bathroom")
+                .1;
+            assert!(same_corners(&got, &meant), "{bathroom}: {got:?}");
+            assert_eq!(plan_errors(&repaired.text), Vec::<&str>::new(), "{bathroom}");
+            let again = repair_text("again.holo", &repaired.text);
+            assert!(!again.changed, "idempotent: {}", repaired.text);
+        }
+    }
+}
+
+/// An L-shaped room grown by 20 cm on every side about its centre (its inner corner 4 cm off)
+/// comes back with its inner corner on the line it had: the walls between the outer ones
+/// follow in proportion.
+#[test]
+fn an_l_shaped_room_grown_about_its_centre_keeps_its_shape() {
+    let text = "scene \"L\" { seed 1 }\n\
+                room hall \"hall\" { corners in m (0, 0) (0, 3) (3, 3) (3, 6) (5, 6) (5, 0) }\n\
+                room study \"study\" { corners in m (-0.2, 2.8) (-0.2, 8.2) (5.2, 8.2) (5.2, 6.04) (3.04, 6.04) (3.04, 2.8) }\n\
+                door exterior -- hall : doorway single\n\
+                door hall -- study : doorway single\n";
+    let repaired = repair_text("l.holo", text);
+    let study = outlines(&repaired.text).into_iter().find(|(n, _)| n == "study").expect("study").1;
+    assert!(
+        same_corners(
+            &study,
+            &[[0.0, 3.0], [0.0, 8.0], [5.0, 8.0], [5.0, 6.0], [3.0, 6.0], [3.0, 3.0]]
+        ),
+        "{study:?}\n{}",
+        repaired.text
+    );
+    assert_eq!(other_room_lines(&repaired.text, "study"), other_room_lines(text, "study"));
+}
+
+/// A slanted wall whose two ends are each on another room's line keeps the line of the room
+/// across it, not the one of a room met only at its end: the study's north wall, drawn from
+/// 6.0 to 5.9, goes to 5.9 (the bedroom's wall along its whole length), and no other room
+/// moves.
+#[test]
+fn a_slanted_wall_keeps_the_line_of_the_room_across_it() {
+    let text = "scene \"slant\" { seed 1 }\n\
+                room hall \"hall\" { corners in m (0, 0) (0, 3.2) (5.7, 3.2) (5.7, 0) }\n\
+                room kitchen \"kitchen\" { corners in m (5.7, 0) (5.7, 3.4) (10.1, 3.4) (10.1, 0) }\n\
+                room study \"study\" { corners in m (0, 3.2) (0, 6) (5.7, 5.9) (5.7, 3.2) }\n\
+                room bedroom \"bedroom\" { corners in m (0, 5.9) (0, 9.2) (5.7, 9.2) (5.7, 5.9) }\n\
+                room bath \"bath\" { corners in m (5.7, 3.4) (5.7, 6) (10.1, 6) (10.1, 3.4) }\n\
+                room living \"living room\" { corners in m (5.7, 6) (5.7, 9.2) (10.1, 9.2) (10.1, 6) }\n\
+                door exterior -- hall : doorway single\n\
+                door hall -- study : doorway single\n\
+                door study -- bedroom : doorway single\n\
+                door hall -- kitchen : doorway single\n\
+                door kitchen -- bath : doorway single\n\
+                door bath -- living : doorway single\n";
+    let repaired = repair_text("slant.holo", text);
+    let study = outlines(&repaired.text).into_iter().find(|(n, _)| n == "study").expect("study").1;
+    assert!(
+        same_corners(&study, &[[0.0, 3.2], [0.0, 5.9], [5.7, 5.9], [5.7, 3.2]]),
+        "{study:?}\n{}",
+        repaired.text
+    );
+    assert_eq!(other_room_lines(&repaired.text, "study"), other_room_lines(text, "study"));
+    assert_eq!(plan_errors(&repaired.text), Vec::<&str>::new());
+}

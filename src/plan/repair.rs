@@ -13,8 +13,9 @@
 //!    corners and corners in the middle of a straight wall are dropped; an edge slanted by at
 //!    most [`MAX_MOVE_M`] is made straight by moving the corner whose coordinate no nearby room
 //!    shares (the other one is aligned with the rooms around it; a room far off on the same
-//!    line does not count); when neither or both are, the rounder coordinate stays (`5` rather
-//!    than `5.3`).
+//!    line does not count); when both are, the one whose neighbour's wall runs along more of
+//!    the edge stays (the room across it, not a room met at its end); otherwise the rounder
+//!    coordinate stays (`5` rather than `5.3`).
 //! 2. **One room moved back whole**: the *suspects* (rooms that overlap another, leave a gap
 //!    to another, touch no room, or do not touch a room they have a door to) are tried at
 //!    every translation that puts one of their wall coordinates onto a wall coordinate of a
@@ -28,7 +29,19 @@
 //!    room's coordinates left off the lines, the distance moved, whether the plan's lowest x
 //!    and z stay (the drawing's origin), the roundness of the new coordinates, then the room's
 //!    outline and the move, so that the order rooms are declared in does not matter. The
-//!    first that makes the plan clean (no error, no gap) is the repair.
+//!    first that makes the plan clean (no error, no gap) is a candidate repair.
+//!    **Or one room redrawn onto the lines**: a suspect none of whose walls is on another
+//!    room's line may be drawn too large or too small rather than shifted. Along each axis its
+//!    first and last wall each stay, go onto the nearest line on either side (at most
+//!    [`MAX_MOVE_M`]), or move as the opposite wall does when that one goes onto a line,
+//!    mirrored (the room scaled back about its centre, so an outer wall with nothing beside it
+//!    follows); the walls between follow in proportion, so an L-shaped room keeps its shape.
+//!    These go in the order of: walls left off the lines, the largest wall move, whether the
+//!    walls that move all move as far, whether the plan's origin stays, roundness, the sum of
+//!    the moves, then the room declared later. Of the two candidate repairs, the one that
+//!    leaves fewer walls of the plan off the lines wins (the move back whole on a tie); no
+//!    other room moves. A room redrawn onto the lines, or scaled back, fills the place the plan
+//!    has for it and is exempt from the area bound.
 //! 3. Otherwise, **repair steps**, at most [`MAX_STEPS`], each from the plan the last one left.
 //!    The candidates of a step are:
 //!    - *one room at a time*: for every room, each of its wall coordinates snapped onto a
@@ -52,7 +65,8 @@
 //!    [`super::MIN_ROOM_SIDE_M`] (that is an error, E0303).
 //!
 //! The result is kept only when every room's area changes by at most [`MAX_AREA_CHANGE`] (a
-//! room narrower than [`super::MIN_ROOM_SIDE_M`] as written is exempt: it must grow) and
+//! room narrower than [`super::MIN_ROOM_SIDE_M`] as written is exempt: it must grow; so is a
+//! room whose every wall ends on another room's line, or the room step 2 scaled back) and
 //! the whole repair is never worse than the plan as written; otherwise the plan is returned as
 //! written. Steps go on until no candidate improves the plan, so repairing a repaired plan
 //! (even one still with errors) changes nothing: repair is idempotent (a plan repaired by
@@ -118,13 +132,29 @@ pub fn repair(scene: &Scene, catalog: &StructureCatalog) -> Outcome<Repair> {
     for r in 0..state.rooms.len() {
         if needs_cleaning(&state.rooms[r]) {
             let others = other_coordinates(&state.rooms, r);
-            clean_outline(&mut state.rooms[r], &mut state.origins[r], &others);
+            let walls = nearby_walls(&state.rooms, r);
+            clean_outline(&mut state.rooms[r], &mut state.origins[r], &others, &walls);
         }
     }
     let mut bad = Badness::of(scene, &state.rooms, catalog);
+    // The room, if any, refitted into the place the plan has for it (exempt from the area
+    // bound).
+    let mut area_exempt: Option<usize> = None;
     // A room drawn off as a whole goes back whole, and alone, when that is enough.
     if !bad.is_clean() {
-        if let Some(rooms) = move_one_room_back(scene, &state.rooms, catalog) {
+        // A room none of whose walls is on the plan's lines may be drawn too large or too
+        // small rather than shifted: of the two, the plan with fewer walls off the lines wins
+        // (the move back whole on a tie).
+        let back = move_one_room_back(scene, &state.rooms, catalog).map(|rooms| (rooms, None));
+        let fit = fit_one_room_to_lines(scene, &state.rooms, catalog);
+        let chosen = match (back, fit) {
+            (Some(back), Some(fit)) => {
+                Some(if walls_off_lines(&fit.0) < walls_off_lines(&back.0) { fit } else { back })
+            }
+            (back, fit) => back.or(fit),
+        };
+        if let Some((rooms, exempt)) = chosen {
+            area_exempt = exempt;
             state.rooms = rooms;
             bad = Badness::of(scene, &state.rooms, catalog);
         }
@@ -147,13 +177,20 @@ pub fn repair(scene: &Scene, catalog: &StructureCatalog) -> Outcome<Repair> {
     // stays as written and the plan stage reports it.
     // A room drawn narrower than the narrowest room allowed (E0303) must grow more than the
     // bound to be a room at all: it is held to the movement bounds only.
-    let within_area = original.iter().zip(&rooms).all(|(before, after)| {
+    // A room whose every wall ends on another room's line fills the place the plan has for
+    // it: it is held to the movement bounds only.
+    let coords = room_coordinates(&rooms);
+    let within_area = original.iter().zip(&rooms).enumerate().all(|(r, (before, after))| {
         let a0 = area(before);
         let narrow = (0..2).any(|axis| {
             let (lo, hi) = extent(before, axis);
             hi - lo < super::MIN_ROOM_SIDE_M
         });
-        a0 <= 0.0 || narrow || (area(after) - a0).abs() / a0 <= MAX_AREA_CHANGE
+        a0 <= 0.0
+            || narrow
+            || area_exempt == Some(r)
+            || off_lines(&coords, r) == 0
+            || (area(after) - a0).abs() / a0 <= MAX_AREA_CHANGE
     });
     if !within_area || !bad.improves_on(&before) {
         return Outcome::new(unchanged, Vec::new());
@@ -333,7 +370,8 @@ fn best_step(
             let mut next = state.clone();
             next.rooms = rooms;
             let others = other_coordinates(&next.rooms, r);
-            clean_outline(&mut next.rooms[r], &mut next.origins[r], &others);
+            let walls = nearby_walls(&next.rooms, r);
+            clean_outline(&mut next.rooms[r], &mut next.origins[r], &others, &walls);
             // On a true tie the room declared later moves (as W0308's fix has it): an answer
             // is drawn room after room, each fitted to those before.
             let seq = state.rooms.len() - 1 - r;
@@ -347,7 +385,8 @@ fn best_step(
         for r in 0..next.rooms.len() {
             if !same_outline(&next.rooms[r], &state.rooms[r]) || needs_cleaning(&next.rooms[r]) {
                 let others = other_coordinates(&next.rooms, r);
-                clean_outline(&mut next.rooms[r], &mut next.origins[r], &others);
+                let walls = nearby_walls(&next.rooms, r);
+                clean_outline(&mut next.rooms[r], &mut next.origins[r], &others, &walls);
             }
         }
         attach_detached(scene, &mut next.rooms);
@@ -382,6 +421,40 @@ fn best_step(
 }
 
 /// The most plans [`move_one_room_back`] gives to the plan stage.
+/// The rooms a repair may move whole (see [`move_one_room_back`]): those that overlap
+/// another, leave a gap to another, touch no room or do not touch a room they have a door to;
+/// and, of those, the ones apart from a room they have a door to.
+fn suspects(scene: &Scene, rooms: &[Vec<[f64; 2]>]) -> (Vec<bool>, Vec<bool>) {
+    let n = rooms.len();
+    let links = door_links(scene, n);
+    let mut suspect = vec![false; n];
+    for a in 0..n {
+        for b in a + 1..n {
+            if overlap(&rooms[a], &rooms[b]) {
+                suspect[a] = true;
+                suspect[b] = true;
+            }
+        }
+    }
+    for gap in facing_gaps(rooms) {
+        suspect[gap.moving] = true;
+        suspect[gap.staying] = true;
+    }
+    let mut apart = vec![false; n];
+    for r in 0..n {
+        for &o in &links[r] {
+            if !touch(&rooms[r], &rooms[o]) {
+                apart[r] = true;
+                suspect[r] = true;
+            }
+        }
+        if !(0..n).any(|o| o != r && touch(&rooms[r], &rooms[o])) {
+            suspect[r] = true;
+        }
+    }
+    (suspect, apart)
+}
+
 const MAX_WHOLE_MOVES_TRIED: usize = 32;
 
 /// The order among whole-room moves (see [`move_one_room_back`]): beyond [`MAX_MOVE_M`] on an
@@ -411,32 +484,7 @@ fn move_one_room_back(
     if n < 2 {
         return None;
     }
-    let links = door_links(scene, n);
-    let mut suspect = vec![false; n];
-    for a in 0..n {
-        for b in a + 1..n {
-            if overlap(&rooms[a], &rooms[b]) {
-                suspect[a] = true;
-                suspect[b] = true;
-            }
-        }
-    }
-    for gap in facing_gaps(rooms) {
-        suspect[gap.moving] = true;
-        suspect[gap.staying] = true;
-    }
-    let mut apart = vec![false; n];
-    for r in 0..n {
-        for &o in &links[r] {
-            if !touch(&rooms[r], &rooms[o]) {
-                apart[r] = true;
-                suspect[r] = true;
-            }
-        }
-        if !(0..n).any(|o| o != r && touch(&rooms[r], &rooms[o])) {
-            suspect[r] = true;
-        }
-    }
+    let (suspect, apart) = suspects(scene, rooms);
     let coords = room_coordinates(rooms);
     let near_before: Vec<usize> = (0..n)
         .map(|r| (0..n).filter(|&o| o != r).map(|o| pair_near_misses(rooms, &coords, r, o)).sum())
@@ -542,6 +590,210 @@ fn move_one_room_back(
     None
 }
 
+/// The outlines of a plan's rooms, in scene order, metres.
+type Outlines = Vec<Vec<[f64; 2]>>;
+
+/// The order among refitted rooms (see [`fit_one_room_to_lines`]): the room's wall
+/// coordinates left off the other rooms' lines, the largest wall move (mm), whether the walls
+/// that move do not all move as far (the room neither scaled about its centre nor shifted),
+/// whether the plan's lowest x or z moved, the roundness of the room's new coordinates, the
+/// sum of the walls' moves (mm), then, on a true tie, the room declared later first (as in
+/// the repair steps: an answer is drawn room after room, each fitted to those before), then
+/// the new extents (mm).
+type RefitOrder = (usize, u64, bool, bool, u32, u64, std::cmp::Reverse<usize>, [[i64; 2]; 2]);
+
+/// The plan made clean by redrawing one room none of whose walls is on the plan's lines (a
+/// room drawn a little too large or too small as a whole), with the room if it is exempt from
+/// the area bound; or `None`. Only suspects (see [`suspects`]) with straight sides are tried.
+/// Along each axis the room's first and last wall each stay, go onto the nearest line of
+/// another room on either side at most [`MAX_MOVE_M`] away, or move as the opposite wall does
+/// when that one goes onto a line, mirrored (the room scaled back about its centre); the walls
+/// between them follow in proportion (an L-shaped room keeps its shape). A candidate counts
+/// only when it leaves fewer of the room's wall coordinates off the lines, overlaps no room,
+/// and changes the room's area by at most [`MAX_AREA_CHANGE`] unless it puts every wall on a
+/// line or moves every wall that moves by as much (then the room fills the place the plan has
+/// for it, and is exempt). The candidates go in the order of [`RefitOrder`]; the first that
+/// makes the plan clean is taken.
+fn fit_one_room_to_lines(
+    scene: &Scene,
+    rooms: &[Vec<[f64; 2]>],
+    catalog: &StructureCatalog,
+) -> Option<(Outlines, Option<usize>)> {
+    let n = rooms.len();
+    if n < 2 {
+        return None;
+    }
+    let (suspect, _) = suspects(scene, rooms);
+    let coords = room_coordinates(rooms);
+    let mm = |v: f64| (v * 1e3).round() as i64;
+    let lowest = |rs: &[Vec<[f64; 2]>], axis: usize| {
+        rs.iter().map(|c| extent(c, axis).0).fold(f64::INFINITY, f64::min)
+    };
+    let origin = [lowest(rooms, 0), lowest(rooms, 1)];
+    let mut candidates: Vec<(RefitOrder, usize, [[f64; 2]; 2], bool)> = Vec::new();
+    for r in (0..n).filter(|&r| suspect[r]) {
+        let total = coords[r][0].len() + coords[r][1].len();
+        let straight = rooms[r]
+            .iter()
+            .zip(rooms[r].iter().cycle().skip(1))
+            .all(|(p, q)| (p[0] - q[0]).abs() <= SAME_M || (p[1] - q[1]).abs() <= SAME_M);
+        if !straight || off_lines(&coords, r) < total {
+            continue;
+        }
+        // Per axis, the other rooms' lines and the extents the room's first and last wall may
+        // take.
+        let lines = lines_of_others(&coords, r);
+        let mut extents: [Vec<[f64; 2]>; 2] = [Vec::new(), Vec::new()];
+        for (axis, out) in extents.iter_mut().enumerate() {
+            let lines = &lines[axis];
+            let onto_lines = |v: f64| {
+                let below = lines.iter().rev().find(|&&t| t < v - SAME_M);
+                let above = lines.iter().find(|&&t| t > v + SAME_M);
+                below.into_iter().chain(above).copied().filter(move |t| (t - v).abs() <= MAX_MOVE_M)
+            };
+            let (lo, hi) = (coords[r][axis][0], coords[r][axis][coords[r][axis].len() - 1]);
+            // Each wall stays, goes onto a line, or moves as the opposite wall does when that
+            // one goes onto a line, mirrored (the room drawn too large or too small about its
+            // centre).
+            let mut los: Vec<f64> = std::iter::once(lo).chain(onto_lines(lo)).collect();
+            let mut his: Vec<f64> = std::iter::once(hi).chain(onto_lines(hi)).collect();
+            los.extend(onto_lines(hi).map(|t| lo - (t - hi)));
+            his.extend(onto_lines(lo).map(|t| hi - (t - lo)));
+            for &a in &los {
+                for &b in &his {
+                    if b - a >= super::MIN_ROOM_SIDE_M {
+                        out.push([a, b]);
+                    }
+                }
+            }
+            out.sort_by(|p, q| p[0].total_cmp(&q[0]).then(p[1].total_cmp(&q[1])));
+            out.dedup_by(|p, q| (p[0] - q[0]).abs() <= SAME_M && (p[1] - q[1]).abs() <= SAME_M);
+        }
+        let (x, z) = (extent(&rooms[r], 0), extent(&rooms[r], 1));
+        let before = [[x.0, x.1], [z.0, z.1]];
+        for &ex in &extents[0] {
+            for &ez in &extents[1] {
+                let fit = [ex, ez];
+                if fit == before {
+                    continue;
+                }
+                let mut next = rooms.to_vec();
+                next[r] = refit(&rooms[r], before, fit, &lines);
+                if (0..n).any(|o| o != r && overlap(&next[r], &next[o])) {
+                    continue;
+                }
+                let mut next_coords = coords.clone();
+                next_coords[r] = room_coordinates(&next[r..=r]).swap_remove(0);
+                let off = off_lines(&next_coords, r);
+                let moves = [
+                    (fit[0][0] - before[0][0]).abs(),
+                    (fit[0][1] - before[0][1]).abs(),
+                    (fit[1][0] - before[1][0]).abs(),
+                    (fit[1][1] - before[1][1]).abs(),
+                ];
+                // Every wall that moves moves as far, and each axis's two walls either stay
+                // or both move (the room scaled about its centre, or shifted).
+                let largest = moves.iter().copied().fold(0.0, f64::max);
+                let uniform = (0..2).all(|axis| {
+                    let (m0, m1) = (moves[2 * axis], moves[2 * axis + 1]);
+                    (m0 <= SAME_M && m1 <= SAME_M)
+                        || ((m0 - largest).abs() <= 1e-3 && (m1 - largest).abs() <= 1e-3)
+                });
+                // A room that goes wholly onto the lines, or is scaled back about its centre,
+                // fills the place the plan has for it: the area bound does not apply.
+                let a0 = area(&rooms[r]);
+                if off >= total
+                    || (off > 0 && !uniform && (area(&next[r]) - a0).abs() > MAX_AREA_CHANGE * a0)
+                {
+                    continue;
+                }
+                let round: u32 =
+                    next_coords[r].iter().flatten().map(|&v| roundness(v)).sum::<u32>();
+                let origin_moved = (lowest(&next, 0) - origin[0]).abs() > SAME_M
+                    || (lowest(&next, 1) - origin[1]).abs() > SAME_M;
+                let order = (
+                    off,
+                    (largest * 1e3).round() as u64,
+                    !uniform,
+                    origin_moved,
+                    round,
+                    (moves.iter().sum::<f64>() * 1e3).round() as u64,
+                    std::cmp::Reverse(r),
+                    [[mm(ex[0]), mm(ex[1])], [mm(ez[0]), mm(ez[1])]],
+                );
+                candidates.push((order, r, fit, off == 0 || uniform));
+            }
+        }
+    }
+    candidates.sort_by_key(|c| c.0);
+    let mut tried = 0;
+    for (_, r, fit, exempt) in candidates {
+        let mut next = rooms.to_vec();
+        let (x, z) = (extent(&rooms[r], 0), extent(&rooms[r], 1));
+        next[r] = refit(&rooms[r], [[x.0, x.1], [z.0, z.1]], fit, &lines_of_others(&coords, r));
+        if !facing_gaps(&next).is_empty() {
+            continue;
+        }
+        if tried == MAX_WHOLE_MOVES_TRIED {
+            break;
+        }
+        tried += 1;
+        if Badness::of(scene, &next, catalog).is_clean() {
+            return Some((next, exempt.then_some(r)));
+        }
+    }
+    None
+}
+
+/// Per axis, the wall coordinates of every room but `r`, sorted and distinct.
+fn lines_of_others(coords: &[[Vec<f64>; 2]], r: usize) -> [Vec<f64>; 2] {
+    let mut out = [Vec::new(), Vec::new()];
+    for (axis, slot) in out.iter_mut().enumerate() {
+        *slot = coords
+            .iter()
+            .enumerate()
+            .filter(|&(o, _)| o != r)
+            .flat_map(|(_, c)| c[axis].iter().copied())
+            .collect();
+        slot.sort_by(f64::total_cmp);
+        slot.dedup_by(|a, b| (*a - *b).abs() <= SAME_M);
+    }
+    out
+}
+
+/// Within this of a line, a wall moved in proportion goes onto it, metres (plans are written
+/// to the millimetre or finer).
+const ONTO_LINE_M: f64 = 0.002;
+
+/// `corners` with each axis's extent `from` mapped onto `to`, the coordinates between in
+/// proportion (onto a line of `lines`, per axis, when one is within [`ONTO_LINE_M`]).
+fn refit(
+    corners: &[[f64; 2]],
+    from: [[f64; 2]; 2],
+    to: [[f64; 2]; 2],
+    lines: &[Vec<f64>; 2],
+) -> Vec<[f64; 2]> {
+    corners
+        .iter()
+        .map(|p| {
+            let mut q = *p;
+            for axis in 0..2 {
+                let [lo, hi] = from[axis];
+                let [a, b] = to[axis];
+                q[axis] = if (p[axis] - lo).abs() <= SAME_M {
+                    a
+                } else if (p[axis] - hi).abs() <= SAME_M {
+                    b
+                } else {
+                    let v = a + (p[axis] - lo) * (b - a) / (hi - lo);
+                    lines[axis].iter().copied().find(|t| (t - v).abs() <= ONTO_LINE_M).unwrap_or(v)
+                };
+            }
+            q
+        })
+        .collect()
+}
+
 /// Per room and axis, its distinct wall coordinates, sorted.
 fn room_coordinates(rooms: &[Vec<[f64; 2]>]) -> Vec<[Vec<f64>; 2]> {
     rooms
@@ -574,6 +826,13 @@ fn keeps_roundness(coords: &[[Vec<f64>; 2]], r: usize, delta: [f64; 2]) -> bool 
                         .any(|(o, c)| o != r && c[axis].iter().any(|&u| (u - w).abs() <= SAME_M))
             })
     })
+}
+
+/// How many wall coordinates of the plan's rooms (per room and axis, distinct) no other room
+/// has.
+fn walls_off_lines(rooms: &[Vec<[f64; 2]>]) -> usize {
+    let coords = room_coordinates(rooms);
+    (0..rooms.len()).map(|r| off_lines(&coords, r)).sum()
 }
 
 /// How many of room `r`'s wall coordinates (per axis, distinct) no other room has.
@@ -746,6 +1005,24 @@ fn other_coordinates(rooms: &[Vec<[f64; 2]>], r: usize) -> [Vec<f64>; 2] {
     for v in &mut out {
         v.sort_by(f64::total_cmp);
         v.dedup_by(|a, b| (*a - *b).abs() <= SAME_M);
+    }
+    out
+}
+
+/// Per axis, the walls of the rooms near room `r` (as in [`other_coordinates`]).
+fn nearby_walls(rooms: &[Vec<[f64; 2]>], r: usize) -> [Vec<Wall>; 2] {
+    let mut out = [Vec::new(), Vec::new()];
+    for (o, c) in rooms.iter().enumerate() {
+        if o == r {
+            continue;
+        }
+        let g = box_gap(&rooms[r], c);
+        if g[0] > MAX_MOVE_M || g[1] > MAX_MOVE_M {
+            continue;
+        }
+        for (axis, slot) in out.iter_mut().enumerate() {
+            slot.extend(walls_of(c, axis));
+        }
     }
     out
 }
@@ -1010,7 +1287,12 @@ fn same_outline(a: &[[f64; 2]], b: &[[f64; 2]]) -> bool {
 /// shares (`others`: the other rooms' coordinates per axis); when neither or both are shared,
 /// the rounder coordinate stays, then the first corner's. `origin` holds, for each corner, the
 /// index of the corner as written it comes from; it is kept in step.
-fn clean_outline(corners: &mut Vec<[f64; 2]>, origin: &mut Vec<usize>, others: &[Vec<f64>; 2]) {
+fn clean_outline(
+    corners: &mut Vec<[f64; 2]>,
+    origin: &mut Vec<usize>,
+    others: &[Vec<f64>; 2],
+    walls: &[Vec<Wall>; 2],
+) {
     let same =
         |p: [f64; 2], q: [f64; 2]| (p[0] - q[0]).abs() <= SAME_M && (p[1] - q[1]).abs() <= SAME_M;
     let mut pts: Vec<([f64; 2], usize)> = Vec::with_capacity(corners.len());
@@ -1038,11 +1320,21 @@ fn clean_outline(corners: &mut Vec<[f64; 2]>, origin: &mut Vec<usize>, others: &
             }
             let axis = usize::from(dx > dz);
             let (va, vb) = (a[axis], b[axis]);
-            // Which value the edge keeps: the one aligned with the other rooms, else the
-            // rounder one, else the first corner's.
+            // Which value the edge keeps: the one aligned with the other rooms; when both
+            // are, the one whose walls run along more of the edge (the room across it, not a
+            // room met at its end); else the rounder one, else the first corner's.
+            let (lo, hi) = (a[1 - axis].min(b[1 - axis]), a[1 - axis].max(b[1 - axis]));
+            let along = |v: f64| -> f64 {
+                walls[axis]
+                    .iter()
+                    .filter(|w| (w.at - v).abs() <= SAME_M)
+                    .map(|w| (w.to.min(hi) - w.from.max(lo)).max(0.0))
+                    .sum()
+            };
             let keep_a = match (shared(axis, va), shared(axis, vb)) {
                 (true, false) => true,
                 (false, true) => false,
+                (true, true) if (along(va) - along(vb)).abs() > SAME_M => along(va) > along(vb),
                 _ => roundness(va) <= roundness(vb),
             };
             if keep_a {
