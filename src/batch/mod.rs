@@ -334,7 +334,7 @@ pub fn outside_folder(job: &Job, base: &Path) -> Option<PathBuf> {
 
 /// The origin (scheme, host, port) of a URL, to compare where requests go.
 pub(crate) fn origin(url: &str) -> Option<String> {
-    reqwest::Url::parse(url).ok().map(|u| u.origin().ascii_serialization())
+    url::Url::parse(url).ok().map(|u| u.origin().ascii_serialization())
 }
 
 /// The lines of a manifest, numbered from 1, without a byte order mark.

@@ -36,6 +36,12 @@ pub fn run(args: &ValidateArgs) -> ExitCode {
     }
     diagnostics.extend(loaded.diagnostics);
     let catalog = loaded.value;
+    if !crate::lower::validate::SCHEMA_CHECKED {
+        common::emit_status(
+            "note: this holoc was built without its `schema` feature: houses are not checked against \
+             the JSON Schema, only against the rules AI2-THOR relies on",
+        );
+    }
     for path in &args.files {
         match common::read_source(&mut sources, path) {
             Ok(id) => {

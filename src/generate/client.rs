@@ -271,10 +271,18 @@ impl HttpOptions {
     }
 }
 
+/// What carries the requests: reqwest's blocking client; in a holoc built without the
+/// `generate` feature, nothing (every request fails with [`LlmError::Unreachable`], naming the
+/// feature).
+#[cfg(feature = "generate")]
+type Transport = reqwest::blocking::Client;
+#[cfg(not(feature = "generate"))]
+type Transport = std::convert::Infallible;
+
 /// The OpenAI-compatible chat-completions client (blocking reqwest).
 pub struct HttpLlm {
     options: HttpOptions,
-    client: Result<reqwest::blocking::Client, String>,
+    client: Result<Transport, String>,
 }
 
 impl fmt::Debug for HttpLlm {
@@ -286,15 +294,21 @@ impl fmt::Debug for HttpLlm {
 impl HttpLlm {
     /// A client with these settings.
     pub fn new(options: HttpOptions) -> HttpLlm {
+        #[cfg(feature = "generate")]
         let client = reqwest::blocking::Client::builder()
             .timeout(options.timeout)
             .connect_timeout(options.timeout.min(Duration::from_secs(30)))
             .user_agent(concat!("holoc/", env!("CARGO_PKG_VERSION")))
             .build()
             .map_err(|e| e.to_string());
+        #[cfg(not(feature = "generate"))]
+        let client = Err("this holoc was built without its `generate` feature (the HTTP client); \
+                          install it with the default features to ask a model"
+            .to_owned());
         HttpLlm { options, client }
     }
 
+    #[cfg(feature = "generate")]
     fn url(&self) -> String {
         format!("{}/chat/completions", self.options.base_url.trim_end_matches('/'))
     }
@@ -323,6 +337,7 @@ impl HttpLlm {
         }
     }
 
+    #[cfg(feature = "generate")]
     fn body(&self, prompt: &str) -> Value {
         let mut body = json!({
             "model": self.options.model,
@@ -453,6 +468,7 @@ fn drop_key_prefix(text: &str, key: &str) -> String {
     text.to_owned()
 }
 
+#[cfg(feature = "generate")]
 fn retry_after(response: &reqwest::blocking::Response) -> Option<Duration> {
     let value = response.headers().get(reqwest::header::RETRY_AFTER)?.to_str().ok()?;
     let seconds: f64 = value.trim().parse().ok()?;
@@ -490,6 +506,25 @@ impl Llm for HttpLlm {
             base_url: self.options.base_url.clone(),
             reason: self.scrub(reason),
         })?;
+        self.post(client, request)
+    }
+
+    fn info(&self) -> ModelInfo {
+        self.model_info()
+    }
+}
+
+impl HttpLlm {
+    /// Without the HTTP client there is no client to post with.
+    #[cfg(not(feature = "generate"))]
+    #[allow(clippy::unused_self, clippy::trivially_copy_pass_by_ref)]
+    fn post(&self, client: &Transport, _request: &LlmRequest<'_>) -> Result<LlmAnswer, LlmError> {
+        match *client {}
+    }
+
+    /// Posts the request, retrying timeouts, 429 and 5xx answers with backoff.
+    #[cfg(feature = "generate")]
+    fn post(&self, client: &Transport, request: &LlmRequest<'_>) -> Result<LlmAnswer, LlmError> {
         let url = self.url();
         let body = self.body(request.prompt);
         let tries = self.options.retries.saturating_add(1);
@@ -587,7 +622,8 @@ impl Llm for HttpLlm {
         Err(last.unwrap_or(LlmError::Server { status: 0, tries, body: String::new() }))
     }
 
-    fn info(&self) -> ModelInfo {
+    /// The model and settings this client asks with.
+    fn model_info(&self) -> ModelInfo {
         let mut parameters = BTreeMap::new();
         parameters.insert("temperature".to_string(), json!(self.options.temperature));
         if let Some(seed) = self.options.seed {

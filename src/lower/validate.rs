@@ -22,6 +22,37 @@ use nalgebra::{Isometry2, Point2, Vector2};
 use parry2d::query::intersection_test;
 use parry2d::shape::{Cuboid, Segment};
 
+/// Whether this holoc checks houses against the JSON Schema (its `schema` feature, on by
+/// default); without it, `validate` checks everything else and says so.
+pub const SCHEMA_CHECKED: bool = cfg!(feature = "schema");
+
+/// The first 20 places where `value` does not follow the house schema, as messages.
+#[cfg(feature = "schema")]
+fn schema_errors(value: &Value) -> Result<Vec<String>, String> {
+    let schema: Value =
+        serde_json::from_str(HOUSE_SCHEMA).map_err(|e| format!("the embedded schema: {e}"))?;
+    let validator = jsonschema::validator_for(&schema).map_err(|e| e.to_string())?;
+    Ok(validator
+        .iter_errors(value)
+        .map(|e| {
+            let path = e.instance_path.to_string();
+            if path.is_empty() {
+                format!("at the top level: {e}")
+            } else {
+                format!("at `{path}`: {e}")
+            }
+        })
+        .take(20)
+        .collect())
+}
+
+/// Without the `schema` feature there is no schema check (see [`SCHEMA_CHECKED`]).
+#[cfg(not(feature = "schema"))]
+#[allow(clippy::unnecessary_wraps)]
+fn schema_errors(_value: &Value) -> Result<Vec<String>, String> {
+    Ok(Vec::new())
+}
+
 /// The house schema, embedded.
 pub const HOUSE_SCHEMA: &str = include_str!("../../data/house.schema.json");
 
@@ -240,10 +271,8 @@ pub fn validate(
             return Outcome::new(ValidationReport::default(), vec![d]);
         }
     };
-    let schema: Value =
-        serde_json::from_str(HOUSE_SCHEMA).expect("the embedded schema is valid JSON");
-    let validator = match jsonschema::validator_for(&schema) {
-        Ok(v) => v,
+    let schema_errors = match schema_errors(&value) {
+        Ok(errors) => errors,
         Err(e) => {
             return Outcome::new(
                 ValidationReport::default(),
@@ -251,18 +280,6 @@ pub fn validate(
             );
         }
     };
-    let schema_errors: Vec<String> = validator
-        .iter_errors(&value)
-        .map(|e| {
-            let path = e.instance_path.to_string();
-            if path.is_empty() {
-                format!("at the top level: {e}")
-            } else {
-                format!("at `{path}`: {e}")
-            }
-        })
-        .take(20)
-        .collect();
     if !schema_errors.is_empty() {
         for msg in schema_errors {
             ctx.push(
