@@ -28,7 +28,7 @@ use crate::compile::{Analysed, AnalysisCache};
 use crate::diag::{Diagnostic, Fix, Label};
 use crate::plan::{FloorPlan, PlanOptions};
 use crate::resolve::structure::StructureCatalog;
-use crate::resolve::{Catalog, Resolved};
+use crate::resolve::{Catalog, Resolved, RoomResolution};
 use crate::source::{FileId, SourceMap, Span};
 
 /// The text an edit replaced: bytes `start..old_end` of the old version became
@@ -376,56 +376,70 @@ impl Spans for PlanInput {
     }
 }
 
-/// What asset resolution reads of a scene: the rooms' placement orders and ceilings, the
-/// objects without their relations, the seed.
+/// What asset resolution reads of one room: its name, its box (for the objathor folder's size
+/// filters), its ceiling object and its objects without their relations, ids or placement
+/// details. With the same input and the same answers about which assets the rooms before it
+/// use, a room resolves to the same choices and diagnostics ([`crate::resolve::Resolver`]).
 #[derive(Clone, Debug, PartialEq)]
-struct ResolveInput {
-    seed: u64,
-    rooms: Vec<Room>,
+struct RoomInput {
+    name: String,
+    room_box: Option<[f64; 3]>,
+    ceiling: Option<Ceiling>,
     objects: Vec<Object>,
 }
 
-impl ResolveInput {
-    fn of(scene: &Scene) -> ResolveInput {
-        ResolveInput {
-            seed: scene.seed,
-            rooms: scene
-                .rooms
-                .iter()
-                .map(|r| Room {
-                    corners: Vec::new(),
-                    corner_spans: Vec::new(),
-                    corners_unit_span: None,
-                    windows: Vec::new(),
-                    floor_design: None,
-                    wall_design: None,
-                    floor_material: None,
-                    wall_material: None,
-                    ..r.clone()
-                })
-                .collect(),
-            objects: scene
+impl RoomInput {
+    fn of(scene: &Scene, room: &Room) -> RoomInput {
+        RoomInput {
+            name: room.name.clone(),
+            room_box: crate::resolve::room_box(room, scene.wall_height_m),
+            ceiling: room.ceiling.as_ref().map(|c| Ceiling { above: None, at: None, ..c.clone() }),
+            objects: room
                 .objects
                 .iter()
-                .map(|o| {
+                .map(|&id| {
+                    let o = scene.object(id);
                     let placement = match &o.placement {
                         Placement::Floor { .. } => {
                             Placement::Floor { global: None, constraints: Vec::new() }
                         }
                         Placement::Wall { .. } => Placement::Wall { above: None, height_m: None },
                     };
-                    Object { placement, ..o.clone() }
+                    // Ids are places in the scene's lists, which an edit elsewhere moves.
+                    Object {
+                        id: crate::check::ObjectId(0),
+                        room: crate::check::RoomId(0),
+                        placement,
+                        ..o.clone()
+                    }
                 })
                 .collect(),
         }
     }
 }
 
-impl Spans for ResolveInput {
+impl Spans for RoomInput {
     fn spans(&mut self, f: &mut dyn FnMut(&mut Span)) {
-        self.rooms.spans(f);
-        self.objects.spans(f);
+        let RoomInput { name: _, room_box: _, ceiling, objects } = self;
+        ceiling.spans(f);
+        objects.spans(f);
     }
+}
+
+/// One room's resolution with the input it was made from.
+#[derive(Debug)]
+struct RoomRun {
+    input: RoomInput,
+    output: RoomResolution,
+}
+
+/// The last asset resolution: the text and seed it was made for, and each room's run by the
+/// room's name.
+#[derive(Debug)]
+struct ResolveMemo {
+    made_for: std::rc::Rc<str>,
+    seed: u64,
+    rooms: std::collections::HashMap<String, RoomRun>,
 }
 
 /// What the analyses of earlier versions of a document leave for the next: the parse cache
@@ -437,23 +451,24 @@ pub struct Memo {
     pub cache: AnalysisCache,
     /// The last plan: the text it was made for, its input and its output.
     plan: Option<(std::rc::Rc<str>, PlanInput, Output<FloorPlan>)>,
-    /// The last asset resolution, likewise.
-    resolve: Option<(std::rc::Rc<str>, ResolveInput, Output<Resolved>)>,
+    /// The last asset resolution, room by room.
+    resolve: Option<ResolveMemo>,
     /// How often each stage ran and was reused (for the tests and the benchmark).
     pub counts: Counts,
 }
 
-/// How often the plan and asset resolution ran, and how often their last output was reused.
+/// How often the plan ran and its last output was reused, and how many rooms' asset choices
+/// were made and reused.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Counts {
     /// Plans made.
     pub planned: u64,
     /// Plans reused.
     pub plans_reused: u64,
-    /// Resolutions made.
-    pub resolved: u64,
-    /// Resolutions reused.
-    pub resolutions_reused: u64,
+    /// Rooms resolved.
+    pub rooms_resolved: u64,
+    /// Rooms whose resolution was reused.
+    pub rooms_reused: u64,
 }
 
 impl Memo {
@@ -513,34 +528,67 @@ pub fn analyse(sources: &SourceMap, file: FileId, catalog: &Catalog, memo: &mut 
     }
     analysed.plan = Some(planned.value);
 
-    let input = ResolveInput::of(&scene);
-    let reused = memo.resolve.take().and_then(|(made_for, before, output)| {
-        let shift = Shift::between(&made_for, &text);
-        let moved = shift.moved(&before)?;
-        (moved == input).then(|| shift.moved(&output)).flatten()
-    });
-    let resolved = match reused {
-        Some(output) => {
-            memo.counts.resolutions_reused += 1;
-            output
-        }
-        None => {
-            memo.counts.resolved += 1;
-            let resolved = crate::resolve::resolve_cached(
-                &scene,
-                catalog,
-                scene.seed,
-                &crate::resolve::ResolveOptions::default(),
-                &mut memo.cache.ranks,
-            );
-            Output { value: resolved.value, diagnostics: resolved.diagnostics }
-        }
-    };
-    memo.resolve = Some((text, input, resolved.clone()));
+    let resolved = resolve_rooms(&scene, &text, catalog, memo);
     analysed.diagnostics.extend(resolved.diagnostics);
     analysed.resolved = Some(resolved.value);
     analysed.scene = Some(scene);
     analysed
+}
+
+/// Resolves the scene's assets room by room, reusing each room's last resolution when its
+/// input, moved by the edit, is the same and the rooms before it use the assets it asked about
+/// as they did then (a room whose choices changed changes what the rooms after it read).
+fn resolve_rooms(
+    scene: &Scene,
+    text: &std::rc::Rc<str>,
+    catalog: &Catalog,
+    memo: &mut Memo,
+) -> crate::diag::Outcome<Resolved> {
+    let (shift, mut old) = match memo.resolve.take() {
+        Some(last) if last.seed == scene.seed => {
+            (Some(Shift::between(&last.made_for, text)), last.rooms)
+        }
+        _ => (None, std::collections::HashMap::new()),
+    };
+    let options = crate::resolve::ResolveOptions::default();
+    let mut resolver =
+        crate::resolve::Resolver::new(catalog, scene.seed, &options, &mut memo.cache.ranks);
+    let mut runs: Vec<(String, RoomRun)> = Vec::with_capacity(scene.rooms.len());
+    for room in &scene.rooms {
+        let input = RoomInput::of(scene, room);
+        let kept = old.remove(&room.name).and_then(|run| {
+            let shift = shift?;
+            if !run.output.reads_hold(resolver.used()) || shift.moved(&run.input)? != input {
+                return None;
+            }
+            let diagnostics = shift.moved(&run.output.diagnostics)?;
+            let mut output = run.output;
+            output.diagnostics = diagnostics;
+            Some(output)
+        });
+        let output = match kept {
+            Some(output) => {
+                memo.counts.rooms_reused += 1;
+                output
+            }
+            None => {
+                memo.counts.rooms_resolved += 1;
+                resolver.room(scene, room)
+            }
+        };
+        resolver.used_before(&output);
+        runs.push((room.name.clone(), RoomRun { input, output }));
+    }
+    // The rooms no longer there let go of their rankings before the cache keeps what rooms hold.
+    drop(old);
+    resolver.finish(&mut memo.cache.ranks);
+    let resolved = crate::resolve::assemble(scene, runs.iter().map(|(_, run)| &run.output));
+    memo.resolve = Some(ResolveMemo {
+        made_for: std::rc::Rc::clone(text),
+        seed: scene.seed,
+        rooms: runs.into_iter().collect(),
+    });
+    resolved
 }
 
 #[cfg(test)]
