@@ -71,6 +71,17 @@ impl Shift {
         Some(Span { file: span.file, start: self.offset(span.start)?, end: self.offset(span.end)? })
     }
 
+    /// Moves every span of `value`; `false` when one cannot be (then `value` is left part
+    /// moved, to be thrown away).
+    pub fn move_in_place<T: Spans>(&self, value: &mut T) -> bool {
+        let mut ok = true;
+        value.spans(&mut |span| match self.span(*span) {
+            Some(moved) => *span = moved,
+            None => ok = false,
+        });
+        ok
+    }
+
     /// A copy of `value` with every span moved, or `None` when one cannot be.
     pub fn moved<T: Spans + Clone>(&self, value: &T) -> Option<T> {
         let mut out = value.clone();
@@ -433,13 +444,13 @@ struct RoomRun {
     output: RoomResolution,
 }
 
-/// The last asset resolution: the text and seed it was made for, and each room's run by the
-/// room's name.
+/// The last asset resolution: the text and seed it was made for, and each room's run in the
+/// scene's order, with the rooms' names.
 #[derive(Debug)]
 struct ResolveMemo {
     made_for: std::rc::Rc<str>,
     seed: u64,
-    rooms: std::collections::HashMap<String, RoomRun>,
+    rooms: Vec<(String, RoomRun)>,
 }
 
 /// What the analyses of earlier versions of a document leave for the next: the parse cache
@@ -503,10 +514,10 @@ pub fn analyse(sources: &SourceMap, file: FileId, catalog: &Catalog, memo: &mut 
     let scene = checked.value;
 
     let input = PlanInput::of(&scene);
-    let reused = memo.plan.take().and_then(|(made_for, before, output)| {
+    let reused = memo.plan.take().and_then(|(made_for, mut before, mut output)| {
         let shift = Shift::between(&made_for, &text);
-        let moved = shift.moved(&before)?;
-        (moved == input).then(|| shift.moved(&output)).flatten()
+        (shift.move_in_place(&mut before) && before == input && shift.move_in_place(&mut output))
+            .then_some(output)
     });
     let planned = match reused {
         Some(output) => {
@@ -544,36 +555,50 @@ fn resolve_rooms(
     catalog: &Catalog,
     memo: &mut Memo,
 ) -> crate::diag::Outcome<Resolved> {
-    let (shift, mut old) = match memo.resolve.take() {
+    let (shift, old) = match memo.resolve.take() {
         Some(last) if last.seed == scene.seed => {
             (Some(Shift::between(&last.made_for, text)), last.rooms)
         }
-        _ => (None, std::collections::HashMap::new()),
+        _ => (None, Vec::new()),
     };
+    let (names, mut old): (Vec<String>, Vec<Option<RoomRun>>) =
+        old.into_iter().map(|(name, run)| (name, Some(run))).unzip();
+    let by_name: rustc_hash::FxHashMap<&str, usize> =
+        names.iter().enumerate().map(|(i, name)| (name.as_str(), i)).collect();
     let options = crate::resolve::ResolveOptions::default();
     let mut resolver =
         crate::resolve::Resolver::new(catalog, scene.seed, &options, &mut memo.cache.ranks);
     let mut runs: Vec<(String, RoomRun)> = Vec::with_capacity(scene.rooms.len());
-    for room in &scene.rooms {
+    // While every room so far is the one at its place last time and uses the same assets, the
+    // rooms before the next one use what they used then: its answers hold without asking.
+    let mut in_step = shift.is_some();
+    for (k, room) in scene.rooms.iter().enumerate() {
         let input = RoomInput::of(scene, room);
-        let kept = old.remove(&room.name).and_then(|run| {
-            let shift = shift?;
-            if !run.output.reads_hold(resolver.used()) || shift.moved(&run.input)? != input {
-                return None;
+        let place = by_name.get(room.name.as_str()).copied();
+        let run = place.and_then(|i| old.get_mut(i)).and_then(Option::take);
+        in_step &= place == Some(k);
+        let mut run = run;
+        // The run's input and diagnostics moved by the edit (a run that cannot be is thrown
+        // away).
+        let reusable = match (&mut run, shift) {
+            (Some(run), Some(shift)) => {
+                (in_step || run.output.reads_hold(resolver.used()))
+                    && shift.move_in_place(&mut run.input)
+                    && run.input == input
+                    && shift.move_in_place(&mut run.output.diagnostics)
             }
-            let diagnostics = shift.moved(&run.output.diagnostics)?;
-            let mut output = run.output;
-            output.diagnostics = diagnostics;
-            Some(output)
-        });
-        let output = match kept {
-            Some(output) => {
+            _ => false,
+        };
+        let output = match run {
+            Some(run) if reusable => {
                 memo.counts.rooms_reused += 1;
-                output
+                run.output
             }
-            None => {
+            run => {
                 memo.counts.rooms_resolved += 1;
-                resolver.room(scene, room)
+                let output = resolver.room(scene, room);
+                in_step &= run.is_some_and(|run| output.writes == run.output.writes);
+                output
             }
         };
         resolver.used_before(&output);
@@ -583,11 +608,8 @@ fn resolve_rooms(
     drop(old);
     resolver.finish(&mut memo.cache.ranks);
     let resolved = crate::resolve::assemble(scene, runs.iter().map(|(_, run)| &run.output));
-    memo.resolve = Some(ResolveMemo {
-        made_for: std::rc::Rc::clone(text),
-        seed: scene.seed,
-        rooms: runs.into_iter().collect(),
-    });
+    memo.resolve =
+        Some(ResolveMemo { made_for: std::rc::Rc::clone(text), seed: scene.seed, rooms: runs });
     resolved
 }
 

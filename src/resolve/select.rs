@@ -360,7 +360,7 @@ pub struct RoomResolution {
 impl RoomResolution {
     /// Whether the room would read the same answers from `used` (the assets of the rooms
     /// before it).
-    pub fn reads_hold(&self, used: &std::collections::HashSet<String>) -> bool {
+    pub fn reads_hold(&self, used: &rustc_hash::FxHashSet<String>) -> bool {
         self.reads.iter().all(|(asset, free)| *free != used.contains(asset))
     }
 }
@@ -402,7 +402,7 @@ impl<'a> Resolver<'a> {
     }
 
     /// The assets of the rooms given to [`Resolver::used_before`] so far.
-    pub fn used(&self) -> &std::collections::HashSet<String> {
+    pub fn used(&self) -> &rustc_hash::FxHashSet<String> {
         &self.state.used
     }
 
@@ -650,7 +650,7 @@ struct State<'a> {
     options: ResolveOptions,
     /// The assets the rooms before the one being resolved use.
     /// (Looked up once per candidate and object, never iterated: a hash set.)
-    used: std::collections::HashSet<String>,
+    used: rustc_hash::FxHashSet<String>,
     /// Which assets the room being resolved asked about, with the answers (free or not).
     reads: Vec<(String, bool)>,
     /// The assets the room being resolved uses.
@@ -690,7 +690,7 @@ impl<'a> State<'a> {
             catalog,
             seed,
             options: *options,
-            used: std::collections::HashSet::new(),
+            used: rustc_hash::FxHashSet::default(),
             reads: Vec::new(),
             writes: BTreeSet::new(),
             asked: Vec::new(),
