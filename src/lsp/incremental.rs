@@ -379,6 +379,53 @@ impl PlanInput {
     }
 }
 
+impl PlanInput {
+    /// Whether this input is the one [`PlanInput::of`] makes of `scene` (compared in place).
+    fn is_of(&self, scene: &Scene) -> bool {
+        self.wall_height_m == scene.wall_height_m
+            && self.seed == scene.seed
+            && self.ceiling_material == scene.ceiling_material
+            && self.ceiling_design == scene.ceiling_design
+            && self.doors == scene.doors
+            && self.rooms.len() == scene.rooms.len()
+            && self.rooms.iter().zip(&scene.rooms).all(|(a, b)| same_room_outline(a, b))
+    }
+}
+
+/// Whether `kept` (a room of a [`PlanInput`]) is what [`PlanInput::of`] makes of `room`.
+fn same_room_outline(kept: &Room, room: &Room) -> bool {
+    let Room {
+        id,
+        name,
+        label,
+        floor_design,
+        wall_design,
+        floor_material,
+        wall_material,
+        corners,
+        corner_spans,
+        corners_unit_span,
+        windows,
+        objects: _,
+        ceiling: _,
+        name_span,
+        decl_span,
+    } = kept;
+    *id == room.id
+        && *name == room.name
+        && *label == room.label
+        && *floor_design == room.floor_design
+        && *wall_design == room.wall_design
+        && *floor_material == room.floor_material
+        && *wall_material == room.wall_material
+        && *corners == room.corners
+        && *corner_spans == room.corner_spans
+        && *corners_unit_span == room.corners_unit_span
+        && *windows == room.windows
+        && *name_span == room.name_span
+        && *decl_span == room.decl_span
+}
+
 impl Spans for PlanInput {
     fn spans(&mut self, f: &mut dyn FnMut(&mut Span)) {
         self.ceiling_material.spans(f);
@@ -427,6 +474,69 @@ impl RoomInput {
                 .collect(),
         }
     }
+}
+
+impl RoomInput {
+    /// Whether this input is the one [`RoomInput::of`] makes of `room` (compared in place,
+    /// with nothing copied).
+    fn is_of(&self, scene: &Scene, room: &Room) -> bool {
+        let same_ceiling = match (&self.ceiling, &room.ceiling) {
+            (None, None) => true,
+            (Some(a), Some(b)) => {
+                let Ceiling { description, asset, above: _, at: _, span } = a;
+                *description == b.description && *asset == b.asset && *span == b.span
+            }
+            _ => false,
+        };
+        self.name == room.name
+            && same_ceiling
+            && self.room_box == crate::resolve::room_box(room, scene.wall_height_m)
+            && self.objects.len() == room.objects.len()
+            && self
+                .objects
+                .iter()
+                .zip(&room.objects)
+                .all(|(a, &id)| same_object(a, scene.object(id)))
+    }
+}
+
+/// Whether `kept` (an object of a [`RoomInput`]) is what [`RoomInput::of`] makes of `object`.
+fn same_object(kept: &Object, object: &Object) -> bool {
+    let Object {
+        id: _,
+        room: _,
+        name,
+        group,
+        index,
+        group_count,
+        category,
+        description,
+        size_m,
+        variance,
+        asset,
+        at,
+        facing_deg,
+        placement,
+        on_top,
+        name_span,
+        decl_span,
+    } = kept;
+    let floor = |p: &Placement| matches!(p, Placement::Floor { .. });
+    *name == object.name
+        && *group == object.group
+        && *index == object.index
+        && *group_count == object.group_count
+        && *category == object.category
+        && *description == object.description
+        && *size_m == object.size_m
+        && *variance == object.variance
+        && *asset == object.asset
+        && *at == object.at
+        && *facing_deg == object.facing_deg
+        && floor(placement) == floor(&object.placement)
+        && *on_top == object.on_top
+        && *name_span == object.name_span
+        && *decl_span == object.decl_span
 }
 
 impl Spans for RoomInput {
@@ -513,22 +623,27 @@ pub fn analyse(sources: &SourceMap, file: FileId, catalog: &Catalog, memo: &mut 
     }
     let scene = checked.value;
 
-    let input = PlanInput::of(&scene);
     let reused = memo.plan.take().and_then(|(made_for, mut before, mut output)| {
         let shift = Shift::between(&made_for, &text);
-        (shift.move_in_place(&mut before) && before == input && shift.move_in_place(&mut output))
-            .then_some(output)
+        (shift.move_in_place(&mut before)
+            && before.is_of(&scene)
+            && shift.move_in_place(&mut output))
+        .then_some((before, output))
     });
-    let planned = match reused {
-        Some(output) => {
+    let (input, planned) = match reused {
+        Some((input, output)) => {
             memo.counts.plans_reused += 1;
-            output
+            debug_assert!(input == PlanInput::of(&scene), "an input compared in place");
+            (input, output)
         }
         None => {
             memo.counts.planned += 1;
             let planned =
                 crate::plan::plan_with(&scene, StructureCatalog::builtin(), PlanOptions::default());
-            Output { value: planned.value, diagnostics: planned.diagnostics }
+            (
+                PlanInput::of(&scene),
+                Output { value: planned.value, diagnostics: planned.diagnostics },
+            )
         }
     };
     memo.plan = Some((std::rc::Rc::clone(&text), input, planned.clone()));
@@ -573,36 +688,39 @@ fn resolve_rooms(
     // rooms before the next one use what they used then: its answers hold without asking.
     let mut in_step = shift.is_some();
     for (k, room) in scene.rooms.iter().enumerate() {
-        let input = RoomInput::of(scene, room);
         let place = by_name.get(room.name.as_str()).copied();
-        let run = place.and_then(|i| old.get_mut(i)).and_then(Option::take);
+        let mut run = place.and_then(|i| old.get_mut(i)).and_then(Option::take);
         in_step &= place == Some(k);
-        let mut run = run;
         // The run's input and diagnostics moved by the edit (a run that cannot be is thrown
         // away).
         let reusable = match (&mut run, shift) {
             (Some(run), Some(shift)) => {
                 (in_step || run.output.reads_hold(resolver.used()))
                     && shift.move_in_place(&mut run.input)
-                    && run.input == input
+                    && run.input.is_of(scene, room)
                     && shift.move_in_place(&mut run.output.diagnostics)
             }
             _ => false,
         };
-        let output = match run {
+        let run = match run {
             Some(run) if reusable => {
                 memo.counts.rooms_reused += 1;
-                run.output
+                debug_assert!(
+                    run.input == RoomInput::of(scene, room),
+                    "an input compared in place"
+                );
+                run
             }
             run => {
                 memo.counts.rooms_resolved += 1;
                 let output = resolver.room(scene, room);
                 in_step &= run.is_some_and(|run| output.writes == run.output.writes);
-                output
+                RoomRun { input: RoomInput::of(scene, room), output }
             }
         };
-        resolver.used_before(&output);
-        runs.push((room.name.clone(), RoomRun { input, output }));
+        let output = &run.output;
+        resolver.used_before(output);
+        runs.push((room.name.clone(), run));
     }
     // The rooms no longer there let go of their rankings before the cache keeps what rooms hold.
     drop(old);
