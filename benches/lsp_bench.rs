@@ -294,7 +294,7 @@ fn ruff_figures(ruff: &str, lines: usize, edits: usize) -> Result<(Figures, usiz
     let _ =
         send(Message::Request(Request::new(RequestId::from(2), "shutdown".into(), Value::Null)));
     let _ = send(Message::Notification(Notification::new("exit".into(), Value::Null)));
-    drop(send);
+    drop(stdin);
     let _ = child.wait();
     let _ = reader.join();
     let _ = std::fs::remove_dir_all(&dir);

@@ -4,6 +4,7 @@
 //! language server's incremental analysis gives exactly what a whole analysis gives.
 
 use proptest::prelude::*;
+use std::fmt::Write as _;
 use std::path::PathBuf;
 
 fn holo_files() -> Vec<PathBuf> {
@@ -169,15 +170,17 @@ fn competing_rooms(rooms: usize) -> String {
     let mut text = String::from("scene \"rooms that compete for assets\" {\n  seed 3\n}\n");
     for r in 0..rooms {
         let x = r * 4;
-        text.push_str(&format!(
+        let _ = write!(
+            text,
             "\nroom r{r} \"room {r}\" {{\n  corners in m ({x}, 0) ({x}, 4) ({}, 4) ({}, 0)\n",
             x + 4,
             x + 4
-        ));
+        );
         for (k, (category, description, size)) in things.iter().enumerate() {
-            text.push_str(&format!(
+            let _ = write!(
+                text,
                 "  object o{k} \"{category}\" {{\n    describe \"{description}\"\n    size {size}\n    edge\n"
-            ));
+            );
             if k == 1 {
                 text.push_str("    on top \"book\" x2 varied\n");
             }
@@ -190,7 +193,7 @@ fn competing_rooms(rooms: usize) -> String {
     }
     for r in 0..rooms {
         let from = if r == 0 { "exterior".to_string() } else { format!("r{}", r - 1) };
-        text.push_str(&format!("door {from} -- r{r} : doorway single\n"));
+        let _ = writeln!(text, "door {from} -- r{r} : doorway single");
     }
     text
 }

@@ -9,10 +9,14 @@
 //! - the plan reads the scene's settings, rooms (name, label, corners, windows, materials) and
 //!   doors, never its objects: it runs again only when one of those changed, so typing in an
 //!   object block never plans the floor again;
-//! - asset resolution reads the objects (category, description, size, pins, things on top,
-//!   placement kind) in each room's placement order and the ceilings, never corners, windows,
-//!   doors or relations: it runs again only when one of those changed (and then ranks only the
-//!   descriptions that changed, through `resolve::RankCache`).
+//! - asset resolution is kept room by room: a room reads its objects (category, description,
+//!   size, pins, things on top, placement kind), its ceiling object, its name and box, never its
+//!   corners' spans, windows, doors or relations, and of the rooms before it only which assets
+//!   they use ([`crate::resolve::Resolver`]). A room's last resolution is reused when its input
+//!   is the same and every asset it asked about is used or not by the rooms before it as then;
+//!   that is not even asked while every room before it is the same room at the same place with
+//!   the same assets. So an edit in a description resolves that room, and the later rooms only
+//!   when its choices changed what they were told (new rankings through `resolve::RankCache`).
 //!
 //! An edit is the text between the common prefix and the common suffix of two versions
 //! ([`Shift`]). A span before it stays, a span after it moves by the change in length, a span

@@ -386,7 +386,7 @@ impl<'a> Resolver<'a> {
         } else {
             BTreeMap::new()
         };
-        let mut state = State::new(catalog, seed, options);
+        let mut state = State::new(catalog, seed, *options);
         state.earlier = earlier;
         Resolver { state }
     }
@@ -597,7 +597,7 @@ pub fn resolve_query(
     seed: u64,
     options: &ResolveOptions,
 ) -> Outcome<Resolution> {
-    let mut state = State::new(catalog, seed, options);
+    let mut state = State::new(catalog, seed, *options);
     let what = Subject {
         name: query.category.clone(),
         description: query.description.clone().unwrap_or_else(|| query.category.clone()),
@@ -685,11 +685,11 @@ struct State<'a> {
 }
 
 impl<'a> State<'a> {
-    fn new(catalog: &'a Catalog, seed: u64, options: &ResolveOptions) -> State<'a> {
+    fn new(catalog: &'a Catalog, seed: u64, options: ResolveOptions) -> State<'a> {
         State {
             catalog,
             seed,
-            options: *options,
+            options,
             used: rustc_hash::FxHashSet::default(),
             reads: Vec::new(),
             writes: BTreeSet::new(),
