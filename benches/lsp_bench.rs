@@ -13,6 +13,13 @@
 //! (100000 for the open-time target). Issue 29's targets: ≤ 5 ms of CPU per keystroke and
 //! p95 ≤ 20 ms from change to diagnostics; the CPU is the process's (server and client, user
 //! and system) over the edits, divided by their number.
+//!
+//! When `ruff` is on the `PATH` (or `LSP_BENCH_RUFF` names it), the same run then drives
+//! `ruff server` over its stdin and stdout with the same client code on a generated Python file
+//! of as many lines, typing and deleting one character in a string in its middle the same number
+//! of times, and prints its figures beside holoc's (the CPU is ruff's process and this client's).
+//! `benches/lsp_vs_ruff.sh` installs ruff from PyPI in a virtual environment and runs both.
+//! Without ruff the comparison is skipped with a message.
 
 // The table is the point of this binary: it prints to stdout on purpose.
 #![allow(clippy::print_stdout, clippy::print_stderr)]
@@ -143,6 +150,169 @@ fn cpu_time() -> Duration {
         .unwrap_or(0);
     // Linux reports clock ticks of 1/100 s.
     Duration::from_millis(ticks * 10)
+}
+
+/// The CPU time of another process (all its threads), from `/proc/PID/stat`.
+fn cpu_time_of(pid: u32) -> Duration {
+    let ticks = std::fs::read_to_string(format!("/proc/{pid}/stat"))
+        .ok()
+        .and_then(|s| {
+            let rest = s.rsplit_once(") ")?.1.split_whitespace().collect::<Vec<_>>();
+            let user: u64 = rest.get(11)?.parse().ok()?;
+            let system: u64 = rest.get(12)?.parse().ok()?;
+            Some(user + system)
+        })
+        .unwrap_or(0);
+    Duration::from_millis(ticks * 10)
+}
+
+/// A Python module of about `lines` lines: classes with methods, docstrings and strings, as
+/// ruff's users write them.
+fn python_module(lines: usize) -> String {
+    let mut text = String::from(
+        "\"\"\"A generated module for the language server benchmark.\"\"\"\n\nimport math\n\n",
+    );
+    let mut k = 0;
+    while text.lines().count() < lines {
+        let _ = write!(
+            text,
+            "\n\nclass Office{k}:\n    \"\"\"Office {k} of the floor.\"\"\"\n\n    def __init__(self, width: float, depth: float) -> None:\n        self.width = width\n        self.depth = depth\n        self.label = \"grey carpet office {k}\"\n\n    def area(self) -> float:\n        \"\"\"The floor area, square metres.\"\"\"\n        return self.width * self.depth\n\n    def diagonal(self) -> float:\n        return math.hypot(self.width, self.depth)\n\n    def describe(self) -> str:\n        return f\"{{self.label}}: {{self.area():.1f}} m2\"\n"
+        );
+        k += 1;
+    }
+    text
+}
+
+/// What one server did over the edits.
+struct Figures {
+    open: Duration,
+    cpu_per_edit: Duration,
+    latencies: Vec<Duration>,
+}
+
+/// Drives `ruff server` (the program `ruff`) over its stdio with `edits` one-character edits of
+/// a Python module of about `lines` lines; `None` (with the reason) when it cannot be run.
+fn ruff_figures(ruff: &str, lines: usize, edits: usize) -> Result<(Figures, usize), String> {
+    use std::io::BufReader;
+    use std::process::{Command, Stdio};
+    let dir = std::env::temp_dir().join(format!("holoc-lsp-bench-ruff-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).map_err(|e| e.to_string())?;
+    let path = dir.join("big.py");
+    let text = python_module(lines);
+    std::fs::write(&path, &text).map_err(|e| e.to_string())?;
+    let uri = format!("file://{}", path.display());
+    let mut child = Command::new(ruff)
+        .arg("server")
+        .current_dir(&dir)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .map_err(|e| format!("`{ruff} server` does not start: {e}"))?;
+    let pid = child.id();
+    let mut stdin = child.stdin.take().ok_or("no stdin")?;
+    let stdout = child.stdout.take().ok_or("no stdout")?;
+    let (tx, rx) = crossbeam_channel::unbounded::<Message>();
+    let reader = std::thread::spawn(move || {
+        let mut stdout = BufReader::new(stdout);
+        while let Ok(Some(message)) = Message::read(&mut stdout) {
+            if tx.send(message).is_err() {
+                break;
+            }
+        }
+    });
+    let mut send = |m: Message| m.write(&mut stdin).map_err(|e| e.to_string());
+    let root = format!("file://{}", dir.display());
+    send(Message::Request(Request::new(
+        RequestId::from(1),
+        "initialize".into(),
+        json!({"processId": std::process::id(), "rootUri": root, "capabilities": {}}),
+    )))?;
+    // The initialize result (requests the server makes of the client are answered with null).
+    let answer = |m: &Message, send: &mut dyn FnMut(Message) -> Result<(), String>| {
+        if let Message::Request(r) = m {
+            let _ =
+                send(Message::Response(lsp_server::Response::new_ok(r.id.clone(), Value::Null)));
+        }
+    };
+    loop {
+        let m = rx.recv_timeout(Duration::from_secs(60)).map_err(|e| e.to_string())?;
+        answer(&m, &mut send);
+        if matches!(m, Message::Response(_)) {
+            break;
+        }
+    }
+    send(Message::Notification(Notification::new("initialized".into(), json!({}))))?;
+    let wait = |version: i32, send: &mut dyn FnMut(Message) -> Result<(), String>| loop {
+        let Ok(m) = rx.recv_timeout(Duration::from_secs(60)) else { return false };
+        answer(&m, send);
+        if let Message::Notification(n) = &m {
+            if n.method == "textDocument/publishDiagnostics"
+                && (n.params["version"].is_null() || n.params["version"] == version)
+            {
+                return true;
+            }
+        }
+    };
+    let started = Instant::now();
+    send(Message::Notification(Notification::new(
+        "textDocument/didOpen".into(),
+        json!({"textDocument": {"uri": uri, "languageId": "python", "version": 1, "text": text}}),
+    )))?;
+    if !wait(1, &mut send) {
+        return Err("ruff published no diagnostics".into());
+    }
+    let open = started.elapsed();
+    let middle = text.lines().count() / 2;
+    let (line, column) = text
+        .lines()
+        .enumerate()
+        .skip(middle)
+        .find_map(|(i, l)| l.find("\"grey").map(|c| (i, c + 5)))
+        .ok_or("no string to type in")?;
+    let mut latencies = Vec::with_capacity(edits);
+    let cpu_before = cpu_time() + cpu_time_of(pid);
+    for k in 0..edits {
+        let version = k as i32 + 2;
+        let at = json!({"line": line, "character": column});
+        let change = if k % 2 == 0 {
+            json!({"range": {"start": at, "end": at}, "text": "x"})
+        } else {
+            json!({"range": {"start": at, "end": {"line": line, "character": column + 1}}, "text": ""})
+        };
+        let sent = Instant::now();
+        send(Message::Notification(Notification::new(
+            "textDocument/didChange".into(),
+            json!({"textDocument": {"uri": uri, "version": version}, "contentChanges": [change]}),
+        )))?;
+        if !wait(version, &mut send) {
+            return Err(format!("ruff published nothing for version {version}"));
+        }
+        latencies.push(sent.elapsed());
+    }
+    let cpu = (cpu_time() + cpu_time_of(pid)).saturating_sub(cpu_before);
+    let _ =
+        send(Message::Request(Request::new(RequestId::from(2), "shutdown".into(), Value::Null)));
+    let _ = send(Message::Notification(Notification::new("exit".into(), Value::Null)));
+    drop(stdin);
+    let _ = child.wait();
+    let _ = reader.join();
+    let _ = std::fs::remove_dir_all(&dir);
+    latencies.sort();
+    let figures = Figures { open, cpu_per_edit: cpu / edits.max(1) as u32, latencies };
+    Ok((figures, text.lines().count()))
+}
+
+/// The `ruff` to compare with: `LSP_BENCH_RUFF`, else `ruff` when it is on the `PATH`.
+fn ruff_program() -> Option<String> {
+    if let Ok(named) = std::env::var("LSP_BENCH_RUFF") {
+        return Some(named);
+    }
+    let path = std::env::var_os("PATH")?;
+    std::env::split_paths(&path)
+        .map(|d| d.join("ruff"))
+        .find(|p| p.is_file())
+        .map(|p| p.display().to_string())
 }
 
 fn rss_kb() -> u64 {
@@ -288,4 +458,44 @@ fn main() {
         rss_1000 as f64 / 1024.0,
         rss_end as f64 / 1024.0
     );
+    let holoc = Figures { open: open_time, cpu_per_edit: cpu / edits.max(1) as u32, latencies };
+    compare_with_ruff(&holoc, line_count, edits);
+}
+
+/// Runs `ruff server` on a Python module of as many lines and prints both servers' figures.
+fn compare_with_ruff(holoc: &Figures, lines: usize, edits: usize) {
+    let Some(ruff) = ruff_program() else {
+        println!("ruff: not on the PATH, no comparison (benches/lsp_vs_ruff.sh installs it)");
+        return;
+    };
+    let version = std::process::Command::new(&ruff)
+        .arg("--version")
+        .output()
+        .ok()
+        .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
+        .unwrap_or_default();
+    let (figures, python_lines) = match ruff_figures(&ruff, lines, edits) {
+        Ok(found) => found,
+        Err(why) => {
+            println!("ruff: {why}; no comparison");
+            return;
+        }
+    };
+    let ms = |d: Duration| d.as_secs_f64() * 1000.0;
+    let row = |name: &str, lines: usize, f: &Figures| {
+        let last = f.latencies.last().copied().unwrap_or(Duration::ZERO);
+        println!(
+            "| {name} | {lines} | {:.1} | {:.2} | {:.2} | {:.2} | {:.2} |",
+            ms(f.open),
+            ms(f.cpu_per_edit),
+            ms(percentile(&f.latencies, 0.5)),
+            ms(percentile(&f.latencies, 0.95)),
+            ms(last)
+        );
+    };
+    println!("side by side, {edits} edits each ({version}):");
+    println!("| server | lines | open ms | CPU per keystroke ms | p50 ms | p95 ms | max ms |");
+    println!("|---|---|---|---|---|---|---|");
+    row("holoc lsp", lines, holoc);
+    row("ruff server", python_lines, &figures);
 }

@@ -4,6 +4,7 @@
 //! language server's incremental analysis gives exactly what a whole analysis gives.
 
 use proptest::prelude::*;
+use std::fmt::Write as _;
 use std::path::PathBuf;
 
 fn holo_files() -> Vec<PathBuf> {
@@ -155,6 +156,64 @@ fn typing_in_a_valid_scene_reuses_the_plan_and_gives_the_whole_analysis() {
     assert_eq!((counts.planned, counts.plans_reused), (2, 6), "{counts:?}");
 }
 
+/// A row of `rooms` rooms of 4 m × 4 m that ask for the same things (so that each avoids the
+/// assets of the rooms before it, and a choice changed in one room changes the rooms after it),
+/// with doors between them; some objects carry things on top, some rooms a ceiling light.
+fn competing_rooms(rooms: usize) -> String {
+    let things = [
+        ("sofa", "grey fabric sofa", "200 cm x 90 cm x 80 cm"),
+        ("table", "round oak dining table", "120 cm x 120 cm x 75 cm"),
+        ("chair", "wooden chair", "45 cm x 50 cm x 90 cm"),
+        ("bookshelf", "tall bookshelf", "90 cm x 30 cm x 190 cm"),
+        ("plant", "potted fern", "40 cm x 40 cm x 90 cm"),
+    ];
+    let mut text = String::from("scene \"rooms that compete for assets\" {\n  seed 3\n}\n");
+    for r in 0..rooms {
+        let x = r * 4;
+        let _ = write!(
+            text,
+            "\nroom r{r} \"room {r}\" {{\n  corners in m ({x}, 0) ({x}, 4) ({}, 4) ({}, 0)\n",
+            x + 4,
+            x + 4
+        );
+        for (k, (category, description, size)) in things.iter().enumerate() {
+            let _ = write!(
+                text,
+                "  object o{k} \"{category}\" {{\n    describe \"{description}\"\n    size {size}\n    edge\n"
+            );
+            if k == 1 {
+                text.push_str("    on top \"book\" x2 varied\n");
+            }
+            text.push_str("  }\n");
+        }
+        if r % 2 == 0 {
+            text.push_str("  ceiling \"round ceiling light\"\n");
+        }
+        text.push_str("}\n");
+    }
+    for r in 0..rooms {
+        let from = if r == 0 { "exterior".to_string() } else { format!("r{}", r - 1) };
+        let _ = writeln!(text, "door {from} -- r{r} : doorway single");
+    }
+    text
+}
+
+#[test]
+fn typing_in_one_room_resolves_that_room_and_keeps_the_others() {
+    // Typing into the last room's first description resolves that room alone; typing into the
+    // first room's resolves it and those whose answers about used assets changed.
+    let text = competing_rooms(4);
+    let mut versions = vec![text.clone()];
+    let last = text.rfind("describe \"").expect("a description") + 10;
+    versions.push(mutate(&text, last, 0, "x"));
+    let counts = incremental_equals_whole(&versions).expect("the same analyses");
+    assert_eq!((counts.rooms_resolved, counts.rooms_reused), (4 + 1, 3), "{counts:?}");
+    let first = text.find("describe \"").expect("a description") + 10;
+    let edited = mutate(&text, first, 0, "velvet ");
+    let counts = incremental_equals_whole(&[text, edited]).expect("the same analyses");
+    assert!(counts.rooms_reused < 4, "{counts:?}");
+}
+
 /// Tokens that make up plausible and implausible `.holo` text.
 fn token() -> impl Strategy<Value = String> {
     prop_oneof![
@@ -251,6 +310,25 @@ proptest! {
         let files = holo_files();
         let path = &files[index % files.len()];
         let mut current = std::fs::read_to_string(path).expect("readable");
+        let mut versions = vec![current.clone()];
+        for (nth, class, cut, insert) in edits {
+            let bytes: &[u8] = match class {
+                0 => b"\"",
+                1 => b"0123456789",
+                _ => b"\n",
+            };
+            let at = after_nth(&current, bytes, nth);
+            current = mutate(&current, at, cut, &insert);
+            versions.push(current.clone());
+        }
+        incremental_equals_whole(&versions)?;
+    }
+
+    #[test]
+    fn incremental_analysis_of_competing_rooms_equals_whole_analysis(rooms in 2usize..6, edits in proptest::collection::vec((0usize..40, 0usize..3, 0usize..3, "[a-z ]{0,4}"), 1..6)) {
+        // Edits inside the descriptions, sizes and names of rooms that avoid each other's
+        // assets: a choice changed in one room changes what the rooms after it read.
+        let mut current = competing_rooms(rooms);
         let mut versions = vec![current.clone()];
         for (nth, class, cut, insert) in edits {
             let bytes: &[u8] = match class {

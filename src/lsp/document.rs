@@ -144,12 +144,23 @@ impl Document {
                 return Err("a ranged change to a document out of sync".to_string());
             }
             Some(range) => {
-                let file = SourceFile::new("", std::mem::take(&mut self.text));
-                let start = file.offset_of_lsp(range.start.line, range.start.character);
-                let end = file.offset_of_lsp(range.end.line, range.end.character);
+                // The analysis of the current text already knows where its lines start.
+                let (start, end) = match &self.analysis {
+                    Some(analysis) => (
+                        analysis.source().offset_of_lsp(range.start.line, range.start.character),
+                        analysis.source().offset_of_lsp(range.end.line, range.end.character),
+                    ),
+                    None => {
+                        let file = SourceFile::new("", self.text.as_str());
+                        (
+                            file.offset_of_lsp(range.start.line, range.start.character),
+                            file.offset_of_lsp(range.end.line, range.end.character),
+                        )
+                    }
+                };
                 let backwards = (range.end.line, range.end.character)
                     < (range.start.line, range.start.character);
-                let mut text = file.text;
+                let mut text = std::mem::take(&mut self.text);
                 if backwards {
                     self.text = text;
                     return Err(format!(

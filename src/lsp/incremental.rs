@@ -9,10 +9,14 @@
 //! - the plan reads the scene's settings, rooms (name, label, corners, windows, materials) and
 //!   doors, never its objects: it runs again only when one of those changed, so typing in an
 //!   object block never plans the floor again;
-//! - asset resolution reads the objects (category, description, size, pins, things on top,
-//!   placement kind) in each room's placement order and the ceilings, never corners, windows,
-//!   doors or relations: it runs again only when one of those changed (and then ranks only the
-//!   descriptions that changed, through `resolve::RankCache`).
+//! - asset resolution is kept room by room: a room reads its objects (category, description,
+//!   size, pins, things on top, placement kind), its ceiling object, its name and box, never its
+//!   corners' spans, windows, doors or relations, and of the rooms before it only which assets
+//!   they use ([`crate::resolve::Resolver`]). A room's last resolution is reused when its input
+//!   is the same and every asset it asked about is used or not by the rooms before it as then;
+//!   that is not even asked while every room before it is the same room at the same place with
+//!   the same assets. So an edit in a description resolves that room, and the later rooms only
+//!   when its choices changed what they were told (new rankings through `resolve::RankCache`).
 //!
 //! An edit is the text between the common prefix and the common suffix of two versions
 //! ([`Shift`]). A span before it stays, a span after it moves by the change in length, a span
@@ -28,7 +32,7 @@ use crate::compile::{Analysed, AnalysisCache};
 use crate::diag::{Diagnostic, Fix, Label};
 use crate::plan::{FloorPlan, PlanOptions};
 use crate::resolve::structure::StructureCatalog;
-use crate::resolve::{Catalog, Resolved};
+use crate::resolve::{Catalog, Resolved, RoomResolution};
 use crate::source::{FileId, SourceMap, Span};
 
 /// The text an edit replaced: bytes `start..old_end` of the old version became
@@ -69,6 +73,17 @@ impl Shift {
     /// A span of the old version moved into the new one.
     pub fn span(&self, span: Span) -> Option<Span> {
         Some(Span { file: span.file, start: self.offset(span.start)?, end: self.offset(span.end)? })
+    }
+
+    /// Moves every span of `value`; `false` when one cannot be (then `value` is left part
+    /// moved, to be thrown away).
+    pub fn move_in_place<T: Spans>(&self, value: &mut T) -> bool {
+        let mut ok = true;
+        value.spans(&mut |span| match self.span(*span) {
+            Some(moved) => *span = moved,
+            None => ok = false,
+        });
+        ok
     }
 
     /// A copy of `value` with every span moved, or `None` when one cannot be.
@@ -368,6 +383,53 @@ impl PlanInput {
     }
 }
 
+impl PlanInput {
+    /// Whether this input is the one [`PlanInput::of`] makes of `scene` (compared in place).
+    fn is_of(&self, scene: &Scene) -> bool {
+        self.wall_height_m == scene.wall_height_m
+            && self.seed == scene.seed
+            && self.ceiling_material == scene.ceiling_material
+            && self.ceiling_design == scene.ceiling_design
+            && self.doors == scene.doors
+            && self.rooms.len() == scene.rooms.len()
+            && self.rooms.iter().zip(&scene.rooms).all(|(a, b)| same_room_outline(a, b))
+    }
+}
+
+/// Whether `kept` (a room of a [`PlanInput`]) is what [`PlanInput::of`] makes of `room`.
+fn same_room_outline(kept: &Room, room: &Room) -> bool {
+    let Room {
+        id,
+        name,
+        label,
+        floor_design,
+        wall_design,
+        floor_material,
+        wall_material,
+        corners,
+        corner_spans,
+        corners_unit_span,
+        windows,
+        objects: _,
+        ceiling: _,
+        name_span,
+        decl_span,
+    } = kept;
+    *id == room.id
+        && *name == room.name
+        && *label == room.label
+        && *floor_design == room.floor_design
+        && *wall_design == room.wall_design
+        && *floor_material == room.floor_material
+        && *wall_material == room.wall_material
+        && *corners == room.corners
+        && *corner_spans == room.corner_spans
+        && *corners_unit_span == room.corners_unit_span
+        && *windows == room.windows
+        && *name_span == room.name_span
+        && *decl_span == room.decl_span
+}
+
 impl Spans for PlanInput {
     fn spans(&mut self, f: &mut dyn FnMut(&mut Span)) {
         self.ceiling_material.spans(f);
@@ -376,56 +438,133 @@ impl Spans for PlanInput {
     }
 }
 
-/// What asset resolution reads of a scene: the rooms' placement orders and ceilings, the
-/// objects without their relations, the seed.
+/// What asset resolution reads of one room: its name, its box (for the objathor folder's size
+/// filters), its ceiling object and its objects without their relations, ids or placement
+/// details. With the same input and the same answers about which assets the rooms before it
+/// use, a room resolves to the same choices and diagnostics ([`crate::resolve::Resolver`]).
 #[derive(Clone, Debug, PartialEq)]
-struct ResolveInput {
-    seed: u64,
-    rooms: Vec<Room>,
+struct RoomInput {
+    name: String,
+    room_box: Option<[f64; 3]>,
+    ceiling: Option<Ceiling>,
     objects: Vec<Object>,
 }
 
-impl ResolveInput {
-    fn of(scene: &Scene) -> ResolveInput {
-        ResolveInput {
-            seed: scene.seed,
-            rooms: scene
-                .rooms
-                .iter()
-                .map(|r| Room {
-                    corners: Vec::new(),
-                    corner_spans: Vec::new(),
-                    corners_unit_span: None,
-                    windows: Vec::new(),
-                    floor_design: None,
-                    wall_design: None,
-                    floor_material: None,
-                    wall_material: None,
-                    ..r.clone()
-                })
-                .collect(),
-            objects: scene
+impl RoomInput {
+    fn of(scene: &Scene, room: &Room) -> RoomInput {
+        RoomInput {
+            name: room.name.clone(),
+            room_box: crate::resolve::room_box(room, scene.wall_height_m),
+            ceiling: room.ceiling.as_ref().map(|c| Ceiling { above: None, at: None, ..c.clone() }),
+            objects: room
                 .objects
                 .iter()
-                .map(|o| {
+                .map(|&id| {
+                    let o = scene.object(id);
                     let placement = match &o.placement {
                         Placement::Floor { .. } => {
                             Placement::Floor { global: None, constraints: Vec::new() }
                         }
                         Placement::Wall { .. } => Placement::Wall { above: None, height_m: None },
                     };
-                    Object { placement, ..o.clone() }
+                    // Ids are places in the scene's lists, which an edit elsewhere moves.
+                    Object {
+                        id: crate::check::ObjectId(0),
+                        room: crate::check::RoomId(0),
+                        placement,
+                        ..o.clone()
+                    }
                 })
                 .collect(),
         }
     }
 }
 
-impl Spans for ResolveInput {
-    fn spans(&mut self, f: &mut dyn FnMut(&mut Span)) {
-        self.rooms.spans(f);
-        self.objects.spans(f);
+impl RoomInput {
+    /// Whether this input is the one [`RoomInput::of`] makes of `room` (compared in place,
+    /// with nothing copied).
+    fn is_of(&self, scene: &Scene, room: &Room) -> bool {
+        let same_ceiling = match (&self.ceiling, &room.ceiling) {
+            (None, None) => true,
+            (Some(a), Some(b)) => {
+                let Ceiling { description, asset, above: _, at: _, span } = a;
+                *description == b.description && *asset == b.asset && *span == b.span
+            }
+            _ => false,
+        };
+        self.name == room.name
+            && same_ceiling
+            && self.room_box == crate::resolve::room_box(room, scene.wall_height_m)
+            && self.objects.len() == room.objects.len()
+            && self
+                .objects
+                .iter()
+                .zip(&room.objects)
+                .all(|(a, &id)| same_object(a, scene.object(id)))
     }
+}
+
+/// Whether `kept` (an object of a [`RoomInput`]) is what [`RoomInput::of`] makes of `object`.
+fn same_object(kept: &Object, object: &Object) -> bool {
+    let Object {
+        id: _,
+        room: _,
+        name,
+        group,
+        index,
+        group_count,
+        category,
+        description,
+        size_m,
+        variance,
+        asset,
+        at,
+        facing_deg,
+        placement,
+        on_top,
+        name_span,
+        decl_span,
+    } = kept;
+    let floor = |p: &Placement| matches!(p, Placement::Floor { .. });
+    *name == object.name
+        && *group == object.group
+        && *index == object.index
+        && *group_count == object.group_count
+        && *category == object.category
+        && *description == object.description
+        && *size_m == object.size_m
+        && *variance == object.variance
+        && *asset == object.asset
+        && *at == object.at
+        && *facing_deg == object.facing_deg
+        && floor(placement) == floor(&object.placement)
+        && *on_top == object.on_top
+        && *name_span == object.name_span
+        && *decl_span == object.decl_span
+}
+
+impl Spans for RoomInput {
+    fn spans(&mut self, f: &mut dyn FnMut(&mut Span)) {
+        let RoomInput { name: _, room_box: _, ceiling, objects } = self;
+        ceiling.spans(f);
+        objects.spans(f);
+    }
+}
+
+/// One room's resolution with the input it was made from.
+#[derive(Debug)]
+struct RoomRun {
+    input: RoomInput,
+    output: RoomResolution,
+}
+
+/// The last asset resolution: the text and seed it was made for, and each room's run in the
+/// scene's order, with the rooms' names.
+#[derive(Debug)]
+struct ResolveMemo {
+    made_for: std::rc::Rc<str>,
+    seed: u64,
+    rooms: Vec<(String, RoomRun)>,
 }
 
 /// What the analyses of earlier versions of a document leave for the next: the parse cache
@@ -437,23 +576,24 @@ pub struct Memo {
     pub cache: AnalysisCache,
     /// The last plan: the text it was made for, its input and its output.
     plan: Option<(std::rc::Rc<str>, PlanInput, Output<FloorPlan>)>,
-    /// The last asset resolution, likewise.
-    resolve: Option<(std::rc::Rc<str>, ResolveInput, Output<Resolved>)>,
+    /// The last asset resolution, room by room.
+    resolve: Option<ResolveMemo>,
     /// How often each stage ran and was reused (for the tests and the benchmark).
     pub counts: Counts,
 }
 
-/// How often the plan and asset resolution ran, and how often their last output was reused.
+/// How often the plan ran and its last output was reused, and how many rooms' asset choices
+/// were made and reused.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Counts {
     /// Plans made.
     pub planned: u64,
     /// Plans reused.
     pub plans_reused: u64,
-    /// Resolutions made.
-    pub resolved: u64,
-    /// Resolutions reused.
-    pub resolutions_reused: u64,
+    /// Rooms resolved.
+    pub rooms_resolved: u64,
+    /// Rooms whose resolution was reused.
+    pub rooms_reused: u64,
 }
 
 impl Memo {
@@ -487,22 +627,27 @@ pub fn analyse(sources: &SourceMap, file: FileId, catalog: &Catalog, memo: &mut 
     }
     let scene = checked.value;
 
-    let input = PlanInput::of(&scene);
-    let reused = memo.plan.take().and_then(|(made_for, before, output)| {
+    let reused = memo.plan.take().and_then(|(made_for, mut before, mut output)| {
         let shift = Shift::between(&made_for, &text);
-        let moved = shift.moved(&before)?;
-        (moved == input).then(|| shift.moved(&output)).flatten()
+        (shift.move_in_place(&mut before)
+            && before.is_of(&scene)
+            && shift.move_in_place(&mut output))
+        .then_some((before, output))
     });
-    let planned = match reused {
-        Some(output) => {
+    let (input, planned) = match reused {
+        Some((input, output)) => {
             memo.counts.plans_reused += 1;
-            output
+            debug_assert!(input == PlanInput::of(&scene), "an input compared in place");
+            (input, output)
         }
         None => {
             memo.counts.planned += 1;
             let planned =
                 crate::plan::plan_with(&scene, StructureCatalog::builtin(), PlanOptions::default());
-            Output { value: planned.value, diagnostics: planned.diagnostics }
+            (
+                PlanInput::of(&scene),
+                Output { value: planned.value, diagnostics: planned.diagnostics },
+            )
         }
     };
     memo.plan = Some((std::rc::Rc::clone(&text), input, planned.clone()));
@@ -513,34 +658,81 @@ pub fn analyse(sources: &SourceMap, file: FileId, catalog: &Catalog, memo: &mut 
     }
     analysed.plan = Some(planned.value);
 
-    let input = ResolveInput::of(&scene);
-    let reused = memo.resolve.take().and_then(|(made_for, before, output)| {
-        let shift = Shift::between(&made_for, &text);
-        let moved = shift.moved(&before)?;
-        (moved == input).then(|| shift.moved(&output)).flatten()
-    });
-    let resolved = match reused {
-        Some(output) => {
-            memo.counts.resolutions_reused += 1;
-            output
-        }
-        None => {
-            memo.counts.resolved += 1;
-            let resolved = crate::resolve::resolve_cached(
-                &scene,
-                catalog,
-                scene.seed,
-                &crate::resolve::ResolveOptions::default(),
-                &mut memo.cache.ranks,
-            );
-            Output { value: resolved.value, diagnostics: resolved.diagnostics }
-        }
-    };
-    memo.resolve = Some((text, input, resolved.clone()));
+    let resolved = resolve_rooms(&scene, &text, catalog, memo);
     analysed.diagnostics.extend(resolved.diagnostics);
     analysed.resolved = Some(resolved.value);
     analysed.scene = Some(scene);
     analysed
+}
+
+/// Resolves the scene's assets room by room, reusing each room's last resolution when its
+/// input, moved by the edit, is the same and the rooms before it use the assets it asked about
+/// as they did then (a room whose choices changed changes what the rooms after it read).
+fn resolve_rooms(
+    scene: &Scene,
+    text: &std::rc::Rc<str>,
+    catalog: &Catalog,
+    memo: &mut Memo,
+) -> crate::diag::Outcome<Resolved> {
+    let (shift, old) = match memo.resolve.take() {
+        Some(last) if last.seed == scene.seed => {
+            (Some(Shift::between(&last.made_for, text)), last.rooms)
+        }
+        _ => (None, Vec::new()),
+    };
+    let (names, mut old): (Vec<String>, Vec<Option<RoomRun>>) =
+        old.into_iter().map(|(name, run)| (name, Some(run))).unzip();
+    let by_name: rustc_hash::FxHashMap<&str, usize> =
+        names.iter().enumerate().map(|(i, name)| (name.as_str(), i)).collect();
+    let options = crate::resolve::ResolveOptions::default();
+    let mut resolver =
+        crate::resolve::Resolver::new(catalog, scene.seed, &options, &mut memo.cache.ranks);
+    let mut runs: Vec<(String, RoomRun)> = Vec::with_capacity(scene.rooms.len());
+    // While every room so far is the one at its place last time and uses the same assets, the
+    // rooms before the next one use what they used then: its answers hold without asking.
+    let mut in_step = shift.is_some();
+    for (k, room) in scene.rooms.iter().enumerate() {
+        let place = by_name.get(room.name.as_str()).copied();
+        let mut run = place.and_then(|i| old.get_mut(i)).and_then(Option::take);
+        in_step &= place == Some(k);
+        // The run's input and diagnostics moved by the edit (a run that cannot be is thrown
+        // away).
+        let reusable = match (&mut run, shift) {
+            (Some(run), Some(shift)) => {
+                (in_step || run.output.reads_hold(resolver.used()))
+                    && shift.move_in_place(&mut run.input)
+                    && run.input.is_of(scene, room)
+                    && shift.move_in_place(&mut run.output.diagnostics)
+            }
+            _ => false,
+        };
+        let run = match run {
+            Some(run) if reusable => {
+                memo.counts.rooms_reused += 1;
+                debug_assert!(
+                    run.input == RoomInput::of(scene, room),
+                    "an input compared in place"
+                );
+                run
+            }
+            run => {
+                memo.counts.rooms_resolved += 1;
+                let output = resolver.room(scene, room);
+                in_step &= run.is_some_and(|run| output.writes == run.output.writes);
+                RoomRun { input: RoomInput::of(scene, room), output }
+            }
+        };
+        let output = &run.output;
+        resolver.used_before(output);
+        runs.push((room.name.clone(), run));
+    }
+    // The rooms no longer there let go of their rankings before the cache keeps what rooms hold.
+    drop(old);
+    resolver.finish(&mut memo.cache.ranks);
+    let resolved = crate::resolve::assemble(scene, runs.iter().map(|(_, run)| &run.output));
+    memo.resolve =
+        Some(ResolveMemo { made_for: std::rc::Rc::clone(text), seed: scene.seed, rooms: runs });
+    resolved
 }
 
 #[cfg(test)]

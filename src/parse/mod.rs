@@ -41,9 +41,9 @@ pub fn parse(sources: &SourceMap, file: FileId) -> Outcome<ast::File> {
 /// language server keeps between keystrokes so that only the item being edited is parsed again.
 #[derive(Clone, Debug, Default)]
 pub struct ParseCache {
-    chunks: std::collections::HashMap<String, std::rc::Rc<Chunk>>,
+    chunks: rustc_hash::FxHashMap<String, std::rc::Rc<Chunk>>,
     /// Room statement groups by their text.
-    groups: std::collections::HashMap<std::rc::Rc<str>, std::rc::Rc<Group>>,
+    groups: GroupMap,
 }
 
 /// One top-level piece of text, parsed on its own.
@@ -73,27 +73,38 @@ pub fn parse_cached(
         return too_deep;
     }
     let Some(starts) = chunk_starts(text) else { return parse_whole(sources, file) };
-    let mut used = std::collections::HashMap::new();
-    let mut used_groups = std::collections::HashMap::new();
+    // The pieces of the last parse are moved (their texts too) into what this one keeps.
+    let mut earlier = std::mem::take(&mut cache.chunks);
+    let mut used: rustc_hash::FxHashMap<String, std::rc::Rc<Chunk>> =
+        rustc_hash::FxHashMap::default();
+    let mut used_groups = GroupMap::default();
     let mut items = Vec::new();
     let mut diagnostics = Vec::new();
     let mut previous_end: Option<usize> = None;
     for (k, &start) in starts.iter().enumerate() {
         let end = starts.get(k + 1).copied().unwrap_or(text.len());
         let piece = &text[start..end];
-        let chunk = match cache.chunks.get(piece) {
-            Some(hit) => {
-                // A room served whole keeps its statement groups for its next edit.
-                for key in &hit.groups {
-                    if let Some(group) = cache.groups.get(key) {
-                        used_groups.insert(std::rc::Rc::clone(key), std::rc::Rc::clone(group));
+        let (key, chunk) = match used.get(piece) {
+            Some(hit) => (None, std::rc::Rc::clone(hit)),
+            None => match earlier.remove_entry(piece) {
+                Some((key, hit)) => {
+                    // A room served whole keeps its statement groups for its next edit.
+                    for key in &hit.groups {
+                        if let Some(group) = cache.groups.get(key) {
+                            used_groups.insert(std::rc::Rc::clone(key), std::rc::Rc::clone(group));
+                        }
                     }
+                    (Some(key), hit)
                 }
-                std::rc::Rc::clone(hit)
-            }
-            None => match parse_piece_cached(piece, &cache.groups, &mut used_groups) {
-                Some(chunk) => std::rc::Rc::new(chunk),
-                None => return parse_whole(sources, file),
+                None => match parse_piece_cached(piece, &cache.groups, &mut used_groups) {
+                    Some(chunk) => (Some(piece.to_string()), std::rc::Rc::new(chunk)),
+                    None => {
+                        // Kept for the next version, which may be cut again.
+                        earlier.extend(used);
+                        cache.chunks = earlier;
+                        return parse_whole(sources, file);
+                    }
+                },
             },
         };
         let m = relocate::Move::shift(file, start as i64);
@@ -110,7 +121,9 @@ pub fn parse_cached(
         let mut piece_diagnostics = chunk.diagnostics.clone();
         relocate::Relocate::relocate(&mut piece_diagnostics, m);
         diagnostics.extend(piece_diagnostics);
-        used.insert(piece.to_string(), chunk);
+        if let Some(key) = key {
+            used.insert(key, chunk);
+        }
     }
     // Only what the text still holds is kept.
     cache.chunks = used;
@@ -130,7 +143,7 @@ fn item_span(item: &ast::Item) -> Span {
 }
 
 /// Room statement groups by their text.
-type GroupMap = std::collections::HashMap<std::rc::Rc<str>, std::rc::Rc<Group>>;
+type GroupMap = rustc_hash::FxHashMap<std::rc::Rc<str>, std::rc::Rc<Group>>;
 
 /// The text a synthetic room header puts before a group of room statements parsed alone.
 const GROUP_PREFIX: &str = "room r {";

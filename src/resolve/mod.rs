@@ -32,9 +32,9 @@ pub use receptacles::{allowed_on, is_receptacle_type, receptacle_types};
 pub use report::{candidate_json, report};
 pub(crate) use select::parts_text;
 pub use select::{
-    resolve, resolve_cached, resolve_query, resolve_with, typical_on_object_m, Choice, RankCache,
-    Resolution, ResolveOptions, Resolved, Unresolved, FLOOR_STANDING, MAX_SIZE_RATIO, ON_FURNITURE,
-    ON_FURNITURE_TYPICAL_M, WALL_MOUNTED,
+    assemble, resolve, resolve_cached, resolve_query, resolve_with, room_box, typical_on_object_m,
+    Choice, RankCache, Resolution, ResolveOptions, Resolved, Resolver, RoomResolution, Unresolved,
+    FLOOR_STANDING, MAX_SIZE_RATIO, ON_FURNITURE, ON_FURNITURE_TYPICAL_M, WALL_MOUNTED,
 };
 
 /// Ranks the catalog for a free-text query, as `holoc assets search` does: the whole text is

@@ -319,36 +319,113 @@ pub fn resolve_cached(
     options: &ResolveOptions,
     cache: &mut RankCache,
 ) -> Outcome<Resolved> {
-    let made_with = (std::ptr::from_ref(catalog) as usize, catalog.assets().len(), seed);
-    let earlier = if cache.made_with == Some(made_with) {
-        std::mem::take(&mut cache.rankings)
-    } else {
-        BTreeMap::new()
-    };
-    let mut state = State {
-        catalog,
-        seed,
-        options: *options,
-        used: std::collections::HashMap::new(),
-        diagnostics: Vec::new(),
-        reported: BTreeSet::new(),
-        cache: BTreeMap::new(),
-        earlier,
-        top: None,
-        top_type: None,
-        typical: BTreeMap::new(),
-        too_large: None,
-        refused: None,
-        room_box: None,
-        objathor_cache: BTreeMap::new(),
-    };
-    let resolved = resolve_scene(scene, &mut state);
-    cache.made_with = Some(made_with);
-    cache.rankings = std::mem::take(&mut state.cache);
-    Outcome::new(resolved, state.diagnostics)
+    let mut resolver = Resolver::new(catalog, seed, options, cache);
+    let mut rooms = Vec::with_capacity(scene.rooms.len());
+    for room in &scene.rooms {
+        let done = resolver.room(scene, room);
+        resolver.used_before(&done);
+        rooms.push(done);
+    }
+    resolver.finish(cache);
+    assemble(scene, &rooms)
 }
 
-fn resolve_scene(scene: &Scene, state: &mut State<'_>) -> Resolved {
+/// What resolving one room made, and what it read of and added to the assets the rooms
+/// before it used: the only thing a room's choices take from the rest of the scene (an asset
+/// another room uses is avoided where an alternative exists). Given the same room, catalog,
+/// seed and options, a room that reads the same answers makes the same choices and the same
+/// diagnostics, which is what lets an editor keep a room's resolution while another changes.
+#[derive(Clone, Debug)]
+pub struct RoomResolution {
+    /// Per object of the room, in the order of [`crate::check::Room::objects`].
+    pub objects: Vec<Resolution>,
+    /// Per object (its index in the room's list) and `on top` line: one per instance.
+    pub small: Vec<((usize, usize), Vec<Resolution>)>,
+    /// The ceiling object's resolution, if the room has one.
+    pub ceiling: Option<Resolution>,
+    /// The ceiling light's description when the room's light stands for it.
+    pub ceiling_light: Option<String>,
+    /// The room's diagnostics, in the order they were made.
+    pub diagnostics: Vec<Diagnostic>,
+    /// Each asset whose use by an earlier room was asked, with the answer (`true`: free, no
+    /// earlier room uses it).
+    pub reads: Vec<(String, bool)>,
+    /// The assets the room uses.
+    pub writes: BTreeSet<String>,
+    /// The rankings the room asked for (kept alive in the [`RankCache`] while a room holds
+    /// them).
+    ranks: Vec<std::rc::Rc<Vec<Candidate>>>,
+}
+
+impl RoomResolution {
+    /// Whether the room would read the same answers from `used` (the assets of the rooms
+    /// before it).
+    pub fn reads_hold(&self, used: &rustc_hash::FxHashSet<String>) -> bool {
+        self.reads.iter().all(|(asset, free)| *free != used.contains(asset))
+    }
+}
+
+/// Resolves a scene room by room, in order: each room reads which assets the rooms before it
+/// use ([`Resolver::used_before`] adds a room's), and nothing else of them.
+pub struct Resolver<'a> {
+    state: State<'a>,
+}
+
+impl<'a> Resolver<'a> {
+    /// A resolver for a scene with `catalog` and `seed`, taking the rankings `cache` holds
+    /// (when they were made with the same catalog and seed).
+    pub fn new(
+        catalog: &'a Catalog,
+        seed: u64,
+        options: &ResolveOptions,
+        cache: &mut RankCache,
+    ) -> Resolver<'a> {
+        let made_with = (std::ptr::from_ref(catalog) as usize, catalog.assets().len(), seed);
+        let earlier = if cache.made_with == Some(made_with) {
+            std::mem::take(&mut cache.rankings)
+        } else {
+            BTreeMap::new()
+        };
+        let mut state = State::new(catalog, seed, *options);
+        state.earlier = earlier;
+        Resolver { state }
+    }
+
+    /// Resolves one room of `scene`, given the assets of the rooms before it.
+    pub fn room(&mut self, scene: &Scene, room: &crate::check::Room) -> RoomResolution {
+        resolve_room(scene, room, &mut self.state)
+    }
+
+    /// Counts the assets of `room` as used by the rooms before the next one.
+    pub fn used_before(&mut self, room: &RoomResolution) {
+        self.state.used.extend(room.writes.iter().cloned());
+    }
+
+    /// The assets of the rooms given to [`Resolver::used_before`] so far.
+    pub fn used(&self) -> &rustc_hash::FxHashSet<String> {
+        &self.state.used
+    }
+
+    /// Gives the rankings back to `cache`: those asked now, and those of earlier resolutions
+    /// that a room kept from an earlier resolution still holds.
+    pub fn finish(mut self, cache: &mut RankCache) {
+        let mut rankings = std::mem::take(&mut self.state.cache);
+        for (key, list) in std::mem::take(&mut self.state.earlier) {
+            // Held by a room kept from an earlier resolution (the cache holds one more).
+            if std::rc::Rc::strong_count(&list) > 1 {
+                rankings.insert(key, list);
+            }
+        }
+        cache.made_with = Some(self.state.made_with());
+        cache.rankings = rankings;
+    }
+}
+
+/// The resolution of a scene from its rooms' (in the scene's room order).
+pub fn assemble<'r>(
+    scene: &Scene,
+    rooms: impl IntoIterator<Item = &'r RoomResolution>,
+) -> Outcome<Resolved> {
     let mut resolved = Resolved {
         objects: vec![
             Resolution::Unresolved(Unresolved {
@@ -359,114 +436,156 @@ fn resolve_scene(scene: &Scene, state: &mut State<'_>) -> Resolved {
         ],
         ..Resolved::default()
     };
+    let mut diagnostics = Vec::new();
+    for (room, done) in scene.rooms.iter().zip(rooms) {
+        for (&id, res) in room.objects.iter().zip(&done.objects) {
+            if let Some(slot) = resolved.objects.get_mut(id.0) {
+                slot.clone_from(res);
+            }
+        }
+        for ((i, k), list) in &done.small {
+            if let Some(&id) = room.objects.get(*i) {
+                resolved.small.insert((id, *k), list.clone());
+            }
+        }
+        if let Some(light) = &done.ceiling_light {
+            resolved.ceiling_lights.insert(room.id, light.clone());
+        }
+        if let Some(res) = &done.ceiling {
+            resolved.ceilings.insert(room.id, res.clone());
+        }
+        diagnostics.extend(done.diagnostics.iter().cloned());
+    }
+    Outcome::new(resolved, diagnostics)
+}
 
-    for room in &scene.rooms {
-        state.room_box = room_box(room, scene.wall_height_m);
-        // Object groups of the room, in order of first instance.
-        let mut groups: Vec<(String, Vec<ObjectId>)> = Vec::new();
-        let mut group_index: std::collections::HashMap<&str, usize> =
-            std::collections::HashMap::new();
-        for &id in &room.objects {
-            let obj = scene.object(id);
-            match group_index.get(obj.group.as_str()) {
-                Some(&g) => groups[g].1.push(id),
-                None => {
-                    group_index.insert(obj.group.as_str(), groups.len());
-                    groups.push((obj.group.clone(), vec![id]));
-                }
-            }
-        }
-        for (_, ids) in &groups {
-            let first = scene.object(ids[0]);
-            let kind = match first.placement {
-                Placement::Floor { .. } => PlacementKind::Floor,
-                Placement::Wall { .. } => PlacementKind::Wall,
-            };
-            let query = Query {
-                category: first.category.clone(),
-                description: first.description.clone(),
-                size_m: first.size_m,
-                kind: Some(kind),
-            };
-            let wants_receptacle = !first.on_top.is_empty();
-            let pins: Vec<Option<&Pinned>> =
-                ids.iter().map(|&id| scene.object(id).asset.as_ref()).collect();
-            let what = Subject {
-                name: first.name.clone(),
-                description: first.description.clone().unwrap_or_else(|| first.category.clone()),
-                span: first.name_span,
-                room: room.id,
-            };
-            let results = state.choose(&what, &query, first.variance, &pins, wants_receptacle);
-            for (&id, res) in ids.iter().zip(results) {
-                resolved.objects[id.0] = res;
-            }
-        }
-        // Small objects on top, per instance and line; each prefers assets that fit on the
-        // top of its receptacle's asset, less the margin the layout keeps round its edge.
-        for &id in &room.objects {
-            let obj = scene.object(id);
-            state.top = resolved.object(id).map(|c| {
-                let (a, b) = (c.bbox_m[0], c.bbox_m[2]);
-                let margin = 2.0 * crate::solve::SMALL_GAP_M;
-                [a.min(b) - margin, a.max(b) - margin]
-            });
-            state.top_type = resolved.object(id).map(|c| c.object_type.clone());
-            for (k, item) in obj.on_top.iter().enumerate() {
-                let query = Query {
-                    category: item.item.clone(),
-                    description: None,
-                    size_m: None,
-                    kind: Some(PlacementKind::OnObject),
-                };
-                let pins = vec![item.asset.as_ref(); item.count as usize];
-                let what = Subject {
-                    name: format!("{} on {}", item.item, obj.name),
-                    description: item.item.clone(),
-                    span: item.span,
-                    room: room.id,
-                };
-                let results = state.choose(&what, &query, item.variance, &pins, false);
-                resolved.small.insert((id, k), results);
-            }
-        }
-        state.top = None;
-        state.top_type = None;
-        state.room_box = None;
-        if let Some(ceiling) = &room.ceiling {
-            let category =
-                ceiling.description.rsplit(',').next().unwrap_or(&ceiling.description).to_string();
-            let query = Query {
-                category,
-                description: Some(ceiling.description.clone()),
-                size_m: None,
-                kind: Some(PlacementKind::Ceiling),
-            };
-            let what = Subject {
-                name: format!("ceiling of {}", room.name),
-                description: ceiling.description.clone(),
-                span: ceiling.span,
-                room: room.id,
-            };
-            let reported = state.diagnostics.len();
-            let mut results =
-                state.choose(&what, &query, Variance::Same, &[ceiling.asset.as_ref()], false);
-            if let Some(res) = results.pop() {
-                // A ceiling light with no asset is not lost: the house's light of the room, at
-                // the ceiling over the room, stands for it (AI2-THOR's own assets have no
-                // ceiling lamps).
-                if res.choice().is_none()
-                    && ceiling.asset.is_none()
-                    && is_light(&ceiling.description)
-                {
-                    state.diagnostics.truncate(reported);
-                    resolved.ceiling_lights.insert(room.id, ceiling.description.clone());
-                }
-                resolved.ceilings.insert(room.id, res);
+fn resolve_room(scene: &Scene, room: &crate::check::Room, state: &mut State<'_>) -> RoomResolution {
+    let mut done = RoomResolution {
+        objects: Vec::with_capacity(room.objects.len()),
+        small: Vec::new(),
+        ceiling: None,
+        ceiling_light: None,
+        diagnostics: Vec::new(),
+        reads: Vec::new(),
+        writes: BTreeSet::new(),
+        ranks: Vec::new(),
+    };
+    state.reported.clear();
+    state.room_box = room_box(room, scene.wall_height_m);
+    // Object groups of the room, in order of first instance.
+    let mut groups: Vec<(String, Vec<usize>)> = Vec::new();
+    let mut group_index: std::collections::HashMap<&str, usize> = std::collections::HashMap::new();
+    for (i, &id) in room.objects.iter().enumerate() {
+        let obj = scene.object(id);
+        match group_index.get(obj.group.as_str()) {
+            Some(&g) => groups[g].1.push(i),
+            None => {
+                group_index.insert(obj.group.as_str(), groups.len());
+                groups.push((obj.group.clone(), vec![i]));
             }
         }
     }
-    resolved
+    let mut objects: Vec<Option<Resolution>> = vec![None; room.objects.len()];
+    for (_, members) in &groups {
+        let first = scene.object(room.objects[members[0]]);
+        let kind = match first.placement {
+            Placement::Floor { .. } => PlacementKind::Floor,
+            Placement::Wall { .. } => PlacementKind::Wall,
+        };
+        let query = Query {
+            category: first.category.clone(),
+            description: first.description.clone(),
+            size_m: first.size_m,
+            kind: Some(kind),
+        };
+        let wants_receptacle = !first.on_top.is_empty();
+        let pins: Vec<Option<&Pinned>> =
+            members.iter().map(|&i| scene.object(room.objects[i]).asset.as_ref()).collect();
+        let what = Subject {
+            name: first.name.clone(),
+            description: first.description.clone().unwrap_or_else(|| first.category.clone()),
+            span: first.name_span,
+        };
+        let results = state.choose(&what, &query, first.variance, &pins, wants_receptacle);
+        for (&i, res) in members.iter().zip(results) {
+            objects[i] = Some(res);
+        }
+    }
+    done.objects = objects
+        .into_iter()
+        .map(|res| {
+            res.unwrap_or_else(|| {
+                Resolution::Unresolved(Unresolved {
+                    reason: "not resolved".into(),
+                    nearest: Vec::new(),
+                })
+            })
+        })
+        .collect();
+    // Small objects on top, per instance and line; each prefers assets that fit on the
+    // top of its receptacle's asset, less the margin the layout keeps round its edge.
+    for (i, &id) in room.objects.iter().enumerate() {
+        let obj = scene.object(id);
+        let choice = done.objects.get(i).and_then(Resolution::choice);
+        state.top = choice.map(|c| {
+            let (a, b) = (c.bbox_m[0], c.bbox_m[2]);
+            let margin = 2.0 * crate::solve::SMALL_GAP_M;
+            [a.min(b) - margin, a.max(b) - margin]
+        });
+        state.top_type = choice.map(|c| c.object_type.clone());
+        for (k, item) in obj.on_top.iter().enumerate() {
+            let query = Query {
+                category: item.item.clone(),
+                description: None,
+                size_m: None,
+                kind: Some(PlacementKind::OnObject),
+            };
+            let pins = vec![item.asset.as_ref(); item.count as usize];
+            let what = Subject {
+                name: format!("{} on {}", item.item, obj.name),
+                description: item.item.clone(),
+                span: item.span,
+            };
+            let results = state.choose(&what, &query, item.variance, &pins, false);
+            done.small.push(((i, k), results));
+        }
+    }
+    state.top = None;
+    state.top_type = None;
+    state.room_box = None;
+    if let Some(ceiling) = &room.ceiling {
+        let category =
+            ceiling.description.rsplit(',').next().unwrap_or(&ceiling.description).to_string();
+        let query = Query {
+            category,
+            description: Some(ceiling.description.clone()),
+            size_m: None,
+            kind: Some(PlacementKind::Ceiling),
+        };
+        let what = Subject {
+            name: format!("ceiling of {}", room.name),
+            description: ceiling.description.clone(),
+            span: ceiling.span,
+        };
+        let reported = state.diagnostics.len();
+        let mut results =
+            state.choose(&what, &query, Variance::Same, &[ceiling.asset.as_ref()], false);
+        if let Some(res) = results.pop() {
+            // A ceiling light with no asset is not lost: the house's light of the room, at
+            // the ceiling over the room, stands for it (AI2-THOR's own assets have no
+            // ceiling lamps).
+            if res.choice().is_none() && ceiling.asset.is_none() && is_light(&ceiling.description) {
+                state.diagnostics.truncate(reported);
+                done.ceiling_light = Some(ceiling.description.clone());
+            }
+            done.ceiling = Some(res);
+        }
+    }
+    done.diagnostics = std::mem::take(&mut state.diagnostics);
+    done.reads = std::mem::take(&mut state.reads);
+    done.writes = std::mem::take(&mut state.writes);
+    done.ranks = std::mem::take(&mut state.asked);
+    done
 }
 
 /// Resolves one query as a build resolves an object declared with it (the words, then the
@@ -478,28 +597,11 @@ pub fn resolve_query(
     seed: u64,
     options: &ResolveOptions,
 ) -> Outcome<Resolution> {
-    let mut state = State {
-        catalog,
-        seed,
-        options: *options,
-        used: std::collections::HashMap::new(),
-        diagnostics: Vec::new(),
-        reported: BTreeSet::new(),
-        cache: BTreeMap::new(),
-        earlier: BTreeMap::new(),
-        top: None,
-        top_type: None,
-        typical: BTreeMap::new(),
-        too_large: None,
-        refused: None,
-        room_box: None,
-        objathor_cache: BTreeMap::new(),
-    };
+    let mut state = State::new(catalog, seed, *options);
     let what = Subject {
         name: query.category.clone(),
         description: query.description.clone().unwrap_or_else(|| query.category.clone()),
         span: Span::default(),
-        room: RoomId(0),
     };
     let mut results = state.choose(&what, query, Variance::Same, &[None], false);
     let res = results.pop().unwrap_or(Resolution::Unresolved(Unresolved {
@@ -540,18 +642,24 @@ pub(crate) struct Subject {
     pub(crate) name: String,
     pub(crate) description: String,
     pub(crate) span: Span,
-    pub(crate) room: RoomId,
 }
 
 struct State<'a> {
     catalog: &'a Catalog,
     seed: u64,
     options: ResolveOptions,
-    /// Asset id → rooms it is used in.
-    /// (Looked up once per candidate and object, never iterated: a hash map.)
-    used: std::collections::HashMap<String, BTreeSet<RoomId>>,
+    /// The assets the rooms before the one being resolved use.
+    /// (Looked up once per candidate and object, never iterated: a hash set.)
+    used: rustc_hash::FxHashSet<String>,
+    /// Which assets the room being resolved asked about, with the answers (free or not).
+    reads: Vec<(String, bool)>,
+    /// The assets the room being resolved uses.
+    writes: BTreeSet<String>,
+    /// The rankings the room being resolved asked for.
+    asked: Vec<std::rc::Rc<Vec<Candidate>>>,
     diagnostics: Vec<Diagnostic>,
-    /// Spans already reported (one cause, one diagnostic).
+    /// Spans already reported in the room being resolved (one cause, one diagnostic; every
+    /// span of a room's diagnostics is in the room).
     reported: BTreeSet<(u32, u32, u32)>,
     /// Rankings already computed, by query text (shared, not copied, by every object that
     /// asks the same question).
@@ -576,7 +684,49 @@ struct State<'a> {
     objathor_cache: BTreeMap<RankKey, std::rc::Rc<Vec<Candidate>>>,
 }
 
-impl State<'_> {
+impl<'a> State<'a> {
+    fn new(catalog: &'a Catalog, seed: u64, options: ResolveOptions) -> State<'a> {
+        State {
+            catalog,
+            seed,
+            options,
+            used: rustc_hash::FxHashSet::default(),
+            reads: Vec::new(),
+            writes: BTreeSet::new(),
+            asked: Vec::new(),
+            diagnostics: Vec::new(),
+            reported: BTreeSet::new(),
+            cache: BTreeMap::new(),
+            earlier: BTreeMap::new(),
+            top: None,
+            top_type: None,
+            typical: BTreeMap::new(),
+            too_large: None,
+            refused: None,
+            room_box: None,
+            objathor_cache: BTreeMap::new(),
+        }
+    }
+
+    /// The catalog (by address and size) and seed rankings are made with.
+    fn made_with(&self) -> (usize, usize, u64) {
+        (std::ptr::from_ref(self.catalog) as usize, self.catalog.assets().len(), self.seed)
+    }
+
+    /// Whether no room before this one uses `asset` (the answer is remembered).
+    fn is_free(&mut self, asset: &str) -> bool {
+        let free = !self.used.contains(asset);
+        self.reads.push((asset.to_string(), free));
+        free
+    }
+
+    /// Counts `asset` as used by the room being resolved.
+    fn mark_used(&mut self, asset: &str) {
+        if !self.writes.contains(asset) {
+            self.writes.insert(asset.to_string());
+        }
+    }
+
     fn ranked(&mut self, query: &Query) -> std::rc::Rc<Vec<Candidate>> {
         let key = (
             query.category.clone(),
@@ -584,15 +734,19 @@ impl State<'_> {
             format!("{:?}", query.size_m),
             query.kind.map_or("", PlacementKind::as_str),
         );
-        if let Some(hit) = self.cache.get(&key) {
-            return std::rc::Rc::clone(hit);
-        }
-        if let Some(hit) = self.earlier.remove(&key) {
+        let list = if let Some(hit) = self.cache.get(&key) {
+            std::rc::Rc::clone(hit)
+        } else if let Some(hit) = self.earlier.remove(&key) {
             self.cache.insert(key, std::rc::Rc::clone(&hit));
-            return hit;
+            hit
+        } else {
+            let list = std::rc::Rc::new(rank_top(self.catalog, query, self.seed, RANK_LIMIT));
+            self.cache.insert(key, std::rc::Rc::clone(&list));
+            list
+        };
+        if !self.asked.iter().any(|l| std::rc::Rc::ptr_eq(l, &list)) {
+            self.asked.push(std::rc::Rc::clone(&list));
         }
-        let list = std::rc::Rc::new(rank_top(self.catalog, query, self.seed, RANK_LIMIT));
-        self.cache.insert(key, std::rc::Rc::clone(&list));
         list
     }
 
@@ -725,7 +879,7 @@ impl State<'_> {
             if fresh.len() == need {
                 break;
             }
-            if self.used.get(&c.asset_id).free_for(what.room) {
+            if self.is_free(&c.asset_id) {
                 fresh.push(*c);
             } else {
                 used.push(*c);
@@ -740,7 +894,7 @@ impl State<'_> {
                 continue;
             }
             if pool.is_empty() {
-                if let Some(res) = self.kind_of(what, query, kind, wants_receptacle) {
+                if let Some(res) = self.kind_of(query, kind, wants_receptacle) {
                     out.push(res);
                     continue;
                 }
@@ -782,7 +936,7 @@ impl State<'_> {
             };
             let runner_up = from.iter().find(|c| c.asset_id != pick.asset_id).cloned();
             let asset = self.catalog.asset_at(pick.idx);
-            self.used.entry(asset.id.clone()).or_default().insert(what.room);
+            self.mark_used(&asset.id);
             out.push(Resolution::Chosen(Choice {
                 parts: Some(pick.clone()),
                 runner_up,
@@ -797,7 +951,6 @@ impl State<'_> {
     /// catalog has no asset of those types for this placement.
     fn kind_of(
         &mut self,
-        what: &Subject,
         query: &Query,
         kind: PlacementKind,
         wants_receptacle: bool,
@@ -814,7 +967,7 @@ impl State<'_> {
             self.too_large.get_or_insert_with(|| asset.id.clone());
             return None;
         }
-        self.used.entry(asset.id.clone()).or_default().insert(what.room);
+        self.mark_used(&asset.id);
         Some(Resolution::Chosen(Choice {
             kind_of: Some(format!(
                 "`{}` is a kind of {} ({})",
@@ -875,7 +1028,7 @@ impl State<'_> {
                     what.span,
                     errors::placed_otherwise(what, asset, kind, ratio, query.size_m),
                 );
-                self.used.entry(asset.id.clone()).or_default().insert(what.room);
+                self.mark_used(&asset.id);
                 return Some(Resolution::Chosen(Choice {
                     placed_as: Some(errors::kind_phrase(kind).to_string()),
                     size_ratio: ratio,
@@ -915,7 +1068,7 @@ impl State<'_> {
             return None;
         }
         self.report_once(what.span, errors::stand_in(what, asset, line, ratio, query.size_m));
-        self.used.entry(asset.id.clone()).or_default().insert(what.room);
+        self.mark_used(&asset.id);
         Some(Resolution::Chosen(Choice {
             stand_in: Some(line.reason.to_owned()),
             size_ratio: ratio,
@@ -983,7 +1136,7 @@ impl State<'_> {
                 })
             }
             Some(asset) => {
-                self.used.entry(asset.id.clone()).or_default().insert(what.room);
+                self.mark_used(&asset.id);
                 Resolution::Chosen(Choice {
                     pinned: true,
                     runner_up: ranked.iter().find(|c| c.asset_id != asset.id).cloned(),
@@ -995,7 +1148,7 @@ impl State<'_> {
 }
 
 /// A room's `[long side, short side, wall height]`, metres: the sides of its corners' box.
-fn room_box(room: &crate::check::Room, wall_height_m: f64) -> Option<[f64; 3]> {
+pub fn room_box(room: &crate::check::Room, wall_height_m: f64) -> Option<[f64; 3]> {
     let first = room.corners.first()?;
     let (mut lo, mut hi) = (*first, *first);
     for c in &room.corners {
@@ -1004,15 +1157,4 @@ fn room_box(room: &crate::check::Room, wall_height_m: f64) -> Option<[f64; 3]> {
     }
     let (dx, dz) = (hi[0] - lo[0], hi[1] - lo[1]);
     Some([dx.max(dz), dx.min(dz), wall_height_m])
-}
-
-/// Whether an asset's set of rooms leaves it free for `room` (unused, or used only there).
-trait FreeFor {
-    fn free_for(self, room: RoomId) -> bool;
-}
-
-impl FreeFor for Option<&BTreeSet<RoomId>> {
-    fn free_for(self, room: RoomId) -> bool {
-        self.is_none_or(|rooms| rooms.iter().all(|r| *r == room))
-    }
 }
