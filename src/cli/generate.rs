@@ -269,6 +269,12 @@ pub fn run(args: &GenerateArgs) -> ExitCode {
             },
         );
         &replay
+    } else if !cfg!(feature = "generate") {
+        return usage(
+            "this holoc was built without its `generate` feature: it cannot ask a model".into(),
+            "install holoc with its default features (`cargo install --locked --path .`); \
+             `--replay` runs a recorded transcript without it",
+        );
     } else {
         let base_url = args
             .base_url
