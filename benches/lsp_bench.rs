@@ -136,9 +136,20 @@ fn apartments(lines: usize) -> String {
     }
     text
 }
+
 /// The CPU time of the whole process so far (user and system), from `/proc/self/stat`.
 fn cpu_time() -> Duration {
-    let ticks = std::fs::read_to_string("/proc/self/stat")
+    cpu_time_from("/proc/self/stat")
+}
+
+/// The CPU time of another process (all its threads), from `/proc/PID/stat`.
+fn cpu_time_of(pid: u32) -> Duration {
+    cpu_time_from(&format!("/proc/{pid}/stat"))
+}
+
+/// The user and system CPU time a `/proc/…/stat` file reports (zero when it cannot be read).
+fn cpu_time_from(path: &str) -> Duration {
+    let ticks = std::fs::read_to_string(path)
         .ok()
         .and_then(|s| {
             // The fields after the command name (which may hold spaces), from the 3rd.
@@ -149,20 +160,6 @@ fn cpu_time() -> Duration {
         })
         .unwrap_or(0);
     // Linux reports clock ticks of 1/100 s.
-    Duration::from_millis(ticks * 10)
-}
-
-/// The CPU time of another process (all its threads), from `/proc/PID/stat`.
-fn cpu_time_of(pid: u32) -> Duration {
-    let ticks = std::fs::read_to_string(format!("/proc/{pid}/stat"))
-        .ok()
-        .and_then(|s| {
-            let rest = s.rsplit_once(") ")?.1.split_whitespace().collect::<Vec<_>>();
-            let user: u64 = rest.get(11)?.parse().ok()?;
-            let system: u64 = rest.get(12)?.parse().ok()?;
-            Some(user + system)
-        })
-        .unwrap_or(0);
     Duration::from_millis(ticks * 10)
 }
 

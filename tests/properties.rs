@@ -127,6 +127,25 @@ fn mutate(text: &str, at: usize, cut: usize, insert: &str) -> String {
     format!("{}{}{}", &text[..at], insert, &text[end..])
 }
 
+/// The versions a user typing makes of `text`: each edit `(nth, class, cut, insert)` cuts up
+/// to `cut` characters and inserts `insert` after the `nth` quote (class 0), digit (1) or line
+/// start (2).
+fn typed_versions(text: String, edits: &[(usize, usize, usize, String)]) -> Vec<String> {
+    let mut current = text;
+    let mut versions = vec![current.clone()];
+    for (nth, class, cut, insert) in edits {
+        let bytes: &[u8] = match class {
+            0 => b"\"",
+            1 => b"0123456789",
+            _ => b"\n",
+        };
+        let at = after_nth(&current, bytes, *nth);
+        current = mutate(&current, at, *cut, insert);
+        versions.push(current.clone());
+    }
+    versions
+}
+
 /// The byte just after the `nth` (modulo their number) occurrence of one of `bytes`, or 0.
 fn after_nth(text: &str, bytes: &[u8], nth: usize) -> usize {
     let all: Vec<usize> =
@@ -309,18 +328,7 @@ proptest! {
         // descriptions, numbers (corners, sizes) and statements, as a user types.
         let files = holo_files();
         let path = &files[index % files.len()];
-        let mut current = std::fs::read_to_string(path).expect("readable");
-        let mut versions = vec![current.clone()];
-        for (nth, class, cut, insert) in edits {
-            let bytes: &[u8] = match class {
-                0 => b"\"",
-                1 => b"0123456789",
-                _ => b"\n",
-            };
-            let at = after_nth(&current, bytes, nth);
-            current = mutate(&current, at, cut, &insert);
-            versions.push(current.clone());
-        }
+        let versions = typed_versions(std::fs::read_to_string(path).expect("readable"), &edits);
         incremental_equals_whole(&versions)?;
     }
 
@@ -328,18 +336,7 @@ proptest! {
     fn incremental_analysis_of_competing_rooms_equals_whole_analysis(rooms in 2usize..6, edits in proptest::collection::vec((0usize..40, 0usize..3, 0usize..3, "[a-z ]{0,4}"), 1..6)) {
         // Edits inside the descriptions, sizes and names of rooms that avoid each other's
         // assets: a choice changed in one room changes what the rooms after it read.
-        let mut current = competing_rooms(rooms);
-        let mut versions = vec![current.clone()];
-        for (nth, class, cut, insert) in edits {
-            let bytes: &[u8] = match class {
-                0 => b"\"",
-                1 => b"0123456789",
-                _ => b"\n",
-            };
-            let at = after_nth(&current, bytes, nth);
-            current = mutate(&current, at, cut, &insert);
-            versions.push(current.clone());
-        }
+        let versions = typed_versions(competing_rooms(rooms), &edits);
         incremental_equals_whole(&versions)?;
     }
 

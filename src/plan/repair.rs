@@ -630,7 +630,7 @@ fn fit_one_room_to_lines(
         rs.iter().map(|c| extent(c, axis).0).fold(f64::INFINITY, f64::min)
     };
     let origin = [lowest(rooms, 0), lowest(rooms, 1)];
-    let mut candidates: Vec<(RefitOrder, usize, [[f64; 2]; 2], bool)> = Vec::new();
+    let mut candidates: Vec<(RefitOrder, usize, Vec<[f64; 2]>, bool)> = Vec::new();
     for r in (0..n).filter(|&r| suspect[r]) {
         let total = coords[r][0].len() + coords[r][1].len();
         let straight = rooms[r]
@@ -721,16 +721,15 @@ fn fit_one_room_to_lines(
                     std::cmp::Reverse(r),
                     [[mm(ex[0]), mm(ex[1])], [mm(ez[0]), mm(ez[1])]],
                 );
-                candidates.push((order, r, fit, off == 0 || uniform));
+                candidates.push((order, r, std::mem::take(&mut next[r]), off == 0 || uniform));
             }
         }
     }
     candidates.sort_by_key(|c| c.0);
     let mut tried = 0;
-    for (_, r, fit, exempt) in candidates {
+    for (_, r, outline, exempt) in candidates {
         let mut next = rooms.to_vec();
-        let (x, z) = (extent(&rooms[r], 0), extent(&rooms[r], 1));
-        next[r] = refit(&rooms[r], [[x.0, x.1], [z.0, z.1]], fit, &lines_of_others(&coords, r));
+        next[r] = outline;
         if !facing_gaps(&next).is_empty() {
             continue;
         }
@@ -985,18 +984,24 @@ fn near_misses(rooms: &[Vec<[f64; 2]>]) -> usize {
     n
 }
 
+/// The outlines of the rooms other than `r` whose bounding boxes are at most [`MAX_MOVE_M`]
+/// from its own.
+fn rooms_near(rooms: &[Vec<[f64; 2]>], r: usize) -> impl Iterator<Item = &Vec<[f64; 2]>> {
+    rooms
+        .iter()
+        .enumerate()
+        .filter(move |&(o, c)| {
+            let g = box_gap(&rooms[r], c);
+            o != r && g[0] <= MAX_MOVE_M && g[1] <= MAX_MOVE_M
+        })
+        .map(|(_, c)| c)
+}
+
 /// Per axis, every wall coordinate of the rooms other than `r` near it (bounding boxes at
 /// most [`MAX_MOVE_M`] apart: the lines a wall of `r` can be aligned with), sorted.
 fn other_coordinates(rooms: &[Vec<[f64; 2]>], r: usize) -> [Vec<f64>; 2] {
     let mut out = [Vec::new(), Vec::new()];
-    for (o, c) in rooms.iter().enumerate() {
-        if o == r {
-            continue;
-        }
-        let g = box_gap(&rooms[r], c);
-        if g[0] > MAX_MOVE_M || g[1] > MAX_MOVE_M {
-            continue;
-        }
+    for c in rooms_near(rooms, r) {
         for p in c {
             out[0].push(p[0]);
             out[1].push(p[1]);
@@ -1012,14 +1017,7 @@ fn other_coordinates(rooms: &[Vec<[f64; 2]>], r: usize) -> [Vec<f64>; 2] {
 /// Per axis, the walls of the rooms near room `r` (as in [`other_coordinates`]).
 fn nearby_walls(rooms: &[Vec<[f64; 2]>], r: usize) -> [Vec<Wall>; 2] {
     let mut out = [Vec::new(), Vec::new()];
-    for (o, c) in rooms.iter().enumerate() {
-        if o == r {
-            continue;
-        }
-        let g = box_gap(&rooms[r], c);
-        if g[0] > MAX_MOVE_M || g[1] > MAX_MOVE_M {
-            continue;
-        }
+    for c in rooms_near(rooms, r) {
         for (axis, slot) in out.iter_mut().enumerate() {
             slot.extend(walls_of(c, axis));
         }
