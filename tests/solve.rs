@@ -8,7 +8,7 @@ use std::fmt::Write as _;
 use holoc::check::scene::{GlobalKind, RelationKind};
 use holoc::diag::Code;
 use holoc::solve::{
-    self, FloorObject, ProblemConstraint, RoomLayout, RoomProblem, SmallObject, SolveOptions,
+    self, FloorObject, ProblemConstraint, Role, RoomLayout, RoomProblem, SmallObject, SolveOptions,
     Solver,
 };
 use proptest::prelude::*;
@@ -634,4 +634,129 @@ fn crowded_rooms_keep_their_groups() {
         let out = solve::solve_room(&problem, &SolveOptions::default()).value;
         assert_eq!(out.floor.len(), problem.objects.len(), "{name}: {:?}", out.unplaced);
     }
+}
+
+/// The rooms of an example, solved from the checked scene with the sizes written in it.
+fn example_rooms(name: &str) -> Vec<(RoomProblem, RoomLayout)> {
+    let path = format!("{}/examples/{name}.holo", env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(&path).expect("example exists");
+    let mut sources = holoc::source::SourceMap::new();
+    let id = sources.add(&path, text);
+    let checked = holoc::compile::check_file(&sources, id);
+    let Some(scene) = checked.value else { panic!("{name} checks: {:?}", checked.diagnostics) };
+    scene
+        .rooms
+        .iter()
+        .map(|room| {
+            let problem =
+                solve::room_problem(&scene, room.id, &solve::WrittenSizes, Vec::new(), Vec::new());
+            let layout = solve::solve_room(&problem, &SolveOptions::default()).value;
+            check_hard_rules(&problem, &layout);
+            (problem, layout)
+        })
+        .collect()
+}
+
+/// The classroom example: rows of desks facing the teacher's desk, each chair at the middle of
+/// its own desk (not where two desks of a row meet), an aisle behind every row's chairs, and
+/// the teacher's desk keeping its pull-out space (no student desk against it).
+#[test]
+fn the_classroom_has_rows_of_desks_with_their_chairs() {
+    let rooms = example_rooms("classroom");
+    let (problem, layout) = &rooms[0];
+    assert_eq!(layout.floor.len(), problem.objects.len(), "{:?}", layout.unplaced);
+    let (kept, total) = layout.constraint_tally(problem);
+    assert_eq!(kept, total, "every relation kept");
+    let placed = |id: &str| {
+        let p = layout.floor.iter().find(|p| problem.objects[p.index].id == id);
+        p.unwrap_or_else(|| panic!("{id} placed"))
+    };
+    let teacher = placed("teacher_desk-0");
+    let pull_out = solve::constraints::front_zone(
+        &teacher.pose,
+        problem.objects[teacher.index].size,
+        solve::constraints::DESK_CLEARANCE_M,
+    );
+    for i in 0..12 {
+        let desk = placed(&format!("student_desk-{i}"));
+        let chair = placed(&format!("student_chair-{i}"));
+        assert!(!desk.footprint.overlaps(&pull_out), "student_desk-{i} in the teacher's space");
+        // Along the desk's edge the chair's centre is at the desk's centre (the desks of a
+        // row are 0.7 m wide: a chair where two meet would be 0.35 m off).
+        let right = desk.pose.rot.right();
+        let off = (chair.pose.x - desk.pose.x) * right[0] + (chair.pose.z - desk.pose.z) * right[1];
+        assert!(off.abs() <= 0.1, "student_chair-{i} is {off:.2} m off its desk's middle");
+    }
+    // Rows 4–7 behind 0–3 and 8–11 behind 4–7: the chair between them and an aisle.
+    for (front, back) in [(0, 4), (4, 8)] {
+        let a = placed(&format!("student_desk-{front}"));
+        let b = placed(&format!("student_desk-{back}"));
+        let chair_depth = problem.objects[placed(&format!("student_chair-{front}")).index].size[1];
+        let gap = a.footprint.gap(&b.footprint);
+        assert!(
+            gap >= chair_depth + 2.0 * solve::constraints::AGENT_RADIUS_M - 1e-6,
+            "student_desk-{back} is {gap:.2} m behind student_desk-{front}: no aisle"
+        );
+    }
+}
+
+/// A desk keeps 0.75 m before it for its chair: the chair drawn up to it stands there, another
+/// desk `in front of` it stands beyond; a chair between two desks of a row goes to the middle
+/// of its own.
+#[test]
+fn a_desk_keeps_its_pull_out_space_for_its_chair_alone() {
+    let obj = |id: &str, size: [f64; 2], role, global, constraints| FloorObject {
+        id: id.into(),
+        size,
+        height: 0.75,
+        global,
+        role,
+        constraints,
+        pin: None,
+        thor_type: None,
+        span: None,
+    };
+    let rel = |kind, target| ProblemConstraint { kind, target, span: None };
+    let problem = RoomProblem {
+        name: "study".into(),
+        outline: vec![[0.0, 0.0], [0.0, 4.0], [4.0, 4.0], [4.0, 0.0]],
+        wall_height: 2.7,
+        keep_out: vec![vec![[0.0, 0.0], [0.0, 0.9], [0.9, 0.9], [0.9, 0.0]]],
+        walls: Vec::new(),
+        objects: vec![
+            obj("desk-0", [1.2, 0.6], Role::Desk, GlobalKind::Edge, Vec::new()),
+            obj(
+                "table-0",
+                [0.8, 0.6],
+                Role::Desk,
+                GlobalKind::Middle,
+                vec![rel(RelationKind::InFrontOf, 0)],
+            ),
+            obj(
+                "chair-0",
+                [0.45, 0.45],
+                Role::Seat,
+                GlobalKind::Middle,
+                vec![rel(RelationKind::InFrontOf, 0), rel(RelationKind::FaceTo, 0)],
+            ),
+        ],
+        wall_objects: Vec::new(),
+        small_objects: Vec::new(),
+        ceiling: None,
+        span: None,
+    };
+    let out = solve::solve_room(&problem, &SolveOptions::default()).value;
+    check_hard_rules(&problem, &out);
+    assert_eq!(out.floor.len(), 3, "{:?}", out.unplaced);
+    let at = |id: &str| out.floor.iter().find(|p| problem.objects[p.index].id == id).expect(id);
+    let desk = at("desk-0");
+    let zone = solve::constraints::front_zone(
+        &desk.pose,
+        [1.2, 0.6],
+        solve::constraints::DESK_CLEARANCE_M,
+    );
+    assert!(at("chair-0").footprint.overlaps(&zone), "the chair is drawn up to its desk");
+    assert!(!at("table-0").footprint.overlaps(&zone), "the other desk keeps out of the way");
+    let (kept, total) = out.constraint_tally(&problem);
+    assert_eq!(kept, total);
 }

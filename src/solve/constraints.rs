@@ -496,8 +496,10 @@ pub enum Role {
     Sofa,
     /// A bed.
     Bed,
-    /// A table to sit at or work at (dining table, desk, counter, island).
+    /// A table to sit at or work at (dining table, counter, island).
     Table,
+    /// A desk (or workbench): a table worked at from its front, where its chair pulls out.
+    Desk,
     /// A low table in front of seats (coffee table).
     LowTable,
     /// A small table beside a bed or a seat (nightstand, side table, end table).
@@ -542,7 +544,8 @@ impl Role {
                 }
                 "sofa" | "couch" | "loveseat" | "sectional" | "settee" | "futon" => Role::Sofa,
                 "bed" | "bunk" | "crib" => Role::Bed,
-                "table" | "desk" | "counter" | "countertop" | "island" | "workbench" => Role::Table,
+                "table" | "counter" | "countertop" | "island" => Role::Table,
+                "desk" | "workbench" | "workstation" => Role::Desk,
                 "nightstand" => Role::SideTable,
                 "fridge" | "refrigerator" | "freezer" => Role::Fridge,
                 "dresser" | "wardrobe" | "chest" | "drawer" | "armoire" | "closet" => Role::Storage,
@@ -557,12 +560,31 @@ impl Role {
         matches!(self, Role::Seat | Role::Sofa)
     }
 
+    /// A chair, stool, armchair or bench (not a sofa).
+    pub fn is_seat(self) -> bool {
+        self == Role::Seat
+    }
+
+    /// A table or desk that chairs are drawn up to (not a coffee table).
+    pub fn sat_at(self) -> bool {
+        matches!(self, Role::Table | Role::Desk)
+    }
+
+    /// Whether an object of role `other` that has a relation with an object of this role may
+    /// stand in this one's use-clearance: any related object (a coffee table before its sofa,
+    /// a nightstand by its bed), except in a desk's pull-out space, which only a seat enters
+    /// (the desk's chair; a student desk `in front of` the teacher's desk keeps out of it).
+    pub fn lets_in(self, other: Role) -> bool {
+        self != Role::Desk || other.seats()
+    }
+
     /// The depth (metres) in front of the object that its use needs free: legroom before a
     /// sofa, the pull-out space of a desk, the work aisle of a counter, the swing of a fridge
     /// door, the drawers of a dresser (see the book's layout semantics for the sources).
     pub fn front_clearance(self, height_m: f64) -> f64 {
         match self {
             Role::Sofa => SOFA_CLEARANCE_M,
+            Role::Desk => DESK_CLEARANCE_M,
             Role::Table if height_m >= COUNTER_HEIGHT_M => COUNTER_CLEARANCE_M,
             Role::Fridge => FRIDGE_CLEARANCE_M,
             Role::Storage => STORAGE_CLEARANCE_M,
@@ -573,6 +595,9 @@ impl Role {
 
 /// Legroom kept free in front of a sofa (a coffee table stands 0.3–0.6 m away).
 pub const SOFA_CLEARANCE_M: f64 = 0.3;
+/// The space kept free in front of a desk for its chair to pull out and its user to sit
+/// (furniture practice: at least 75 cm from the desk's edge).
+pub const DESK_CLEARANCE_M: f64 = 0.75;
 /// The work aisle kept free in front of a counter (kitchen planning: at least 0.9 m).
 pub const COUNTER_CLEARANCE_M: f64 = 0.9;
 /// A table at least this high is a counter (a dining table or desk is about 0.75 m).
@@ -636,6 +661,9 @@ pub const SEAT_PITCH_CROWDED_EXTRA_M: f64 = 0.02;
 /// The gap between a chair at a table and the table's edge, metres: none, its front at the
 /// edge (a chair at a table is drawn up to it).
 pub const SEAT_GAP_M: f64 = 0.0;
+/// How much of its score a seat drawn up to the front or back of a desk or table loses from
+/// the middle of the edge to its end (it still holds: the chair is at the desk).
+pub const SEAT_OFF_MIDDLE_PENALTY: f64 = 0.3;
 /// How far from its seat (centre to centre) a chair still stands at it, metres.
 pub const SEAT_TOLERANCE_M: f64 = 0.15;
 
@@ -709,7 +737,7 @@ impl Meaning {
     /// SVG and the book's table.
     pub fn of(kind: RelationKind, me: Role, target: Role, contact: bool) -> Meaning {
         let any = Meaning { min_gap: 0.0, max_gap: f64::INFINITY, face: false, ring: None };
-        let table_like = |r: Role| matches!(r, Role::Table | Role::LowTable);
+        let table_like = |r: Role| matches!(r, Role::Table | Role::Desk | Role::LowTable);
         match kind {
             RelationKind::Near => Meaning {
                 min_gap: if contact { 0.0 } else { NEAR_MIN_M },
@@ -856,21 +884,23 @@ pub fn side_zones(
     gaps: (f64, f64),
     limit: &Rect,
 ) -> Vec<Rect> {
-    side_zones_and_next_to(kind, target, target_size, side, gaps, limit).0
+    side_zones_and_next_to(kind, target, target_size, [side, 0.0], gaps, limit).0
 }
 
 /// [`side_zones`], and with it the zones right next to the target (what [`side_zones`] gives
-/// for the gaps `(gaps.0, gaps.0)`: the first zone on each side), in one pass.
+/// for the gaps `(gaps.0, gaps.0)`: the first zone on each side), in one pass. `zone` is
+/// `[side, beyond]`: each square of side `side` reaches `beyond` further out from the target
+/// (the way to a chair drawn up to a desk, kept with it).
 pub fn side_zones_and_next_to(
     kind: RelationKind,
     target: &Pose,
     target_size: [f64; 2],
-    side: f64,
+    zone: [f64; 2],
     gaps: (f64, f64),
     limit: &Rect,
 ) -> (Vec<Rect>, Vec<Rect>) {
     let (mut out, mut next_to) = (Vec::new(), Vec::new());
-    for_each_side_zone(kind, target, target_size, side, gaps, limit, |z, listed, next| {
+    for_each_side_zone(kind, target, target_size, zone, gaps, limit, |z, listed, next| {
         if next {
             next_to.push(z);
         }
@@ -887,7 +917,7 @@ pub fn for_each_side_zone(
     kind: RelationKind,
     target: &Pose,
     target_size: [f64; 2],
-    side: f64,
+    [side, beyond]: [f64; 2],
     gaps: (f64, f64),
     limit: &Rect,
     mut f: impl FnMut(Rect, bool, bool),
@@ -919,9 +949,11 @@ pub fn for_each_side_zone(
             }
             let reach = start + side * n as f64;
             let c = [target.x + a[0] * reach, target.z + a[1] * reach];
+            // The square, stretched `beyond` outwards along the axis.
+            let out = [a[0] * beyond, a[1] * beyond];
             let z = Rect::from_corners(
-                [c[0] - side / 2.0, c[1] - side / 2.0],
-                [c[0] + side / 2.0, c[1] + side / 2.0],
+                [c[0] - side / 2.0 + out[0].min(0.0), c[1] - side / 2.0 + out[1].min(0.0)],
+                [c[0] + side / 2.0 + out[0].max(0.0), c[1] + side / 2.0 + out[1].max(0.0)],
             );
             if !limit.contains(&z) {
                 break;
@@ -1073,7 +1105,15 @@ fn measure_relation_with<const VALUE: bool>(
             let facing = !meaning.face || faces(me, &tf);
             let in_range = sep >= meaning.min_gap - EPS && sep <= meaning.max_gap + EPS;
             let ok = sep >= -EPS && within && in_range && facing;
-            let score = if ok {
+            let score = if ok && meaning.face {
+                // A seat drawn up to a desk or table: best at the middle of its edge, so that
+                // chairs sit at their own desks and not where two desks meet.
+                let across = [axis[1], -axis[0]];
+                let (m0, m1) = project(&mf, across);
+                let (t0, t1) = project(&tf, across);
+                let off = ((m0 + m1) - (t0 + t1)).abs() / 2.0;
+                1.0 - SEAT_OFF_MIDDLE_PENALTY * (off / ((t1 - t0) / 2.0).max(EPS)).min(1.0)
+            } else if ok {
                 1.0
             } else if sep >= -EPS && within {
                 0.5 * gap_score(sep, meaning) + if facing { 0.4 } else { 0.0 }
@@ -1334,6 +1374,11 @@ const FREE: u8 = 1;
 const REACHED: u8 = 2;
 
 impl ReachGrid {
+    /// The agent's radius, metres.
+    pub fn radius(&self) -> f64 {
+        self.radius
+    }
+
     /// Builds the grid of a room with its door keep-out zones, for an agent of `radius` metres.
     pub fn new(room: &RoomShape, doors: &[Rect], radius: f64) -> ReachGrid {
         let radius = if radius.is_finite() && radius > 0.0 { radius } else { AGENT_RADIUS_M };

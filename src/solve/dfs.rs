@@ -250,18 +250,40 @@ pub(crate) fn derived_candidates(
 /// room a chair needs behind its desk, say), so that `k` can leave that room.
 fn target_gaps(prep: &Prepared<'_>, k: usize, target: usize) -> Vec<f64> {
     let mut gaps = vec![0.0];
+    let mut aisles = Vec::new();
     for (j, other) in prep.problem.objects.iter().enumerate() {
-        if j != k && other.constraints.iter().any(|c| c.target == target) {
-            gaps.push(other.size[0].min(other.size[1]));
+        if j == k {
+            continue;
+        }
+        for c in other.constraints.iter().filter(|c| c.target == target) {
+            let side = other.size[0].min(other.size[1]);
+            gaps.push(side);
+            if drawn_up(prep.problem, j, c) {
+                // A chair drawn up to the same desk, and the way to it.
+                aisles.push(side + 2.0 * prep.reach.radius());
+            }
         }
     }
     dedup(&mut gaps);
     gaps.truncate(MAX_TARGET_GAPS);
+    dedup(&mut aisles);
+    gaps.extend(aisles.into_iter().take(1));
+    dedup(&mut gaps);
     gaps
 }
 
-/// The most stand-off gaps [`target_gaps`] gives (the smallest ones).
+/// The most stand-off gaps [`target_gaps`] gives (the smallest ones), besides the one that
+/// leaves a chair and its aisle.
 const MAX_TARGET_GAPS: usize = 3;
+
+/// Whether relation `c` of object `j` draws a seat up to the front or back of a desk or table
+/// (a student's chair `behind` its desk): the chair needs the way to it as well as its own
+/// floor.
+fn drawn_up(problem: &super::RoomProblem, j: usize, c: &super::ProblemConstraint) -> bool {
+    matches!(c.kind, RelationKind::InFrontOf | RelationKind::Behind)
+        && problem.objects[j].role.is_seat()
+        && problem.objects.get(c.target).is_some_and(|t| t.role.sat_at())
+}
 
 /// The search value of object `k` at a pose: `sat_value` per satisfied relation plus the
 /// weighted soft score.
@@ -344,6 +366,10 @@ struct Dependent {
     /// One of the chairs around a table: it needs one of the table's seats, not any free
     /// zone beside it.
     ring: bool,
+    /// How much further out than itself its zone reaches (metres): a chair drawn up to the
+    /// front or back of a desk or table needs the way to it too, the agent's width (a row of
+    /// desks leaves an aisle behind its chairs).
+    beyond: f64,
 }
 
 /// A side relation of a later object to a placed one that can still be kept: its free zones
@@ -492,7 +518,8 @@ fn touching(fp: &Rect, blocked: impl Fn(&Rect) -> bool) -> u8 {
 /// relates to each) and the zones placed objects keep free from it (all of a list, or one of
 /// a bed's open sides).
 struct Clearances {
-    /// The placed footprints (those `related` to the object being placed are not in its way).
+    /// The placed footprints (those `related` to the object being placed, and that it lets
+    /// into its use-clearance, are not in its way).
     placed: FootprintGrid,
     related: Vec<bool>,
     /// The zones that must stay wholly free of the object (the `all` lists), bucketed.
@@ -782,7 +809,7 @@ impl Search<'_, '_> {
         let dep = &self.prep.problem.objects[d.object];
         let side = dep.size[0].min(dep.size[1]);
         let bounds = &self.prep.room.bounds;
-        constraints::side_zones_and_next_to(d.kind, pose, size, side, d.gaps, bounds)
+        constraints::side_zones_and_next_to(d.kind, pose, size, [side, d.beyond], d.gaps, bounds)
     }
 
     /// What candidate `c` of object `k` leaves for the side relations later objects have to
@@ -842,7 +869,8 @@ impl Search<'_, '_> {
                     some_free_next_to = true;
                 }
             };
-            constraints::for_each_side_zone(d.kind, &c.pose, size, side, d.gaps, bounds, zone);
+            let z = [side, d.beyond];
+            constraints::for_each_side_zone(d.kind, &c.pose, size, z, d.gaps, bounds, zone);
             kept += usize::from(some_free);
             close += usize::from(some_free_next_to);
         }
@@ -1084,9 +1112,9 @@ impl Search<'_, '_> {
             let fp = footprint(&p, o.size);
             let rel = related(i, k);
             placed.push(fp);
-            related_to_k.push(rel);
+            related_to_k.push(rel && objects[k].role.lets_in(o.role));
             let (z, all) = constraints::use_zones(o.role, &p, o.size, o.height);
-            if z.is_empty() || rel {
+            if z.is_empty() || (rel && o.role.lets_in(objects[k].role)) {
                 continue;
             }
             // For a bed, the sides still open with the other placed furniture.
@@ -1361,6 +1389,7 @@ pub(crate) fn run(
             remaining_max[k + 1] + placed_value + sat_value * obj.constraints.len() as f64;
     }
     let mut dependents: Vec<Vec<Dependent>> = vec![Vec::new(); n];
+    let aisle = 2.0 * prep.reach.radius();
     for (j, obj) in prep.problem.objects.iter().enumerate() {
         for c in &obj.constraints {
             let side = matches!(
@@ -1388,7 +1417,8 @@ pub(crate) fn run(
             gaps.1 = gaps.1.min(constraints::SIDE_MAX_M.max(gaps.0));
             let ring = c.kind == RelationKind::Around
                 && super::meaning_of(prep.problem, j, c).ring.is_some();
-            dependents[c.target].push(Dependent { object: j, kind: c.kind, gaps, ring });
+            let beyond = if drawn_up(prep.problem, j, c) { aisle } else { 0.0 };
+            dependents[c.target].push(Dependent { object: j, kind: c.kind, gaps, ring, beyond });
         }
     }
     let rings = (0..n)

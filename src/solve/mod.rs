@@ -542,13 +542,11 @@ pub fn meaning_of(problem: &RoomProblem, k: usize, c: &ProblemConstraint) -> Mea
             && (matches!(
                 d.kind,
                 RelationKind::SideOf | RelationKind::LeftOf | RelationKind::RightOf
-            ) || (d.kind == RelationKind::Around
-                && obj.role == Role::Seat
-                && target == Role::Table))
+            ) || (d.kind == RelationKind::Around && obj.role == Role::Seat && target.sat_at()))
     });
     let contact = beside || constraints::touch_by_nature(obj.role, target);
     let mut meaning = Meaning::of(c.kind, obj.role, target, contact);
-    if c.kind == RelationKind::Around && obj.role == Role::Seat && target == Role::Table {
+    if c.kind == RelationKind::Around && obj.role == Role::Seat && target.sat_at() {
         meaning.ring = seat_ring(problem, c.target);
     }
     meaning
@@ -592,7 +590,11 @@ pub fn use_clearances_kept(problem: &RoomProblem, layout: &RoomLayout) -> (usize
                 && layout
                     .floor
                     .iter()
-                    .filter(|q| q.index != p.index && !related(p.index, q.index))
+                    .filter(|q| {
+                        q.index != p.index
+                            && !(related(p.index, q.index)
+                                && o.role.lets_in(problem.objects[q.index].role))
+                    })
                     .all(|q| !q.footprint.overlaps(z))
         };
         if if all { zones.iter().all(free) } else { zones.iter().any(free) } {
