@@ -394,7 +394,7 @@ fn list(args: &ListArgs) -> ExitCode {
     if assets.is_empty() {
         if let Some(t) = &args.object_type {
             let mut types: Vec<&str> =
-                catalog.assets().iter().map(|a| a.object_type.as_str()).collect();
+                catalog.assets().iter().map(|a| &*a.object_type).collect();
             types.sort_unstable();
             types.dedup();
             let close = crate::diag::suggest::closest(t, types);
