@@ -252,7 +252,8 @@ fn embedded_catalog() {
         let _ = writeln!(out, "({id:?}, {i}),");
     }
     let _ = writeln!(out, "];");
-    let _ = writeln!(out, "pub(super) static TYPES: [(&str, Placements, &str); {}] = [", types.len());
+    let _ =
+        writeln!(out, "pub(super) static TYPES: [(&str, Placements, &str); {}] = [", types.len());
     for (object_type, (kinds, category)) in &types {
         let _ = writeln!(out, "({object_type:?}, {}, {category:?}),", placements(kinds));
     }
@@ -281,9 +282,8 @@ fn embedded_catalog() {
         }
         doc_len.push(len);
         let head = text::head(&category).unwrap_or_default().to_string();
-        kind_words.extend(
-            category.iter().filter(|t| **t != head && !text::is_attribute(t)).cloned(),
-        );
+        kind_words
+            .extend(category.iter().filter(|t| **t != head && !text::is_attribute(t)).cloned());
         kind_start.push(kind_words.len() as u32);
         doc_head.push(head);
         id_hash.push(fnv1a(&r.id));
@@ -327,6 +327,5 @@ fn embedded_catalog() {
         f64_literal(avg_len)
     );
     let dir = std::env::var("OUT_DIR").expect("cargo sets OUT_DIR");
-    std::fs::write(Path::new(&dir).join("embedded_catalog.rs"), out)
-        .expect("OUT_DIR is writable");
+    std::fs::write(Path::new(&dir).join("embedded_catalog.rs"), out).expect("OUT_DIR is writable");
 }

@@ -517,8 +517,10 @@ mod tests {
                             assert_eq!(row.contains_or_on(p), outline.contains_or_on(p));
                             assert!(!row.misses_row() || !outline.contains_or_on(p));
                             for bound in [reach, reach / 2.0, 1.0] {
-                                let (a, b) =
-                                    (row.distance_below(p, bound), outline.distance_below(p, bound));
+                                let (a, b) = (
+                                    row.distance_below(p, bound),
+                                    outline.distance_below(p, bound),
+                                );
                                 assert_eq!(a.to_bits(), b.to_bits(), "{p:?} {bound}");
                             }
                         }

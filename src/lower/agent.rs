@@ -128,9 +128,9 @@ fn free_start(plan: &FloorPlan, layout: &Layout, id: RoomId) -> Option<Point> {
             let c = j * nx + i;
             let p = point(i, j);
             if free(c)
-                && near.iter().any(|&&(a, b)| {
-                    geo::within(p, geo::nearest_on_segment(p, a, b), door_reach)
-                })
+                && near
+                    .iter()
+                    .any(|&&(a, b)| geo::within(p, geo::nearest_on_segment(p, a, b), door_reach))
             {
                 reached[c] = true;
                 queue.push_back(c);

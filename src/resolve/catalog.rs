@@ -11,8 +11,8 @@ use serde_json::Value;
 use sha2::{Digest, Sha256};
 
 use super::index::TextIndex;
-pub use super::placement::{PlacementKind, Placements};
 use super::placement::category_allows;
+pub use super::placement::{PlacementKind, Placements};
 use super::text::camel_words;
 use crate::diag::{Code, Diagnostic, Outcome};
 use crate::source::{FileId, SourceMap, Span};
@@ -824,7 +824,8 @@ mod tests {
         // The object types' flags and categories, first row of each type wins.
         let mut types: BTreeMap<&str, (Placements, &str)> = BTreeMap::new();
         for line in EMBEDDED_TSV.lines().filter(|l| !l.starts_with('#')) {
-            if let [_, t, category, _, _, _, _, kinds, _] = line.split('\t').collect::<Vec<_>>()[..] {
+            if let [_, t, category, _, _, _, _, kinds, _] = line.split('\t').collect::<Vec<_>>()[..]
+            {
                 types.entry(t).or_insert((Placements::from_letters(kinds), category));
             }
         }
