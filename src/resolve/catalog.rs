@@ -627,20 +627,16 @@ fn push_procthor(
         ));
     }
     let known = builtin_type(&object_type);
-    let placements = match (flags_of(entry), known) {
-        (Some(p), _) => p,
-        (None, Some((p, _))) => p,
-        (None, None) => {
-            return diags.push(bad_entry(
-                file,
-                span,
-                id,
-                &format!(
-                    "object type `{object_type}` is not a built-in type and the entry has no \
-                     `onFloor`/`onWall`/`onObject`/`onCeiling`"
-                ),
-            ))
-        }
+    let Some(placements) = flags_of(entry).or_else(|| known.map(|(p, _)| p)) else {
+        return diags.push(bad_entry(
+            file,
+            span,
+            id,
+            &format!(
+                "object type `{object_type}` is not a built-in type and the entry has no \
+                 `onFloor`/`onWall`/`onObject`/`onCeiling`"
+            ),
+        ));
     };
     let category = known.map_or_else(|| camel_words(&object_type), |(_, c)| c.to_string());
     let description = entry.get("description").and_then(Value::as_str).unwrap_or("").to_string();
