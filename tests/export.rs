@@ -145,7 +145,7 @@ fn every_example_reads_back_with_one_node_per_thing_and_every_box_in_place() {
             assert_eq!(extras["kind"], "object");
             assert_eq!(extras["assetId"], o.asset_id.as_str());
             assert_eq!(extras["roomId"], o.room_id.as_str());
-            assert_eq!(extras["objectType"], asset.object_type.as_str());
+            assert_eq!(extras["objectType"], &*asset.object_type);
         }
     }
 }

@@ -393,8 +393,7 @@ fn list(args: &ListArgs) -> ExitCode {
     assets.sort_by(|a, b| a.object_type.cmp(&b.object_type).then_with(|| a.id.cmp(&b.id)));
     if assets.is_empty() {
         if let Some(t) = &args.object_type {
-            let mut types: Vec<&str> =
-                catalog.assets().iter().map(|a| a.object_type.as_str()).collect();
+            let mut types: Vec<&str> = catalog.assets().iter().map(|a| &*a.object_type).collect();
             types.sort_unstable();
             types.dedup();
             let close = crate::diag::suggest::closest(t, types);

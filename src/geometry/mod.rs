@@ -229,6 +229,118 @@ impl<'a> Outline<'a> {
     }
 }
 
+impl Outline<'_> {
+    /// The outline seen from the points of one row (every point whose `z` is `z`), for
+    /// distances up to `reach`: see [`OutlineRow`].
+    pub fn row(&self, z: f64, reach: f64) -> OutlineRow<'_, '_> {
+        // How far the row is from a box along z (negative inside its z range).
+        let gap_z = |b: &Aabb| (b.min[1] - z).max(z - b.max[1]);
+        let touch = EPS_M + PASS_OVER_M;
+        let edges = |keep: &dyn Fn(f64) -> bool| -> Vec<usize> {
+            (0..self.edges.len()).filter(|&i| keep(gap_z(&self.edges[i].2))).collect()
+        };
+        // The crossings `point_in_polygon_raw` meets on this row, in its order.
+        let n = self.polygon.len();
+        let mut crossings = Vec::new();
+        let mut j = n.wrapping_sub(1);
+        for i in 0..n {
+            let (a, b) = (self.polygon[i], self.polygon[j]);
+            if (a[1] > z) != (b[1] > z) {
+                crossings.push((b[0] - a[0]) * (z - a[1]) / (b[1] - a[1]) + a[0]);
+            }
+            j = i;
+        }
+        OutlineRow {
+            outline: self,
+            z,
+            in_bounds: gap_z(&self.bounds) <= touch,
+            touching: edges(&|g| g <= touch),
+            crossings,
+            reach,
+            within_reach: edges(&|g| g < reach + PASS_OVER_M),
+        }
+    }
+}
+
+/// An [`Outline`] seen from one row of points (the same `z`), for a grid that asks about many
+/// points of each row: the edges that can touch the row, the edges within reach of it and
+/// where the polygon crosses it are worked out once per row. Each query gives, to the bit, what
+/// the outline's own query of the same name gives for a point of the row: the edges left out
+/// are those the outline's query would pass over for every point of the row.
+pub struct OutlineRow<'o, 'a> {
+    outline: &'o Outline<'a>,
+    z: f64,
+    /// Whether the row passes within [`EPS_M`] (and the pass-over margin) of the bounds.
+    in_bounds: bool,
+    /// The edges whose boxes the row passes that near, in order.
+    touching: Vec<usize>,
+    /// The x of each edge crossing of the ray test, in its order.
+    crossings: Vec<f64>,
+    /// The largest bound [`OutlineRow::distance_below`] is asked with.
+    reach: f64,
+    /// The edges whose boxes are nearer the row than `reach` (and the margin), in order.
+    within_reach: Vec<usize>,
+}
+
+impl OutlineRow<'_, '_> {
+    /// [`Outline::on_boundary`].
+    fn on_boundary(&self, p: Point) -> bool {
+        self.touching.iter().any(|&i| {
+            let (a, b, bbox) = &self.outline.edges[i];
+            Outline::gap(p, bbox) <= EPS_M + PASS_OVER_M && point_on_segment(p, *a, *b)
+        })
+    }
+
+    /// `point_in_polygon_raw` from the row's crossings.
+    fn raw_inside(&self, p: Point) -> bool {
+        self.crossings.iter().filter(|&&x| p[0] < x).count() % 2 == 1
+    }
+
+    /// Whether `p` (a point of the row) is within the outline's bounds by the test of
+    /// [`Outline::contains`].
+    fn near_bounds(&self, p: Point) -> bool {
+        let b = &self.outline.bounds;
+        self.in_bounds && (b.min[0] - p[0]).max(p[0] - b.max[0]) <= EPS_M + PASS_OVER_M
+    }
+
+    /// [`Outline::contains`] for a point of the row.
+    pub fn contains(&self, p: Point) -> bool {
+        debug_assert!(p[1].to_bits() == self.z.to_bits(), "a point of another row");
+        self.near_bounds(p) && !self.on_boundary(p) && self.raw_inside(p)
+    }
+
+    /// [`Outline::contains_or_on`] for a point of the row.
+    pub fn contains_or_on(&self, p: Point) -> bool {
+        debug_assert!(p[1].to_bits() == self.z.to_bits(), "a point of another row");
+        self.near_bounds(p) && (self.on_boundary(p) || self.raw_inside(p))
+    }
+
+    /// Whether no point of the row is inside or on the outline (then
+    /// [`OutlineRow::contains_or_on`] is false for every one).
+    pub fn misses_row(&self) -> bool {
+        !self.in_bounds
+    }
+
+    /// [`Outline::distance_below`] for a point of the row.
+    pub fn distance_below(&self, p: Point, bound: f64) -> f64 {
+        debug_assert!(p[1].to_bits() == self.z.to_bits(), "a point of another row");
+        if bound > self.reach {
+            return self.outline.distance_below(p, bound);
+        }
+        // An edge left out is at least `reach` (and the margin) away along z: the outline's
+        // query passes over it too, since its nearest distance never exceeds `bound`.
+        let mut nearest = bound;
+        for &i in &self.within_reach {
+            let (a, b, bbox) = &self.outline.edges[i];
+            if Outline::gap(p, bbox) >= nearest + PASS_OVER_M {
+                continue;
+            }
+            nearest = distance_below(p, nearest_on_segment(p, *a, *b), nearest);
+        }
+        nearest
+    }
+}
+
 fn point_in_polygon_raw(p: Point, polygon: &[Point]) -> bool {
     let n = polygon.len();
     let mut inside = false;
@@ -380,6 +492,43 @@ pub fn round6(v: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn outline_rows_answer_as_the_outline() {
+        // Rectangles, an L, a slanted quadrilateral and a triangle, with points on a grid whose
+        // rows and columns pass on and near their corners and edges.
+        let polygons: Vec<Vec<Point>> = vec![
+            vec![[0.0, 0.0], [0.0, 4.0], [5.0, 4.0], [5.0, 0.0]],
+            vec![[0.0, 0.0], [0.0, 3.0], [2.0, 3.0], [2.0, 5.0], [6.0, 5.0], [6.0, 0.0]],
+            vec![[0.3, 0.1], [1.1, 4.2], [4.7, 3.3], [3.9, -0.4]],
+            vec![[0.0, 0.0], [2.5, 4.0], [5.0, 0.0]],
+            vec![[1.0, 1.0], [1.0, 1.6], [1.4, 1.6], [1.4, 1.0]],
+        ];
+        for polygon in &polygons {
+            let outline = Outline::new(polygon);
+            for step in [0.05, 0.1, 0.5] {
+                for j in 0..=((6.0 / step) as usize + 2) {
+                    let z = -0.5 + j as f64 * step;
+                    for reach in [0.0, 0.3, 0.8] {
+                        let row = outline.row(z, reach);
+                        for i in 0..=((7.0 / step) as usize + 2) {
+                            let p = [-0.5 + i as f64 * step, z];
+                            assert_eq!(row.contains(p), outline.contains(p), "{p:?}");
+                            assert_eq!(row.contains_or_on(p), outline.contains_or_on(p));
+                            assert!(!row.misses_row() || !outline.contains_or_on(p));
+                            for bound in [reach, reach / 2.0, 1.0] {
+                                let (a, b) = (
+                                    row.distance_below(p, bound),
+                                    outline.distance_below(p, bound),
+                                );
+                                assert_eq!(a.to_bits(), b.to_bits(), "{p:?} {bound}");
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
 
     #[test]
     fn clockwise_rectangle_has_negative_area() {

@@ -81,16 +81,28 @@ fn free_start(plan: &FloorPlan, layout: &Layout, id: RoomId) -> Option<Point> {
         room.door_keep_out.iter().chain(&room.open_boxes).map(|b| geo::Outline::new(b)).collect();
     let mut clearance = vec![f64::NEG_INFINITY; nx * nz];
     for j in 0..nz {
+        // What can matter to the cells of this row is worked out once for the row: the walls
+        // and keep-out boxes near it, the footprints within `ENOUGH_CLEARANCE_M` of it (a
+        // farther one cannot lower a clearance measured no further than that). The values are
+        // those of the cell-by-cell tests, to the bit.
+        let z = point(0, j)[1];
+        let walls = outline.row(z, ENOUGH_CLEARANCE_M);
+        let boxes: Vec<_> =
+            kept_out.iter().map(|b| b.row(z, 0.0)).filter(|b| !b.misses_row()).collect();
+        let near: Vec<&Rect> = footprints
+            .iter()
+            .filter(|r| (r.min_z - z).max(0.0).max(z - r.max_z) < ENOUGH_CLEARANCE_M)
+            .collect();
         for i in 0..nx {
             let p = point(i, j);
-            if !outline.contains(p) || kept_out.iter().any(|b| b.contains_or_on(p)) {
+            if !walls.contains(p) || boxes.iter().any(|b| b.contains_or_on(p)) {
                 continue;
             }
             // The distance to the nearest wall or footprint, measured no further than
             // `ENOUGH_CLEARANCE_M`: only whether it reaches the need (less) and how it compares
             // up to that count.
-            let mut nearest = outline.distance_below(p, ENOUGH_CLEARANCE_M);
-            for r in &footprints {
+            let mut nearest = walls.distance_below(p, ENOUGH_CLEARANCE_M);
+            for r in &near {
                 nearest = distance_to_rect_below(p, r, nearest);
             }
             clearance[j * nx + i] = nearest;
@@ -100,15 +112,29 @@ fn free_start(plan: &FloorPlan, layout: &Layout, id: RoomId) -> Option<Point> {
     // Flood from the free cells next to a door; without a door, every free cell counts.
     let mut reached = vec![false; nx * nz];
     let mut queue = VecDeque::new();
-    for (c, r) in reached.iter_mut().enumerate() {
-        let p = point(c % nx, c / nx);
-        if free(c)
-            && doors.iter().any(|&(a, b)| {
-                geo::within(p, geo::nearest_on_segment(p, a, b), DOOR_REACH_M + need)
-            })
-        {
-            *r = true;
-            queue.push_back(c);
+    let door_reach = DOOR_REACH_M + need;
+    for j in 0..nz {
+        // A door whose z range is farther from the row than the reach (the nearest point of a
+        // door is within its z range but for rounding) reaches no cell of it.
+        let z = point(0, j)[1];
+        let near: Vec<&(Point, Point)> = doors
+            .iter()
+            .filter(|(a, b)| (a[1].min(b[1]) - z).max(z - a[1].max(b[1])) <= door_reach + 1e-9)
+            .collect();
+        if near.is_empty() {
+            continue;
+        }
+        for i in 0..nx {
+            let c = j * nx + i;
+            let p = point(i, j);
+            if free(c)
+                && near
+                    .iter()
+                    .any(|&&(a, b)| geo::within(p, geo::nearest_on_segment(p, a, b), door_reach))
+            {
+                reached[c] = true;
+                queue.push_back(c);
+            }
         }
     }
     if queue.is_empty() {
@@ -118,20 +144,13 @@ fn free_start(plan: &FloorPlan, layout: &Layout, id: RoomId) -> Option<Point> {
     }
     while let Some(c) = queue.pop_front() {
         let (i, j) = (c % nx, c / nx);
-        let mut next = Vec::with_capacity(4);
-        if i > 0 {
-            next.push(c - 1);
-        }
-        if i + 1 < nx {
-            next.push(c + 1);
-        }
-        if j > 0 {
-            next.push(c - nx);
-        }
-        if j + 1 < nz {
-            next.push(c + nx);
-        }
-        for n in next {
+        let next = [
+            (i > 0).then(|| c - 1),
+            (i + 1 < nx).then(|| c + 1),
+            (j > 0).then(|| c - nx),
+            (j + 1 < nz).then(|| c + nx),
+        ];
+        for n in next.into_iter().flatten() {
             if !reached[n] && free(n) {
                 reached[n] = true;
                 queue.push_back(n);

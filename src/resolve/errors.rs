@@ -29,7 +29,7 @@ pub(crate) fn unknown_asset(
 ) -> Diagnostic {
     let close: Vec<String> = suggest::closest(
         &pin.id,
-        catalog.assets().iter().filter(|a| a.allows(kind)).map(|a| a.id.as_str()),
+        catalog.assets().iter().filter(|a| a.allows(kind)).map(|a| &*a.id),
     );
     let help = suggest::did_you_mean(&close).or_else(|| {
         suggest::did_you_mean(&ids(ranked))

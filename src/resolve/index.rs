@@ -1,5 +1,6 @@
 //! The word index of a catalog (BM25 statistics) and the ranking of assets for one query.
 
+use std::borrow::Cow;
 use std::collections::{BTreeMap, HashMap};
 
 use super::catalog::{Asset, Catalog, PlacementKind};
@@ -18,29 +19,93 @@ pub const HEAD_SHARE: f64 = 0.6;
 /// The smallest relevance for an asset to be good enough to resolve an object.
 pub const RELEVANCE_THRESHOLD: f64 = 0.5;
 
-/// Per-asset word statistics for ranking.
+/// A word of the index: borrowed from the embedded catalog's static index, or owned.
+pub(crate) type Word = Cow<'static, str>;
+
+/// Per-asset word statistics for ranking. The embedded catalog's is made at compile time (see
+/// [`StaticIndex`]); any other catalog's is [`TextIndex::build`] at run time.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct TextIndex {
     /// Word → (asset index, term frequency), asset indexes ascending.
-    postings: HashMap<String, Vec<(u32, u32)>>,
+    postings: Postings,
     /// Number of words per asset.
-    doc_len: Vec<u32>,
+    doc_len: Cow<'static, [u32]>,
     /// The head word of each asset's category.
-    doc_head: Vec<String>,
+    doc_head: Cow<'static, [Word]>,
+    /// Where each asset's words in `kind_words` start (one more entry than assets).
+    kind_start: Cow<'static, [u32]>,
     /// The other words of each asset's category that say what kind of thing it is (`cell` of
-    /// `cell phone`), attribute words left out.
-    doc_kind_words: Vec<Vec<String>>,
+    /// `cell phone`), attribute words left out, asset after asset.
+    kind_words: Cow<'static, [Word]>,
     /// A hash of each asset's id, for seeded tie-breaking.
-    id_hash: Vec<u64>,
+    id_hash: Cow<'static, [u64]>,
     /// Bit `k` set when the asset may be placed as `PlacementKind::ALL[k]`.
-    allowed: Vec<u8>,
+    allowed: Cow<'static, [u8]>,
     avg_len: f64,
+}
+
+/// The postings of a [`TextIndex`]: a hash map when built at run time, sorted static arrays
+/// when made at compile time.
+#[derive(Clone, Debug)]
+enum Postings {
+    /// Word → (asset index, term frequency).
+    Built(HashMap<String, Vec<(u32, u32)>>),
+    /// The words in order, where each one's postings start in `entries` (one more than
+    /// words), and the postings one word after the other.
+    Static { terms: &'static [&'static str], start: &'static [u32], entries: &'static [(u32, u32)] },
+}
+
+impl Default for Postings {
+    fn default() -> Postings {
+        Postings::Built(HashMap::new())
+    }
+}
+
+impl Postings {
+    /// The (asset index, term frequency) pairs of a word, asset indexes ascending.
+    fn get(&self, term: &str) -> Option<&[(u32, u32)]> {
+        match self {
+            Postings::Built(map) => map.get(term).map(Vec::as_slice),
+            Postings::Static { terms, start, entries } => {
+                let i = terms.binary_search(&term).ok()?;
+                entries.get(start[i] as usize..start[i + 1] as usize)
+            }
+        }
+    }
+}
+
+/// A [`TextIndex`] made at compile time: `build.rs` writes one for the embedded catalog, with
+/// the fields [`TextIndex::build`] would compute (a test checks they agree).
+pub(crate) struct StaticIndex {
+    /// The words, sorted.
+    pub(crate) terms: &'static [&'static str],
+    /// Where each word's postings start in `postings` (one more entry than words).
+    pub(crate) term_start: &'static [u32],
+    /// (asset index, term frequency) pairs, word after word.
+    pub(crate) postings: &'static [(u32, u32)],
+    /// See [`TextIndex`].
+    pub(crate) doc_len: &'static [u32],
+    /// See [`TextIndex`].
+    pub(crate) doc_head: &'static [Word],
+    /// See [`TextIndex`].
+    pub(crate) kind_start: &'static [u32],
+    /// See [`TextIndex`].
+    pub(crate) kind_words: &'static [Word],
+    /// See [`TextIndex`].
+    pub(crate) id_hash: &'static [u64],
+    /// See [`TextIndex`].
+    pub(crate) allowed: &'static [u8],
+    /// See [`TextIndex`].
+    pub(crate) avg_len: f64,
 }
 
 impl TextIndex {
     /// Indexes the assets: category words count twice, description words once.
     pub(crate) fn build(assets: &[Asset]) -> TextIndex {
-        let mut index = TextIndex::default();
+        let mut postings: HashMap<String, Vec<(u32, u32)>> = HashMap::new();
+        let (mut doc_len, mut doc_head, mut kind_start, mut kind_words) =
+            (Vec::new(), Vec::new(), vec![0u32], Vec::new());
+        let (mut id_hash, mut allowed) = (Vec::new(), Vec::new());
         let mut total = 0u64;
         for (i, asset) in assets.iter().enumerate() {
             let category = text::normalize(&asset.category);
@@ -54,31 +119,63 @@ impl TextIndex {
             }
             let len = (2 * category.len() + description.len()) as u32;
             for (t, tf) in counts {
-                index.postings.entry(t.to_string()).or_default().push((i as u32, tf));
+                postings.entry(t.to_string()).or_default().push((i as u32, tf));
             }
-            index.doc_len.push(len);
+            doc_len.push(len);
             let head = text::head(&category).unwrap_or_default().to_string();
-            index.doc_kind_words.push(
+            kind_words.extend(
                 category
                     .iter()
                     .filter(|t| **t != head && !text::is_attribute(t))
-                    .cloned()
-                    .collect(),
+                    .map(|t| Word::Owned(t.clone())),
             );
-            index.doc_head.push(head);
-            index.id_hash.push(fnv1a(&asset.id));
+            kind_start.push(kind_words.len() as u32);
+            doc_head.push(Word::Owned(head));
+            id_hash.push(fnv1a(&asset.id));
             let mut bits = 0u8;
             for (k, kind) in PlacementKind::ALL.into_iter().enumerate() {
                 if asset.allows(kind) {
                     bits |= 1 << k;
                 }
             }
-            index.allowed.push(bits);
+            allowed.push(bits);
             total += u64::from(len);
         }
-        index.avg_len =
+        let avg_len =
             if assets.is_empty() { 1.0 } else { (total as f64 / assets.len() as f64).max(1.0) };
-        index
+        TextIndex {
+            postings: Postings::Built(postings),
+            doc_len: doc_len.into(),
+            doc_head: doc_head.into(),
+            kind_start: kind_start.into(),
+            kind_words: kind_words.into(),
+            id_hash: id_hash.into(),
+            allowed: allowed.into(),
+            avg_len,
+        }
+    }
+
+    /// The index made at compile time, borrowed: nothing is computed or copied.
+    pub(crate) fn from_static(index: &'static StaticIndex) -> TextIndex {
+        TextIndex {
+            postings: Postings::Static {
+                terms: index.terms,
+                start: index.term_start,
+                entries: index.postings,
+            },
+            doc_len: Cow::Borrowed(index.doc_len),
+            doc_head: Cow::Borrowed(index.doc_head),
+            kind_start: Cow::Borrowed(index.kind_start),
+            kind_words: Cow::Borrowed(index.kind_words),
+            id_hash: Cow::Borrowed(index.id_hash),
+            allowed: Cow::Borrowed(index.allowed),
+            avg_len: index.avg_len,
+        }
+    }
+
+    /// The kind words of document `d` (see [`TextIndex`]).
+    fn kind_words(&self, d: usize) -> &[Word] {
+        &self.kind_words[self.kind_start[d] as usize..self.kind_start[d + 1] as usize]
     }
 
     fn n_docs(&self) -> usize {
@@ -86,7 +183,7 @@ impl TextIndex {
     }
 
     fn df(&self, term: &str) -> usize {
-        self.postings.get(term).map_or(0, Vec::len)
+        self.postings.get(term).map_or(0, <[_]>::len)
     }
 
     fn idf(&self, df: usize) -> f64 {
@@ -97,6 +194,28 @@ impl TextIndex {
 
     fn contains(&self, term: &str, doc: u32) -> bool {
         self.postings.get(term).is_some_and(|p| p.binary_search_by_key(&doc, |&(d, _)| d).is_ok())
+    }
+
+    /// Every field, comparable: for the test that the compile-time index is the run-time one.
+    #[cfg(test)]
+    pub(crate) fn same_as(&self, other: &TextIndex) -> bool {
+        let postings = |p: &Postings| -> BTreeMap<String, Vec<(u32, u32)>> {
+            match p {
+                Postings::Built(map) => map.iter().map(|(k, v)| (k.clone(), v.clone())).collect(),
+                Postings::Static { terms, .. } => terms
+                    .iter()
+                    .map(|t| ((*t).to_string(), p.get(t).unwrap_or_default().to_vec()))
+                    .collect(),
+            }
+        };
+        postings(&self.postings) == postings(&other.postings)
+            && self.doc_len == other.doc_len
+            && self.doc_head == other.doc_head
+            && self.kind_start == other.kind_start
+            && self.kind_words == other.kind_words
+            && self.id_hash == other.id_hash
+            && self.allowed == other.allowed
+            && self.avg_len.to_bits() == other.avg_len.to_bits()
     }
 }
 
@@ -239,7 +358,7 @@ fn rank_with(
         }
         let idf = index.idf(df);
         ideal += weight * idf * saturated;
-        if let Some(postings) = index.postings.get(*term) {
+        if let Some(postings) = index.postings.get(term) {
             for &(doc, tf) in postings {
                 if kind_bit.is_some_and(|bit| index.allowed[doc as usize] & bit == 0) {
                     continue;
@@ -267,12 +386,12 @@ fn rank_with(
                     && (!text::is_generic_head(h)
                         || modifiers.is_empty()
                         || modifiers.iter().any(|m| index.contains(m, doc)))
-                    && !kinds_differ(&modifiers, &category, &index.doc_kind_words[d], |m| {
+                    && !kinds_differ(&modifiers, &category, index.kind_words(d), |m| {
                         index.contains(m, doc)
                     })
                     && !(text::is_material_head(h)
                         && modifiers.is_empty()
-                        && !index.doc_kind_words[d].is_empty())
+                        && !index.kind_words(d).is_empty())
             });
             let text = if ideal > 0.0 { (bm25 / ideal).min(1.0) } else { 0.0 };
             let relevance =
@@ -309,8 +428,8 @@ fn rank_with(
         .map(|l| {
             let asset = catalog.asset_at(offset + l.doc as usize);
             Candidate {
-                asset_id: asset.id.clone(),
-                object_type: asset.object_type.clone(),
+                asset_id: asset.id.to_string(),
+                object_type: asset.object_type.to_string(),
                 bbox_m: asset.bbox_m,
                 head_match: l.head_match,
                 text: l.text,
@@ -331,13 +450,13 @@ fn rank_with(
 fn kinds_differ(
     query_kind_words: &[&str],
     query_category: &[String],
-    asset_kind_words: &[String],
+    asset_kind_words: &[Word],
     asset_has: impl Fn(&str) -> bool,
 ) -> bool {
     !query_kind_words.is_empty()
         && !asset_kind_words.is_empty()
         && !query_kind_words.iter().any(|m| asset_has(m))
-        && !asset_kind_words.iter().any(|w| query_category.contains(w))
+        && !asset_kind_words.iter().any(|w| query_category.iter().any(|q| *q == **w))
 }
 
 /// A candidate before its strings are copied.

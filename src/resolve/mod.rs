@@ -15,6 +15,7 @@ mod errors;
 mod index;
 pub mod kinds;
 pub mod objathor;
+mod placement;
 pub mod receptacles;
 mod report;
 mod select;

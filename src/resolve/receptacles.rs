@@ -109,8 +109,7 @@ mod tests {
     #[test]
     fn every_type_is_in_the_catalog() {
         let catalog = super::super::Catalog::embedded();
-        let known: BTreeSet<&str> =
-            catalog.assets().iter().map(|a| a.object_type.as_str()).collect();
+        let known: BTreeSet<&str> = catalog.assets().iter().map(|a| &*a.object_type).collect();
         for r in receptacle_types() {
             assert!(known.contains(r), "receptacle {r}");
         }

@@ -109,8 +109,8 @@ impl Choice {
     /// The choice of an asset, with no ranking parts, runner-up, pin or stand-in yet.
     fn of(asset: &super::catalog::Asset) -> Choice {
         Choice {
-            asset_id: asset.id.clone(),
-            object_type: asset.object_type.clone(),
+            asset_id: asset.id.to_string(),
+            object_type: asset.object_type.to_string(),
             bbox_m: asset.bbox_m,
             receptacle: asset.receptacle,
             source: asset.source,
@@ -964,7 +964,7 @@ impl<'a> State<'a> {
         if kind == PlacementKind::OnObject
             && self.is_too_large(query, asset.bbox_m, &asset.object_type)
         {
-            self.too_large.get_or_insert_with(|| asset.id.clone());
+            self.too_large.get_or_insert_with(|| asset.id.to_string());
             return None;
         }
         self.mark_used(&asset.id);
@@ -1016,12 +1016,12 @@ impl<'a> State<'a> {
                     && self.is_too_large(query, asset.bbox_m, &asset.object_type)
                 {
                     // A wall picture is no photo frame on a shelf.
-                    self.too_large.get_or_insert_with(|| asset.id.clone());
+                    self.too_large.get_or_insert_with(|| asset.id.to_string());
                     continue;
                 }
                 let ratio = query.size_m.map(|want| standins::size_ratio(asset.bbox_m, want, kind));
                 if let Some(r) = ratio.filter(|r| *r > standins::MAX_STAND_IN_RATIO + 1e-9) {
-                    self.refused.get_or_insert_with(|| (asset.id.clone(), r));
+                    self.refused.get_or_insert_with(|| (asset.id.to_string(), r));
                     continue;
                 }
                 self.report_once(
@@ -1058,13 +1058,13 @@ impl<'a> State<'a> {
         let (asset, ratio) = standins::pick_stand_in(self.catalog, &types, kind, query.size_m)?;
         if let Some(r) = ratio.filter(|r| *r > standins::MAX_STAND_IN_RATIO + 1e-9) {
             // Too far from the size asked: a 0.89 m dresser is no 2 m wardrobe.
-            self.refused.get_or_insert_with(|| (asset.id.clone(), r));
+            self.refused.get_or_insert_with(|| (asset.id.to_string(), r));
             return None;
         }
         if kind == PlacementKind::OnObject
             && self.is_too_large(query, asset.bbox_m, &asset.object_type)
         {
-            self.too_large.get_or_insert_with(|| asset.id.clone());
+            self.too_large.get_or_insert_with(|| asset.id.to_string());
             return None;
         }
         self.report_once(what.span, errors::stand_in(what, asset, line, ratio, query.size_m));

@@ -15,7 +15,12 @@ const DOORS_TSV: &str = include_str!("../../data/catalog/doors.tsv");
 const WINDOWS_TSV: &str = include_str!("../../data/catalog/windows.tsv");
 const MATERIALS_TSV: &str = include_str!("../../data/catalog/materials.tsv");
 const SKYBOXES_TSV: &str = include_str!("../../data/catalog/skyboxes.tsv");
-const THOR_IDS_TSV: &str = include_str!("../../data/catalog/thor-asset-ids.tsv");
+/// `THOR_ASSET_IDS`: every built-in AI2-THOR asset id of `data/catalog/thor-asset-ids.tsv`,
+/// sorted by build.rs.
+#[allow(clippy::all, clippy::pedantic, reason = "generated code")]
+mod thor_ids {
+    include!(concat!(env!("OUT_DIR"), "/thor_asset_ids.rs"));
+}
 
 /// The material every exterior wall copy uses (as Holodeck does).
 pub const EXTERIOR_WALL_MATERIAL: &str = "Walldrywall4Tiled";
@@ -135,11 +140,118 @@ pub struct StructureCatalog {
     pub materials: Vec<Material>,
     /// Skyboxes, sorted by name.
     pub skyboxes: Vec<Skybox>,
-    /// Every built-in AI2-THOR asset id.
-    pub thor_asset_ids: BTreeSet<String>,
+    /// Every built-in AI2-THOR asset id, sorted (made at compile time).
+    pub thor_asset_ids: &'static [&'static str],
+    /// What ranking needs of each floor and wall material that no design changes, worked out
+    /// with the catalog (see [`MaterialFacts`]).
+    facts: Vec<MaterialFacts>,
     /// Rankings already worked out (the same design texts come back in every room and every
     /// scene of a batch).
     rankings: RankingCache,
+}
+
+/// The facts of one floor or wall material ([`Material::is_surface`]) that every ranking uses:
+/// worked out once with the catalog rather than for every design ranked.
+#[derive(Clone, Debug, PartialEq)]
+struct MaterialFacts {
+    /// Its place in [`StructureCatalog::materials`].
+    index: usize,
+    /// Its name in lower case, for the edit similarity.
+    lower_name: Vec<char>,
+    /// The kinds its words name (`fabric` for a fabric of no named kind).
+    own: Vec<&'static str>,
+    /// Whether its words say light or dark ([`shade_of`]).
+    shade: Option<bool>,
+    /// [`Material::is_tintable`].
+    tintable: bool,
+    /// Whether its groups suit a floor (`Wood`, `Fabric`) and a wall (`Wall`).
+    suits: [bool; 2],
+}
+
+impl MaterialFacts {
+    fn of(index: usize, m: &Material) -> MaterialFacts {
+        let mut own = kinds_of(m.words.iter().map(String::as_str));
+        if own.is_empty() && m.groups.iter().any(|g| g == "Fabric") {
+            own.push("fabric");
+        }
+        MaterialFacts {
+            index,
+            lower_name: m.name.to_lowercase().chars().collect(),
+            own,
+            shade: shade_of(&m.words),
+            tintable: m.is_tintable(),
+            suits: [
+                m.groups.iter().any(|g| g == "Wood" || g == "Fabric"),
+                m.groups.iter().any(|g| g == "Wall"),
+            ],
+        }
+    }
+}
+
+/// The Levenshtein distance (in chars) from one text to many: the text is prepared once for
+/// Myers' bit-parallel algorithm when it has at most 64 chars, all ASCII; otherwise each
+/// distance is `strsim`'s. Either way the distance is the same whole number `strsim` gives.
+struct EditDistance<'a> {
+    text: &'a str,
+    /// The number of chars of `text`.
+    len: usize,
+    /// For each ASCII char, the bits of the positions of `text` that hold it (`None` when the
+    /// text is too long or not ASCII).
+    peq: Option<Box<[u64; 128]>>,
+}
+
+impl<'a> EditDistance<'a> {
+    fn new(text: &'a str) -> EditDistance<'a> {
+        let len = text.chars().count();
+        let peq = (len <= 64 && text.is_ascii()).then(|| {
+            let mut peq = Box::new([0u64; 128]);
+            for (i, b) in text.bytes().enumerate() {
+                peq[usize::from(b)] |= 1 << i;
+            }
+            peq
+        });
+        EditDistance { text, len, peq }
+    }
+
+    /// `strsim::normalized_levenshtein(text, other)`, to the bit.
+    fn normalized(&self, other: &[char]) -> f64 {
+        if self.len == 0 && other.is_empty() {
+            return 1.0;
+        }
+        let distance = match &self.peq {
+            Some(peq) => myers(peq, self.len, other),
+            None => strsim::levenshtein(self.text, &other.iter().collect::<String>()),
+        };
+        1.0 - (distance as f64) / (self.len.max(other.len()) as f64)
+    }
+}
+
+/// The Levenshtein distance between a text of `m` (1…64) ASCII chars, given by the bit masks
+/// of its chars, and `other` (Hyyrö's form of Myers' algorithm, one column per char).
+fn myers(peq: &[u64; 128], m: usize, other: &[char]) -> usize {
+    if m == 0 {
+        return other.len();
+    }
+    let last = 1u64 << (m - 1);
+    let (mut pv, mut mv) = (u64::MAX, 0u64);
+    let mut score = m;
+    for &c in other {
+        let eq = if c.is_ascii() { peq[c as usize] } else { 0 };
+        let xv = eq | mv;
+        let xh = ((eq & pv).wrapping_add(pv) ^ pv) | eq;
+        let mut ph = mv | !(xh | pv);
+        let mut mh = pv & xh;
+        if ph & last != 0 {
+            score += 1;
+        } else if mh & last != 0 {
+            score -= 1;
+        }
+        ph = (ph << 1) | 1;
+        mh <<= 1;
+        pv = mh | !(xv | ph);
+        mv = ph & xv;
+    }
+    score
 }
 
 /// A ranking of the materials: indices into `materials` with their scores, best first.
@@ -253,7 +365,9 @@ pub fn text_words(text: &str) -> Vec<String> {
 /// inside a longer one is another word: `wall` is not `wallpaper`, `tile` is not `tiled` (a
 /// texture that repeats).
 fn word_match(query: &str, name: &str) -> bool {
-    let bare = |w: &str| w.strip_suffix('s').map_or_else(|| w.to_owned(), str::to_owned);
+    fn bare(w: &str) -> &str {
+        w.strip_suffix('s').unwrap_or(w)
+    }
     query == name
         || bare(query) == bare(name)
         || (query.len() >= 5 && name.len() >= query.len() + 3 && name.contains(query))
@@ -378,13 +492,21 @@ impl StructureCatalog {
         let skyboxes = rows(SKYBOXES_TSV)
             .map(|r| Skybox { name: r[0].to_owned(), time_of_day: r[1].to_owned() })
             .collect();
-        let thor_asset_ids = rows(THOR_IDS_TSV).map(|r| r[0].to_owned()).collect();
+        let thor_asset_ids = &thor_ids::THOR_ASSET_IDS[..];
+        let materials: Vec<Material> = materials;
+        let facts = materials
+            .iter()
+            .enumerate()
+            .filter(|(_, m)| m.is_surface())
+            .map(|(i, m)| MaterialFacts::of(i, m))
+            .collect();
         StructureCatalog {
             doors,
             windows,
             materials,
             skyboxes,
             thor_asset_ids,
+            facts,
             rankings: RankingCache::default(),
         }
     }
@@ -406,7 +528,7 @@ impl StructureCatalog {
 
     /// Whether an asset id is one of AI2-THOR's built-in assets.
     pub fn is_thor_asset(&self, asset_id: &str) -> bool {
-        self.thor_asset_ids.contains(asset_id)
+        self.thor_asset_ids.binary_search(&asset_id).is_ok()
     }
 
     /// Chooses a door of this kind and size whose material words best match the style text;
@@ -504,23 +626,18 @@ impl StructureCatalog {
             }
             None => query,
         };
+        let query_shade = shade_of(&query);
+        let similarity = EditDistance::new(&lower);
         let mut ranked: Vec<(usize, f64)> = self
-            .materials
+            .facts
             .iter()
-            .enumerate()
-            .filter(|(_, m)| m.is_surface())
-            .map(|(i, m)| {
-                let suits = m.groups.iter().any(|g| match surface {
-                    Surface::Floor => g == "Wood" || g == "Fabric",
-                    Surface::Wall => g == "Wall",
-                });
-                let sim = strsim::normalized_levenshtein(&lower, &m.name.to_lowercase());
+            .map(|f| {
+                let m = &self.materials[f.index];
+                let suits = f.suits[usize::from(surface == Surface::Wall)];
+                let sim = similarity.normalized(&f.lower_name);
                 // The kind the design names: up for a material of that kind, down for one of
                 // another kind only (a carpet for a tile floor).
-                let mut own = kinds_of(m.words.iter().map(String::as_str));
-                if own.is_empty() && m.groups.iter().any(|g| g == "Fabric") {
-                    own.push("fabric");
-                }
+                let own = &f.own;
                 let kind = if asked.is_empty() || own.is_empty() {
                     0.0
                 } else if own.iter().any(|k| asked.contains(k)) {
@@ -532,7 +649,7 @@ impl StructureCatalog {
                 // when no word of the design names a material.
                 // A light design never gets a dark material, nor a dark design a light one
                 // (`light oak wood floor` is no `DarkWoodFloors`, though both are wood floors).
-                let shade = match (shade_of(&query), shade_of(&m.words)) {
+                let shade = match (query_shade, f.shade) {
                     (Some(a), Some(b)) if a != b => -1.0,
                     _ => 0.0,
                 };
@@ -541,7 +658,7 @@ impl StructureCatalog {
                 // then the colour asked is always written. Elsewhere a near-white material of
                 // the kind is the next best after one that is the colour.
                 let paint_kind = own.iter().all(|k| *k == "paint");
-                let tint = match (&color, m.is_tintable()) {
+                let tint = match (&color, f.tintable) {
                     (Some(_), true) if paint && m.name == PAINT_MATERIAL => 1.7,
                     (Some(_), true) if paint && paint_kind => 1.0,
                     (Some(_), true) if !paint => 0.4,
@@ -552,7 +669,7 @@ impl StructureCatalog {
                     + tint
                     + if suits && words == 0.0 { 0.25 } else { 0.0 }
                     + 0.1 * sim;
-                (i, score)
+                (f.index, score)
             })
             .collect();
         let name = |i: usize| &self.materials[i].name;
@@ -640,6 +757,43 @@ mod tests {
         assert_eq!(c.skyboxes.len(), 22);
         assert!(c.material(EXTERIOR_WALL_MATERIAL).is_some());
         assert!(c.is_thor_asset("Sofa_201_1"));
+        assert!(!c.is_thor_asset("Sofa_201_1x"));
+        // The ids are those of the file, sorted and each once.
+        let ids: BTreeSet<&str> = include_str!("../../data/catalog/thor-asset-ids.tsv")
+            .lines()
+            .filter(|l| !l.starts_with('#') && !l.trim().is_empty())
+            .filter_map(|l| l.split('\t').next())
+            .collect();
+        assert!(ids.iter().eq(c.thor_asset_ids.iter()));
+    }
+
+    #[test]
+    fn edit_similarity_is_strsims() {
+        let c = StructureCatalog::builtin();
+        let designs = [
+            "",
+            "oak",
+            "white paint",
+            "light oak hardwood, matte",
+            "warm white plaster, smooth",
+            "dark walnut parquet",
+            "café crème",
+            "a very long design text that goes on and on well past sixty-four characters of it",
+        ];
+        for design in designs {
+            let lower = design.to_lowercase();
+            let distance = EditDistance::new(&lower);
+            for f in &c.facts {
+                let name: String = f.lower_name.iter().collect();
+                let want = strsim::normalized_levenshtein(&lower, &name);
+                assert_eq!(distance.normalized(&f.lower_name).to_bits(), want.to_bits(), "{name}");
+            }
+            for other in ["", "x", "ça", "oak"] {
+                let chars: Vec<char> = other.chars().collect();
+                let want = strsim::normalized_levenshtein(&lower, other);
+                assert_eq!(distance.normalized(&chars).to_bits(), want.to_bits(), "{other}");
+            }
+        }
     }
 
     #[test]

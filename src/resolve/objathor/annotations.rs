@@ -153,10 +153,10 @@ pub fn read_entry(uid: &str, entry: &Value, source: usize) -> Result<(Asset, Ent
         box_shape: Some(box_shape),
     };
     let asset = Asset {
-        id: uid.to_string(),
-        object_type,
-        category,
-        description: words,
+        id: uid.to_string().into(),
+        object_type: object_type.into(),
+        category: category.into(),
+        description: words.into(),
         bbox_m: bbox,
         placements,
         receptacle: secondary_receptacle

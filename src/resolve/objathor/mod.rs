@@ -451,7 +451,7 @@ pub fn load(
 
     // Feature rows by asset.
     let uid_to_k: HashMap<&str, usize> =
-        (start..end).map(|i| (catalog.asset_at(i).id.as_str(), i - start)).collect();
+        (start..end).map(|i| (&*catalog.asset_at(i).id, i - start)).collect();
     let mut features = Features::default();
     let rows_of = |uids: &[String]| -> Vec<u32> {
         let mut rows = vec![u32::MAX; end - start];
