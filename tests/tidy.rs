@@ -223,3 +223,23 @@ fn the_book_lists_every_stand_in() {
         assert!(page.contains(&row), "the book lacks the stand-in row `{row}`");
     }
 }
+
+/// The crates a first install does without (README, "Install"): miette without its backtrace
+/// printer (holoc prints no backtraces), `textwrap` 0.16.1 and `idna_adapter` 1.1 (which use
+/// the small unicode-rs tables instead of ICU4X), `toml` without its editing parser. Each
+/// saved 10–60 s of CPU on a first build; a lock file that brings one back fails here.
+#[test]
+fn the_lock_file_keeps_out_the_crates_a_first_build_does_without() {
+    let lock = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/Cargo.lock"))
+        .expect("Cargo.lock is committed");
+    let names: Vec<&str> =
+        lock.lines().filter_map(|l| l.strip_prefix("name = \"")?.strip_suffix('"')).collect();
+    for unwanted in
+        ["backtrace", "gimli", "addr2line", "icu_segmenter", "icu_normalizer", "icu_properties"]
+    {
+        assert!(
+            !names.contains(&unwanted),
+            "Cargo.lock has `{unwanted}` again: see the README's Install section for why it is kept out"
+        );
+    }
+}
