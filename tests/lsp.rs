@@ -23,7 +23,12 @@ struct Client {
 impl Client {
     fn start(solve_on_save: bool) -> Client {
         Client::with(
-            holoc::lsp::ServerOptions { catalogs: Vec::new(), objathor: None, solve_on_save, solve_gate: None },
+            holoc::lsp::ServerOptions {
+                catalogs: Vec::new(),
+                objathor: None,
+                solve_on_save,
+                solve_gate: None,
+            },
             json!({}),
         )
     }
@@ -644,7 +649,12 @@ fn catalogs_come_from_holoc_toml_beside_the_file() {
     );
     // Outside the client's workspace folders the configuration is not read.
     let mut outsider = Client::in_folders(
-        holoc::lsp::ServerOptions { catalogs: Vec::new(), objathor: None, solve_on_save: false, solve_gate: None },
+        holoc::lsp::ServerOptions {
+            catalogs: Vec::new(),
+            objathor: None,
+            solve_on_save: false,
+            solve_gate: None,
+        },
         json!({}),
         &["file:///nonexistent/elsewhere".to_string()],
     );
@@ -653,7 +663,12 @@ fn catalogs_come_from_holoc_toml_beside_the_file() {
     assert!(diagnostics_text(&published).contains("E0401"), "{published}");
     outsider.stop();
     let mut client = Client::in_folders(
-        holoc::lsp::ServerOptions { catalogs: Vec::new(), objathor: None, solve_on_save: false, solve_gate: None },
+        holoc::lsp::ServerOptions {
+            catalogs: Vec::new(),
+            objathor: None,
+            solve_on_save: false,
+            solve_gate: None,
+        },
         json!({}),
         &[format!("file://{}", dir.display())],
     );
@@ -673,7 +688,12 @@ fn catalogs_come_from_holoc_toml_beside_the_file() {
     assert!(diagnostics_text(&published).contains("E0401"), "{published}");
     // And from the initialization options.
     let mut third = Client::with(
-        holoc::lsp::ServerOptions { catalogs: Vec::new(), objathor: None, solve_on_save: false, solve_gate: None },
+        holoc::lsp::ServerOptions {
+            catalogs: Vec::new(),
+            objathor: None,
+            solve_on_save: false,
+            solve_gate: None,
+        },
         json!({"catalogs": [dir.join("mine.json")]}),
     );
     third.open(&uri, &text);
@@ -1037,7 +1057,12 @@ fn a_catalog_edited_on_disk_is_read_again() {
         1,
     );
     let mut client = Client::in_folders(
-        holoc::lsp::ServerOptions { catalogs: Vec::new(), solve_on_save: false, objathor: None, solve_gate: None },
+        holoc::lsp::ServerOptions {
+            catalogs: Vec::new(),
+            solve_on_save: false,
+            objathor: None,
+            solve_gate: None,
+        },
         json!({}),
         &[format!("file://{}", dir.display())],
     );
@@ -1101,8 +1126,7 @@ fn build_text(text: &str, version: i32) -> String {
     let catalog = holoc::resolve::Catalog::embedded();
     let mut diagnostics =
         holoc::compile::check_stages(&sources, file, &catalog, holoc::compile::CheckStage::Resolve);
-    let built =
-        holoc::compile::build(&sources, file, &holoc::compile::BuildOptions::new(&catalog));
+    let built = holoc::compile::build(&sources, file, &holoc::compile::BuildOptions::new(&catalog));
     assert!(built.value.is_some(), "the scene builds: {:?}", built.diagnostics);
     diagnostics.extend(built.diagnostics.into_iter().filter(|d| d.code.stage() == "solve"));
     holoc::diag::sort(&mut diagnostics);

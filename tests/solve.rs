@@ -764,6 +764,10 @@ fn a_desk_keeps_its_pull_out_space_for_its_chair_alone() {
 /// Three small rooms in a row, each with an object that cannot be placed (W0501).
 const THREE_ROOMS: &str = include_str!("lsp/three_rooms.holo");
 
+/// A room as the callback of `solve_by_room` got it: its index, its relations given up and
+/// its own diagnostics.
+type RoomSaid = (usize, Vec<holoc::diag::Diagnostic>, Vec<holoc::diag::Diagnostic>);
+
 /// Builds `text` whole (`holoc build`) and room by room with each room first in turn: every
 /// order gives the same layout, byte for byte, and the same diagnostics, and the rooms handed
 /// to the callback, gathered in room order, are the whole solve's diagnostics.
@@ -780,8 +784,7 @@ fn by_room_matches_the_whole_solve(name: &str, text: &str) {
     assert!(room_names.len() >= 2, "{name}: a scene of several rooms");
     let firsts = std::iter::once(None).chain(room_names.iter().map(|n| Some(n.as_str())));
     for first in firsts {
-        let seen: Mutex<Vec<(usize, Vec<holoc::diag::Diagnostic>, Vec<holoc::diag::Diagnostic>)>> =
-            Mutex::new(Vec::new());
+        let seen: Mutex<Vec<RoomSaid>> = Mutex::new(Vec::new());
         let on_room = |_: &holoc::check::Scene, done: solve::RoomDone<'_>| {
             let mut seen = seen.lock().expect("not poisoned");
             seen.push((done.index, done.given_up.to_vec(), done.diagnostics.to_vec()));

@@ -216,7 +216,14 @@ pub fn hover(
         HoloSymbol::Object | HoloSymbol::WallObject => {
             let mut text = object_hover(analysis, symbol, occurrence.instance);
             let room = symbol.room.map(|r| analysis.index.symbols[r].name.as_str());
-            text.push_str(&solve_text(analysis, symbol, occurrence.instance, room, solved, solving));
+            text.push_str(&solve_text(
+                analysis,
+                symbol,
+                occurrence.instance,
+                room,
+                solved,
+                solving,
+            ));
             text
         }
     };

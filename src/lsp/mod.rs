@@ -622,7 +622,8 @@ impl Server {
             return;
         };
         let at = params.get("position").or_else(|| params.pointer("/range/start"));
-        let Some(at) = at.and_then(|p| serde_json::from_value::<lsp_types::Position>(p.clone()).ok())
+        let Some(at) =
+            at.and_then(|p| serde_json::from_value::<lsp_types::Position>(p.clone()).ok())
         else {
             return;
         };
@@ -632,13 +633,13 @@ impl Server {
     }
 
     fn request(&mut self, request: Request) -> Result<serde_json::Value, (ErrorCode, String)> {
-        self.note_focus(&request.params);
         fn params<P: serde::de::DeserializeOwned>(r: Request) -> Result<P, (ErrorCode, String)> {
             serde_json::from_value(r.params).map_err(|e| (ErrorCode::InvalidParams, e.to_string()))
         }
         fn json<T: serde::Serialize>(value: T) -> Result<serde_json::Value, (ErrorCode, String)> {
             serde_json::to_value(value).map_err(|e| (ErrorCode::InternalError, e.to_string()))
         }
+        self.note_focus(&request.params);
         match request.method.as_str() {
             request::HoverRequest::METHOD => {
                 let p: lsp_types::HoverParams = params(request)?;
@@ -805,13 +806,7 @@ fn solve(job: &SolveJob, events: &Sender<SolveEvent>, gate: Option<&Receiver<()>
             }
         }
     };
-    let _ = crate::compile::solve_by_room(
-        &sources,
-        file,
-        &options,
-        job.first.as_deref(),
-        &on_room,
-    );
+    let _ = crate::compile::solve_by_room(&sources, file, &options, job.first.as_deref(), &on_room);
     let rooms = done.load(Ordering::SeqCst);
     let total = Some(total.load(Ordering::SeqCst)).filter(|_| rooms > 0);
     events
@@ -827,7 +822,10 @@ fn solve(job: &SolveJob, events: &Sender<SolveEvent>, gate: Option<&Receiver<()>
 
 /// What the solver says of one room: its diagnostics, its relations' outcomes and where each
 /// object ended.
-fn room_solve(scene: &crate::check::Scene, done: &crate::solve::RoomDone<'_>) -> document::RoomSolve {
+fn room_solve(
+    scene: &crate::check::Scene,
+    done: &crate::solve::RoomDone<'_>,
+) -> document::RoomSolve {
     let solver = |list: &[crate::diag::Diagnostic]| -> Vec<crate::diag::Diagnostic> {
         list.iter().filter(|d| d.code.stage() == "solve").cloned().collect()
     };

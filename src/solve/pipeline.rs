@@ -557,7 +557,8 @@ pub fn solve_by_room(
     let head = head.map(|room| (room.id, solve_and_report(room)));
     let mut per_room: Vec<_> = {
         use rayon::prelude::*;
-        let rest = kept.rooms.par_iter().filter(|r| head.as_ref().is_none_or(|(id, _)| r.id != *id));
+        let rest =
+            kept.rooms.par_iter().filter(|r| head.as_ref().is_none_or(|(id, _)| r.id != *id));
         rest.map(|room| (room.id, solve_and_report(room))).collect()
     };
     // Gathered in room order, whatever order they were solved in.
