@@ -583,7 +583,7 @@ impl Server {
                     self.log(
                         lsp_types::MessageType::LOG,
                         format!(
-                            "holoc: the solve of version {version} of `{}` stopped after {rooms}{total} room(s): the document changed",
+                            "holoc: the solve of version {version} of `{}` stopped after {rooms}{total} room(s): a change (or a newer solve) cancelled it",
                             doc_name(&uri)
                         ),
                     );
