@@ -365,6 +365,7 @@ fn main() {
                 catalogs: Vec::new(),
                 objathor: None,
                 solve_on_save: false,
+                solve_gate: None,
             },
         )
     });

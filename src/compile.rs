@@ -204,13 +204,46 @@ pub fn build(
     file: FileId,
     options: &BuildOptions<'_>,
 ) -> Outcome<Option<Built>> {
+    let (ready, mut diagnostics) = before_solve(sources, file, options);
+    let Some(Ready { scene, plan, resolved, solve_options }) = ready else {
+        return Outcome::new(None, diagnostics);
+    };
+    let solved = crate::solve::solve(&scene, &plan, &resolved, &solve_options);
+    diagnostics.extend(solved.diagnostics);
+    if has_errors(&diagnostics) || crate::cancel::requested() {
+        return Outcome::new(None, diagnostics);
+    }
+    let layout = solved.value;
+    crate::cancel::stage("lower");
+    let mut plan = plan;
+    plan.agent = crate::lower::agent_start(&plan, &layout);
+    let objects = crate::lower::objects(&layout, &scene, &plan, &resolved);
+    let house = crate::lower::lower(&scene, &plan, &objects);
+    Outcome::new(Some(Built { scene, plan, resolved, layout, objects, house }), diagnostics)
+}
+
+/// What `build` hands the layout solver.
+struct Ready {
+    scene: Scene,
+    plan: FloorPlan,
+    resolved: Resolved,
+    solve_options: SolveOptions,
+}
+
+/// The stages of `build` before the layout solver, and their diagnostics; `None` when one
+/// reported an error (or the work was cancelled, `crate::cancel`).
+fn before_solve(
+    sources: &SourceMap,
+    file: FileId,
+    options: &BuildOptions<'_>,
+) -> (Option<Ready>, Vec<Diagnostic>) {
     // Each stage says where a batch job is (`crate::cancel`); a job past its time limit stops
     // at the next stage, or inside the solver's search, and its result is thrown away.
     crate::cancel::stage("check");
     let checked = check_file(sources, file);
     let mut diagnostics = checked.diagnostics;
     let Some(mut scene) = checked.value.filter(|_| !has_errors(&diagnostics)) else {
-        return Outcome::new(None, diagnostics);
+        return (None, diagnostics);
     };
     if let Some(seed) = options.seed {
         scene.seed = seed;
@@ -231,7 +264,7 @@ pub fn build(
         diagnostics.extend(planned.diagnostics);
     }
     if has_errors(&diagnostics) || crate::cancel::requested() {
-        return Outcome::new(None, diagnostics);
+        return (None, diagnostics);
     }
     let plan = planned.value;
     crate::cancel::stage("resolve");
@@ -243,7 +276,7 @@ pub fn build(
     );
     diagnostics.extend(resolved.diagnostics);
     if has_errors(&diagnostics) || crate::cancel::requested() {
-        return Outcome::new(None, diagnostics);
+        return (None, diagnostics);
     }
     let resolved = resolved.value;
     crate::cancel::stage("solve");
@@ -255,18 +288,35 @@ pub fn build(
     if let Some(radius) = options.agent_radius_m {
         solve_options.agent_radius_m = radius;
     }
-    let solved = crate::solve::solve(&scene, &plan, &resolved, &solve_options);
+    (Some(Ready { scene, plan, resolved, solve_options }), diagnostics)
+}
+
+/// Runs `build`'s stages up to the layout solver and solves the rooms one by one
+/// ([`crate::solve::solve_by_room`]): `on_room` is called with each room as soon as it is
+/// solved, the room named `first` before the others, and with the scene it belongs to. The
+/// diagnostics are every stage's up to the solver, exactly as `build` gives them (those of
+/// the solver are the rooms' own and their relations given up, in room order); the layout is
+/// `None` when a stage reported an error or the work was cancelled (`crate::cancel`).
+pub fn solve_by_room(
+    sources: &SourceMap,
+    file: FileId,
+    options: &BuildOptions<'_>,
+    first: Option<&str>,
+    on_room: &(dyn Fn(&Scene, crate::solve::RoomDone<'_>) + Sync),
+) -> Outcome<Option<Layout>> {
+    let (ready, mut diagnostics) = before_solve(sources, file, options);
+    let Some(Ready { scene, plan, resolved, solve_options }) = ready else {
+        return Outcome::new(None, diagnostics);
+    };
+    let first = first.and_then(|name| scene.rooms.iter().find(|r| r.name == name)).map(|r| r.id);
+    let report = |done: crate::solve::RoomDone<'_>| on_room(&scene, done);
+    let solved =
+        crate::solve::solve_by_room(&scene, &plan, &resolved, &solve_options, first, &report);
     diagnostics.extend(solved.diagnostics);
     if has_errors(&diagnostics) || crate::cancel::requested() {
         return Outcome::new(None, diagnostics);
     }
-    let layout = solved.value;
-    crate::cancel::stage("lower");
-    let mut plan = plan;
-    plan.agent = crate::lower::agent_start(&plan, &layout);
-    let objects = crate::lower::objects(&layout, &scene, &plan, &resolved);
-    let house = crate::lower::lower(&scene, &plan, &objects);
-    Outcome::new(Some(Built { scene, plan, resolved, layout, objects, house }), diagnostics)
+    Outcome::new(Some(solved.value), diagnostics)
 }
 
 /// Runs every stage on one file as far as it gets, with the embedded catalogs, and returns all

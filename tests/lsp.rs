@@ -23,7 +23,12 @@ struct Client {
 impl Client {
     fn start(solve_on_save: bool) -> Client {
         Client::with(
-            holoc::lsp::ServerOptions { catalogs: Vec::new(), objathor: None, solve_on_save },
+            holoc::lsp::ServerOptions {
+                catalogs: Vec::new(),
+                objathor: None,
+                solve_on_save,
+                solve_gate: None,
+            },
             json!({}),
         )
     }
@@ -127,6 +132,30 @@ impl Client {
                     if is_diag {
                         let last = self.published.last().expect("just kept");
                         if wanted(last) {
+                            return last.clone();
+                        }
+                    }
+                }
+                other => panic!("unexpected {other:?}"),
+            }
+        }
+    }
+
+    /// Waits for a notification other than a publication (`window/logMessage`, ...) whose
+    /// `message` contains `needle` (looking at those already received first).
+    fn wait_message(&mut self, needle: &str) -> Value {
+        let has = |m: &Value| m["message"].as_str().is_some_and(|t| t.contains(needle));
+        if let Some(m) = self.messages.iter().find(|m| has(m)) {
+            return m.clone();
+        }
+        loop {
+            match self.receive() {
+                Message::Notification(n) => {
+                    let is_diag = n.method == "textDocument/publishDiagnostics";
+                    self.keep(n);
+                    if !is_diag {
+                        let last = self.messages.last().expect("just kept");
+                        if has(last) {
                             return last.clone();
                         }
                     }
@@ -620,7 +649,12 @@ fn catalogs_come_from_holoc_toml_beside_the_file() {
     );
     // Outside the client's workspace folders the configuration is not read.
     let mut outsider = Client::in_folders(
-        holoc::lsp::ServerOptions { catalogs: Vec::new(), objathor: None, solve_on_save: false },
+        holoc::lsp::ServerOptions {
+            catalogs: Vec::new(),
+            objathor: None,
+            solve_on_save: false,
+            solve_gate: None,
+        },
         json!({}),
         &["file:///nonexistent/elsewhere".to_string()],
     );
@@ -629,7 +663,12 @@ fn catalogs_come_from_holoc_toml_beside_the_file() {
     assert!(diagnostics_text(&published).contains("E0401"), "{published}");
     outsider.stop();
     let mut client = Client::in_folders(
-        holoc::lsp::ServerOptions { catalogs: Vec::new(), objathor: None, solve_on_save: false },
+        holoc::lsp::ServerOptions {
+            catalogs: Vec::new(),
+            objathor: None,
+            solve_on_save: false,
+            solve_gate: None,
+        },
         json!({}),
         &[format!("file://{}", dir.display())],
     );
@@ -649,7 +688,12 @@ fn catalogs_come_from_holoc_toml_beside_the_file() {
     assert!(diagnostics_text(&published).contains("E0401"), "{published}");
     // And from the initialization options.
     let mut third = Client::with(
-        holoc::lsp::ServerOptions { catalogs: Vec::new(), objathor: None, solve_on_save: false },
+        holoc::lsp::ServerOptions {
+            catalogs: Vec::new(),
+            objathor: None,
+            solve_on_save: false,
+            solve_gate: None,
+        },
         json!({"catalogs": [dir.join("mine.json")]}),
     );
     third.open(&uri, &text);
@@ -1013,7 +1057,12 @@ fn a_catalog_edited_on_disk_is_read_again() {
         1,
     );
     let mut client = Client::in_folders(
-        holoc::lsp::ServerOptions { catalogs: Vec::new(), solve_on_save: false, objathor: None },
+        holoc::lsp::ServerOptions {
+            catalogs: Vec::new(),
+            solve_on_save: false,
+            objathor: None,
+            solve_gate: None,
+        },
         json!({}),
         &[format!("file://{}", dir.display())],
     );
@@ -1038,4 +1087,157 @@ fn a_catalog_edited_on_disk_is_read_again() {
     assert!(!diagnostics_text(&fine).contains("E0401"), "{fine}");
     client.stop();
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+const THREE_URI: &str = "file:///nonexistent/holoc-lsp-test/three_rooms.holo";
+/// Three small rooms in a row (`west`, `middle`, `east`), each with an object that cannot be
+/// placed (W0501).
+const THREE_ROOMS: &str = include_str!("lsp/three_rooms.holo");
+
+/// The rooms whose W0501 a publication shows, in room order (`west`, `middle`, `east`).
+fn rooms_with_w05(published: &Value) -> Vec<&'static str> {
+    let w05: Vec<&str> = published["diagnostics"]
+        .as_array()
+        .expect("an array")
+        .iter()
+        .filter(|d| d["code"].as_str().is_some_and(|c| c.starts_with("W05")))
+        .filter_map(|d| d["message"].as_str())
+        .collect();
+    ["west", "middle", "east"]
+        .into_iter()
+        .filter(|room| w05.iter().any(|m| m.contains(&format!("in room `{room}`"))))
+        .collect()
+}
+
+/// A publication's diagnostics without the relation hints, in the short form.
+fn without_hints(published: &Value) -> String {
+    let mut kept = published.clone();
+    if let Some(list) = kept["diagnostics"].as_array_mut() {
+        list.retain(|d| d["severity"] != 4);
+    }
+    diagnostics_text(&kept)
+}
+
+/// What the server must show once a solve of `text` ends: what `holoc check` says and the
+/// W05xx of `holoc build`, in the short form.
+fn build_text(text: &str, version: i32) -> String {
+    let mut sources = holoc::source::SourceMap::new();
+    let file = sources.add("/nonexistent/holoc-lsp-test/three_rooms.holo", text);
+    let catalog = holoc::resolve::Catalog::embedded();
+    let mut diagnostics =
+        holoc::compile::check_stages(&sources, file, &catalog, holoc::compile::CheckStage::Resolve);
+    let built = holoc::compile::build(&sources, file, &holoc::compile::BuildOptions::new(&catalog));
+    assert!(built.value.is_some(), "the scene builds: {:?}", built.diagnostics);
+    diagnostics.extend(built.diagnostics.into_iter().filter(|d| d.code.stage() == "solve"));
+    holoc::diag::sort(&mut diagnostics);
+    let lsp: Vec<Value> = holoc::diag::lsp::to_lsp(&sources, &diagnostics)
+        .into_iter()
+        .map(|(_, d)| serde_json::to_value(d).expect("serializes"))
+        .collect();
+    diagnostics_text(&json!({"version": version, "diagnostics": lsp}))
+}
+
+#[test]
+fn the_room_being_edited_is_solved_and_published_before_the_others() {
+    let mut client = Client::start(true);
+    client.open(THREE_URI, THREE_ROOMS);
+    // Nothing edited yet: the first room comes first.
+    let first = client.wait_published(|p| !rooms_with_w05(p).is_empty());
+    assert_eq!((first["version"].clone(), rooms_with_w05(&first)), (json!(1), vec!["west"]));
+    let whole = client.wait_published(|p| rooms_with_w05(p).len() == 3);
+    assert_eq!(without_hints(&whole), build_text(THREE_ROOMS, 1));
+    // An edit in the east room, then a save: the east room is solved and published first.
+    let at = find(THREE_ROOMS, "120 cm x 50 cm", 0, 0);
+    let end = (at.0, at.1 + 6);
+    client.change(
+        THREE_URI,
+        2,
+        json!([{"range": {"start": {"line": at.0, "character": at.1}, "end": {"line": end.0, "character": end.1}}, "text": "110 cm"}]),
+    );
+    let edited = THREE_ROOMS.replacen("120 cm x 50 cm", "110 cm x 50 cm", 1);
+    client.notify("textDocument/didSave", json!({"textDocument": {"uri": THREE_URI}}));
+    let last = client.wait_published(|p| p["version"] == 2 && rooms_with_w05(p).len() == 3);
+    assert_eq!(without_hints(&last), build_text(&edited, 2));
+    // In order: the check's diagnostics alone, the east room's, then the others' as they
+    // finish, each publication keeping the rooms already shown.
+    let seen: Vec<Vec<&str>> = client
+        .published
+        .iter()
+        .filter(|p| p["version"] == 2)
+        .map(rooms_with_w05)
+        .filter(|rooms| !rooms.is_empty())
+        .collect();
+    assert_eq!(seen.first(), Some(&vec!["east"]), "{seen:?}");
+    for pair in seen.windows(2) {
+        assert!(pair[0].iter().all(|r| pair[1].contains(r)), "{seen:?}");
+    }
+    let before: Vec<&Value> = client.published.iter().filter(|p| p["version"] == 2).collect();
+    assert!(rooms_with_w05(before[0]).is_empty(), "the check's diagnostics come first");
+    client.stop();
+}
+
+#[test]
+fn an_edit_stops_a_solve_half_done_and_nothing_of_it_is_published_after() {
+    // The server's solver waits at the gate after the first room of each solve.
+    let (gate, gate_rx) = crossbeam_channel::unbounded::<()>();
+    let mut client = Client::with(
+        holoc::lsp::ServerOptions {
+            catalogs: Vec::new(),
+            objathor: None,
+            solve_on_save: true,
+            solve_gate: Some(gate_rx),
+        },
+        json!({}),
+    );
+    client.open(THREE_URI, THREE_ROOMS);
+    let partial = client.wait_published(|p| !rooms_with_w05(p).is_empty());
+    assert_eq!((partial["version"].clone(), rooms_with_w05(&partial)), (json!(1), vec!["west"]));
+    // Hover answers for the room solved, and says the others are being solved.
+    let hover = |client: &mut Client, needle: &str, shift: usize| {
+        let value = client.at("textDocument/hover", THREE_URI, find(THREE_ROOMS, needle, 0, shift));
+        value["contents"]["value"].as_str().unwrap_or_default().to_string()
+    };
+    let bed = hover(&mut client, "object bed", 7);
+    assert!(bed.contains("After the last solve:\n- `bed-0`: left out (W0501)"), "{bed}");
+    let far_bed = hover(&mut client, "far bed-0", 1);
+    assert!(far_bed.contains("After the last solve:"), "{far_bed}");
+    let table = hover(&mut client, "object table", 7);
+    assert!(table.contains("The layout of room `east` is being solved"), "{table}");
+    assert!(!table.contains("Save the file"), "{table}");
+    let far_table = hover(&mut client, "far table-0", 1);
+    assert!(far_table.contains("The layout of room `east` is being solved"), "{far_table}");
+    // An edit in the middle room while the solver waits; the hover after it is answered once
+    // the edit is applied (messages are handled in order), so the solve is cancelled then.
+    let at = find(THREE_ROOMS, "100 cm x 35 cm", 0, 0);
+    client.change(
+        THREE_URI,
+        2,
+        json!([{"range": {"start": {"line": at.0, "character": at.1}, "end": {"line": at.0, "character": at.1 + 6}}, "text": "90 cm"}]),
+    );
+    // (The cursor stays in the middle room: the room solved first on save.)
+    let sofa = hover(&mut client, "object sofa", 7);
+    assert!(!sofa.contains("being solved") && !sofa.contains("After the last solve"), "{sofa}");
+    let changed_at = client.published.len();
+    gate.send(()).expect("the server listens");
+    // The solve stops before its other rooms: the server says so in its log.
+    client.wait_message("the solve of version 1 of `/nonexistent/holoc-lsp-test/three_rooms.holo` stopped after 1 of 3 room(s)");
+    // A save solves the edited version, the middle room first.
+    gate.send(()).expect("the server listens");
+    client.notify("textDocument/didSave", json!({"textDocument": {"uri": THREE_URI}}));
+    let edited = THREE_ROOMS.replacen("100 cm x 35 cm", "90 cm x 35 cm", 1);
+    let last = client.wait_published(|p| p["version"] == 2 && rooms_with_w05(p).len() == 3);
+    assert_eq!(without_hints(&last), build_text(&edited, 2));
+    // Nothing of version 1 after the edit, and version 2's first solved room is the middle.
+    let after = &client.published[changed_at..];
+    assert!(after.iter().all(|p| p["version"] == 2), "{after:?}");
+    let of_v1: Vec<Vec<&str>> = (client.published.iter())
+        .filter(|p| p["version"] == 1)
+        .map(rooms_with_w05)
+        .filter(|r| !r.is_empty())
+        .collect();
+    assert_eq!(of_v1, vec![vec!["west"]], "only the room solved before the edit");
+    let of_v2 = client.published.iter().filter(|p| p["version"] == 2).map(rooms_with_w05);
+    let of_v2: Vec<Vec<&str>> = of_v2.filter(|r| !r.is_empty()).collect();
+    assert_eq!(of_v2.first(), Some(&vec!["middle"]), "{of_v2:?}");
+    client.stop();
 }

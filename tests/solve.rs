@@ -760,3 +760,82 @@ fn a_desk_keeps_its_pull_out_space_for_its_chair_alone() {
     let (kept, total) = out.constraint_tally(&problem);
     assert_eq!(kept, total);
 }
+
+/// Three small rooms in a row, each with an object that cannot be placed (W0501).
+const THREE_ROOMS: &str = include_str!("lsp/three_rooms.holo");
+
+/// A room as the callback of `solve_by_room` got it: its index, its relations given up and
+/// its own diagnostics.
+type RoomSaid = (usize, Vec<holoc::diag::Diagnostic>, Vec<holoc::diag::Diagnostic>);
+
+/// Builds `text` whole (`holoc build`) and room by room with each room first in turn: every
+/// order gives the same layout, byte for byte, and the same diagnostics, and the rooms handed
+/// to the callback, gathered in room order, are the whole solve's diagnostics.
+fn by_room_matches_the_whole_solve(name: &str, text: &str) {
+    use std::sync::Mutex;
+    let mut sources = holoc::source::SourceMap::new();
+    let file = sources.add(name, text);
+    let catalog = holoc::resolve::Catalog::embedded();
+    let options = holoc::compile::BuildOptions::new(&catalog);
+    let whole = holoc::compile::build(&sources, file, &options);
+    let built = whole.value.as_ref().expect("the scene builds");
+    let whole_dump = built.layout.dump(&built.scene);
+    let room_names: Vec<String> = built.scene.rooms.iter().map(|r| r.name.clone()).collect();
+    assert!(room_names.len() >= 2, "{name}: a scene of several rooms");
+    let firsts = std::iter::once(None).chain(room_names.iter().map(|n| Some(n.as_str())));
+    for first in firsts {
+        let seen: Mutex<Vec<RoomSaid>> = Mutex::new(Vec::new());
+        let on_room = |_: &holoc::check::Scene, done: solve::RoomDone<'_>| {
+            let mut seen = seen.lock().expect("not poisoned");
+            seen.push((done.index, done.given_up.to_vec(), done.diagnostics.to_vec()));
+        };
+        let by_room = holoc::compile::solve_by_room(&sources, file, &options, first, &on_room);
+        let layout = by_room.value.as_ref().expect("solved");
+        assert_eq!(layout.dump(&built.scene), whole_dump, "{name}, {first:?} first");
+        // Every stage's diagnostics up to the solver, as `build` gives them (lower adds none).
+        assert_eq!(by_room.diagnostics, whole.diagnostics, "{name}, {first:?} first");
+        let mut seen = seen.into_inner().expect("not poisoned");
+        assert_eq!(seen.len(), room_names.len(), "{name}: every room reported once");
+        if let Some(first) = first {
+            assert_eq!(room_names[seen[0].0], first, "{name}: the room asked for comes first");
+        }
+        seen.sort_by_key(|(index, ..)| *index);
+        let gathered: Vec<holoc::diag::Diagnostic> = (seen.iter().flat_map(|(_, g, _)| g.clone()))
+            .chain(seen.iter().flat_map(|(_, _, d)| d.clone()))
+            .collect();
+        let solver: Vec<holoc::diag::Diagnostic> =
+            whole.diagnostics.iter().filter(|d| d.code.stage() == "solve").cloned().collect();
+        assert_eq!(gathered, solver, "{name}, {first:?} first");
+    }
+}
+
+#[test]
+fn rooms_solved_one_by_one_give_the_whole_solves_layout_in_any_order() {
+    by_room_matches_the_whole_solve("three_rooms.holo", THREE_ROOMS);
+    let apartment = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/examples/apartment_1b1b.holo"
+    ))
+    .expect("example exists");
+    by_room_matches_the_whole_solve("apartment_1b1b.holo", &apartment);
+}
+
+#[test]
+fn a_cancelled_solve_reports_no_room_after_the_cancellation() {
+    let mut sources = holoc::source::SourceMap::new();
+    let file = sources.add("three_rooms.holo", THREE_ROOMS);
+    let catalog = holoc::resolve::Catalog::embedded();
+    let options = holoc::compile::BuildOptions::new(&catalog);
+    let token = holoc::cancel::Token::new("solve");
+    let _scope = holoc::cancel::scoped(Some(std::sync::Arc::clone(&token)));
+    // The first room reported cancels the work: no other room is reported, and no layout.
+    let reported = std::sync::atomic::AtomicUsize::new(0);
+    let on_room = |_: &holoc::check::Scene, done: solve::RoomDone<'_>| {
+        assert_eq!(done.index, 1, "the room asked for first");
+        reported.fetch_add(1, std::sync::atomic::Ordering::SeqCst);
+        token.cancel();
+    };
+    let out = holoc::compile::solve_by_room(&sources, file, &options, Some("middle"), &on_room);
+    assert!(out.value.is_none());
+    assert_eq!(reported.load(std::sync::atomic::Ordering::SeqCst), 1);
+}

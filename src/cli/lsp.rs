@@ -24,6 +24,7 @@ pub fn run(args: &LspArgs) -> ExitCode {
         catalogs: args.catalogs.catalogs.clone(),
         objathor: args.catalogs.objathor_options(),
         solve_on_save: !args.no_solve,
+        solve_gate: None,
     };
     match crate::lsp::run_stdio(options) {
         Ok(crate::lsp::Ending::AfterShutdown) => ExitCode::SUCCESS,

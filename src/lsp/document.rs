@@ -6,16 +6,69 @@ use crate::diag::Diagnostic;
 use crate::resolve::Catalog;
 use crate::source::{FileId, SourceFile, SourceMap, Span};
 use lsp_types::{Position, Range, TextDocumentContentChangeEvent};
+use std::collections::BTreeMap;
 
-/// What a layout solve found for one version of a document (run in the background on save).
+/// What the background layout solve found so far for one version of a document (run on open
+/// and save, room by room: the room being edited first, then the others as they finish).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Solved {
     /// The document version it was run on.
     pub version: i32,
-    /// The solver's diagnostics (objects left out, relations that do not hold, ...).
+    /// The solver's diagnostics of the rooms solved so far (objects left out, relations given
+    /// up, ...), in the order a whole-scene solve gives them.
     pub diagnostics: Vec<Diagnostic>,
-    /// Each relation's outcome, by the span of the constraint as written.
+    /// Each relation's outcome in the rooms solved so far, by the span of the constraint as
+    /// written.
     pub relations: Vec<RelationOutcome>,
+    /// Whether every room is solved (the solve of this version ended).
+    pub complete: bool,
+    /// Each room solved, by its place in the scene's room order.
+    rooms: BTreeMap<usize, RoomSolve>,
+}
+
+/// What the solve found in one room.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct RoomSolve {
+    /// The room's name (`bedroom`).
+    pub name: String,
+    /// Its relations given up because their target is left out (W0505).
+    pub given_up: Vec<Diagnostic>,
+    /// Its other solver diagnostics.
+    pub diagnostics: Vec<Diagnostic>,
+    /// The outcome of each relation written in it.
+    pub relations: Vec<RelationOutcome>,
+    /// Where each floor and wall object instance ended, by its name (`bed-0`): placed (and
+    /// where), or left out (and why).
+    pub objects: BTreeMap<String, String>,
+}
+
+impl Solved {
+    /// Nothing solved yet of version `version`.
+    pub fn new(version: i32) -> Solved {
+        Solved { version, ..Solved::default() }
+    }
+
+    /// Adds a room just solved (`index`: its place in the scene's room order), or replaces what
+    /// an earlier solve of the same version found in it.
+    pub fn add(&mut self, index: usize, room: RoomSolve) {
+        self.rooms.insert(index, room);
+        // As a whole-scene solve lists them: every room's relations given up, then every
+        // room's own, in room order.
+        let given_up = self.rooms.values().flat_map(|r| r.given_up.iter());
+        let own = self.rooms.values().flat_map(|r| r.diagnostics.iter());
+        self.diagnostics = given_up.chain(own).cloned().collect();
+        self.relations = self.rooms.values().flat_map(|r| r.relations.iter().cloned()).collect();
+    }
+
+    /// What the solve found in room `name`, once that room is solved.
+    pub fn room(&self, name: &str) -> Option<&RoomSolve> {
+        self.rooms.values().find(|r| r.name == name)
+    }
+
+    /// How many rooms are solved.
+    pub fn rooms_solved(&self) -> usize {
+        self.rooms.len()
+    }
 }
 
 /// Whether a written relation holds in the solved layout.
@@ -58,6 +111,9 @@ pub struct Document {
     pub memo: super::incremental::Memo,
     /// The catalog the analysis and the rankings of `cache` were made with.
     catalog: Option<std::sync::Arc<Catalog>>,
+    /// Where the user was last seen working (the start of the last edit, or the position of
+    /// the last request that named one): the room there is solved first.
+    pub focus: Option<Position>,
     /// Why the server's text can no longer be trusted to be the editor's (a change it had to
     /// refuse), until a change sends the whole text again.
     pub out_of_sync: Option<String>,
@@ -126,6 +182,7 @@ impl Document {
             solved: None,
             memo: super::incremental::Memo::default(),
             catalog: None,
+            focus: None,
             out_of_sync: None,
         }
     }
@@ -144,6 +201,7 @@ impl Document {
                 return Err("a ranged change to a document out of sync".to_string());
             }
             Some(range) => {
+                self.focus = Some(range.start);
                 // The analysis of the current text already knows where its lines start.
                 let (start, end) = match &self.analysis {
                     Some(analysis) => (

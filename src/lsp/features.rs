@@ -145,10 +145,11 @@ fn markdown(value: String) -> Hover {
     }
 }
 
-/// Hover: an object's resolved asset, size and score; a relation's meaning and whether it
-/// holds after the last solve (`solving`: whether the server solves on save, and whether a
-/// solve of this version is running); a room's label
-/// and area.
+/// Hover: an object's resolved asset, size and score, and where the solve put it; a
+/// relation's meaning and whether it holds after the last solve; a room's label and area.
+/// `solving`: whether the server solves on save, and whether a solve of this version is
+/// running. `solved` may hold some rooms only: in a room not solved yet, while the solve runs,
+/// the hover says that the room is being solved.
 pub fn hover(
     analysis: &Analysis,
     solved: Option<&Solved>,
@@ -174,13 +175,18 @@ pub fn hover(
             let verdict = if o.satisfied { "holds" } else { "does not hold" };
             format!("`{}` {} {verdict}: {}", o.object, o.text, measured(o))
         };
+        // The room the relation is written in, and whether the solve has reached it.
+        let room = room_at(analysis, relation.span.start as usize);
+        let reached = solved.is_some_and(|s| room.is_none_or(|r| s.room(r).is_some()));
         match outcomes.as_slice() {
             [one] => {
                 let _ = write!(text, "\n\nAfter the last solve: {}", verdict(one));
             }
-            [] if solved.is_none() && solving.1 => {
-                text.push_str(
-                    "\n\nThe layout of this version is being solved; hover again to see whether it holds.",
+            [] if !reached && solving.1 => {
+                let _ = write!(
+                    text,
+                    "\n\nThe layout of {} is being solved; hover again to see whether it holds.",
+                    room.map_or_else(|| "this version".to_string(), |r| format!("room `{r}`"))
                 );
             }
             [] if solved.is_none() && solving.0 => {
@@ -208,12 +214,33 @@ pub fn hover(
     let text = match symbol.kind {
         HoloSymbol::Room => room_hover(analysis, &symbol.name),
         HoloSymbol::Object | HoloSymbol::WallObject => {
-            object_hover(analysis, symbol, occurrence.instance)
+            let mut text = object_hover(analysis, symbol, occurrence.instance);
+            let room = symbol.room.map(|r| analysis.index.symbols[r].name.as_str());
+            text.push_str(&solve_text(
+                analysis,
+                symbol,
+                occurrence.instance,
+                room,
+                solved,
+                solving,
+            ));
+            text
         }
     };
     let mut hover = markdown(text);
     hover.range = Some(analysis.range(occurrence.span));
     Some(hover)
+}
+
+/// The name of the room whose declaration holds byte `offset`.
+pub fn room_at(analysis: &Analysis, offset: usize) -> Option<&str> {
+    analysis
+        .index
+        .symbols
+        .iter()
+        .filter(|s| s.kind == HoloSymbol::Room)
+        .find(|s| (s.decl_span.start as usize) <= offset && offset <= (s.decl_span.end as usize))
+        .map(|s| s.name.as_str())
 }
 
 fn room_hover(analysis: &Analysis, name: &str) -> String {
@@ -279,6 +306,39 @@ fn object_hover(analysis: &Analysis, symbol: &index::Symbol, instance: Option<u3
                 text.push_str(&resolution_text(resolved.objects.get(o.id.0)));
             }
         }
+    }
+    text
+}
+
+/// Where the solve put an object's instances, once its room is solved; that its room is being
+/// solved while it is not; nothing else.
+fn solve_text(
+    analysis: &Analysis,
+    symbol: &index::Symbol,
+    instance: Option<u32>,
+    room: Option<&str>,
+    solved: Option<&Solved>,
+    solving: (bool, bool),
+) -> String {
+    let Some(room) = room else { return String::new() };
+    let Some(found) = solved.and_then(|s| s.room(room)) else {
+        if solving.1 {
+            return format!(
+                "\n\nThe layout of room `{room}` is being solved; hover again to see where it stands."
+            );
+        }
+        return String::new();
+    };
+    let Some(scene) = &analysis.analysed.scene else { return String::new() };
+    let mut text = String::from("\n\nAfter the last solve:");
+    let members = scene
+        .objects
+        .iter()
+        .filter(|o| o.group == symbol.name && scene.room(o.room).name == room)
+        .filter(|o| instance.is_none_or(|n| o.index == n));
+    for o in members {
+        let outcome = found.objects.get(&o.name).map_or("not in the layout", String::as_str);
+        let _ = write!(text, "\n- `{}`: {outcome}", o.name);
     }
     text
 }

@@ -6,9 +6,13 @@
 //! messages are waiting, so a burst of keystrokes is analysed once, for its last version, and
 //! diagnostics of an older version are never sent. Every stage before the layout solver runs on
 //! each change ([`crate::compile::analyse`]); on open and on save a layout solve runs on a
-//! second thread, and its warnings (objects that cannot be placed) and relation outcomes are
-//! shown if the document has not changed meanwhile (a change cancels a solve not yet started
-//! and discards the result of one that is running).
+//! second thread, room by room: the room the user was last seen working in first (the last
+//! edit, or the last request with a position; else the first room), then the others. Each
+//! room's warnings (objects that cannot be placed) and relation outcomes are published as soon
+//! as it is solved, if the document has not changed meanwhile; once every room is, they are
+//! those of a whole-scene solve (`holoc build`). A change cancels the solve: one not yet
+//! started never starts, and one running stops between rooms or inside the room's search
+//! ([`crate::cancel`]); what it found is never shown.
 //!
 //! Catalogs come from the initialization options (`{"catalogs": ["a.json.gz"]}`) and from the
 //! nearest `holoc.toml` in the document's folder or above it, inside the workspace folders the
@@ -30,7 +34,7 @@ use lsp_types::request::Request as _;
 use lsp_types::{notification, request, Uri};
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Arc;
 
 /// How the server is started.
@@ -42,6 +46,10 @@ pub struct ServerOptions {
     pub objathor: Option<crate::resolve::objathor::ObjathorOptions>,
     /// Whether layout solves run in the background on open and save.
     pub solve_on_save: bool,
+    /// For tests and benchmarks: when set, the background solver waits for a message (or the
+    /// sender's end) here after it has reported the first room of a solve, before it solves the
+    /// others, so that a client can act while a solve is known to be half done.
+    pub solve_gate: Option<Receiver<()>>,
 }
 
 /// How a session ended.
@@ -158,7 +166,7 @@ pub fn serve(connection: &Connection, options: ServerOptions) -> Result<Ending, 
             objathor = found;
         }
     }
-    let (jobs, results) = solve_worker();
+    let (jobs, results) = solve_worker(options.solve_gate.clone());
     let mut server = Server {
         sender: connection.sender.clone(),
         documents: BTreeMap::new(),
@@ -181,9 +189,9 @@ pub fn serve(connection: &Connection, options: ServerOptions) -> Result<Ending, 
                     return Ok(server.ending());
                 }
             }
-            recv(results) -> solved => {
-                if let Ok((uri, solved)) = solved {
-                    server.solved(&uri, solved);
+            recv(results) -> event => {
+                if let Ok(event) = event {
+                    server.solved(event);
                 }
             }
         }
@@ -223,8 +231,8 @@ struct Server {
     dirty: BTreeSet<String>,
     /// The background solver's queue, when solving on save is on.
     jobs: Option<Sender<SolveJob>>,
-    /// The cancel flag of each document's last solve job.
-    cancel: BTreeMap<String, Arc<AtomicBool>>,
+    /// The cancellation token of each document's last solve job.
+    cancel: BTreeMap<String, Arc<crate::cancel::Token>>,
     shutting_down: bool,
 }
 
@@ -338,8 +346,8 @@ impl Server {
                 };
                 let uri = p.text_document.uri;
                 let key = uri.as_str().to_string();
-                if let Some(flag) = self.cancel.remove(&key) {
-                    flag.store(true, Ordering::SeqCst);
+                if let Some(token) = self.cancel.remove(&key) {
+                    token.cancel();
                 }
                 self.documents.remove(&key);
                 self.dirty.remove(&key);
@@ -374,8 +382,8 @@ impl Server {
             self.log(MessageType::ERROR, "holoc: a didChange without a document; ignored".into());
             return;
         };
-        if let Some(flag) = self.cancel.remove(&uri) {
-            flag.store(true, Ordering::SeqCst);
+        if let Some(token) = self.cancel.remove(&uri) {
+            token.cancel();
         }
         if !self.documents.contains_key(&uri) {
             self.log(
@@ -525,13 +533,22 @@ impl Server {
         }
         let catalog = self.catalog_for(uri);
         let Some(doc) = self.documents.get_mut(uri) else { return };
+        let focus = doc.focus;
         let analysis = doc.analysis(&catalog);
         if analysis.analysed.diagnostics.iter().any(crate::diag::Diagnostic::is_error) {
             return;
         }
-        let cancel = Arc::new(AtomicBool::new(false));
+        // The room the user was last seen in is solved first; else the first room.
+        let first = focus
+            .and_then(|p| features::room_at(analysis, analysis.offset(p)))
+            .or_else(|| {
+                let mut rooms = analysis.index.symbols.iter();
+                rooms.find(|s| s.kind == index::SymbolKind::Room).map(|s| s.name.as_str())
+            })
+            .map(str::to_string);
+        let cancel = crate::cancel::Token::new("solve");
         if let Some(old) = self.cancel.insert(uri.to_string(), Arc::clone(&cancel)) {
-            old.store(true, Ordering::SeqCst);
+            old.cancel();
         }
         let job = SolveJob {
             uri: uri.to_string(),
@@ -539,6 +556,7 @@ impl Server {
             version: doc.version,
             text: doc.text.clone(),
             catalog,
+            first,
             cancel,
         };
         if let Some(jobs) = &self.jobs {
@@ -546,13 +564,39 @@ impl Server {
         }
     }
 
-    fn solved(&mut self, uri: &str, solved: Solved) {
-        let Some(doc) = self.documents.get_mut(uri) else { return };
-        if doc.version != solved.version {
-            return; // the document changed while it was solved
+    /// What the background solver reports: a room solved, kept (and published) if the
+    /// document is still at the version solved; or the end of a solve.
+    fn solved(&mut self, event: SolveEvent) {
+        match event {
+            SolveEvent::Room { uri, version, index, room } => {
+                let Some(doc) = self.documents.get_mut(&uri) else { return };
+                if doc.version != version {
+                    return; // the document changed while it was solved
+                }
+                let solved = doc.solved.get_or_insert_with(|| Solved::new(version));
+                solved.add(index, room);
+                self.dirty.insert(uri);
+            }
+            SolveEvent::Ended { uri, version, rooms, total, cancelled } => {
+                if cancelled {
+                    let total = total.map_or_else(String::new, |n| format!(" of {n}"));
+                    self.log(
+                        lsp_types::MessageType::LOG,
+                        format!(
+                            "holoc: the solve of version {version} of `{}` stopped after {rooms}{total} room(s): a change (or a newer solve) cancelled it",
+                            doc_name(&uri)
+                        ),
+                    );
+                    return;
+                }
+                let Some(doc) = self.documents.get_mut(&uri) else { return };
+                if doc.version != version {
+                    return;
+                }
+                doc.solved.get_or_insert_with(|| Solved::new(version)).complete = true;
+                self.dirty.insert(uri);
+            }
         }
-        doc.solved = Some(solved);
-        self.dirty.insert(uri.to_string());
     }
 
     /// The analysis of an open document and its last solve, or the error a request on a
@@ -570,6 +614,24 @@ impl Server {
         Ok((analysis, doc.solved.as_ref()))
     }
 
+    /// Keeps where a request says the user is (its position, or the start of its range) as
+    /// the document's focus: the room there is solved first.
+    fn note_focus(&mut self, params: &serde_json::Value) {
+        let Some(uri) = params.pointer("/textDocument/uri").and_then(serde_json::Value::as_str)
+        else {
+            return;
+        };
+        let at = params.get("position").or_else(|| params.pointer("/range/start"));
+        let Some(at) =
+            at.and_then(|p| serde_json::from_value::<lsp_types::Position>(p.clone()).ok())
+        else {
+            return;
+        };
+        if let Some(doc) = self.documents.get_mut(uri) {
+            doc.focus = Some(at);
+        }
+    }
+
     fn request(&mut self, request: Request) -> Result<serde_json::Value, (ErrorCode, String)> {
         fn params<P: serde::de::DeserializeOwned>(r: Request) -> Result<P, (ErrorCode, String)> {
             serde_json::from_value(r.params).map_err(|e| (ErrorCode::InvalidParams, e.to_string()))
@@ -577,16 +639,19 @@ impl Server {
         fn json<T: serde::Serialize>(value: T) -> Result<serde_json::Value, (ErrorCode, String)> {
             serde_json::to_value(value).map_err(|e| (ErrorCode::InternalError, e.to_string()))
         }
+        self.note_focus(&request.params);
         match request.method.as_str() {
             request::HoverRequest::METHOD => {
                 let p: lsp_types::HoverParams = params(request)?;
                 let at = p.text_document_position_params;
                 let uri = at.text_document.uri;
-                // A solve of this version runs while its cancel flag is down.
+                // A solve of this version runs while its token is not cancelled, until every
+                // room is solved.
+                let on_save = self.jobs.is_some();
                 let running =
-                    self.cancel.get(uri.as_str()).is_some_and(|flag| !flag.load(Ordering::SeqCst));
-                let solving = (self.jobs.is_some(), self.jobs.is_some() && running);
+                    on_save && self.cancel.get(uri.as_str()).is_some_and(|t| !t.is_cancelled());
                 let (analysis, solved) = self.opened(&uri)?;
+                let solving = (on_save, running && !solved.is_some_and(|s| s.complete));
                 json(features::hover(analysis, solved, solving, at.position))
             }
             request::GotoDefinition::METHOD => {
@@ -666,12 +731,32 @@ struct SolveJob {
     version: i32,
     text: String,
     catalog: Arc<Catalog>,
-    cancel: Arc<AtomicBool>,
+    /// The room to solve before the others (by name).
+    first: Option<String>,
+    /// Cancelled by a change to the document: the solve stops between rooms, or inside a
+    /// room's search.
+    cancel: Arc<crate::cancel::Token>,
 }
 
-/// Starts the background solver: a thread that takes the newest job of each document, builds
-/// it, and sends back what the solve found unless the job was cancelled meanwhile.
-fn solve_worker() -> (Sender<SolveJob>, Receiver<(String, Solved)>) {
+/// What the background solver says of a job.
+enum SolveEvent {
+    /// One room solved.
+    Room {
+        uri: String,
+        version: i32,
+        /// The room's place in the scene's room order.
+        index: usize,
+        room: document::RoomSolve,
+    },
+    /// The job ended: every room solved, or stopped by its token (`cancelled`) after
+    /// `rooms` of `total` rooms (`None` when no room was solved).
+    Ended { uri: String, version: i32, rooms: usize, total: Option<usize>, cancelled: bool },
+}
+
+/// Starts the background solver: a thread that takes the newest job of each document and
+/// solves it room by room, sending each room as it is solved and then the end of the job,
+/// unless the job is cancelled meanwhile. `gate`: see [`ServerOptions::solve_gate`].
+fn solve_worker(gate: Option<Receiver<()>>) -> (Sender<SolveJob>, Receiver<SolveEvent>) {
     let (job_tx, job_rx) = crossbeam_channel::unbounded::<SolveJob>();
     let (result_tx, result_rx) = crossbeam_channel::unbounded();
     // Without the thread there is no background solve; every diagnostic before the solver
@@ -684,15 +769,11 @@ fn solve_worker() -> (Sender<SolveJob>, Receiver<(String, Solved)>) {
             for job in job_rx.try_iter() {
                 newest.insert(job.uri.clone(), job);
             }
-            for (uri, job) in newest {
-                if job.cancel.load(Ordering::SeqCst) {
+            for job in newest.into_values() {
+                if job.cancel.is_cancelled() {
                     continue;
                 }
-                let solved = solve(&job);
-                if job.cancel.load(Ordering::SeqCst) {
-                    continue;
-                }
-                if result_tx.send((uri, solved)).is_err() {
+                if !solve(&job, &result_tx, gate.as_ref()) {
                     return;
                 }
             }
@@ -701,62 +782,128 @@ fn solve_worker() -> (Sender<SolveJob>, Receiver<(String, Solved)>) {
     (job_tx, result_rx)
 }
 
-/// Builds one version of a document and keeps what the solver says.
-fn solve(job: &SolveJob) -> Solved {
+/// Solves one version of a document room by room, as `holoc build` does, sending what the
+/// solver says of each room as soon as it is solved; `false` when the server is gone.
+fn solve(job: &SolveJob, events: &Sender<SolveEvent>, gate: Option<&Receiver<()>>) -> bool {
+    let _token = crate::cancel::scoped(Some(Arc::clone(&job.cancel)));
     let mut sources = crate::source::SourceMap::new();
     let file = sources.add(job.name.as_str(), job.text.as_str());
     let options = crate::compile::BuildOptions::new(&job.catalog);
-    let built = crate::compile::build(&sources, file, &options);
-    let diagnostics: Vec<_> =
-        built.diagnostics.into_iter().filter(|d| d.code.stage() == "solve").collect();
-    let mut relations = Vec::new();
-    if let Some(built) = built.value {
-        relations = relation_outcomes(&built.layout);
+    let done = AtomicUsize::new(0);
+    let total = AtomicUsize::new(0);
+    let on_room = |scene: &crate::check::Scene, room: crate::solve::RoomDone<'_>| {
+        total.store(scene.rooms.len(), Ordering::SeqCst);
+        let _ = events.send(SolveEvent::Room {
+            uri: job.uri.clone(),
+            version: job.version,
+            index: room.index,
+            room: room_solve(scene, &room),
+        });
+        if done.fetch_add(1, Ordering::SeqCst) == 0 {
+            if let Some(gate) = gate {
+                // A message or the sender's end: either lets the solve go on.
+                let _ = gate.recv();
+            }
+        }
+    };
+    let _ = crate::compile::solve_by_room(&sources, file, &options, job.first.as_deref(), &on_room);
+    let rooms = done.load(Ordering::SeqCst);
+    let total = Some(total.load(Ordering::SeqCst)).filter(|_| rooms > 0);
+    events
+        .send(SolveEvent::Ended {
+            uri: job.uri.clone(),
+            version: job.version,
+            rooms,
+            total,
+            cancelled: job.cancel.is_cancelled(),
+        })
+        .is_ok()
+}
+
+/// What the solver says of one room: its diagnostics, its relations' outcomes and where each
+/// object ended.
+fn room_solve(
+    scene: &crate::check::Scene,
+    done: &crate::solve::RoomDone<'_>,
+) -> document::RoomSolve {
+    let solver = |list: &[crate::diag::Diagnostic]| -> Vec<crate::diag::Diagnostic> {
+        list.iter().filter(|d| d.code.stage() == "solve").cloned().collect()
+    };
+    let solved = done.solved;
+    let mut objects = BTreeMap::new();
+    for p in &solved.layout.floor {
+        let Some(object) = solved.problem.objects.get(p.index) else { continue };
+        objects.insert(
+            object.id.clone(),
+            format!("placed at ({:.2}, {:.2}) m, facing {}°", p.pose.x, p.pose.z, p.pose.rot.deg()),
+        );
     }
-    Solved { version: job.version, diagnostics, relations }
+    for p in &solved.layout.wall {
+        objects.insert(
+            p.id.clone(),
+            format!(
+                "placed on a wall at ({:.2}, {:.2}) m, {:.2} m up",
+                p.position_m[0], p.position_m[2], p.position_m[1]
+            ),
+        );
+    }
+    for u in solved.layout.unplaced.iter().filter(|u| u.kind != "small") {
+        objects.insert(u.id.clone(), format!("left out ({}): {}", u.code.as_str(), u.reason));
+    }
+    document::RoomSolve {
+        name: scene.rooms.get(done.index).map(|r| r.name.clone()).unwrap_or_default(),
+        given_up: solver(done.given_up),
+        diagnostics: solver(done.diagnostics),
+        relations: room_relation_outcomes(solved),
+        objects,
+    }
 }
 
 /// Every relation of every placed object with its measure; relations of objects left out are
 /// reported as not holding.
 pub fn relation_outcomes(layout: &crate::solve::Layout) -> Vec<RelationOutcome> {
+    layout.rooms.iter().flat_map(room_relation_outcomes).collect()
+}
+
+/// Every relation of every placed object of one solved room with its measure; relations of
+/// objects left out are reported as not holding.
+pub fn room_relation_outcomes(room: &crate::solve::SolvedRoom) -> Vec<RelationOutcome> {
     let mut out = Vec::new();
-    for room in &layout.rooms {
-        let mut placed = vec![false; room.problem.objects.len()];
-        for p in &room.layout.floor {
-            let Some(object) = room.problem.objects.get(p.index) else { continue };
-            placed[p.index] = true;
-            for (i, c) in object.constraints.iter().enumerate() {
-                let (Some(span), Some(report)) = (c.span, p.constraints.get(i + 1)) else {
-                    continue;
-                };
-                out.push(RelationOutcome {
-                    span,
-                    object: object.id.clone(),
-                    text: report.text.clone(),
-                    satisfied: report.measure.satisfied,
-                    value: report.measure.value,
-                    unit: report.measure.unit,
-                    range: report.range,
-                });
-            }
-        }
-        for (k, object) in room.problem.objects.iter().enumerate() {
-            if placed[k] {
+    let mut placed = vec![false; room.problem.objects.len()];
+    for p in &room.layout.floor {
+        let Some(object) = room.problem.objects.get(p.index) else { continue };
+        placed[p.index] = true;
+        for (i, c) in object.constraints.iter().enumerate() {
+            let (Some(span), Some(report)) = (c.span, p.constraints.get(i + 1)) else {
                 continue;
-            }
-            for c in &object.constraints {
-                let Some(span) = c.span else { continue };
-                let target = room.problem.objects.get(c.target).map_or("?", |t| t.id.as_str());
-                out.push(RelationOutcome {
-                    span,
-                    object: object.id.clone(),
-                    text: format!("{} {target} (the object is left out)", c.kind.as_str()),
-                    satisfied: false,
-                    value: f64::NAN,
-                    unit: "m",
-                    range: None,
-                });
-            }
+            };
+            out.push(RelationOutcome {
+                span,
+                object: object.id.clone(),
+                text: report.text.clone(),
+                satisfied: report.measure.satisfied,
+                value: report.measure.value,
+                unit: report.measure.unit,
+                range: report.range,
+            });
+        }
+    }
+    for (k, object) in room.problem.objects.iter().enumerate() {
+        if placed[k] {
+            continue;
+        }
+        for c in &object.constraints {
+            let Some(span) = c.span else { continue };
+            let target = room.problem.objects.get(c.target).map_or("?", |t| t.id.as_str());
+            out.push(RelationOutcome {
+                span,
+                object: object.id.clone(),
+                text: format!("{} {target} (the object is left out)", c.kind.as_str()),
+                satisfied: false,
+                value: f64::NAN,
+                unit: "m",
+                range: None,
+            });
         }
     }
     out

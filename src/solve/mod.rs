@@ -25,7 +25,7 @@ use crate::source::Span;
 
 pub use constraints::{HardRule, Meaning, Measure, Pose, Rect, Role, RoomShape, Rot};
 pub use others::{PILE_MAX_M, SMALL_GAP_M};
-pub use pipeline::{solve, GivenUp, Layout, SolvedRoom};
+pub use pipeline::{solve, solve_by_room, GivenUp, Layout, RoomDone, SolvedRoom};
 pub use scene::{room_problem, Sizes, WrittenSizes};
 
 /// Which floor solver to run.

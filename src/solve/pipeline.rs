@@ -128,6 +128,40 @@ pub fn solve(
     resolved: &Resolved,
     options: &SolveOptions,
 ) -> Outcome<Layout> {
+    solve_by_room(scene, plan, resolved, options, None, &|_| {})
+}
+
+/// One room as soon as it is solved, given to the callback of [`solve_by_room`].
+#[derive(Clone, Copy, Debug)]
+pub struct RoomDone<'a> {
+    /// The room's place in the scene's room order (its [`RoomId`]'s number).
+    pub index: usize,
+    /// The room, solved.
+    pub solved: &'a SolvedRoom,
+    /// The room's relations given up because their target is left out (W0505). The whole
+    /// scene's diagnostics list these for every room, in room order, before the rooms' own.
+    pub given_up: &'a [crate::diag::Diagnostic],
+    /// The room's own diagnostics (objects that could not be placed, ...), in the order the
+    /// whole scene's diagnostics list them.
+    pub diagnostics: &'a [crate::diag::Diagnostic],
+}
+
+/// Solves every room of the scene as [`solve`] does, calling `on_room` as each room is solved:
+/// room `first` before any other (alone, on the calling thread), then the others on rayon's
+/// threads in the order they finish. Each room keeps its own seed, so every room's layout and
+/// diagnostics, and the result, are those of [`solve`] whatever the order.
+///
+/// A cancellation token of the calling thread (`crate::cancel`) goes with the rooms: once it is
+/// cancelled no room starts, a room being solved stops early, and neither is given to
+/// `on_room` (the result is incomplete and is to be thrown away, as with [`solve`]).
+pub fn solve_by_room(
+    scene: &Scene,
+    plan: &FloorPlan,
+    resolved: &Resolved,
+    options: &SolveOptions,
+    first: Option<RoomId>,
+    on_room: &(dyn Fn(RoomDone<'_>) + Sync),
+) -> Outcome<Layout> {
     use crate::check::scene::Placement;
     use crate::diag::Code;
     // The scene without the objects that have no asset.
@@ -178,6 +212,7 @@ pub fn solve(
     }
     // Relations of the objects that stay to objects left out: given up, and said.
     let mut given_up: Vec<(RoomId, GivenUp)> = Vec::new();
+    let mut given_up_said: Vec<(RoomId, crate::diag::Diagnostic)> = Vec::new();
     let mut diagnostics = Vec::new();
     for room in &kept.rooms {
         for &id in &room.objects {
@@ -187,8 +222,9 @@ pub fn solve(
                 let target = &scene.object(c.target).name;
                 let relation = format!("{} {target}", c.kind.as_str());
                 let reason = format!("`{target}` is left out");
-                diagnostics
-                    .push(super::errors::relation_given_up(&o.name, &relation, &reason, c.span));
+                let said = super::errors::relation_given_up(&o.name, &relation, &reason, c.span);
+                diagnostics.push(said.clone());
+                given_up_said.push((room.id, said));
                 given_up.push((room.id, GivenUp { object: o.name.clone(), relation, reason }));
             }
         }
@@ -497,10 +533,38 @@ pub fn solve(
             };
             Some((solved_room, diagnostics))
         };
-    let per_room: Vec<_> = {
-        use rayon::prelude::*;
-        kept.rooms.par_iter().map(solve_one).collect()
+    // A room is reported as soon as it is solved, unless the work was cancelled meanwhile (a
+    // room whose search was cut short is not the room `solve` would give).
+    let solve_and_report = |room: &crate::check::scene::Room| {
+        let one = solve_one(room);
+        let cancelled = token.as_ref().is_some_and(|t| t.is_cancelled());
+        if let (Some((solved, room_diagnostics)), false) = (&one, cancelled) {
+            let said: Vec<crate::diag::Diagnostic> = given_up_said
+                .iter()
+                .filter(|(r, _)| *r == room.id)
+                .map(|(_, d)| d.clone())
+                .collect();
+            on_room(RoomDone {
+                index: room.id.0,
+                solved,
+                given_up: &said,
+                diagnostics: room_diagnostics,
+            });
+        }
+        one
     };
+    let head = first.and_then(|id| kept.rooms.iter().find(|r| r.id == id));
+    let head = head.map(|room| (room.id, solve_and_report(room)));
+    let mut per_room: Vec<_> = {
+        use rayon::prelude::*;
+        let rest =
+            kept.rooms.par_iter().filter(|r| head.as_ref().is_none_or(|(id, _)| r.id != *id));
+        rest.map(|room| (room.id, solve_and_report(room))).collect()
+    };
+    // Gathered in room order, whatever order they were solved in.
+    per_room.extend(head);
+    per_room.sort_by_key(|(id, _)| id.0);
+    let per_room = per_room.into_iter().map(|(_, one)| one);
     let mut rooms = Vec::with_capacity(per_room.len());
     for one in per_room {
         let Some((solved_room, room_diagnostics)) = one else { break };
