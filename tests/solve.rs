@@ -96,12 +96,42 @@ fn check_hard_rules(problem: &RoomProblem, layout: &RoomLayout) {
     }
 }
 
+/// Every placed object's use-clearance is free of the furniture it does not let in (its front
+/// zones inside the room); a bed's (one long side open) only when `beds`: the MILP does not
+/// express that choice of two zones.
+fn check_use_clearances(problem: &RoomProblem, layout: &RoomLayout, beds: bool) {
+    let room = solve::RoomShape::new(&problem.outline).expect("corpus rooms are valid");
+    let related = |a: usize, b: usize| {
+        problem.objects[a].constraints.iter().any(|x| x.target == b)
+            || problem.objects[b].constraints.iter().any(|x| x.target == a)
+    };
+    for p in &layout.floor {
+        let o = &problem.objects[p.index];
+        let (zones, all) = solve::constraints::use_zones(o.role, &p.pose, o.size, o.height);
+        if zones.is_empty() || (!all && !beds) {
+            continue;
+        }
+        let free = |z: &solve::Rect| {
+            room.contains_rect(z)
+                && layout.floor.iter().all(|q| {
+                    q.index == p.index
+                        || (related(p.index, q.index)
+                            && o.role.lets_in(problem.objects[q.index].role))
+                        || !q.footprint.overlaps(z)
+                })
+        };
+        let kept = if all { zones.iter().all(free) } else { zones.iter().any(free) };
+        assert!(kept, "{}: the use-clearance of {} is not free", problem.name, o.id);
+    }
+}
+
 #[test]
 fn corpus_layouts_snapshot_and_keep_hard_rules() {
     for (name, problem) in solve_corpus::load_all() {
         let out = solve::solve_room(&problem, &SolveOptions::default());
         assert!(!out.has_errors(), "{name}: {:?}", out.diagnostics);
         check_hard_rules(&problem, &out.value);
+        check_use_clearances(&problem, &out.value, true);
         insta::with_settings!({snapshot_path => "../snapshots/solve", prepend_module_to_snapshot => false}, {
             insta::assert_snapshot!(format!("dfs_{name}"), dump(&problem, &out.value));
         });
@@ -118,6 +148,7 @@ fn milp_layouts_keep_hard_rules() {
         let out = solve::solve_room(&problem, &opts);
         assert!(!out.has_errors(), "{name}: {:?}", out.diagnostics);
         check_hard_rules(&problem, &out.value);
+        check_use_clearances(&problem, &out.value, false);
         // Each MILP back end has its own snapshots: where several poses are equally good, HiGHS
         // and microlp may return different ones (deterministically).
         let backend = if cfg!(feature = "highs") { "milp_highs" } else { "milp" };

@@ -6,7 +6,8 @@
 //! touches (`edge`), the side of every obstacle it keeps to (non-overlap as a four-way
 //! disjunction), and whether each soft relation holds. Obstacles are added lazily: the first
 //! program sees only the door zones and the object's targets; every obstacle the solution
-//! overlaps is added and the program solved again (at most [`MAX_ROUNDS`] times). The result
+//! overlaps is added and the program solved again (at most [`MAX_ROUNDS`] times); so is every
+//! use-clearance the solution breaks ([`clearance_obstacles`]). The result
 //! is checked with the shared hard rules and scored with the shared scorer; the best rotation
 //! wins. When no rotation gives a valid pose the object falls back to the DFS candidates.
 
@@ -15,7 +16,7 @@ use good_lp::{
 };
 
 use super::constraints::{self, footprint, half_extents, HardRule, Pose, Rect, Rot};
-use super::dfs::{derived_candidates, fast_score, static_candidates};
+use super::dfs::{derived_candidates, fast_score, static_candidates, Cand};
 use super::{measure_object, PlacedFloor, Prepared, RoomLayout, SolveOptions, Unplaced};
 use crate::check::scene::{GlobalKind, RelationKind};
 
@@ -105,13 +106,16 @@ fn solve_one(
     // for `middle` the footprint grown by the middle gap.
     let f = rot.front();
     let grow = if obj.global == GlobalKind::Middle { constraints::MIDDLE_GAP_M } else { 0.0 };
+    // In front: the front clearance, or the use-clearance when it is deeper (a desk's pull-out
+    // space, a counter's aisle), which must lie inside the room too.
+    let ahead = constraints::FRONT_CLEARANCE_M.max(obj.role.front_clearance(obj.height));
     let lo = [
-        h[0] + grow + if f[0] < 0.0 { constraints::FRONT_CLEARANCE_M } else { 0.0 },
-        h[1] + grow + if f[1] < 0.0 { constraints::FRONT_CLEARANCE_M } else { 0.0 },
+        h[0] + grow + if f[0] < 0.0 { ahead } else { 0.0 },
+        h[1] + grow + if f[1] < 0.0 { ahead } else { 0.0 },
     ];
     let hi = [
-        h[0] + grow + if f[0] > 0.0 { constraints::FRONT_CLEARANCE_M } else { 0.0 },
-        h[1] + grow + if f[1] > 0.0 { constraints::FRONT_CLEARANCE_M } else { 0.0 },
+        h[0] + grow + if f[0] > 0.0 { ahead } else { 0.0 },
+        h[1] + grow + if f[1] > 0.0 { ahead } else { 0.0 },
     ];
     let fits: Vec<&Rect> = prep
         .room
@@ -337,8 +341,56 @@ fn solve_one(
     Some(Pose { x: (px * 1000.0).round() / 1000.0, z: (pz * 1000.0).round() / 1000.0, rot })
 }
 
+/// The use-clearances object `k` at `pose` breaks, as rectangles its footprint must keep out of
+/// (empty when it keeps them all): the front zone of a placed object that does not let it in
+/// (a dresser's drawers, a desk's pull-out space), and, for its own front zone blocked by a
+/// placed footprint, that footprint stretched back by the zone's depth (the footprint keeps out
+/// of it exactly when the zone keeps out of the placed one). Added to the program's obstacles
+/// like any other, so the clearances are modelled lazily, as non-overlap is. A bed's "one long
+/// side open" is a choice of two zones that this does not express: the MILP leaves beds' sides
+/// to the check after solving (the book says so).
+fn clearance_obstacles(
+    prep: &Prepared<'_>,
+    k: usize,
+    pose: &Pose,
+    poses: &[Option<Pose>],
+) -> Vec<Rect> {
+    let objects = &prep.problem.objects;
+    let obj = &objects[k];
+    let related = |a: usize, b: usize| {
+        objects[a].constraints.iter().any(|x| x.target == b)
+            || objects[b].constraints.iter().any(|x| x.target == a)
+    };
+    let fp = footprint(pose, obj.size);
+    let (own, own_all) = constraints::use_zones(obj.role, pose, obj.size, obj.height);
+    let depth = obj.role.front_clearance(obj.height);
+    let f = pose.rot.front();
+    let mut out = Vec::new();
+    for (i, o) in objects.iter().enumerate() {
+        let Some(p) = poses.get(i).copied().flatten() else { continue };
+        if i == k {
+            continue;
+        }
+        let rel = related(i, k);
+        let ofp = footprint(&p, o.size);
+        if own_all && !(rel && obj.role.lets_in(o.role)) && own.iter().any(|z| z.overlaps(&ofp)) {
+            out.push(Rect {
+                min_x: ofp.min_x - if f[0] > 0.0 { depth } else { 0.0 },
+                max_x: ofp.max_x + if f[0] < 0.0 { depth } else { 0.0 },
+                min_z: ofp.min_z - if f[1] > 0.0 { depth } else { 0.0 },
+                max_z: ofp.max_z + if f[1] < 0.0 { depth } else { 0.0 },
+            });
+        }
+        let (theirs, all) = constraints::use_zones(o.role, &p, o.size, o.height);
+        if all && !(rel && o.role.lets_in(obj.role)) {
+            out.extend(theirs.into_iter().filter(|z| z.overlaps(&fp)));
+        }
+    }
+    out
+}
+
 /// Places object `k` with the MILP; `None` when no rotation gives a pose that keeps the
-/// shared hard rules.
+/// shared hard rules and the use-clearances (a bed's open side excepted).
 fn place_milp(
     prep: &Prepared<'_>,
     k: usize,
@@ -370,6 +422,11 @@ fn place_milp(
             if prep.static_rule(k, &pose).is_some() {
                 break;
             }
+            let cleared = clearance_obstacles(prep, k, &pose, poses);
+            if !cleared.is_empty() {
+                obstacles.extend(cleared);
+                continue;
+            }
             let mut all = fps.to_vec();
             all.push(fp);
             if !prep.reach.ok(&all) {
@@ -399,15 +456,25 @@ fn place_fallback(
     if cands.is_empty() {
         return Err(super::dfs::static_reason(&fails));
     }
-    let mut free: Vec<(Pose, Rect, f64)> = cands
-        .iter()
-        .filter(|c| !fps.iter().any(|f| f.overlaps(&c.fp)))
+    let clear: Vec<&Cand> =
+        cands.iter().filter(|c| !fps.iter().any(|f| f.overlaps(&c.fp))).collect();
+    if clear.is_empty() {
+        return Err((
+            HardRule::NoOverlap,
+            "every pose overlaps an object already placed".to_string(),
+        ));
+    }
+    let mut free: Vec<(Pose, Rect, f64)> = clear
+        .into_iter()
+        .filter(|c| clearance_obstacles(prep, k, &c.pose, poses).is_empty())
         .map(|c| (c.pose, c.fp, fast_score(prep, k, &c.pose, poses, 10.0)))
         .collect();
     if free.is_empty() {
         return Err((
-            HardRule::NoOverlap,
-            "every pose overlaps an object already placed".to_string(),
+            HardRule::UseClearance,
+            "every pose left stands in the space another object needs for its use (or blocks \
+             its own)"
+                .to_string(),
         ));
     }
     free.sort_by(|a, b| b.2.total_cmp(&a.2));
@@ -437,13 +504,16 @@ pub(crate) fn solve(prep: &Prepared<'_>, options: &SolveOptions) -> RoomLayout {
         layout.nodes += 1;
         if let Some(pin) = obj.pin {
             let fp = footprint(&pin, obj.size);
-            // The rules the MILP models, then reachability (use-clearances are not modelled
-            // by the MILP, as the book says).
+            // The rules the MILP models (a bed's open side excepted), then reachability.
             let mut with = fps.clone();
             with.push(fp);
             if let Some(rule) = prep
                 .static_rule(k, &pin)
                 .or_else(|| fps.iter().any(|f| f.overlaps(&fp)).then_some(HardRule::NoOverlap))
+                .or_else(|| {
+                    (!clearance_obstacles(prep, k, &pin, &poses).is_empty())
+                        .then_some(HardRule::UseClearance)
+                })
                 .or_else(|| (!prep.reach.ok(&with)).then_some(HardRule::Reachable))
             {
                 layout.pinned_breaks.push((k, rule));
