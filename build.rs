@@ -267,25 +267,15 @@ fn embedded_catalog() {
     let (mut id_hash, mut allowed) = (Vec::new(), Vec::new());
     let mut total = 0u64;
     for (i, r) in rows.iter().enumerate() {
-        let category = text::normalize(&r.category);
-        let description = text::normalize(&r.description);
-        let mut counts: std::collections::BTreeMap<&str, u32> = std::collections::BTreeMap::new();
-        for t in &category {
-            *counts.entry(t).or_default() += 2;
-        }
-        for t in &description {
-            *counts.entry(t).or_default() += 1;
-        }
-        let len = (2 * category.len() + description.len()) as u32;
-        for (t, tf) in counts {
-            postings.entry(t.to_string()).or_default().push((i as u32, tf));
+        let doc = text::doc_terms(&r.category, &r.description);
+        let len = doc.len;
+        for (t, tf) in doc.counts {
+            postings.entry(t).or_default().push((i as u32, tf));
         }
         doc_len.push(len);
-        let head = text::head(&category).unwrap_or_default().to_string();
-        kind_words
-            .extend(category.iter().filter(|t| **t != head && !text::is_attribute(t)).cloned());
+        kind_words.extend(doc.kind_words);
         kind_start.push(kind_words.len() as u32);
-        doc_head.push(head);
+        doc_head.push(doc.head);
         id_hash.push(fnv1a(&r.id));
         let p = placement::Placements::from_letters(&r.kinds);
         let mut bits = 0u8;

@@ -121,7 +121,20 @@ impl Client {
     /// Waits for a publication that satisfies `wanted` (looking at those already received
     /// first) and returns it.
     fn wait_published(&mut self, wanted: impl Fn(&Value) -> bool) -> Value {
-        if let Some(p) = self.published.iter().find(|p| wanted(p)) {
+        self.wait_for(true, wanted)
+    }
+
+    /// Waits for a notification other than a publication (`window/logMessage`, ...) whose
+    /// `message` contains `needle` (looking at those already received first).
+    fn wait_message(&mut self, needle: &str) -> Value {
+        self.wait_for(false, |m| m["message"].as_str().is_some_and(|t| t.contains(needle)))
+    }
+
+    /// Waits for a publication (`diagnostics`) or another notification that satisfies
+    /// `wanted`, looking at those already received first.
+    fn wait_for(&mut self, diagnostics: bool, wanted: impl Fn(&Value) -> bool) -> Value {
+        let kept = if diagnostics { &self.published } else { &self.messages };
+        if let Some(p) = kept.iter().find(|p| wanted(p)) {
             return p.clone();
         }
         loop {
@@ -129,33 +142,10 @@ impl Client {
                 Message::Notification(n) => {
                     let is_diag = n.method == "textDocument/publishDiagnostics";
                     self.keep(n);
-                    if is_diag {
-                        let last = self.published.last().expect("just kept");
+                    if is_diag == diagnostics {
+                        let list = if diagnostics { &self.published } else { &self.messages };
+                        let last = list.last().expect("just kept");
                         if wanted(last) {
-                            return last.clone();
-                        }
-                    }
-                }
-                other => panic!("unexpected {other:?}"),
-            }
-        }
-    }
-
-    /// Waits for a notification other than a publication (`window/logMessage`, ...) whose
-    /// `message` contains `needle` (looking at those already received first).
-    fn wait_message(&mut self, needle: &str) -> Value {
-        let has = |m: &Value| m["message"].as_str().is_some_and(|t| t.contains(needle));
-        if let Some(m) = self.messages.iter().find(|m| has(m)) {
-            return m.clone();
-        }
-        loop {
-            match self.receive() {
-                Message::Notification(n) => {
-                    let is_diag = n.method == "textDocument/publishDiagnostics";
-                    self.keep(n);
-                    if !is_diag {
-                        let last = self.messages.last().expect("just kept");
-                        if has(last) {
                             return last.clone();
                         }
                     }

@@ -306,25 +306,33 @@ proptest! {
     }
 }
 
+/// The rooms of an example, solved from the checked scene with the sizes written in it.
+fn example_rooms(name: &str) -> Vec<(RoomProblem, RoomLayout)> {
+    let path = format!("{}/examples/{name}.holo", env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(&path).expect("example exists");
+    let mut sources = holoc::source::SourceMap::new();
+    let id = sources.add(&path, text);
+    let checked = holoc::compile::check_file(&sources, id);
+    let Some(scene) = checked.value else { panic!("{name} checks: {:?}", checked.diagnostics) };
+    scene
+        .rooms
+        .iter()
+        .map(|room| {
+            let problem =
+                solve::room_problem(&scene, room.id, &solve::WrittenSizes, Vec::new(), Vec::new());
+            let layout = solve::solve_room(&problem, &SolveOptions::default());
+            assert!(!layout.has_errors(), "{name}: {:?}", layout.diagnostics);
+            check_hard_rules(&problem, &layout.value);
+            (problem, layout.value)
+        })
+        .collect()
+}
+
 #[test]
 fn example_scene_rooms_solve_from_the_checked_scene() {
-    let text = std::fs::read_to_string(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/examples/apartment_1b1b.holo"
-    ))
-    .expect("example exists");
-    let mut sources = holoc::source::SourceMap::new();
-    let id = sources.add("apartment_1b1b.holo", text);
-    let checked = holoc::compile::check_file(&sources, id);
-    let Some(scene) = checked.value else { panic!("example checks: {:?}", checked.diagnostics) };
     let mut out = String::new();
-    for room in &scene.rooms {
-        let problem =
-            solve::room_problem(&scene, room.id, &solve::WrittenSizes, Vec::new(), Vec::new());
-        let layout = solve::solve_room(&problem, &SolveOptions::default());
-        assert!(!layout.has_errors(), "{:?}", layout.diagnostics);
-        check_hard_rules(&problem, &layout.value);
-        out.push_str(&dump(&problem, &layout.value));
+    for (problem, layout) in example_rooms("apartment_1b1b") {
+        out.push_str(&dump(&problem, &layout));
     }
     insta::with_settings!({snapshot_path => "../snapshots/solve", prepend_module_to_snapshot => false}, {
         insta::assert_snapshot!("scene_apartment_1b1b", out);
@@ -665,27 +673,6 @@ fn crowded_rooms_keep_their_groups() {
         let out = solve::solve_room(&problem, &SolveOptions::default()).value;
         assert_eq!(out.floor.len(), problem.objects.len(), "{name}: {:?}", out.unplaced);
     }
-}
-
-/// The rooms of an example, solved from the checked scene with the sizes written in it.
-fn example_rooms(name: &str) -> Vec<(RoomProblem, RoomLayout)> {
-    let path = format!("{}/examples/{name}.holo", env!("CARGO_MANIFEST_DIR"));
-    let text = std::fs::read_to_string(&path).expect("example exists");
-    let mut sources = holoc::source::SourceMap::new();
-    let id = sources.add(&path, text);
-    let checked = holoc::compile::check_file(&sources, id);
-    let Some(scene) = checked.value else { panic!("{name} checks: {:?}", checked.diagnostics) };
-    scene
-        .rooms
-        .iter()
-        .map(|room| {
-            let problem =
-                solve::room_problem(&scene, room.id, &solve::WrittenSizes, Vec::new(), Vec::new());
-            let layout = solve::solve_room(&problem, &SolveOptions::default()).value;
-            check_hard_rules(&problem, &layout);
-            (problem, layout)
-        })
-        .collect()
 }
 
 /// The classroom example: rows of desks facing the teacher's desk, each chair at the middle of

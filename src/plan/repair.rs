@@ -569,25 +569,15 @@ fn move_one_room_back(
         }
     }
     candidates.sort_by(|a, b| a.0.cmp(&b.0));
-    let mut tried = 0;
-    for (_, r, [dx, dz]) in candidates {
+    let plans = candidates.into_iter().map(|(_, r, [dx, dz])| {
         let mut next = rooms.to_vec();
         for p in &mut next[r] {
             p[0] += dx;
             p[1] += dz;
         }
-        if !facing_gaps(&next).is_empty() {
-            continue;
-        }
-        if tried == MAX_WHOLE_MOVES_TRIED {
-            break;
-        }
-        tried += 1;
-        if Badness::of(scene, &next, catalog).is_clean() {
-            return Some(next);
-        }
-    }
-    None
+        (next, ())
+    });
+    first_clean(scene, catalog, plans).map(|(next, ())| next)
 }
 
 /// The outlines of a plan's rooms, in scene order, metres.
@@ -726,22 +716,25 @@ fn fit_one_room_to_lines(
         }
     }
     candidates.sort_by_key(|c| c.0);
-    let mut tried = 0;
-    for (_, r, outline, exempt) in candidates {
+    let plans = candidates.into_iter().map(|(_, r, outline, exempt)| {
         let mut next = rooms.to_vec();
         next[r] = outline;
-        if !facing_gaps(&next).is_empty() {
-            continue;
-        }
-        if tried == MAX_WHOLE_MOVES_TRIED {
-            break;
-        }
-        tried += 1;
-        if Badness::of(scene, &next, catalog).is_clean() {
-            return Some((next, exempt.then_some(r)));
-        }
-    }
-    None
+        (next, exempt.then_some(r))
+    });
+    first_clean(scene, catalog, plans)
+}
+
+/// The first of `plans` (each with what the caller keeps with it) that leaves no gap between
+/// facing walls and is clean, trying at most [`MAX_WHOLE_MOVES_TRIED`] of those without gaps.
+fn first_clean<T>(
+    scene: &Scene,
+    catalog: &StructureCatalog,
+    plans: impl Iterator<Item = (Outlines, T)>,
+) -> Option<(Outlines, T)> {
+    plans
+        .filter(|(next, _)| facing_gaps(next).is_empty())
+        .take(MAX_WHOLE_MOVES_TRIED)
+        .find(|(next, _)| Badness::of(scene, next, catalog).is_clean())
 }
 
 /// Per axis, the wall coordinates of every room but `r`, sorted and distinct.

@@ -108,29 +108,15 @@ impl TextIndex {
         let (mut id_hash, mut allowed) = (Vec::new(), Vec::new());
         let mut total = 0u64;
         for (i, asset) in assets.iter().enumerate() {
-            let category = text::normalize(&asset.category);
-            let description = text::normalize(&asset.description);
-            let mut counts: BTreeMap<&str, u32> = BTreeMap::new();
-            for t in &category {
-                *counts.entry(t).or_default() += 2;
-            }
-            for t in &description {
-                *counts.entry(t).or_default() += 1;
-            }
-            let len = (2 * category.len() + description.len()) as u32;
-            for (t, tf) in counts {
-                postings.entry(t.to_string()).or_default().push((i as u32, tf));
+            let doc = text::doc_terms(&asset.category, &asset.description);
+            let len = doc.len;
+            for (t, tf) in doc.counts {
+                postings.entry(t).or_default().push((i as u32, tf));
             }
             doc_len.push(len);
-            let head = text::head(&category).unwrap_or_default().to_string();
-            kind_words.extend(
-                category
-                    .iter()
-                    .filter(|t| **t != head && !text::is_attribute(t))
-                    .map(|t| Word::Owned(t.clone())),
-            );
+            kind_words.extend(doc.kind_words.into_iter().map(Word::Owned));
             kind_start.push(kind_words.len() as u32);
-            doc_head.push(Word::Owned(head));
+            doc_head.push(Word::Owned(doc.head));
             id_hash.push(fnv1a(&asset.id));
             let mut bits = 0u8;
             for (k, kind) in PlacementKind::ALL.into_iter().enumerate() {

@@ -346,6 +346,37 @@ pub(crate) fn normalize(text: &str) -> Vec<String> {
     apply_synonyms(&words)
 }
 
+/// What the catalog's word index holds of one asset (`resolve::index`, and `build.rs` for the
+/// embedded catalog, which both call this): each word with its count, category words counting
+/// twice and description words once (in word order), the document's length in those units, the
+/// category's head word, and its other words that are not attributes (its kind words).
+pub(crate) struct DocTerms {
+    pub counts: Vec<(String, u32)>,
+    pub len: u32,
+    pub head: String,
+    pub kind_words: Vec<String>,
+}
+
+/// [`DocTerms`] of an asset's category and description.
+pub(crate) fn doc_terms(category: &str, description: &str) -> DocTerms {
+    let category = normalize(category);
+    let description = normalize(description);
+    let mut counts: std::collections::BTreeMap<&str, u32> = std::collections::BTreeMap::new();
+    for t in &category {
+        *counts.entry(t).or_default() += 2;
+    }
+    for t in &description {
+        *counts.entry(t).or_default() += 1;
+    }
+    let head = head(&category).unwrap_or_default().to_string();
+    DocTerms {
+        counts: counts.into_iter().map(|(t, n)| (t.to_string(), n)).collect(),
+        len: (2 * category.len() + description.len()) as u32,
+        kind_words: category.iter().filter(|t| **t != head && !is_attribute(t)).cloned().collect(),
+        head,
+    }
+}
+
 /// Splits an identifier such as `SideTable` or `TVStand` into words (`side table`, `tv stand`).
 pub(crate) fn camel_words(name: &str) -> String {
     let chars: Vec<char> = name.chars().collect();
