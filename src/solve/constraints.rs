@@ -697,8 +697,38 @@ pub fn seats_per_side(n: usize, lengths: [f64; 4], caps: [usize; 4]) -> [usize; 
 /// [`SEAT_PITCH_M`] of its length, or, when the table is too small for that, per the chair's
 /// width and [`SEAT_PITCH_CROWDED_EXTRA_M`]; chairs beyond that have no seat.
 pub fn seat_poses(target: &Pose, target_size: [f64; 2], ring: &SeatRing) -> Vec<Pose> {
-    let front = target.rot.front();
-    let right = target.rot.right();
+    seat_offsets(target.rot, target_size, ring).iter().map(|o| o.at(target)).collect()
+}
+
+/// Where a seat of [`seat_poses`] stands from its table's centre, for a table at one rotation:
+/// the way out from the edge and the way along it, kept apart so that a seat at a table is
+/// worked out with the same arithmetic whether its offsets were kept or not.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SeatOffset {
+    /// From the table's centre out to the seat's line: `[x, z]`, metres.
+    pub out: [f64; 2],
+    /// Along the edge to the seat: `[x, z]`, metres.
+    pub along: [f64; 2],
+    /// The seat's rotation (facing the table).
+    pub rot: Rot,
+}
+
+impl SeatOffset {
+    /// The seat's pose for a table at `target`.
+    pub fn at(&self, target: &Pose) -> Pose {
+        Pose {
+            x: target.x + self.out[0] + self.along[0],
+            z: target.z + self.out[1] + self.along[1],
+            rot: self.rot,
+        }
+    }
+}
+
+/// The offsets of the seats of a table at rotation `rot` (see [`seat_poses`]): they depend on
+/// the table's rotation, size and ring only, so a search keeps them per table.
+pub fn seat_offsets(rot: Rot, target_size: [f64; 2], ring: &SeatRing) -> Vec<SeatOffset> {
+    let front = rot.front();
+    let right = rot.right();
     let [w, d] = target_size;
     // (outward axis, along axis, side length, distance from the centre to the edge)
     let sides = [
@@ -720,9 +750,9 @@ pub fn seat_poses(target: &Pose, target_size: [f64; 2], ring: &SeatRing) -> Vec<
         let reach = edge + SEAT_GAP_M + ring.seat[1] / 2.0;
         for i in 0..c {
             let t = -len / 2.0 + len * (i as f64 + 0.5) / c as f64;
-            out.push(Pose {
-                x: target.x + out_axis[0] * reach + along[0] * t,
-                z: target.z + out_axis[1] * reach + along[1] * t,
+            out.push(SeatOffset {
+                out: [out_axis[0] * reach, out_axis[1] * reach],
+                along: [along[0] * t, along[1] * t],
                 rot,
             });
         }

@@ -9,12 +9,13 @@
 //! order), and the search descends into them best first.
 
 use std::cell::RefCell;
-use std::collections::{BTreeMap, HashMap};
+use std::collections::BTreeMap;
 use std::rc::Rc;
 
 use rand::seq::SliceRandom;
 use rand_chacha::rand_core::SeedableRng;
 use rand_chacha::ChaCha8Rng;
+use rustc_hash::FxHashMap;
 
 use super::constraints::{
     self, footprint, half_extents, HardRule, Occupancy, Pose, ReachBase, Rect, Rot,
@@ -36,6 +37,10 @@ const CONTACT_BONUS: f64 = 0.1;
 const ROOM_NEXT_TO_BONUS: f64 = 0.5;
 /// How close (metres) a side must be to a wall or a footprint to count as touching it.
 const CONTACT_M: f64 = 0.02;
+/// What a bound worked out by other arithmetic than the key it bounds may fall short of it by
+/// rounding alone: a candidate is set aside only when its bound is below the kept ones by
+/// more than this.
+const BOUND_SLACK: f64 = 1e-6;
 
 /// A candidate pose with its footprint.
 #[derive(Clone, Copy, Debug)]
@@ -174,7 +179,8 @@ fn dedup_cands(v: &mut Vec<Cand>) {
     // positive so that the cast truncates like `floor`, which is cheaper than `round`).
     let q = |v: f64| (v * 1e4 + 1e9 + 0.5) as i64;
     let key = |c: &Cand| (q(c.pose.x), q(c.pose.z), c.pose.rot);
-    v.sort_by_key(key);
+    // Each key worked out once (the order of equal keys is kept, as a stable sort keeps it).
+    v.sort_by_cached_key(key);
     v.dedup_by_key(|c| key(c));
 }
 
@@ -517,16 +523,21 @@ fn touching(fp: &Rect, blocked: impl Fn(&Rect) -> bool) -> u8 {
 /// The use-clearances around a node: placed footprints (with whether the object being placed
 /// relates to each) and the zones placed objects keep free from it (all of a list, or one of
 /// a bed's open sides).
-struct Clearances {
+struct Clearances<'s> {
     /// The placed footprints (those `related` to the object being placed, and that it lets
-    /// into its use-clearance, are not in its way).
-    placed: FootprintGrid,
+    /// into its use-clearance, are not in its way): the node's own grid.
+    placed: &'s FootprintGrid,
+    /// Per placed footprint, in the grid's order.
     related: Vec<bool>,
     /// The zones that must stay wholly free of the object (the `all` lists), bucketed.
     keep_free: FootprintGrid,
     /// The lists of zones of which one must stay free (a bed's open sides).
     one_free: Vec<Vec<Rect>>,
 }
+
+/// Up to how many zones a node's use-clearances are looked through one by one rather than
+/// bucketed ([`FootprintGrid::scan`]).
+const FEW_ZONES: usize = 16;
 
 /// Why an object has no pose: the rule and the words.
 type Reason = (HardRule, String);
@@ -536,6 +547,11 @@ type Reason = (HardRule, String);
 struct State {
     poses: Vec<Option<Pose>>,
     fps: Vec<Rect>,
+    /// The footprints placed with [`Search::place`], bucketed, kept as objects are placed and
+    /// taken back.
+    grid: FootprintGrid,
+    /// The object of each footprint of `grid`, in its order.
+    objs: Vec<usize>,
     /// The reachability grid's occupancy by `fps`.
     occ: Occupancy,
     value: f64,
@@ -555,6 +571,8 @@ struct Search<'p, 'a> {
     dependents: Vec<Vec<Dependent>>,
     /// Per object, the ring of chairs around it when it is a table with chairs `around` it.
     rings: Vec<Option<constraints::SeatRing>>,
+    /// Per table with a ring, its seats' offsets at each rotation (in [`Rot::ALL`]'s order).
+    seat_offsets: Vec<Option<[Vec<constraints::SeatOffset>; 4]>>,
     budget: u64,
     seed: u64,
     nodes: u64,
@@ -567,12 +585,14 @@ struct Search<'p, 'a> {
     /// The nodes walked when `kept` was found.
     found_at: u64,
     pin_breaks: Vec<(usize, HardRule)>,
+    /// Per object, its poses anywhere in the room ([`anywhere_candidates`]), once asked for.
+    anywhere: RefCell<Vec<Option<Rc<Vec<Cand>>>>>,
     /// Target contexts by object and the bits of its targets' poses.
-    contexts: RefCell<HashMap<ContextKey, Rc<TargetContext>>>,
+    contexts: RefCell<FxHashMap<ContextKey, Rc<TargetContext>>>,
     /// Reachability answers by the bits of the footprints (placed, then the candidate).
-    reach_answers: HashMap<Vec<u64>, bool>,
+    reach_answers: FxHashMap<Vec<u64>, bool>,
     /// The candidates of nodes met, by the object and the bits of every object's pose.
-    node_answers: HashMap<Vec<u64>, Rc<NodeCandidates>>,
+    node_answers: FxHashMap<Vec<u64>, Rc<NodeCandidates>>,
     /// Per depth, the flood of the footprints placed on the path to the node being expanded;
     /// a candidate is judged on its node's flood, which most often gives the flood with the
     /// candidate placed without a flood of its own (see [`constraints::ReachGrid::extend`]).
@@ -791,6 +811,8 @@ impl Search<'_, '_> {
         st.poses[k] = Some(pose);
         self.prep.reach.mark(&mut st.occ, &fp, 1);
         st.fps.push(fp);
+        st.grid.push(fp);
+        st.objs.push(k);
         st.value += v;
         st.by[k] = by;
     }
@@ -800,6 +822,8 @@ impl Search<'_, '_> {
         if let Some(fp) = st.fps.pop() {
             self.prep.reach.mark(&mut st.occ, &fp, -1);
         }
+        st.grid.pop();
+        st.objs.pop();
         st.value -= v;
     }
 
@@ -837,11 +861,26 @@ impl Search<'_, '_> {
             return 0;
         }
         let size = self.prep.problem.objects[k].size;
-        let free_seats = constraints::seat_poses(&c.pose, size, ring)
-            .iter()
-            .filter(|p| free(&seat_zone(p, ring)))
-            .count();
+        let free_seats =
+            self.seats_at(k, &c.pose, size, ring).filter(|p| free(&seat_zone(p, ring))).count();
         free_seats.min(chairs)
+    }
+
+    /// The seats of table `k` standing at `pose`: [`constraints::seat_poses`], from the offsets
+    /// kept for the table.
+    fn seats_at<'s>(
+        &'s self,
+        k: usize,
+        pose: &'s Pose,
+        size: [f64; 2],
+        ring: &constraints::SeatRing,
+    ) -> impl Iterator<Item = Pose> + 's {
+        let kept = self.seat_offsets[k].as_ref().map(|o| &o[pose.rot as usize]);
+        let fresh = match kept {
+            Some(_) => Vec::new(),
+            None => constraints::seat_offsets(pose.rot, size, ring),
+        };
+        kept.into_iter().flatten().copied().chain(fresh).map(move |o| o.at(pose))
     }
 
     /// [`Search::room_left_for_dependents`] with nothing placed: what no node can exceed.
@@ -862,11 +901,10 @@ impl Search<'_, '_> {
             let side = dep.size[0].min(dep.size[1]);
             let (mut some_free, mut some_free_next_to) = (false, false);
             let zone = |z: Rect, listed: bool, next_to: bool| {
-                if listed && !some_free && free(&z) {
-                    some_free = true;
-                }
-                if next_to && !some_free_next_to && free(&z) {
-                    some_free_next_to = true;
+                let wanted = (listed && !some_free) || (next_to && !some_free_next_to);
+                if wanted && free(&z) {
+                    some_free |= listed;
+                    some_free_next_to |= next_to;
                 }
             };
             let z = [side, d.beyond];
@@ -975,9 +1013,9 @@ impl Search<'_, '_> {
             if need == 0 {
                 continue;
             }
-            let seats: Vec<Rect> = constraints::seat_poses(&tp, prep.problem.objects[t].size, ring)
-                .iter()
-                .map(|p| seat_zone(p, ring))
+            let seats: Vec<Rect> = self
+                .seats_at(t, &tp, prep.problem.objects[t].size, ring)
+                .map(|p| seat_zone(&p, ring))
                 .filter(|z| self.zone_free(z, placed))
                 .collect();
             if !seats.is_empty() {
@@ -993,15 +1031,24 @@ impl Search<'_, '_> {
         let prep = self.prep;
         let clearances = self.clearance_context(k, st);
         let scorer = Scorer::new(prep, k, &st.poses, self.sat_value);
-        let placed = FootprintGrid::new(&prep.room.bounds, st.fps.clone());
-        let mut scored: Vec<(f64, usize, Cand)> = anywhere_candidates(prep, k, self.seed)
-            .into_iter()
+        let placed = &st.grid;
+        let mut scored: Vec<(f64, usize, Cand)> = self
+            .anywhere(k)
+            .iter()
+            .copied()
             .enumerate()
             .filter(|(_, c)| !placed.any_overlap(&c.fp) && self.clearances_kept(k, c, &clearances))
             .map(|(i, c)| (scorer.score(&c), i, c))
             .collect();
         scored.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
         scored.into_iter().take(REACH_TRIES).map(|(s, _, c)| (c, s)).collect()
+    }
+
+    /// The poses of object `k` anywhere in the room: worked out once, the first time asked.
+    fn anywhere(&self, k: usize) -> Rc<Vec<Cand>> {
+        let mut kept = self.anywhere.borrow_mut();
+        let slot = &mut kept[k];
+        Rc::clone(slot.get_or_insert_with(|| Rc::new(anywhere_candidates(self.prep, k, self.seed))))
     }
 
     /// Completes a layout the search finished: every object it left out is tried again against
@@ -1020,7 +1067,7 @@ impl Search<'_, '_> {
             cands.extend(derived_candidates(prep, k, &st.poses));
             let mut why = self.place_best(k, st, &cands);
             if why.is_some() && obj.global == GlobalKind::Edge {
-                let anywhere = anywhere_candidates(prep, k, self.seed);
+                let anywhere = self.anywhere(k);
                 why = self.place_best(k, st, &anywhere).or(why);
             }
             if let Some(why) = why {
@@ -1033,7 +1080,7 @@ impl Search<'_, '_> {
     /// layout `st` (no overlap, use-clearances, reachability), or says why none does.
     fn place_best(&self, k: usize, st: &mut State, cands: &[Cand]) -> Option<Reason> {
         let prep = self.prep;
-        let clearances = self.clearance_context(k, st);
+        let clearances = self.clearances_with(k, &st.poses, &st.grid, &st.objs);
         let mut best: Option<(f64, Cand)> = None;
         let (mut overlapping, mut cleared_out, mut boxed) = (0usize, 0usize, 0usize);
         let mut blockers: BTreeMap<usize, usize> = BTreeMap::new();
@@ -1094,25 +1141,35 @@ impl Search<'_, '_> {
 
     /// What the use-clearance rule needs at a node for object `k`: the placed footprints, the
     /// placed objects' clearance zones, and which placed objects `k` relates to.
-    fn clearance_context(&self, k: usize, st: &State) -> Clearances {
+    fn clearance_context<'s>(&self, k: usize, st: &'s State) -> Clearances<'s> {
+        self.clearances_with(k, &st.poses, &st.grid, &st.objs)
+    }
+
+    /// [`Search::clearance_context`] from the parts of a state it reads (so that the state's
+    /// other parts may change while it is held).
+    fn clearances_with<'s>(
+        &self,
+        k: usize,
+        poses: &[Option<Pose>],
+        grid: &'s FootprintGrid,
+        objs: &[usize],
+    ) -> Clearances<'s> {
         let objects = &self.prep.problem.objects;
         let related = |a: usize, b: usize| {
             objects[a].constraints.iter().any(|x| x.target == b)
                 || objects[b].constraints.iter().any(|x| x.target == a)
         };
-        let mut placed = Vec::new();
-        let mut related_to_k = Vec::new();
+        let related_to_k =
+            objs.iter().map(|&i| related(i, k) && objects[k].role.lets_in(objects[i].role));
+        let related_to_k = related_to_k.collect();
         let mut keep_free = Vec::new();
         let mut one_free = Vec::new();
         for (i, o) in objects.iter().enumerate() {
-            let Some(p) = st.poses[i] else { continue };
+            let Some(p) = poses[i] else { continue };
             if i == k {
                 continue;
             }
-            let fp = footprint(&p, o.size);
             let rel = related(i, k);
-            placed.push(fp);
-            related_to_k.push(rel && objects[k].role.lets_in(o.role));
             let (z, all) = constraints::use_zones(o.role, &p, o.size, o.height);
             if z.is_empty() || (rel && o.role.lets_in(objects[k].role)) {
                 continue;
@@ -1128,7 +1185,7 @@ impl Search<'_, '_> {
                                 j == i
                                     || j == k
                                     || related(i, j)
-                                    || st.poses[j]
+                                    || poses[j]
                                         .is_none_or(|pj| !footprint(&pj, oj.size).overlaps(r))
                             })
                     })
@@ -1142,9 +1199,13 @@ impl Search<'_, '_> {
         }
         let bounds = &self.prep.room.bounds;
         Clearances {
-            placed: FootprintGrid::new(bounds, placed),
+            placed: grid,
             related: related_to_k,
-            keep_free: FootprintGrid::new(bounds, keep_free),
+            keep_free: if keep_free.len() <= FEW_ZONES {
+                FootprintGrid::scan(keep_free)
+            } else {
+                FootprintGrid::new(bounds, keep_free)
+            },
             one_free,
         }
     }
@@ -1192,7 +1253,7 @@ impl Search<'_, '_> {
         let n_static = set.cands.len();
         let pick = |i: usize| if i < n_static { set.cands[i] } else { derived[i - n_static] };
         // The placed footprints, bucketed: each question below looks only at those near it.
-        let placed = FootprintGrid::new(&prep.room.bounds, st.fps.clone());
+        let placed = &st.grid;
         let mut blockers: BTreeMap<usize, usize> = BTreeMap::new();
         let mut cleared_out = 0usize;
         let clearances = self.clearance_context(k, st);
@@ -1203,8 +1264,8 @@ impl Search<'_, '_> {
         // The candidates are met in the order of an upper bound of their key, so the walk
         // stops once that bound falls below the worst key kept: no candidate after it could
         // be kept. Ties go to the earlier position, which is the seeded order.
-        let promises = self.open_promises(k, &placed, st);
-        let seat_promises = self.open_seats(k, &placed, st);
+        let promises = self.open_promises(k, placed, st);
+        let seat_promises = self.open_seats(k, placed, st);
         // The seats other tables keep for their chairs: this object's own chairs do not take
         // them.
         let reserved: Vec<Rect> =
@@ -1243,18 +1304,31 @@ impl Search<'_, '_> {
                 *blockers.entry(first).or_insert(0) += 1;
                 continue;
             }
-            if !self.clearances_kept(k, &c, &clearances) {
-                cleared_out += 1;
-                continue;
-            }
             let sides = sides(i, &c);
-            let s = step.score;
-            let (kept, close) = self.room_left_for_dependents(k, &c, &placed, &reserved);
             let covers = |zones: &[Rect]| zones.iter().all(|z| z.overlaps(&c.fp));
             let broken = promises.iter().filter(|p| covers(&p.zones)).count()
                 + seat_promises.iter().map(|p| p.broken_by(&c.fp)).sum::<usize>();
             let crowded =
                 promises.iter().filter(|p| !p.next_to.is_empty() && covers(&p.next_to)).count();
+            if top.len() == REACH_TRIES {
+                // The step's bound with what is already known of the key put in (the sides
+                // touching, the promises broken): a candidate that cannot enter the kept ones
+                // even so is not looked at further (with the kept ones full, why a candidate is
+                // left out is never asked).
+                let refined = step.bound
+                    - CONTACT_BONUS * f64::from(4 - sides.count_ones())
+                    - self.sat_value * broken as f64
+                    - ROOM_NEXT_TO_BONUS * crowded as f64;
+                if refined + BOUND_SLACK < top[REACH_TRIES - 1].0 {
+                    continue;
+                }
+            }
+            if !self.clearances_kept(k, &c, &clearances) {
+                cleared_out += 1;
+                continue;
+            }
+            let s = step.score;
+            let (kept, close) = self.room_left_for_dependents(k, &c, placed, &reserved);
             let key = s
                 + self.sat_value * (kept as f64 - broken as f64)
                 + ROOM_NEXT_TO_BONUS * (close as f64 - crowded as f64)
@@ -1289,9 +1363,8 @@ impl Search<'_, '_> {
             );
         }
         if top.is_empty() {
-            let placed: Vec<usize> = (0..k).filter(|&i| st.poses[i].is_some()).collect();
             let names = blockers.iter().filter_map(|(&slot, &count)| {
-                placed.get(slot).map(|&i| (count, prep.problem.objects[i].id.as_str()))
+                st.objs.get(slot).map(|&i| (count, prep.problem.objects[i].id.as_str()))
             });
             return (Vec::new(), Some(overlap_reason(names)));
         }
@@ -1421,7 +1494,7 @@ pub(crate) fn run(
             dependents[c.target].push(Dependent { object: j, kind: c.kind, gaps, ring, beyond });
         }
     }
-    let rings = (0..n)
+    let rings: Vec<Option<constraints::SeatRing>> = (0..n)
         .map(|t| {
             if dependents[t].iter().any(|d| d.ring) {
                 super::seat_ring(prep.problem, t)
@@ -1430,9 +1503,18 @@ pub(crate) fn run(
             }
         })
         .collect();
+    let seat_offsets = rings
+        .iter()
+        .enumerate()
+        .map(|(t, ring)| {
+            let size = prep.problem.objects[t].size;
+            ring.as_ref().map(|r| Rot::ALL.map(|rot| constraints::seat_offsets(rot, size, r)))
+        })
+        .collect();
     let mut search = Search {
         dependents,
         rings,
+        seat_offsets,
         prep,
         placed_value,
         sat_value,
@@ -1446,9 +1528,10 @@ pub(crate) fn run(
         kept: None,
         found_at: 0,
         pin_breaks: Vec::new(),
-        contexts: RefCell::new(HashMap::new()),
-        reach_answers: HashMap::new(),
-        node_answers: HashMap::new(),
+        anywhere: RefCell::new(vec![None; n]),
+        contexts: RefCell::new(FxHashMap::default()),
+        reach_answers: FxHashMap::default(),
+        node_answers: FxHashMap::default(),
         reach_bases: Vec::new(),
     };
     for (k, cands) in statics.into_iter().enumerate() {
@@ -1459,6 +1542,8 @@ pub(crate) fn run(
     let mut st = State {
         poses: vec![None; n],
         fps: Vec::new(),
+        grid: FootprintGrid::new(&prep.room.bounds, Vec::new()),
+        objs: Vec::new(),
         occ: prep.reach.occupancy(),
         value: 0.0,
         fails: vec![None; n],

@@ -24,6 +24,12 @@ const CELL_M: f64 = 0.5;
 const MAX_CELLS_PER_SIDE: usize = 64;
 
 /// The footprints placed at a node, bucketed by the cells they cover.
+///
+/// Made whole with [`FootprintGrid::new`], or kept along a search path with
+/// [`FootprintGrid::push`] and [`FootprintGrid::pop`] (last in, first out), which cost only the
+/// cells of the one footprint: the search places and takes back one object at a time, so the
+/// grid of a node is never built again from every footprint placed.
+#[derive(Clone)]
 pub(crate) struct FootprintGrid {
     rects: Vec<Rect>,
     x0: f64,
@@ -57,7 +63,7 @@ impl FootprintGrid {
         let x0 = if bounds.min_x.is_finite() { bounds.min_x } else { 0.0 };
         let z0 = if bounds.min_z.is_finite() { bounds.min_z } else { 0.0 };
         let mut grid = FootprintGrid {
-            rects,
+            rects: Vec::with_capacity(rects.len()),
             x0,
             z0,
             inv_cell: 1.0 / cell,
@@ -65,28 +71,63 @@ impl FootprintGrid {
             nz,
             cells: vec![Vec::new(); nx * nz],
         };
-        for i in 0..grid.rects.len() {
-            let Ok(index) = u32::try_from(i) else { break };
-            let (xs, zs) = grid.span(&grid.rects[i]);
+        for r in rects {
+            grid.push(r);
+        }
+        grid
+    }
+
+    /// The footprints `rects` in one cell: every question looks at each of them. For a few
+    /// footprints asked about at one node only, cheaper than a grid to make and to drop.
+    pub(crate) fn scan(rects: Vec<Rect>) -> FootprintGrid {
+        let all = (0..u32::try_from(rects.len()).unwrap_or(u32::MAX)).collect();
+        FootprintGrid { rects, x0: 0.0, z0: 0.0, inv_cell: 0.0, nx: 1, nz: 1, cells: vec![all] }
+    }
+
+    /// Adds a footprint after the others (its index is the number held before).
+    pub(crate) fn push(&mut self, r: Rect) {
+        // More than `u32::MAX` footprints cannot be indexed: such a one is held but never found.
+        if let Ok(index) = u32::try_from(self.rects.len()) {
+            let (xs, zs) = self.span(&r);
             for cz in zs.0..=zs.1 {
                 for cx in xs.0..=xs.1 {
-                    grid.cells[cz * nx + cx].push(index);
+                    self.cells[cz * self.nx + cx].push(index);
                 }
             }
         }
-        grid
+        self.rects.push(r);
+    }
+
+    /// Takes back the footprint added last, if any.
+    pub(crate) fn pop(&mut self) -> Option<Rect> {
+        let r = self.rects.pop()?;
+        let Ok(index) = u32::try_from(self.rects.len()) else { return Some(r) };
+        let (xs, zs) = self.span(&r);
+        for cz in zs.0..=zs.1 {
+            for cx in xs.0..=xs.1 {
+                // Indices in a cell ascend and this one is the largest: it is the cell's last.
+                let cell = &mut self.cells[cz * self.nx + cx];
+                if cell.last() == Some(&index) {
+                    cell.pop();
+                }
+            }
+        }
+        Some(r)
+    }
+
+    /// How many footprints are held.
+    #[cfg(test)]
+    pub(crate) fn len(&self) -> usize {
+        self.rects.len()
     }
 
     /// The cell index of coordinate `v` along an axis starting at `origin` with `n` cells,
     /// clamped into the grid.
     fn cell_of(&self, v: f64, origin: f64, n: usize) -> usize {
-        // Truncation is the floor for what is not negative (and no libm call on a hot path).
+        // Truncation is the floor for what is not negative (and no libm call on a hot path);
+        // the cast saturates, NaN gives 0, and the clamp keeps the rest in the grid.
         let c = (v - origin) * self.inv_cell;
-        if c >= 0.0 {
-            (c as usize).min(n - 1)
-        } else {
-            0
-        }
+        (c as i64).clamp(0, n as i64 - 1) as usize
     }
 
     /// The inclusive cell ranges along x and z a rectangle covers, clamped into the grid.
@@ -183,6 +224,7 @@ mod tests {
                 })
                 .collect();
             let grid = FootprintGrid::new(&room, rects.clone());
+            let scan = FootprintGrid::scan(rects.clone());
             for _ in 0..2000 {
                 let q = rect(
                     rng.gen_range(room.min_x - 2.0..room.max_x + 2.0),
@@ -192,12 +234,47 @@ mod tests {
                 );
                 let first = rects.iter().position(|r| r.overlaps(&q));
                 assert_eq!(grid.first_overlap(&q), first);
+                assert_eq!(scan.first_overlap(&q), first);
                 assert_eq!(grid.any_overlap(&q), first.is_some());
                 let odd = rects.iter().enumerate().any(|(i, r)| i % 2 == 1 && r.overlaps(&q));
                 assert_eq!(grid.any_overlap_where(&q, |i| i % 2 == 1), odd);
                 let mut seen = vec![false; rects.len()];
                 grid.near(&q, |i| seen[i] = true);
                 assert!(rects.iter().enumerate().all(|(i, r)| !r.overlaps(&q) || seen[i]));
+            }
+        }
+    }
+
+    #[test]
+    fn pushing_and_popping_answers_as_building_anew() {
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(11);
+        let room = rect(0.0, 0.0, 6.0, 5.0);
+        let mut kept = FootprintGrid::new(&room, Vec::new());
+        let mut held: Vec<Rect> = Vec::new();
+        for _ in 0..400 {
+            if held.is_empty() || rng.gen_bool(0.6) {
+                let r = rect(
+                    rng.gen_range(-1.0..6.5),
+                    rng.gen_range(-1.0..5.5),
+                    rng.gen_range(0.0..2.5),
+                    rng.gen_range(0.0..2.5),
+                );
+                kept.push(r);
+                held.push(r);
+            } else {
+                assert_eq!(kept.pop(), held.pop());
+            }
+            assert_eq!(kept.len(), held.len());
+            let fresh = FootprintGrid::new(&room, held.clone());
+            assert_eq!(kept.cells, fresh.cells);
+            for _ in 0..20 {
+                let q = rect(
+                    rng.gen_range(-1.0..6.5),
+                    rng.gen_range(-1.0..5.5),
+                    rng.gen_range(0.0..2.0),
+                    rng.gen_range(0.0..2.0),
+                );
+                assert_eq!(kept.first_overlap(&q), fresh.first_overlap(&q));
             }
         }
     }
