@@ -37,10 +37,6 @@ const CONTACT_BONUS: f64 = 0.1;
 const ROOM_NEXT_TO_BONUS: f64 = 0.5;
 /// How close (metres) a side must be to a wall or a footprint to count as touching it.
 const CONTACT_M: f64 = 0.02;
-/// What a bound worked out by other arithmetic than the key it bounds may fall short of it by
-/// rounding alone: a candidate is set aside only when its bound is below the kept ones by
-/// more than this.
-const BOUND_SLACK: f64 = 1e-6;
 
 /// A candidate pose with its footprint.
 #[derive(Clone, Copy, Debug)]
@@ -179,9 +175,13 @@ fn dedup_cands(v: &mut Vec<Cand>) {
     // positive so that the cast truncates like `floor`, which is cheaper than `round`).
     let q = |v: f64| (v * 1e4 + 1e9 + 0.5) as i64;
     let key = |c: &Cand| (q(c.pose.x), q(c.pose.z), c.pose.rot);
-    // Each key worked out once (the order of equal keys is kept, as a stable sort keeps it).
-    v.sort_by_cached_key(key);
-    v.dedup_by_key(|c| key(c));
+    // Each key worked out once; the sort is stable (equal keys keep their order, the first of
+    // them is kept) and finds the runs already in order (each rotation's grid is one).
+    let mut keyed: Vec<_> = v.iter().map(|c| (key(c), *c)).collect();
+    keyed.sort_by(|a, b| a.0.cmp(&b.0));
+    keyed.dedup_by(|a, b| a.0 == b.0);
+    v.clear();
+    v.extend(keyed.into_iter().map(|(_, c)| c));
 }
 
 /// Candidates derived from the placed targets of object `k`'s relations: flush against a
@@ -599,8 +599,31 @@ struct Search<'p, 'a> {
     reach_bases: Vec<Option<ReachBase>>,
 }
 
-/// What [`Search::candidates`] gives at a node.
-type NodeCandidates = (Vec<(Cand, f64)>, Option<Reason>);
+/// The candidates of an object at a node, best first.
+enum NodeCandidates {
+    /// Known whole: poses anywhere for an `edge` object with no wall pose left, or none, with
+    /// why.
+    Whole(Vec<(Cand, f64)>, Option<Reason>),
+    /// Put in order only as far as the search has asked ([`Search::walk_to`]): a node is most
+    /// often left after its first candidate or two, and the best `m` of a walk are the first
+    /// `m` of a longer one.
+    Walk(RefCell<NodeWalk>),
+}
+
+/// How far the walk of a node's candidates has come.
+struct NodeWalk {
+    /// The candidates met so far that keep every rule (at most [`REACH_TRIES`]), best key
+    /// first: (ordering key, position among statics then derived, score, candidate).
+    kept: Vec<(f64, usize, f64, Cand)>,
+    /// The next step of the target context's walk to meet.
+    next: usize,
+    /// Whether every step has been met.
+    done: bool,
+    /// For why nothing is left: the candidates blocked, by the placed footprint they overlap
+    /// first, and those standing in a use-clearance.
+    blockers: BTreeMap<usize, usize>,
+    cleared_out: usize,
+}
 
 /// The most nodes whose candidates are kept; the store is emptied when it is full.
 const MAX_NODE_ANSWERS: usize = 4096;
@@ -672,19 +695,21 @@ impl Search<'_, '_> {
             return;
         }
         let found = self.node_candidates(k, st);
-        let (cands, reason) = &*found;
-        if cands.is_empty() {
-            st.fails[k].clone_from(reason);
-            self.visit(k + 1, disc, st);
-            st.fails[k] = None;
-            return;
+        if let NodeCandidates::Whole(cands, reason) = &*found {
+            if cands.is_empty() {
+                st.fails[k].clone_from(reason);
+                self.visit(k + 1, disc, st);
+                st.fails[k] = None;
+                return;
+            }
         }
         let mut tried = 0usize;
         let mut pruned = false;
-        for (reach_checks, (c, s)) in cands.iter().enumerate() {
-            if tried > disc || reach_checks >= REACH_TRIES {
-                break;
-            }
+        let mut reach_checks = 0;
+        while tried <= disc && reach_checks < REACH_TRIES {
+            let Some((c, s)) = self.node_candidate(k, st, &found, reach_checks) else { break };
+            let (c, s) = (&c, &s);
+            reach_checks += 1;
             if let Some(b) = &self.best {
                 if st.value + self.placed_value + s + self.remaining_max[k + 1] <= b.value + 1e-9 {
                     pruned = true;
@@ -714,9 +739,9 @@ impl Search<'_, '_> {
         }
     }
 
-    /// [`Search::candidates`] of object `k` at this node. Each round of discrepancy walks the
-    /// paths of the rounds before, so the same node comes back: its answer is kept by the
-    /// poses of every object.
+    /// The candidates of object `k` at this node, the first of them found. Each round of
+    /// discrepancy walks the paths of the rounds before, so the same node comes back: its
+    /// answer (and how far its walk has come) is kept by the poses of every object.
     fn node_candidates(&mut self, k: usize, st: &State) -> Rc<NodeCandidates> {
         let mut key = Vec::with_capacity(1 + 3 * st.poses.len());
         key.push(k as u64);
@@ -730,12 +755,14 @@ impl Search<'_, '_> {
             return Rc::clone(found);
         }
         let mut found = self.candidates(k, st);
-        if found.0.is_empty() && self.prep.problem.objects[k].global == GlobalKind::Edge {
-            // `edge` is soft: with no wall pose left, the object stands elsewhere now, so that
-            // what relates to it is placed after it, not left without it.
-            let elsewhere = self.anywhere_at_node(k, st);
-            if !elsewhere.is_empty() {
-                found = (elsewhere, None);
+        if let NodeCandidates::Whole(cands, _) = &found {
+            if cands.is_empty() && self.prep.problem.objects[k].global == GlobalKind::Edge {
+                // `edge` is soft: with no wall pose left, the object stands elsewhere now, so
+                // that what relates to it is placed after it, not left without it.
+                let elsewhere = self.anywhere_at_node(k, st);
+                if !elsewhere.is_empty() {
+                    found = NodeCandidates::Whole(elsewhere, None);
+                }
             }
         }
         let found = Rc::new(found);
@@ -1237,43 +1264,111 @@ impl Search<'_, '_> {
         self.prep.room.contains_rect(z) && !self.prep.keep_out.iter().any(|o| o.overlaps(z))
     }
 
-    /// Scored candidates of object `k` (best first, at most [`REACH_TRIES`]), or why there are
-    /// none.
-    fn candidates(&self, k: usize, st: &State) -> (Vec<(Cand, f64)>, Option<Reason>) {
+    /// The candidates of object `k` at this node with the first of them found, or, when there
+    /// is none, why.
+    fn candidates(&self, k: usize, st: &State) -> NodeCandidates {
         let prep = self.prep;
         let context = self.target_context(k, &st.poses);
-        let derived = &context.derived;
-        if self.statics[k].cands.is_empty()
-            && derived.is_empty()
+        let n_static = self.statics[k].cands.len();
+        if n_static == 0
+            && context.derived.is_empty()
             && prep.problem.objects[k].global != GlobalKind::Edge
         {
-            return (Vec::new(), Some(static_reason(&self.static_fails[k])));
+            return NodeCandidates::Whole(Vec::new(), Some(static_reason(&self.static_fails[k])));
         }
+        let mut walk = NodeWalk {
+            kept: Vec::new(),
+            next: 0,
+            done: false,
+            blockers: BTreeMap::new(),
+            cleared_out: 0,
+        };
+        self.walk_to(k, st, &mut walk, 1);
+        if !walk.kept.is_empty() {
+            return NodeCandidates::Walk(RefCell::new(walk));
+        }
+        let NodeWalk { mut blockers, cleared_out, .. } = walk;
+        // Why nothing is left counts the candidates standing on a target too.
+        let set = &self.statics[k];
+        let derived = &context.derived;
+        let pick = |i: usize| if i < n_static { set.cands[i] } else { derived[i - n_static] };
+        for &i in &context.on_targets {
+            let first = st.grid.first_overlap(&pick(i as usize).fp).unwrap_or(usize::MAX);
+            *blockers.entry(first).or_insert(0) += 1;
+        }
+        if n_static == 0 && derived.is_empty() {
+            return NodeCandidates::Whole(Vec::new(), Some(static_reason(&self.static_fails[k])));
+        }
+        if cleared_out > 0 && cleared_out >= blockers.values().sum() {
+            let why = "every pose left stands in the space another object needs for its use (or \
+                       blocks its own)";
+            return NodeCandidates::Whole(Vec::new(), Some((HardRule::UseClearance, why.into())));
+        }
+        let names = blockers.iter().filter_map(|(&slot, &count)| {
+            st.objs.get(slot).map(|&i| (count, prep.problem.objects[i].id.as_str()))
+        });
+        NodeCandidates::Whole(Vec::new(), Some(overlap_reason(names)))
+    }
+
+    /// Candidate `j` (from 0, best first) of object `k` at this node, walking further when it
+    /// is not known yet.
+    fn node_candidate(
+        &self,
+        k: usize,
+        st: &State,
+        found: &NodeCandidates,
+        j: usize,
+    ) -> Option<(Cand, f64)> {
+        match found {
+            NodeCandidates::Whole(cands, _) => cands.get(j).copied(),
+            NodeCandidates::Walk(walk) => {
+                let mut walk = walk.borrow_mut();
+                self.walk_to(k, st, &mut walk, j + 1);
+                walk.kept.get(j).map(|&(_, _, s, c)| (c, s))
+            }
+        }
+    }
+
+    /// Walks object `k`'s candidates at this node until the best `m` are known: every step
+    /// not met yet has a bound below the `m`th key kept (or there is no step left).
+    ///
+    /// The ordering key of a candidate is its score plus what the pose leaves for later objects
+    /// (room for the side relations that target this object, and a small bonus per side
+    /// touching a wall or a placed object); the score alone is what the layout is worth. Only
+    /// the best [`REACH_TRIES`] keys are ever visited. The candidates are met in the order of
+    /// an upper bound of their key (the target context's walk), so no candidate after the stop
+    /// could come before the `m`th. Ties go to the earlier position, which is the seeded
+    /// order.
+    fn walk_to(&self, k: usize, st: &State, walk: &mut NodeWalk, m: usize) {
+        let m = m.min(REACH_TRIES);
+        let context = self.target_context(k, &st.poses);
         let set = &self.statics[k];
         let n_static = set.cands.len();
+        let derived = &context.derived;
         let pick = |i: usize| if i < n_static { set.cands[i] } else { derived[i - n_static] };
+        let stops =
+            |walk: &NodeWalk, step: &Step| walk.kept.len() >= m && step.bound < walk.kept[m - 1].0;
+        match context.step(walk.next, pick) {
+            None => walk.done = true,
+            Some(step) if stops(walk, &step) => return,
+            Some(_) => {}
+        }
+        if walk.done {
+            return;
+        }
+        let prep = self.prep;
         // The placed footprints, bucketed: each question below looks only at those near it.
         let placed = &st.grid;
-        let mut blockers: BTreeMap<usize, usize> = BTreeMap::new();
-        let mut cleared_out = 0usize;
         let clearances = self.clearance_context(k, st);
-        // (ordering key, position: statics then derived, score). The key is the score plus
-        // what the pose leaves for later objects (room for the side relations that target this
-        // object, and a small bonus per side touching a wall or a placed object); the score
-        // alone is what the layout is worth. Only the best `REACH_TRIES` keys are ever visited.
-        // The candidates are met in the order of an upper bound of their key, so the walk
-        // stops once that bound falls below the worst key kept: no candidate after it could
-        // be kept. Ties go to the earlier position, which is the seeded order.
         let promises = self.open_promises(k, placed, st);
         let seat_promises = self.open_seats(k, placed, st);
         // The seats other tables keep for their chairs: this object's own chairs do not take
         // them.
         let reserved: Vec<Rect> =
             seat_promises.iter().flat_map(|p| p.seats.iter().copied()).collect();
-        let order =
-            |a: &(f64, usize, f64), b: &(f64, usize, f64)| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1));
-        // The placed footprint a candidate overlaps first (lowest index), if any.
-        let first_blocker = |c: &Cand| placed.first_overlap(&c.fp).unwrap_or(usize::MAX);
+        let order = |a: &(f64, usize, f64, Cand), b: &(f64, usize, f64, Cand)| {
+            b.0.total_cmp(&a.0).then(a.1.cmp(&b.1))
+        };
         // The sides of a candidate that touch a wall or a placed footprint: a placed footprint
         // grown by the contact distance that the candidate overlaps (while the footprint itself
         // does not) is touched.
@@ -1291,84 +1386,45 @@ impl Search<'_, '_> {
                 touching(&c.fp, |m| !prep.room.contains_rect(m) || placed.any_overlap(m))
             }
         };
-        let mut top: Vec<(f64, usize, f64)> = Vec::with_capacity(REACH_TRIES + 1);
-        for n in 0.. {
-            let Some(step) = context.step(n, pick) else { break };
-            if top.len() == REACH_TRIES && step.bound < top[REACH_TRIES - 1].0 {
+        loop {
+            let Some(step) = context.step(walk.next, pick) else {
+                walk.done = true;
+                break;
+            };
+            if stops(walk, &step) {
                 break;
             }
+            walk.next += 1;
             let c = step.cand;
-            let first = first_blocker(&c);
             let i = step.index as usize;
-            if first != usize::MAX {
-                *blockers.entry(first).or_insert(0) += 1;
+            // The placed footprint the candidate overlaps first (lowest index), if any.
+            if let Some(first) = placed.first_overlap(&c.fp) {
+                *walk.blockers.entry(first).or_insert(0) += 1;
+                continue;
+            }
+            if !self.clearances_kept(k, &c, &clearances) {
+                walk.cleared_out += 1;
                 continue;
             }
             let sides = sides(i, &c);
+            let s = step.score;
+            let (kept, close) = self.room_left_for_dependents(k, &c, placed, &reserved);
             let covers = |zones: &[Rect]| zones.iter().all(|z| z.overlaps(&c.fp));
             let broken = promises.iter().filter(|p| covers(&p.zones)).count()
                 + seat_promises.iter().map(|p| p.broken_by(&c.fp)).sum::<usize>();
             let crowded =
                 promises.iter().filter(|p| !p.next_to.is_empty() && covers(&p.next_to)).count();
-            if top.len() == REACH_TRIES {
-                // The step's bound with what is already known of the key put in (the sides
-                // touching, the promises broken): a candidate that cannot enter the kept ones
-                // even so is not looked at further (with the kept ones full, why a candidate is
-                // left out is never asked).
-                let refined = step.bound
-                    - CONTACT_BONUS * f64::from(4 - sides.count_ones())
-                    - self.sat_value * broken as f64
-                    - ROOM_NEXT_TO_BONUS * crowded as f64;
-                if refined + BOUND_SLACK < top[REACH_TRIES - 1].0 {
-                    continue;
-                }
-            }
-            if !self.clearances_kept(k, &c, &clearances) {
-                cleared_out += 1;
-                continue;
-            }
-            let s = step.score;
-            let (kept, close) = self.room_left_for_dependents(k, &c, placed, &reserved);
             let key = s
                 + self.sat_value * (kept as f64 - broken as f64)
                 + ROOM_NEXT_TO_BONUS * (close as f64 - crowded as f64)
                 + CONTACT_BONUS * f64::from(sides.count_ones());
-            let entry = (key, i, s);
-            let at = top.partition_point(|t| order(t, &entry).is_lt());
+            let entry = (key, i, s, c);
+            let at = walk.kept.partition_point(|t| order(t, &entry).is_lt());
             if at < REACH_TRIES {
-                top.insert(at, entry);
-                top.truncate(REACH_TRIES);
+                walk.kept.insert(at, entry);
+                walk.kept.truncate(REACH_TRIES);
             }
         }
-        if top.is_empty() {
-            // Why nothing is left counts the candidates standing on a target too.
-            for &i in &context.on_targets {
-                let i = i as usize;
-                let first = first_blocker(&pick(i));
-                *blockers.entry(first).or_insert(0) += 1;
-            }
-        }
-        if top.is_empty() && n_static == 0 && derived.is_empty() {
-            return (Vec::new(), Some(static_reason(&self.static_fails[k])));
-        }
-        if top.is_empty() && cleared_out > 0 && cleared_out >= blockers.values().sum() {
-            return (
-                Vec::new(),
-                Some((
-                    HardRule::UseClearance,
-                    "every pose left stands in the space another object needs for its use (or \
-                     blocks its own)"
-                        .to_string(),
-                )),
-            );
-        }
-        if top.is_empty() {
-            let names = blockers.iter().filter_map(|(&slot, &count)| {
-                st.objs.get(slot).map(|&i| (count, prep.problem.objects[i].id.as_str()))
-            });
-            return (Vec::new(), Some(overlap_reason(names)));
-        }
-        (top.into_iter().map(|(_, i, s)| (pick(i), s)).collect(), None)
     }
 }
 
