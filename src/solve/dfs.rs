@@ -97,6 +97,28 @@ pub(crate) fn static_candidates(
     k: usize,
     seed: u64,
 ) -> (Vec<Cand>, BTreeMap<HardRule, usize>) {
+    let (mut out, fails) = static_grid(prep, k);
+    shuffle_static(&mut out, k, seed);
+    (out, fails)
+}
+
+/// What the static candidates of object `k` depend on: its footprint's size, the height that
+/// decides whether it blocks a window, and its global constraint (objects alike in these, the
+/// chairs of a set, get the same grid before each is shuffled by its own seed).
+fn static_grid_key(prep: &Prepared<'_>, k: usize) -> ([u64; 3], GlobalKind) {
+    let obj = &prep.problem.objects[k];
+    let height = super::window_height(obj);
+    ([obj.size[0].to_bits(), obj.size[1].to_bits(), height.to_bits()], obj.global)
+}
+
+/// Shuffles object `k`'s static candidates in its seeded order.
+fn shuffle_static(cands: &mut [Cand], k: usize, seed: u64) {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed ^ (k as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15));
+    cands.shuffle(&mut rng);
+}
+
+/// [`static_candidates`] in the grid's order, before the shuffle.
+fn static_grid(prep: &Prepared<'_>, k: usize) -> (Vec<Cand>, BTreeMap<HardRule, usize>) {
     let obj = &prep.problem.objects[k];
     let b = prep.room.bounds;
     let g = if obj.global == GlobalKind::Edge { wall_step(&b) } else { grid_step(&b) };
@@ -141,8 +163,6 @@ pub(crate) fn static_candidates(
         }
     }
     dedup_cands(&mut out);
-    let mut rng = ChaCha8Rng::seed_from_u64(seed ^ (k as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15));
-    out.shuffle(&mut rng);
     (out, fails)
 }
 
@@ -1059,16 +1079,18 @@ impl Search<'_, '_> {
         let clearances = self.clearance_context(k, st);
         let scorer = Scorer::new(prep, k, &st.poses, self.sat_value);
         let placed = &st.grid;
-        let mut scored: Vec<(f64, usize, Cand)> = self
-            .anywhere(k)
-            .iter()
-            .copied()
-            .enumerate()
-            .filter(|(_, c)| !placed.any_overlap(&c.fp) && self.clearances_kept(k, c, &clearances))
-            .map(|(i, c)| (scorer.score(&c), i, c))
-            .collect();
+        // Scored first and met best first: the rules are asked of the best ones only, until
+        // enough keep them.
+        let anywhere = self.anywhere(k);
+        let mut scored: Vec<(f64, usize)> =
+            anywhere.iter().enumerate().map(|(i, c)| (scorer.score(c), i)).collect();
         scored.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
-        scored.into_iter().take(REACH_TRIES).map(|(s, _, c)| (c, s)).collect()
+        scored
+            .into_iter()
+            .map(|(s, i)| (anywhere[i], s))
+            .filter(|(c, _)| !placed.any_overlap(&c.fp) && self.clearances_kept(k, c, &clearances))
+            .take(REACH_TRIES)
+            .collect()
     }
 
     /// The poses of object `k` anywhere in the room: worked out once, the first time asked.
@@ -1487,13 +1509,18 @@ pub(crate) fn solve(prep: &Prepared<'_>, options: &SolveOptions) -> RoomLayout {
     let n = prep.problem.objects.len();
     let mut statics = Vec::with_capacity(n);
     let mut static_fails = Vec::with_capacity(n);
+    // Objects alike get the same grid: worked out once for them all.
+    let mut grids: FxHashMap<([u64; 3], GlobalKind), (Vec<Cand>, BTreeMap<HardRule, usize>)> =
+        FxHashMap::default();
     for k in 0..n {
         if crate::cancel::requested() {
             return RoomLayout::default();
         }
-        let (c, f) = static_candidates(prep, k, options.seed);
+        let (c, f) = grids.entry(static_grid_key(prep, k)).or_insert_with(|| static_grid(prep, k));
+        let mut c = c.clone();
+        shuffle_static(&mut c, k, options.seed);
         statics.push(c);
-        static_fails.push(f);
+        static_fails.push(f.clone());
     }
     run(prep, options, statics, static_fails)
 }
