@@ -355,6 +355,13 @@ impl OutlineRow<'_, '_> {
         !self.in_bounds
     }
 
+    /// Whether a point of the row at `x` is farther than `reach` (and the margin) from every
+    /// edge along x: then [`OutlineRow::distance_below`] gives back its bound (at most
+    /// `reach`), every edge being passed over, without being asked.
+    pub fn beyond_reach(&self, x: f64) -> bool {
+        self.within_reach.iter().all(|&(_, window)| !in_window(x, window))
+    }
+
     /// [`Outline::distance_below`] for a point of the row.
     pub fn distance_below(&self, p: Point, bound: f64) -> f64 {
         debug_assert!(p[1].to_bits() == self.z.to_bits(), "a point of another row");
@@ -554,6 +561,12 @@ mod tests {
                             assert_eq!(row.contains(p), outline.contains(p), "{p:?}");
                             assert_eq!(row.contains_or_on(p), outline.contains_or_on(p));
                             assert!(!row.misses_row() || !outline.contains_or_on(p));
+                            if row.beyond_reach(p[0]) {
+                                for bound in [reach, reach / 2.0] {
+                                    let d = outline.distance_below(p, bound);
+                                    assert_eq!(d.to_bits(), bound.to_bits(), "{p:?} {bound}");
+                                }
+                            }
                             for bound in [reach, reach / 2.0, 1.0] {
                                 let (a, b) = (
                                     row.distance_below(p, bound),

@@ -116,7 +116,11 @@ fn free_start(plan: &FloorPlan, layout: &Layout, id: RoomId) -> Option<Point> {
             // The distance to the nearest wall or footprint, measured no further than
             // `ENOUGH_CLEARANCE_M`: only whether it reaches the need (less) and how it compares
             // up to that count.
-            let mut nearest = walls.distance_below(p, ENOUGH_CLEARANCE_M);
+            let mut nearest = if walls.beyond_reach(p[0]) {
+                ENOUGH_CLEARANCE_M
+            } else {
+                walls.distance_below(p, ENOUGH_CLEARANCE_M)
+            };
             for (r, window) in &near {
                 if in_window(p[0], *window) {
                     nearest = distance_to_rect_below(p, r, nearest);
@@ -128,8 +132,8 @@ fn free_start(plan: &FloorPlan, layout: &Layout, id: RoomId) -> Option<Point> {
     let free = |c: usize| clearance[c] >= need;
     // Flood from the free cells next to a door; without a door, every free cell counts.
     let mut reached = vec![false; nx * nz];
-    // A first-in first-out queue: cells are taken from `queue[head]` on.
-    let mut queue: Vec<usize> = Vec::new();
+    // A first-in first-out queue of cells `(i, j)`: they are taken from `queue[head]` on.
+    let mut queue: Vec<(usize, usize)> = Vec::new();
     let door_reach = DOOR_REACH_M + need;
     for j in 0..nz {
         // A door whose z range is farther from the row than the reach (the nearest point of a
@@ -154,7 +158,7 @@ fn free_start(plan: &FloorPlan, layout: &Layout, id: RoomId) -> Option<Point> {
                 })
             {
                 reached[c] = true;
-                queue.push(c);
+                queue.push((i, j));
             }
         }
     }
@@ -164,25 +168,32 @@ fn free_start(plan: &FloorPlan, layout: &Layout, id: RoomId) -> Option<Point> {
         }
     }
     let mut head = 0;
-    while let Some(&c) = queue.get(head) {
+    while let Some(&(i, j)) = queue.get(head) {
         head += 1;
-        let (i, j) = (c % nx, c / nx);
-        let next = [
-            (i > 0).then(|| c - 1),
-            (i + 1 < nx).then(|| c + 1),
-            (j > 0).then(|| c - nx),
-            (j + 1 < nz).then(|| c + nx),
-        ];
-        for n in next.into_iter().flatten() {
+        let mut visit = |i: usize, j: usize| {
+            let n = j * nx + i;
             if !reached[n] && free(n) {
                 reached[n] = true;
-                queue.push(n);
+                queue.push((i, j));
             }
+        };
+        if i > 0 {
+            visit(i - 1, j);
+        }
+        if i + 1 < nx {
+            visit(i + 1, j);
+        }
+        if j > 0 {
+            visit(i, j - 1);
+        }
+        if j + 1 < nz {
+            visit(i, j + 1);
         }
     }
     let mut best: Option<(f64, f64, Point)> = None;
-    for c in (0..nx * nz).filter(|&c| reached[c]) {
-        let p = point(c % nx, c / nx);
+    let cells = (0..nz).flat_map(|j| (0..nx).map(move |i| (i, j)));
+    for (i, j) in cells.filter(|&(i, j)| reached[j * nx + i]) {
+        let (c, p) = (j * nx + i, point(i, j));
         let room_around = clearance[c].min(ENOUGH_CLEARANCE_M);
         match best {
             Some((r, _, _)) if room_around > r + 1e-9 => {

@@ -811,7 +811,7 @@ mod tests {
     #[test]
     fn window_nearest_size() {
         let c = StructureCatalog::builtin();
-        let w = c.select_window(WindowKind::Fixed, 1.5, 1.2).map(|w| w.asset_id.as_str());
+        let w = c.select_window(WindowKind::Fixed, 1.5, 1.2).map(|w| w.asset_id);
         assert_eq!(w, Some("Window_Fixed_60x48"));
     }
 
