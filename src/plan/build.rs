@@ -18,7 +18,7 @@ use crate::geometry::{
     point_on_segment, rectilinear_intersection_area, right_normal, segment_overlap, segments_touch,
     signed_area, Aabb, Point, EPS_M,
 };
-use crate::resolve::structure::{StructureCatalog, Surface};
+use crate::resolve::structure::{Material, StructureCatalog, Surface};
 use crate::source::Span;
 
 /// Purposes of the seeded random streams, so that adding one choice does not shift the others.
@@ -1294,7 +1294,7 @@ impl Ctx<'_> {
                                 .max_by(|a, b| {
                                     a.hole_m[0]
                                         .total_cmp(&b.hole_m[0])
-                                        .then(b.asset_id.cmp(&a.asset_id))
+                                        .then(b.asset_id.cmp(a.asset_id))
                                 })
                                 .cloned()
                         })
@@ -1464,7 +1464,7 @@ impl Ctx<'_> {
             if self.catalog.material(&pin.id).is_some() {
                 return pin.id.clone();
             }
-            let names: Vec<&str> = self.catalog.materials.iter().map(|m| m.name()).collect();
+            let names: Vec<&str> = self.catalog.materials.iter().map(Material::name).collect();
             self.diags.push(
                 Diagnostic::new(Code::E0320, format!("`{}` is not a known material", pin.id))
                     .with_primary(pin.span, "not in the material database")
@@ -1504,7 +1504,7 @@ impl Ctx<'_> {
                         pin.id.clone()
                     } else {
                         let names: Vec<&str> =
-                            self.catalog.materials.iter().map(|m| m.name()).collect();
+                            self.catalog.materials.iter().map(Material::name).collect();
                         self.diags.push(
                             Diagnostic::new(
                                 Code::E0320,

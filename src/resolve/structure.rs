@@ -819,7 +819,7 @@ mod tests {
     fn material_words_rank() {
         let c = StructureCatalog::builtin();
         let used = BTreeSet::new();
-        let m = c.select_material("dark wood planks", Surface::Floor, &used).map(|m| m.name());
+        let m = c.select_material("dark wood planks", Surface::Floor, &used).map(Material::name);
         assert_eq!(m, Some("DarkWoodPlanks"));
     }
 
