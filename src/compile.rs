@@ -157,6 +157,8 @@ pub struct BuildOptions<'a> {
     /// Whether assets of another type that do the same job stand in for things the catalog
     /// lacks (W0403); `--no-stand-ins` turns it off.
     pub stand_ins: bool,
+    /// Whether the rooms are solved in parallel ([`SolveOptions::rooms_in_parallel`]).
+    pub rooms_in_parallel: bool,
 }
 
 impl<'a> BuildOptions<'a> {
@@ -172,6 +174,7 @@ impl<'a> BuildOptions<'a> {
             agent_radius_m: None,
             repair: false,
             stand_ins: true,
+            rooms_in_parallel: true,
         }
     }
 }
@@ -280,8 +283,12 @@ fn before_solve(
     }
     let resolved = resolved.value;
     crate::cancel::stage("solve");
-    let mut solve_options =
-        SolveOptions { solver: options.solver, seed: scene.seed, ..SolveOptions::default() };
+    let mut solve_options = SolveOptions {
+        solver: options.solver,
+        seed: scene.seed,
+        rooms_in_parallel: options.rooms_in_parallel,
+        ..SolveOptions::default()
+    };
     if let Some(budget) = options.node_budget {
         solve_options.node_budget = budget;
     }

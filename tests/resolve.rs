@@ -551,18 +551,18 @@ fn real_scene_designs_get_materials_of_their_kind() {
                 ]
                 .iter()
                 .any(|w| lower.contains(w));
-                let name = chosen.name.to_lowercase();
+                let name = chosen.name().to_lowercase();
                 if hard && !lower.contains("carpet") {
                     assert!(
-                        !name.contains("carpet") && !chosen.groups.iter().any(|g| g == "Fabric"),
+                        !name.contains("carpet") && !chosen.groups().any(|g| g == "Fabric"),
                         "{design} got {}",
-                        chosen.name
+                        chosen.name()
                     );
                 }
-                let words = catalog.deciding_words(design, &chosen.name);
+                let words = catalog.deciding_words(design, chosen.name());
                 rows.insert(format!(
                     "| {what} | {design} | {} | {} |",
-                    chosen.name,
+                    chosen.name(),
                     if words.is_empty() { "—".to_string() } else { words.join(", ") }
                 ));
             }

@@ -268,6 +268,7 @@ pub(crate) fn run_build(
         agent_radius_m: request.agent_radius_m,
         repair: request.repair,
         stand_ins: request.stand_ins,
+        rooms_in_parallel: true,
     };
     let mut built = crate::compile::build(sources, file, &options);
     built.diagnostics.splice(0..0, loaded.diagnostics);

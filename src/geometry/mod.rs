@@ -33,7 +33,20 @@ pub fn add_scaled(a: Point, v: Point, s: f64) -> Point {
 
 /// Euclidean distance.
 pub fn distance(a: Point, b: Point) -> f64 {
-    (b[0] - a[0]).hypot(b[1] - a[1])
+    length(b[0] - a[0], b[1] - a[1])
+}
+
+/// `dx.hypot(dz)`, to the bit, without calling it when one difference is zero: C's `hypot` of
+/// a number and a zero is the number's absolute value (C11 Annex F.10.4.3), as here. A wall
+/// parallel to an axis most often gives such a difference.
+fn length(dx: f64, dz: f64) -> f64 {
+    if dz == 0.0 && !dx.is_nan() {
+        dx.abs()
+    } else if dx == 0.0 && !dz.is_nan() {
+        dz.abs()
+    } else {
+        dx.hypot(dz)
+    }
 }
 
 /// The unit vector from `a` to `b` (zero when they coincide).
@@ -127,7 +140,7 @@ pub fn distance_below(a: Point, b: Point, bound: f64) -> f64 {
     if dx.abs().max(dz.abs()) >= bound {
         bound
     } else {
-        dx.hypot(dz).min(bound)
+        length(dx, dz).min(bound)
     }
 }
 
@@ -135,7 +148,7 @@ pub fn distance_below(a: Point, b: Point, bound: f64) -> f64 {
 /// alone exceeds `r`.
 pub fn within(a: Point, b: Point, r: f64) -> bool {
     let (dx, dz) = (b[0] - a[0], b[1] - a[1]);
-    dx.abs().max(dz.abs()) <= r && dx.hypot(dz) <= r
+    dx.abs().max(dz.abs()) <= r && length(dx, dz) <= r
 }
 
 /// Whether `p` is on the boundary of the polygon (within [`EPS_M`]).
@@ -236,8 +249,11 @@ impl Outline<'_> {
         // How far the row is from a box along z (negative inside its z range).
         let gap_z = |b: &Aabb| (b.min[1] - z).max(z - b.max[1]);
         let touch = EPS_M + PASS_OVER_M;
-        let edges = |keep: &dyn Fn(f64) -> bool| -> Vec<usize> {
-            (0..self.edges.len()).filter(|&i| keep(gap_z(&self.edges[i].2))).collect()
+        let edges = |keep: &dyn Fn(f64) -> bool, t: f64| -> Vec<(usize, [f64; 2])> {
+            (0..self.edges.len())
+                .filter(|&i| keep(gap_z(&self.edges[i].2)))
+                .map(|i| (i, x_window(&self.edges[i].2, t)))
+                .collect()
         };
         // The crossings `point_in_polygon_raw` meets on this row, in its order.
         let n = self.polygon.len();
@@ -254,10 +270,10 @@ impl Outline<'_> {
             outline: self,
             z,
             in_bounds: gap_z(&self.bounds) <= touch,
-            touching: edges(&|g| g <= touch),
+            touching: edges(&|g| g <= touch, touch),
             crossings,
             reach,
-            within_reach: edges(&|g| g < reach + PASS_OVER_M),
+            within_reach: edges(&|g| g < reach + PASS_OVER_M, reach + PASS_OVER_M),
         }
     }
 }
@@ -272,22 +288,40 @@ pub struct OutlineRow<'o, 'a> {
     z: f64,
     /// Whether the row passes within [`EPS_M`] (and the pass-over margin) of the bounds.
     in_bounds: bool,
-    /// The edges whose boxes the row passes that near, in order.
-    touching: Vec<usize>,
+    /// The edges whose boxes the row passes that near, in order, each with its [`x_window`]
+    /// for that nearness.
+    touching: Vec<(usize, [f64; 2])>,
     /// The x of each edge crossing of the ray test, in its order.
     crossings: Vec<f64>,
     /// The largest bound [`OutlineRow::distance_below`] is asked with.
     reach: f64,
-    /// The edges whose boxes are nearer the row than `reach` (and the margin), in order.
-    within_reach: Vec<usize>,
+    /// The edges whose boxes are nearer the row than `reach` (and the margin), in order, each
+    /// with its [`x_window`] for that nearness.
+    within_reach: Vec<(usize, [f64; 2])>,
+}
+
+/// The x range `[lo, hi]` outside which a point is farther than `t` from the box along x by
+/// more than any rounding error (a relative 1e-12 of the numbers involved): a point of a row
+/// outside it is passed over by the tests that ask whether the point is within `t` of the box,
+/// with no need to measure.
+fn x_window(b: &Aabb, t: f64) -> [f64; 2] {
+    let slack = (b.min[0].abs() + b.max[0].abs() + t.abs() + 1.0) * 1e-12;
+    [b.min[0] - t - slack, b.max[0] + t + slack]
+}
+
+/// Whether `x` is in the window (never for a NaN).
+fn in_window(x: f64, [lo, hi]: [f64; 2]) -> bool {
+    x >= lo && x <= hi
 }
 
 impl OutlineRow<'_, '_> {
     /// [`Outline::on_boundary`].
     fn on_boundary(&self, p: Point) -> bool {
-        self.touching.iter().any(|&i| {
+        self.touching.iter().any(|&(i, window)| {
             let (a, b, bbox) = &self.outline.edges[i];
-            Outline::gap(p, bbox) <= EPS_M + PASS_OVER_M && point_on_segment(p, *a, *b)
+            in_window(p[0], window)
+                && Outline::gap(p, bbox) <= EPS_M + PASS_OVER_M
+                && point_on_segment(p, *a, *b)
         })
     }
 
@@ -321,6 +355,13 @@ impl OutlineRow<'_, '_> {
         !self.in_bounds
     }
 
+    /// Whether a point of the row at `x` is farther than `reach` (and the margin) from every
+    /// edge along x: then [`OutlineRow::distance_below`] gives back its bound (at most
+    /// `reach`), every edge being passed over, without being asked.
+    pub fn beyond_reach(&self, x: f64) -> bool {
+        self.within_reach.iter().all(|&(_, window)| !in_window(x, window))
+    }
+
     /// [`Outline::distance_below`] for a point of the row.
     pub fn distance_below(&self, p: Point, bound: f64) -> f64 {
         debug_assert!(p[1].to_bits() == self.z.to_bits(), "a point of another row");
@@ -330,9 +371,10 @@ impl OutlineRow<'_, '_> {
         // An edge left out is at least `reach` (and the margin) away along z: the outline's
         // query passes over it too, since its nearest distance never exceeds `bound`.
         let mut nearest = bound;
-        for &i in &self.within_reach {
+        for &(i, window) in &self.within_reach {
             let (a, b, bbox) = &self.outline.edges[i];
-            if Outline::gap(p, bbox) >= nearest + PASS_OVER_M {
+            // Outside the window the gap is at least `reach` (and the margin): passed over.
+            if !in_window(p[0], window) || Outline::gap(p, bbox) >= nearest + PASS_OVER_M {
                 continue;
             }
             nearest = distance_below(p, nearest_on_segment(p, *a, *b), nearest);
@@ -503,19 +545,28 @@ mod tests {
             vec![[0.3, 0.1], [1.1, 4.2], [4.7, 3.3], [3.9, -0.4]],
             vec![[0.0, 0.0], [2.5, 4.0], [5.0, 0.0]],
             vec![[1.0, 1.0], [1.0, 1.6], [1.4, 1.6], [1.4, 1.0]],
+            // Far from the origin, where a rounding error is larger.
+            vec![[1e4, 0.0], [1e4, 4.0], [1e4 + 5.0, 4.0], [1e4 + 5.0, 0.0]],
         ];
         for polygon in &polygons {
             let outline = Outline::new(polygon);
+            let x0 = polygon[0][0].floor() - 0.5;
             for step in [0.05, 0.1, 0.5] {
                 for j in 0..=((6.0 / step) as usize + 2) {
                     let z = -0.5 + j as f64 * step;
                     for reach in [0.0, 0.3, 0.8] {
                         let row = outline.row(z, reach);
                         for i in 0..=((7.0 / step) as usize + 2) {
-                            let p = [-0.5 + i as f64 * step, z];
+                            let p = [x0 + i as f64 * step, z];
                             assert_eq!(row.contains(p), outline.contains(p), "{p:?}");
                             assert_eq!(row.contains_or_on(p), outline.contains_or_on(p));
                             assert!(!row.misses_row() || !outline.contains_or_on(p));
+                            if row.beyond_reach(p[0]) {
+                                for bound in [reach, reach / 2.0] {
+                                    let d = outline.distance_below(p, bound);
+                                    assert_eq!(d.to_bits(), bound.to_bits(), "{p:?} {bound}");
+                                }
+                            }
                             for bound in [reach, reach / 2.0, 1.0] {
                                 let (a, b) = (
                                     row.distance_below(p, bound),
@@ -527,6 +578,38 @@ mod tests {
                     }
                 }
             }
+        }
+    }
+
+    #[test]
+    fn lengths_are_hypots() {
+        let values = [
+            0.0,
+            -0.0,
+            1e-300,
+            5e-324,
+            0.05,
+            -0.3,
+            0.1 + 0.2,
+            4.5,
+            -1e4,
+            1e300,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NAN,
+        ];
+        for a in values {
+            for b in values {
+                let want = a.hypot(b);
+                assert!(length(a, b).to_bits() == want.to_bits() || want.is_nan(), "{a} {b}");
+                assert_eq!(length(a, b).is_nan(), want.is_nan(), "{a} {b}");
+            }
+        }
+        let mut x = 0.123_456_789_f64;
+        for _ in 0..10_000 {
+            x = (x * 7.123 + 0.377).fract() * 10.0 - 5.0;
+            assert_eq!(length(x, 0.0).to_bits(), x.hypot(0.0).to_bits(), "{x}");
+            assert_eq!(length(-0.0, x).to_bits(), (-0.0_f64).hypot(x).to_bits(), "{x}");
         }
     }
 

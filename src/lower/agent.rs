@@ -12,7 +12,6 @@ use crate::check::scene::RoomId;
 use crate::geometry::{self as geo, Aabb, Point};
 use crate::plan::{AgentPose, FloorPlan};
 use crate::solve::{Layout, Rect};
-use std::collections::VecDeque;
 
 /// The agent's radius, metres (AI2-THOR's default agent).
 pub const AGENT_RADIUS_M: f64 = 0.25;
@@ -24,6 +23,19 @@ const STEP_M: f64 = 0.05;
 const ENOUGH_CLEARANCE_M: f64 = 0.8;
 /// A cell this close to a door's opening is where the agent comes in.
 const DOOR_REACH_M: f64 = 0.8;
+
+/// The x range `[lo, hi]` outside which a point is farther than `t` along x from the span
+/// `min_x…max_x` by more than any rounding error (a relative 1e-12 of the numbers involved),
+/// so that tests of nearness may pass it over without measuring.
+fn x_window(min_x: f64, max_x: f64, t: f64) -> [f64; 2] {
+    let slack = (min_x.abs() + max_x.abs() + t.abs() + 1.0) * 1e-12;
+    [min_x - t - slack, max_x + t + slack]
+}
+
+/// Whether `x` is in the window (never for a NaN).
+fn in_window(x: f64, [lo, hi]: [f64; 2]) -> bool {
+    x >= lo && x <= hi
+}
 
 /// The distance from `p` to the rectangle, or `bound` when that is less.
 fn distance_to_rect_below(p: Point, r: &Rect, bound: f64) -> f64 {
@@ -89,9 +101,12 @@ fn free_start(plan: &FloorPlan, layout: &Layout, id: RoomId) -> Option<Point> {
         let walls = outline.row(z, ENOUGH_CLEARANCE_M);
         let boxes: Vec<_> =
             kept_out.iter().map(|b| b.row(z, 0.0)).filter(|b| !b.misses_row()).collect();
-        let near: Vec<&Rect> = footprints
+        // Each with the x range beyond which it is `ENOUGH_CLEARANCE_M` away or more, so leaves
+        // the clearance as it is.
+        let near: Vec<(&Rect, [f64; 2])> = footprints
             .iter()
             .filter(|r| (r.min_z - z).max(0.0).max(z - r.max_z) < ENOUGH_CLEARANCE_M)
+            .map(|r| (r, x_window(r.min_x, r.max_x, ENOUGH_CLEARANCE_M)))
             .collect();
         for i in 0..nx {
             let p = point(i, j);
@@ -101,9 +116,15 @@ fn free_start(plan: &FloorPlan, layout: &Layout, id: RoomId) -> Option<Point> {
             // The distance to the nearest wall or footprint, measured no further than
             // `ENOUGH_CLEARANCE_M`: only whether it reaches the need (less) and how it compares
             // up to that count.
-            let mut nearest = walls.distance_below(p, ENOUGH_CLEARANCE_M);
-            for r in &near {
-                nearest = distance_to_rect_below(p, r, nearest);
+            let mut nearest = if walls.beyond_reach(p[0]) {
+                ENOUGH_CLEARANCE_M
+            } else {
+                walls.distance_below(p, ENOUGH_CLEARANCE_M)
+            };
+            for (r, window) in &near {
+                if in_window(p[0], *window) {
+                    nearest = distance_to_rect_below(p, r, nearest);
+                }
             }
             clearance[j * nx + i] = nearest;
         }
@@ -111,15 +132,18 @@ fn free_start(plan: &FloorPlan, layout: &Layout, id: RoomId) -> Option<Point> {
     let free = |c: usize| clearance[c] >= need;
     // Flood from the free cells next to a door; without a door, every free cell counts.
     let mut reached = vec![false; nx * nz];
-    let mut queue = VecDeque::new();
+    // A first-in first-out queue of cells `(i, j)`: they are taken from `queue[head]` on.
+    let mut queue: Vec<(usize, usize)> = Vec::new();
     let door_reach = DOOR_REACH_M + need;
     for j in 0..nz {
         // A door whose z range is farther from the row than the reach (the nearest point of a
         // door is within its z range but for rounding) reaches no cell of it.
         let z = point(0, j)[1];
-        let near: Vec<&(Point, Point)> = doors
+        // Each with the x range beyond which no cell of the row is within reach of it.
+        let near: Vec<(&(Point, Point), [f64; 2])> = doors
             .iter()
             .filter(|(a, b)| (a[1].min(b[1]) - z).max(z - a[1].max(b[1])) <= door_reach + 1e-9)
+            .map(|d| (d, x_window(d.0[0].min(d.1[0]), d.0[0].max(d.1[0]), door_reach)))
             .collect();
         if near.is_empty() {
             continue;
@@ -128,12 +152,13 @@ fn free_start(plan: &FloorPlan, layout: &Layout, id: RoomId) -> Option<Point> {
             let c = j * nx + i;
             let p = point(i, j);
             if free(c)
-                && near
-                    .iter()
-                    .any(|&&(a, b)| geo::within(p, geo::nearest_on_segment(p, a, b), door_reach))
+                && near.iter().any(|&(&(a, b), window)| {
+                    in_window(p[0], window)
+                        && geo::within(p, geo::nearest_on_segment(p, a, b), door_reach)
+                })
             {
                 reached[c] = true;
-                queue.push_back(c);
+                queue.push((i, j));
             }
         }
     }
@@ -142,24 +167,33 @@ fn free_start(plan: &FloorPlan, layout: &Layout, id: RoomId) -> Option<Point> {
             *r = free(c);
         }
     }
-    while let Some(c) = queue.pop_front() {
-        let (i, j) = (c % nx, c / nx);
-        let next = [
-            (i > 0).then(|| c - 1),
-            (i + 1 < nx).then(|| c + 1),
-            (j > 0).then(|| c - nx),
-            (j + 1 < nz).then(|| c + nx),
-        ];
-        for n in next.into_iter().flatten() {
+    let mut head = 0;
+    while let Some(&(i, j)) = queue.get(head) {
+        head += 1;
+        let mut visit = |i: usize, j: usize| {
+            let n = j * nx + i;
             if !reached[n] && free(n) {
                 reached[n] = true;
-                queue.push_back(n);
+                queue.push((i, j));
             }
+        };
+        if i > 0 {
+            visit(i - 1, j);
+        }
+        if i + 1 < nx {
+            visit(i + 1, j);
+        }
+        if j > 0 {
+            visit(i, j - 1);
+        }
+        if j + 1 < nz {
+            visit(i, j + 1);
         }
     }
     let mut best: Option<(f64, f64, Point)> = None;
-    for c in (0..nx * nz).filter(|&c| reached[c]) {
-        let p = point(c % nx, c / nx);
+    let cells = (0..nz).flat_map(|j| (0..nx).map(move |i| (i, j)));
+    for (i, j) in cells.filter(|&(i, j)| reached[j * nx + i]) {
+        let (c, p) = (j * nx + i, point(i, j));
         let room_around = clearance[c].min(ENOUGH_CLEARANCE_M);
         match best {
             Some((r, _, _)) if room_around > r + 1e-9 => {

@@ -15,7 +15,7 @@ use serde_json::Value;
 use crate::diag::suggest;
 use crate::diag::{Code, Diagnostic, Outcome};
 use crate::geometry::{self as geo, Aabb, Point};
-use crate::resolve::structure::StructureCatalog;
+use crate::resolve::structure::{Material, StructureCatalog};
 use crate::resolve::Catalog;
 use crate::source::{FileId, SourceMap, Span};
 use nalgebra::{Isometry2, Point2, Vector2};
@@ -760,7 +760,7 @@ fn procthor_checks(ctx: &mut Ctx<'_>, value: &Value, catalog: &StructureCatalog)
     for (name, key) in unknown {
         let near = suggest::did_you_mean(&suggest::closest(
             name,
-            catalog.materials.iter().map(|m| m.name.as_str()),
+            catalog.materials.iter().map(Material::name),
         ));
         ctx.push(
             Diagnostic::new(
@@ -778,7 +778,7 @@ fn procthor_checks(ctx: &mut Ctx<'_>, value: &Value, catalog: &StructureCatalog)
         if !catalog.skyboxes.iter().any(|k| k.name == sky) {
             let near = suggest::did_you_mean(&suggest::closest(
                 sky,
-                catalog.skyboxes.iter().map(|k| k.name.as_str()),
+                catalog.skyboxes.iter().map(|k| k.name),
             ));
             ctx.push(
                 Diagnostic::new(

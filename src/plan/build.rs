@@ -18,7 +18,7 @@ use crate::geometry::{
     point_on_segment, rectilinear_intersection_area, right_normal, segment_overlap, segments_touch,
     signed_area, Aabb, Point, EPS_M,
 };
-use crate::resolve::structure::{StructureCatalog, Surface};
+use crate::resolve::structure::{Material, StructureCatalog, Surface};
 use crate::source::Span;
 
 /// Purposes of the seeded random streams, so that adding one choice does not shift the others.
@@ -93,8 +93,8 @@ pub(crate) fn run(
         doors: ctx.doors,
         windows: ctx.windows,
         open_connections: ctx.open,
-        skybox: sky.name.clone(),
-        time_of_day: sky.time_of_day.clone(),
+        skybox: sky.name.to_owned(),
+        time_of_day: sky.time_of_day.to_owned(),
         ceiling_material,
         agent,
     };
@@ -816,8 +816,7 @@ impl Ctx<'_> {
             if let Some(a) = self.catalog.door(&pin.id) {
                 a.clone()
             } else {
-                let names: Vec<&str> =
-                    self.catalog.doors.iter().map(|d| d.asset_id.as_str()).collect();
+                let names: Vec<&str> = self.catalog.doors.iter().map(|d| d.asset_id).collect();
                 self.diags.push(
                     Diagnostic::new(Code::E0313, format!("`{}` is not a door asset", pin.id))
                         .with_primary(pin.span, "not in the door catalog")
@@ -971,7 +970,7 @@ impl Ctx<'_> {
         self.doors.push(PlacedDoor {
             id: format!("door|{}|{}|{}", index, self.thor_name(from), self.thor_name(to)),
             kind,
-            asset_id: asset.asset_id.clone(),
+            asset_id: asset.asset_id.to_owned(),
             room0,
             room1,
             exterior,
@@ -1254,7 +1253,7 @@ impl Ctx<'_> {
                         a.clone()
                     } else {
                         let names: Vec<&str> =
-                            self.catalog.windows.iter().map(|w| w.asset_id.as_str()).collect();
+                            self.catalog.windows.iter().map(|w| w.asset_id).collect();
                         self.diags.push(
                             Diagnostic::new(
                                 Code::E0319,
@@ -1283,7 +1282,7 @@ impl Ctx<'_> {
                 // does, and says what it changed: first a narrower window of the same type (not
                 // for a pinned asset), then as many windows as the wall holds.
                 if asset.hole_m[0] > room_for(n) + EPS_M {
-                    let before = (asset.asset_id.clone(), asset.hole_m[0], n);
+                    let before = (asset.asset_id.to_owned(), asset.hole_m[0], n);
                     let narrower = (row.asset.is_none())
                         .then(|| {
                             self.catalog
@@ -1295,7 +1294,7 @@ impl Ctx<'_> {
                                 .max_by(|a, b| {
                                     a.hole_m[0]
                                         .total_cmp(&b.hole_m[0])
-                                        .then(b.asset_id.cmp(&a.asset_id))
+                                        .then(b.asset_id.cmp(a.asset_id))
                                 })
                                 .cloned()
                         })
@@ -1440,7 +1439,7 @@ impl Ctx<'_> {
                     let _ = WINDOW_BOX_DEPTH_M;
                     self.windows.push(PlacedWindow {
                         id: format!("window|{}|{}", sub.id, k),
-                        asset_id: asset.asset_id.clone(),
+                        asset_id: asset.asset_id.to_owned(),
                         room: room.id,
                         wall0: sub.id.clone(),
                         wall1: sub.exterior_id(),
@@ -1465,7 +1464,7 @@ impl Ctx<'_> {
             if self.catalog.material(&pin.id).is_some() {
                 return pin.id.clone();
             }
-            let names: Vec<&str> = self.catalog.materials.iter().map(|m| m.name.as_str()).collect();
+            let names: Vec<&str> = self.catalog.materials.iter().map(Material::name).collect();
             self.diags.push(
                 Diagnostic::new(Code::E0320, format!("`{}` is not a known material", pin.id))
                     .with_primary(pin.span, "not in the material database")
@@ -1481,9 +1480,9 @@ impl Ctx<'_> {
                 .catalog
                 .rank_materials(design, Surface::Wall)
                 .into_iter()
-                .find(|(m, score)| *score >= 1.0 && fits(&m.name))
+                .find(|(m, score)| *score >= 1.0 && fits(m.name()))
             {
-                return m.name.clone();
+                return m.name().to_owned();
             }
         }
         default_ceiling_material(first_wall.as_deref())
@@ -1505,7 +1504,7 @@ impl Ctx<'_> {
                         pin.id.clone()
                     } else {
                         let names: Vec<&str> =
-                            self.catalog.materials.iter().map(|m| m.name.as_str()).collect();
+                            self.catalog.materials.iter().map(Material::name).collect();
                         self.diags.push(
                             Diagnostic::new(
                                 Code::E0320,
@@ -1525,7 +1524,7 @@ impl Ctx<'_> {
                         let chosen =
                             self.catalog.select_material(&text, surface, &used).map_or_else(
                                 || crate::resolve::structure::EXTERIOR_WALL_MATERIAL.to_owned(),
-                                |m| m.name.clone(),
+                                |m| m.name().to_owned(),
                             );
                         cache.insert(key, chosen.clone());
                         chosen

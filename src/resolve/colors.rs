@@ -8,10 +8,17 @@
 //! modifier changes the colour as [`MODIFIERS`] says. The longest name wins, and the first
 //! colour of the design is the one asked (`blue and white tiles` asks for blue).
 
-use std::collections::BTreeMap;
-use std::sync::OnceLock;
+/// `COLORS`: the names of `data/catalog/colors.tsv` with their colours, sorted by name, made
+/// by `build.rs` (nothing of the file is parsed at run time).
+#[allow(clippy::all, clippy::pedantic, reason = "generated code")]
+mod table {
+    include!(concat!(env!("OUT_DIR"), "/color_table.rs"));
 
-const TABLE: &str = include_str!("../../data/catalog/colors.tsv");
+    /// The colours by name.
+    pub(super) fn all() -> &'static [(&'static str, [f64; 3])] {
+        &COLORS
+    }
+}
 
 /// A colour a design asks for.
 #[derive(Clone, Debug, PartialEq)]
@@ -73,29 +80,15 @@ impl Modifier {
     }
 }
 
-fn table() -> &'static BTreeMap<&'static str, [f64; 3]> {
-    static MAP: OnceLock<BTreeMap<&'static str, [f64; 3]>> = OnceLock::new();
-    MAP.get_or_init(|| {
-        let mut map = BTreeMap::new();
-        for line in TABLE.lines().filter(|l| !l.starts_with('#') && !l.trim().is_empty()) {
-            let f: Vec<&str> = line.split('\t').collect();
-            if f.len() == 4 {
-                let num = |s: &str| s.parse::<f64>().unwrap_or(0.0);
-                map.insert(f[0], [num(f[1]), num(f[2]), num(f[3])]);
-            }
-        }
-        map
-    })
-}
-
 /// The number of names (for the book and the tests).
 pub fn len() -> usize {
-    table().len()
+    table::all().len()
 }
 
 /// The colour of a name of the table (`navy blue`), if it is one.
 pub fn named(name: &str) -> Option<[f64; 3]> {
-    table().get(name).copied()
+    let all = table::all();
+    all.binary_search_by(|(n, _)| n.cmp(&name)).ok().map(|i| all[i].1)
 }
 
 /// The longest run of words a name may have.
@@ -109,11 +102,10 @@ pub fn find(text: &str) -> Option<Color> {
         .filter(|w| !w.is_empty())
         .map(str::to_lowercase)
         .collect();
-    let map = table();
     for start in 0..words.len() {
         let found = (1..=MAX_WORDS.min(words.len() - start)).rev().find_map(|n| {
             let name = words[start..start + n].join(" ");
-            map.get(name.as_str()).map(|rgb| (n, *rgb))
+            named(&name).map(|rgb| (n, rgb))
         });
         let Some((n, mut rgb)) = found else { continue };
         // Modifiers just before the name, nearest first.
@@ -137,6 +129,30 @@ mod tests {
 
     fn close(a: [f64; 3], b: [f64; 3]) -> bool {
         a.iter().zip(b).all(|(x, y)| (x - y).abs() < 1e-6)
+    }
+
+    #[test]
+    fn static_table_is_the_file_read_at_run_time() {
+        // The file read as the run-time reader read it: rows of four fields, a later row of a
+        // name replacing an earlier one, numbers that do not read as 0.
+        let mut map = std::collections::BTreeMap::new();
+        for line in include_str!("../../data/catalog/colors.tsv")
+            .lines()
+            .filter(|l| !l.starts_with('#') && !l.trim().is_empty())
+        {
+            let f: Vec<&str> = line.split('\t').collect();
+            if f.len() == 4 {
+                let num = |s: &str| s.parse::<f64>().unwrap_or(0.0);
+                map.insert(f[0], [num(f[1]), num(f[2]), num(f[3])]);
+            }
+        }
+        assert_eq!(map.len(), len());
+        for ((name, rgb), (static_name, static_rgb)) in map.iter().zip(table::all()) {
+            assert_eq!(name, static_name);
+            assert_eq!(rgb.map(f64::to_bits), static_rgb.map(f64::to_bits), "{name}");
+            assert_eq!(named(name), Some(*rgb));
+        }
+        assert_eq!(named("no such colour"), None);
     }
 
     #[test]

@@ -14,6 +14,7 @@ pub mod colors;
 mod errors;
 mod index;
 pub mod kinds;
+mod material_words;
 pub mod objathor;
 mod placement;
 pub mod receptacles;

@@ -68,6 +68,11 @@ pub struct SolveOptions {
     pub node_budget: u64,
     /// The radius of the agent that must reach every object and all the free floor, metres.
     pub agent_radius_m: f64,
+    /// Whether the rooms of a scene are solved on rayon's threads (the default) or one after
+    /// the other on the calling thread (`holoc batch`, whose jobs are what runs in parallel:
+    /// rayon's workers spin for a while each time they run out of rooms). The layout is the
+    /// same either way.
+    pub rooms_in_parallel: bool,
 }
 
 impl Default for SolveOptions {
@@ -77,6 +82,7 @@ impl Default for SolveOptions {
             seed: 0,
             node_budget: DEFAULT_NODE_BUDGET,
             agent_radius_m: constraints::AGENT_RADIUS_M,
+            rooms_in_parallel: true,
         }
     }
 }

@@ -240,7 +240,8 @@ pub fn solve_by_room(
     }
     let sizes = ResolvedSizes { scene: &kept, resolved };
     // Rooms are solved independently (each with its own seed), on as many threads as rayon
-    // has, and gathered in room order: the output does not depend on the threads. A batch job's
+    // has (a room alone, or every room when `rooms_in_parallel` is off, on the calling
+    // thread), and gathered in room order: the output does not depend on the threads. A batch job's
     // cancellation token goes with its rooms to the threads that solve them.
     let token = crate::cancel::current();
     let solve_one =
@@ -555,11 +556,14 @@ pub fn solve_by_room(
     };
     let head = first.and_then(|id| kept.rooms.iter().find(|r| r.id == id));
     let head = head.map(|room| (room.id, solve_and_report(room)));
-    let mut per_room: Vec<_> = {
+    let rest: Vec<&crate::check::scene::Room> =
+        kept.rooms.iter().filter(|r| head.as_ref().is_none_or(|(id, _)| r.id != *id)).collect();
+    let mut per_room: Vec<_> = if rest.len() < 2 || !options.rooms_in_parallel {
+        // A room alone is solved on the calling thread: a one-room build starts no thread.
+        rest.into_iter().map(|room| (room.id, solve_and_report(room))).collect()
+    } else {
         use rayon::prelude::*;
-        let rest =
-            kept.rooms.par_iter().filter(|r| head.as_ref().is_none_or(|(id, _)| r.id != *id));
-        rest.map(|room| (room.id, solve_and_report(room))).collect()
+        rest.into_par_iter().map(|room| (room.id, solve_and_report(room))).collect()
     };
     // Gathered in room order, whatever order they were solved in.
     per_room.extend(head);
