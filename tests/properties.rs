@@ -110,6 +110,8 @@ fn incremental_equals_whole(
         let whole =
             holoc::compile::analyse(&sources, file, catalog(), holoc::compile::CheckStage::Resolve);
         prop_assert_eq!(format!("{incremental:?}"), format!("{whole:?}"), "version:\n{}", text);
+        // As the language server does when the document changes: the analysis goes back.
+        memo.give_back(incremental, text);
     }
     Ok(memo.counts)
 }
@@ -319,6 +321,18 @@ proptest! {
             let whole = holoc::parse::parse_whole(&sources, file);
             prop_assert_eq!(format!("{:?}", piecewise.value), format!("{:?}", whole.value));
             prop_assert_eq!(format!("{:?}", piecewise.diagnostics), format!("{:?}", whole.diagnostics));
+        }
+        // The tree edited in place through the same versions and back to the first, as the
+        // language server makes it (each tree handed back for the next).
+        let mut cache = holoc::parse::ParseCache::default();
+        for version in [text.as_str(), once.as_str(), twice.as_str(), once.as_str(), text.as_str()] {
+            let mut sources = holoc::source::SourceMap::new();
+            let file = sources.add("t.holo", version);
+            let edited = holoc::parse::parse_edited(&sources, file, &mut cache);
+            let whole = holoc::parse::parse_whole(&sources, file);
+            prop_assert_eq!(format!("{:?}", edited.value), format!("{:?}", whole.value));
+            prop_assert_eq!(format!("{:?}", edited.diagnostics), format!("{:?}", whole.diagnostics));
+            cache.give_back(edited.value, version);
         }
     }
 

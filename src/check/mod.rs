@@ -39,16 +39,19 @@ pub const DEFAULT_SILL_M: f64 = 0.9;
 
 /// Checks a parsed file and builds the typed scene.
 pub fn check(file: &ast::File) -> Outcome<Scene> {
-    let mut checker = Checker { diagnostics: Vec::new(), all_instances: BTreeMap::new() };
+    let mut checker = Checker::new(file);
     let scene = checker.file(file);
     Outcome::new(scene, checker.diagnostics)
 }
 
-struct Checker {
+struct Checker<'a> {
     diagnostics: Vec<Diagnostic>,
+    /// The rooms of the file, from which [`Checker::all_instances`] is made when first needed.
+    rooms: Vec<&'a ast::Room>,
     /// Every object name of every room (instances and groups) → the rooms that declare it, so
-    /// that a reference to an object of another room is named as such.
-    all_instances: BTreeMap<String, Vec<String>>,
+    /// that a reference to an object of another room is named as such. Made on first use (a
+    /// name that does not resolve in its room), so that a valid scene never makes it.
+    all_instances: Option<BTreeMap<String, Vec<String>>>,
 }
 
 /// A declared object group, before expansion.
@@ -67,9 +70,57 @@ struct RoomNames {
     groups: BTreeMap<String, (u32, ObjectId)>,
 }
 
-impl Checker {
+impl<'a> Checker<'a> {
+    fn new(file: &'a ast::File) -> Checker<'a> {
+        // The rooms the scene keeps: not `exterior`, the first of each name.
+        let mut seen = std::collections::BTreeSet::new();
+        let rooms = file
+            .items
+            .iter()
+            .filter_map(|i| match i {
+                ast::Item::Room(room) => Some(room),
+                _ => None,
+            })
+            .filter(|room| room.id.name != "exterior" && seen.insert(room.id.name.as_str()))
+            .collect();
+        Checker { diagnostics: Vec::new(), rooms, all_instances: None }
+    }
+
     fn push(&mut self, d: Diagnostic) {
         self.diagnostics.push(d);
+    }
+
+    /// The rooms that declare an object or instance called `name`.
+    fn rooms_declaring(&mut self, name: &str) -> &[String] {
+        let rooms = &self.rooms;
+        let all = self.all_instances.get_or_insert_with(|| {
+            let mut all: BTreeMap<String, Vec<String>> = BTreeMap::new();
+            for room in rooms {
+                for stmt in &room.body {
+                    if let ast::RoomStmt::Object(o) | ast::RoomStmt::WallObject(o) = stmt {
+                        let n = o
+                            .body
+                            .iter()
+                            .find_map(|s| match s {
+                                ast::ObjectStmt::Count(q, _, _)
+                                    if q.value >= 1.0 && q.value <= f64::from(MAX_GROUP_COUNT) =>
+                                {
+                                    Some(q.value as u32)
+                                }
+                                _ => None,
+                            })
+                            .unwrap_or(1);
+                        let mut names = vec![o.id.name.clone()];
+                        names.extend((0..n).map(|i| format!("{}-{i}", o.id.name)));
+                        for name in names {
+                            all.entry(name).or_default().push(room.id.name.clone());
+                        }
+                    }
+                }
+            }
+            all
+        });
+        all.get(name).map_or(&[], Vec::as_slice)
     }
 
     fn file(&mut self, file: &ast::File) -> Scene {
@@ -126,29 +177,6 @@ impl Checker {
                 }
                 room_ids.insert(room.id.name.clone(), (RoomId(rooms.len()), room.id.span));
                 rooms.push(room);
-            }
-        }
-        for room in &rooms {
-            for stmt in &room.body {
-                if let ast::RoomStmt::Object(o) | ast::RoomStmt::WallObject(o) = stmt {
-                    let n = o
-                        .body
-                        .iter()
-                        .find_map(|s| match s {
-                            ast::ObjectStmt::Count(q, _, _)
-                                if q.value >= 1.0 && q.value <= f64::from(MAX_GROUP_COUNT) =>
-                            {
-                                Some(q.value as u32)
-                            }
-                            _ => None,
-                        })
-                        .unwrap_or(1);
-                    let mut names = vec![o.id.name.clone()];
-                    names.extend((0..n).map(|i| format!("{}-{i}", o.id.name)));
-                    for name in names {
-                        self.all_instances.entry(name).or_default().push(room.id.name.clone());
-                    }
-                }
             }
         }
         for (index, room) in rooms.iter().enumerate() {
@@ -1101,10 +1129,11 @@ impl Checker {
             return None;
         }
         let elsewhere: Vec<String> = self
-            .all_instances
-            .get(name)
-            .map(|rooms| rooms.iter().filter(|r| **r != room.name).cloned().collect())
-            .unwrap_or_default();
+            .rooms_declaring(name)
+            .iter()
+            .filter(|r| **r != room.name)
+            .cloned()
+            .collect();
         if let Some(other) = elsewhere.first() {
             self.push(
                 Diagnostic::new(

@@ -50,12 +50,8 @@ pub struct Shift {
 impl Shift {
     /// The edit between two versions: their common prefix and suffix are unchanged.
     pub fn between(old: &str, new: &str) -> Shift {
-        let (a, b) = (old.as_bytes(), new.as_bytes());
-        let start = a.iter().zip(b).take_while(|(x, y)| x == y).count();
-        let room = a.len().min(b.len()) - start;
-        let suffix =
-            a.iter().rev().zip(b.iter().rev()).take(room).take_while(|(x, y)| x == y).count();
-        Shift { start, old_end: a.len() - suffix, new_end: b.len() - suffix }
+        let (start, old_end, new_end) = crate::source::changed_range(old, new);
+        Shift { start, old_end, new_end }
     }
 
     /// Where an offset of the old version is in the new one; `None` inside the replaced text.
@@ -597,6 +593,13 @@ pub struct Counts {
 }
 
 impl Memo {
+    /// Hands back the analysis of `text` that [`analyse`] made, when the document changes: the
+    /// next analysis is made from it in place where the edit did not touch it.
+    pub fn give_back(&mut self, analysed: Analysed, text: &str) {
+        let Analysed { ast, scene: _, plan: _, resolved: _, diagnostics: _ } = analysed;
+        self.cache.parse.give_back(ast, text);
+    }
+
     /// Forgets every output (the catalog changed): the next analysis runs every stage.
     pub fn forget(&mut self) {
         self.plan = None;
@@ -610,7 +613,7 @@ impl Memo {
 /// reusing what `memo` kept of the previous version where the edit did not touch it.
 pub fn analyse(sources: &SourceMap, file: FileId, catalog: &Catalog, memo: &mut Memo) -> Analysed {
     let text: std::rc::Rc<str> = std::rc::Rc::from(sources.get(file).text.as_str());
-    let parsed = crate::parse::parse_cached(sources, file, &mut memo.cache.parse);
+    let parsed = crate::parse::parse_edited(sources, file, &mut memo.cache.parse);
     let mut analysed = Analysed {
         ast: parsed.value,
         scene: None,
@@ -751,5 +754,12 @@ mod tests {
         let same = Shift::between("aaa", "aaaa");
         assert_eq!(same, Shift { start: 3, old_end: 3, new_end: 4 });
         assert_eq!(Shift::between("", "x"), Shift { start: 0, old_end: 0, new_end: 1 });
+        // Long texts are compared a block at a time: the same answers.
+        let long: String = (0..500).map(|i| char::from(b'a' + (i % 26) as u8)).collect();
+        let edited = format!("{}XY{}", &long[..200], &long[201..]);
+        assert_eq!(Shift::between(&long, &edited), Shift { start: 200, old_end: 201, new_end: 202 });
+        assert_eq!(Shift::between(&long, &long), Shift { start: 500, old_end: 500, new_end: 500 });
+        let doubled = format!("{long}{long}");
+        assert_eq!(Shift::between(&long, &doubled), Shift { start: 500, old_end: 500, new_end: 1000 });
     }
 }
