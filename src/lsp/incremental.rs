@@ -574,8 +574,27 @@ pub struct Memo {
     plan: Option<(std::rc::Rc<str>, PlanInput, Output<FloorPlan>)>,
     /// The last asset resolution, room by room.
     resolve: Option<ResolveMemo>,
+    /// The last check, room by room.
+    check: Option<CheckMemo>,
     /// How often each stage ran and was reused (for the tests and the benchmark).
     pub counts: Counts,
+}
+
+/// The last check: the tree it checked ([`crate::parse::ParseCache::tree_number`]), its scene
+/// (while no analysis holds it), its diagnostics by where they come from, and what tells
+/// whether an edit may be checked room by room.
+#[derive(Debug)]
+struct CheckMemo {
+    tree: u64,
+    scene: Option<Scene>,
+    head: Vec<Diagnostic>,
+    rooms: Vec<crate::check::RoomDiagnostics>,
+    /// Where the tree's `scene` blocks are.
+    scene_blocks: Vec<Span>,
+    /// Whether every room of the tree is a room of the scene (none called `exterior`, no name
+    /// given twice): then the rooms' names and ids stay while the rooms an edit touched keep
+    /// their names.
+    every_room_kept: bool,
 }
 
 /// How often the plan ran and its last output was reused, and how many rooms' asset choices
@@ -590,14 +609,22 @@ pub struct Counts {
     pub rooms_resolved: u64,
     /// Rooms whose resolution was reused.
     pub rooms_reused: u64,
+    /// Rooms checked.
+    pub rooms_checked: u64,
+    /// Rooms whose check was reused.
+    pub rooms_check_reused: u64,
 }
 
 impl Memo {
     /// Hands back the analysis of `text` that [`analyse`] made, when the document changes: the
     /// next analysis is made from it in place where the edit did not touch it.
     pub fn give_back(&mut self, analysed: Analysed, text: &str) {
-        let Analysed { ast, scene: _, plan: _, resolved: _, diagnostics: _ } = analysed;
-        self.cache.parse.give_back(ast, text);
+        let Analysed { ast, scene, plan: _, resolved: _, diagnostics: _ } = analysed;
+        if self.cache.parse.give_back(ast, text) {
+            if let Some(check) = &mut self.check {
+                check.scene = check.scene.take().or(scene);
+            }
+        }
     }
 
     /// Forgets every output (the catalog changed): the next analysis runs every stage.
@@ -623,9 +650,13 @@ pub fn analyse(sources: &SourceMap, file: FileId, catalog: &Catalog, memo: &mut 
     };
     let has_errors = |d: &[Diagnostic]| d.iter().any(Diagnostic::is_error);
     let parse_failed = has_errors(&analysed.diagnostics);
-    let checked = crate::check::check(&analysed.ast);
+    let checked = check(&analysed.ast, memo);
     analysed.diagnostics.extend(checked.diagnostics);
     if parse_failed || has_errors(&analysed.diagnostics) {
+        // Kept for the next version.
+        if let Some(check) = &mut memo.check {
+            check.scene = Some(checked.value);
+        }
         return analysed;
     }
     let scene = checked.value;
@@ -666,6 +697,136 @@ pub fn analyse(sources: &SourceMap, file: FileId, catalog: &Catalog, memo: &mut 
     analysed.resolved = Some(resolved.value);
     analysed.scene = Some(scene);
     analysed
+}
+
+/// Checks the tree, as [`crate::check::check`] does, room by room: when the tree was edited in
+/// place from the one checked last ([`crate::parse::Splice`]), only the rooms of the pieces it
+/// replaced are checked again (and the rooms whose diagnostics read other rooms), provided the
+/// edit touched no `scene` block and left every room's name; the other rooms' checks are kept,
+/// their spans moved and their objects numbered again when a room before them changed how many
+/// it has. The doors are checked again.
+fn check(ast: &crate::ast::File, memo: &mut Memo) -> crate::diag::Outcome<Scene> {
+    let last = memo.check.take();
+    let splice = memo.cache.parse.splice();
+    let in_place = match (last, splice) {
+        (Some(mut last), Some(splice)) if last.tree == splice.from => {
+            check_in_place(ast, &mut last, splice, &mut memo.counts)
+        }
+        _ => None,
+    };
+    let (mut scene, head, rooms) = match in_place {
+        Some(found) => found,
+        None => {
+            let parts = crate::check::check_parts(ast);
+            memo.counts.rooms_checked += parts.rooms.len() as u64;
+            (parts.scene, parts.head, parts.rooms)
+        }
+    };
+    let tail = crate::check::check_tail(ast, &mut scene);
+    let mut diagnostics = head.clone();
+    for room in &rooms {
+        diagnostics.extend(room.diagnostics.iter().cloned());
+    }
+    diagnostics.extend(tail);
+    if let Some(tree) = memo.cache.parse.tree_number() {
+        let scene_blocks = ast
+            .items
+            .iter()
+            .filter_map(|i| match i {
+                crate::ast::Item::Scene(block) => Some(block.span),
+                _ => None,
+            })
+            .collect();
+        let room_items =
+            ast.items.iter().filter(|i| matches!(i, crate::ast::Item::Room(_))).count();
+        memo.check = Some(CheckMemo {
+            tree,
+            scene: None,
+            head,
+            rooms,
+            scene_blocks,
+            every_room_kept: room_items == scene.rooms.len(),
+        });
+    }
+    crate::diag::Outcome::new(scene, diagnostics)
+}
+
+/// The check of an edited tree made from the last one in place (see [`check`]), or `None`.
+fn check_in_place(
+    ast: &crate::ast::File,
+    last: &mut CheckMemo,
+    splice: crate::parse::Splice,
+    counts: &mut Counts,
+) -> Option<(Scene, Vec<Diagnostic>, Vec<crate::check::RoomDiagnostics>)> {
+    if !last.every_room_kept {
+        return None;
+    }
+    let in_old = |span: Span| (splice.start..splice.old_end).contains(&(span.start as usize));
+    let in_new = |span: Span| (splice.start..splice.new_end).contains(&(span.start as usize));
+    if last.scene_blocks.iter().any(|&s| in_old(s)) {
+        return None;
+    }
+    let mut rooms: Vec<&crate::ast::Room> = Vec::new();
+    for item in &ast.items {
+        match item {
+            crate::ast::Item::Scene(block) if in_new(block.span) => return None,
+            crate::ast::Item::Room(room) => rooms.push(room),
+            _ => {}
+        }
+    }
+    let mut scene = last.scene.take()?;
+    if rooms.len() != scene.rooms.len() {
+        return None;
+    }
+    for (room, kept) in rooms.iter().zip(&scene.rooms) {
+        let touched = in_new(room.span);
+        if touched != in_old(kept.decl_span) || touched && room.id.name != kept.name {
+            return None;
+        }
+    }
+    let shift = Shift { start: splice.start, old_end: splice.old_end, new_end: splice.new_end };
+    let mut head = std::mem::take(&mut last.head);
+    if !shift.move_in_place(&mut head) {
+        return None;
+    }
+    let mut diagnostics = std::mem::take(&mut last.rooms);
+    let wall_height_m = scene.wall_height_m;
+    // Where the room's objects start in the scene's list now, and where they started.
+    let (mut first, mut old_first) = (0usize, 0usize);
+    for (r, room) in rooms.iter().enumerate() {
+        let old_count = scene.rooms[r].objects.len();
+        if in_new(room.span) || diagnostics[r].reads_other_rooms {
+            let id = crate::check::RoomId(r);
+            let (checked, objects, own) =
+                crate::check::check_room(ast, room, id, first, wall_height_m);
+            let count = objects.len();
+            let _ = scene.objects.splice(first..first + old_count, objects);
+            scene.rooms[r] = checked;
+            diagnostics[r] = own;
+            first += count;
+            counts.rooms_checked += 1;
+        } else {
+            let kept = &mut scene.rooms[r];
+            let objects = &mut scene.objects[first..first + old_count];
+            if first != old_first {
+                crate::check::renumber_objects(kept, objects, first as isize - old_first as isize);
+            }
+            // A room before the edit does not move; one after it moves unless the length stayed.
+            let moves = kept.decl_span.start as usize >= splice.old_end
+                && splice.old_end != splice.new_end;
+            if moves
+                && !(shift.move_in_place(kept)
+                    && objects.iter_mut().all(|o| shift.move_in_place(o))
+                    && shift.move_in_place(&mut diagnostics[r].diagnostics))
+            {
+                return None;
+            }
+            first += old_count;
+            counts.rooms_check_reused += 1;
+        }
+        old_first += old_count;
+    }
+    Some((scene, head, diagnostics))
 }
 
 /// Resolves the scene's assets room by room, reusing each room's last resolution when its

@@ -47,16 +47,52 @@ pub struct ParseCache {
     /// The last text cut into pieces, with where each piece is in its tree: what
     /// [`parse_edited`] edits in place.
     last: Option<LastCut>,
+    /// How many trees were made by cutting the text into pieces.
+    generation: u64,
+    /// The number ([`ParseCache::generation`]) of the tree the last parse gave, when it was
+    /// cut into pieces.
+    tree: Option<u64>,
+    /// What the last parse, when it edited a tree in place, replaced.
+    splice: Option<Splice>,
+}
+
+/// What [`parse_edited`] replaced in a tree: the items of bytes `start..old_end` of the old
+/// text became those of `start..new_end` of the new one; every item before is the same, every
+/// item after the same but for its spans, moved by the change in length (and whether a blank
+/// line is kept before the first of them).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Splice {
+    /// The number of the tree edited ([`ParseCache::tree_number`] when it was made).
+    pub from: u64,
+    /// Where the pieces replaced start.
+    pub start: usize,
+    /// Where they ended in the old text.
+    pub old_end: usize,
+    /// Where the new ones end in the new text.
+    pub new_end: usize,
 }
 
 impl ParseCache {
+    /// A number for the tree the last parse gave when it was cut into pieces (an edited tree
+    /// gets a new one), `None` when it was parsed whole.
+    pub fn tree_number(&self) -> Option<u64> {
+        self.tree
+    }
+
+    /// What the last parse replaced, when it edited a tree in place.
+    pub fn splice(&self) -> Option<Splice> {
+        self.splice
+    }
+
     /// Hands back the tree [`parse_edited`] made of `text`, for the next version to be made from
-    /// it in place (a tree of another text is dropped).
-    pub fn give_back(&mut self, tree: ast::File, text: &str) {
-        if let Some(last) = &mut self.last {
-            if last.tree.is_none() && last.text == text {
+    /// it in place (a tree of another text is dropped); whether it was taken.
+    pub fn give_back(&mut self, tree: ast::File, text: &str) -> bool {
+        match &mut self.last {
+            Some(last) if last.tree.is_none() && self.tree.is_some() && last.text == text => {
                 last.tree = Some(tree);
+                true
             }
+            _ => false,
         }
     }
 }
@@ -110,6 +146,8 @@ pub fn parse_cached(
     cache: &mut ParseCache,
 ) -> Outcome<ast::File> {
     let text = &sources.get(file).text;
+    cache.tree = None;
+    cache.splice = None;
     if let Some(too_deep) = too_deep(sources, file) {
         return too_deep;
     }
@@ -180,6 +218,8 @@ pub fn parse_cached(
         diagnostics: diagnostics.clone(),
         tree: None,
     });
+    cache.generation += 1;
+    cache.tree = Some(cache.generation);
     Outcome::new(ast::File { items, span: Span::new(file, 0, text.len()) }, diagnostics)
 }
 
@@ -211,8 +251,14 @@ pub fn parse_edited(sources: &SourceMap, file: FileId, cache: &mut ParseCache) -
     let text = &sources.get(file).text;
     if let Some(last) = &mut cache.last {
         if let Some(mut tree) = last.tree.take() {
-            if splice(text, file, last, &mut cache.groups, &mut tree) {
+            if let Some((start, old_end, new_end)) =
+                splice(text, file, last, &mut cache.groups, &mut tree)
+            {
                 let diagnostics = last.diagnostics.clone();
+                let from = cache.generation;
+                cache.generation += 1;
+                cache.tree = Some(cache.generation);
+                cache.splice = Some(Splice { from, start, old_end, new_end });
                 return Outcome::new(tree, diagnostics);
             }
             // Kept for the next version, which may be cut again.
@@ -226,21 +272,23 @@ pub fn parse_edited(sources: &SourceMap, file: FileId, cache: &mut ParseCache) -
 }
 
 /// Edits `tree`, the tree of `last.text`, into the tree of `text` (see [`parse_edited`]), with
-/// `last` then describing `text`; `false` (with nothing changed) when it cannot.
+/// `last` then describing `text`: the bytes of the pieces replaced in the old text and the new
+/// one (`start`, `old_end`, `new_end`), or `None` (with nothing changed) when it cannot.
 fn splice(
     text: &str,
     file: FileId,
     last: &mut LastCut,
     groups: &mut GroupMap,
     tree: &mut ast::File,
-) -> bool {
+) -> Option<(usize, usize, usize)> {
+    let old_len = last.text.len();
     let (start, old_end, new_end) = crate::source::changed_range(&last.text, text);
     if start == old_end && start == new_end {
-        return true;
+        return Some((0, 0, 0));
     }
     let pieces = &last.pieces;
     if pieces.first().is_none_or(|p| p.start != 0) {
-        return false;
+        return None;
     }
     // The piece the edit starts in (a cut at the edit's start may no longer be one: the piece
     // before it is cut again too, unless the edit starts the text).
@@ -252,21 +300,19 @@ fn splice(
         let o = i - new_end + old_end;
         pieces.binary_search_by_key(&o, |p| p.start).ok().filter(|&k| k >= k0)
     };
-    let Some((starts, k1)) = cut_from(text, s0, new_end, resync) else { return false };
+    let (starts, k1) = cut_from(text, s0, new_end, resync)?;
     let region_end = k1.map_or(text.len(), |k| pieces[k].start - old_end + new_end);
+    let old_region_end = k1.map_or(old_len, |k| pieces[k].start);
     let k1 = k1.unwrap_or(pieces.len());
     if first_too_deep(&text[s0..region_end]).is_some() {
-        return false;
+        return None;
     }
     // Parse the new pieces before anything is changed.
     let mut used = GroupMap::default();
     let mut chunks = Vec::with_capacity(starts.len());
     for (k, &at) in starts.iter().enumerate() {
         let end = starts.get(k + 1).copied().unwrap_or(region_end);
-        match parse_piece_cached(&text[at..end], groups, &mut used) {
-            Some(chunk) => chunks.push((at, chunk)),
-            None => return false,
-        }
+        chunks.push((at, parse_piece_cached(&text[at..end], groups, &mut used)?));
     }
     let delta = new_end as i64 - old_end as i64;
     let i0: usize = pieces[..k0].iter().map(|p| p.items).sum();
@@ -349,7 +395,7 @@ fn splice(
     }
     tree.span = Span::new(file, 0, text.len());
     last.text = text.to_string();
-    true
+    Some((s0, old_region_end, region_end))
 }
 
 fn item_span(item: &ast::Item) -> Span {
