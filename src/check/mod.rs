@@ -1248,12 +1248,8 @@ impl<'a> Checker<'a> {
             );
             return None;
         }
-        let elsewhere: Vec<String> = self
-            .rooms_declaring(name)
-            .iter()
-            .filter(|r| **r != room.name)
-            .cloned()
-            .collect();
+        let elsewhere: Vec<String> =
+            self.rooms_declaring(name).iter().filter(|r| **r != room.name).cloned().collect();
         if let Some(other) = elsewhere.first() {
             self.push(
                 Diagnostic::new(

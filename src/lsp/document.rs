@@ -128,8 +128,9 @@ pub struct Analysis {
     pub file: FileId,
     /// The stages' products and diagnostics.
     pub analysed: Analysed,
-    /// Declarations and references.
-    pub index: Index,
+    /// Declarations and references, made when first asked for (a keystroke's diagnostics do
+    /// not need them).
+    index: std::cell::OnceCell<Index>,
     /// The document's URI, as the editor gave it.
     pub uri: Option<lsp_types::Uri>,
 }
@@ -148,8 +149,12 @@ impl Analysis {
         let file = sources.add(name, text);
         let mut analysed = super::incremental::analyse(&sources, file, catalog, memo);
         crate::diag::sort(&mut analysed.diagnostics);
-        let index = Index::new(&analysed.ast);
-        Analysis { sources, file, analysed, index, uri }
+        Analysis { sources, file, analysed, index: std::cell::OnceCell::new(), uri }
+    }
+
+    /// Every room and object group, where each is declared and named.
+    pub fn index(&self) -> &Index {
+        self.index.get_or_init(|| Index::new(&self.analysed.ast))
     }
 
     /// The source file.

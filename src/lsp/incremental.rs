@@ -552,6 +552,8 @@ impl Spans for RoomInput {
 struct RoomRun {
     input: RoomInput,
     output: RoomResolution,
+    /// The room's objects' ids when it ran ([`crate::check::Room::objects`]).
+    ids: Vec<crate::check::ObjectId>,
 }
 
 /// The last asset resolution: the text and seed it was made for, and each room's run in the
@@ -561,6 +563,8 @@ struct ResolveMemo {
     made_for: std::rc::Rc<str>,
     seed: u64,
     rooms: Vec<(String, RoomRun)>,
+    /// The rooms' results put together (`None` while an analysis holds them).
+    resolved: Option<Resolved>,
 }
 
 /// What the analyses of earlier versions of a document leave for the next: the parse cache
@@ -571,7 +575,8 @@ pub struct Memo {
     /// Parsed items and asset rankings.
     pub cache: AnalysisCache,
     /// The last plan: the text it was made for, its input and its output.
-    plan: Option<(std::rc::Rc<str>, PlanInput, Output<FloorPlan>)>,
+    /// (The plan is `None` while an analysis holds it.)
+    plan: Option<(std::rc::Rc<str>, PlanInput, Output<Option<FloorPlan>>)>,
     /// The last asset resolution, room by room.
     resolve: Option<ResolveMemo>,
     /// The last check, room by room.
@@ -619,7 +624,17 @@ impl Memo {
     /// Hands back the analysis of `text` that [`analyse`] made, when the document changes: the
     /// next analysis is made from it in place where the edit did not touch it.
     pub fn give_back(&mut self, analysed: Analysed, text: &str) {
-        let Analysed { ast, scene, plan: _, resolved: _, diagnostics: _ } = analysed;
+        let Analysed { ast, scene, plan, resolved, diagnostics: _ } = analysed;
+        if let Some(last) = &mut self.resolve {
+            if last.resolved.is_none() && last.made_for.as_ref() == text {
+                last.resolved = resolved;
+            }
+        }
+        if let Some((made_for, _, output)) = &mut self.plan {
+            if output.value.is_none() && made_for.as_ref() == text {
+                output.value = plan;
+            }
+        }
         if self.cache.parse.give_back(ast, text) {
             if let Some(check) = &mut self.check {
                 check.scene = check.scene.take().or(scene);
@@ -663,12 +678,15 @@ pub fn analyse(sources: &SourceMap, file: FileId, catalog: &Catalog, memo: &mut 
 
     let reused = memo.plan.take().and_then(|(made_for, mut before, mut output)| {
         let shift = Shift::between(&made_for, &text);
-        (shift.move_in_place(&mut before)
+        // The plan itself is needed only when it has no error (else the analysis stops there).
+        let usable = output.value.is_some() || has_errors(&output.diagnostics);
+        (usable
+            && shift.move_in_place(&mut before)
             && before.is_of(&scene)
             && shift.move_in_place(&mut output))
         .then_some((before, output))
     });
-    let (input, planned) = match reused {
+    let (input, mut planned) = match reused {
         Some((input, output)) => {
             memo.counts.plans_reused += 1;
             debug_assert!(input == PlanInput::of(&scene), "an input compared in place");
@@ -680,17 +698,19 @@ pub fn analyse(sources: &SourceMap, file: FileId, catalog: &Catalog, memo: &mut 
                 crate::plan::plan_with(&scene, StructureCatalog::builtin(), PlanOptions::default());
             (
                 PlanInput::of(&scene),
-                Output { value: planned.value, diagnostics: planned.diagnostics },
+                Output { value: Some(planned.value), diagnostics: planned.diagnostics },
             )
         }
     };
-    memo.plan = Some((std::rc::Rc::clone(&text), input, planned.clone()));
-    analysed.diagnostics.extend(planned.diagnostics);
+    analysed.diagnostics.extend(planned.diagnostics.iter().cloned());
     if has_errors(&analysed.diagnostics) {
+        memo.plan = Some((std::rc::Rc::clone(&text), input, planned));
         analysed.scene = Some(scene);
         return analysed;
     }
-    analysed.plan = Some(planned.value);
+    // The analysis holds the plan until it is handed back.
+    analysed.plan = planned.value.take();
+    memo.plan = Some((std::rc::Rc::clone(&text), input, planned));
 
     let resolved = resolve_rooms(&scene, &text, catalog, memo);
     analysed.diagnostics.extend(resolved.diagnostics);
@@ -812,8 +832,8 @@ fn check_in_place(
                 crate::check::renumber_objects(kept, objects, first as isize - old_first as isize);
             }
             // A room before the edit does not move; one after it moves unless the length stayed.
-            let moves = kept.decl_span.start as usize >= splice.old_end
-                && splice.old_end != splice.new_end;
+            let moves =
+                kept.decl_span.start as usize >= splice.old_end && splice.old_end != splice.new_end;
             if moves
                 && !(shift.move_in_place(kept)
                     && objects.iter_mut().all(|o| shift.move_in_place(o))
@@ -838,12 +858,13 @@ fn resolve_rooms(
     catalog: &Catalog,
     memo: &mut Memo,
 ) -> crate::diag::Outcome<Resolved> {
-    let (shift, old) = match memo.resolve.take() {
+    let (shift, old, last_resolved) = match memo.resolve.take() {
         Some(last) if last.seed == scene.seed => {
-            (Some(Shift::between(&last.made_for, text)), last.rooms)
+            (Some(Shift::between(&last.made_for, text)), last.rooms, last.resolved)
         }
-        _ => (None, Vec::new()),
+        _ => (None, Vec::new(), None),
     };
+    let same_rooms = old.len() == scene.rooms.len();
     let (names, mut old): (Vec<String>, Vec<Option<RoomRun>>) =
         old.into_iter().map(|(name, run)| (name, Some(run))).unzip();
     let by_name: rustc_hash::FxHashMap<&str, usize> =
@@ -852,6 +873,10 @@ fn resolve_rooms(
     let mut resolver =
         crate::resolve::Resolver::new(catalog, scene.seed, &options, &mut memo.cache.ranks);
     let mut runs: Vec<(String, RoomRun)> = Vec::with_capacity(scene.rooms.len());
+    // The rooms whose entries of the last result must be made again, and the object ids those
+    // entries had.
+    let mut again: Vec<usize> = Vec::new();
+    let mut gone: Vec<Vec<crate::check::ObjectId>> = Vec::new();
     // While every room so far is the one at its place last time and uses the same assets, the
     // rooms before the next one use what they used then: its answers hold without asking.
     let mut in_step = shift.is_some();
@@ -877,13 +902,22 @@ fn resolve_rooms(
                     run.input == RoomInput::of(scene, room),
                     "an input compared in place"
                 );
+                // Its entries of the last result hold if its objects and place are the same.
+                if place != Some(k) || run.ids != room.objects {
+                    gone.push(run.ids.clone());
+                    again.push(k);
+                }
                 run
             }
             run => {
                 memo.counts.rooms_resolved += 1;
                 let output = resolver.room(scene, room);
+                if let Some(run) = &run {
+                    gone.push(run.ids.clone());
+                }
+                again.push(k);
                 in_step &= run.is_some_and(|run| output.writes == run.output.writes);
-                RoomRun { input: RoomInput::of(scene, room), output }
+                RoomRun { input: RoomInput::of(scene, room), output, ids: room.objects.clone() }
             }
         };
         let output = &run.output;
@@ -893,10 +927,73 @@ fn resolve_rooms(
     // The rooms no longer there let go of their rankings before the cache keeps what rooms hold.
     drop(old);
     resolver.finish(&mut memo.cache.ranks);
-    let resolved = crate::resolve::assemble(scene, runs.iter().map(|(_, run)| &run.output));
-    memo.resolve =
-        Some(ResolveMemo { made_for: std::rc::Rc::clone(text), seed: scene.seed, rooms: runs });
+    let resolved = match last_resolved {
+        Some(last) if same_rooms && last.objects.len() == scene.objects.len() => {
+            assemble_in_place(last, scene, &runs, &again, &gone)
+        }
+        _ => crate::resolve::assemble(scene, runs.iter().map(|(_, run)| &run.output)),
+    };
+    memo.resolve = Some(ResolveMemo {
+        made_for: std::rc::Rc::clone(text),
+        seed: scene.seed,
+        rooms: runs,
+        resolved: None,
+    });
     resolved
+}
+
+/// What [`crate::resolve::assemble`] makes of the rooms' runs, made from the last result:
+/// the entries of the rooms `again` made again (those of the object ids `gone` had removed
+/// first), every other room's kept. The diagnostics are every room's, in order.
+fn assemble_in_place(
+    mut resolved: Resolved,
+    scene: &Scene,
+    runs: &[(String, RoomRun)],
+    again: &[usize],
+    gone: &[Vec<crate::check::ObjectId>],
+) -> crate::diag::Outcome<Resolved> {
+    let forget = |resolved: &mut Resolved, id: crate::check::ObjectId| {
+        let keys: Vec<(crate::check::ObjectId, usize)> =
+            resolved.small.range((id, 0)..=(id, usize::MAX)).map(|(key, _)| *key).collect();
+        for key in keys {
+            resolved.small.remove(&key);
+        }
+    };
+    for ids in gone {
+        for &id in ids {
+            forget(&mut resolved, id);
+        }
+    }
+    for &k in again {
+        let room = &scene.rooms[k];
+        resolved.ceilings.remove(&room.id);
+        resolved.ceiling_lights.remove(&room.id);
+        for &id in &room.objects {
+            forget(&mut resolved, id);
+        }
+    }
+    for &k in again {
+        let (room, done) = (&scene.rooms[k], &runs[k].1.output);
+        for (&id, res) in room.objects.iter().zip(&done.objects) {
+            if let Some(slot) = resolved.objects.get_mut(id.0) {
+                slot.clone_from(res);
+            }
+        }
+        for ((i, k), list) in &done.small {
+            if let Some(&id) = room.objects.get(*i) {
+                resolved.small.insert((id, *k), list.clone());
+            }
+        }
+        if let Some(light) = &done.ceiling_light {
+            resolved.ceiling_lights.insert(room.id, light.clone());
+        }
+        if let Some(res) = &done.ceiling {
+            resolved.ceilings.insert(room.id, res.clone());
+        }
+    }
+    let diagnostics =
+        runs.iter().flat_map(|(_, run)| run.output.diagnostics.iter().cloned()).collect();
+    crate::diag::Outcome::new(resolved, diagnostics)
 }
 
 #[cfg(test)]
@@ -918,9 +1015,15 @@ mod tests {
         // Long texts are compared a block at a time: the same answers.
         let long: String = (0..500).map(|i| char::from(b'a' + (i % 26) as u8)).collect();
         let edited = format!("{}XY{}", &long[..200], &long[201..]);
-        assert_eq!(Shift::between(&long, &edited), Shift { start: 200, old_end: 201, new_end: 202 });
+        assert_eq!(
+            Shift::between(&long, &edited),
+            Shift { start: 200, old_end: 201, new_end: 202 }
+        );
         assert_eq!(Shift::between(&long, &long), Shift { start: 500, old_end: 500, new_end: 500 });
         let doubled = format!("{long}{long}");
-        assert_eq!(Shift::between(&long, &doubled), Shift { start: 500, old_end: 500, new_end: 1000 });
+        assert_eq!(
+            Shift::between(&long, &doubled),
+            Shift { start: 500, old_end: 500, new_end: 1000 }
+        );
     }
 }

@@ -212,12 +212,8 @@ pub fn parse_cached(
     // Only what the text still holds is kept.
     cache.chunks = used;
     cache.groups = used_groups;
-    cache.last = Some(LastCut {
-        text: text.clone(),
-        pieces,
-        diagnostics: diagnostics.clone(),
-        tree: None,
-    });
+    cache.last =
+        Some(LastCut { text: text.clone(), pieces, diagnostics: diagnostics.clone(), tree: None });
     cache.generation += 1;
     cache.tree = Some(cache.generation);
     Outcome::new(ast::File { items, span: Span::new(file, 0, text.len()) }, diagnostics)
@@ -247,7 +243,11 @@ fn blank_before(
 /// Where that cannot be done (no tree handed back, a cut that is not safe, a piece that does not
 /// parse alone, braces too deep) it parses as [`parse_cached`] does, and it keeps no whole copy
 /// of the pieces between versions (the statement groups of rooms are kept by text).
-pub fn parse_edited(sources: &SourceMap, file: FileId, cache: &mut ParseCache) -> Outcome<ast::File> {
+pub fn parse_edited(
+    sources: &SourceMap,
+    file: FileId,
+    cache: &mut ParseCache,
+) -> Outcome<ast::File> {
     let text = &sources.get(file).text;
     if let Some(last) = &mut cache.last {
         if let Some(mut tree) = last.tree.take() {
