@@ -110,6 +110,8 @@ fn incremental_equals_whole(
         let whole =
             holoc::compile::analyse(&sources, file, catalog(), holoc::compile::CheckStage::Resolve);
         prop_assert_eq!(format!("{incremental:?}"), format!("{whole:?}"), "version:\n{}", text);
+        // As the language server does when the document changes: the analysis goes back.
+        memo.give_back(incremental, text);
     }
     Ok(memo.counts)
 }
@@ -227,6 +229,8 @@ fn typing_in_one_room_resolves_that_room_and_keeps_the_others() {
     versions.push(mutate(&text, last, 0, "x"));
     let counts = incremental_equals_whole(&versions).expect("the same analyses");
     assert_eq!((counts.rooms_resolved, counts.rooms_reused), (4 + 1, 3), "{counts:?}");
+    // The checker, too, checks again that room alone.
+    assert_eq!((counts.rooms_checked, counts.rooms_check_reused), (4 + 1, 3), "{counts:?}");
     let first = text.find("describe \"").expect("a description") + 10;
     let edited = mutate(&text, first, 0, "velvet ");
     let counts = incremental_equals_whole(&[text, edited]).expect("the same analyses");
@@ -320,6 +324,18 @@ proptest! {
             prop_assert_eq!(format!("{:?}", piecewise.value), format!("{:?}", whole.value));
             prop_assert_eq!(format!("{:?}", piecewise.diagnostics), format!("{:?}", whole.diagnostics));
         }
+        // The tree edited in place through the same versions and back to the first, as the
+        // language server makes it (each tree handed back for the next).
+        let mut cache = holoc::parse::ParseCache::default();
+        for version in [text.as_str(), once.as_str(), twice.as_str(), once.as_str(), text.as_str()] {
+            let mut sources = holoc::source::SourceMap::new();
+            let file = sources.add("t.holo", version);
+            let edited = holoc::parse::parse_edited(&sources, file, &mut cache);
+            let whole = holoc::parse::parse_whole(&sources, file);
+            prop_assert_eq!(format!("{:?}", edited.value), format!("{:?}", whole.value));
+            prop_assert_eq!(format!("{:?}", edited.diagnostics), format!("{:?}", whole.diagnostics));
+            cache.give_back(edited.value, version);
+        }
     }
 
     #[test]
@@ -337,6 +353,40 @@ proptest! {
         // Edits inside the descriptions, sizes and names of rooms that avoid each other's
         // assets: a choice changed in one room changes what the rooms after it read.
         let versions = typed_versions(competing_rooms(rooms), &edits);
+        incremental_equals_whole(&versions)?;
+    }
+
+    #[test]
+    fn incremental_analysis_through_lines_added_and_removed_equals_whole_analysis(rooms in 2usize..5, edits in proptest::collection::vec((0usize..200, 0usize..12), 1..8)) {
+        // Whole lines put in or taken out, as a user adds objects, counts, relations (some to
+        // names of no room, or of another room), rooms, doors and scene settings: rooms change
+        // how many objects they have, names resolve elsewhere, rooms come and go.
+        let snippets = [
+            "  object extra \"chair\" {\n    near o0-0\n    edge\n  }\n",
+            "    count 3\n",
+            "    near zz-0\n",
+            "    near o1-0\n",
+            "    near extra-0\n",
+            "  ceiling \"round ceiling light\"\n",
+            "door r0 -- r1 : open\n",
+            "scene \"again\" {\n  wall height 3 m\n}\n",
+            "room extra \"extra\" {\n  corners in m (0, 4) (0, 8) (4, 8) (4, 4)\n}\n",
+            "// a comment\n\n",
+        ];
+        let mut current = competing_rooms(rooms);
+        let mut versions = vec![current.clone()];
+        for (nth, kind) in edits {
+            let at = after_nth(&current, b"\n", nth);
+            current = match snippets.get(kind) {
+                Some(snippet) => mutate(&current, at, 0, snippet),
+                // Take the line out.
+                None => {
+                    let end = current[at..].find('\n').map_or(current.len(), |n| at + n + 1);
+                    mutate(&current, at, end - at, "")
+                }
+            };
+            versions.push(current.clone());
+        }
         incremental_equals_whole(&versions)?;
     }
 

@@ -39,16 +39,125 @@ pub const DEFAULT_SILL_M: f64 = 0.9;
 
 /// Checks a parsed file and builds the typed scene.
 pub fn check(file: &ast::File) -> Outcome<Scene> {
-    let mut checker = Checker { diagnostics: Vec::new(), all_instances: BTreeMap::new() };
-    let scene = checker.file(file);
-    Outcome::new(scene, checker.diagnostics)
+    let parts = check_parts(file);
+    let mut diagnostics = parts.head;
+    for room in parts.rooms {
+        diagnostics.extend(room.diagnostics);
+    }
+    diagnostics.extend(parts.tail);
+    Outcome::new(parts.scene, diagnostics)
 }
 
-struct Checker {
+/// What [`check`] makes of a file, its diagnostics by where they come from (in that order, they
+/// are `check`'s): what the language server keeps to check again only the rooms an edit touched.
+#[derive(Debug)]
+pub struct CheckParts {
+    /// The scene.
+    pub scene: Scene,
+    /// The diagnostics of the `scene` blocks and of the rooms' names.
+    pub head: Vec<Diagnostic>,
+    /// Each room of the scene's own, in the scene's order.
+    pub rooms: Vec<RoomDiagnostics>,
+    /// The doors' and the scene's as a whole (no room).
+    pub tail: Vec<Diagnostic>,
+}
+
+/// A room's own diagnostics.
+#[derive(Clone, Debug)]
+pub struct RoomDiagnostics {
+    /// The diagnostics, in the order [`check`] gives them.
+    pub diagnostics: Vec<Diagnostic>,
+    /// Whether they read the other rooms (a name that does not resolve in its room is looked
+    /// for in every room): then they hold only as long as no room changes.
+    pub reads_other_rooms: bool,
+}
+
+/// [`check`], with its diagnostics by where they come from.
+pub fn check_parts(file: &ast::File) -> CheckParts {
+    let mut checker = Checker::new(file);
+    checker.file(file)
+}
+
+/// Checks room `room` of `file` alone, as [`check`] checks it when it is the scene's room `id`,
+/// its objects numbered from `first_object`, in a scene whose walls are `wall_height_m` high:
+/// the room, its objects in order and its diagnostics.
+pub fn check_room(
+    file: &ast::File,
+    room: &ast::Room,
+    id: RoomId,
+    first_object: usize,
+    wall_height_m: f64,
+) -> (Room, Vec<Object>, RoomDiagnostics) {
+    let mut checker = Checker::new(file);
+    let mut scene = Scene {
+        request: None,
+        wall_height_m,
+        seed: 0,
+        rooms: Vec::new(),
+        doors: Vec::new(),
+        objects: Vec::new(),
+        ceiling_material: None,
+        ceiling_design: None,
+    };
+    let mut checked = checker.room(room, id, &mut scene);
+    let mut objects = scene.objects;
+    if first_object != 0 {
+        renumber_objects(&mut checked, &mut objects, first_object as isize);
+    }
+    let diagnostics = RoomDiagnostics {
+        diagnostics: checker.diagnostics,
+        reads_other_rooms: checker.read_other_rooms,
+    };
+    (checked, objects, diagnostics)
+}
+
+/// Checks the doors of `file` against the rooms of `scene` (its doors made again) and whether it
+/// has a room, as [`check`] does after the rooms; their diagnostics.
+pub fn check_tail(file: &ast::File, scene: &mut Scene) -> Vec<Diagnostic> {
+    let mut checker = Checker::new(file);
+    scene.doors.clear();
+    checker.tail(file, scene);
+    checker.diagnostics
+}
+
+/// Moves the ids of a room's objects by `by` (its objects come `by` places later in the scene's
+/// list): the room's list, each object's id, its relations' targets and the object it hangs
+/// above, and the ceiling object's.
+pub fn renumber_objects(room: &mut Room, objects: &mut [Object], by: isize) {
+    let moved = |id: &mut ObjectId| id.0 = id.0.wrapping_add_signed(by);
+    for id in &mut room.objects {
+        moved(id);
+    }
+    if let Some((id, _)) = room.ceiling.as_mut().and_then(|c| c.above.as_mut()) {
+        moved(id);
+    }
+    for object in objects {
+        moved(&mut object.id);
+        match &mut object.placement {
+            Placement::Floor { global: _, constraints } => {
+                for c in constraints {
+                    moved(&mut c.target);
+                }
+            }
+            Placement::Wall { above, height_m: _ } => {
+                if let Some((id, _)) = above {
+                    moved(id);
+                }
+            }
+        }
+    }
+}
+
+struct Checker<'a> {
     diagnostics: Vec<Diagnostic>,
+    /// The file, whose rooms [`Checker::all_instances`] is made from when first needed.
+    file: &'a ast::File,
     /// Every object name of every room (instances and groups) → the rooms that declare it, so
-    /// that a reference to an object of another room is named as such.
-    all_instances: BTreeMap<String, Vec<String>>,
+    /// that a reference to an object of another room is named as such. Made on first use (a
+    /// name that does not resolve in its room), so that a valid scene never makes it.
+    all_instances: Option<BTreeMap<String, Vec<String>>>,
+    /// Whether the room being checked read [`Checker::all_instances`].
+    read_other_rooms: bool,
 }
 
 /// A declared object group, before expansion.
@@ -67,12 +176,60 @@ struct RoomNames {
     groups: BTreeMap<String, (u32, ObjectId)>,
 }
 
-impl Checker {
+impl<'a> Checker<'a> {
+    fn new(file: &'a ast::File) -> Checker<'a> {
+        Checker { diagnostics: Vec::new(), file, all_instances: None, read_other_rooms: false }
+    }
+
     fn push(&mut self, d: Diagnostic) {
         self.diagnostics.push(d);
     }
 
-    fn file(&mut self, file: &ast::File) -> Scene {
+    /// The rooms that declare an object or instance called `name`.
+    fn rooms_declaring(&mut self, name: &str) -> &[String] {
+        let file = self.file;
+        self.read_other_rooms = true;
+        let all = self.all_instances.get_or_insert_with(|| {
+            // The rooms the scene keeps: not `exterior`, the first of each name.
+            let mut seen = std::collections::BTreeSet::new();
+            let rooms = file
+                .items
+                .iter()
+                .filter_map(|i| match i {
+                    ast::Item::Room(room) => Some(room),
+                    _ => None,
+                })
+                .filter(|room| room.id.name != "exterior" && seen.insert(room.id.name.as_str()));
+            let mut all: BTreeMap<String, Vec<String>> = BTreeMap::new();
+            for room in rooms {
+                for stmt in &room.body {
+                    if let ast::RoomStmt::Object(o) | ast::RoomStmt::WallObject(o) = stmt {
+                        let n = o
+                            .body
+                            .iter()
+                            .find_map(|s| match s {
+                                ast::ObjectStmt::Count(q, _, _)
+                                    if q.value >= 1.0 && q.value <= f64::from(MAX_GROUP_COUNT) =>
+                                {
+                                    Some(q.value as u32)
+                                }
+                                _ => None,
+                            })
+                            .unwrap_or(1);
+                        let mut names = vec![o.id.name.clone()];
+                        names.extend((0..n).map(|i| format!("{}-{i}", o.id.name)));
+                        for name in names {
+                            all.entry(name).or_default().push(room.id.name.clone());
+                        }
+                    }
+                }
+            }
+            all
+        });
+        all.get(name).map_or(&[], Vec::as_slice)
+    }
+
+    fn file(&mut self, file: &ast::File) -> CheckParts {
         let mut scene = Scene {
             request: None,
             wall_height_m: DEFAULT_WALL_HEIGHT_M,
@@ -128,35 +285,27 @@ impl Checker {
                 rooms.push(room);
             }
         }
-        for room in &rooms {
-            for stmt in &room.body {
-                if let ast::RoomStmt::Object(o) | ast::RoomStmt::WallObject(o) = stmt {
-                    let n = o
-                        .body
-                        .iter()
-                        .find_map(|s| match s {
-                            ast::ObjectStmt::Count(q, _, _)
-                                if q.value >= 1.0 && q.value <= f64::from(MAX_GROUP_COUNT) =>
-                            {
-                                Some(q.value as u32)
-                            }
-                            _ => None,
-                        })
-                        .unwrap_or(1);
-                    let mut names = vec![o.id.name.clone()];
-                    names.extend((0..n).map(|i| format!("{}-{i}", o.id.name)));
-                    for name in names {
-                        self.all_instances.entry(name).or_default().push(room.id.name.clone());
-                    }
-                }
-            }
-        }
+        let head = std::mem::take(&mut self.diagnostics);
+        let mut room_diagnostics = Vec::with_capacity(rooms.len());
         for (index, room) in rooms.iter().enumerate() {
+            self.read_other_rooms = false;
             let checked = self.room(room, RoomId(index), &mut scene);
             scene.rooms.push(checked);
+            room_diagnostics.push(RoomDiagnostics {
+                diagnostics: std::mem::take(&mut self.diagnostics),
+                reads_other_rooms: self.read_other_rooms,
+            });
         }
-        // Cross-room reference checks need every room's names.
-        self.doors(file, &room_ids, &mut scene);
+        self.tail(file, &mut scene);
+        let tail = std::mem::take(&mut self.diagnostics);
+        CheckParts { scene, head, rooms: room_diagnostics, tail }
+    }
+
+    /// The doors (cross-room references need every room's names) and whether there is a room.
+    fn tail(&mut self, file: &ast::File, scene: &mut Scene) {
+        let room_ids: BTreeMap<String, (RoomId, Span)> =
+            scene.rooms.iter().map(|r| (r.name.clone(), (r.id, r.name_span))).collect();
+        self.doors(file, &room_ids, scene);
         let has_bad_line = file.items.iter().any(|i| matches!(i, ast::Item::Error(_)));
         if scene.rooms.is_empty() && !has_bad_line {
             let span = file.span;
@@ -166,7 +315,6 @@ impl Checker {
                     .with_help("add a room, e.g. `room bedroom \"bedroom\" { corners in m (0, 0) (0, 4) (4, 4) (4, 0) }`"),
             );
         }
-        scene
     }
 
     fn scene_block(&mut self, block: &ast::SceneBlock, scene: &mut Scene) {
@@ -1100,11 +1248,8 @@ impl Checker {
             );
             return None;
         }
-        let elsewhere: Vec<String> = self
-            .all_instances
-            .get(name)
-            .map(|rooms| rooms.iter().filter(|r| **r != room.name).cloned().collect())
-            .unwrap_or_default();
+        let elsewhere: Vec<String> =
+            self.rooms_declaring(name).iter().filter(|r| **r != room.name).cloned().collect();
         if let Some(other) = elsewhere.first() {
             self.push(
                 Diagnostic::new(

@@ -128,8 +128,9 @@ pub struct Analysis {
     pub file: FileId,
     /// The stages' products and diagnostics.
     pub analysed: Analysed,
-    /// Declarations and references.
-    pub index: Index,
+    /// Declarations and references, made when first asked for (a keystroke's diagnostics do
+    /// not need them).
+    index: std::cell::OnceCell<Index>,
     /// The document's URI, as the editor gave it.
     pub uri: Option<lsp_types::Uri>,
 }
@@ -148,8 +149,12 @@ impl Analysis {
         let file = sources.add(name, text);
         let mut analysed = super::incremental::analyse(&sources, file, catalog, memo);
         crate::diag::sort(&mut analysed.diagnostics);
-        let index = Index::new(&analysed.ast);
-        Analysis { sources, file, analysed, index, uri }
+        Analysis { sources, file, analysed, index: std::cell::OnceCell::new(), uri }
+    }
+
+    /// Every room and object group, where each is declared and named.
+    pub fn index(&self) -> &Index {
+        self.index.get_or_init(|| Index::new(&self.analysed.ast))
     }
 
     /// The source file.
@@ -233,13 +238,27 @@ impl Document {
                 self.text = text;
             }
         }
-        // The old analysis (a whole tree, scene and asset choices) is freed off the thread
-        // that answers the editor.
-        if let Some(old) = self.analysis.take() {
-            discard(old);
-        }
+        // The old analysis goes back to the memo, from which the next one is made in place
+        // (what it does not take is freed off the thread that answers the editor).
+        self.give_back();
         self.solved = None;
         Ok(())
+    }
+
+    /// Hands the analysis of the current text (if any) back to the memo.
+    fn give_back(&mut self) {
+        if let Some(mut old) = self.analysis.take() {
+            let empty = crate::compile::Analysed {
+                ast: crate::ast::File { items: Vec::new(), span: old.analysed.ast.span },
+                scene: None,
+                plan: None,
+                resolved: None,
+                diagnostics: Vec::new(),
+            };
+            let analysed = std::mem::replace(&mut old.analysed, empty);
+            self.memo.give_back(analysed, &old.source().text);
+            discard(old);
+        }
     }
 
     /// The analysis of the current text, computed if the text or the catalog changed.
@@ -247,9 +266,7 @@ impl Document {
         if !self.catalog.as_ref().is_some_and(|c| std::sync::Arc::ptr_eq(c, catalog)) {
             // A catalog edited on disk: every ranking and the analysis are made again.
             self.memo.forget();
-            if let Some(old) = self.analysis.take() {
-                discard(old);
-            }
+            self.give_back();
             self.catalog = Some(std::sync::Arc::clone(catalog));
         }
         let (name, text, memo) = (&self.name, &self.text, &mut self.memo);

@@ -157,7 +157,7 @@ pub fn hover(
     position: Position,
 ) -> Option<Hover> {
     let offset = analysis.offset(position);
-    if let Some(relation) = analysis.index.relation_at(offset) {
+    if let Some(relation) = analysis.index().relation_at(offset) {
         let words = relation.words.to_lowercase();
         let mut text = format!("**`{}`**", relation.words);
         if let Some(kind) = RelationKind::from_words(&words) {
@@ -209,13 +209,13 @@ pub fn hover(
         hover.range = Some(analysis.range(relation.words_span));
         return Some(hover);
     }
-    let occurrence = analysis.index.occurrence_at(offset)?;
-    let symbol = &analysis.index.symbols[occurrence.symbol];
+    let occurrence = analysis.index().occurrence_at(offset)?;
+    let symbol = &analysis.index().symbols[occurrence.symbol];
     let text = match symbol.kind {
         HoloSymbol::Room => room_hover(analysis, &symbol.name),
         HoloSymbol::Object | HoloSymbol::WallObject => {
             let mut text = object_hover(analysis, symbol, occurrence.instance);
-            let room = symbol.room.map(|r| analysis.index.symbols[r].name.as_str());
+            let room = symbol.room.map(|r| analysis.index().symbols[r].name.as_str());
             text.push_str(&solve_text(
                 analysis,
                 symbol,
@@ -235,7 +235,7 @@ pub fn hover(
 /// The name of the room whose declaration holds byte `offset`.
 pub fn room_at(analysis: &Analysis, offset: usize) -> Option<&str> {
     analysis
-        .index
+        .index()
         .symbols
         .iter()
         .filter(|s| s.kind == HoloSymbol::Room)
@@ -280,7 +280,7 @@ fn object_hover(analysis: &Analysis, symbol: &index::Symbol, instance: Option<u3
         text.push_str("\n\n(the file has errors; fix them to see the chosen asset)");
         return text;
     };
-    let room_name = symbol.room.map(|r| analysis.index.symbols[r].name.as_str());
+    let room_name = symbol.room.map(|r| analysis.index().symbols[r].name.as_str());
     let members: Vec<&crate::check::Object> = scene
         .objects
         .iter()
@@ -367,8 +367,8 @@ fn resolution_text(resolution: Option<&Resolution>) -> String {
 
 /// Go to definition: a room's declaration, an object group's, or an instance's own block.
 pub fn definition(analysis: &Analysis, position: Position) -> Option<Range> {
-    let occurrence = analysis.index.occurrence_at(analysis.offset(position))?;
-    let symbol = &analysis.index.symbols[occurrence.symbol];
+    let occurrence = analysis.index().occurrence_at(analysis.offset(position))?;
+    let symbol = &analysis.index().symbols[occurrence.symbol];
     let span = occurrence
         .instance
         .and_then(|n| symbol.instance_blocks.iter().find(|(i, _, _)| *i == n))
@@ -383,11 +383,11 @@ pub fn references(
     position: Position,
     include_declaration: bool,
 ) -> Vec<Range> {
-    let Some(occurrence) = analysis.index.occurrence_at(analysis.offset(position)) else {
+    let Some(occurrence) = analysis.index().occurrence_at(analysis.offset(position)) else {
         return Vec::new();
     };
     analysis
-        .index
+        .index()
         .occurrences_of(occurrence.symbol, occurrence.instance)
         .into_iter()
         .filter(|o| include_declaration || !o.is_declaration)
@@ -397,8 +397,8 @@ pub fn references(
 
 /// Prepare rename: the identifier a rename would change (the group's part of an instance name).
 pub fn prepare_rename(analysis: &Analysis, position: Position) -> Option<PrepareRenameResponse> {
-    let occurrence = analysis.index.occurrence_at(analysis.offset(position))?;
-    let symbol = &analysis.index.symbols[occurrence.symbol];
+    let occurrence = analysis.index().occurrence_at(analysis.offset(position))?;
+    let symbol = &analysis.index().symbols[occurrence.symbol];
     Some(PrepareRenameResponse::RangeWithPlaceholder {
         range: analysis.range(occurrence.name_span),
         placeholder: symbol.name.clone(),
@@ -414,7 +414,7 @@ pub fn rename(
     new_name: &str,
 ) -> Result<WorkspaceEdit, String> {
     let occurrence = analysis
-        .index
+        .index()
         .occurrence_at(analysis.offset(position))
         .ok_or("no room or object here to rename")?;
     if !index::is_identifier(new_name) {
@@ -422,9 +422,9 @@ pub fn rename(
             "`{new_name}` is not a name: use letters, digits, `_` and inner `-`, starting with a letter, not ending in `-<number>`"
         ));
     }
-    let symbol = &analysis.index.symbols[occurrence.symbol];
+    let symbol = &analysis.index().symbols[occurrence.symbol];
     let taken = analysis
-        .index
+        .index()
         .symbols
         .iter()
         .any(|s| s.name == new_name && s.kind.eq_room(symbol.kind) && s.room == symbol.room);
@@ -432,7 +432,7 @@ pub fn rename(
         return Err(format!("`{new_name}` is already declared here"));
     }
     let edits: Vec<TextEdit> = analysis
-        .index
+        .index()
         .occurrences_of(occurrence.symbol, None)
         .into_iter()
         .map(|o| TextEdit { range: analysis.range(o.name_span), new_text: new_name.to_string() })
@@ -449,7 +449,7 @@ impl HoloSymbol {
 /// Document symbols: rooms with their objects (and instances), then doors.
 #[allow(deprecated, reason = "DocumentSymbol::deprecated must be written; it is None")]
 pub fn document_symbols(analysis: &Analysis) -> Vec<DocumentSymbol> {
-    let index = &analysis.index;
+    let index = analysis.index();
     let symbol =
         |name: String, detail: Option<String>, kind, span: Span, name_span: Span| DocumentSymbol {
             name,
@@ -782,7 +782,7 @@ pub fn completion(analysis: &Analysis, position: Position) -> Vec<CompletionItem
     // The words before the one being typed.
     let settled: &[&str] =
         if complete_word { &words } else { &words[..words.len().saturating_sub(1)] };
-    let index = &analysis.index;
+    let index = analysis.index();
     let room = index.room_at(offset);
     let in_object = index.object_at(offset).is_some()
         || enclosing_block(&text[..offset])
@@ -913,7 +913,7 @@ impl TypedWord {
 fn room_items(analysis: &Analysis) -> Vec<CompletionItem> {
     let mut seen = std::collections::BTreeSet::new();
     analysis
-        .index
+        .index()
         .symbols
         .iter()
         .filter(|s| s.kind == HoloSymbol::Room && seen.insert(s.name.as_str()))
@@ -931,7 +931,7 @@ fn room_items(analysis: &Analysis) -> Vec<CompletionItem> {
 /// ambiguous for a counted group, so none is offered), but not the object itself (all the
 /// instances of the group whose block holds the cursor, or one instance in its own block).
 fn object_items(analysis: &Analysis, room: usize, offset: usize) -> Vec<CompletionItem> {
-    let index = &analysis.index;
+    let index = analysis.index();
     let own = index.object_at(offset);
     let own_instance = own.and_then(|g| {
         index.symbols[g]

@@ -50,12 +50,8 @@ pub struct Shift {
 impl Shift {
     /// The edit between two versions: their common prefix and suffix are unchanged.
     pub fn between(old: &str, new: &str) -> Shift {
-        let (a, b) = (old.as_bytes(), new.as_bytes());
-        let start = a.iter().zip(b).take_while(|(x, y)| x == y).count();
-        let room = a.len().min(b.len()) - start;
-        let suffix =
-            a.iter().rev().zip(b.iter().rev()).take(room).take_while(|(x, y)| x == y).count();
-        Shift { start, old_end: a.len() - suffix, new_end: b.len() - suffix }
+        let (start, old_end, new_end) = crate::source::changed_range(old, new);
+        Shift { start, old_end, new_end }
     }
 
     /// Where an offset of the old version is in the new one; `None` inside the replaced text.
@@ -556,6 +552,8 @@ impl Spans for RoomInput {
 struct RoomRun {
     input: RoomInput,
     output: RoomResolution,
+    /// The room's objects' ids when it ran ([`crate::check::Room::objects`]).
+    ids: Vec<crate::check::ObjectId>,
 }
 
 /// The last asset resolution: the text and seed it was made for, and each room's run in the
@@ -565,6 +563,8 @@ struct ResolveMemo {
     made_for: std::rc::Rc<str>,
     seed: u64,
     rooms: Vec<(String, RoomRun)>,
+    /// The rooms' results put together (`None` while an analysis holds them).
+    resolved: Option<Resolved>,
 }
 
 /// What the analyses of earlier versions of a document leave for the next: the parse cache
@@ -575,11 +575,31 @@ pub struct Memo {
     /// Parsed items and asset rankings.
     pub cache: AnalysisCache,
     /// The last plan: the text it was made for, its input and its output.
-    plan: Option<(std::rc::Rc<str>, PlanInput, Output<FloorPlan>)>,
+    /// (The plan is `None` while an analysis holds it.)
+    plan: Option<(std::rc::Rc<str>, PlanInput, Output<Option<FloorPlan>>)>,
     /// The last asset resolution, room by room.
     resolve: Option<ResolveMemo>,
+    /// The last check, room by room.
+    check: Option<CheckMemo>,
     /// How often each stage ran and was reused (for the tests and the benchmark).
     pub counts: Counts,
+}
+
+/// The last check: the tree it checked ([`crate::parse::ParseCache::tree_number`]), its scene
+/// (while no analysis holds it), its diagnostics by where they come from, and what tells
+/// whether an edit may be checked room by room.
+#[derive(Debug)]
+struct CheckMemo {
+    tree: u64,
+    scene: Option<Scene>,
+    head: Vec<Diagnostic>,
+    rooms: Vec<crate::check::RoomDiagnostics>,
+    /// Where the tree's `scene` blocks are.
+    scene_blocks: Vec<Span>,
+    /// Whether every room of the tree is a room of the scene (none called `exterior`, no name
+    /// given twice): then the rooms' names and ids stay while the rooms an edit touched keep
+    /// their names.
+    every_room_kept: bool,
 }
 
 /// How often the plan ran and its last output was reused, and how many rooms' asset choices
@@ -594,9 +614,34 @@ pub struct Counts {
     pub rooms_resolved: u64,
     /// Rooms whose resolution was reused.
     pub rooms_reused: u64,
+    /// Rooms checked.
+    pub rooms_checked: u64,
+    /// Rooms whose check was reused.
+    pub rooms_check_reused: u64,
 }
 
 impl Memo {
+    /// Hands back the analysis of `text` that [`analyse`] made, when the document changes: the
+    /// next analysis is made from it in place where the edit did not touch it.
+    pub fn give_back(&mut self, analysed: Analysed, text: &str) {
+        let Analysed { ast, scene, plan, resolved, diagnostics: _ } = analysed;
+        if let Some(last) = &mut self.resolve {
+            if last.resolved.is_none() && last.made_for.as_ref() == text {
+                last.resolved = resolved;
+            }
+        }
+        if let Some((made_for, _, output)) = &mut self.plan {
+            if output.value.is_none() && made_for.as_ref() == text {
+                output.value = plan;
+            }
+        }
+        if self.cache.parse.give_back(ast, text) {
+            if let Some(check) = &mut self.check {
+                check.scene = check.scene.take().or(scene);
+            }
+        }
+    }
+
     /// Forgets every output (the catalog changed): the next analysis runs every stage.
     pub fn forget(&mut self) {
         self.plan = None;
@@ -610,7 +655,7 @@ impl Memo {
 /// reusing what `memo` kept of the previous version where the edit did not touch it.
 pub fn analyse(sources: &SourceMap, file: FileId, catalog: &Catalog, memo: &mut Memo) -> Analysed {
     let text: std::rc::Rc<str> = std::rc::Rc::from(sources.get(file).text.as_str());
-    let parsed = crate::parse::parse_cached(sources, file, &mut memo.cache.parse);
+    let parsed = crate::parse::parse_edited(sources, file, &mut memo.cache.parse);
     let mut analysed = Analysed {
         ast: parsed.value,
         scene: None,
@@ -620,21 +665,28 @@ pub fn analyse(sources: &SourceMap, file: FileId, catalog: &Catalog, memo: &mut 
     };
     let has_errors = |d: &[Diagnostic]| d.iter().any(Diagnostic::is_error);
     let parse_failed = has_errors(&analysed.diagnostics);
-    let checked = crate::check::check(&analysed.ast);
+    let checked = check(&analysed.ast, memo);
     analysed.diagnostics.extend(checked.diagnostics);
     if parse_failed || has_errors(&analysed.diagnostics) {
+        // Kept for the next version.
+        if let Some(check) = &mut memo.check {
+            check.scene = Some(checked.value);
+        }
         return analysed;
     }
     let scene = checked.value;
 
     let reused = memo.plan.take().and_then(|(made_for, mut before, mut output)| {
         let shift = Shift::between(&made_for, &text);
-        (shift.move_in_place(&mut before)
+        // The plan itself is needed only when it has no error (else the analysis stops there).
+        let usable = output.value.is_some() || has_errors(&output.diagnostics);
+        (usable
+            && shift.move_in_place(&mut before)
             && before.is_of(&scene)
             && shift.move_in_place(&mut output))
         .then_some((before, output))
     });
-    let (input, planned) = match reused {
+    let (input, mut planned) = match reused {
         Some((input, output)) => {
             memo.counts.plans_reused += 1;
             debug_assert!(input == PlanInput::of(&scene), "an input compared in place");
@@ -646,23 +698,155 @@ pub fn analyse(sources: &SourceMap, file: FileId, catalog: &Catalog, memo: &mut 
                 crate::plan::plan_with(&scene, StructureCatalog::builtin(), PlanOptions::default());
             (
                 PlanInput::of(&scene),
-                Output { value: planned.value, diagnostics: planned.diagnostics },
+                Output { value: Some(planned.value), diagnostics: planned.diagnostics },
             )
         }
     };
-    memo.plan = Some((std::rc::Rc::clone(&text), input, planned.clone()));
-    analysed.diagnostics.extend(planned.diagnostics);
+    analysed.diagnostics.extend(planned.diagnostics.iter().cloned());
     if has_errors(&analysed.diagnostics) {
+        memo.plan = Some((std::rc::Rc::clone(&text), input, planned));
         analysed.scene = Some(scene);
         return analysed;
     }
-    analysed.plan = Some(planned.value);
+    // The analysis holds the plan until it is handed back.
+    analysed.plan = planned.value.take();
+    memo.plan = Some((std::rc::Rc::clone(&text), input, planned));
 
     let resolved = resolve_rooms(&scene, &text, catalog, memo);
     analysed.diagnostics.extend(resolved.diagnostics);
     analysed.resolved = Some(resolved.value);
     analysed.scene = Some(scene);
     analysed
+}
+
+/// Checks the tree, as [`crate::check::check`] does, room by room: when the tree was edited in
+/// place from the one checked last ([`crate::parse::Splice`]), only the rooms of the pieces it
+/// replaced are checked again (and the rooms whose diagnostics read other rooms), provided the
+/// edit touched no `scene` block and left every room's name; the other rooms' checks are kept,
+/// their spans moved and their objects numbered again when a room before them changed how many
+/// it has. The doors are checked again.
+fn check(ast: &crate::ast::File, memo: &mut Memo) -> crate::diag::Outcome<Scene> {
+    let last = memo.check.take();
+    let splice = memo.cache.parse.splice();
+    let in_place = match (last, splice) {
+        (Some(mut last), Some(splice)) if last.tree == splice.from => {
+            check_in_place(ast, &mut last, splice, &mut memo.counts)
+        }
+        _ => None,
+    };
+    let (mut scene, head, rooms) = match in_place {
+        Some(found) => found,
+        None => {
+            let parts = crate::check::check_parts(ast);
+            memo.counts.rooms_checked += parts.rooms.len() as u64;
+            (parts.scene, parts.head, parts.rooms)
+        }
+    };
+    let tail = crate::check::check_tail(ast, &mut scene);
+    let mut diagnostics = head.clone();
+    for room in &rooms {
+        diagnostics.extend(room.diagnostics.iter().cloned());
+    }
+    diagnostics.extend(tail);
+    if let Some(tree) = memo.cache.parse.tree_number() {
+        let scene_blocks = ast
+            .items
+            .iter()
+            .filter_map(|i| match i {
+                crate::ast::Item::Scene(block) => Some(block.span),
+                _ => None,
+            })
+            .collect();
+        let room_items =
+            ast.items.iter().filter(|i| matches!(i, crate::ast::Item::Room(_))).count();
+        memo.check = Some(CheckMemo {
+            tree,
+            scene: None,
+            head,
+            rooms,
+            scene_blocks,
+            every_room_kept: room_items == scene.rooms.len(),
+        });
+    }
+    crate::diag::Outcome::new(scene, diagnostics)
+}
+
+/// The check of an edited tree made from the last one in place (see [`check`]), or `None`.
+fn check_in_place(
+    ast: &crate::ast::File,
+    last: &mut CheckMemo,
+    splice: crate::parse::Splice,
+    counts: &mut Counts,
+) -> Option<(Scene, Vec<Diagnostic>, Vec<crate::check::RoomDiagnostics>)> {
+    if !last.every_room_kept {
+        return None;
+    }
+    let in_old = |span: Span| (splice.start..splice.old_end).contains(&(span.start as usize));
+    let in_new = |span: Span| (splice.start..splice.new_end).contains(&(span.start as usize));
+    if last.scene_blocks.iter().any(|&s| in_old(s)) {
+        return None;
+    }
+    let mut rooms: Vec<&crate::ast::Room> = Vec::new();
+    for item in &ast.items {
+        match item {
+            crate::ast::Item::Scene(block) if in_new(block.span) => return None,
+            crate::ast::Item::Room(room) => rooms.push(room),
+            _ => {}
+        }
+    }
+    let mut scene = last.scene.take()?;
+    if rooms.len() != scene.rooms.len() {
+        return None;
+    }
+    for (room, kept) in rooms.iter().zip(&scene.rooms) {
+        let touched = in_new(room.span);
+        if touched != in_old(kept.decl_span) || touched && room.id.name != kept.name {
+            return None;
+        }
+    }
+    let shift = Shift { start: splice.start, old_end: splice.old_end, new_end: splice.new_end };
+    let mut head = std::mem::take(&mut last.head);
+    if !shift.move_in_place(&mut head) {
+        return None;
+    }
+    let mut diagnostics = std::mem::take(&mut last.rooms);
+    let wall_height_m = scene.wall_height_m;
+    // Where the room's objects start in the scene's list now, and where they started.
+    let (mut first, mut old_first) = (0usize, 0usize);
+    for (r, room) in rooms.iter().enumerate() {
+        let old_count = scene.rooms[r].objects.len();
+        if in_new(room.span) || diagnostics[r].reads_other_rooms {
+            let id = crate::check::RoomId(r);
+            let (checked, objects, own) =
+                crate::check::check_room(ast, room, id, first, wall_height_m);
+            let count = objects.len();
+            let _ = scene.objects.splice(first..first + old_count, objects);
+            scene.rooms[r] = checked;
+            diagnostics[r] = own;
+            first += count;
+            counts.rooms_checked += 1;
+        } else {
+            let kept = &mut scene.rooms[r];
+            let objects = &mut scene.objects[first..first + old_count];
+            if first != old_first {
+                crate::check::renumber_objects(kept, objects, first as isize - old_first as isize);
+            }
+            // A room before the edit does not move; one after it moves unless the length stayed.
+            let moves =
+                kept.decl_span.start as usize >= splice.old_end && splice.old_end != splice.new_end;
+            if moves
+                && !(shift.move_in_place(kept)
+                    && objects.iter_mut().all(|o| shift.move_in_place(o))
+                    && shift.move_in_place(&mut diagnostics[r].diagnostics))
+            {
+                return None;
+            }
+            first += old_count;
+            counts.rooms_check_reused += 1;
+        }
+        old_first += old_count;
+    }
+    Some((scene, head, diagnostics))
 }
 
 /// Resolves the scene's assets room by room, reusing each room's last resolution when its
@@ -674,12 +858,13 @@ fn resolve_rooms(
     catalog: &Catalog,
     memo: &mut Memo,
 ) -> crate::diag::Outcome<Resolved> {
-    let (shift, old) = match memo.resolve.take() {
+    let (shift, old, last_resolved) = match memo.resolve.take() {
         Some(last) if last.seed == scene.seed => {
-            (Some(Shift::between(&last.made_for, text)), last.rooms)
+            (Some(Shift::between(&last.made_for, text)), last.rooms, last.resolved)
         }
-        _ => (None, Vec::new()),
+        _ => (None, Vec::new(), None),
     };
+    let same_rooms = old.len() == scene.rooms.len();
     let (names, mut old): (Vec<String>, Vec<Option<RoomRun>>) =
         old.into_iter().map(|(name, run)| (name, Some(run))).unzip();
     let by_name: rustc_hash::FxHashMap<&str, usize> =
@@ -688,6 +873,10 @@ fn resolve_rooms(
     let mut resolver =
         crate::resolve::Resolver::new(catalog, scene.seed, &options, &mut memo.cache.ranks);
     let mut runs: Vec<(String, RoomRun)> = Vec::with_capacity(scene.rooms.len());
+    // The rooms whose entries of the last result must be made again, and the object ids those
+    // entries had.
+    let mut again: Vec<usize> = Vec::new();
+    let mut gone: Vec<Vec<crate::check::ObjectId>> = Vec::new();
     // While every room so far is the one at its place last time and uses the same assets, the
     // rooms before the next one use what they used then: its answers hold without asking.
     let mut in_step = shift.is_some();
@@ -713,13 +902,22 @@ fn resolve_rooms(
                     run.input == RoomInput::of(scene, room),
                     "an input compared in place"
                 );
+                // Its entries of the last result hold if its objects and place are the same.
+                if place != Some(k) || run.ids != room.objects {
+                    gone.push(run.ids.clone());
+                    again.push(k);
+                }
                 run
             }
             run => {
                 memo.counts.rooms_resolved += 1;
                 let output = resolver.room(scene, room);
+                if let Some(run) = &run {
+                    gone.push(run.ids.clone());
+                }
+                again.push(k);
                 in_step &= run.is_some_and(|run| output.writes == run.output.writes);
-                RoomRun { input: RoomInput::of(scene, room), output }
+                RoomRun { input: RoomInput::of(scene, room), output, ids: room.objects.clone() }
             }
         };
         let output = &run.output;
@@ -729,10 +927,73 @@ fn resolve_rooms(
     // The rooms no longer there let go of their rankings before the cache keeps what rooms hold.
     drop(old);
     resolver.finish(&mut memo.cache.ranks);
-    let resolved = crate::resolve::assemble(scene, runs.iter().map(|(_, run)| &run.output));
-    memo.resolve =
-        Some(ResolveMemo { made_for: std::rc::Rc::clone(text), seed: scene.seed, rooms: runs });
+    let resolved = match last_resolved {
+        Some(last) if same_rooms && last.objects.len() == scene.objects.len() => {
+            assemble_in_place(last, scene, &runs, &again, &gone)
+        }
+        _ => crate::resolve::assemble(scene, runs.iter().map(|(_, run)| &run.output)),
+    };
+    memo.resolve = Some(ResolveMemo {
+        made_for: std::rc::Rc::clone(text),
+        seed: scene.seed,
+        rooms: runs,
+        resolved: None,
+    });
     resolved
+}
+
+/// What [`crate::resolve::assemble`] makes of the rooms' runs, made from the last result:
+/// the entries of the rooms `again` made again (those of the object ids `gone` had removed
+/// first), every other room's kept. The diagnostics are every room's, in order.
+fn assemble_in_place(
+    mut resolved: Resolved,
+    scene: &Scene,
+    runs: &[(String, RoomRun)],
+    again: &[usize],
+    gone: &[Vec<crate::check::ObjectId>],
+) -> crate::diag::Outcome<Resolved> {
+    let forget = |resolved: &mut Resolved, id: crate::check::ObjectId| {
+        let keys: Vec<(crate::check::ObjectId, usize)> =
+            resolved.small.range((id, 0)..=(id, usize::MAX)).map(|(key, _)| *key).collect();
+        for key in keys {
+            resolved.small.remove(&key);
+        }
+    };
+    for ids in gone {
+        for &id in ids {
+            forget(&mut resolved, id);
+        }
+    }
+    for &k in again {
+        let room = &scene.rooms[k];
+        resolved.ceilings.remove(&room.id);
+        resolved.ceiling_lights.remove(&room.id);
+        for &id in &room.objects {
+            forget(&mut resolved, id);
+        }
+    }
+    for &k in again {
+        let (room, done) = (&scene.rooms[k], &runs[k].1.output);
+        for (&id, res) in room.objects.iter().zip(&done.objects) {
+            if let Some(slot) = resolved.objects.get_mut(id.0) {
+                slot.clone_from(res);
+            }
+        }
+        for ((i, k), list) in &done.small {
+            if let Some(&id) = room.objects.get(*i) {
+                resolved.small.insert((id, *k), list.clone());
+            }
+        }
+        if let Some(light) = &done.ceiling_light {
+            resolved.ceiling_lights.insert(room.id, light.clone());
+        }
+        if let Some(res) = &done.ceiling {
+            resolved.ceilings.insert(room.id, res.clone());
+        }
+    }
+    let diagnostics =
+        runs.iter().flat_map(|(_, run)| run.output.diagnostics.iter().cloned()).collect();
+    crate::diag::Outcome::new(resolved, diagnostics)
 }
 
 #[cfg(test)]
@@ -751,5 +1012,18 @@ mod tests {
         let same = Shift::between("aaa", "aaaa");
         assert_eq!(same, Shift { start: 3, old_end: 3, new_end: 4 });
         assert_eq!(Shift::between("", "x"), Shift { start: 0, old_end: 0, new_end: 1 });
+        // Long texts are compared a block at a time: the same answers.
+        let long: String = (0..500).map(|i| char::from(b'a' + (i % 26) as u8)).collect();
+        let edited = format!("{}XY{}", &long[..200], &long[201..]);
+        assert_eq!(
+            Shift::between(&long, &edited),
+            Shift { start: 200, old_end: 201, new_end: 202 }
+        );
+        assert_eq!(Shift::between(&long, &long), Shift { start: 500, old_end: 500, new_end: 500 });
+        let doubled = format!("{long}{long}");
+        assert_eq!(
+            Shift::between(&long, &doubled),
+            Shift { start: 500, old_end: 500, new_end: 1000 }
+        );
     }
 }

@@ -78,6 +78,8 @@ pub struct Index {
     pub relations: Vec<RelationSite>,
     /// Object groups by (room symbol, name): the first declared wins, as in the checker.
     objects_by_name: std::collections::HashMap<(usize, String), usize>,
+    /// Room symbols by name: the first declared wins.
+    rooms_by_name: std::collections::HashMap<String, usize>,
 }
 
 impl Index {
@@ -99,6 +101,7 @@ impl Index {
                     count: 1,
                 });
                 index.declare(r, room.id.span);
+                index.rooms_by_name.entry(room.id.name.clone()).or_insert(r);
             }
         }
         // Rooms are the first symbols, in file order.
@@ -140,7 +143,7 @@ impl Index {
 
     /// The room symbol with this identifier (the first, if declared twice).
     pub fn room_named(&self, name: &str) -> Option<usize> {
-        self.symbols.iter().position(|s| s.kind == SymbolKind::Room && s.name == name)
+        self.rooms_by_name.get(name).copied()
     }
 
     /// The object groups of a room symbol.

@@ -542,7 +542,7 @@ impl Server {
         let first = focus
             .and_then(|p| features::room_at(analysis, analysis.offset(p)))
             .or_else(|| {
-                let mut rooms = analysis.index.symbols.iter();
+                let mut rooms = analysis.index().symbols.iter();
                 rooms.find(|s| s.kind == index::SymbolKind::Room).map(|s| s.name.as_str())
             })
             .map(str::to_string);

@@ -44,6 +44,83 @@ pub struct ParseCache {
     chunks: rustc_hash::FxHashMap<String, std::rc::Rc<Chunk>>,
     /// Room statement groups by their text.
     groups: GroupMap,
+    /// The last text cut into pieces, with where each piece is in its tree: what
+    /// [`parse_edited`] edits in place.
+    last: Option<LastCut>,
+    /// How many trees were made by cutting the text into pieces.
+    generation: u64,
+    /// The number ([`ParseCache::generation`]) of the tree the last parse gave, when it was
+    /// cut into pieces.
+    tree: Option<u64>,
+    /// What the last parse, when it edited a tree in place, replaced.
+    splice: Option<Splice>,
+}
+
+/// What [`parse_edited`] replaced in a tree: the items of bytes `start..old_end` of the old
+/// text became those of `start..new_end` of the new one; every item before is the same, every
+/// item after the same but for its spans, moved by the change in length (and whether a blank
+/// line is kept before the first of them).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Splice {
+    /// The number of the tree edited ([`ParseCache::tree_number`] when it was made).
+    pub from: u64,
+    /// Where the pieces replaced start.
+    pub start: usize,
+    /// Where they ended in the old text.
+    pub old_end: usize,
+    /// Where the new ones end in the new text.
+    pub new_end: usize,
+}
+
+impl ParseCache {
+    /// A number for the tree the last parse gave when it was cut into pieces (an edited tree
+    /// gets a new one), `None` when it was parsed whole.
+    pub fn tree_number(&self) -> Option<u64> {
+        self.tree
+    }
+
+    /// What the last parse replaced, when it edited a tree in place.
+    pub fn splice(&self) -> Option<Splice> {
+        self.splice
+    }
+
+    /// Hands back the tree [`parse_edited`] made of `text`, for the next version to be made from
+    /// it in place (a tree of another text is dropped); whether it was taken.
+    pub fn give_back(&mut self, tree: ast::File, text: &str) -> bool {
+        match &mut self.last {
+            Some(last) if last.tree.is_none() && self.tree.is_some() && last.text == text => {
+                last.tree = Some(tree);
+                true
+            }
+            _ => false,
+        }
+    }
+}
+
+/// A text cut into top-level pieces, and what each piece put into its tree.
+#[derive(Clone, Debug)]
+struct LastCut {
+    text: String,
+    pieces: Vec<Piece>,
+    /// The parse's diagnostics, the pieces' in order.
+    diagnostics: Vec<Diagnostic>,
+    /// The tree, once handed back ([`ParseCache::give_back`]).
+    tree: Option<ast::File>,
+}
+
+/// One top-level piece of a [`LastCut`].
+#[derive(Clone, Debug)]
+struct Piece {
+    /// Where it starts in the text.
+    start: usize,
+    /// How many items of the tree are its own, the blank line kept before it included.
+    items: usize,
+    /// Whether the first of them is that blank line.
+    blank: bool,
+    /// How many of the parse's diagnostics are its own.
+    diagnostics: usize,
+    /// For a room parsed group by group, its groups' texts (keys of the cache's groups).
+    groups: Vec<std::rc::Rc<str>>,
 }
 
 /// One top-level piece of text, parsed on its own.
@@ -69,6 +146,8 @@ pub fn parse_cached(
     cache: &mut ParseCache,
 ) -> Outcome<ast::File> {
     let text = &sources.get(file).text;
+    cache.tree = None;
+    cache.splice = None;
     if let Some(too_deep) = too_deep(sources, file) {
         return too_deep;
     }
@@ -80,10 +159,12 @@ pub fn parse_cached(
     let mut used_groups = GroupMap::default();
     let mut items = Vec::new();
     let mut diagnostics = Vec::new();
+    let mut pieces = Vec::with_capacity(starts.len());
     let mut previous_end: Option<usize> = None;
     for (k, &start) in starts.iter().enumerate() {
         let end = starts.get(k + 1).copied().unwrap_or(text.len());
         let piece = &text[start..end];
+        let (items_before, diagnostics_before) = (items.len(), diagnostics.len());
         let (key, chunk) = match used.get(piece) {
             Some(hit) => (None, std::rc::Rc::clone(hit)),
             None => match earlier.remove_entry(piece) {
@@ -110,17 +191,20 @@ pub fn parse_cached(
         let m = relocate::Move::shift(file, start as i64);
         let mut piece_items = chunk.items.clone();
         relocate::Relocate::relocate(&mut piece_items, m);
-        if let (Some(end), Some(first)) = (previous_end, piece_items.first()) {
-            let first_start = item_span(first).start as usize;
-            if text.get(end..first_start).is_some_and(|gap| gap.matches('\n').count() >= 2) {
-                items.push(ast::Item::Blank(Span::new(file, first_start, first_start)));
-            }
-        }
+        let blank = blank_before(text, file, previous_end, &piece_items);
+        items.extend(blank.clone());
         previous_end = piece_items.last().map(|i| item_span(i).end as usize).or(previous_end);
         items.extend(piece_items);
         let mut piece_diagnostics = chunk.diagnostics.clone();
         relocate::Relocate::relocate(&mut piece_diagnostics, m);
         diagnostics.extend(piece_diagnostics);
+        pieces.push(Piece {
+            start,
+            items: items.len() - items_before,
+            blank: blank.is_some(),
+            diagnostics: diagnostics.len() - diagnostics_before,
+            groups: chunk.groups.clone(),
+        });
         if let Some(key) = key {
             used.insert(key, chunk);
         }
@@ -128,7 +212,190 @@ pub fn parse_cached(
     // Only what the text still holds is kept.
     cache.chunks = used;
     cache.groups = used_groups;
+    cache.last =
+        Some(LastCut { text: text.clone(), pieces, diagnostics: diagnostics.clone(), tree: None });
+    cache.generation += 1;
+    cache.tree = Some(cache.generation);
     Outcome::new(ast::File { items, span: Span::new(file, 0, text.len()) }, diagnostics)
+}
+
+/// The blank line kept before a piece's items: when the text between the end of the items
+/// before (`previous_end`) and its first item holds an empty line.
+fn blank_before(
+    text: &str,
+    file: FileId,
+    previous_end: Option<usize>,
+    piece_items: &[ast::Item],
+) -> Option<ast::Item> {
+    let (end, first) = (previous_end?, piece_items.first()?);
+    let first_start = item_span(first).start as usize;
+    text.get(end..first_start)
+        .is_some_and(|gap| gap.matches('\n').count() >= 2)
+        .then(|| ast::Item::Blank(Span::new(file, first_start, first_start)))
+}
+
+/// Parses the file as [`parse_cached`] does (the same tree and diagnostics), but when the tree of
+/// the last text cut into pieces was handed back ([`ParseCache::give_back`]), edits it in place:
+/// the text between the two versions' common prefix and suffix is cut again from the start of
+/// the piece it begins in until a cut falls where one fell before, those pieces are parsed (a
+/// room by its statement groups, with the cache), put in the place of the old ones, and the
+/// items after them moved by the change in length. Nothing else of the tree is copied or read.
+/// Where that cannot be done (no tree handed back, a cut that is not safe, a piece that does not
+/// parse alone, braces too deep) it parses as [`parse_cached`] does, and it keeps no whole copy
+/// of the pieces between versions (the statement groups of rooms are kept by text).
+pub fn parse_edited(
+    sources: &SourceMap,
+    file: FileId,
+    cache: &mut ParseCache,
+) -> Outcome<ast::File> {
+    let text = &sources.get(file).text;
+    if let Some(last) = &mut cache.last {
+        if let Some(mut tree) = last.tree.take() {
+            if let Some((start, old_end, new_end)) =
+                splice(text, file, last, &mut cache.groups, &mut tree)
+            {
+                let diagnostics = last.diagnostics.clone();
+                let from = cache.generation;
+                cache.generation += 1;
+                cache.tree = Some(cache.generation);
+                cache.splice = Some(Splice { from, start, old_end, new_end });
+                return Outcome::new(tree, diagnostics);
+            }
+            // Kept for the next version, which may be cut again.
+            last.tree = Some(tree);
+        }
+    }
+    let parsed = parse_cached(sources, file, cache);
+    // The pieces are in the tree the caller hands back; a second copy is not kept.
+    cache.chunks = rustc_hash::FxHashMap::default();
+    parsed
+}
+
+/// Edits `tree`, the tree of `last.text`, into the tree of `text` (see [`parse_edited`]), with
+/// `last` then describing `text`: the bytes of the pieces replaced in the old text and the new
+/// one (`start`, `old_end`, `new_end`), or `None` (with nothing changed) when it cannot.
+fn splice(
+    text: &str,
+    file: FileId,
+    last: &mut LastCut,
+    groups: &mut GroupMap,
+    tree: &mut ast::File,
+) -> Option<(usize, usize, usize)> {
+    let old_len = last.text.len();
+    let (start, old_end, new_end) = crate::source::changed_range(&last.text, text);
+    if start == old_end && start == new_end {
+        return Some((0, 0, 0));
+    }
+    let pieces = &last.pieces;
+    if pieces.first().is_none_or(|p| p.start != 0) {
+        return None;
+    }
+    // The piece the edit starts in (a cut at the edit's start may no longer be one: the piece
+    // before it is cut again too, unless the edit starts the text).
+    let k0 = pieces.partition_point(|p| p.start < start).saturating_sub(1);
+    let s0 = pieces[k0].start;
+    // A cut of the new text at or after the edit's end where the old text had one: from there
+    // the scan goes as it went then.
+    let resync = |i: usize| {
+        let o = i - new_end + old_end;
+        pieces.binary_search_by_key(&o, |p| p.start).ok().filter(|&k| k >= k0)
+    };
+    let (starts, k1) = cut_from(text, s0, new_end, resync)?;
+    let region_end = k1.map_or(text.len(), |k| pieces[k].start - old_end + new_end);
+    let old_region_end = k1.map_or(old_len, |k| pieces[k].start);
+    let k1 = k1.unwrap_or(pieces.len());
+    if first_too_deep(&text[s0..region_end]).is_some() {
+        return None;
+    }
+    // Parse the new pieces before anything is changed.
+    let mut used = GroupMap::default();
+    let mut chunks = Vec::with_capacity(starts.len());
+    for (k, &at) in starts.iter().enumerate() {
+        let end = starts.get(k + 1).copied().unwrap_or(region_end);
+        chunks.push((at, parse_piece_cached(&text[at..end], groups, &mut used)?));
+    }
+    let delta = new_end as i64 - old_end as i64;
+    let i0: usize = pieces[..k0].iter().map(|p| p.items).sum();
+    let i1: usize = i0 + pieces[k0..k1].iter().map(|p| p.items).sum::<usize>();
+    let d0: usize = pieces[..k0].iter().map(|p| p.diagnostics).sum();
+    let d1: usize = d0 + pieces[k0..k1].iter().map(|p| p.diagnostics).sum::<usize>();
+    // The new pieces' items and diagnostics, in place.
+    let mut previous_end = tree.items[..i0].last().map(|i| item_span(i).end as usize);
+    let mut new_items = Vec::new();
+    let mut new_diagnostics = Vec::new();
+    let mut new_pieces = Vec::with_capacity(chunks.len());
+    for (at, chunk) in chunks {
+        let m = relocate::Move::shift(file, at as i64);
+        let mut piece_items = chunk.items;
+        relocate::Relocate::relocate(&mut piece_items, m);
+        let blank = blank_before(text, file, previous_end, &piece_items);
+        let (items_before, diagnostics_before) = (new_items.len(), new_diagnostics.len());
+        let has_blank = blank.is_some();
+        new_items.extend(blank);
+        previous_end = piece_items.last().map(|i| item_span(i).end as usize).or(previous_end);
+        new_items.extend(piece_items);
+        let mut piece_diagnostics = chunk.diagnostics;
+        relocate::Relocate::relocate(&mut piece_diagnostics, m);
+        new_diagnostics.extend(piece_diagnostics);
+        new_pieces.push(Piece {
+            start: at,
+            items: new_items.len() - items_before,
+            blank: has_blank,
+            diagnostics: new_diagnostics.len() - diagnostics_before,
+            groups: chunk.groups,
+        });
+    }
+    // The statement groups of the pieces replaced leave the cache, those of the new ones come.
+    for piece in &pieces[k0..k1] {
+        for key in &piece.groups {
+            if !used.contains_key(key) {
+                groups.remove(key);
+            }
+        }
+    }
+    groups.extend(used);
+    let n_new_items = new_items.len();
+    let _ = tree.items.splice(i0..i1, new_items);
+    let _ = last.diagnostics.splice(d0..d1, new_diagnostics);
+    if delta != 0 {
+        let m = relocate::Move::shift(file, delta);
+        for item in &mut tree.items[i0 + n_new_items..] {
+            relocate::Relocate::relocate(item, m);
+        }
+        let d_after = d0 + new_pieces.iter().map(|p| p.diagnostics).sum::<usize>();
+        for d in &mut last.diagnostics[d_after..] {
+            relocate::Relocate::relocate(d, m);
+        }
+    }
+    let n_new_pieces = new_pieces.len();
+    let _ = last.pieces.splice(k0..k1, new_pieces);
+    for piece in &mut last.pieces[k0 + n_new_pieces..] {
+        piece.start = (piece.start as i64 + delta) as usize;
+    }
+    // The blank lines kept before the pieces after the edit: the text before them changed.
+    let mut at = i0 + n_new_items;
+    for piece in &mut last.pieces[k0 + n_new_pieces..] {
+        let previous_end = tree.items[..at].last().map(|i| item_span(i).end as usize);
+        if piece.blank {
+            tree.items.remove(at);
+            piece.items -= 1;
+        }
+        let own = &tree.items[at..at + piece.items];
+        let blank = blank_before(text, file, previous_end, own);
+        piece.blank = blank.is_some();
+        if let Some(blank) = blank {
+            tree.items.insert(at, blank);
+            piece.items += 1;
+        }
+        // A piece with items decides the previous end of every later one, which did not move.
+        if piece.items > 0 {
+            break;
+        }
+        at += piece.items;
+    }
+    tree.span = Span::new(file, 0, text.len());
+    last.text = text.to_string();
+    Some((s0, old_region_end, region_end))
 }
 
 fn item_span(item: &ast::Item) -> Span {
@@ -360,6 +627,53 @@ fn cut_points(text: &str, indented: bool) -> Option<Vec<usize>> {
         i += 1;
     }
     (depth == 0).then_some(starts)
+}
+
+/// The cuts of `text` from `from` (a cut) on, as [`chunk_starts`] makes them, until a cut at or
+/// after `after` for which `resync` names the old piece starting there: the cuts before it and
+/// that piece, or `None` as the last item when the scan reached the end. `None` when the text
+/// from `from` does not allow a safe cut.
+fn cut_from(
+    text: &str,
+    from: usize,
+    after: usize,
+    resync: impl Fn(usize) -> Option<usize>,
+) -> Option<(Vec<usize>, Option<usize>)> {
+    let bytes = text.as_bytes();
+    let mut starts = vec![from];
+    let mut depth: i64 = 0;
+    let mut i = from;
+    let mut line_start = true;
+    while i < bytes.len() {
+        let b = bytes[i];
+        if line_start && depth == 0 && i > from && b.is_ascii_alphabetic() {
+            if i >= after {
+                if let Some(k) = resync(i) {
+                    return Some((starts, Some(k)));
+                }
+            }
+            starts.push(i);
+        }
+        line_start = false;
+        match b {
+            b'\n' => line_start = true,
+            b'{' => depth += 1,
+            b'}' => {
+                depth -= 1;
+                if depth < 0 {
+                    return None;
+                }
+            }
+            b'"' | b'/' => match literal_at(text, i) {
+                Literal::EndsAt(end) => i = end,
+                Literal::Uncuttable => return None,
+                Literal::Neither => {}
+            },
+            _ => {}
+        }
+        i += 1;
+    }
+    (depth == 0).then_some((starts, None))
 }
 
 /// What starts at a byte, for the scanners that cut the text.

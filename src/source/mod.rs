@@ -233,6 +233,41 @@ impl fmt::Display for Span {
     }
 }
 
+/// Where two versions of a text differ: `(start, old_end, new_end)`, where bytes
+/// `start..old_end` of `old` became `start..new_end` of `new` and the rest is their common
+/// prefix and suffix (the suffix taken as long as it can be without overlapping the prefix).
+pub fn changed_range(old: &str, new: &str) -> (usize, usize, usize) {
+    let (a, b) = (old.as_bytes(), new.as_bytes());
+    let start = common_prefix(a, b);
+    let room = a.len().min(b.len()) - start;
+    let suffix = common_suffix(&a[a.len() - room..], &b[b.len() - room..]);
+    (start, a.len() - suffix, b.len() - suffix)
+}
+
+/// The length of the longest common prefix of two byte strings (compared a block at a time,
+/// which the compiler turns into `memcmp`, then byte by byte in the first block that differs).
+fn common_prefix(a: &[u8], b: &[u8]) -> usize {
+    const BLOCK: usize = 64;
+    let n = a.len().min(b.len());
+    let mut i = 0;
+    while i + BLOCK <= n && a[i..i + BLOCK] == b[i..i + BLOCK] {
+        i += BLOCK;
+    }
+    i + a[i..n].iter().zip(&b[i..n]).take_while(|(x, y)| x == y).count()
+}
+
+/// The length of the longest common suffix of two byte strings.
+fn common_suffix(a: &[u8], b: &[u8]) -> usize {
+    const BLOCK: usize = 64;
+    let n = a.len().min(b.len());
+    let (a, b) = (&a[a.len() - n..], &b[b.len() - n..]);
+    let mut k = 0;
+    while k + BLOCK <= n && a[n - k - BLOCK..n - k] == b[n - k - BLOCK..n - k] {
+        k += BLOCK;
+    }
+    k + a[..n - k].iter().rev().zip(b[..n - k].iter().rev()).take_while(|(x, y)| x == y).count()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
