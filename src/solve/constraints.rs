@@ -1221,10 +1221,19 @@ fn measure_relation_with<const VALUE: bool>(
 /// gives them for the table's pose): at one of them, facing the table as that seat does; the
 /// distance to the nearest is the measure. The search works the seats out once per table pose.
 pub fn around_seats(meaning: &Meaning, me: &Pose, mf: &Rect, tf: &Rect, seats: &[Pose]) -> Measure {
+    let exact = |p: &Pose| ((p.x - me.x).hypot(p.z - me.z), p.rot);
+    // The squared distances narrow the seats whose exact distance can be the least to those
+    // within a relative 1e-9 of the least square (rounding moves either by a few units in the
+    // last place), so `hypot` is worked out for the nearest only; with nothing left (NaN),
+    // every seat.
+    let square = |p: &Pose| (p.x - me.x) * (p.x - me.x) + (p.z - me.z) * (p.z - me.z);
+    let least = seats.iter().map(square).fold(f64::INFINITY, f64::min);
     let nearest = seats
         .iter()
-        .map(|p| ((p.x - me.x).hypot(p.z - me.z), p.rot))
-        .min_by(|a, b| a.0.total_cmp(&b.0));
+        .filter(|p| square(p) <= least * (1.0 + 1e-9))
+        .map(exact)
+        .min_by(|a, b| a.0.total_cmp(&b.0))
+        .or_else(|| seats.iter().map(exact).min_by(|a, b| a.0.total_cmp(&b.0)));
     let (dist, rot) = nearest.unwrap_or((f64::INFINITY, me.rot));
     let at_seat = dist <= SEAT_TOLERANCE_M + EPS && rot == me.rot;
     let facing = faces(me, tf);

@@ -123,14 +123,16 @@ impl FootprintGrid {
 
     /// The cell index of coordinate `v` along an axis starting at `origin` with `n` cells,
     /// clamped into the grid.
+    #[inline]
     fn cell_of(&self, v: f64, origin: f64, n: usize) -> usize {
-        // Truncation is the floor for what is not negative (and no libm call on a hot path);
-        // the cast saturates, NaN gives 0, and the clamp keeps the rest in the grid.
-        let c = (v - origin) * self.inv_cell;
-        (c as i64).clamp(0, n as i64 - 1) as usize
+        // Clamped into the grid first (`max` takes 0 for NaN), then truncated, which is the
+        // floor for what is not negative (and no libm call on a hot path).
+        let c = ((v - origin) * self.inv_cell).max(0.0).min((n - 1) as f64);
+        c as usize
     }
 
     /// The inclusive cell ranges along x and z a rectangle covers, clamped into the grid.
+    #[inline]
     fn span(&self, r: &Rect) -> ((usize, usize), (usize, usize)) {
         let xs = (self.cell_of(r.min_x, self.x0, self.nx), self.cell_of(r.max_x, self.x0, self.nx));
         let zs = (self.cell_of(r.min_z, self.z0, self.nz), self.cell_of(r.max_z, self.z0, self.nz));
