@@ -105,11 +105,17 @@ pub(crate) fn static_candidates(
 /// What the static candidates of object `k` depend on: its footprint's size, the height that
 /// decides whether it blocks a window, and its global constraint (objects alike in these, the
 /// chairs of a set, get the same grid before each is shuffled by its own seed).
-fn static_grid_key(prep: &Prepared<'_>, k: usize) -> ([u64; 3], GlobalKind) {
+fn static_grid_key(prep: &Prepared<'_>, k: usize) -> StaticGridKey {
     let obj = &prep.problem.objects[k];
     let height = super::window_height(obj);
     ([obj.size[0].to_bits(), obj.size[1].to_bits(), height.to_bits()], obj.global)
 }
+
+/// The bits of an object's footprint size and window height, and its global constraint.
+type StaticGridKey = ([u64; 3], GlobalKind);
+
+/// Static candidates in the grid's order, with the tally of the rules that rejected the others.
+type StaticGrid = (Vec<Cand>, BTreeMap<HardRule, usize>);
 
 /// Shuffles object `k`'s static candidates in its seeded order.
 fn shuffle_static(cands: &mut [Cand], k: usize, seed: u64) {
@@ -118,7 +124,7 @@ fn shuffle_static(cands: &mut [Cand], k: usize, seed: u64) {
 }
 
 /// [`static_candidates`] in the grid's order, before the shuffle.
-fn static_grid(prep: &Prepared<'_>, k: usize) -> (Vec<Cand>, BTreeMap<HardRule, usize>) {
+fn static_grid(prep: &Prepared<'_>, k: usize) -> StaticGrid {
     let obj = &prep.problem.objects[k];
     let b = prep.room.bounds;
     let g = if obj.global == GlobalKind::Edge { wall_step(&b) } else { grid_step(&b) };
@@ -198,7 +204,7 @@ fn dedup_cands(v: &mut Vec<Cand>) {
     // Each key worked out once; the sort is stable (equal keys keep their order, the first of
     // them is kept) and finds the runs already in order (each rotation's grid is one).
     let mut keyed: Vec<_> = v.iter().map(|c| (key(c), *c)).collect();
-    keyed.sort_by(|a, b| a.0.cmp(&b.0));
+    keyed.sort_by_key(|a| a.0);
     keyed.dedup_by(|a, b| a.0 == b.0);
     v.clear();
     v.extend(keyed.into_iter().map(|(_, c)| c));
@@ -1510,8 +1516,7 @@ pub(crate) fn solve(prep: &Prepared<'_>, options: &SolveOptions) -> RoomLayout {
     let mut statics = Vec::with_capacity(n);
     let mut static_fails = Vec::with_capacity(n);
     // Objects alike get the same grid: worked out once for them all.
-    let mut grids: FxHashMap<([u64; 3], GlobalKind), (Vec<Cand>, BTreeMap<HardRule, usize>)> =
-        FxHashMap::default();
+    let mut grids: FxHashMap<StaticGridKey, StaticGrid> = FxHashMap::default();
     for k in 0..n {
         if crate::cancel::requested() {
             return RoomLayout::default();
