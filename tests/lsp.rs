@@ -216,19 +216,29 @@ fn diagnostics_text(published: &Value) -> String {
     out
 }
 
+/// Diagnostics in the short form of a publication with `version`, sorted as the server sorts
+/// them.
+fn short_form(
+    sources: &holoc::source::SourceMap,
+    mut diagnostics: Vec<holoc::diag::Diagnostic>,
+    version: i32,
+) -> String {
+    holoc::diag::sort(&mut diagnostics);
+    let lsp: Vec<Value> = holoc::diag::lsp::to_lsp(sources, &diagnostics)
+        .into_iter()
+        .map(|(_, d)| serde_json::to_value(d).expect("serializes"))
+        .collect();
+    diagnostics_text(&json!({"version": version, "diagnostics": lsp}))
+}
+
 /// What `holoc check` says of `text`, in the same short form (the server must agree with it).
 fn check_text(text: &str, version: i32) -> String {
     let mut sources = holoc::source::SourceMap::new();
     let file = sources.add("/nonexistent/holoc-lsp-test/bedroom.holo", text);
     let catalog = holoc::resolve::Catalog::embedded();
-    let mut diagnostics =
+    let diagnostics =
         holoc::compile::check_stages(&sources, file, &catalog, holoc::compile::CheckStage::Resolve);
-    holoc::diag::sort(&mut diagnostics);
-    let lsp: Vec<Value> = holoc::diag::lsp::to_lsp(&sources, &diagnostics)
-        .into_iter()
-        .map(|(_, d)| serde_json::to_value(d).expect("serializes"))
-        .collect();
-    diagnostics_text(&json!({"version": version, "diagnostics": lsp}))
+    short_form(&sources, diagnostics, version)
 }
 
 fn snapshot(name: &str, value: &str) {
@@ -1119,12 +1129,7 @@ fn build_text(text: &str, version: i32) -> String {
     let built = holoc::compile::build(&sources, file, &holoc::compile::BuildOptions::new(&catalog));
     assert!(built.value.is_some(), "the scene builds: {:?}", built.diagnostics);
     diagnostics.extend(built.diagnostics.into_iter().filter(|d| d.code.stage() == "solve"));
-    holoc::diag::sort(&mut diagnostics);
-    let lsp: Vec<Value> = holoc::diag::lsp::to_lsp(&sources, &diagnostics)
-        .into_iter()
-        .map(|(_, d)| serde_json::to_value(d).expect("serializes"))
-        .collect();
-    diagnostics_text(&json!({"version": version, "diagnostics": lsp}))
+    short_form(&sources, diagnostics, version)
 }
 
 #[test]

@@ -89,16 +89,7 @@ pub fn check_room(
     wall_height_m: f64,
 ) -> (Room, Vec<Object>, RoomDiagnostics) {
     let mut checker = Checker::new(file);
-    let mut scene = Scene {
-        request: None,
-        wall_height_m,
-        seed: 0,
-        rooms: Vec::new(),
-        doors: Vec::new(),
-        objects: Vec::new(),
-        ceiling_material: None,
-        ceiling_design: None,
-    };
+    let mut scene = Scene::empty(wall_height_m);
     let mut checked = checker.room(room, id, &mut scene);
     let mut objects = scene.objects;
     if first_object != 0 {
@@ -230,16 +221,7 @@ impl<'a> Checker<'a> {
     }
 
     fn file(&mut self, file: &ast::File) -> CheckParts {
-        let mut scene = Scene {
-            request: None,
-            wall_height_m: DEFAULT_WALL_HEIGHT_M,
-            seed: 0,
-            rooms: Vec::new(),
-            doors: Vec::new(),
-            objects: Vec::new(),
-            ceiling_material: None,
-            ceiling_design: None,
-        };
+        let mut scene = Scene::empty(DEFAULT_WALL_HEIGHT_M);
         let mut scene_span: Option<Span> = None;
         for item in &file.items {
             if let ast::Item::Scene(block) = item {

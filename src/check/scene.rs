@@ -38,6 +38,20 @@ pub struct Scene {
 }
 
 impl Scene {
+    /// A scene with nothing in it yet, its walls `wall_height_m` high (seed 0, no request).
+    pub fn empty(wall_height_m: f64) -> Scene {
+        Scene {
+            request: None,
+            wall_height_m,
+            seed: 0,
+            rooms: Vec::new(),
+            doors: Vec::new(),
+            objects: Vec::new(),
+            ceiling_material: None,
+            ceiling_design: None,
+        }
+    }
+
     /// The room with this id.
     pub fn room(&self, id: RoomId) -> &Room {
         &self.rooms[id.0]

@@ -973,23 +973,7 @@ fn assemble_in_place(
         }
     }
     for &k in again {
-        let (room, done) = (&scene.rooms[k], &runs[k].1.output);
-        for (&id, res) in room.objects.iter().zip(&done.objects) {
-            if let Some(slot) = resolved.objects.get_mut(id.0) {
-                slot.clone_from(res);
-            }
-        }
-        for ((i, k), list) in &done.small {
-            if let Some(&id) = room.objects.get(*i) {
-                resolved.small.insert((id, *k), list.clone());
-            }
-        }
-        if let Some(light) = &done.ceiling_light {
-            resolved.ceiling_lights.insert(room.id, light.clone());
-        }
-        if let Some(res) = &done.ceiling {
-            resolved.ceilings.insert(room.id, res.clone());
-        }
+        resolved.put_room(&scene.rooms[k], &runs[k].1.output);
     }
     let diagnostics =
         runs.iter().flat_map(|(_, run)| run.output.diagnostics.iter().cloned()).collect();

@@ -18,6 +18,7 @@ use grammar::{HoloParser, Rule};
 use pest::iterators::Pair;
 use pest::Parser as _;
 use std::fmt::Write as _;
+use std::ops::ControlFlow;
 
 /// The block a line belongs to; it decides which statements may start the line.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -590,43 +591,12 @@ fn body_starts(body: &str) -> Option<Vec<usize>> {
 }
 
 fn cut_points(text: &str, indented: bool) -> Option<Vec<usize>> {
-    let bytes = text.as_bytes();
     let mut starts = vec![0];
-    let mut depth: i64 = 0;
-    let mut i = 0;
-    let mut line_start = true;
-    while i < bytes.len() {
-        let b = bytes[i];
-        if line_start && depth == 0 && i > 0 {
-            let first = if indented {
-                bytes[i..].iter().find(|c| !matches!(c, b' ' | b'\t')).copied()
-            } else {
-                Some(b)
-            };
-            if first.is_some_and(|c| c.is_ascii_alphabetic()) {
-                starts.push(i);
-            }
-        }
-        line_start = false;
-        match b {
-            b'\n' => line_start = true,
-            b'{' => depth += 1,
-            b'}' => {
-                depth -= 1;
-                if depth < 0 {
-                    return None;
-                }
-            }
-            b'"' | b'/' => match literal_at(text, i) {
-                Literal::EndsAt(end) => i = end,
-                Literal::Uncuttable => return None,
-                Literal::Neither => {}
-            },
-            _ => {}
-        }
-        i += 1;
-    }
-    (depth == 0).then_some(starts)
+    scan_cuts(text, 0, indented, |i| {
+        starts.push(i);
+        ControlFlow::Continue(())
+    })?;
+    Some(starts)
 }
 
 /// The cuts of `text` from `from` (a cut) on, as [`chunk_starts`] makes them, until a cut at or
@@ -639,20 +609,46 @@ fn cut_from(
     after: usize,
     resync: impl Fn(usize) -> Option<usize>,
 ) -> Option<(Vec<usize>, Option<usize>)> {
-    let bytes = text.as_bytes();
     let mut starts = vec![from];
+    let mut found = None;
+    scan_cuts(text, from, false, |i| {
+        if i >= after {
+            if let Some(k) = resync(i) {
+                found = Some(k);
+                return ControlFlow::Break(());
+            }
+        }
+        starts.push(i);
+        ControlFlow::Continue(())
+    })?;
+    Some((starts, found))
+}
+
+/// Walks `text` from `from` (a cut) and calls `cut` with every later cut: a line start outside
+/// any block, string and comment whose first character (after its indentation when `indented`)
+/// is a letter; stops when `cut` breaks. `None` when the braces, strings or comments of the text
+/// do not allow a safe cut (a scan stopped by `cut` has not looked further).
+fn scan_cuts(
+    text: &str,
+    from: usize,
+    indented: bool,
+    mut cut: impl FnMut(usize) -> ControlFlow<()>,
+) -> Option<()> {
+    let bytes = text.as_bytes();
     let mut depth: i64 = 0;
     let mut i = from;
     let mut line_start = true;
     while i < bytes.len() {
         let b = bytes[i];
-        if line_start && depth == 0 && i > from && b.is_ascii_alphabetic() {
-            if i >= after {
-                if let Some(k) = resync(i) {
-                    return Some((starts, Some(k)));
-                }
+        if line_start && depth == 0 && i > from {
+            let first = if indented {
+                bytes[i..].iter().find(|c| !matches!(c, b' ' | b'\t')).copied()
+            } else {
+                Some(b)
+            };
+            if first.is_some_and(|c| c.is_ascii_alphabetic()) && cut(i).is_break() {
+                return Some(());
             }
-            starts.push(i);
         }
         line_start = false;
         match b {
@@ -673,7 +669,7 @@ fn cut_from(
         }
         i += 1;
     }
-    (depth == 0).then_some((starts, None))
+    (depth == 0).then_some(())
 }
 
 /// What starts at a byte, for the scanners that cut the text.

@@ -172,6 +172,27 @@ pub struct Resolved {
 }
 
 impl Resolved {
+    /// Puts a room's resolution in its place: its objects' (by their ids in `room`), its small
+    /// objects', its ceiling light's and its ceiling object's.
+    pub fn put_room(&mut self, room: &crate::check::Room, done: &RoomResolution) {
+        for (&id, res) in room.objects.iter().zip(&done.objects) {
+            if let Some(slot) = self.objects.get_mut(id.0) {
+                slot.clone_from(res);
+            }
+        }
+        for ((i, k), list) in &done.small {
+            if let Some(&id) = room.objects.get(*i) {
+                self.small.insert((id, *k), list.clone());
+            }
+        }
+        if let Some(light) = &done.ceiling_light {
+            self.ceiling_lights.insert(room.id, light.clone());
+        }
+        if let Some(res) = &done.ceiling {
+            self.ceilings.insert(room.id, res.clone());
+        }
+    }
+
     /// The chosen asset of an object, if any.
     pub fn object(&self, id: ObjectId) -> Option<&Choice> {
         self.objects.get(id.0).and_then(Resolution::choice)
@@ -438,22 +459,7 @@ pub fn assemble<'r>(
     };
     let mut diagnostics = Vec::new();
     for (room, done) in scene.rooms.iter().zip(rooms) {
-        for (&id, res) in room.objects.iter().zip(&done.objects) {
-            if let Some(slot) = resolved.objects.get_mut(id.0) {
-                slot.clone_from(res);
-            }
-        }
-        for ((i, k), list) in &done.small {
-            if let Some(&id) = room.objects.get(*i) {
-                resolved.small.insert((id, *k), list.clone());
-            }
-        }
-        if let Some(light) = &done.ceiling_light {
-            resolved.ceiling_lights.insert(room.id, light.clone());
-        }
-        if let Some(res) = &done.ceiling {
-            resolved.ceilings.insert(room.id, res.clone());
-        }
+        resolved.put_room(room, done);
         diagnostics.extend(done.diagnostics.iter().cloned());
     }
     Outcome::new(resolved, diagnostics)

@@ -913,27 +913,15 @@ impl Search<'_, '_> {
         if chairs == 0 {
             return 0;
         }
-        let size = self.prep.problem.objects[k].size;
-        let free_seats =
-            self.seats_at(k, &c.pose, size, ring).filter(|p| free(&seat_zone(p, ring))).count();
+        let free_seats = self.seats_at(k, c.pose).filter(|p| free(&seat_zone(p, ring))).count();
         free_seats.min(chairs)
     }
 
-    /// The seats of table `k` standing at `pose`: [`constraints::seat_poses`], from the offsets
-    /// kept for the table.
-    fn seats_at<'s>(
-        &'s self,
-        k: usize,
-        pose: &'s Pose,
-        size: [f64; 2],
-        ring: &constraints::SeatRing,
-    ) -> impl Iterator<Item = Pose> + 's {
-        let kept = self.seat_offsets[k].as_ref().map(|o| &o[pose.rot as usize]);
-        let fresh = match kept {
-            Some(_) => Vec::new(),
-            None => constraints::seat_offsets(pose.rot, size, ring),
-        };
-        kept.into_iter().flatten().copied().chain(fresh).map(move |o| o.at(pose))
+    /// The seats of table `k` (one with a ring) standing at `pose`: [`constraints::seat_poses`],
+    /// from the offsets kept for the table.
+    fn seats_at(&self, k: usize, pose: Pose) -> impl Iterator<Item = Pose> + '_ {
+        let offsets = self.seat_offsets[k].as_ref().map(|o| &o[pose.rot as usize]);
+        offsets.into_iter().flatten().map(move |o| o.at(&pose))
     }
 
     /// [`Search::room_left_for_dependents`] with nothing placed: what no node can exceed.
@@ -1058,7 +1046,6 @@ impl Search<'_, '_> {
 
     /// The seats of placed tables that chairs after `k` still need, free at this node.
     fn open_seats(&self, k: usize, placed: &FootprintGrid, st: &State) -> Vec<SeatPromise> {
-        let prep = self.prep;
         let mut out = Vec::new();
         for (t, ring) in self.rings.iter().enumerate().take(k) {
             let (Some(ring), Some(tp)) = (ring, st.poses[t]) else { continue };
@@ -1067,7 +1054,7 @@ impl Search<'_, '_> {
                 continue;
             }
             let seats: Vec<Rect> = self
-                .seats_at(t, &tp, prep.problem.objects[t].size, ring)
+                .seats_at(t, tp)
                 .map(|p| seat_zone(&p, ring))
                 .filter(|z| self.zone_free(z, placed))
                 .collect();
