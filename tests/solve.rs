@@ -616,7 +616,13 @@ fn rank(problem: &RoomProblem, layout: &RoomLayout) -> (usize, usize) {
 /// keeps the best complete layout under the documented order.
 #[test]
 fn a_larger_budget_never_gives_a_worse_layout() {
-    for name in ["restaurant_34", "restaurant_tables_first", "packed_bedroom_60", "kitchen"] {
+    for name in [
+        "restaurant_34",
+        "restaurant_tables_first",
+        "restaurant_chain",
+        "packed_bedroom_60",
+        "kitchen",
+    ] {
         let problem = solve_corpus::load(&solve_corpus::corpus_dir().join(format!("{name}.json")));
         let mut last = (0, 0);
         for budget in [20, 100, 400, 1000, 2500] {
@@ -651,7 +657,9 @@ fn chairs_at_tables(problem: &RoomProblem, layout: &RoomLayout) -> (usize, usize
 /// instead of being pulled together, and the chairs sit at their own table.
 #[test]
 fn crowded_rooms_keep_their_groups() {
-    for (name, at_least) in [("restaurant_tables_first", 23), ("restaurant_34", 23)] {
+    for (name, at_least) in
+        [("restaurant_tables_first", 23), ("restaurant_34", 23), ("restaurant_chain", 24)]
+    {
         let problem = solve_corpus::load(&solve_corpus::corpus_dir().join(format!("{name}.json")));
         let out = solve::solve_room(&problem, &SolveOptions::default()).value;
         let (kept, total) = chairs_at_tables(&problem, &out);

@@ -444,6 +444,17 @@ fn seat_zone(pose: &Pose, ring: &constraints::SeatRing) -> Rect {
     }
 }
 
+/// How far apart (metres) the chairs of two tables stay, every way: half of it round each
+/// chair. A person passes between them, and two tables' chairs back to back leave room to
+/// pull them out.
+const SEATS_APART_M: f64 = 0.4;
+
+/// The zone round a seat of `ring` at `pose` that the seats of other tables keep out of: its
+/// footprint grown by half of [`SEATS_APART_M`].
+fn seat_apart_zone(pose: &Pose, ring: &constraints::SeatRing) -> Rect {
+    footprint(pose, ring.seat).grow(SEATS_APART_M / 2.0)
+}
+
 /// The static candidates of one object with what the search asks of them at every node.
 struct StaticSet {
     cands: Vec<Cand>,
@@ -899,21 +910,28 @@ impl Search<'_, '_> {
         reserved: &[Rect],
     ) -> (usize, usize) {
         let (kept, close) = self.room_left_where(k, c, |z| self.zone_free(z, placed));
-        let seats = self.seats_left(k, c, |z| {
-            self.zone_free(z, placed) && !reserved.iter().any(|r| r.overlaps(z))
+        let seats = self.seats_left(k, c, |p, ring| {
+            let apart = seat_apart_zone(p, ring);
+            self.zone_free(&seat_zone(p, ring), placed)
+                && !reserved.iter().any(|r| r.overlaps(&apart))
         });
         (kept + seats, close + seats)
     }
 
     /// How many of the chairs around table `k` still find a seat with the table at `c`: the
-    /// table's seats whose zone is `free`, as many as there are chairs.
-    fn seats_left(&self, k: usize, c: &Cand, free: impl Fn(&Rect) -> bool) -> usize {
+    /// table's seats for which `free` holds, as many as there are chairs.
+    fn seats_left(
+        &self,
+        k: usize,
+        c: &Cand,
+        free: impl Fn(&Pose, &constraints::SeatRing) -> bool,
+    ) -> usize {
         let Some(ring) = &self.rings[k] else { return 0 };
         let chairs = self.dependents[k].iter().filter(|d| d.ring).count();
         if chairs == 0 {
             return 0;
         }
-        let free_seats = self.seats_at(k, c.pose).filter(|p| free(&seat_zone(p, ring))).count();
+        let free_seats = self.seats_at(k, c.pose).filter(|p| free(p, ring)).count();
         free_seats.min(chairs)
     }
 
@@ -927,7 +945,7 @@ impl Search<'_, '_> {
     /// [`Search::room_left_for_dependents`] with nothing placed: what no node can exceed.
     fn room_left_static(&self, k: usize, c: &Cand) -> (u8, u8) {
         let (kept, close) = self.room_left_where(k, c, |z| self.zone_open(z));
-        let seats = self.seats_left(k, c, |z| self.zone_open(z));
+        let seats = self.seats_left(k, c, |p, ring| self.zone_open(&seat_zone(p, ring)));
         let (kept, close) = (kept + seats, close + seats);
         let small = |n: usize| u8::try_from(n).unwrap_or(u8::MAX);
         (small(kept), small(close))
@@ -1061,6 +1079,17 @@ impl Search<'_, '_> {
             if !seats.is_empty() {
                 out.push(SeatPromise { seats, need });
             }
+        }
+        out
+    }
+
+    /// The zones round the seats of every table before `k` placed at this node
+    /// ([`seat_apart_zone`]).
+    fn placed_seat_zones(&self, k: usize, st: &State) -> Vec<Rect> {
+        let mut out = Vec::new();
+        for (t, ring) in self.rings.iter().enumerate().take(k) {
+            let (Some(ring), Some(tp)) = (ring, st.poses[t]) else { continue };
+            out.extend(self.seats_at(t, tp).map(|p| seat_apart_zone(&p, ring)));
         }
         out
     }
@@ -1377,10 +1406,11 @@ impl Search<'_, '_> {
         let clearances = self.clearance_context(k, st);
         let promises = self.open_promises(k, placed, st);
         let seat_promises = self.open_seats(k, placed, st);
-        // The seats other tables keep for their chairs: this object's own chairs do not take
-        // them.
+        // The seats of the tables placed, a chair at them or not, with the room behind each to
+        // pull the chair out: this object's own chairs do not take them (two tables whose
+        // seats share that room leave their chairs back to back with no way between).
         let reserved: Vec<Rect> =
-            seat_promises.iter().flat_map(|p| p.seats.iter().copied()).collect();
+            if self.rings[k].is_some() { self.placed_seat_zones(k, st) } else { Vec::new() };
         let order = |a: &(f64, usize, f64, Cand), b: &(f64, usize, f64, Cand)| {
             b.0.total_cmp(&a.0).then(a.1.cmp(&b.1))
         };

@@ -244,6 +244,16 @@ rest += [obj(f"plant-{k}", [0.45, 0.45, 1.3]) for k in range(2)]
 room("restaurant_tables_first", rect(8, 9), rest, keep_out=[door(3.5, 0, 4.5, 1)],
      holes=[{"wall": 1, "from": 2, "to": 6, "bottom": 0.6, "top": 2.2, "window": True}])
 
+# A restaurant as a model writes one: six tables, each `near` the one before (a chain), each
+# with four chairs near it, around it and facing it, and a bar counter. The chain pulls the
+# tables close: the case where two tables' chairs ended back to back with no way between them
+# and a chair lost its seat.
+rest = [obj("bar-0", [3.0, 0.7, 1.1])]
+for t in range(6):
+    rest.append(obj(f"table-{t}", [0.9, 0.9, 0.75], "middle", [] if t == 0 else [("near", f"table-{t-1}")]))
+    rest += [obj(f"chair-{t}{c}", [0.45, 0.5, 0.9], "middle", [("near", f"table-{t}"), ("around", f"table-{t}"), ("face to", f"table-{t}")]) for c in range(4)]
+room("restaurant_chain", rect(9, 8), rest, keep_out=[door(2.8, 7.0, 4.7, 8.0)])
+
 # A classroom of 5 rows of 2 desks, the desks listed first and each chair after them: the case
 # where desks were stacked into one column and no chair stood at its desk.
 cls = [obj("teacher_desk-0", [1.4, 0.7, 0.75], "edge"),
