@@ -564,3 +564,33 @@ fn every_object_asked_is_placed_or_reported() {
     }
     assert!(checked >= 12, "only {checked} builds were checked");
 }
+
+/// The classroom built with other seeds: the look-ahead counts the rows behind the first row
+/// and their chairs (a chain of `behind`), so the rows keep their relations at most seeds. Not
+/// all yet: at some seeds the teacher's desk goes to a short wall, where three rows do not fit.
+/// Over seeds 1 to 10 the build kept 960 of 980 relations before the chain was looked at, 967
+/// after.
+#[test]
+fn the_classroom_keeps_its_rows_with_other_seeds() {
+    let path = Path::new("examples/classroom.holo");
+    let mut sources = SourceMap::new();
+    let id =
+        sources.add(path.display().to_string(), std::fs::read_to_string(path).expect("readable"));
+    let catalog = Catalog::embedded();
+    let (mut kept_all, mut total_all) = (0, 0);
+    for seed in 1..=10 {
+        let options = BuildOptions { seed: Some(seed), ..BuildOptions::new(&catalog) };
+        let built = build(&sources, id, &options).value.expect("the classroom builds");
+        for solved in &built.layout.rooms {
+            // Every floor object stands (the blackboard and the clock find no wall asset).
+            let floor_left: Vec<_> =
+                solved.layout.unplaced.iter().filter(|u| u.kind == "floor").collect();
+            assert!(floor_left.is_empty(), "seed {seed}: {floor_left:?}");
+            let (kept, total) = solved.layout.constraint_tally(&solved.problem);
+            kept_all += kept;
+            total_all += total;
+        }
+    }
+    assert_eq!(total_all, 980);
+    assert!(kept_all >= 967, "{kept_all} of {total_all} relations kept over seeds 1 to 10");
+}

@@ -402,6 +402,65 @@ struct Dependent {
     /// front or back of a desk or table needs the way to it too, the agent's width (a row of
     /// desks leaves an aisle behind its chairs).
     beyond: f64,
+    /// How far out beyond its square its zone reaches (metres): `beyond`, or further when the
+    /// object heads a chain that stands beyond it the same way ([`chain_reach`]: a row of
+    /// desks in front of the teacher's desk, with the rows behind it and their chairs).
+    reach: f64,
+}
+
+/// The relations of object `j` (which stands `kind` of its target and faces it or the way it
+/// faces, `facing`) that put a later object further out the same way: a desk facing the
+/// teacher's desk has the next row `behind` it; a desk beside another, facing the same way,
+/// has the next desk `side of` it. Empty when `j` is not turned by its target.
+fn outward_kinds(kind: RelationKind, facing: Option<RelationKind>) -> &'static [RelationKind] {
+    match (facing, kind) {
+        (Some(RelationKind::FaceTo), RelationKind::InFrontOf | RelationKind::Behind) => {
+            &[RelationKind::Behind]
+        }
+        (Some(RelationKind::FaceSameAs), RelationKind::InFrontOf) => &[RelationKind::InFrontOf],
+        (Some(RelationKind::FaceSameAs), RelationKind::Behind) => &[RelationKind::Behind],
+        (Some(RelationKind::FaceSameAs), RelationKind::SideOf) => &[RelationKind::SideOf],
+        _ => &[],
+    }
+}
+
+/// How much of the room, out from its target, a dependent and what stands beyond it the same
+/// way need (metres): its own depth that way, the way to it (`beyond`), and for each later
+/// object standing further out from it ([`outward_kinds`]), that object's least gap and its own
+/// chain, one after the other (the rows of a classroom and their chairs stack). `memo` keeps
+/// each dependent's answer by (object, relation).
+fn chain_depth(
+    problem: &super::RoomProblem,
+    dependents: &[Vec<Dependent>],
+    target: usize,
+    d: &Dependent,
+    memo: &mut FxHashMap<(usize, RelationKind), f64>,
+) -> f64 {
+    if let Some(&known) = memo.get(&(d.object, d.kind)) {
+        return known;
+    }
+    let obj = &problem.objects[d.object];
+    let facing = obj
+        .constraints
+        .iter()
+        .find(|c| {
+            c.target == target && matches!(c.kind, RelationKind::FaceTo | RelationKind::FaceSameAs)
+        })
+        .map(|c| c.kind);
+    let outward = outward_kinds(d.kind, facing);
+    // Its depth along the way out: its depth when its front or back faces that way, its width
+    // when a side does, and its smaller side when it is not turned by its target.
+    let own = match (facing, d.kind) {
+        (Some(_), RelationKind::InFrontOf | RelationKind::Behind) => obj.size[1],
+        (Some(RelationKind::FaceSameAs), RelationKind::SideOf) => obj.size[0],
+        _ => obj.size[0].min(obj.size[1]),
+    };
+    let mut depth = own + d.beyond;
+    for next in dependents[d.object].iter().filter(|n| !n.ring && outward.contains(&n.kind)) {
+        depth += next.gaps.0 + chain_depth(problem, dependents, d.object, next, memo);
+    }
+    memo.insert((d.object, d.kind), depth);
+    depth
 }
 
 /// A side relation of a later object to a placed one that can still be kept: its free zones
@@ -897,7 +956,7 @@ impl Search<'_, '_> {
         let dep = &self.prep.problem.objects[d.object];
         let side = dep.size[0].min(dep.size[1]);
         let bounds = &self.prep.room.bounds;
-        constraints::side_zones_and_next_to(d.kind, pose, size, [side, d.beyond], d.gaps, bounds)
+        constraints::side_zones_and_next_to(d.kind, pose, size, [side, d.reach], d.gaps, bounds)
     }
 
     /// What candidate `c` of object `k` leaves for the side relations later objects have to
@@ -966,7 +1025,7 @@ impl Search<'_, '_> {
                     some_free_next_to |= next_to;
                 }
             };
-            let z = [side, d.beyond];
+            let z = [side, d.reach];
             constraints::for_each_side_zone(d.kind, &c.pose, size, z, d.gaps, bounds, zone);
             kept += usize::from(some_free);
             close += usize::from(some_free_next_to);
@@ -1596,7 +1655,29 @@ pub(crate) fn run(
             let ring = c.kind == RelationKind::Around
                 && super::meaning_of(prep.problem, j, c).ring.is_some();
             let beyond = if drawn_up(prep.problem, j, c) { aisle } else { 0.0 };
-            dependents[c.target].push(Dependent { object: j, kind: c.kind, gaps, ring, beyond });
+            let reach = beyond;
+            dependents[c.target].push(Dependent {
+                object: j,
+                kind: c.kind,
+                gaps,
+                ring,
+                beyond,
+                reach,
+            });
+        }
+    }
+    // A dependent's zone reaches as far out as its chain needs.
+    let mut memo = FxHashMap::default();
+    for t in (0..n).rev() {
+        for i in 0..dependents[t].len() {
+            let d = dependents[t][i];
+            if d.ring {
+                continue;
+            }
+            let depth = chain_depth(prep.problem, &dependents, t, &d, &mut memo);
+            let size = prep.problem.objects[d.object].size;
+            let side = size[0].min(size[1]);
+            dependents[t][i].reach = d.beyond.max(depth - side);
         }
     }
     let rings: Vec<Option<constraints::SeatRing>> = (0..n)
