@@ -762,3 +762,38 @@ pub fn run_job(job: &Job, options: &Arc<RunOptions>) -> JobResult {
     result.seconds = started.elapsed().as_secs_f64();
     result
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Runs a task on this thread's runner and says which thread ran it.
+    fn runs_on(runner: &Runner) -> std::thread::ThreadId {
+        let (tx, rx) = std::sync::mpsc::channel();
+        runner
+            .tasks
+            .send(Box::new(move || {
+                let _ = tx.send(std::thread::current().id());
+            }))
+            .expect("the runner takes work");
+        rx.recv().expect("the runner ran it")
+    }
+
+    #[test]
+    fn a_worker_keeps_its_runner_only_when_given_back() {
+        std::thread::spawn(|| {
+            let first = Runner::take().expect("a runner");
+            let ran = runs_on(&first);
+            assert_ne!(ran, std::thread::current().id(), "the work runs on the runner");
+            first.give_back();
+            let again = Runner::take().expect("the same runner");
+            assert_eq!(runs_on(&again), ran, "one thread for the worker's jobs");
+            // Not given back (work left running, or a panic): the next job gets a new one.
+            drop(again);
+            let fresh = Runner::take().expect("a new runner");
+            assert_ne!(runs_on(&fresh), ran);
+        })
+        .join()
+        .expect("the worker");
+    }
+}
