@@ -1,9 +1,10 @@
-//! Running one job: the skip check, the job's lock, its work on a thread of its own under the
-//! time limit, the retries, and the writing of its folder.
+//! Running one job: the skip check, the job's lock, its work on its worker's runner thread
+//! under the time limit, the retries, and the writing of its folder.
 //!
-//! A job's work runs on a thread that holds a [`crate::cancel::Token`]; past `--job-timeout`
-//! the token is cancelled, the stages stop at their next check and the job is recorded as timed
-//! out (E0006) with the stage it was in. Work that does not stop within a short grace is left
+//! A job's work runs on a thread that holds a [`crate::cancel::Token`] (the runner its worker
+//! keeps from job to job, or a new one when the last job's work did not come back whole);
+//! past `--job-timeout` the token is cancelled, the stages stop at their next check and the
+//! job is recorded as timed out (E0006) with the stage it was in. Work that does not stop within a short grace is left
 //! to end on its own (its thread keeps its CPU permit until then) and the worker goes on.
 //! Nothing a cancelled job computed is written, so outputs never depend on time.
 //!
