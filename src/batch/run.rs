@@ -1,9 +1,10 @@
-//! Running one job: the skip check, the job's lock, its work on a thread of its own under the
-//! time limit, the retries, and the writing of its folder.
+//! Running one job: the skip check, the job's lock, its work on its worker's runner thread
+//! under the time limit, the retries, and the writing of its folder.
 //!
-//! A job's work runs on a thread that holds a [`crate::cancel::Token`]; past `--job-timeout`
-//! the token is cancelled, the stages stop at their next check and the job is recorded as timed
-//! out (E0006) with the stage it was in. Work that does not stop within a short grace is left
+//! A job's work runs on a thread that holds a [`crate::cancel::Token`] (the runner its worker
+//! keeps from job to job, or a new one when the last job's work did not come back whole);
+//! past `--job-timeout` the token is cancelled, the stages stop at their next check and the
+//! job is recorded as timed out (E0006) with the stage it was in. Work that does not stop within a short grace is left
 //! to end on its own (its thread keeps its CPU permit until then) and the worker goes on.
 //! Nothing a cancelled job computed is written, so outputs never depend on time.
 //!
@@ -519,59 +520,122 @@ enum Ended {
 /// depth is bounded where the input is read and the stack sized for it.
 pub const WORKER_STACK_BYTES: usize = 16 * 1024 * 1024;
 
-/// Runs the job's work on a thread of its own under the time limit.
+/// A thread that runs jobs' work, one job after another: each worker of a run keeps one
+/// between its jobs (in [`RUNNER`]), instead of starting a thread with a fresh
+/// [`WORKER_STACK_BYTES`] stack for every job (its stack mapped and faulted in again, its
+/// allocator arena and the parser's stack guard set up again: a third of a small job's CPU).
+/// A runner is given back only after work that ended, without a panic, while its worker
+/// waited: a job left to end on its own keeps its runner busy, and a panic may have left a
+/// thread's scratch state half written, so the next job gets a new runner then. A runner whose
+/// worker drops it ends once its work is done.
+struct Runner {
+    tasks: std::sync::mpsc::Sender<Box<dyn FnOnce() + Send>>,
+}
+
+thread_local! {
+    /// This worker thread's runner, between two jobs.
+    static RUNNER: std::cell::RefCell<Option<Runner>> = const { std::cell::RefCell::new(None) };
+}
+
+impl Runner {
+    /// This thread's runner (taken: it is given back with [`Runner::give_back`]), or a new one.
+    fn take() -> std::io::Result<Runner> {
+        if let Some(runner) = RUNNER.with_borrow_mut(Option::take) {
+            return Ok(runner);
+        }
+        let (tasks, queue) = std::sync::mpsc::channel::<Box<dyn FnOnce() + Send>>();
+        std::thread::Builder::new().name("holoc-job".into()).stack_size(WORKER_STACK_BYTES).spawn(
+            move || {
+                for task in queue {
+                    task();
+                }
+            },
+        )?;
+        Ok(Runner { tasks })
+    }
+
+    /// Keeps the runner for this thread's next job.
+    fn give_back(self) {
+        RUNNER.with_borrow_mut(|r| *r = Some(self));
+    }
+}
+
+/// Runs the job's work on a runner thread (see [`Runner`]) under the time limit.
 fn work_once(job: &Job, options: &Arc<RunOptions>) -> Ended {
     let token = Token::new(if job.spec.generate.is_some() { "generate" } else { "input" });
     let (tx, rx) = std::sync::mpsc::channel();
     let thread_job = job.clone();
     let thread_options = Arc::clone(options);
     let thread_token = Arc::clone(&token);
-    let spawned = std::thread::Builder::new()
-        .name(format!("job-{}", job.line))
-        .stack_size(WORKER_STACK_BYTES)
-        .spawn(move || {
-            thread_token.install();
-            let work = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-                let outside = (!thread_options.allow_outside)
-                    .then(|| super::outside_folder(&thread_job, &thread_options.manifest_dir))
-                    .flatten();
-                if let Some(path) = outside {
-                    return failed(
-                        "manifest",
-                        vec![Diagnostic::new(
-                            Code::E0005,
-                            format!(
-                                "`{}` is outside the manifest's folder: a manifest reads only \
-                                 files below its folder (give `--allow-outside` to lift this)",
-                                path.display()
-                            ),
-                        )],
-                    );
-                }
-                if thread_job.spec.generate.is_some() {
-                    run_generate_job(&thread_job, &thread_options, &thread_token)
-                } else {
-                    run_build_job(&thread_job, &thread_options)
-                }
-            }));
-            let _ = tx.send(work);
-        });
-    if let Err(e) = spawned {
-        return Ended::Finished(Ok(failed(
-            "panic",
-            vec![Diagnostic::new(Code::E0002, format!("cannot start the job's thread: {e}"))],
-        )));
+    let task = Box::new(move || {
+        thread_token.install();
+        let work = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            let outside = (!thread_options.allow_outside)
+                .then(|| super::outside_folder(&thread_job, &thread_options.manifest_dir))
+                .flatten();
+            if let Some(path) = outside {
+                return failed(
+                    "manifest",
+                    vec![Diagnostic::new(
+                        Code::E0005,
+                        format!(
+                            "`{}` is outside the manifest's folder: a manifest reads only \
+                             files below its folder (give `--allow-outside` to lift this)",
+                            path.display()
+                        ),
+                    )],
+                );
+            }
+            if thread_job.spec.generate.is_some() {
+                run_generate_job(&thread_job, &thread_options, &thread_token)
+            } else {
+                run_build_job(&thread_job, &thread_options)
+            }
+        }));
+        let _ = tx.send(work);
+    });
+    let runner = match Runner::take() {
+        Ok(runner) => runner,
+        Err(e) => {
+            return Ended::Finished(Ok(failed(
+                "panic",
+                vec![Diagnostic::new(Code::E0002, format!("cannot start the job's thread: {e}"))],
+            )))
+        }
+    };
+    if runner.tasks.send(task).is_err() {
+        // The runner's thread is gone (it cannot end while its worker holds it but by an
+        // abort): the work was never run.
+        return Ended::Finished(Err(Box::new("the job's thread ended without a result")));
     }
+    // The runner is kept for the next job when its work came back whole.
+    let keep = |work: &std::thread::Result<Work>| {
+        if work.is_ok() {
+            runner.give_back();
+        }
+    };
     match rx.recv_timeout(options.job_timeout) {
-        Ok(work) if !token.is_cancelled() => Ended::Finished(work),
-        Ok(_) => Ended::TimedOut { stage: token.stage(), stopped: true },
+        Ok(work) => {
+            keep(&work);
+            if token.is_cancelled() {
+                Ended::TimedOut { stage: token.stage(), stopped: true }
+            } else {
+                Ended::Finished(work)
+            }
+        }
         Err(std::sync::mpsc::RecvTimeoutError::Disconnected) => {
             Ended::Finished(Err(Box::new("the job's thread ended without a result")))
         }
         Err(std::sync::mpsc::RecvTimeoutError::Timeout) => {
             token.cancel();
             let stage = token.stage();
-            let stopped = rx.recv_timeout(options.grace).is_ok();
+            let stopped = match rx.recv_timeout(options.grace) {
+                Ok(work) => {
+                    keep(&work);
+                    true
+                }
+                Err(_) => false,
+            };
             Ended::TimedOut { stage, stopped }
         }
     }
@@ -698,4 +762,39 @@ pub fn run_job(job: &Job, options: &Arc<RunOptions>) -> JobResult {
     }
     result.seconds = started.elapsed().as_secs_f64();
     result
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Runs a task on this thread's runner and says which thread ran it.
+    fn runs_on(runner: &Runner) -> std::thread::ThreadId {
+        let (tx, rx) = std::sync::mpsc::channel();
+        runner
+            .tasks
+            .send(Box::new(move || {
+                let _ = tx.send(std::thread::current().id());
+            }))
+            .expect("the runner takes work");
+        rx.recv().expect("the runner ran it")
+    }
+
+    #[test]
+    fn a_worker_keeps_its_runner_only_when_given_back() {
+        std::thread::spawn(|| {
+            let first = Runner::take().expect("a runner");
+            let ran = runs_on(&first);
+            assert_ne!(ran, std::thread::current().id(), "the work runs on the runner");
+            first.give_back();
+            let again = Runner::take().expect("the same runner");
+            assert_eq!(runs_on(&again), ran, "one thread for the worker's jobs");
+            // Not given back (work left running, or a panic): the next job gets a new one.
+            drop(again);
+            let fresh = Runner::take().expect("a new runner");
+            assert_ne!(runs_on(&fresh), ran);
+        })
+        .join()
+        .expect("the worker");
+    }
 }

@@ -243,6 +243,12 @@ impl<'a> Outline<'a> {
 }
 
 impl Outline<'_> {
+    /// Whether a point of the row at `z` may be inside or on the outline: when not,
+    /// [`OutlineRow::misses_row`] holds for the row, which need not be made.
+    pub fn reaches_row(&self, z: f64) -> bool {
+        (self.bounds.min[1] - z).max(z - self.bounds.max[1]) <= EPS_M + PASS_OVER_M
+    }
+
     /// The outline seen from the points of one row (every point whose `z` is `z`), for
     /// distances up to `reach`: see [`OutlineRow`].
     pub fn row(&self, z: f64, reach: f64) -> OutlineRow<'_, '_> {
@@ -269,7 +275,7 @@ impl Outline<'_> {
         OutlineRow {
             outline: self,
             z,
-            in_bounds: gap_z(&self.bounds) <= touch,
+            in_bounds: self.reaches_row(z),
             touching: edges(&|g| g <= touch, touch),
             crossings,
             reach,
@@ -380,6 +386,114 @@ impl OutlineRow<'_, '_> {
             nearest = distance_below(p, nearest_on_segment(p, *a, *b), nearest);
         }
         nearest
+    }
+}
+
+/// The x coordinates of the points of a grid row, ascending and none a NaN: what the
+/// queries of [`OutlineRow`] on a whole row (`…_each`) need to find the points in an edge's
+/// x range by halving instead of testing every point.
+#[derive(Clone, Copy, Debug)]
+pub struct RowXs<'a>(&'a [f64]);
+
+impl<'a> RowXs<'a> {
+    /// The row's x coordinates, if they are ascending and none is a NaN.
+    pub fn new(xs: &'a [f64]) -> Option<RowXs<'a>> {
+        let ascending = xs.windows(2).all(|w| w[0] <= w[1]);
+        (ascending && xs.first().is_none_or(|x| !x.is_nan())).then_some(RowXs(xs))
+    }
+
+    /// The coordinates.
+    pub fn xs(&self) -> &'a [f64] {
+        self.0
+    }
+
+    /// The indices of the points in the window `[lo, hi]` (`in_window`); a NaN bound leaves
+    /// that side open, so the range holds every point the window holds, and then some: callers
+    /// test each point of it again.
+    pub fn window(&self, [lo, hi]: [f64; 2]) -> std::ops::Range<usize> {
+        let xs = self.0;
+        let start = if lo.is_nan() { 0 } else { xs.partition_point(|&x| x < lo) };
+        let end = if hi.is_nan() { xs.len() } else { xs.partition_point(|&x| x <= hi) };
+        start..end.max(start)
+    }
+}
+
+impl OutlineRow<'_, '_> {
+    /// [`OutlineRow::contains`] for every point `(xs[i], z)` of the row, into `inside[i]`
+    /// (which must be as long as `xs`): each answer to the bit that of the point's own query,
+    /// the work done edge by edge over the points within the edge's x range.
+    pub fn contains_each(&self, xs: RowXs<'_>, inside: &mut [bool]) {
+        assert_eq!(xs.0.len(), inside.len(), "one answer per point");
+        inside.fill(false);
+        if !self.in_bounds {
+            return;
+        }
+        // `raw_inside`: an odd number of crossings to the right of the point.
+        for &c in &self.crossings {
+            let right_of = xs.0.partition_point(|&x| x < c);
+            for v in &mut inside[..right_of] {
+                *v = !*v;
+            }
+        }
+        // `near_bounds`, then `on_boundary` for the points still inside.
+        let b = &self.outline.bounds;
+        for (v, &x) in inside.iter_mut().zip(xs.0) {
+            *v = *v && (b.min[0] - x).max(x - b.max[0]) <= EPS_M + PASS_OVER_M;
+        }
+        for &(i, window) in &self.touching {
+            let (a, b, bbox) = &self.outline.edges[i];
+            for k in xs.window(window) {
+                let p = [xs.0[k], self.z];
+                if inside[k]
+                    && in_window(p[0], window)
+                    && Outline::gap(p, bbox) <= EPS_M + PASS_OVER_M
+                    && point_on_segment(p, *a, *b)
+                {
+                    inside[k] = false;
+                }
+            }
+        }
+    }
+
+    /// Sets `marks[i]` for every point `(xs[i], z)` of the row for which
+    /// [`OutlineRow::contains_or_on`] holds (and leaves the others as they are): only the
+    /// points within the outline's x bounds are asked.
+    pub fn mark_contains_or_on(&self, xs: RowXs<'_>, marks: &mut [bool]) {
+        assert_eq!(xs.0.len(), marks.len(), "one mark per point");
+        if !self.in_bounds {
+            return;
+        }
+        for k in xs.window(x_window(&self.outline.bounds, EPS_M + PASS_OVER_M)) {
+            if !marks[k] && self.contains_or_on([xs.0[k], self.z]) {
+                marks[k] = true;
+            }
+        }
+    }
+
+    /// [`OutlineRow::distance_below`] for every point `(xs[i], z)` of the row, with the bound
+    /// `nearest[i]`, into `nearest[i]`: each answer to the bit that of the point's own query.
+    /// Each point meets the edges in the order its own query does; the edges are only taken
+    /// one at a time over the points within their x range, instead of each point testing
+    /// every edge.
+    pub fn distance_below_each(&self, xs: RowXs<'_>, nearest: &mut [f64]) {
+        assert_eq!(xs.0.len(), nearest.len(), "one bound per point");
+        if !nearest.iter().all(|&d| d <= self.reach) {
+            // A bound past the row's reach (or a NaN) is the whole outline's question.
+            for (d, &x) in nearest.iter_mut().zip(xs.0) {
+                *d = self.distance_below([x, self.z], *d);
+            }
+            return;
+        }
+        for &(i, window) in &self.within_reach {
+            let (a, b, bbox) = &self.outline.edges[i];
+            for k in xs.window(window) {
+                let p = [xs.0[k], self.z];
+                if !in_window(p[0], window) || Outline::gap(p, bbox) >= nearest[k] + PASS_OVER_M {
+                    continue;
+                }
+                nearest[k] = distance_below(p, nearest_on_segment(p, *a, *b), nearest[k]);
+            }
+        }
     }
 }
 
@@ -561,6 +675,7 @@ mod tests {
                             assert_eq!(row.contains(p), outline.contains(p), "{p:?}");
                             assert_eq!(row.contains_or_on(p), outline.contains_or_on(p));
                             assert!(!row.misses_row() || !outline.contains_or_on(p));
+                            assert_eq!(row.misses_row(), !outline.reaches_row(z));
                             if row.beyond_reach(p[0]) {
                                 for bound in [reach, reach / 2.0] {
                                     let d = outline.distance_below(p, bound);
@@ -579,6 +694,63 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn whole_rows_answer_as_their_points() {
+        let polygons: Vec<Vec<Point>> = vec![
+            vec![[0.0, 0.0], [0.0, 4.0], [5.0, 4.0], [5.0, 0.0]],
+            vec![[0.0, 0.0], [0.0, 3.0], [2.0, 3.0], [2.0, 5.0], [6.0, 5.0], [6.0, 0.0]],
+            vec![[0.3, 0.1], [1.1, 4.2], [4.7, 3.3], [3.9, -0.4]],
+            vec![[0.0, 0.0], [2.5, 4.0], [5.0, 0.0]],
+            vec![[1.0, 1.0], [1.0, 1.6], [1.4, 1.6], [1.4, 1.0]],
+            vec![[1e4, 0.0], [1e4, 4.0], [1e4 + 5.0, 4.0], [1e4 + 5.0, 0.0]],
+        ];
+        for polygon in &polygons {
+            let outline = Outline::new(polygon);
+            let x0 = polygon[0][0].floor() - 0.5;
+            for step in [0.05, 0.1, 0.5] {
+                let xs: Vec<f64> =
+                    (0..=((7.0 / step) as usize + 2)).map(|i| x0 + i as f64 * step).collect();
+                let row_xs = RowXs::new(&xs).expect("ascending");
+                for j in 0..=((6.0 / step) as usize + 2) {
+                    let z = -0.5 + j as f64 * step;
+                    for reach in [0.0, 0.3, 0.8] {
+                        let row = outline.row(z, reach);
+                        let mut inside = vec![true; xs.len()];
+                        row.contains_each(row_xs, &mut inside);
+                        let mut marks: Vec<bool> = (0..xs.len()).map(|i| i % 3 == 0).collect();
+                        let before = marks.clone();
+                        row.mark_contains_or_on(row_xs, &mut marks);
+                        for bound in [reach, reach / 2.0, 1.0] {
+                            let mut nearest: Vec<f64> = (0..xs.len())
+                                .map(|i| if i % 4 == 1 { bound / 3.0 } else { bound })
+                                .collect();
+                            let bounds = nearest.clone();
+                            row.distance_below_each(row_xs, &mut nearest);
+                            for (i, &x) in xs.iter().enumerate() {
+                                let d = row.distance_below([x, z], bounds[i]);
+                                assert_eq!(nearest[i].to_bits(), d.to_bits(), "{x} {z} {bound}");
+                            }
+                        }
+                        for (i, &x) in xs.iter().enumerate() {
+                            let p = [x, z];
+                            assert_eq!(inside[i], row.contains(p), "{p:?}");
+                            assert_eq!(marks[i], before[i] || row.contains_or_on(p), "{p:?}");
+                        }
+                    }
+                }
+            }
+        }
+        assert!(RowXs::new(&[0.0, f64::NAN]).is_none());
+        assert!(RowXs::new(&[f64::NAN]).is_none());
+        assert!(RowXs::new(&[1.0, 0.5]).is_none());
+        let xs = [0.0, 1.0, 1.0, 2.0];
+        let row_xs = RowXs::new(&xs).expect("ascending");
+        assert_eq!(row_xs.window([1.0, 1.0]), 1..3);
+        assert_eq!(row_xs.window([f64::NAN, 1.5]), 0..3);
+        assert_eq!(row_xs.window([0.5, f64::NAN]), 1..4);
+        assert_eq!(row_xs.window([3.0, 2.0]), 4..4);
     }
 
     #[test]

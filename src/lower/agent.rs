@@ -84,56 +84,17 @@ fn free_start(plan: &FloorPlan, layout: &Layout, id: RoomId) -> Option<Point> {
     let bbox = Aabb::of(poly);
     let nx = (bbox.width() / STEP_M).floor() as usize + 1;
     let nz = (bbox.depth() / STEP_M).floor() as usize + 1;
-    let point = |i: usize, j: usize| -> Point {
-        [bbox.min[0] + (i as f64 + 0.5) * STEP_M, bbox.min[1] + (j as f64 + 0.5) * STEP_M]
-    };
+    let point = |i: usize, j: usize| cell_point(&bbox, i, j);
     let need = AGENT_RADIUS_M + MARGIN_M;
-    let outline = geo::Outline::new(poly);
-    let kept_out: Vec<geo::Outline<'_>> =
-        room.door_keep_out.iter().chain(&room.open_boxes).map(|b| geo::Outline::new(b)).collect();
-    let mut clearance = vec![f64::NEG_INFINITY; nx * nz];
-    for j in 0..nz {
-        // What can matter to the cells of this row is worked out once for the row: the walls
-        // and keep-out boxes near it, the footprints within `ENOUGH_CLEARANCE_M` of it (a
-        // farther one cannot lower a clearance measured no further than that). The values are
-        // those of the cell-by-cell tests, to the bit.
-        let z = point(0, j)[1];
-        let walls = outline.row(z, ENOUGH_CLEARANCE_M);
-        let boxes: Vec<_> =
-            kept_out.iter().map(|b| b.row(z, 0.0)).filter(|b| !b.misses_row()).collect();
-        // Each with the x range beyond which it is `ENOUGH_CLEARANCE_M` away or more, so leaves
-        // the clearance as it is.
-        let near: Vec<(&Rect, [f64; 2])> = footprints
-            .iter()
-            .filter(|r| (r.min_z - z).max(0.0).max(z - r.max_z) < ENOUGH_CLEARANCE_M)
-            .map(|r| (r, x_window(r.min_x, r.max_x, ENOUGH_CLEARANCE_M)))
-            .collect();
-        for i in 0..nx {
-            let p = point(i, j);
-            if !walls.contains(p) || boxes.iter().any(|b| b.contains_or_on(p)) {
-                continue;
-            }
-            // The distance to the nearest wall or footprint, measured no further than
-            // `ENOUGH_CLEARANCE_M`: only whether it reaches the need (less) and how it compares
-            // up to that count.
-            let mut nearest = if walls.beyond_reach(p[0]) {
-                ENOUGH_CLEARANCE_M
-            } else {
-                walls.distance_below(p, ENOUGH_CLEARANCE_M)
-            };
-            for (r, window) in &near {
-                if in_window(p[0], *window) {
-                    nearest = distance_to_rect_below(p, r, nearest);
-                }
-            }
-            clearance[j * nx + i] = nearest;
-        }
-    }
+    let kept_out: Vec<&[Point]> =
+        room.door_keep_out.iter().chain(&room.open_boxes).map(Vec::as_slice).collect();
+    let clearance = clearances(poly, &kept_out, &footprints, &bbox, nx, nz);
     let free = |c: usize| clearance[c] >= need;
     // Flood from the free cells next to a door; without a door, every free cell counts.
     let mut reached = vec![false; nx * nz];
     // A first-in first-out queue of cells `(i, j)`: they are taken from `queue[head]` on.
-    let mut queue: Vec<(usize, usize)> = Vec::new();
+    // (Each cell is pushed at most once.)
+    let mut queue: Vec<(usize, usize)> = Vec::with_capacity(nx * nz);
     let door_reach = DOOR_REACH_M + need;
     for j in 0..nz {
         // A door whose z range is farther from the row than the reach (the nearest point of a
@@ -212,4 +173,207 @@ fn free_start(plan: &FloorPlan, layout: &Layout, id: RoomId) -> Option<Point> {
         }
     }
     best.map(|(_, _, p)| p)
+}
+
+/// Each cell's clearance, row by row (`clearance[j * nx + i]`): the distance from the cell's
+/// centre to the nearest wall of `polygon` or footprint, counted up to `ENOUGH_CLEARANCE_M`,
+/// or minus infinity for a cell outside the room or in a `kept_out` box (a door's keep-out
+/// box or an open connection's).
+///
+/// Each row asks the walls and boxes about all its cells at once (`geo::OutlineRow`'s `…_each`
+/// queries), and each wall, box and footprint measures only the cells within its x range, in
+/// the order a cell-by-cell search would meet them: every value is, to the bit, that search's
+/// (`tests::cell_by_cell`, which the tests hold this to).
+fn clearances(
+    polygon: &[Point],
+    kept_out: &[&[Point]],
+    footprints: &[Rect],
+    bbox: &Aabb,
+    nx: usize,
+    nz: usize,
+) -> Vec<f64> {
+    let mut clearance = vec![f64::NEG_INFINITY; nx * nz];
+    let xs: Vec<f64> = (0..nx).map(|i| cell_point(bbox, i, 0)[0]).collect();
+    let Some(row_xs) = geo::RowXs::new(&xs) else {
+        return cells_one_by_one(polygon, kept_out, footprints, bbox, nx, nz);
+    };
+    let outline = geo::Outline::new(polygon);
+    let kept_out: Vec<geo::Outline<'_>> = kept_out.iter().map(|b| geo::Outline::new(b)).collect();
+    let mut inside = vec![false; nx];
+    let mut blocked = vec![false; nx];
+    let mut nearest = vec![ENOUGH_CLEARANCE_M; nx];
+    for (j, row) in clearance.chunks_exact_mut(nx).enumerate() {
+        let z = cell_point(bbox, 0, j)[1];
+        let walls = outline.row(z, ENOUGH_CLEARANCE_M);
+        walls.contains_each(row_xs, &mut inside);
+        blocked.fill(false);
+        for b in kept_out.iter().filter(|b| b.reaches_row(z)) {
+            b.row(z, 0.0).mark_contains_or_on(row_xs, &mut blocked);
+        }
+        nearest.fill(ENOUGH_CLEARANCE_M);
+        walls.distance_below_each(row_xs, &mut nearest);
+        // A footprint farther than `ENOUGH_CLEARANCE_M` from the row, or from a cell along x,
+        // cannot lower a clearance counted no further than that.
+        let near = footprints
+            .iter()
+            .filter(|r| (r.min_z - z).max(0.0).max(z - r.max_z) < ENOUGH_CLEARANCE_M);
+        for r in near {
+            let window = x_window(r.min_x, r.max_x, ENOUGH_CLEARANCE_M);
+            for i in row_xs.window(window) {
+                let p = [xs[i], z];
+                if in_window(p[0], window) {
+                    nearest[i] = distance_to_rect_below(p, r, nearest[i]);
+                }
+            }
+        }
+        for (i, c) in row.iter_mut().enumerate() {
+            if inside[i] && !blocked[i] {
+                *c = nearest[i];
+            }
+        }
+    }
+    clearance
+}
+
+/// The centre of cell `(i, j)` of the grid over `bbox`.
+fn cell_point(bbox: &Aabb, i: usize, j: usize) -> Point {
+    [bbox.min[0] + (i as f64 + 0.5) * STEP_M, bbox.min[1] + (j as f64 + 0.5) * STEP_M]
+}
+
+/// [`clearances`] measured cell by cell: what a grid whose x coordinates are not in order
+/// (a room with a NaN coordinate) gets, and what the tests hold the row-wise search to.
+fn cells_one_by_one(
+    polygon: &[Point],
+    kept_out: &[&[Point]],
+    footprints: &[Rect],
+    bbox: &Aabb,
+    nx: usize,
+    nz: usize,
+) -> Vec<f64> {
+    let outline = geo::Outline::new(polygon);
+    let kept_out: Vec<geo::Outline<'_>> = kept_out.iter().map(|b| geo::Outline::new(b)).collect();
+    let mut clearance = vec![f64::NEG_INFINITY; nx * nz];
+    for j in 0..nz {
+        let z = cell_point(bbox, 0, j)[1];
+        let walls = outline.row(z, ENOUGH_CLEARANCE_M);
+        let boxes: Vec<_> =
+            kept_out.iter().map(|b| b.row(z, 0.0)).filter(|b| !b.misses_row()).collect();
+        let near: Vec<(&Rect, [f64; 2])> = footprints
+            .iter()
+            .filter(|r| (r.min_z - z).max(0.0).max(z - r.max_z) < ENOUGH_CLEARANCE_M)
+            .map(|r| (r, x_window(r.min_x, r.max_x, ENOUGH_CLEARANCE_M)))
+            .collect();
+        for i in 0..nx {
+            let p = cell_point(bbox, i, j);
+            if !walls.contains(p) || boxes.iter().any(|b| b.contains_or_on(p)) {
+                continue;
+            }
+            let mut nearest = if walls.beyond_reach(p[0]) {
+                ENOUGH_CLEARANCE_M
+            } else {
+                walls.distance_below(p, ENOUGH_CLEARANCE_M)
+            };
+            for (r, window) in &near {
+                if in_window(p[0], *window) {
+                    nearest = distance_to_rect_below(p, r, nearest);
+                }
+            }
+            clearance[j * nx + i] = nearest;
+        }
+    }
+    clearance
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// The row-wise clearances and the cell-by-cell ones, to the bit.
+    fn assert_same(polygon: &[Point], kept_out: &[&[Point]], footprints: &[Rect]) {
+        let bbox = Aabb::of(polygon);
+        let nx = (bbox.width() / STEP_M).floor() as usize + 1;
+        let nz = (bbox.depth() / STEP_M).floor() as usize + 1;
+        let fast = clearances(polygon, kept_out, footprints, &bbox, nx, nz);
+        let slow = cells_one_by_one(polygon, kept_out, footprints, &bbox, nx, nz);
+        assert_eq!(fast.len(), slow.len());
+        for (c, (a, b)) in fast.iter().zip(&slow).enumerate() {
+            assert_eq!(a.to_bits(), b.to_bits(), "cell {} of row {}", c % nx, c / nx);
+        }
+    }
+
+    fn rect(x: f64, z: f64, w: f64, d: f64) -> Rect {
+        Rect { min_x: x, min_z: z, max_x: x + w, max_z: z + d }
+    }
+
+    fn corners(r: &Rect) -> Vec<Point> {
+        vec![[r.min_x, r.min_z], [r.min_x, r.max_z], [r.max_x, r.max_z], [r.max_x, r.min_z]]
+    }
+
+    #[test]
+    fn rooms_of_every_shape_measure_as_cell_by_cell() {
+        let rooms: Vec<Vec<Point>> = vec![
+            vec![[0.0, 0.0], [0.0, 4.0], [5.0, 4.0], [5.0, 0.0]],
+            vec![[0.0, 0.0], [0.0, 3.0], [2.0, 3.0], [2.0, 5.0], [6.0, 5.0], [6.0, 0.0]],
+            vec![[0.3, 0.1], [1.1, 4.2], [4.7, 3.3], [3.9, -0.4]],
+            vec![[0.0, 0.0], [2.5, 4.0], [5.0, 0.0]],
+            // Corners on the cells' centres, and a room far from the origin.
+            vec![[0.025, 0.025], [0.025, 2.525], [3.075, 2.525], [3.075, 0.025]],
+            vec![[1e4, -7.0], [1e4, -3.0], [1e4 + 5.0, -3.0], [1e4 + 5.0, -7.0]],
+        ];
+        let furniture =
+            [rect(1.0, 1.0, 1.2, 0.6), rect(0.0, 2.0, 0.5, 2.0), rect(2.4, 0.05, 2.0, 1.0)];
+        let door = corners(&rect(0.0, 1.0, 1.0, 1.0));
+        let open = corners(&rect(4.0, 3.5, 1.0, 0.5));
+        for polygon in &rooms {
+            assert_same(polygon, &[], &[]);
+            let shift = Aabb::of(polygon).min;
+            let moved: Vec<Rect> = furniture
+                .iter()
+                .map(|r| {
+                    rect(
+                        r.min_x + shift[0],
+                        r.min_z + shift[1],
+                        r.max_x - r.min_x,
+                        r.max_z - r.min_z,
+                    )
+                })
+                .collect();
+            assert_same(polygon, &[&door, &open], &moved);
+        }
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(64))]
+
+        /// Random rooms (an L or a rectangle, at a random place), keep-out boxes and
+        /// footprints: the row-wise search gives every cell the value the cell-by-cell one does.
+        #[test]
+        fn random_rooms_measure_as_cell_by_cell(
+            x0 in -20.0f64..20.0,
+            z0 in -20.0f64..20.0,
+            w in 0.4f64..7.0,
+            d in 0.4f64..7.0,
+            notch in proptest::option::of((0.1f64..0.9, 0.1f64..0.9)),
+            boxes in proptest::collection::vec((0.0f64..1.0, 0.0f64..1.0, 0.1f64..1.5, 0.1f64..1.5), 0..3),
+            things in proptest::collection::vec((0.0f64..1.0, 0.0f64..1.0, 0.05f64..2.5, 0.05f64..2.5), 0..8),
+        ) {
+            let polygon = match notch {
+                None => vec![[x0, z0], [x0, z0 + d], [x0 + w, z0 + d], [x0 + w, z0]],
+                Some((a, b)) => vec![
+                    [x0, z0],
+                    [x0, z0 + d * b],
+                    [x0 + w * a, z0 + d * b],
+                    [x0 + w * a, z0 + d],
+                    [x0 + w, z0 + d],
+                    [x0 + w, z0],
+                ],
+            };
+            let at = |(u, v, bw, bd): (f64, f64, f64, f64)| rect(x0 + u * w, z0 + v * d, bw, bd);
+            let boxes: Vec<Vec<Point>> = boxes.into_iter().map(|b| corners(&at(b))).collect();
+            let kept_out: Vec<&[Point]> = boxes.iter().map(Vec::as_slice).collect();
+            let footprints: Vec<Rect> = things.into_iter().map(at).collect();
+            assert_same(&polygon, &kept_out, &footprints);
+        }
+    }
 }
