@@ -403,7 +403,7 @@ struct Dependent {
     /// desks leaves an aisle behind its chairs).
     beyond: f64,
     /// How far out beyond its square its zone reaches (metres): `beyond`, or further when the
-    /// object heads a chain that stands beyond it the same way ([`chain_reach`]: a row of
+    /// object heads a chain that stands beyond it the same way ([`chain_depth`]: a row of
     /// desks in front of the teacher's desk, with the rows behind it and their chairs).
     reach: f64,
 }
