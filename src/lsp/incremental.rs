@@ -594,6 +594,10 @@ struct CheckMemo {
     scene: Option<Scene>,
     head: Vec<Diagnostic>,
     rooms: Vec<crate::check::RoomDiagnostics>,
+    /// The doors' diagnostics and the scene's as a whole ([`crate::check::check_tail`]).
+    tail: Vec<Diagnostic>,
+    /// Where the tree's doors are.
+    doors: Vec<Span>,
     /// Where the tree's `scene` blocks are.
     scene_blocks: Vec<Span>,
     /// Whether every room of the tree is a room of the scene (none called `exterior`, no name
@@ -618,6 +622,8 @@ pub struct Counts {
     pub rooms_checked: u64,
     /// Rooms whose check was reused.
     pub rooms_check_reused: u64,
+    /// Checks whose doors were kept (not checked again).
+    pub doors_kept: u64,
 }
 
 impl Memo {
@@ -734,20 +740,27 @@ fn check(ast: &crate::ast::File, memo: &mut Memo) -> crate::diag::Outcome<Scene>
         }
         _ => None,
     };
-    let (mut scene, head, rooms) = match in_place {
+    let (mut scene, head, rooms, kept_tail) = match in_place {
         Some(found) => found,
         None => {
             let parts = crate::check::check_parts(ast);
             memo.counts.rooms_checked += parts.rooms.len() as u64;
-            (parts.scene, parts.head, parts.rooms)
+            (parts.scene, parts.head, parts.rooms, None)
         }
     };
-    let tail = crate::check::check_tail(ast, &mut scene);
+    let tail = match kept_tail {
+        Some(tail) => {
+            memo.counts.doors_kept += 1;
+            tail
+        }
+        None => crate::check::check_tail(ast, &mut scene),
+    };
     let mut diagnostics = head.clone();
     for room in &rooms {
         diagnostics.extend(room.diagnostics.iter().cloned());
     }
-    diagnostics.extend(tail);
+    diagnostics.extend(tail.iter().cloned());
+    let tail_kept = tail;
     if let Some(tree) = memo.cache.parse.tree_number() {
         let scene_blocks = ast
             .items
@@ -759,11 +772,21 @@ fn check(ast: &crate::ast::File, memo: &mut Memo) -> crate::diag::Outcome<Scene>
             .collect();
         let room_items =
             ast.items.iter().filter(|i| matches!(i, crate::ast::Item::Room(_))).count();
+        let doors = ast
+            .items
+            .iter()
+            .filter_map(|i| match i {
+                crate::ast::Item::Door(door) => Some(door.span),
+                _ => None,
+            })
+            .collect();
         memo.check = Some(CheckMemo {
             tree,
             scene: None,
             head,
             rooms,
+            tail: tail_kept,
+            doors,
             scene_blocks,
             every_room_kept: room_items == scene.rooms.len(),
         });
@@ -777,7 +800,7 @@ fn check_in_place(
     last: &mut CheckMemo,
     splice: crate::parse::Splice,
     counts: &mut Counts,
-) -> Option<(Scene, Vec<Diagnostic>, Vec<crate::check::RoomDiagnostics>)> {
+) -> Option<CheckedInPlace> {
     if !last.every_room_kept {
         return None;
     }
@@ -846,8 +869,23 @@ fn check_in_place(
         }
         old_first += old_count;
     }
-    Some((scene, head, diagnostics))
+    // The doors read the rooms' names and ids alone, which stay: when the edit touched no
+    // door either, the doors and their diagnostics are the last ones, moved.
+    let doors_touched = last.doors.iter().any(|&d| in_old(d))
+        || ast.items.iter().any(|i| matches!(i, crate::ast::Item::Door(d) if in_new(d.span)));
+    let mut tail = std::mem::take(&mut last.tail);
+    let tail = (!doors_touched
+        && !scene.rooms.is_empty()
+        && shift.move_in_place(&mut tail)
+        && scene.doors.iter_mut().all(|d| shift.move_in_place(d)))
+    .then_some(tail);
+    Some((scene, head, diagnostics, tail))
 }
+
+/// What [`check_in_place`] gives: the scene, the head's and each room's diagnostics, and the
+/// doors' diagnostics when the doors were kept (`None`: they are to be checked again).
+type CheckedInPlace =
+    (Scene, Vec<Diagnostic>, Vec<crate::check::RoomDiagnostics>, Option<Vec<Diagnostic>>);
 
 /// Resolves the scene's assets room by room, reusing each room's last resolution when its
 /// input, moved by the edit, is the same and the rooms before it use the assets it asked about

@@ -588,7 +588,13 @@ fn resolve_room(scene: &Scene, room: &crate::check::Room, state: &mut State<'_>)
         }
     }
     done.diagnostics = std::mem::take(&mut state.diagnostics);
-    done.reads = std::mem::take(&mut state.reads);
+    // An asset asked about twice got the same answer (the rooms before do not change while
+    // this one is resolved): each is kept once.
+    let mut reads = std::mem::take(&mut state.reads);
+    reads.sort_unstable();
+    reads.dedup();
+    reads.shrink_to_fit();
+    done.reads = reads;
     done.writes = std::mem::take(&mut state.writes);
     done.ranks = std::mem::take(&mut state.asked);
     done
