@@ -624,6 +624,8 @@ pub struct Counts {
     pub rooms_check_reused: u64,
     /// Checks whose doors were kept (not checked again).
     pub doors_kept: u64,
+    /// Object groups whose asset choice was taken again in a room resolved again.
+    pub groups_kept: u64,
 }
 
 impl Memo {
@@ -949,7 +951,29 @@ fn resolve_rooms(
             }
             run => {
                 memo.counts.rooms_resolved += 1;
-                let output = resolver.room(scene, room);
+                // While editing, a room resolved again takes again the choices of its object
+                // groups whose input did not change (their spans moved by the edit); the first
+                // resolution of a scene records none (`Resolver::room`).
+                let mut run = run;
+                let output = match (shift, &mut run) {
+                    (Some(shift), Some(last)) => {
+                        let ok = std::cell::Cell::new(true);
+                        last.output.spans_mut(
+                            &mut |span| match shift.span(*span) {
+                                Some(moved) => *span = moved,
+                                None => ok.set(false),
+                            },
+                            &mut |d| {
+                                if !shift.move_in_place(d) {
+                                    ok.set(false);
+                                }
+                            },
+                        );
+                        resolver.room_again(scene, room, ok.get().then_some(&mut last.output))
+                    }
+                    (Some(_), None) => resolver.room_again(scene, room, None),
+                    (None, _) => resolver.room(scene, room),
+                };
                 if let Some(run) = &run {
                     gone.push(run.ids.clone());
                 }
@@ -964,6 +988,7 @@ fn resolve_rooms(
     }
     // The rooms no longer there let go of their rankings before the cache keeps what rooms hold.
     drop(old);
+    memo.counts.groups_kept += resolver.groups_kept();
     resolver.finish(&mut memo.cache.ranks);
     let resolved = match last_resolved {
         Some(last) if same_rooms && last.objects.len() == scene.objects.len() => {
