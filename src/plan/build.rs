@@ -1802,6 +1802,7 @@ fn colour_layers(
 mod tests {
     use super::*;
     use proptest::prelude::*;
+    use std::fmt::Write as _;
 
     /// The recursive search `colour_layers` replaced, looking at every coloured node.
     fn solve(
@@ -1847,9 +1848,10 @@ mod tests {
                 }
                 let c1 = (c + usize::from(run % 3) + 1).min(columns.len());
                 let (x0, x1) = (xs[c], xs[c1]);
-                text.push_str(&format!(
+                let _ = write!(
+                    text,
                     "room r{k} \"office\" {{\n  corners in m ({x0}, {z}) ({x0}, {z1}) ({x1}, {z1}) ({x1}, {z})\n}}\n"
-                ));
+                );
                 k += 1;
                 c = c1;
             }

@@ -388,6 +388,9 @@ pub struct RoomResolution {
     groups: Vec<GroupRun>,
 }
 
+/// A span as the room's reported set keeps it: file, start, end.
+type SpanKey = (u32, u32, u32);
+
 /// One object group's choice in a room: its input, and everything the choice read of and
 /// gave to the room's resolution.
 #[derive(Clone, Debug)]
@@ -404,7 +407,7 @@ struct GroupRun {
     results: Vec<Resolution>,
     /// The diagnostics it made, and each span it asked to report with whether it was new.
     diagnostics: Vec<Diagnostic>,
-    reports: Vec<((u32, u32, u32), bool)>,
+    reports: Vec<(SpanKey, bool)>,
     /// The assets it asked about, with the answers, and those it used, in order.
     reads: Vec<(String, bool)>,
     writes: Vec<String>,
@@ -803,7 +806,7 @@ struct State<'a> {
     diagnostics: Vec<Diagnostic>,
     /// While a group's choice is recorded ([`State::choose_recorded`]): each span it asked to
     /// report, with whether it was new, and each asset it used.
-    reports: Option<Vec<((u32, u32, u32), bool)>>,
+    reports: Option<Vec<(SpanKey, bool)>>,
     writes_made: Option<Vec<String>>,
     /// How many groups' choices were taken again ([`Resolver::groups_kept`]).
     groups_kept: u64,
