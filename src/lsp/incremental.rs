@@ -920,6 +920,10 @@ fn resolve_rooms(
     // While every room so far is the one at its place last time and uses the same assets, the
     // rooms before the next one use what they used then: its answers hold without asking.
     let mut in_step = shift.is_some();
+    // The rooms whose assets the resolver counts as used (`runs[..counted]`): counted only
+    // when a room is resolved or its answers checked, so that an edit in the last rooms does
+    // not go through every earlier room's assets.
+    let mut counted = 0;
     for (k, room) in scene.rooms.iter().enumerate() {
         let place = by_name.get(room.name.as_str()).copied();
         let mut run = place.and_then(|i| old.get_mut(i)).and_then(Option::take);
@@ -928,8 +932,10 @@ fn resolve_rooms(
         // away).
         let reusable = match (&mut run, shift) {
             (Some(run), Some(shift)) => {
-                (in_step || run.output.reads_hold(resolver.used()))
-                    && shift.move_in_place(&mut run.input)
+                (in_step || {
+                    used_up_to(&mut resolver, &runs, &mut counted);
+                    run.output.reads_hold(resolver.used())
+                }) && shift.move_in_place(&mut run.input)
                     && run.input.is_of(scene, room)
                     && shift.move_in_place(&mut run.output.diagnostics)
             }
@@ -951,6 +957,7 @@ fn resolve_rooms(
             }
             run => {
                 memo.counts.rooms_resolved += 1;
+                used_up_to(&mut resolver, &runs, &mut counted);
                 // While editing, a room resolved again takes again the choices of its object
                 // groups whose input did not change (their spans moved by the edit); the first
                 // resolution of a scene records none (`Resolver::room`).
@@ -982,8 +989,6 @@ fn resolve_rooms(
                 RoomRun { input: RoomInput::of(scene, room), output, ids: room.objects.clone() }
             }
         };
-        let output = &run.output;
-        resolver.used_before(output);
         runs.push((room.name.clone(), run));
     }
     // The rooms no longer there let go of their rankings before the cache keeps what rooms hold.
@@ -1003,6 +1008,19 @@ fn resolve_rooms(
         resolved: None,
     });
     resolved
+}
+
+/// Counts the assets of the rooms of `runs` not counted yet (from `counted` on) as used by the
+/// rooms before the next one.
+fn used_up_to(
+    resolver: &mut crate::resolve::Resolver<'_>,
+    runs: &[(String, RoomRun)],
+    counted: &mut usize,
+) {
+    for (_, run) in runs.get(*counted..).unwrap_or_default() {
+        resolver.used_before(&run.output);
+    }
+    *counted = runs.len();
 }
 
 /// What [`crate::resolve::assemble`] makes of the rooms' runs, made from the last result:
