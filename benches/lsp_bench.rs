@@ -47,7 +47,8 @@ fn big_scene(lines: usize, one_room: bool) -> String {
     let mut text =
         String::from("scene \"a large office floor\" {\n  wall height 2.7 m\n  seed 7\n}\n");
     let mut room = 0;
-    while text.lines().count() < lines {
+    let mut count = text.lines().count();
+    while count < lines {
         let (gx, gz) = (room % 4, room / 4);
         let (x0, z0) = (gx as f64 * 5.0, gz as f64 * 5.0);
         let side = if one_room { 20.0 } else { 5.0 };
@@ -73,6 +74,8 @@ fn big_scene(lines: usize, one_room: bool) -> String {
         }
         text.push_str("}\n");
         room += 1;
+        // Every piece ends with a line break: the lines add up.
+        count = text.lines().count();
     }
     for r in 0..room {
         let from = if r == 0 { "exterior".to_string() } else { format!("r{}", r - 1) };
@@ -93,7 +96,8 @@ fn apartments(lines: usize) -> String {
     let mut text = head;
     let names = ["living_room", "kitchen", "bedroom", "bathroom"];
     let mut k = 0;
-    while text.lines().count() < lines {
+    let mut count = text.lines().count();
+    while count < lines {
         let (dx, dz) = (k as f64 * 10.0, 0.0);
         let mut copy = String::new();
         for line in body.lines() {
@@ -131,6 +135,8 @@ fn apartments(lines: usize) -> String {
             copy.push_str(&line);
             copy.push('\n');
         }
+        // Every copy ends with a line break: the lines add up.
+        count += copy.lines().count();
         text.push_str(&copy);
         k += 1;
     }

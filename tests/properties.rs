@@ -237,6 +237,20 @@ fn typing_in_one_room_resolves_that_room_and_keeps_the_others() {
     assert!(counts.rooms_reused < 4, "{counts:?}");
 }
 
+#[test]
+fn typing_twice_in_one_room_chooses_again_only_the_group_typed_in() {
+    // The first edit resolves the room and records its groups' choices; at the second, every
+    // group but the one typed in is taken again, and the doors are not checked again.
+    let text = competing_rooms(3);
+    let at = text.rfind("describe \"").expect("a description") + 10;
+    let once = mutate(&text, at, 0, "x");
+    let twice = mutate(&once, at, 0, "y");
+    let counts = incremental_equals_whole(&[text, once, twice]).expect("the same analyses");
+    // Five groups in the last room: four kept at the second edit.
+    assert_eq!(counts.groups_kept, 4, "{counts:?}");
+    assert_eq!(counts.doors_kept, 2, "{counts:?}");
+}
+
 /// Tokens that make up plausible and implausible `.holo` text.
 fn token() -> impl Strategy<Value = String> {
     prop_oneof![

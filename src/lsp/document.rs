@@ -100,8 +100,8 @@ pub struct Document {
     pub uri: Option<lsp_types::Uri>,
     /// The version the client gave.
     pub version: i32,
-    /// The current text.
-    pub text: String,
+    /// The current text, with where its lines start (kept up to date edit by edit).
+    source: SourceFile,
     /// The analysis of the current text, or `None` when the text changed since.
     pub analysis: Option<Analysis>,
     /// The last background solve of this document, if its version is the current one.
@@ -136,17 +136,17 @@ pub struct Analysis {
 }
 
 impl Analysis {
-    /// Runs parse, check, plan and resolve on `text`, reusing what `memo` kept of earlier
-    /// versions where the edit did not touch it (see [`super::incremental`]).
+    /// Runs parse, check, plan and resolve on the text of `source`, reusing what `memo` kept
+    /// of earlier versions where the edit did not touch it (see [`super::incremental`]).
     pub fn new(
-        name: &str,
+        source: &SourceFile,
         uri: Option<lsp_types::Uri>,
-        text: &str,
         catalog: &Catalog,
         memo: &mut super::incremental::Memo,
     ) -> Analysis {
         let mut sources = SourceMap::new();
-        let file = sources.add(name, text);
+        // A copy of the document's text and line starts, without indexing the lines again.
+        let file = sources.add_file(source.clone());
         let mut analysed = super::incremental::analyse(&sources, file, catalog, memo);
         crate::diag::sort(&mut analysed.diagnostics);
         Analysis { sources, file, analysed, index: std::cell::OnceCell::new(), uri }
@@ -179,10 +179,10 @@ impl Document {
     /// A document as opened.
     pub fn new(name: String, uri: Option<lsp_types::Uri>, version: i32, text: String) -> Document {
         Document {
+            source: SourceFile::new(name.as_str(), text),
             name,
             uri,
             version,
-            text,
             analysis: None,
             solved: None,
             memo: super::incremental::Memo::default(),
@@ -199,7 +199,7 @@ impl Document {
     pub fn apply(&mut self, change: TextDocumentContentChangeEvent) -> Result<(), String> {
         match change.range {
             None => {
-                self.text = change.text;
+                self.source = SourceFile::new(self.name.as_str(), change.text);
                 self.out_of_sync = None;
             }
             Some(_) if self.out_of_sync.is_some() => {
@@ -207,25 +207,9 @@ impl Document {
             }
             Some(range) => {
                 self.focus = Some(range.start);
-                // The analysis of the current text already knows where its lines start.
-                let (start, end) = match &self.analysis {
-                    Some(analysis) => (
-                        analysis.source().offset_of_lsp(range.start.line, range.start.character),
-                        analysis.source().offset_of_lsp(range.end.line, range.end.character),
-                    ),
-                    None => {
-                        let file = SourceFile::new("", self.text.as_str());
-                        (
-                            file.offset_of_lsp(range.start.line, range.start.character),
-                            file.offset_of_lsp(range.end.line, range.end.character),
-                        )
-                    }
-                };
                 let backwards = (range.end.line, range.end.character)
                     < (range.start.line, range.start.character);
-                let mut text = std::mem::take(&mut self.text);
                 if backwards {
-                    self.text = text;
                     return Err(format!(
                         "a change whose range ends ({}:{}) before it starts ({}:{})",
                         range.end.line,
@@ -234,8 +218,11 @@ impl Document {
                         range.start.character
                     ));
                 }
-                text.replace_range(start..end.max(start), &change.text);
-                self.text = text;
+                // The document's own line starts say where the range is; they are moved by the
+                // change, not made again from the whole text.
+                let start = self.source.offset_of_lsp(range.start.line, range.start.character);
+                let end = self.source.offset_of_lsp(range.end.line, range.end.character);
+                self.source.replace_range(start..end.max(start), &change.text);
             }
         }
         // The old analysis goes back to the memo, from which the next one is made in place
@@ -269,9 +256,14 @@ impl Document {
             self.give_back();
             self.catalog = Some(std::sync::Arc::clone(catalog));
         }
-        let (name, text, memo) = (&self.name, &self.text, &mut self.memo);
+        let (source, memo) = (&self.source, &mut self.memo);
         let uri = self.uri.clone();
-        self.analysis.get_or_insert_with(|| Analysis::new(name, uri, text, catalog, memo))
+        self.analysis.get_or_insert_with(|| Analysis::new(source, uri, catalog, memo))
+    }
+
+    /// The current text.
+    pub fn text(&self) -> &str {
+        &self.source.text
     }
 }
 

@@ -594,6 +594,10 @@ struct CheckMemo {
     scene: Option<Scene>,
     head: Vec<Diagnostic>,
     rooms: Vec<crate::check::RoomDiagnostics>,
+    /// The doors' diagnostics and the scene's as a whole ([`crate::check::check_tail`]).
+    tail: Vec<Diagnostic>,
+    /// Where the tree's doors are.
+    doors: Vec<Span>,
     /// Where the tree's `scene` blocks are.
     scene_blocks: Vec<Span>,
     /// Whether every room of the tree is a room of the scene (none called `exterior`, no name
@@ -618,6 +622,10 @@ pub struct Counts {
     pub rooms_checked: u64,
     /// Rooms whose check was reused.
     pub rooms_check_reused: u64,
+    /// Checks whose doors were kept (not checked again).
+    pub doors_kept: u64,
+    /// Object groups whose asset choice was taken again in a room resolved again.
+    pub groups_kept: u64,
 }
 
 impl Memo {
@@ -734,20 +742,27 @@ fn check(ast: &crate::ast::File, memo: &mut Memo) -> crate::diag::Outcome<Scene>
         }
         _ => None,
     };
-    let (mut scene, head, rooms) = match in_place {
+    let (mut scene, head, rooms, kept_tail) = match in_place {
         Some(found) => found,
         None => {
             let parts = crate::check::check_parts(ast);
             memo.counts.rooms_checked += parts.rooms.len() as u64;
-            (parts.scene, parts.head, parts.rooms)
+            (parts.scene, parts.head, parts.rooms, None)
         }
     };
-    let tail = crate::check::check_tail(ast, &mut scene);
+    let tail = match kept_tail {
+        Some(tail) => {
+            memo.counts.doors_kept += 1;
+            tail
+        }
+        None => crate::check::check_tail(ast, &mut scene),
+    };
     let mut diagnostics = head.clone();
     for room in &rooms {
         diagnostics.extend(room.diagnostics.iter().cloned());
     }
-    diagnostics.extend(tail);
+    diagnostics.extend(tail.iter().cloned());
+    let tail_kept = tail;
     if let Some(tree) = memo.cache.parse.tree_number() {
         let scene_blocks = ast
             .items
@@ -759,11 +774,21 @@ fn check(ast: &crate::ast::File, memo: &mut Memo) -> crate::diag::Outcome<Scene>
             .collect();
         let room_items =
             ast.items.iter().filter(|i| matches!(i, crate::ast::Item::Room(_))).count();
+        let doors = ast
+            .items
+            .iter()
+            .filter_map(|i| match i {
+                crate::ast::Item::Door(door) => Some(door.span),
+                _ => None,
+            })
+            .collect();
         memo.check = Some(CheckMemo {
             tree,
             scene: None,
             head,
             rooms,
+            tail: tail_kept,
+            doors,
             scene_blocks,
             every_room_kept: room_items == scene.rooms.len(),
         });
@@ -777,7 +802,7 @@ fn check_in_place(
     last: &mut CheckMemo,
     splice: crate::parse::Splice,
     counts: &mut Counts,
-) -> Option<(Scene, Vec<Diagnostic>, Vec<crate::check::RoomDiagnostics>)> {
+) -> Option<CheckedInPlace> {
     if !last.every_room_kept {
         return None;
     }
@@ -846,8 +871,23 @@ fn check_in_place(
         }
         old_first += old_count;
     }
-    Some((scene, head, diagnostics))
+    // The doors read the rooms' names and ids alone, which stay: when the edit touched no
+    // door either, the doors and their diagnostics are the last ones, moved.
+    let doors_touched = last.doors.iter().any(|&d| in_old(d))
+        || ast.items.iter().any(|i| matches!(i, crate::ast::Item::Door(d) if in_new(d.span)));
+    let mut tail = std::mem::take(&mut last.tail);
+    let tail = (!doors_touched
+        && !scene.rooms.is_empty()
+        && shift.move_in_place(&mut tail)
+        && scene.doors.iter_mut().all(|d| shift.move_in_place(d)))
+    .then_some(tail);
+    Some((scene, head, diagnostics, tail))
 }
+
+/// What [`check_in_place`] gives: the scene, the head's and each room's diagnostics, and the
+/// doors' diagnostics when the doors were kept (`None`: they are to be checked again).
+type CheckedInPlace =
+    (Scene, Vec<Diagnostic>, Vec<crate::check::RoomDiagnostics>, Option<Vec<Diagnostic>>);
 
 /// Resolves the scene's assets room by room, reusing each room's last resolution when its
 /// input, moved by the edit, is the same and the rooms before it use the assets it asked about
@@ -880,6 +920,10 @@ fn resolve_rooms(
     // While every room so far is the one at its place last time and uses the same assets, the
     // rooms before the next one use what they used then: its answers hold without asking.
     let mut in_step = shift.is_some();
+    // The rooms whose assets the resolver counts as used (`runs[..counted]`): counted only
+    // when a room is resolved or its answers checked, so that an edit in the last rooms does
+    // not go through every earlier room's assets.
+    let mut counted = 0;
     for (k, room) in scene.rooms.iter().enumerate() {
         let place = by_name.get(room.name.as_str()).copied();
         let mut run = place.and_then(|i| old.get_mut(i)).and_then(Option::take);
@@ -888,8 +932,10 @@ fn resolve_rooms(
         // away).
         let reusable = match (&mut run, shift) {
             (Some(run), Some(shift)) => {
-                (in_step || run.output.reads_hold(resolver.used()))
-                    && shift.move_in_place(&mut run.input)
+                (in_step || {
+                    used_up_to(&mut resolver, &runs, &mut counted);
+                    run.output.reads_hold(resolver.used())
+                }) && shift.move_in_place(&mut run.input)
                     && run.input.is_of(scene, room)
                     && shift.move_in_place(&mut run.output.diagnostics)
             }
@@ -911,7 +957,30 @@ fn resolve_rooms(
             }
             run => {
                 memo.counts.rooms_resolved += 1;
-                let output = resolver.room(scene, room);
+                used_up_to(&mut resolver, &runs, &mut counted);
+                // While editing, a room resolved again takes again the choices of its object
+                // groups whose input did not change (their spans moved by the edit); the first
+                // resolution of a scene records none (`Resolver::room`).
+                let mut run = run;
+                let output = match (shift, &mut run) {
+                    (Some(shift), Some(last)) => {
+                        let ok = std::cell::Cell::new(true);
+                        last.output.spans_mut(
+                            &mut |span| match shift.span(*span) {
+                                Some(moved) => *span = moved,
+                                None => ok.set(false),
+                            },
+                            &mut |d| {
+                                if !shift.move_in_place(d) {
+                                    ok.set(false);
+                                }
+                            },
+                        );
+                        resolver.room_again(scene, room, ok.get().then_some(&mut last.output))
+                    }
+                    (Some(_), None) => resolver.room_again(scene, room, None),
+                    (None, _) => resolver.room(scene, room),
+                };
                 if let Some(run) = &run {
                     gone.push(run.ids.clone());
                 }
@@ -920,12 +989,11 @@ fn resolve_rooms(
                 RoomRun { input: RoomInput::of(scene, room), output, ids: room.objects.clone() }
             }
         };
-        let output = &run.output;
-        resolver.used_before(output);
         runs.push((room.name.clone(), run));
     }
     // The rooms no longer there let go of their rankings before the cache keeps what rooms hold.
     drop(old);
+    memo.counts.groups_kept += resolver.groups_kept();
     resolver.finish(&mut memo.cache.ranks);
     let resolved = match last_resolved {
         Some(last) if same_rooms && last.objects.len() == scene.objects.len() => {
@@ -940,6 +1008,19 @@ fn resolve_rooms(
         resolved: None,
     });
     resolved
+}
+
+/// Counts the assets of the rooms of `runs` not counted yet (from `counted` on) as used by the
+/// rooms before the next one.
+fn used_up_to(
+    resolver: &mut crate::resolve::Resolver<'_>,
+    runs: &[(String, RoomRun)],
+    counted: &mut usize,
+) {
+    for (_, run) in runs.get(*counted..).unwrap_or_default() {
+        resolver.used_before(&run.output);
+    }
+    *counted = runs.len();
 }
 
 /// What [`crate::resolve::assemble`] makes of the rooms' runs, made from the last result:

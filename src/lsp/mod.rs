@@ -554,7 +554,7 @@ impl Server {
             uri: uri.to_string(),
             name: doc.name.clone(),
             version: doc.version,
-            text: doc.text.clone(),
+            text: doc.text().to_string(),
             catalog,
             first,
             cancel,

@@ -210,9 +210,16 @@ pub fn parse_cached(
             used.insert(key, chunk);
         }
     }
-    // Only what the text still holds is kept.
+    // Only what the text still holds is kept. The rooms' statement groups are not: they are
+    // a second copy of every room's statements, and what they save is parsing a room's other
+    // statements again at its next edit, which only the rooms being edited need
+    // ([`parse_edited`] keeps the groups of the rooms it parses again).
+    drop(used_groups);
+    for piece in &mut pieces {
+        piece.groups = Vec::new();
+    }
     cache.chunks = used;
-    cache.groups = used_groups;
+    cache.groups = GroupMap::default();
     cache.last =
         Some(LastCut { text: text.clone(), pieces, diagnostics: diagnostics.clone(), tree: None });
     cache.generation += 1;

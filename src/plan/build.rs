@@ -46,6 +46,11 @@ struct Ctx<'a> {
     doors: Vec<PlacedDoor>,
     windows: Vec<PlacedWindow>,
     open: Vec<OpenConnection>,
+    /// Where each room's walls are in `walls` (rooms in order, each room's walls together),
+    /// until the windows split walls.
+    room_walls: Vec<std::ops::Range<usize>>,
+    /// Each wall id's first place in `walls`, until the windows split walls.
+    wall_ids: rustc_hash::FxHashMap<String, usize>,
 }
 
 pub(crate) fn run(
@@ -63,6 +68,8 @@ pub(crate) fn run(
         doors: Vec::new(),
         windows: Vec::new(),
         open: Vec::new(),
+        room_walls: Vec::new(),
+        wall_ids: rustc_hash::FxHashMap::default(),
     };
     let ok = ctx.outlines() && ctx.relations();
     if ok {
@@ -110,6 +117,12 @@ pub const DEFAULT_CEILING_MATERIAL: &str = "EggshellDrywall";
 /// The most overlaps counted for one room as the sweep meets them (see `relations`): past it
 /// the plan's counts are lower bounds and the work stays linear in the rooms.
 const OVERLAPS_COUNTED_PER_ROOM: usize = 64;
+
+/// The side of the cells the plan finds nearby corners and walls by (`grid.rs`), metres.
+const GRID_CELL_M: f64 = 2.0;
+/// How far beyond a wall the plan looks for corners on it and walls along it, metres: far
+/// more than the tolerance of its tests ([`EPS_M`]), so that nothing they accept is missed.
+const GRID_MARGIN_M: f64 = 1e-3;
 
 /// The default ceiling: the first room's wall material when it is a painted finish (drywall or
 /// plaster), so ceiling and walls match; otherwise (brick, tile, marble, wood panelling…) a
@@ -188,7 +201,7 @@ impl Ctx<'_> {
     fn outlines(&mut self) -> bool {
         let scene = self.scene;
         // Snap coordinates, axis by axis, to the first value written within SNAP_M.
-        let mut anchors: [Vec<f64>; 2] = [Vec::new(), Vec::new()];
+        let mut anchors: [Anchors; 2] = [Anchors::default(), Anchors::default()];
         let mut snapped: Vec<Vec<Point>> = Vec::new();
         for room in &scene.rooms {
             let mut corners = Vec::new();
@@ -196,7 +209,7 @@ impl Ctx<'_> {
                 let mut p = c;
                 for axis in 0..2 {
                     let v = c[axis];
-                    if let Some(&a) = anchors[axis].iter().find(|&&a| (a - v).abs() < SNAP_M) {
+                    if let Some(a) = anchors[axis].find(v) {
                         p[axis] = a;
                     } else {
                         anchors[axis].push(v);
@@ -623,15 +636,23 @@ impl Ctx<'_> {
     fn make_walls(&mut self) {
         let n = self.rooms.len();
         let all: Vec<Point> = self.rooms.iter().flat_map(|r| r.corners.clone()).collect();
+        // The corners by where they are: a wall looks only at those near it (`grid`), in the
+        // order of `all`, with the same test.
+        let mut corners_at = super::grid::Grid::new(GRID_CELL_M);
+        for p in &all {
+            corners_at.push(*p, *p);
+        }
         for r in 0..n {
             let corners = self.rooms[r].corners.clone();
             let mut full = Vec::new();
             for i in 0..corners.len() {
                 let (a, b) = (corners[i], corners[(i + 1) % corners.len()]);
                 full.push(a);
-                let mut inner: Vec<Point> = all
-                    .iter()
-                    .copied()
+                let (min, max) = super::grid::widened_box(&[a, b], GRID_MARGIN_M);
+                let mut inner: Vec<Point> = corners_at
+                    .query(min, max)
+                    .into_iter()
+                    .map(|k| all[k])
                     .filter(|&p| {
                         point_on_segment(p, a, b) && !near_point(p, a) && !near_point(p, b)
                     })
@@ -642,9 +663,22 @@ impl Ctx<'_> {
             }
             self.rooms[r].polygon = full;
         }
+        // Every side of every polygon by where it is, numbered room by room.
+        let mut sides_at = super::grid::Grid::new(GRID_CELL_M);
+        let mut side_of: Vec<(usize, usize)> = Vec::new();
+        for (o, room) in self.rooms.iter().enumerate() {
+            let op = &room.polygon;
+            for k in 0..op.len() {
+                let (min, max) = super::grid::widened_box(&[op[k], op[(k + 1) % op.len()]], 0.0);
+                sides_at.push(min, max);
+                side_of.push((o, k));
+            }
+        }
         let mut walls = Vec::new();
+        self.room_walls = Vec::with_capacity(n);
         for r in 0..n {
             let poly = self.rooms[r].polygon.clone();
+            self.room_walls.push(walls.len()..walls.len() + poly.len());
             for j in 0..poly.len() {
                 let (p, q) = (poly[j], poly[(j + 1) % poly.len()]);
                 let d = geo::sub(q, p);
@@ -659,18 +693,19 @@ impl Ctx<'_> {
                 } else {
                     Direction::East
                 };
-                let mut neighbour = None;
-                for o in 0..n {
-                    if o == r {
-                        continue;
-                    }
-                    let op = &self.rooms[o].polygon;
-                    for k in 0..op.len() {
-                        if segment_overlap(p, q, op[k], op[(k + 1) % op.len()]).is_some() {
-                            neighbour = Some((RoomId(o), k));
-                        }
-                    }
-                }
+                // The last side of another room (in room order, then side order) that runs
+                // along this one: only sides near it can.
+                let (min, max) = super::grid::widened_box(&[p, q], GRID_MARGIN_M);
+                let neighbour = sides_at
+                    .query(min, max)
+                    .into_iter()
+                    .rev()
+                    .map(|s| side_of[s])
+                    .find(|&(o, k)| {
+                        let op = &self.rooms[o].polygon;
+                        o != r && segment_overlap(p, q, op[k], op[(k + 1) % op.len()]).is_some()
+                    })
+                    .map(|(o, k)| (RoomId(o), k));
                 walls.push((r, j, direction, p, q, neighbour));
             }
         }
@@ -696,10 +731,15 @@ impl Ctx<'_> {
                 hole: None,
             });
         }
+        self.wall_ids = rustc_hash::FxHashMap::default();
+        for (i, wall) in self.walls.iter().enumerate() {
+            self.wall_ids.entry(wall.id.clone()).or_insert(i);
+        }
     }
 
+    /// The first wall of this id (looked up by id until the windows split walls).
     fn wall_index(&self, id: &str) -> Option<usize> {
-        self.walls.iter().position(|w| w.id == id)
+        self.wall_ids.get(id).copied()
     }
 
     /// Whether two rooms' outlines have a corner in common.
@@ -781,7 +821,11 @@ impl Ctx<'_> {
 
     /// Candidate walls for a connection, seen from a real room `a`.
     fn candidates(&self, a: RoomId, other: DoorSide) -> Vec<usize> {
-        (0..self.walls.len())
+        // Only room `a`'s walls can be `a`'s (they are together, in order).
+        self.room_walls
+            .get(a.0)
+            .cloned()
+            .unwrap_or(0..0)
             .filter(|&i| {
                 let w = &self.walls[i];
                 w.room == a
@@ -1036,10 +1080,16 @@ impl Ctx<'_> {
         }
     }
 
+    /// Whether any door leads outside, and which rooms a chain of doors reaches from outside.
     fn reached(&self) -> (bool, Vec<bool>) {
         let n = self.rooms.len();
         let mut edges: Vec<(Option<usize>, Option<usize>)> = Vec::new();
-        let side = |s: &str| self.rooms.iter().position(|r| r.thor_id == s);
+        // A door names its rooms by their ids (the first room of an id, when two share one).
+        let mut by_id: rustc_hash::FxHashMap<&str, usize> = rustc_hash::FxHashMap::default();
+        for (i, room) in self.rooms.iter().enumerate() {
+            by_id.entry(room.thor_id.as_str()).or_insert(i);
+        }
+        let side = |s: &str| by_id.get(s).copied();
         for d in &self.doors {
             let outside = if d.exterior { None } else { side(&d.room1) };
             edges.push((side(&d.room0), outside));
@@ -1048,6 +1098,13 @@ impl Ctx<'_> {
             edges.push((Some(o.rooms.0 .0), Some(o.rooms.1 .0)));
         }
         let has_exterior = edges.iter().any(|e| e.0.is_none() || e.1.is_none());
+        let mut next: Vec<Vec<usize>> = vec![Vec::new(); n];
+        for e in &edges {
+            if let (Some(a), Some(b)) = *e {
+                next[a].push(b);
+                next[b].push(a);
+            }
+        }
         let mut seen = vec![false; n];
         let mut stack: Vec<usize> = edges
             .iter()
@@ -1061,13 +1118,7 @@ impl Ctx<'_> {
                 continue;
             }
             seen[r] = true;
-            for e in &edges {
-                match *e {
-                    (Some(a), Some(b)) if a == r && !seen[b] => stack.push(b),
-                    (Some(a), Some(b)) if b == r && !seen[a] => stack.push(a),
-                    _ => {}
-                }
-            }
+            stack.extend(next[r].iter().copied().filter(|&o| !seen[o]));
         }
         (has_exterior, seen)
     }
@@ -1204,11 +1255,18 @@ impl Ctx<'_> {
 
     fn place_windows(&mut self) {
         let h_wall = self.scene.wall_height_m;
-        for room in &self.scene.rooms {
+        // Each room's walls are taken out together (a window row looks only at its room's
+        // walls, `w.room == room.id`), split there, and put back in order.
+        let mut rest = std::mem::take(&mut self.walls).into_iter();
+        let mut out: Vec<Wall> = Vec::with_capacity(rest.len());
+        for (k, room) in self.scene.rooms.iter().enumerate() {
+            debug_assert_eq!(room.id, RoomId(k), "a scene's rooms are numbered in order");
+            let count = self.room_walls.get(k).map_or(0, ExactSizeIterator::len);
+            let mut walls: Vec<Wall> = rest.by_ref().take(count).collect();
             for row in &room.windows {
-                let cands: Vec<usize> = (0..self.walls.len())
+                let cands: Vec<usize> = (0..walls.len())
                     .filter(|&i| {
-                        let w = &self.walls[i];
+                        let w = &walls[i];
                         w.room == room.id && w.direction == row.wall && w.exterior && !w.empty
                     })
                     .collect();
@@ -1228,9 +1286,9 @@ impl Ctx<'_> {
                     continue;
                 }
                 let free: Vec<usize> =
-                    cands.iter().copied().filter(|&i| self.walls[i].hole.is_none()).collect();
+                    cands.iter().copied().filter(|&i| walls[i].hole.is_none()).collect();
                 let Some(&wi) = free.iter().max_by(|&&a, &&b| {
-                    self.walls[a].width_m.total_cmp(&self.walls[b].width_m).then(b.cmp(&a))
+                    walls[a].width_m.total_cmp(&walls[b].width_m).then(b.cmp(&a))
                 }) else {
                     self.diags.push(
                         Diagnostic::new(
@@ -1274,7 +1332,7 @@ impl Ctx<'_> {
                     ));
                     continue;
                 };
-                let wall = self.walls[wi].clone();
+                let wall = walls[wi].clone();
                 let mut n = row.count.max(1) as usize;
                 let room_for = |n: usize| wall.width_m / n as f64 - 2.0 * WINDOW_MARGIN_M;
                 let top_room = h_wall - WINDOW_TOP_MARGIN_M;
@@ -1451,9 +1509,15 @@ impl Ctx<'_> {
                     });
                     pieces.push(sub);
                 }
-                self.walls.splice(wi..=wi, pieces);
+                walls.splice(wi..=wi, pieces);
             }
+            out.append(&mut walls);
         }
+        out.extend(rest);
+        self.walls = out;
+        // Walls are no longer where these say.
+        self.room_walls.clear();
+        self.wall_ids.clear();
     }
 
     /// The material of every ceiling: the scene's pinned `ceiling material` (E0320 when it is
@@ -1568,7 +1632,7 @@ impl Ctx<'_> {
             }
         }
         let mut colour: BTreeMap<usize, u8> = BTreeMap::new();
-        if !solve(0, &nodes, &adj, &mut colour) {
+        if !colour_layers(&nodes, &adj, &mut colour) {
             colour = nodes
                 .iter()
                 .enumerate()
@@ -1635,6 +1699,54 @@ impl Ctx<'_> {
     }
 }
 
+/// The coordinates written so far on one axis, each one not within [`SNAP_M`] of an earlier one:
+/// a corner's coordinate snaps to the first written (`find`). Kept in order of value, so that
+/// only the few near a coordinate are looked at.
+#[derive(Debug, Default)]
+struct Anchors {
+    /// Finite values with the order they were written in, by value ([`ordered`]). (A value
+    /// that is not finite is within `SNAP_M` of nothing, so it is not kept.)
+    by_value: BTreeMap<u64, (f64, usize)>,
+    /// How many were written.
+    written: usize,
+}
+
+/// A finite float as a key that sorts as the float does.
+fn ordered(v: f64) -> u64 {
+    let bits = v.to_bits();
+    if bits >> 63 == 1 {
+        !bits
+    } else {
+        bits | (1 << 63)
+    }
+}
+
+impl Anchors {
+    /// The first value written within [`SNAP_M`] of `v` (`|a − v| < SNAP_M`).
+    fn find(&self, v: f64) -> Option<f64> {
+        if !v.is_finite() {
+            return None;
+        }
+        // Every value within SNAP_M lies well inside this window, whatever the rounding.
+        let window = ordered(v - 2.0 * SNAP_M)..=ordered(v + 2.0 * SNAP_M);
+        self.by_value
+            .range(window)
+            .map(|(_, &found)| found)
+            .filter(|&(a, _)| (a - v).abs() < SNAP_M)
+            .min_by_key(|&(_, order)| order)
+            .map(|(a, _)| a)
+    }
+
+    /// Writes `v` after the others.
+    fn push(&mut self, v: f64) {
+        if v.is_finite() {
+            // Two values within SNAP_M are never both written, so no key is taken twice.
+            self.by_value.entry(ordered(v)).or_insert((v, self.written));
+        }
+        self.written += 1;
+    }
+}
+
 /// Union-find root.
 pub(super) fn find(g: &mut [usize], x: usize) -> usize {
     let mut r = x;
@@ -1645,26 +1757,205 @@ pub(super) fn find(g: &mut [usize], x: usize) -> usize {
     r
 }
 
-/// Backtracking colouring of `nodes[i..]` with `N_LAYERS` colours.
-fn solve(
-    i: usize,
+/// Backtracking colouring of `nodes` with `N_LAYERS` colours: each node in turn takes the
+/// first colour none of the nodes before it that it touches (`adj`, pairs `(low, high)`) has,
+/// and when none is left the node before it takes its next colour. `colour` gets the first
+/// colouring so found (`false` when there is none). The search keeps its own stack, so that
+/// thousands of rooms do not nest thousands of calls, and looks only at each node's neighbours.
+fn colour_layers(
     nodes: &[usize],
     adj: &BTreeSet<(usize, usize)>,
     colour: &mut BTreeMap<usize, u8>,
 ) -> bool {
-    if i == nodes.len() {
-        return true;
-    }
-    let v = nodes[i];
-    for c in 0..N_LAYERS {
-        let clash = colour.iter().any(|(&u, &cu)| cu == c && adj.contains(&(u.min(v), u.max(v))));
-        if !clash {
-            colour.insert(v, c);
-            if solve(i + 1, nodes, adj, colour) {
-                return true;
-            }
-            colour.remove(&v);
+    let place: BTreeMap<usize, usize> = nodes.iter().enumerate().map(|(i, &v)| (v, i)).collect();
+    // Each node's neighbours among the nodes before it, by their place.
+    let mut earlier: Vec<Vec<usize>> = vec![Vec::new(); nodes.len()];
+    for &(a, b) in adj {
+        if let (Some(&i), Some(&j)) = (place.get(&a), place.get(&b)) {
+            earlier[i.max(j)].push(i.min(j));
         }
     }
-    false
+    let mut given: Vec<u8> = vec![0; nodes.len()];
+    // The colour node `i` tries next.
+    let mut next: Vec<u8> = vec![0; nodes.len()];
+    let mut i = 0;
+    while i < nodes.len() {
+        let free = (next[i]..N_LAYERS).find(|&c| !earlier[i].iter().any(|&u| given[u] == c));
+        match free {
+            Some(c) => {
+                given[i] = c;
+                next[i] = c + 1;
+                i += 1;
+                if let Some(n) = next.get_mut(i) {
+                    *n = 0;
+                }
+            }
+            None if i == 0 => return false,
+            None => i -= 1,
+        }
+    }
+    colour.extend(nodes.iter().zip(&given).map(|(&v, &c)| (v, c)));
+    true
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+    use std::fmt::Write as _;
+
+    /// The recursive search `colour_layers` replaced, looking at every coloured node.
+    fn solve(
+        i: usize,
+        nodes: &[usize],
+        adj: &BTreeSet<(usize, usize)>,
+        colour: &mut BTreeMap<usize, u8>,
+    ) -> bool {
+        if i == nodes.len() {
+            return true;
+        }
+        let v = nodes[i];
+        for c in 0..N_LAYERS {
+            let clash =
+                colour.iter().any(|(&u, &cu)| cu == c && adj.contains(&(u.min(v), u.max(v))));
+            if !clash {
+                colour.insert(v, c);
+                if solve(i + 1, nodes, adj, colour) {
+                    return true;
+                }
+                colour.remove(&v);
+            }
+        }
+        false
+    }
+
+    /// Rows of rooms on a grid of random column lines: each row's rooms span runs of columns,
+    /// so that one row's corners fall inside the next row's walls.
+    fn rows_of_rooms(columns: &[u8], rows: &[(u8, Vec<u8>)]) -> String {
+        let mut xs = vec![0.0];
+        for &w in columns {
+            xs.push(xs[xs.len() - 1] + f64::from(w) * 0.5 + 1.0);
+        }
+        let mut text = String::new();
+        let mut z = 0.0;
+        let mut k = 0;
+        for (depth, runs) in rows {
+            let z1 = z + f64::from(*depth) * 0.5 + 1.0;
+            let mut c = 0;
+            for &run in runs.iter().cycle() {
+                if c >= columns.len() {
+                    break;
+                }
+                let c1 = (c + usize::from(run % 3) + 1).min(columns.len());
+                let (x0, x1) = (xs[c], xs[c1]);
+                let _ = write!(
+                    text,
+                    "room r{k} \"office\" {{\n  corners in m ({x0}, {z}) ({x0}, {z1}) ({x1}, {z1}) ({x1}, {z})\n}}\n"
+                );
+                k += 1;
+                c = c1;
+            }
+            z = z1;
+        }
+        text
+    }
+
+    proptest! {
+        /// Each room's polygon has every corner of the plan that lies inside one of its sides,
+        /// and each wall's neighbour is the last side of another room along it: what a look at
+        /// every corner and every side finds.
+        #[test]
+        fn walls_are_split_and_paired_as_a_look_at_everything_does(
+            columns in proptest::collection::vec(0u8..6, 1..7),
+            rows in proptest::collection::vec((0u8..6, proptest::collection::vec(0u8..3, 1..4)), 1..5),
+        ) {
+            let text = rows_of_rooms(&columns, &rows);
+            let mut sources = crate::source::SourceMap::new();
+            let file = sources.add("rows.holo", &text);
+            let scene = crate::compile::check_file(&sources, file).value.expect("a scene");
+            let plan = run(&scene, StructureCatalog::builtin(), PlanOptions::default()).value;
+            prop_assert_eq!(plan.rooms.len(), scene.rooms.len());
+            let all: Vec<Point> = plan.rooms.iter().flat_map(|r| r.corners.clone()).collect();
+            for room in &plan.rooms {
+                let corners = &room.corners;
+                let mut full = Vec::new();
+                for i in 0..corners.len() {
+                    let (a, b) = (corners[i], corners[(i + 1) % corners.len()]);
+                    full.push(a);
+                    let mut inner: Vec<Point> = all
+                        .iter()
+                        .copied()
+                        .filter(|&p| point_on_segment(p, a, b) && !near_point(p, a) && !near_point(p, b))
+                        .collect();
+                    inner.sort_by(|p, q| distance(a, *p).total_cmp(&distance(a, *q)));
+                    inner.dedup_by(|p, q| near_point(*p, *q));
+                    full.extend(inner);
+                }
+                prop_assert_eq!(&room.polygon, &full);
+            }
+            let mut first = vec![0usize; plan.rooms.len()];
+            for (i, w) in plan.walls.iter().enumerate().rev() {
+                first[w.room.0] = i;
+            }
+            for w in &plan.walls {
+                let mut expected = None;
+                for (o, other) in plan.rooms.iter().enumerate() {
+                    let op = &other.polygon;
+                    for k in 0..op.len() {
+                        if o != w.room.0 && segment_overlap(w.start, w.end, op[k], op[(k + 1) % op.len()]).is_some() {
+                            expected = Some((RoomId(o), plan.walls[first[o] + k].id.clone()));
+                        }
+                    }
+                }
+                prop_assert_eq!(&w.neighbour, &expected);
+            }
+        }
+
+        /// A coordinate snaps to what a scan of every earlier anchor finds.
+        #[test]
+        fn anchors_find_what_a_scan_finds(
+            values in proptest::collection::vec(
+                prop_oneof![
+                    (-400i32..400).prop_map(|k| f64::from(k) * 0.025),
+                    -10.0f64..10.0,
+                    Just(f64::NAN),
+                    Just(f64::INFINITY),
+                ],
+                0..80,
+            ),
+        ) {
+            let (mut scan, mut anchors) = (Vec::<f64>::new(), Anchors::default());
+            for v in values {
+                let expected = scan.iter().copied().find(|&a| (a - v).abs() < SNAP_M);
+                let found = anchors.find(v);
+                prop_assert_eq!(found.map(f64::to_bits), expected.map(f64::to_bits));
+                if found.is_none() {
+                    scan.push(v);
+                    anchors.push(v);
+                }
+            }
+        }
+
+        /// The colouring is the one the recursive search finds, on graphs that need
+        /// backtracking and on graphs with no colouring (five nodes all touching).
+        #[test]
+        fn layers_are_coloured_as_the_recursive_search_colours_them(
+            n in 1usize..10,
+            edges in proptest::collection::vec((0usize..12, 0usize..12), 0..40),
+            skip in 0usize..3,
+        ) {
+            let nodes: Vec<usize> = (0..n).map(|k| k * (skip + 1)).collect();
+            let adj: BTreeSet<(usize, usize)> = edges
+                .iter()
+                .filter(|(a, b)| a != b && *a < n && *b < n)
+                .map(|&(a, b)| (nodes[a.min(b)], nodes[a.max(b)]))
+                .collect();
+            let (mut old, mut new) = (BTreeMap::new(), BTreeMap::new());
+            let found = solve(0, &nodes, &adj, &mut old);
+            prop_assert_eq!(colour_layers(&nodes, &adj, &mut new), found);
+            if found {
+                prop_assert_eq!(new, old);
+            }
+        }
+    }
 }

@@ -23,6 +23,7 @@
 mod build;
 mod dump;
 mod errors;
+mod grid;
 pub mod repair;
 
 use crate::check::scene::{Direction, DoorKind, RoomId, Scene};

@@ -94,6 +94,11 @@ pub const MAX_STEPS: usize = 8;
 const MIN_GAP_FACE_M: f64 = 0.1;
 /// Coordinates closer than this are the same, metres.
 const SAME_M: f64 = 1e-6;
+/// The side of the cells [`facing_gaps`] finds nearby rooms by, metres.
+const GAP_GRID_CELL_M: f64 = 4.0;
+/// How far beyond a room's box [`facing_gaps`] looks, besides the move, metres: far more than
+/// its tolerances ([`SAME_M`]).
+const GAP_GRID_MARGIN_M: f64 = 1e-3;
 
 /// The repaired outlines, one per room of the scene, and whether anything moved.
 #[derive(Clone, Debug, PartialEq)]
@@ -1179,12 +1184,28 @@ impl Gap {
 /// along their length by more than 10 cm), with no third room's floor between them: rooms
 /// that were most likely meant to share that wall.
 pub(crate) fn facing_gaps(rooms: &[Vec<[f64; 2]>]) -> Vec<Gap> {
+    // Only rooms whose boxes come within a move of each other can face each other across a
+    // gap (`super::grid`): each room is asked about those alone, in room order, as a look at
+    // every pair would ask. A gap's middle lies inside a room only within that room's box.
+    let mut near = super::grid::Grid::new(GAP_GRID_CELL_M);
+    for corners in rooms {
+        let (min, max) = super::grid::widened_box(corners, GAP_GRID_MARGIN_M);
+        near.push(min, max);
+    }
+    let reach = MAX_MOVE_M + 2.0 * SAME_M + GAP_GRID_MARGIN_M;
+    let nearby: Vec<Vec<usize>> = rooms
+        .iter()
+        .map(|corners| {
+            let (min, max) = super::grid::widened_box(corners, reach);
+            near.query(min, max)
+        })
+        .collect();
     let mut out: Vec<Gap> = Vec::new();
     for axis in 0..2 {
         let other = 1 - axis;
         let walls: Vec<Vec<Wall>> = rooms.iter().map(|c| walls_of(c, axis)).collect();
         for ra in 0..rooms.len() {
-            for rb in 0..rooms.len() {
+            for &rb in &nearby[ra] {
                 if ra == rb {
                     continue;
                 }
@@ -1199,7 +1220,7 @@ pub(crate) fn facing_gaps(rooms: &[Vec<[f64; 2]>]) -> Vec<Gap> {
                         let mut mid = [0.0; 2];
                         mid[axis] = f64::midpoint(a.at, b.at);
                         mid[other] = f64::midpoint(lo, hi);
-                        if rooms.iter().any(|c| inside(mid, c)) {
+                        if near.query(mid, mid).into_iter().any(|c| inside(mid, &rooms[c])) {
                             continue;
                         }
                         let (la, lb) = (a.to - a.from, b.to - b.from);
@@ -1760,4 +1781,102 @@ pub fn explain_unrepaired(d: Diagnostic) -> Diagnostic {
          edit the corners by hand",
         MAX_AREA_CHANGE * 100.0
     ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// The look at every pair of rooms that `facing_gaps` replaced.
+    fn facing_gaps_of_every_pair(rooms: &[Vec<[f64; 2]>]) -> Vec<Gap> {
+        let mut out: Vec<Gap> = Vec::new();
+        for axis in 0..2 {
+            let other = 1 - axis;
+            let walls: Vec<Vec<Wall>> = rooms.iter().map(|c| walls_of(c, axis)).collect();
+            for ra in 0..rooms.len() {
+                for rb in 0..rooms.len() {
+                    if ra == rb {
+                        continue;
+                    }
+                    for a in walls[ra].iter().filter(|w| w.outward > 0.0) {
+                        for b in walls[rb].iter().filter(|w| w.outward < 0.0) {
+                            let d = b.at - a.at;
+                            let (lo, hi) = (a.from.max(b.from), a.to.min(b.to));
+                            if d <= SAME_M || d > MAX_MOVE_M + SAME_M || hi - lo <= MIN_GAP_FACE_M {
+                                continue;
+                            }
+                            let mut mid = [0.0; 2];
+                            mid[axis] = f64::midpoint(a.at, b.at);
+                            mid[other] = f64::midpoint(lo, hi);
+                            if rooms.iter().any(|c| inside(mid, c)) {
+                                continue;
+                            }
+                            let (la, lb) = (a.to - a.from, b.to - b.from);
+                            let a_moves =
+                                la < lb - SAME_M || ((la - lb).abs() <= SAME_M && ra > rb);
+                            let gap = if a_moves {
+                                Gap { moving: ra, staying: rb, axis, from: a.at, to: b.at }
+                            } else {
+                                Gap { moving: rb, staying: ra, axis, from: b.at, to: a.at }
+                            };
+                            if !out.contains(&gap) {
+                                out.push(gap);
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        out
+    }
+
+    /// A rectangle or an L, either winding, at a corner on a 0.1 m grid plus a small offset.
+    fn room() -> impl Strategy<Value = Vec<[f64; 2]>> {
+        (0i32..80, 0i32..80, 10i32..40, 10i32..40, 0i32..4, any::<bool>(), any::<bool>()).prop_map(
+            |(x, z, w, d, nudge, l_shape, reverse)| {
+                let (x, z) = (f64::from(x) * 0.1 + f64::from(nudge) * 0.07, f64::from(z) * 0.1);
+                let (w, d) = (f64::from(w) * 0.1, f64::from(d) * 0.1);
+                let mut corners = if l_shape {
+                    vec![
+                        [x, z],
+                        [x, z + d],
+                        [x + w / 2.0, z + d],
+                        [x + w / 2.0, z + d / 2.0],
+                        [x + w, z + d / 2.0],
+                        [x + w, z],
+                    ]
+                } else {
+                    vec![[x, z], [x, z + d], [x + w, z + d], [x + w, z]]
+                };
+                if reverse {
+                    corners.reverse();
+                }
+                corners
+            },
+        )
+    }
+
+    proptest! {
+        /// The gaps (and their order) are those a look at every pair of rooms finds.
+        #[test]
+        fn gaps_are_those_of_every_pair(rooms in proptest::collection::vec(room(), 0..14)) {
+            prop_assert_eq!(facing_gaps(&rooms), facing_gaps_of_every_pair(&rooms));
+        }
+    }
+
+    #[test]
+    fn gaps_are_found_between_facing_rooms_far_apart_in_the_list() {
+        // A row of rooms with a 0.2 m gap between the first and the last one's neighbour.
+        let mut rooms: Vec<Vec<[f64; 2]>> = (0..40)
+            .map(|k| {
+                let x = f64::from(k) * 4.0 + 100.0;
+                vec![[x, 0.0], [x, 3.0], [x + 4.0, 3.0], [x + 4.0, 0.0]]
+            })
+            .collect();
+        rooms.push(vec![[96.0, 0.0], [96.0, 3.0], [99.8, 3.0], [99.8, 0.0]]);
+        let gaps = facing_gaps(&rooms);
+        assert_eq!(gaps, facing_gaps_of_every_pair(&rooms));
+        assert_eq!(gaps.len(), 1);
+    }
 }

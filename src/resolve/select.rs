@@ -320,7 +320,14 @@ pub fn resolve_with(
     resolve_cached(scene, catalog, seed, options, &mut RankCache::default())
 }
 
-type RankKey = (String, String, String, &'static str);
+/// A ranking's query: category, description, size (each side's bits: the same size is the
+/// same key) and placement kind.
+type RankKey = (String, String, Option<[u64; 3]>, &'static str);
+
+/// The size of a query as part of its [`RankKey`].
+fn size_key(size_m: Option<[f64; 3]>) -> Option<[u64; 3]> {
+    size_m.map(|s| s.map(f64::to_bits))
+}
 
 /// Rankings of earlier resolutions, kept by an editor between keystrokes: the ranking of a
 /// query depends only on the catalog, the seed and the query, so a document resolved again
@@ -376,6 +383,63 @@ pub struct RoomResolution {
     /// The rankings the room asked for (kept alive in the [`RankCache`] while a room holds
     /// them).
     ranks: Vec<std::rc::Rc<Vec<Candidate>>>,
+    /// Each object group's choice with what it read and gave, in the room's order: what the
+    /// next resolution of the room takes again for a group whose input is the same.
+    groups: Vec<GroupRun>,
+}
+
+/// A span as the room's reported set keeps it: file, start, end.
+type SpanKey = (u32, u32, u32);
+
+/// One object group's choice in a room: its input, and everything the choice read of and
+/// gave to the room's resolution.
+#[derive(Clone, Debug)]
+struct GroupRun {
+    /// The subject, the query, the variance, the pins and whether it must hold things.
+    what: Subject,
+    query: Query,
+    variance: Variance,
+    pins: Vec<Option<Pinned>>,
+    wants_receptacle: bool,
+    /// The room's box when it was chosen (the objathor folder's size filters read it).
+    room_box: Option<[f64; 3]>,
+    /// The resolutions, one per instance.
+    results: Vec<Resolution>,
+    /// The diagnostics it made, and each span it asked to report with whether it was new.
+    diagnostics: Vec<Diagnostic>,
+    reports: Vec<(SpanKey, bool)>,
+    /// The assets it asked about, with the answers, and those it used, in order.
+    reads: Vec<(String, bool)>,
+    writes: Vec<String>,
+    /// The rankings it asked for.
+    asked: Vec<std::rc::Rc<Vec<Candidate>>>,
+}
+
+impl RoomResolution {
+    /// Calls `f` on every span the room's resolution holds (its diagnostics' and those its
+    /// object groups' choices are kept by), so that an editor can move them with the text.
+    /// (`diagnostic` is called on each diagnostic kept, to move its spans.)
+    pub fn spans_mut(
+        &mut self,
+        f: &mut dyn FnMut(&mut Span),
+        diagnostic: &mut dyn FnMut(&mut Diagnostic),
+    ) {
+        for group in &mut self.groups {
+            f(&mut group.what.span);
+            for pin in group.pins.iter_mut().flatten() {
+                f(&mut pin.span);
+            }
+            for d in &mut group.diagnostics {
+                diagnostic(d);
+            }
+            for (key, _) in &mut group.reports {
+                let mut span =
+                    Span { file: crate::source::FileId(key.0), start: key.1, end: key.2 };
+                f(&mut span);
+                *key = (span.file.0, span.start, span.end);
+            }
+        }
+    }
 }
 
 impl RoomResolution {
@@ -414,12 +478,33 @@ impl<'a> Resolver<'a> {
 
     /// Resolves one room of `scene`, given the assets of the rooms before it.
     pub fn room(&mut self, scene: &Scene, room: &crate::check::Room) -> RoomResolution {
-        resolve_room(scene, room, &mut self.state)
+        resolve_room(scene, room, &mut self.state, None)
+    }
+
+    /// [`Resolver::room`], taking again from `last` (an earlier resolution of the same room,
+    /// its spans moved to the current text) the choice of every object group whose input is
+    /// the same and whose reads of the rooms before and of the room so far hold: the same
+    /// result as [`Resolver::room`], with only the groups that changed chosen again.
+    /// Without `last` (or with one whose groups' choices were not recorded) every group is
+    /// chosen and recorded for the next time. The groups are taken out of `last`.
+    pub fn room_again(
+        &mut self,
+        scene: &Scene,
+        room: &crate::check::Room,
+        last: Option<&mut RoomResolution>,
+    ) -> RoomResolution {
+        let groups = last.map_or_else(Vec::new, |l| std::mem::take(&mut l.groups));
+        resolve_room(scene, room, &mut self.state, Some(groups))
     }
 
     /// Counts the assets of `room` as used by the rooms before the next one.
     pub fn used_before(&mut self, room: &RoomResolution) {
         self.state.used.extend(room.writes.iter().cloned());
+    }
+
+    /// How many object groups' choices [`Resolver::room_again`] took again so far.
+    pub fn groups_kept(&self) -> u64 {
+        self.state.groups_kept
     }
 
     /// The assets of the rooms given to [`Resolver::used_before`] so far.
@@ -465,7 +550,12 @@ pub fn assemble<'r>(
     Outcome::new(resolved, diagnostics)
 }
 
-fn resolve_room(scene: &Scene, room: &crate::check::Room, state: &mut State<'_>) -> RoomResolution {
+fn resolve_room(
+    scene: &Scene,
+    room: &crate::check::Room,
+    state: &mut State<'_>,
+    last: Option<Vec<GroupRun>>,
+) -> RoomResolution {
     let mut done = RoomResolution {
         objects: Vec::with_capacity(room.objects.len()),
         small: Vec::new(),
@@ -475,7 +565,19 @@ fn resolve_room(scene: &Scene, room: &crate::check::Room, state: &mut State<'_>)
         reads: Vec::new(),
         writes: BTreeSet::new(),
         ranks: Vec::new(),
+        groups: Vec::new(),
     };
+    // Without a last resolution (a room resolved for the first time) nothing is recorded:
+    // only the rooms being edited keep their groups' choices.
+    let record = last.is_some();
+    // The last resolution's groups by where their first object is named.
+    let mut last: Vec<Option<GroupRun>> = last.unwrap_or_default().into_iter().map(Some).collect();
+    let by_place: rustc_hash::FxHashMap<(u32, u32, u32), usize> = last
+        .iter()
+        .enumerate()
+        .filter_map(|(k, g)| g.as_ref().map(|g| (g.what.span, k)))
+        .map(|(span, k)| ((span.file.0, span.start, span.end), k))
+        .collect();
     state.reported.clear();
     state.room_box = room_box(room, scene.wall_height_m);
     // Object groups of the room, in order of first instance.
@@ -512,10 +614,41 @@ fn resolve_room(scene: &Scene, room: &crate::check::Room, state: &mut State<'_>)
             description: first.description.clone().unwrap_or_else(|| first.category.clone()),
             span: first.name_span,
         };
-        let results = state.choose(&what, &query, first.variance, &pins, wants_receptacle);
-        for (&i, res) in members.iter().zip(results) {
-            objects[i] = Some(res);
+        // The last resolution's group named at the same place is taken again when its input
+        // is this one and what it read still reads the same.
+        let same_input = |g: &GroupRun| {
+            g.what == what
+                && g.query == query
+                && g.variance == first.variance
+                && g.wants_receptacle == wants_receptacle
+                && g.room_box == state.room_box
+                && g.pins.len() == pins.len()
+                && g.pins.iter().zip(&pins).all(|(a, b)| a.as_ref() == *b)
+        };
+        if !record {
+            let results = state.choose(&what, &query, first.variance, &pins, wants_receptacle);
+            for (&i, res) in members.iter().zip(results) {
+                objects[i] = Some(res);
+            }
+            continue;
         }
+        let place = (what.span.file.0, what.span.start, what.span.end);
+        let kept = by_place
+            .get(&place)
+            .and_then(|&k| last.get_mut(k))
+            .and_then(|g| g.take_if(|g| same_input(g) && state.reads_hold(g)));
+        let run = match kept {
+            Some(run) => {
+                state.replay(&run);
+                state.groups_kept += 1;
+                run
+            }
+            None => state.choose_recorded(what, query, first.variance, &pins, wants_receptacle),
+        };
+        for (&i, res) in members.iter().zip(&run.results) {
+            objects[i] = Some(res.clone());
+        }
+        done.groups.push(run);
     }
     done.objects = objects
         .into_iter()
@@ -588,7 +721,13 @@ fn resolve_room(scene: &Scene, room: &crate::check::Room, state: &mut State<'_>)
         }
     }
     done.diagnostics = std::mem::take(&mut state.diagnostics);
-    done.reads = std::mem::take(&mut state.reads);
+    // An asset asked about twice got the same answer (the rooms before do not change while
+    // this one is resolved): each is kept once.
+    let mut reads = std::mem::take(&mut state.reads);
+    reads.sort_unstable();
+    reads.dedup();
+    reads.shrink_to_fit();
+    done.reads = reads;
     done.writes = std::mem::take(&mut state.writes);
     done.ranks = std::mem::take(&mut state.asked);
     done
@@ -644,6 +783,7 @@ pub fn is_light(description: &str) -> bool {
 }
 
 /// What is being resolved, for messages.
+#[derive(Clone, Debug, PartialEq)]
 pub(crate) struct Subject {
     pub(crate) name: String,
     pub(crate) description: String,
@@ -664,6 +804,12 @@ struct State<'a> {
     /// The rankings the room being resolved asked for.
     asked: Vec<std::rc::Rc<Vec<Candidate>>>,
     diagnostics: Vec<Diagnostic>,
+    /// While a group's choice is recorded ([`State::choose_recorded`]): each span it asked to
+    /// report, with whether it was new, and each asset it used.
+    reports: Option<Vec<(SpanKey, bool)>>,
+    writes_made: Option<Vec<String>>,
+    /// How many groups' choices were taken again ([`Resolver::groups_kept`]).
+    groups_kept: u64,
     /// Spans already reported in the room being resolved (one cause, one diagnostic; every
     /// span of a room's diagnostics is in the room).
     reported: BTreeSet<(u32, u32, u32)>,
@@ -702,6 +848,9 @@ impl<'a> State<'a> {
             asked: Vec::new(),
             diagnostics: Vec::new(),
             reported: BTreeSet::new(),
+            reports: None,
+            writes_made: None,
+            groups_kept: 0,
             cache: BTreeMap::new(),
             earlier: BTreeMap::new(),
             top: None,
@@ -728,6 +877,9 @@ impl<'a> State<'a> {
 
     /// Counts `asset` as used by the room being resolved.
     fn mark_used(&mut self, asset: &str) {
+        if let Some(made) = &mut self.writes_made {
+            made.push(asset.to_string());
+        }
         if !self.writes.contains(asset) {
             self.writes.insert(asset.to_string());
         }
@@ -737,7 +889,7 @@ impl<'a> State<'a> {
         let key = (
             query.category.clone(),
             query.description.clone().unwrap_or_default(),
-            format!("{:?}", query.size_m),
+            size_key(query.size_m),
             query.kind.map_or("", PlacementKind::as_str),
         );
         let list = if let Some(hit) = self.cache.get(&key) {
@@ -763,7 +915,7 @@ impl<'a> State<'a> {
         let key = (
             query.category.clone(),
             query.description.clone().unwrap_or_default(),
-            format!("{:?}", query.size_m),
+            size_key(query.size_m),
             query.kind.map_or("", PlacementKind::as_str),
         );
         if let Some(hit) = self.objathor_cache.get(&key) {
@@ -775,8 +927,70 @@ impl<'a> State<'a> {
     }
 
     fn report_once(&mut self, span: Span, d: Diagnostic) {
-        if self.reported.insert((span.file.0, span.start, span.end)) {
+        let key = (span.file.0, span.start, span.end);
+        let new = self.reported.insert(key);
+        if let Some(reports) = &mut self.reports {
+            reports.push((key, new));
+        }
+        if new {
             self.diagnostics.push(d);
+        }
+    }
+
+    /// [`State::choose`] for an object group, with what it read of and gave to the room's
+    /// resolution recorded (see [`GroupRun`]).
+    fn choose_recorded(
+        &mut self,
+        what: Subject,
+        query: Query,
+        variance: Variance,
+        pins: &[Option<&Pinned>],
+        wants_receptacle: bool,
+    ) -> GroupRun {
+        let (diagnostics, reads, asked) =
+            (self.diagnostics.len(), self.reads.len(), self.asked.len());
+        self.reports = Some(Vec::new());
+        self.writes_made = Some(Vec::new());
+        let results = self.choose(&what, &query, variance, pins, wants_receptacle);
+        GroupRun {
+            room_box: self.room_box,
+            pins: pins.iter().map(|p| p.cloned()).collect(),
+            what,
+            query,
+            variance,
+            wants_receptacle,
+            results,
+            diagnostics: self.diagnostics[diagnostics..].to_vec(),
+            reports: self.reports.take().unwrap_or_default(),
+            reads: self.reads[reads..].to_vec(),
+            writes: self.writes_made.take().unwrap_or_default(),
+            asked: self.asked[asked..].to_vec(),
+        }
+    }
+
+    /// Whether a group's choice would read now what it read then: the same answers about the
+    /// rooms before, and the same spans reported or not in the room so far.
+    fn reads_hold(&self, run: &GroupRun) -> bool {
+        run.reads.iter().all(|(asset, free)| *free != self.used.contains(asset))
+            && run.reports.iter().all(|(key, new)| *new != self.reported.contains(key))
+    }
+
+    /// Gives the room's resolution what a group's choice gave it when it was made.
+    fn replay(&mut self, run: &GroupRun) {
+        for (key, new) in &run.reports {
+            if *new {
+                self.reported.insert(*key);
+            }
+        }
+        self.diagnostics.extend(run.diagnostics.iter().cloned());
+        self.reads.extend(run.reads.iter().cloned());
+        for asset in &run.writes {
+            self.mark_used(asset);
+        }
+        for list in &run.asked {
+            if !self.asked.iter().any(|l| std::rc::Rc::ptr_eq(l, list)) {
+                self.asked.push(std::rc::Rc::clone(list));
+            }
         }
     }
 

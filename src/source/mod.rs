@@ -157,6 +157,36 @@ impl SourceFile {
         end
     }
 
+    /// Replaces bytes `range` of the text with `with` (the range clamped into the text and onto
+    /// character boundaries) and indexes again only the lines the change touched: the line
+    /// starts before it stay and those after it move by the change in length, so that an
+    /// editor's keystroke in a long file costs no scan of the whole text.
+    pub fn replace_range(&mut self, range: std::ops::Range<usize>, with: &str) {
+        let start = self.clamp(range.start);
+        let end = self.clamp(range.end).max(start);
+        self.text.replace_range(start..end, with);
+        let new_end = start + with.len();
+        // A line start `s` depends on bytes `s - 1` and `s`: those from `start` to `end` (old)
+        // are made again from the new text, from byte `start - 1` to `new_end`.
+        let keep = self.line_starts.partition_point(|&s| s < start);
+        let after = self.line_starts.partition_point(|&s| s <= end);
+        let bytes = self.text.as_bytes();
+        let mut fresh = Vec::new();
+        if start == 0 {
+            fresh.push(0);
+        }
+        for i in start.saturating_sub(1)..new_end {
+            if bytes[i] == b'\n' || (bytes[i] == b'\r' && bytes.get(i + 1) != Some(&b'\n')) {
+                fresh.push(i + 1);
+            }
+        }
+        let added = fresh.len();
+        let _ = self.line_starts.splice(keep..after, fresh);
+        for s in &mut self.line_starts[keep + added..] {
+            *s = *s - end + new_end;
+        }
+    }
+
     /// The number of lines (a final line without a break counts).
     pub fn line_count(&self) -> usize {
         self.line_starts.len()
@@ -205,6 +235,12 @@ impl SourceMap {
     /// Adds a file and returns its id.
     pub fn add(&mut self, name: impl Into<String>, text: impl Into<String>) -> FileId {
         self.files.push(SourceFile::new(name, text));
+        FileId((self.files.len() - 1) as u32)
+    }
+
+    /// Adds a file made already and returns its id.
+    pub fn add_file(&mut self, file: SourceFile) -> FileId {
+        self.files.push(file);
         FileId((self.files.len() - 1) as u32)
     }
 
@@ -281,6 +317,35 @@ mod tests {
         assert_eq!(file.line_col(x), LineCol { line: 2, column: 4 });
         assert_eq!(file.lsp_position(x), (1, 4));
         assert_eq!(file.line_text(2), "çé😀x");
+    }
+
+    #[test]
+    fn a_replaced_range_indexes_the_lines_as_a_new_file_does() {
+        // Every edit of every range of short texts made of line breaks and letters.
+        let texts = ["", "a", "\n", "\r", "\r\n", "a\r\nb\rc\n", "\r\r\n\n\r", "ab\ncd\r\nef"];
+        let inserts = ["", "x", "\n", "\r", "\r\n", "\nq\r", "é\n"];
+        for text in texts {
+            for start in 0..=text.len() {
+                for end in start..=text.len() {
+                    for with in inserts {
+                        let mut file = SourceFile::new("t", text);
+                        file.replace_range(start..end, with);
+                        let mut expected = text.to_string();
+                        expected.replace_range(start..end, with);
+                        assert_eq!(file.text, expected);
+                        assert_eq!(
+                            file.line_starts,
+                            line_starts(&expected),
+                            "{text:?} {start}..{end} {with:?}"
+                        );
+                    }
+                }
+            }
+        }
+        // A range past the end or inside a character is clamped.
+        let mut file = SourceFile::new("t", "é\nb");
+        file.replace_range(1..99, "x");
+        assert_eq!((file.text.as_str(), file.line_starts.clone()), ("x", vec![0]));
     }
 
     #[test]
