@@ -649,11 +649,10 @@ pub fn round6(v: f64) -> f64 {
 mod tests {
     use super::*;
 
-    #[test]
-    fn outline_rows_answer_as_the_outline() {
-        // Rectangles, an L, a slanted quadrilateral and a triangle, with points on a grid whose
-        // rows and columns pass on and near their corners and edges.
-        let polygons: Vec<Vec<Point>> = vec![
+    /// Rectangles, an L, a slanted quadrilateral and a triangle, for points on a grid whose
+    /// rows and columns pass on and near their corners and edges.
+    fn test_polygons() -> Vec<Vec<Point>> {
+        vec![
             vec![[0.0, 0.0], [0.0, 4.0], [5.0, 4.0], [5.0, 0.0]],
             vec![[0.0, 0.0], [0.0, 3.0], [2.0, 3.0], [2.0, 5.0], [6.0, 5.0], [6.0, 0.0]],
             vec![[0.3, 0.1], [1.1, 4.2], [4.7, 3.3], [3.9, -0.4]],
@@ -661,8 +660,12 @@ mod tests {
             vec![[1.0, 1.0], [1.0, 1.6], [1.4, 1.6], [1.4, 1.0]],
             // Far from the origin, where a rounding error is larger.
             vec![[1e4, 0.0], [1e4, 4.0], [1e4 + 5.0, 4.0], [1e4 + 5.0, 0.0]],
-        ];
-        for polygon in &polygons {
+        ]
+    }
+
+    #[test]
+    fn outline_rows_answer_as_the_outline() {
+        for polygon in &test_polygons() {
             let outline = Outline::new(polygon);
             let x0 = polygon[0][0].floor() - 0.5;
             for step in [0.05, 0.1, 0.5] {
@@ -698,15 +701,7 @@ mod tests {
 
     #[test]
     fn whole_rows_answer_as_their_points() {
-        let polygons: Vec<Vec<Point>> = vec![
-            vec![[0.0, 0.0], [0.0, 4.0], [5.0, 4.0], [5.0, 0.0]],
-            vec![[0.0, 0.0], [0.0, 3.0], [2.0, 3.0], [2.0, 5.0], [6.0, 5.0], [6.0, 0.0]],
-            vec![[0.3, 0.1], [1.1, 4.2], [4.7, 3.3], [3.9, -0.4]],
-            vec![[0.0, 0.0], [2.5, 4.0], [5.0, 0.0]],
-            vec![[1.0, 1.0], [1.0, 1.6], [1.4, 1.6], [1.4, 1.0]],
-            vec![[1e4, 0.0], [1e4, 4.0], [1e4 + 5.0, 4.0], [1e4 + 5.0, 0.0]],
-        ];
-        for polygon in &polygons {
+        for polygon in &test_polygons() {
             let outline = Outline::new(polygon);
             let x0 = polygon[0][0].floor() - 0.5;
             for step in [0.05, 0.1, 0.5] {
