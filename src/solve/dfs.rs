@@ -308,6 +308,28 @@ fn target_gaps(prep: &Prepared<'_>, k: usize, target: usize) -> Vec<f64> {
 /// leaves a chair and its aisle.
 const MAX_TARGET_GAPS: usize = 3;
 
+/// Whether relation `c` of object `j` is a `near` between two objects against the walls
+/// with no side relation beside it to the same target: the later object stands along the wall
+/// beside its target, on either side.
+fn near_along_wall(problem: &super::RoomProblem, j: usize, c: &super::ProblemConstraint) -> bool {
+    let obj = &problem.objects[j];
+    let Some(target) = problem.objects.get(c.target) else { return false };
+    obj.global == GlobalKind::Edge
+        && target.global == GlobalKind::Edge
+        && !obj.constraints.iter().any(|o| {
+            o.target == c.target
+                && matches!(
+                    o.kind,
+                    RelationKind::InFrontOf
+                        | RelationKind::Behind
+                        | RelationKind::LeftOf
+                        | RelationKind::RightOf
+                        | RelationKind::SideOf
+                        | RelationKind::Around
+                )
+        })
+}
+
 /// Whether relation `c` of object `j` draws a seat up to the front or back of a desk or table
 /// (a student's chair `behind` its desk): the chair needs the way to it as well as its own
 /// floor.
@@ -1586,20 +1608,132 @@ pub(crate) fn static_reason(fails: &BTreeMap<HardRule, usize>) -> (HardRule, Str
     }
 }
 
-/// Runs the search and turns the best state into a layout.
+/// The order the search places the floor objects in: group by group, a group being the objects
+/// joined by relations (a table and its chairs, a sofa with its coffee table and side table, a
+/// shelf and its plant), each group's objects in plan order (a relation's target comes before
+/// the object that refers to it). Groups with a pinned object come first, in plan order (what
+/// is fixed is there before anything is placed round it); then the others, the group with the
+/// most floor (its objects' footprints summed) first, ties in plan order: the large pieces
+/// find their place while the room is open and the small ones fill what is left between them,
+/// as in packing a shelf.
+pub(crate) fn placement_order(problem: &super::RoomProblem) -> Vec<usize> {
+    fn find(root: &mut [usize], mut k: usize) -> usize {
+        while root[k] != k {
+            root[k] = root[root[k]];
+            k = root[k];
+        }
+        k
+    }
+    let n = problem.objects.len();
+    // Union by the smaller index: each group's root is its first object.
+    let mut root: Vec<usize> = (0..n).collect();
+    for (k, obj) in problem.objects.iter().enumerate() {
+        for c in obj.constraints.iter().filter(|c| c.target < n) {
+            let (a, b) = (find(&mut root, k), find(&mut root, c.target));
+            root[a.max(b)] = a.min(b);
+        }
+    }
+    let mut members: Vec<Vec<usize>> = vec![Vec::new(); n];
+    let mut pinned = vec![false; n];
+    for (k, obj) in problem.objects.iter().enumerate() {
+        let g = find(&mut root, k);
+        members[g].push(k);
+        pinned[g] |= obj.pin.is_some();
+    }
+    let mut anchors: Vec<usize> = (0..n).filter(|&g| !members[g].is_empty()).collect();
+    // A group's floor: the footprints of its objects, summed.
+    let floor: Vec<f64> = members
+        .iter()
+        .map(|m| m.iter().map(|&k| problem.objects[k].size[0] * problem.objects[k].size[1]).sum())
+        .collect();
+    anchors.sort_by(|&a, &b| {
+        pinned[b].cmp(&pinned[a]).then_with(|| {
+            if pinned[a] {
+                a.cmp(&b)
+            } else {
+                floor[b].total_cmp(&floor[a]).then(a.cmp(&b))
+            }
+        })
+    });
+    anchors.into_iter().flat_map(|g| std::mem::take(&mut members[g])).collect()
+}
+
+/// Runs the search in [`placement_order`] and turns the best state into a layout, in plan
+/// order.
 pub(crate) fn solve(prep: &Prepared<'_>, options: &SolveOptions) -> RoomLayout {
+    let order = placement_order(prep.problem);
+    if order.iter().enumerate().all(|(i, &k)| i == k) {
+        return solve_in_order(prep, options, &order);
+    }
+    // The problem with its objects in placement order, each relation's target renumbered.
+    let mut at = vec![0; order.len()];
+    for (i, &k) in order.iter().enumerate() {
+        at[k] = i;
+    }
+    let mut problem = prep.problem.clone();
+    problem.objects = order
+        .iter()
+        .map(|&k| {
+            let mut obj = prep.problem.objects[k].clone();
+            for c in &mut obj.constraints {
+                c.target = at.get(c.target).copied().unwrap_or(c.target);
+            }
+            obj
+        })
+        .collect();
+    let placing = Prepared {
+        problem: &problem,
+        room: prep.room.clone(),
+        keep_out: prep.keep_out.clone(),
+        windows: prep.windows.clone(),
+        reach: prep.reach.clone(),
+        walls: prep.walls.clone(),
+        meanings: order.iter().map(|&k| prep.meanings[k].clone()).collect(),
+    };
+    let mut layout = solve_in_order(&placing, options, &order);
+    // Back to plan order: the placed objects by index, the objects left out in the order of
+    // their indices, the score summed in plan order.
+    let placed: Vec<bool> = {
+        let mut v = vec![false; order.len()];
+        for f in &layout.floor {
+            v[f.index] = true;
+        }
+        v
+    };
+    let mut unplaced: Vec<(usize, super::Unplaced)> = (0..order.len())
+        .filter(|&i| !placed[i])
+        .map(|i| order[i])
+        .zip(std::mem::take(&mut layout.unplaced))
+        .collect();
+    unplaced.sort_by_key(|(k, _)| *k);
+    layout.unplaced = unplaced.into_iter().map(|(_, u)| u).collect();
+    for f in &mut layout.floor {
+        f.index = order[f.index];
+    }
+    layout.floor.sort_by_key(|f| f.index);
+    layout.score = layout.floor.iter().map(|f| f.score).sum();
+    for (k, _) in &mut layout.pinned_breaks {
+        *k = order[*k];
+    }
+    layout.pinned_breaks.sort_by_key(|(k, _)| *k);
+    layout
+}
+
+/// Runs the search over `prep`'s objects in their order; `order` gives each one's index in
+/// plan order (its candidates' tie-breaking order is drawn from it).
+fn solve_in_order(prep: &Prepared<'_>, options: &SolveOptions, order: &[usize]) -> RoomLayout {
     let n = prep.problem.objects.len();
     let mut statics = Vec::with_capacity(n);
     let mut static_fails = Vec::with_capacity(n);
     // Objects alike get the same grid: worked out once for them all.
     let mut grids: FxHashMap<StaticGridKey, StaticGrid> = FxHashMap::default();
-    for k in 0..n {
+    for (k, &plan_index) in order.iter().enumerate().take(n) {
         if crate::cancel::requested() {
             return RoomLayout::default();
         }
         let (c, f) = grids.entry(static_grid_key(prep, k)).or_insert_with(|| static_grid(prep, k));
         let mut c = c.clone();
-        shuffle_static(&mut c, k, options.seed);
+        shuffle_static(&mut c, plan_index, options.seed);
         statics.push(c);
         static_fails.push(f.clone());
     }
@@ -1638,9 +1772,13 @@ pub(crate) fn run(
                     | RelationKind::SideOf
                     | RelationKind::Around
             );
-            if !side || c.target >= j {
+            let along_wall = c.kind == RelationKind::Near && near_along_wall(prep.problem, j, c);
+            if !(side || along_wall) || c.target >= j {
                 continue;
             }
+            // `near` between two objects against the walls looks ahead as `side of`: the later
+            // one needs a free piece of wall beside its target (a plant beside its shelf).
+            let kind = if along_wall { RelationKind::SideOf } else { c.kind };
             // The gaps every relation of the object to this target means, intersected.
             let mut gaps = (0.0, f64::INFINITY);
             for other in obj.constraints.iter().filter(|o| o.target == c.target) {
@@ -1656,14 +1794,7 @@ pub(crate) fn run(
                 && super::meaning_of(prep.problem, j, c).ring.is_some();
             let beyond = if drawn_up(prep.problem, j, c) { aisle } else { 0.0 };
             let reach = beyond;
-            dependents[c.target].push(Dependent {
-                object: j,
-                kind: c.kind,
-                gaps,
-                ring,
-                beyond,
-                reach,
-            });
+            dependents[c.target].push(Dependent { object: j, kind, gaps, ring, beyond, reach });
         }
     }
     // A dependent's zone reaches as far out as its chain needs.
@@ -1789,4 +1920,145 @@ pub(crate) fn run(
         layout.pinned_breaks.push((k, rule));
     }
     layout
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::solve::{FloorObject, ProblemConstraint, Role, RoomProblem};
+    use proptest::prelude::*;
+
+    /// A room of objects `(size, edge, pinned, targets)`.
+    fn problem(objects: &[([f64; 2], bool, bool, Vec<usize>)]) -> RoomProblem {
+        let objects = objects
+            .iter()
+            .enumerate()
+            .map(|(k, (size, edge, pinned, targets))| FloorObject {
+                id: format!("obj-{k}"),
+                size: *size,
+                height: 0.8,
+                global: if *edge { GlobalKind::Edge } else { GlobalKind::Middle },
+                role: Role::Other,
+                constraints: targets
+                    .iter()
+                    .map(|&target| ProblemConstraint {
+                        kind: RelationKind::Near,
+                        target,
+                        span: None,
+                    })
+                    .collect(),
+                pin: pinned.then_some(Pose { x: 1.0, z: 1.0, rot: Rot::R0 }),
+                thor_type: None,
+                span: None,
+            })
+            .collect();
+        RoomProblem {
+            name: "order".into(),
+            outline: vec![[0.0, 0.0], [0.0, 5.0], [5.0, 5.0], [5.0, 0.0]],
+            wall_height: 2.7,
+            keep_out: Vec::new(),
+            walls: Vec::new(),
+            objects,
+            wall_objects: Vec::new(),
+            small_objects: Vec::new(),
+            ceiling: None,
+            span: None,
+        }
+    }
+
+    #[test]
+    fn groups_go_pinned_first_then_the_most_floor_first() {
+        let p = problem(&[
+            ([0.4, 0.4], true, false, vec![]),      // 0: a plant (0.16 m²)
+            ([1.0, 0.4], true, false, vec![]),      // 1: a shelf
+            ([0.4, 0.4], true, false, vec![1]),     // 2: its plant (with it 0.56 m²)
+            ([1.2, 0.8], false, false, vec![]),     // 3: a table
+            ([0.5, 0.5], false, false, vec![3]),    // 4: its chair
+            ([2.0, 0.9], true, false, vec![]),      // 5: a sofa
+            ([0.5, 0.5], false, false, vec![5]),    // 6: its coffee table
+            ([0.6, 0.6], false, false, vec![]),     // 7: an armchair on its own (0.36 m²)
+            ([0.3, 0.3], true, true, vec![]),       // 8: a pinned lamp
+            ([0.5, 0.5], false, false, vec![3, 5]), // 9: joins the table's group to the sofa's
+        ]);
+        // The lamp; the table's group, joined to the sofa's by 9 (3.51 m², in plan order); the
+        // shelf and its plant; the armchair; the plant alone.
+        assert_eq!(placement_order(&p), vec![8, 3, 4, 5, 6, 9, 1, 2, 7, 0]);
+        // Nothing to reorder: plan order.
+        let q = problem(&[([1.0, 1.0], true, false, vec![]), ([0.5, 0.5], true, false, vec![0])]);
+        assert_eq!(placement_order(&q), vec![0, 1]);
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 200, rng_seed: proptest::test_runner::RngSeed::Fixed(0x6f72_6465), ..ProptestConfig::default() })]
+        /// Every object once, every relation's target before the object that refers to it, a
+        /// group's objects one after the other in plan order, pinned groups first.
+        #[test]
+        fn the_placement_order_keeps_targets_first_and_groups_whole(
+            objects in prop::collection::vec(
+                ((0.3f64..2.0, 0.3f64..2.0), any::<bool>(), prop::bool::weighted(0.1), prop::collection::vec(any::<prop::sample::Index>(), 0..3)),
+                0..24,
+            ),
+        ) {
+            let objects: Vec<([f64; 2], bool, bool, Vec<usize>)> = objects
+                .into_iter()
+                .enumerate()
+                .map(|(k, ((w, d), edge, pin, ts))| {
+                    let targets = if k == 0 { Vec::new() } else { ts.iter().map(|t| t.index(k)).collect() };
+                    ([w, d], edge, pin, targets)
+                })
+                .collect();
+            let p = problem(&objects);
+            let order = placement_order(&p);
+            let mut sorted = order.clone();
+            sorted.sort_unstable();
+            prop_assert_eq!(sorted, (0..objects.len()).collect::<Vec<_>>());
+            let mut at = vec![0; order.len()];
+            for (i, &k) in order.iter().enumerate() {
+                at[k] = i;
+            }
+            for (k, (_, _, _, targets)) in objects.iter().enumerate() {
+                for &t in targets {
+                    prop_assert!(at[t] < at[k], "{} before its target {}", k, t);
+                }
+            }
+            // A pinned object's group before every group without one.
+            let pinned_at = order.iter().rposition(|&k| objects[k].2);
+            if let Some(last_pin) = pinned_at {
+                // Everything up to the last pin is in a group with a pin: an object with no
+                // relation and no pin cannot come before it.
+                for &k in &order[..last_pin] {
+                    let alone = objects[k].3.is_empty() && !objects[k].2
+                        && !objects.iter().any(|o| o.3.contains(&k));
+                    prop_assert!(!alone, "{} alone before a pinned group", k);
+                }
+            }
+            // Each group (objects joined by relations) one run, in plan order.
+            let mut label: Vec<usize> = (0..objects.len()).collect();
+            loop {
+                let mut changed = false;
+                for (k, o) in objects.iter().enumerate() {
+                    for &t in &o.3 {
+                        let m = label[k].min(label[t]);
+                        if label[k] != m || label[t] != m {
+                            label[k] = m;
+                            label[t] = m;
+                            changed = true;
+                        }
+                    }
+                }
+                if !changed {
+                    break;
+                }
+            }
+            let mut seen = Vec::new();
+            for w in order.windows(2) {
+                if label[w[0]] == label[w[1]] {
+                    prop_assert!(w[0] < w[1], "{} after {} in one group", w[1], w[0]);
+                } else {
+                    seen.push(label[w[0]]);
+                    prop_assert!(!seen.contains(&label[w[1]]), "group of {} split", w[1]);
+                }
+            }
+        }
+    }
 }
