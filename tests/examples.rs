@@ -569,7 +569,8 @@ fn every_object_asked_is_placed_or_reported() {
 /// and their chairs (a chain of `behind`), so the rows keep their relations at most seeds. Not
 /// all yet: at some seeds the teacher's desk goes to a short wall, where three rows do not fit.
 /// Over seeds 1 to 10 the build kept 960 of 980 relations before the chain was looked at, 967
-/// after.
+/// after, 972 since the way behind a chair is as wide as the reachability grid needs (the
+/// agent and one cell).
 #[test]
 fn the_classroom_keeps_its_rows_with_other_seeds() {
     let path = Path::new("examples/classroom.holo");
@@ -592,5 +593,5 @@ fn the_classroom_keeps_its_rows_with_other_seeds() {
         }
     }
     assert_eq!(total_all, 980);
-    assert!(kept_all >= 967, "{kept_all} of {total_all} relations kept over seeds 1 to 10");
+    assert!(kept_all >= 972, "{kept_all} of {total_all} relations kept over seeds 1 to 10");
 }

@@ -1418,6 +1418,13 @@ impl ReachGrid {
         self.radius
     }
 
+    /// The narrowest way between two footprints that the grid lets the agent through wherever
+    /// the footprints stand: the agent's width and one cell (the way must hold a cell centre a
+    /// radius from both).
+    pub fn aisle(&self) -> f64 {
+        2.0 * self.radius + REACH_CELL_M
+    }
+
     /// Builds the grid of a room with its door keep-out zones, for an agent of `radius` metres.
     pub fn new(room: &RoomShape, doors: &[Rect], radius: f64) -> ReachGrid {
         let radius = if radius.is_finite() && radius > 0.0 { radius } else { AGENT_RADIUS_M };
@@ -1873,6 +1880,24 @@ mod tests {
         let behind = Rect::from_corners([2.0, 3.0], [3.0, 4.0]);
         assert_eq!(grid.unreachable(&[wall, behind]), vec![1]);
         assert!(grid.unreachable(&[behind]).is_empty());
+    }
+
+    /// A way through a row of furniture as wide as [`ReachGrid::aisle`] lets the agent through
+    /// wherever it stands; one exactly as wide as the agent does not everywhere.
+    #[test]
+    fn an_aisle_lets_the_agent_through_wherever_it_stands() {
+        let room = rect_room();
+        let door = Rect::from_corners([2.0, 0.0], [3.0, 1.0]);
+        let grid = ReachGrid::new(&room, &[door], AGENT_RADIUS_M);
+        let behind = Rect::from_corners([2.0, 3.0], [3.0, 4.0]);
+        let through = |start: f64, width: f64| {
+            let left = Rect::from_corners([0.0, 1.5], [start, 2.0]);
+            let right = Rect::from_corners([start + width, 1.5], [5.0, 2.0]);
+            grid.unreachable(&[left, right, behind]).is_empty()
+        };
+        let starts: Vec<f64> = (0..40).map(|i| 1.5 + 0.0071 * f64::from(i)).collect();
+        assert!(starts.iter().all(|&s| through(s, grid.aisle())));
+        assert!(starts.iter().any(|&s| !through(s, 2.0 * AGENT_RADIUS_M)));
     }
 
     /// Adds the footprints one by one: every flood worked out by [`ReachGrid::extend`] is the

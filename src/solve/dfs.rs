@@ -287,12 +287,18 @@ fn target_gaps(prep: &Prepared<'_>, k: usize, target: usize) -> Vec<f64> {
         if j == k {
             continue;
         }
+        // The least gap the other object's relations to the target leave (a chair `near` its
+        // desk stands 0.1 m off it).
+        let least = (0..other.constraints.len())
+            .filter(|&ci| other.constraints[ci].target == target)
+            .map(|ci| prep.meaning(j, ci).min_gap)
+            .fold(0.0, f64::max);
         for c in other.constraints.iter().filter(|c| c.target == target) {
             let side = other.size[0].min(other.size[1]);
             gaps.push(side);
             if drawn_up(prep.problem, j, c) {
-                // A chair drawn up to the same desk, and the way to it.
-                aisles.push(side + 2.0 * prep.reach.radius());
+                // A chair drawn up to the same desk, at its least gap, and the way to it.
+                aisles.push(least + side + prep.reach.aisle());
             }
         }
     }
@@ -1760,7 +1766,7 @@ pub(crate) fn run(
             remaining_max[k + 1] + placed_value + sat_value * obj.constraints.len() as f64;
     }
     let mut dependents: Vec<Vec<Dependent>> = vec![Vec::new(); n];
-    let aisle = 2.0 * prep.reach.radius();
+    let aisle = prep.reach.aisle();
     for (j, obj) in prep.problem.objects.iter().enumerate() {
         for c in &obj.constraints {
             let side = matches!(
