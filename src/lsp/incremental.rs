@@ -905,6 +905,9 @@ fn resolve_rooms(
         _ => (None, Vec::new(), None),
     };
     let same_rooms = old.len() == scene.rooms.len();
+    // The runs kept hold no resolutions of their own (they are in the last result, moved out
+    // of the runs when it was put together): without it, no run can be kept.
+    let old = if last_resolved.is_some() { old } else { Vec::new() };
     let (names, mut old): (Vec<String>, Vec<Option<RoomRun>>) =
         old.into_iter().map(|(name, run)| (name, Some(run))).unzip();
     let by_name: rustc_hash::FxHashMap<&str, usize> =
@@ -917,6 +920,8 @@ fn resolve_rooms(
     // entries had.
     let mut again: Vec<usize> = Vec::new();
     let mut gone: Vec<Vec<crate::check::ObjectId>> = Vec::new();
+    // For each room whose run is kept, the place it had in the last result's rooms.
+    let mut kept_from: Vec<Option<usize>> = Vec::with_capacity(scene.rooms.len());
     // While every room so far is the one at its place last time and uses the same assets, the
     // rooms before the next one use what they used then: its answers hold without asking.
     let mut in_step = shift.is_some();
@@ -953,6 +958,7 @@ fn resolve_rooms(
                     gone.push(run.ids.clone());
                     again.push(k);
                 }
+                kept_from.push(place);
                 run
             }
             run => {
@@ -985,6 +991,7 @@ fn resolve_rooms(
                     gone.push(run.ids.clone());
                 }
                 again.push(k);
+                kept_from.push(None);
                 in_step &= run.is_some_and(|run| output.writes == run.output.writes);
                 RoomRun { input: RoomInput::of(scene, room), output, ids: room.objects.clone() }
             }
@@ -997,9 +1004,9 @@ fn resolve_rooms(
     resolver.finish(&mut memo.cache.ranks);
     let resolved = match last_resolved {
         Some(last) if same_rooms && last.objects.len() == scene.objects.len() => {
-            assemble_in_place(last, scene, &runs, &again, &gone)
+            assemble_in_place(last, scene, &mut runs, &again, &gone, &kept_from)
         }
-        _ => crate::resolve::assemble(scene, runs.iter().map(|(_, run)| &run.output)),
+        last => assemble_anew(last, scene, &mut runs, &kept_from),
     };
     memo.resolve = Some(ResolveMemo {
         made_for: std::rc::Rc::clone(text),
@@ -1024,15 +1031,26 @@ fn used_up_to(
 }
 
 /// What [`crate::resolve::assemble`] makes of the rooms' runs, made from the last result:
-/// the entries of the rooms `again` made again (those of the object ids `gone` had removed
-/// first), every other room's kept. The diagnostics are every room's, in order.
+/// the entries of the rooms `again` put again (those of the object ids `gone` had removed
+/// first), every other room's kept. A run holds no resolutions once they are put (they are
+/// moved into the result, not copied): a kept run put again at another place (`kept_from`, the
+/// place it had) takes its entries out of the last result first. The diagnostics are every
+/// room's, in order.
 fn assemble_in_place(
     mut resolved: Resolved,
     scene: &Scene,
-    runs: &[(String, RoomRun)],
+    runs: &mut [(String, RoomRun)],
     again: &[usize],
     gone: &[Vec<crate::check::ObjectId>],
+    kept_from: &[Option<usize>],
 ) -> crate::diag::Outcome<Resolved> {
+    // Every entry to move is taken out before any is put.
+    for &k in again {
+        if let Some(place) = kept_from[k] {
+            let run = &mut runs[k].1;
+            resolved.take_room(crate::check::RoomId(place), &run.ids, &mut run.output);
+        }
+    }
     let forget = |resolved: &mut Resolved, id: crate::check::ObjectId| {
         let keys: Vec<(crate::check::ObjectId, usize)> =
             resolved.small.range((id, 0)..=(id, usize::MAX)).map(|(key, _)| *key).collect();
@@ -1054,10 +1072,35 @@ fn assemble_in_place(
         }
     }
     for &k in again {
-        resolved.put_room(&scene.rooms[k], &runs[k].1.output);
+        let room = &scene.rooms[k];
+        let run = &mut runs[k].1;
+        resolved.put_room_taken(room, &mut run.output);
+        run.ids.clone_from(&room.objects);
     }
     let diagnostics =
         runs.iter().flat_map(|(_, run)| run.output.diagnostics.iter().cloned()).collect();
+    crate::diag::Outcome::new(resolved, diagnostics)
+}
+
+/// What [`crate::resolve::assemble`] makes of the rooms' runs, put together anew: the kept
+/// runs' entries (`kept_from`, the place each had) taken out of the last result, which every
+/// kept run needs, every run's moved into the new one.
+fn assemble_anew(
+    mut last: Option<Resolved>,
+    scene: &Scene,
+    runs: &mut [(String, RoomRun)],
+    kept_from: &[Option<usize>],
+) -> crate::diag::Outcome<Resolved> {
+    let mut resolved = crate::resolve::assemble(scene, std::iter::empty()).value;
+    let mut diagnostics = Vec::new();
+    for ((room, (_, run)), from) in scene.rooms.iter().zip(runs.iter_mut()).zip(kept_from) {
+        if let (Some(place), Some(last)) = (from, &mut last) {
+            last.take_room(crate::check::RoomId(*place), &run.ids, &mut run.output);
+        }
+        resolved.put_room_taken(room, &mut run.output);
+        run.ids.clone_from(&room.objects);
+        diagnostics.extend(run.output.diagnostics.iter().cloned());
+    }
     crate::diag::Outcome::new(resolved, diagnostics)
 }
 

@@ -193,6 +193,54 @@ impl Resolved {
         }
     }
 
+    /// [`Resolved::put_room`], moving the room's resolutions out of `done` instead of copying
+    /// them (its objects', small objects', ceiling object's and ceiling light's are left empty;
+    /// its diagnostics and what it read and wrote stay).
+    pub fn put_room_taken(&mut self, room: &crate::check::Room, done: &mut RoomResolution) {
+        let objects = std::mem::take(&mut done.objects);
+        for (&id, res) in room.objects.iter().zip(objects) {
+            if let Some(slot) = self.objects.get_mut(id.0) {
+                *slot = res;
+            }
+        }
+        for ((i, k), list) in std::mem::take(&mut done.small) {
+            if let Some(&id) = room.objects.get(i) {
+                self.small.insert((id, k), list);
+            }
+        }
+        if let Some(light) = done.ceiling_light.take() {
+            self.ceiling_lights.insert(room.id, light);
+        }
+        if let Some(res) = done.ceiling.take() {
+            self.ceilings.insert(room.id, res);
+        }
+    }
+
+    /// Takes back into `done` what [`Resolved::put_room_taken`] put of a room that was room
+    /// `room` with objects `ids`: its objects' resolutions (each left "not resolved"), its small
+    /// objects', its ceiling object's and its ceiling light's (removed).
+    pub fn take_room(&mut self, room: RoomId, ids: &[ObjectId], done: &mut RoomResolution) {
+        done.objects = ids
+            .iter()
+            .map(|id| match self.objects.get_mut(id.0) {
+                Some(slot) => std::mem::replace(slot, not_resolved()),
+                None => not_resolved(),
+            })
+            .collect();
+        done.small = Vec::new();
+        for (i, &id) in ids.iter().enumerate() {
+            let keys: Vec<(ObjectId, usize)> =
+                self.small.range((id, 0)..=(id, usize::MAX)).map(|(key, _)| *key).collect();
+            for key in keys {
+                if let Some(list) = self.small.remove(&key) {
+                    done.small.push(((i, key.1), list));
+                }
+            }
+        }
+        done.ceiling = self.ceilings.remove(&room);
+        done.ceiling_light = self.ceiling_lights.remove(&room);
+    }
+
     /// The chosen asset of an object, if any.
     pub fn object(&self, id: ObjectId) -> Option<&Choice> {
         self.objects.get(id.0).and_then(Resolution::choice)
@@ -527,21 +575,18 @@ impl<'a> Resolver<'a> {
     }
 }
 
+/// What stands for a thing no resolution was made for.
+fn not_resolved() -> Resolution {
+    Resolution::Unresolved(Unresolved { reason: "not resolved".into(), nearest: Vec::new() })
+}
+
 /// The resolution of a scene from its rooms' (in the scene's room order).
 pub fn assemble<'r>(
     scene: &Scene,
     rooms: impl IntoIterator<Item = &'r RoomResolution>,
 ) -> Outcome<Resolved> {
-    let mut resolved = Resolved {
-        objects: vec![
-            Resolution::Unresolved(Unresolved {
-                reason: "not resolved".into(),
-                nearest: Vec::new()
-            });
-            scene.objects.len()
-        ],
-        ..Resolved::default()
-    };
+    let mut resolved =
+        Resolved { objects: vec![not_resolved(); scene.objects.len()], ..Resolved::default() };
     let mut diagnostics = Vec::new();
     for (room, done) in scene.rooms.iter().zip(rooms) {
         resolved.put_room(room, done);
@@ -650,17 +695,7 @@ fn resolve_room(
         }
         done.groups.push(run);
     }
-    done.objects = objects
-        .into_iter()
-        .map(|res| {
-            res.unwrap_or_else(|| {
-                Resolution::Unresolved(Unresolved {
-                    reason: "not resolved".into(),
-                    nearest: Vec::new(),
-                })
-            })
-        })
-        .collect();
+    done.objects = objects.into_iter().map(|res| res.unwrap_or_else(not_resolved)).collect();
     // Small objects on top, per instance and line; each prefers assets that fit on the
     // top of its receptacle's asset, less the margin the layout keeps round its edge.
     for (i, &id) in room.objects.iter().enumerate() {
@@ -749,10 +784,7 @@ pub fn resolve_query(
         span: Span::default(),
     };
     let mut results = state.choose(&what, query, Variance::Same, &[None], false);
-    let res = results.pop().unwrap_or(Resolution::Unresolved(Unresolved {
-        reason: "not resolved".into(),
-        nearest: Vec::new(),
-    }));
+    let res = results.pop().unwrap_or_else(not_resolved);
     Outcome::new(res, state.diagnostics)
 }
 
