@@ -662,8 +662,16 @@ impl Memo {
 /// [`crate::compile::analyse`] does (the same products and diagnostics, in the same order),
 /// reusing what `memo` kept of the previous version where the edit did not touch it.
 pub fn analyse(sources: &SourceMap, file: FileId, catalog: &Catalog, memo: &mut Memo) -> Analysed {
-    let text: std::rc::Rc<str> = std::rc::Rc::from(sources.get(file).text.as_str());
     let parsed = crate::parse::parse_edited(sources, file, &mut memo.cache.parse);
+    // The text the parse keeps, shared by what the plan and resolution keep (one copy).
+    let current = sources.get(file).text.as_str();
+    let text: std::rc::Rc<str> = match memo.cache.parse.text() {
+        Some(kept) if kept.len() == current.len() => {
+            debug_assert!(*kept == *current, "the parse keeps the text it was given");
+            kept
+        }
+        _ => std::rc::Rc::from(current),
+    };
     let mut analysed = Analysed {
         ast: parsed.value,
         scene: None,

@@ -80,6 +80,12 @@ impl ParseCache {
         self.tree
     }
 
+    /// The text the last parse was given, when it was cut into pieces (shared, not copied:
+    /// what the language server keeps of a version to compare the next one with).
+    pub fn text(&self) -> Option<std::rc::Rc<str>> {
+        self.tree.and(self.last.as_ref()).map(|last| std::rc::Rc::clone(&last.text))
+    }
+
     /// What the last parse replaced, when it edited a tree in place.
     pub fn splice(&self) -> Option<Splice> {
         self.splice
@@ -89,7 +95,7 @@ impl ParseCache {
     /// it in place (a tree of another text is dropped); whether it was taken.
     pub fn give_back(&mut self, tree: ast::File, text: &str) -> bool {
         match &mut self.last {
-            Some(last) if last.tree.is_none() && self.tree.is_some() && last.text == text => {
+            Some(last) if last.tree.is_none() && self.tree.is_some() && *last.text == *text => {
                 last.tree = Some(tree);
                 true
             }
@@ -101,7 +107,7 @@ impl ParseCache {
 /// A text cut into top-level pieces, and what each piece put into its tree.
 #[derive(Clone, Debug)]
 struct LastCut {
-    text: String,
+    text: std::rc::Rc<str>,
     pieces: Vec<Piece>,
     /// The parse's diagnostics, the pieces' in order.
     diagnostics: Vec<Diagnostic>,
@@ -220,8 +226,12 @@ pub fn parse_cached(
     }
     cache.chunks = used;
     cache.groups = GroupMap::default();
-    cache.last =
-        Some(LastCut { text: text.clone(), pieces, diagnostics: diagnostics.clone(), tree: None });
+    cache.last = Some(LastCut {
+        text: text.as_str().into(),
+        pieces,
+        diagnostics: diagnostics.clone(),
+        tree: None,
+    });
     cache.generation += 1;
     cache.tree = Some(cache.generation);
     Outcome::new(ast::File { items, span: Span::new(file, 0, text.len()) }, diagnostics)
@@ -402,7 +412,7 @@ fn splice(
         at += piece.items;
     }
     tree.span = Span::new(file, 0, text.len());
-    last.text = text.to_string();
+    last.text = text.into();
     Some((s0, old_region_end, region_end))
 }
 

@@ -164,6 +164,13 @@ impl SourceFile {
     pub fn replace_range(&mut self, range: std::ops::Range<usize>, with: &str) {
         let start = self.clamp(range.start);
         let end = self.clamp(range.end).max(start);
+        // Grown by a little at a time, not doubled: a large text edited keystroke by keystroke
+        // would otherwise hold twice its length.
+        let grown = (self.text.len() - (end - start)).saturating_add(with.len());
+        if grown > self.text.capacity() {
+            let slack = (grown / 64).max(1024);
+            self.text.reserve_exact(grown - self.text.len() + slack);
+        }
         self.text.replace_range(start..end, with);
         let new_end = start + with.len();
         // A line start `s` depends on bytes `s - 1` and `s`: those from `start` to `end` (old)
