@@ -947,7 +947,7 @@ fn resolve_rooms(
             (Some(run), Some(shift)) => {
                 (in_step || {
                     used_up_to(&mut resolver, &runs, &mut counted);
-                    run.output.reads_hold(resolver.used())
+                    resolver.reads_hold(&run.output)
                 }) && shift.move_in_place(&mut run.input)
                     && run.input.is_of(scene, room)
                     && shift.move_in_place(&mut run.output.diagnostics)
