@@ -438,112 +438,208 @@ impl Spans for PlanInput {
 /// filters), its ceiling object and its objects without their relations, ids or placement
 /// details. With the same input and the same answers about which assets the rooms before it
 /// use, a room resolves to the same choices and diagnostics ([`crate::resolve::Resolver`]).
+///
+/// It is kept written out ([`write_room`]): every value but the spans in `bytes` (strings with
+/// their lengths, numbers by their bits, each optional value with a tag, so that two inputs
+/// write the same bytes only when they are the same), the spans in `spans`, in the order
+/// written. A room's input is one allocation of about its text's size, not a copy of its
+/// objects; two numbers equal but for their bits (0 and −0) count as different, which only
+/// makes the room resolve again.
 #[derive(Clone, Debug, PartialEq)]
 struct RoomInput {
-    name: String,
-    room_box: Option<[f64; 3]>,
-    ceiling: Option<Ceiling>,
-    objects: Vec<Object>,
+    bytes: Vec<u8>,
+    spans: Vec<Span>,
 }
 
-impl RoomInput {
-    fn of(scene: &Scene, room: &Room) -> RoomInput {
-        RoomInput {
-            name: room.name.clone(),
-            room_box: crate::resolve::room_box(room, scene.wall_height_m),
-            ceiling: room.ceiling.as_ref().map(|c| Ceiling { above: None, at: None, ..c.clone() }),
-            objects: room
-                .objects
-                .iter()
-                .map(|&id| {
-                    let o = scene.object(id);
-                    let placement = match &o.placement {
-                        Placement::Floor { .. } => {
-                            Placement::Floor { global: None, constraints: Vec::new() }
-                        }
-                        Placement::Wall { .. } => Placement::Wall { above: None, height_m: None },
-                    };
-                    // Ids are places in the scene's lists, which an edit elsewhere moves.
-                    Object {
-                        id: crate::check::ObjectId(0),
-                        room: crate::check::RoomId(0),
-                        placement,
-                        ..o.clone()
-                    }
-                })
-                .collect(),
+/// Where [`write_room`] writes: a new [`RoomInput`], or a comparison with a kept one.
+trait Sink {
+    fn bytes(&mut self, bytes: &[u8]);
+    fn span(&mut self, span: Span);
+}
+
+impl Sink for RoomInput {
+    fn bytes(&mut self, bytes: &[u8]) {
+        self.bytes.extend_from_slice(bytes);
+    }
+
+    fn span(&mut self, span: Span) {
+        self.spans.push(span);
+    }
+}
+
+/// A kept input compared with what is written, as it is written (nothing is copied).
+struct Compare<'a> {
+    bytes: &'a [u8],
+    spans: &'a [Span],
+    same: bool,
+}
+
+impl Sink for Compare<'_> {
+    fn bytes(&mut self, bytes: &[u8]) {
+        match self.bytes.strip_prefix(bytes) {
+            Some(rest) if self.same => self.bytes = rest,
+            _ => self.same = false,
+        }
+    }
+
+    fn span(&mut self, span: Span) {
+        match self.spans.split_first() {
+            Some((first, rest)) if self.same && *first == span => self.spans = rest,
+            _ => self.same = false,
         }
     }
 }
 
-impl RoomInput {
-    /// Whether this input is the one [`RoomInput::of`] makes of `room` (compared in place,
-    /// with nothing copied).
-    fn is_of(&self, scene: &Scene, room: &Room) -> bool {
-        let same_ceiling = match (&self.ceiling, &room.ceiling) {
-            (None, None) => true,
-            (Some(a), Some(b)) => {
-                let Ceiling { description, asset, above: _, at: _, span } = a;
-                *description == b.description && *asset == b.asset && *span == b.span
-            }
-            _ => false,
-        };
-        self.name == room.name
-            && same_ceiling
-            && self.room_box == crate::resolve::room_box(room, scene.wall_height_m)
-            && self.objects.len() == room.objects.len()
-            && self
-                .objects
-                .iter()
-                .zip(&room.objects)
-                .all(|(a, &id)| same_object(a, scene.object(id)))
+/// A number written in 7-bit groups, low first, the high bit of each byte telling whether
+/// another follows (LEB128): one way to write each number, each ending where it says.
+fn write_count(sink: &mut dyn Sink, mut n: u64) {
+    let mut out = [0u8; 10];
+    let mut k = 0;
+    loop {
+        let low = (n & 0x7f) as u8;
+        n >>= 7;
+        if n == 0 {
+            out[k] = low;
+            k += 1;
+            break;
+        }
+        out[k] = low | 0x80;
+        k += 1;
+    }
+    sink.bytes(&out[..k]);
+}
+
+fn write_str(sink: &mut dyn Sink, s: &str) {
+    write_count(sink, s.len() as u64);
+    sink.bytes(s.as_bytes());
+}
+
+fn write_f64s(sink: &mut dyn Sink, values: &[f64]) {
+    for v in values {
+        sink.bytes(&v.to_bits().to_le_bytes());
     }
 }
 
-/// Whether `kept` (an object of a [`RoomInput`]) is what [`RoomInput::of`] makes of `object`.
-fn same_object(kept: &Object, object: &Object) -> bool {
-    let Object {
-        id: _,
-        room: _,
-        name,
-        group,
-        index,
-        group_count,
-        category,
-        description,
-        size_m,
-        variance,
-        asset,
-        at,
-        facing_deg,
-        placement,
-        on_top,
-        name_span,
-        decl_span,
-    } = kept;
-    let floor = |p: &Placement| matches!(p, Placement::Floor { .. });
-    *name == object.name
-        && *group == object.group
-        && *index == object.index
-        && *group_count == object.group_count
-        && *category == object.category
-        && *description == object.description
-        && *size_m == object.size_m
-        && *variance == object.variance
-        && *asset == object.asset
-        && *at == object.at
-        && *facing_deg == object.facing_deg
-        && floor(placement) == floor(&object.placement)
-        && *on_top == object.on_top
-        && *name_span == object.name_span
-        && *decl_span == object.decl_span
+fn write_opt_f64s(sink: &mut dyn Sink, values: Option<&[f64]>) {
+    match values {
+        None => sink.bytes(&[0]),
+        Some(values) => {
+            sink.bytes(&[1]);
+            write_f64s(sink, values);
+        }
+    }
+}
+
+fn write_pinned(sink: &mut dyn Sink, pinned: Option<&Pinned>) {
+    match pinned {
+        None => sink.bytes(&[0]),
+        Some(Pinned { id, span }) => {
+            sink.bytes(&[1]);
+            write_str(sink, id);
+            sink.span(*span);
+        }
+    }
+}
+
+fn write_variance(sink: &mut dyn Sink, variance: crate::check::Variance) {
+    sink.bytes(&[match variance {
+        crate::check::Variance::Same => 0,
+        crate::check::Variance::Varied => 1,
+    }]);
+}
+
+/// Writes what resolution reads of `room`: its name, its box, its ceiling object (without the
+/// object it hangs above or its position) and its objects (without ids, relations or
+/// placement details, but whether they stand on the floor).
+fn write_room(sink: &mut dyn Sink, scene: &Scene, room: &Room) {
+    write_str(sink, &room.name);
+    let room_box = crate::resolve::room_box(room, scene.wall_height_m);
+    write_opt_f64s(sink, room_box.as_ref().map(|b| b.as_slice()));
+    match &room.ceiling {
+        None => sink.bytes(&[0]),
+        Some(Ceiling { description, asset, above: _, at: _, span }) => {
+            sink.bytes(&[1]);
+            write_str(sink, description);
+            write_pinned(sink, asset.as_ref());
+            sink.span(*span);
+        }
+    }
+    write_count(sink, room.objects.len() as u64);
+    for &id in &room.objects {
+        let Object {
+            id: _,
+            room: _,
+            name,
+            group,
+            index,
+            group_count,
+            category,
+            description,
+            size_m,
+            variance,
+            asset,
+            at,
+            facing_deg,
+            placement,
+            on_top,
+            name_span,
+            decl_span,
+        } = scene.object(id);
+        write_str(sink, name);
+        write_str(sink, group);
+        write_count(sink, u64::from(*index));
+        write_count(sink, u64::from(*group_count));
+        write_str(sink, category);
+        match description {
+            None => sink.bytes(&[0]),
+            Some(d) => {
+                sink.bytes(&[1]);
+                write_str(sink, d);
+            }
+        }
+        write_opt_f64s(sink, size_m.as_ref().map(|v| v.as_slice()));
+        write_variance(sink, *variance);
+        write_pinned(sink, asset.as_ref());
+        write_opt_f64s(sink, at.as_ref().map(|v| v.as_slice()));
+        write_opt_f64s(sink, facing_deg.as_ref().map(std::slice::from_ref));
+        sink.bytes(&[u8::from(matches!(placement, Placement::Floor { .. }))]);
+        write_count(sink, on_top.len() as u64);
+        for SmallItem { item, count, variance, asset, at, facing_deg, span } in on_top {
+            write_str(sink, item);
+            write_count(sink, u64::from(*count));
+            write_variance(sink, *variance);
+            write_pinned(sink, asset.as_ref());
+            write_opt_f64s(sink, at.as_ref().map(|v| v.as_slice()));
+            write_opt_f64s(sink, facing_deg.as_ref().map(std::slice::from_ref));
+            sink.span(*span);
+        }
+        sink.span(*name_span);
+        sink.span(*decl_span);
+    }
+}
+
+impl RoomInput {
+    fn of(scene: &Scene, room: &Room) -> RoomInput {
+        let mut input = RoomInput { bytes: Vec::new(), spans: Vec::new() };
+        write_room(&mut input, scene, room);
+        input.bytes.shrink_to_fit();
+        input.spans.shrink_to_fit();
+        input
+    }
+
+    /// Whether this input is the one [`RoomInput::of`] makes of `room` (compared as it is
+    /// written, with nothing copied).
+    fn is_of(&self, scene: &Scene, room: &Room) -> bool {
+        let mut compare = Compare { bytes: &self.bytes, spans: &self.spans, same: true };
+        write_room(&mut compare, scene, room);
+        compare.same && compare.bytes.is_empty() && compare.spans.is_empty()
+    }
 }
 
 impl Spans for RoomInput {
     fn spans(&mut self, f: &mut dyn FnMut(&mut Span)) {
-        let RoomInput { name: _, room_box: _, ceiling, objects } = self;
-        ceiling.spans(f);
-        objects.spans(f);
+        let RoomInput { bytes: _, spans } = self;
+        spans.spans(f);
     }
 }
 
