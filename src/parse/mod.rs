@@ -152,6 +152,17 @@ pub fn parse_cached(
     file: FileId,
     cache: &mut ParseCache,
 ) -> Outcome<ast::File> {
+    parse_cut(sources, file, cache, true)
+}
+
+/// [`parse_cached`]; with `keep` false, the pieces are moved into the tree instead of kept
+/// for the next parse (no piece is looked up either: the cache holds none).
+fn parse_cut(
+    sources: &SourceMap,
+    file: FileId,
+    cache: &mut ParseCache,
+    keep: bool,
+) -> Outcome<ast::File> {
     let text = &sources.get(file).text;
     cache.tree = None;
     cache.splice = None;
@@ -172,6 +183,29 @@ pub fn parse_cached(
         let end = starts.get(k + 1).copied().unwrap_or(text.len());
         let piece = &text[start..end];
         let (items_before, diagnostics_before) = (items.len(), diagnostics.len());
+        if !keep {
+            let Some(chunk) = parse_piece_cached(piece, &cache.groups, &mut used_groups) else {
+                return parse_whole(sources, file);
+            };
+            let m = relocate::Move::shift(file, start as i64);
+            let Chunk { items: mut piece_items, diagnostics: mut piece_diagnostics, groups: _ } =
+                chunk;
+            relocate::Relocate::relocate(&mut piece_items, m);
+            let blank = blank_before(text, file, previous_end, &piece_items);
+            items.extend(blank.clone());
+            previous_end = piece_items.last().map(|i| item_span(i).end as usize).or(previous_end);
+            items.extend(piece_items);
+            relocate::Relocate::relocate(&mut piece_diagnostics, m);
+            diagnostics.extend(piece_diagnostics);
+            pieces.push(Piece {
+                start,
+                items: items.len() - items_before,
+                blank: blank.is_some(),
+                diagnostics: diagnostics.len() - diagnostics_before,
+                groups: Vec::new(),
+            });
+            continue;
+        }
         let (key, chunk) = match used.get(piece) {
             Some(hit) => (None, std::rc::Rc::clone(hit)),
             None => match earlier.remove_entry(piece) {
@@ -283,10 +317,9 @@ pub fn parse_edited(
             last.tree = Some(tree);
         }
     }
-    let parsed = parse_cached(sources, file, cache);
-    // The pieces are in the tree the caller hands back; a second copy is not kept.
+    // The pieces are moved into the tree the caller hands back; a second copy is not kept.
     cache.chunks = rustc_hash::FxHashMap::default();
-    parsed
+    parse_cut(sources, file, cache, false)
 }
 
 /// Edits `tree`, the tree of `last.text`, into the tree of `text` (see [`parse_edited`]), with
