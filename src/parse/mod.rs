@@ -1133,7 +1133,7 @@ impl Builder<'_> {
                 }
                 ast::RoomStmt::Corners(ast::Corners { unit, points, span })
             }
-            Rule::window => ast::RoomStmt::Window(self.window(pair)?),
+            Rule::window => ast::RoomStmt::Window(Box::new(self.window(pair)?)),
             Rule::object => ast::RoomStmt::Object(self.object(pair)?),
             Rule::wall_object => ast::RoomStmt::WallObject(self.object(pair)?),
             Rule::ceiling => {
