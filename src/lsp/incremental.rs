@@ -656,7 +656,7 @@ struct RoomRun {
 /// scene's order, with the rooms' names.
 #[derive(Debug)]
 struct ResolveMemo {
-    made_for: std::rc::Rc<str>,
+    made_for: std::sync::Arc<String>,
     seed: u64,
     rooms: Vec<(String, RoomRun)>,
     /// The rooms' results put together (`None` while an analysis holds them).
@@ -672,7 +672,7 @@ pub struct Memo {
     pub cache: AnalysisCache,
     /// The last plan: the text it was made for, its input and its output.
     /// (The plan is `None` while an analysis holds it.)
-    plan: Option<(std::rc::Rc<str>, PlanInput, Output<Option<FloorPlan>>)>,
+    plan: Option<(std::sync::Arc<String>, PlanInput, Output<Option<FloorPlan>>)>,
     /// The last asset resolution, room by room.
     resolve: Option<ResolveMemo>,
     /// The last check, room by room.
@@ -730,12 +730,12 @@ impl Memo {
     pub fn give_back(&mut self, analysed: Analysed, text: &str) {
         let Analysed { ast, scene, plan, resolved, diagnostics: _ } = analysed;
         if let Some(last) = &mut self.resolve {
-            if last.resolved.is_none() && last.made_for.as_ref() == text {
+            if last.resolved.is_none() && last.made_for.as_str() == text {
                 last.resolved = resolved;
             }
         }
         if let Some((made_for, _, output)) = &mut self.plan {
-            if output.value.is_none() && made_for.as_ref() == text {
+            if output.value.is_none() && made_for.as_str() == text {
                 output.value = plan;
             }
         }
@@ -759,15 +759,8 @@ impl Memo {
 /// reusing what `memo` kept of the previous version where the edit did not touch it.
 pub fn analyse(sources: &SourceMap, file: FileId, catalog: &Catalog, memo: &mut Memo) -> Analysed {
     let parsed = crate::parse::parse_edited(sources, file, &mut memo.cache.parse);
-    // The text the parse keeps, shared by what the plan and resolution keep (one copy).
-    let current = sources.get(file).text.as_str();
-    let text: std::rc::Rc<str> = match memo.cache.parse.text() {
-        Some(kept) if kept.len() == current.len() => {
-            debug_assert!(*kept == *current, "the parse keeps the text it was given");
-            kept
-        }
-        _ => std::rc::Rc::from(current),
-    };
+    // The text, shared (not copied) by the document, its analysis and what the memo keeps.
+    let text = std::sync::Arc::clone(&sources.get(file).text);
     let mut analysed = Analysed {
         ast: parsed.value,
         scene: None,
@@ -816,13 +809,13 @@ pub fn analyse(sources: &SourceMap, file: FileId, catalog: &Catalog, memo: &mut 
     };
     analysed.diagnostics.extend(planned.diagnostics.iter().cloned());
     if has_errors(&analysed.diagnostics) {
-        memo.plan = Some((std::rc::Rc::clone(&text), input, planned));
+        memo.plan = Some((std::sync::Arc::clone(&text), input, planned));
         analysed.scene = Some(scene);
         return analysed;
     }
     // The analysis holds the plan until it is handed back.
     analysed.plan = planned.value.take();
-    memo.plan = Some((std::rc::Rc::clone(&text), input, planned));
+    memo.plan = Some((std::sync::Arc::clone(&text), input, planned));
 
     let resolved = resolve_rooms(&scene, &text, catalog, memo);
     analysed.diagnostics.extend(resolved.diagnostics);
@@ -998,7 +991,7 @@ type CheckedInPlace =
 /// as they did then (a room whose choices changed changes what the rooms after it read).
 fn resolve_rooms(
     scene: &Scene,
-    text: &std::rc::Rc<str>,
+    text: &std::sync::Arc<String>,
     catalog: &Catalog,
     memo: &mut Memo,
 ) -> crate::diag::Outcome<Resolved> {
@@ -1113,7 +1106,7 @@ fn resolve_rooms(
         last => assemble_anew(last, scene, &mut runs, &kept_from),
     };
     memo.resolve = Some(ResolveMemo {
-        made_for: std::rc::Rc::clone(text),
+        made_for: std::sync::Arc::clone(text),
         seed: scene.seed,
         rooms: runs,
         resolved: None,

@@ -80,12 +80,6 @@ impl ParseCache {
         self.tree
     }
 
-    /// The text the last parse was given, when it was cut into pieces (shared, not copied:
-    /// what the language server keeps of a version to compare the next one with).
-    pub fn text(&self) -> Option<std::rc::Rc<str>> {
-        self.tree.and(self.last.as_ref()).map(|last| std::rc::Rc::clone(&last.text))
-    }
-
     /// What the last parse replaced, when it edited a tree in place.
     pub fn splice(&self) -> Option<Splice> {
         self.splice
@@ -107,7 +101,8 @@ impl ParseCache {
 /// A text cut into top-level pieces, and what each piece put into its tree.
 #[derive(Clone, Debug)]
 struct LastCut {
-    text: std::rc::Rc<str>,
+    /// (Shared with the source file it was given: not a copy.)
+    text: std::sync::Arc<String>,
     pieces: Vec<Piece>,
     /// The parse's diagnostics, the pieces' in order.
     diagnostics: Vec<Diagnostic>,
@@ -261,7 +256,7 @@ fn parse_cut(
     cache.chunks = used;
     cache.groups = GroupMap::default();
     cache.last = Some(LastCut {
-        text: text.as_str().into(),
+        text: std::sync::Arc::clone(text),
         pieces,
         diagnostics: diagnostics.clone(),
         tree: None,
@@ -326,7 +321,7 @@ pub fn parse_edited(
 /// `last` then describing `text`: the bytes of the pieces replaced in the old text and the new
 /// one (`start`, `old_end`, `new_end`), or `None` (with nothing changed) when it cannot.
 fn splice(
-    text: &str,
+    text: &std::sync::Arc<String>,
     file: FileId,
     last: &mut LastCut,
     groups: &mut GroupMap,
@@ -445,7 +440,7 @@ fn splice(
         at += piece.items;
     }
     tree.span = Span::new(file, 0, text.len());
-    last.text = text.into();
+    last.text = std::sync::Arc::clone(text);
     Some((s0, old_region_end, region_end))
 }
 
@@ -774,7 +769,7 @@ pub fn parse_whole(sources: &SourceMap, file: FileId) -> Outcome<ast::File> {
     let original = &sources.get(file).text;
     let whole = Span::new(file, 0, original.len());
     // The text read, and what was inserted into it: (offset in the text read, length).
-    let mut text = original.clone();
+    let mut text = original.to_string();
     let mut inserted: Vec<(usize, usize)> = Vec::new();
     let mut unclosed = Vec::new();
     // Every round closes one more block, so there are at most as many rounds as `{`.
@@ -826,7 +821,7 @@ pub fn parse_whole(sources: &SourceMap, file: FileId) -> Outcome<ast::File> {
         inserted.sort_unstable();
     }
     let ast = ast::File {
-        items: vec![ast::Item::Error(ast::ErrorNode { text: original.clone(), span: whole })],
+        items: vec![ast::Item::Error(ast::ErrorNode { text: original.to_string(), span: whole })],
         span: whole,
     };
     Outcome::new(ast, unclosed)
@@ -887,7 +882,7 @@ fn too_deep(sources: &SourceMap, file: FileId) -> Option<Outcome<ast::File>> {
     .with_primary(Span::new(file, at, at + 1), format!("level {}", MAX_NESTING + 1))
     .with_help("remove the extra braces: a scene's blocks close within four levels");
     let ast = ast::File {
-        items: vec![ast::Item::Error(ast::ErrorNode { text: text.clone(), span: whole })],
+        items: vec![ast::Item::Error(ast::ErrorNode { text: text.to_string(), span: whole })],
         span: whole,
     };
     Some(Outcome::new(ast, vec![d]))
