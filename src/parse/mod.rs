@@ -353,15 +353,40 @@ fn splice(
     if first_too_deep(&text[s0..region_end]).is_some() {
         return None;
     }
-    // Parse the new pieces before anything is changed.
+    // Parse the new pieces before anything is changed (a room edited inside its body, in
+    // place: its spans are then the text's, not the piece's).
     let mut used = GroupMap::default();
     let mut chunks = Vec::with_capacity(starts.len());
-    for (k, &at) in starts.iter().enumerate() {
-        let end = starts.get(k + 1).copied().unwrap_or(region_end);
-        chunks.push((at, parse_piece_cached(&text[at..end], groups, &mut used)?));
+    let i0: usize = pieces[..k0].iter().map(|p| p.items).sum();
+    let in_body = (starts.len() == 1 && k1 == k0 + 1)
+        .then(|| {
+            let piece = &pieces[k0];
+            let at = i0 + usize::from(piece.blank);
+            let ast::Item::Room(room) = tree.items.get_mut(at)? else { return None };
+            let edit = BodyEdit {
+                old_piece: &last.text[s0..old_region_end],
+                new_piece: &text[s0..region_end],
+                text,
+                file,
+                piece_start: s0,
+                edit: (start, old_end),
+            };
+            let keys = edit.apply(piece, room, groups, &mut used)?;
+            let room = std::mem::replace(&mut tree.items[at], ast::Item::Blank(Span::default()));
+            Some(Chunk { items: vec![room], diagnostics: Vec::new(), groups: keys })
+        })
+        .flatten();
+    let absolute = in_body.is_some();
+    match in_body {
+        Some(chunk) => chunks.push((s0, chunk)),
+        None => {
+            for (k, &at) in starts.iter().enumerate() {
+                let end = starts.get(k + 1).copied().unwrap_or(region_end);
+                chunks.push((at, parse_piece_cached(&text[at..end], groups, &mut used)?));
+            }
+        }
     }
     let delta = new_end as i64 - old_end as i64;
-    let i0: usize = pieces[..k0].iter().map(|p| p.items).sum();
     let i1: usize = i0 + pieces[k0..k1].iter().map(|p| p.items).sum::<usize>();
     let d0: usize = pieces[..k0].iter().map(|p| p.diagnostics).sum();
     let d1: usize = d0 + pieces[k0..k1].iter().map(|p| p.diagnostics).sum::<usize>();
@@ -373,7 +398,9 @@ fn splice(
     for (at, chunk) in chunks {
         let m = relocate::Move::shift(file, at as i64);
         let mut piece_items = chunk.items;
-        relocate::Relocate::relocate(&mut piece_items, m);
+        if !absolute {
+            relocate::Relocate::relocate(&mut piece_items, m);
+        }
         let blank = blank_before(text, file, previous_end, &piece_items);
         let (items_before, diagnostics_before) = (new_items.len(), new_diagnostics.len());
         let has_blank = blank.is_some();
@@ -471,6 +498,162 @@ fn parse_piece_cached(piece: &str, cache: &GroupMap, used: &mut GroupMap) -> Opt
         }
     }
     parse_piece(piece)
+}
+
+/// A room piece edited inside its body: the old and new texts of the piece, the whole new
+/// text, where the piece starts and where the edit starts and ended in the old text.
+struct BodyEdit<'a> {
+    old_piece: &'a str,
+    new_piece: &'a str,
+    text: &'a str,
+    file: FileId,
+    piece_start: usize,
+    edit: (usize, usize),
+}
+
+impl BodyEdit<'_> {
+    /// Edits `room`, the tree's room of the old piece (parsed by its statement groups, the
+    /// texts of which `piece` keeps), into the room of the new piece: the groups the two
+    /// bodies begin and end with keep their statements (moved by the change in length after
+    /// the edit), the groups between are parsed (with the cache) and put between them, and
+    /// the blank lines kept where they meet are made again. `None`, with nothing changed, when
+    /// the edit is not inside the body, the room or a group between has a diagnostic, or the
+    /// piece holds more than the room. The new groups' texts, in order (each in `used`).
+    fn apply(
+        &self,
+        piece: &Piece,
+        room: &mut ast::Room,
+        groups: &GroupMap,
+        used: &mut GroupMap,
+    ) -> Option<Vec<std::rc::Rc<str>>> {
+        if piece.groups.is_empty()
+            || piece.diagnostics != 0
+            || piece.items != 1 + usize::from(piece.blank)
+        {
+            return None;
+        }
+        let (open, close) = outer_braces(self.old_piece)?;
+        let (new_open, new_close) = outer_braces(self.new_piece)?;
+        let (edit_start, edit_end) = (
+            self.edit.0.checked_sub(self.piece_start)?,
+            self.edit.1.checked_sub(self.piece_start)?,
+        );
+        let delta = self.new_piece.len() as i64 - self.old_piece.len() as i64;
+        if new_open != open
+            || edit_start <= open
+            || edit_end > close
+            || new_close as i64 != close as i64 + delta
+        {
+            return None;
+        }
+        let old_body = &self.old_piece[open + 1..close];
+        let new_body = &self.new_piece[open + 1..new_close];
+        // The old groups' starts in the old body: their texts cut it.
+        let mut old_starts = Vec::with_capacity(piece.groups.len() + 1);
+        let mut at = 0;
+        for key in &piece.groups {
+            if old_body.get(at..at + key.len()) != Some(&**key) {
+                return None;
+            }
+            old_starts.push(at);
+            at += key.len();
+        }
+        if at != old_body.len() {
+            return None;
+        }
+        old_starts.push(at);
+        let new_starts = body_starts(new_body)?;
+        let new_group = |k: usize| {
+            let end = new_starts.get(k + 1).copied().unwrap_or(new_body.len());
+            &new_body[new_starts[k]..end]
+        };
+        let (n_old, n_new) = (piece.groups.len(), new_starts.len());
+        let same = n_old.min(n_new);
+        let p = (0..same).take_while(|&k| *piece.groups[k] == *new_group(k)).count();
+        let s = (0..same - p)
+            .take_while(|&j| *piece.groups[n_old - 1 - j] == *new_group(n_new - 1 - j))
+            .count();
+        // Every group's parse, from the cache (the groups kept) or parsed now (those between).
+        let kept = |key: &std::rc::Rc<str>| {
+            groups
+                .get_key_value(&**key)
+                .or_else(|| used.get_key_value(&**key))
+                .map(|(k, g)| (std::rc::Rc::clone(k), std::rc::Rc::clone(g)))
+        };
+        let mut parsed: Vec<(std::rc::Rc<str>, std::rc::Rc<Group>)> = Vec::with_capacity(n_new);
+        for k in 0..n_new {
+            let found = if k < p {
+                kept(&piece.groups[k])
+            } else if k >= n_new - s {
+                kept(&piece.groups[k + n_old - n_new])
+            } else {
+                let text = new_group(k);
+                match groups.get_key_value(text).or_else(|| used.get_key_value(text)) {
+                    Some((key, hit)) => Some((std::rc::Rc::clone(key), std::rc::Rc::clone(hit))),
+                    None => Some((std::rc::Rc::from(text), std::rc::Rc::new(parse_group(text)?))),
+                }
+            };
+            let (key, group) = found?;
+            if !group.diagnostics.is_empty() {
+                return None;
+            }
+            parsed.push((key, group));
+        }
+        // The statements of the groups kept: those before group `p`, and from group
+        // `n_old - s` on (a statement belongs to the group its span starts in).
+        let body_start = self.piece_start + open + 1;
+        let first_of = |g: usize| {
+            let at = (body_start + old_starts[g]) as u32;
+            room.body.partition_point(|st| room_stmt_span(st).start < at)
+        };
+        let (i_p, i_s) = (first_of(p), first_of(n_old - s));
+        // Nothing fails from here on.
+        let mut body = std::mem::take(&mut room.body);
+        let mut suffix = body.split_off(i_s);
+        body.truncate(i_p);
+        let mut previous_end = body.last().map(|st| room_stmt_span(st).end as usize);
+        let blank = |previous_end: Option<usize>, first: &ast::RoomStmt| {
+            let first_start = room_stmt_span(first).start as usize;
+            let end = previous_end?;
+            self.text
+                .get(end..first_start)
+                .is_some_and(|gap| gap.matches('\n').count() >= 2)
+                .then(|| ast::RoomStmt::Blank(Span::new(self.file, first_start, first_start)))
+        };
+        for (k, (_, group)) in parsed.iter().enumerate().take(n_new - s).skip(p) {
+            let m = relocate::Move::shift(
+                self.file,
+                (body_start + new_starts[k]) as i64 - GROUP_PREFIX.len() as i64,
+            );
+            let mut group_stmts = group.stmts.clone();
+            relocate::Relocate::relocate(&mut group_stmts, m);
+            if let Some(first) = group_stmts.first() {
+                body.extend(blank(previous_end, first));
+            }
+            previous_end =
+                group_stmts.last().map(|st| room_stmt_span(st).end as usize).or(previous_end);
+            body.extend(group_stmts);
+        }
+        if delta != 0 {
+            relocate::Relocate::relocate(&mut suffix, relocate::Move::shift(self.file, delta));
+        }
+        // The blank line kept before the groups kept after the edit: the text before changed.
+        if matches!(suffix.first(), Some(ast::RoomStmt::Blank(_))) {
+            suffix.remove(0);
+        }
+        if let Some(first) = suffix.first() {
+            body.extend(blank(previous_end, first));
+        }
+        body.extend(suffix);
+        room.body = body;
+        room.span.end = (i64::from(room.span.end) + delta) as u32;
+        let mut keys = Vec::with_capacity(parsed.len());
+        for (key, group) in parsed {
+            keys.push(std::rc::Rc::clone(&key));
+            used.insert(key, group);
+        }
+        Some(keys)
+    }
 }
 
 /// A group of room statements parsed alone: statements and diagnostics with spans from the
