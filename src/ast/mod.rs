@@ -238,10 +238,6 @@ pub struct Room {
 
 /// A statement of a `room` block.
 #[derive(Clone, Debug, PartialEq)]
-#[allow(
-    clippy::large_enum_variant,
-    reason = "built once and read in place; boxing would only burden construction"
-)]
 pub enum RoomStmt {
     /// `floor "maple hardwood"`.
     FloorDesign(Str, Span),

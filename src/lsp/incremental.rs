@@ -520,7 +520,7 @@ fn write_f64s(sink: &mut dyn Sink, values: &[f64]) {
     }
 }
 
-fn write_opt_f64s(sink: &mut dyn Sink, values: Option<&[f64]>) {
+fn write_opt_f64s<const N: usize>(sink: &mut dyn Sink, values: Option<&[f64; N]>) {
     match values {
         None => sink.bytes(&[0]),
         Some(values) => {
@@ -554,7 +554,7 @@ fn write_variance(sink: &mut dyn Sink, variance: crate::check::Variance) {
 fn write_room(sink: &mut dyn Sink, scene: &Scene, room: &Room) {
     write_str(sink, &room.name);
     let room_box = crate::resolve::room_box(room, scene.wall_height_m);
-    write_opt_f64s(sink, room_box.as_ref().map(|b| b.as_slice()));
+    write_opt_f64s(sink, room_box.as_ref());
     match &room.ceiling {
         None => sink.bytes(&[0]),
         Some(Ceiling { description, asset, above: _, at: _, span }) => {
@@ -597,11 +597,11 @@ fn write_room(sink: &mut dyn Sink, scene: &Scene, room: &Room) {
                 write_str(sink, d);
             }
         }
-        write_opt_f64s(sink, size_m.as_ref().map(|v| v.as_slice()));
+        write_opt_f64s(sink, size_m.as_ref());
         write_variance(sink, *variance);
         write_pinned(sink, asset.as_ref());
-        write_opt_f64s(sink, at.as_ref().map(|v| v.as_slice()));
-        write_opt_f64s(sink, facing_deg.as_ref().map(std::slice::from_ref));
+        write_opt_f64s(sink, at.as_ref());
+        write_opt_f64s(sink, facing_deg.as_ref().map(std::array::from_ref));
         sink.bytes(&[u8::from(matches!(placement, Placement::Floor { .. }))]);
         write_count(sink, on_top.len() as u64);
         for SmallItem { item, count, variance, asset, at, facing_deg, span } in on_top {
@@ -609,8 +609,8 @@ fn write_room(sink: &mut dyn Sink, scene: &Scene, room: &Room) {
             write_count(sink, u64::from(*count));
             write_variance(sink, *variance);
             write_pinned(sink, asset.as_ref());
-            write_opt_f64s(sink, at.as_ref().map(|v| v.as_slice()));
-            write_opt_f64s(sink, facing_deg.as_ref().map(std::slice::from_ref));
+            write_opt_f64s(sink, at.as_ref());
+            write_opt_f64s(sink, facing_deg.as_ref().map(std::array::from_ref));
             sink.span(*span);
         }
         sink.span(*name_span);

@@ -1056,7 +1056,7 @@ impl<'a> State<'a> {
             }
         }
         self.diagnostics.extend(run.diagnostics.iter().cloned());
-        self.reads.extend(run.reads.iter().cloned());
+        self.reads.extend(run.reads.iter().copied());
         for asset in &run.writes {
             self.mark_used(asset);
         }
