@@ -492,7 +492,7 @@ impl Sink for Compare<'_> {
 
 /// A number written in 7-bit groups, low first, the high bit of each byte telling whether
 /// another follows (LEB128): one way to write each number, each ending where it says.
-fn write_count(sink: &mut dyn Sink, mut n: u64) {
+fn write_count<S: Sink>(sink: &mut S, mut n: u64) {
     let mut out = [0u8; 10];
     let mut k = 0;
     loop {
@@ -509,18 +509,18 @@ fn write_count(sink: &mut dyn Sink, mut n: u64) {
     sink.bytes(&out[..k]);
 }
 
-fn write_str(sink: &mut dyn Sink, s: &str) {
+fn write_str<S: Sink>(sink: &mut S, s: &str) {
     write_count(sink, s.len() as u64);
     sink.bytes(s.as_bytes());
 }
 
-fn write_f64s(sink: &mut dyn Sink, values: &[f64]) {
+fn write_f64s<S: Sink>(sink: &mut S, values: &[f64]) {
     for v in values {
         sink.bytes(&v.to_bits().to_le_bytes());
     }
 }
 
-fn write_opt_f64s<const N: usize>(sink: &mut dyn Sink, values: Option<&[f64; N]>) {
+fn write_opt_f64s<S: Sink, const N: usize>(sink: &mut S, values: Option<&[f64; N]>) {
     match values {
         None => sink.bytes(&[0]),
         Some(values) => {
@@ -530,7 +530,7 @@ fn write_opt_f64s<const N: usize>(sink: &mut dyn Sink, values: Option<&[f64; N]>
     }
 }
 
-fn write_pinned(sink: &mut dyn Sink, pinned: Option<&Pinned>) {
+fn write_pinned<S: Sink>(sink: &mut S, pinned: Option<&Pinned>) {
     match pinned {
         None => sink.bytes(&[0]),
         Some(Pinned { id, span }) => {
@@ -541,7 +541,7 @@ fn write_pinned(sink: &mut dyn Sink, pinned: Option<&Pinned>) {
     }
 }
 
-fn write_variance(sink: &mut dyn Sink, variance: crate::check::Variance) {
+fn write_variance<S: Sink>(sink: &mut S, variance: crate::check::Variance) {
     sink.bytes(&[match variance {
         crate::check::Variance::Same => 0,
         crate::check::Variance::Varied => 1,
@@ -551,7 +551,7 @@ fn write_variance(sink: &mut dyn Sink, variance: crate::check::Variance) {
 /// Writes what resolution reads of `room`: its name, its box, its ceiling object (without the
 /// object it hangs above or its position) and its objects (without ids, relations or
 /// placement details, but whether they stand on the floor).
-fn write_room(sink: &mut dyn Sink, scene: &Scene, room: &Room) {
+fn write_room<S: Sink>(sink: &mut S, scene: &Scene, room: &Room) {
     write_str(sink, &room.name);
     let room_box = crate::resolve::room_box(room, scene.wall_height_m);
     write_opt_f64s(sink, room_box.as_ref());
