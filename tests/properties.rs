@@ -405,6 +405,49 @@ proptest! {
     }
 
     #[test]
+    fn a_room_edited_again_and_again_inside_its_body_parses_as_a_whole_and_analyses_the_same(rooms in 1usize..3, edits in proptest::collection::vec((0usize..400, 0usize..9, "[a-z0-9 ]{0,3}"), 1..10)) {
+        // Keystrokes and lines inside the rooms' bodies, one after the other: from a room's
+        // second edit on its statements are edited in place (the groups it begins and ends with
+        // kept, those between parsed again), blank lines and comments included.
+        let snippets = [
+            "",
+            "\n",
+            "\n\n",
+            "  // a comment\n",
+            "  object extra \"chair\" {\n    near o0-0\n  }\n",
+            "    near o1-0\n",
+            "  }\n",
+            "{",
+        ];
+        let mut current = competing_rooms(rooms);
+        let mut versions = vec![current.clone()];
+        for (nth, kind, typed) in edits {
+            let at = after_nth(&current, b"\n\" ", nth);
+            current = match snippets.get(kind) {
+                Some(&"") => mutate(&current, at, 0, &typed),
+                Some(snippet) => mutate(&current, at, 0, snippet),
+                // Take the line out.
+                None => {
+                    let end = current[at..].find('\n').map_or(current.len(), |n| at + n + 1);
+                    mutate(&current, at, end - at, "")
+                }
+            };
+            versions.push(current.clone());
+        }
+        let mut cache = holoc::parse::ParseCache::default();
+        for version in &versions {
+            let mut sources = holoc::source::SourceMap::new();
+            let file = sources.add("t.holo", version.as_str());
+            let edited = holoc::parse::parse_edited(&sources, file, &mut cache);
+            let whole = holoc::parse::parse_whole(&sources, file);
+            prop_assert_eq!(format!("{:?}", edited.value), format!("{:?}", whole.value), "version:\n{}", version);
+            prop_assert_eq!(format!("{:?}", edited.diagnostics), format!("{:?}", whole.diagnostics));
+            cache.give_back(edited.value, version);
+        }
+        incremental_equals_whole(&versions)?;
+    }
+
+    #[test]
     fn piecewise_parsing_equals_parsing_at_once_on_token_streams(tokens in proptest::collection::vec(token(), 0..80)) {
         // Tokens joined by newlines half of the time, so that many lines start at column 0.
         let text: String = tokens.iter().enumerate().map(|(i, t)| if i % 2 == 0 { format!("{t}\n") } else { format!("{t} ") }).collect();

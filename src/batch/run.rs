@@ -301,7 +301,7 @@ fn run_build_job(job: &Job, options: &RunOptions) -> Work {
     crate::cancel::stage("input");
     let mut sources = crate::source::SourceMap::new();
     let text = match crate::cli::common::read_source(&mut sources, path) {
-        Ok(id) => sources.get(id).text.clone(),
+        Ok(id) => sources.get(id).text.to_string(),
         Err(d) => return failed("input", vec![d]),
     };
     // Diagnostics name the file as the manifest writes it.

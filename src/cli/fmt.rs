@@ -51,14 +51,14 @@ pub fn run(args: &FmtArgs) -> ExitCode {
             continue;
         }
         let printed = crate::fmt::print(&parsed.value);
-        let original = &sources.get(id).text;
+        let original = sources.get(id).text.as_str();
         if args.check {
-            if &printed != original {
+            if printed != original {
                 common::out(&format!("{}\n", path.display()));
                 status = ExitCode::from(1);
             }
         } else if args.write {
-            if &printed != original {
+            if printed != original {
                 if let Err(d) = common::write_atomic(path, printed.as_bytes()) {
                     common::emit_plain(&d);
                     return ExitCode::from(2);

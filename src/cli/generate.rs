@@ -168,7 +168,7 @@ fn usage(message: String, help: &str) -> ExitCode {
 fn read_text(path: &Path) -> Result<String, Diagnostic> {
     let mut sources = SourceMap::new();
     let id = common::read_source(&mut sources, path)?;
-    Ok(sources.get(id).text.clone())
+    Ok(sources.get(id).text.to_string())
 }
 
 fn api_key() -> Option<String> {

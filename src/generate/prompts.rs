@@ -169,7 +169,7 @@ impl Prompts {
                     sources.add(format!("<prompts>/{}", template.file_name()), template.embedded())
                 }
             };
-            let text = sources.get(file).text.clone();
+            let text = sources.get(file).text.to_string();
             let slots = scan(&text);
             let allowed = template.placeholders();
             for slot in &slots {

@@ -326,7 +326,7 @@ fn room_ast(b: &B, room: &DRoom) -> ast::Room {
         }));
     }
     for w in &room.windows {
-        body.push(ast::RoomStmt::Window(ast::Window {
+        body.push(ast::RoomStmt::Window(Box::new(ast::Window {
             wall: b.id(&w.wall),
             kind: b.id(&w.kind),
             width: b.q(w.width_cm, Some(Unit::Cm)),
@@ -335,7 +335,7 @@ fn room_ast(b: &B, room: &DRoom) -> ast::Room {
             sill: Some(b.q(w.sill_cm, Some(Unit::Cm))),
             asset: None,
             span: b.span,
-        }));
+        })));
     }
     for c in &room.comments {
         body.push(ast::RoomStmt::Comment(b.comment(c)));

@@ -234,7 +234,7 @@ fn holodeck_scene(
     };
     // The file's text, to point into (`None` without a file).
     let origin_text = origin.and_then(|f| sources.try_get(f)).map(|f| f.text.clone());
-    let json = origin_text.as_deref().map(JsonText::new);
+    let json = origin_text.as_deref().map(|t| JsonText::new(t));
     let whole_file = |at: Option<super::locate::Found>, key: bool| {
         let file = origin?;
         let (start, end) = if key { at?.key } else { at?.value };

@@ -530,7 +530,7 @@ pub fn formatting(analysis: &Analysis) -> Result<Vec<TextEdit>, String> {
         "\n" => formatted,
         other => formatted.replace('\n', other),
     };
-    if &formatted == text {
+    if formatted == text.as_str() {
         return Ok(Vec::new());
     }
     let end = analysis.source().lsp_position(text.len());
@@ -621,7 +621,7 @@ fn breaks(analysis: &Analysis, fix: &Fix, errors_now: &std::cell::OnceCell<Vec<C
         errors.sort();
         errors
     };
-    let mut fixed = text.clone();
+    let mut fixed = text.to_string();
     fixed.replace_range(start..end, &fix.replacement);
     let before = errors_now.get_or_init(|| errors(text));
     errors(&fixed).iter().any(|e| before.binary_search(e).is_err())

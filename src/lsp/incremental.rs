@@ -438,112 +438,208 @@ impl Spans for PlanInput {
 /// filters), its ceiling object and its objects without their relations, ids or placement
 /// details. With the same input and the same answers about which assets the rooms before it
 /// use, a room resolves to the same choices and diagnostics ([`crate::resolve::Resolver`]).
+///
+/// It is kept written out ([`write_room`]): every value but the spans in `bytes` (strings with
+/// their lengths, numbers by their bits, each optional value with a tag, so that two inputs
+/// write the same bytes only when they are the same), the spans in `spans`, in the order
+/// written. A room's input is one allocation of about its text's size, not a copy of its
+/// objects; two numbers equal but for their bits (0 and −0) count as different, which only
+/// makes the room resolve again.
 #[derive(Clone, Debug, PartialEq)]
 struct RoomInput {
-    name: String,
-    room_box: Option<[f64; 3]>,
-    ceiling: Option<Ceiling>,
-    objects: Vec<Object>,
+    bytes: Vec<u8>,
+    spans: Vec<Span>,
 }
 
-impl RoomInput {
-    fn of(scene: &Scene, room: &Room) -> RoomInput {
-        RoomInput {
-            name: room.name.clone(),
-            room_box: crate::resolve::room_box(room, scene.wall_height_m),
-            ceiling: room.ceiling.as_ref().map(|c| Ceiling { above: None, at: None, ..c.clone() }),
-            objects: room
-                .objects
-                .iter()
-                .map(|&id| {
-                    let o = scene.object(id);
-                    let placement = match &o.placement {
-                        Placement::Floor { .. } => {
-                            Placement::Floor { global: None, constraints: Vec::new() }
-                        }
-                        Placement::Wall { .. } => Placement::Wall { above: None, height_m: None },
-                    };
-                    // Ids are places in the scene's lists, which an edit elsewhere moves.
-                    Object {
-                        id: crate::check::ObjectId(0),
-                        room: crate::check::RoomId(0),
-                        placement,
-                        ..o.clone()
-                    }
-                })
-                .collect(),
+/// Where [`write_room`] writes: a new [`RoomInput`], or a comparison with a kept one.
+trait Sink {
+    fn bytes(&mut self, bytes: &[u8]);
+    fn span(&mut self, span: Span);
+}
+
+impl Sink for RoomInput {
+    fn bytes(&mut self, bytes: &[u8]) {
+        self.bytes.extend_from_slice(bytes);
+    }
+
+    fn span(&mut self, span: Span) {
+        self.spans.push(span);
+    }
+}
+
+/// A kept input compared with what is written, as it is written (nothing is copied).
+struct Compare<'a> {
+    bytes: &'a [u8],
+    spans: &'a [Span],
+    same: bool,
+}
+
+impl Sink for Compare<'_> {
+    fn bytes(&mut self, bytes: &[u8]) {
+        match self.bytes.strip_prefix(bytes) {
+            Some(rest) if self.same => self.bytes = rest,
+            _ => self.same = false,
+        }
+    }
+
+    fn span(&mut self, span: Span) {
+        match self.spans.split_first() {
+            Some((first, rest)) if self.same && *first == span => self.spans = rest,
+            _ => self.same = false,
         }
     }
 }
 
-impl RoomInput {
-    /// Whether this input is the one [`RoomInput::of`] makes of `room` (compared in place,
-    /// with nothing copied).
-    fn is_of(&self, scene: &Scene, room: &Room) -> bool {
-        let same_ceiling = match (&self.ceiling, &room.ceiling) {
-            (None, None) => true,
-            (Some(a), Some(b)) => {
-                let Ceiling { description, asset, above: _, at: _, span } = a;
-                *description == b.description && *asset == b.asset && *span == b.span
-            }
-            _ => false,
-        };
-        self.name == room.name
-            && same_ceiling
-            && self.room_box == crate::resolve::room_box(room, scene.wall_height_m)
-            && self.objects.len() == room.objects.len()
-            && self
-                .objects
-                .iter()
-                .zip(&room.objects)
-                .all(|(a, &id)| same_object(a, scene.object(id)))
+/// A number written in 7-bit groups, low first, the high bit of each byte telling whether
+/// another follows (LEB128): one way to write each number, each ending where it says.
+fn write_count<S: Sink>(sink: &mut S, mut n: u64) {
+    let mut out = [0u8; 10];
+    let mut k = 0;
+    loop {
+        let low = (n & 0x7f) as u8;
+        n >>= 7;
+        if n == 0 {
+            out[k] = low;
+            k += 1;
+            break;
+        }
+        out[k] = low | 0x80;
+        k += 1;
+    }
+    sink.bytes(&out[..k]);
+}
+
+fn write_str<S: Sink>(sink: &mut S, s: &str) {
+    write_count(sink, s.len() as u64);
+    sink.bytes(s.as_bytes());
+}
+
+fn write_f64s<S: Sink>(sink: &mut S, values: &[f64]) {
+    for v in values {
+        sink.bytes(&v.to_bits().to_le_bytes());
     }
 }
 
-/// Whether `kept` (an object of a [`RoomInput`]) is what [`RoomInput::of`] makes of `object`.
-fn same_object(kept: &Object, object: &Object) -> bool {
-    let Object {
-        id: _,
-        room: _,
-        name,
-        group,
-        index,
-        group_count,
-        category,
-        description,
-        size_m,
-        variance,
-        asset,
-        at,
-        facing_deg,
-        placement,
-        on_top,
-        name_span,
-        decl_span,
-    } = kept;
-    let floor = |p: &Placement| matches!(p, Placement::Floor { .. });
-    *name == object.name
-        && *group == object.group
-        && *index == object.index
-        && *group_count == object.group_count
-        && *category == object.category
-        && *description == object.description
-        && *size_m == object.size_m
-        && *variance == object.variance
-        && *asset == object.asset
-        && *at == object.at
-        && *facing_deg == object.facing_deg
-        && floor(placement) == floor(&object.placement)
-        && *on_top == object.on_top
-        && *name_span == object.name_span
-        && *decl_span == object.decl_span
+fn write_opt_f64s<S: Sink, const N: usize>(sink: &mut S, values: Option<&[f64; N]>) {
+    match values {
+        None => sink.bytes(&[0]),
+        Some(values) => {
+            sink.bytes(&[1]);
+            write_f64s(sink, values);
+        }
+    }
+}
+
+fn write_pinned<S: Sink>(sink: &mut S, pinned: Option<&Pinned>) {
+    match pinned {
+        None => sink.bytes(&[0]),
+        Some(Pinned { id, span }) => {
+            sink.bytes(&[1]);
+            write_str(sink, id);
+            sink.span(*span);
+        }
+    }
+}
+
+fn write_variance<S: Sink>(sink: &mut S, variance: crate::check::Variance) {
+    sink.bytes(&[match variance {
+        crate::check::Variance::Same => 0,
+        crate::check::Variance::Varied => 1,
+    }]);
+}
+
+/// Writes what resolution reads of `room`: its name, its box, its ceiling object (without the
+/// object it hangs above or its position) and its objects (without ids, relations or
+/// placement details, but whether they stand on the floor).
+fn write_room<S: Sink>(sink: &mut S, scene: &Scene, room: &Room) {
+    write_str(sink, &room.name);
+    let room_box = crate::resolve::room_box(room, scene.wall_height_m);
+    write_opt_f64s(sink, room_box.as_ref());
+    match &room.ceiling {
+        None => sink.bytes(&[0]),
+        Some(Ceiling { description, asset, above: _, at: _, span }) => {
+            sink.bytes(&[1]);
+            write_str(sink, description);
+            write_pinned(sink, asset.as_ref());
+            sink.span(*span);
+        }
+    }
+    write_count(sink, room.objects.len() as u64);
+    for &id in &room.objects {
+        let Object {
+            id: _,
+            room: _,
+            name,
+            group,
+            index,
+            group_count,
+            category,
+            description,
+            size_m,
+            variance,
+            asset,
+            at,
+            facing_deg,
+            placement,
+            on_top,
+            name_span,
+            decl_span,
+        } = scene.object(id);
+        write_str(sink, name);
+        write_str(sink, group);
+        write_count(sink, u64::from(*index));
+        write_count(sink, u64::from(*group_count));
+        write_str(sink, category);
+        match description {
+            None => sink.bytes(&[0]),
+            Some(d) => {
+                sink.bytes(&[1]);
+                write_str(sink, d);
+            }
+        }
+        write_opt_f64s(sink, size_m.as_ref());
+        write_variance(sink, *variance);
+        write_pinned(sink, asset.as_ref());
+        write_opt_f64s(sink, at.as_ref());
+        write_opt_f64s(sink, facing_deg.as_ref().map(std::array::from_ref));
+        sink.bytes(&[u8::from(matches!(placement, Placement::Floor { .. }))]);
+        write_count(sink, on_top.len() as u64);
+        for SmallItem { item, count, variance, asset, at, facing_deg, span } in on_top {
+            write_str(sink, item);
+            write_count(sink, u64::from(*count));
+            write_variance(sink, *variance);
+            write_pinned(sink, asset.as_ref());
+            write_opt_f64s(sink, at.as_ref());
+            write_opt_f64s(sink, facing_deg.as_ref().map(std::array::from_ref));
+            sink.span(*span);
+        }
+        sink.span(*name_span);
+        sink.span(*decl_span);
+    }
+}
+
+impl RoomInput {
+    fn of(scene: &Scene, room: &Room) -> RoomInput {
+        let mut input = RoomInput { bytes: Vec::new(), spans: Vec::new() };
+        write_room(&mut input, scene, room);
+        input.bytes.shrink_to_fit();
+        input.spans.shrink_to_fit();
+        input
+    }
+
+    /// Whether this input is the one [`RoomInput::of`] makes of `room` (compared as it is
+    /// written, with nothing copied).
+    fn is_of(&self, scene: &Scene, room: &Room) -> bool {
+        let mut compare = Compare { bytes: &self.bytes, spans: &self.spans, same: true };
+        write_room(&mut compare, scene, room);
+        compare.same && compare.bytes.is_empty() && compare.spans.is_empty()
+    }
 }
 
 impl Spans for RoomInput {
     fn spans(&mut self, f: &mut dyn FnMut(&mut Span)) {
-        let RoomInput { name: _, room_box: _, ceiling, objects } = self;
-        ceiling.spans(f);
-        objects.spans(f);
+        let RoomInput { bytes: _, spans } = self;
+        spans.spans(f);
     }
 }
 
@@ -560,7 +656,7 @@ struct RoomRun {
 /// scene's order, with the rooms' names.
 #[derive(Debug)]
 struct ResolveMemo {
-    made_for: std::rc::Rc<str>,
+    made_for: std::sync::Arc<String>,
     seed: u64,
     rooms: Vec<(String, RoomRun)>,
     /// The rooms' results put together (`None` while an analysis holds them).
@@ -576,7 +672,7 @@ pub struct Memo {
     pub cache: AnalysisCache,
     /// The last plan: the text it was made for, its input and its output.
     /// (The plan is `None` while an analysis holds it.)
-    plan: Option<(std::rc::Rc<str>, PlanInput, Output<Option<FloorPlan>>)>,
+    plan: Option<(std::sync::Arc<String>, PlanInput, Output<Option<FloorPlan>>)>,
     /// The last asset resolution, room by room.
     resolve: Option<ResolveMemo>,
     /// The last check, room by room.
@@ -634,12 +730,12 @@ impl Memo {
     pub fn give_back(&mut self, analysed: Analysed, text: &str) {
         let Analysed { ast, scene, plan, resolved, diagnostics: _ } = analysed;
         if let Some(last) = &mut self.resolve {
-            if last.resolved.is_none() && last.made_for.as_ref() == text {
+            if last.resolved.is_none() && last.made_for.as_str() == text {
                 last.resolved = resolved;
             }
         }
         if let Some((made_for, _, output)) = &mut self.plan {
-            if output.value.is_none() && made_for.as_ref() == text {
+            if output.value.is_none() && made_for.as_str() == text {
                 output.value = plan;
             }
         }
@@ -662,8 +758,9 @@ impl Memo {
 /// [`crate::compile::analyse`] does (the same products and diagnostics, in the same order),
 /// reusing what `memo` kept of the previous version where the edit did not touch it.
 pub fn analyse(sources: &SourceMap, file: FileId, catalog: &Catalog, memo: &mut Memo) -> Analysed {
-    let text: std::rc::Rc<str> = std::rc::Rc::from(sources.get(file).text.as_str());
     let parsed = crate::parse::parse_edited(sources, file, &mut memo.cache.parse);
+    // The text, shared (not copied) by the document, its analysis and what the memo keeps.
+    let text = std::sync::Arc::clone(&sources.get(file).text);
     let mut analysed = Analysed {
         ast: parsed.value,
         scene: None,
@@ -712,13 +809,13 @@ pub fn analyse(sources: &SourceMap, file: FileId, catalog: &Catalog, memo: &mut 
     };
     analysed.diagnostics.extend(planned.diagnostics.iter().cloned());
     if has_errors(&analysed.diagnostics) {
-        memo.plan = Some((std::rc::Rc::clone(&text), input, planned));
+        memo.plan = Some((std::sync::Arc::clone(&text), input, planned));
         analysed.scene = Some(scene);
         return analysed;
     }
     // The analysis holds the plan until it is handed back.
     analysed.plan = planned.value.take();
-    memo.plan = Some((std::rc::Rc::clone(&text), input, planned));
+    memo.plan = Some((std::sync::Arc::clone(&text), input, planned));
 
     let resolved = resolve_rooms(&scene, &text, catalog, memo);
     analysed.diagnostics.extend(resolved.diagnostics);
@@ -894,7 +991,7 @@ type CheckedInPlace =
 /// as they did then (a room whose choices changed changes what the rooms after it read).
 fn resolve_rooms(
     scene: &Scene,
-    text: &std::rc::Rc<str>,
+    text: &std::sync::Arc<String>,
     catalog: &Catalog,
     memo: &mut Memo,
 ) -> crate::diag::Outcome<Resolved> {
@@ -905,6 +1002,9 @@ fn resolve_rooms(
         _ => (None, Vec::new(), None),
     };
     let same_rooms = old.len() == scene.rooms.len();
+    // The runs kept hold no resolutions of their own (they are in the last result, moved out
+    // of the runs when it was put together): without it, no run can be kept.
+    let old = if last_resolved.is_some() { old } else { Vec::new() };
     let (names, mut old): (Vec<String>, Vec<Option<RoomRun>>) =
         old.into_iter().map(|(name, run)| (name, Some(run))).unzip();
     let by_name: rustc_hash::FxHashMap<&str, usize> =
@@ -917,6 +1017,8 @@ fn resolve_rooms(
     // entries had.
     let mut again: Vec<usize> = Vec::new();
     let mut gone: Vec<Vec<crate::check::ObjectId>> = Vec::new();
+    // For each room whose run is kept, the place it had in the last result's rooms.
+    let mut kept_from: Vec<Option<usize>> = Vec::with_capacity(scene.rooms.len());
     // While every room so far is the one at its place last time and uses the same assets, the
     // rooms before the next one use what they used then: its answers hold without asking.
     let mut in_step = shift.is_some();
@@ -934,7 +1036,7 @@ fn resolve_rooms(
             (Some(run), Some(shift)) => {
                 (in_step || {
                     used_up_to(&mut resolver, &runs, &mut counted);
-                    run.output.reads_hold(resolver.used())
+                    resolver.reads_hold(&run.output)
                 }) && shift.move_in_place(&mut run.input)
                     && run.input.is_of(scene, room)
                     && shift.move_in_place(&mut run.output.diagnostics)
@@ -953,6 +1055,7 @@ fn resolve_rooms(
                     gone.push(run.ids.clone());
                     again.push(k);
                 }
+                kept_from.push(place);
                 run
             }
             run => {
@@ -985,6 +1088,7 @@ fn resolve_rooms(
                     gone.push(run.ids.clone());
                 }
                 again.push(k);
+                kept_from.push(None);
                 in_step &= run.is_some_and(|run| output.writes == run.output.writes);
                 RoomRun { input: RoomInput::of(scene, room), output, ids: room.objects.clone() }
             }
@@ -997,12 +1101,12 @@ fn resolve_rooms(
     resolver.finish(&mut memo.cache.ranks);
     let resolved = match last_resolved {
         Some(last) if same_rooms && last.objects.len() == scene.objects.len() => {
-            assemble_in_place(last, scene, &runs, &again, &gone)
+            assemble_in_place(last, scene, &mut runs, &again, &gone, &kept_from)
         }
-        _ => crate::resolve::assemble(scene, runs.iter().map(|(_, run)| &run.output)),
+        last => assemble_anew(last, scene, &mut runs, &kept_from),
     };
     memo.resolve = Some(ResolveMemo {
-        made_for: std::rc::Rc::clone(text),
+        made_for: std::sync::Arc::clone(text),
         seed: scene.seed,
         rooms: runs,
         resolved: None,
@@ -1024,15 +1128,26 @@ fn used_up_to(
 }
 
 /// What [`crate::resolve::assemble`] makes of the rooms' runs, made from the last result:
-/// the entries of the rooms `again` made again (those of the object ids `gone` had removed
-/// first), every other room's kept. The diagnostics are every room's, in order.
+/// the entries of the rooms `again` put again (those of the object ids `gone` had removed
+/// first), every other room's kept. A run holds no resolutions once they are put (they are
+/// moved into the result, not copied): a kept run put again at another place (`kept_from`, the
+/// place it had) takes its entries out of the last result first. The diagnostics are every
+/// room's, in order.
 fn assemble_in_place(
     mut resolved: Resolved,
     scene: &Scene,
-    runs: &[(String, RoomRun)],
+    runs: &mut [(String, RoomRun)],
     again: &[usize],
     gone: &[Vec<crate::check::ObjectId>],
+    kept_from: &[Option<usize>],
 ) -> crate::diag::Outcome<Resolved> {
+    // Every entry to move is taken out before any is put.
+    for &k in again {
+        if let Some(place) = kept_from[k] {
+            let run = &mut runs[k].1;
+            resolved.take_room(crate::check::RoomId(place), &run.ids, &mut run.output);
+        }
+    }
     let forget = |resolved: &mut Resolved, id: crate::check::ObjectId| {
         let keys: Vec<(crate::check::ObjectId, usize)> =
             resolved.small.range((id, 0)..=(id, usize::MAX)).map(|(key, _)| *key).collect();
@@ -1054,10 +1169,35 @@ fn assemble_in_place(
         }
     }
     for &k in again {
-        resolved.put_room(&scene.rooms[k], &runs[k].1.output);
+        let room = &scene.rooms[k];
+        let run = &mut runs[k].1;
+        resolved.put_room_taken(room, &mut run.output);
+        run.ids.clone_from(&room.objects);
     }
     let diagnostics =
         runs.iter().flat_map(|(_, run)| run.output.diagnostics.iter().cloned()).collect();
+    crate::diag::Outcome::new(resolved, diagnostics)
+}
+
+/// What [`crate::resolve::assemble`] makes of the rooms' runs, put together anew: the kept
+/// runs' entries (`kept_from`, the place each had) taken out of the last result, which every
+/// kept run needs, every run's moved into the new one.
+fn assemble_anew(
+    mut last: Option<Resolved>,
+    scene: &Scene,
+    runs: &mut [(String, RoomRun)],
+    kept_from: &[Option<usize>],
+) -> crate::diag::Outcome<Resolved> {
+    let mut resolved = crate::resolve::assemble(scene, std::iter::empty()).value;
+    let mut diagnostics = Vec::new();
+    for ((room, (_, run)), from) in scene.rooms.iter().zip(runs.iter_mut()).zip(kept_from) {
+        if let (Some(place), Some(last)) = (from, &mut last) {
+            last.take_room(crate::check::RoomId(*place), &run.ids, &mut run.output);
+        }
+        resolved.put_room_taken(room, &mut run.output);
+        run.ids.clone_from(&room.objects);
+        diagnostics.extend(run.output.diagnostics.iter().cloned());
+    }
     crate::diag::Outcome::new(resolved, diagnostics)
 }
 

@@ -89,7 +89,7 @@ impl ParseCache {
     /// it in place (a tree of another text is dropped); whether it was taken.
     pub fn give_back(&mut self, tree: ast::File, text: &str) -> bool {
         match &mut self.last {
-            Some(last) if last.tree.is_none() && self.tree.is_some() && last.text == text => {
+            Some(last) if last.tree.is_none() && self.tree.is_some() && *last.text == *text => {
                 last.tree = Some(tree);
                 true
             }
@@ -101,7 +101,8 @@ impl ParseCache {
 /// A text cut into top-level pieces, and what each piece put into its tree.
 #[derive(Clone, Debug)]
 struct LastCut {
-    text: String,
+    /// (Shared with the source file it was given: not a copy.)
+    text: std::sync::Arc<String>,
     pieces: Vec<Piece>,
     /// The parse's diagnostics, the pieces' in order.
     diagnostics: Vec<Diagnostic>,
@@ -146,6 +147,17 @@ pub fn parse_cached(
     file: FileId,
     cache: &mut ParseCache,
 ) -> Outcome<ast::File> {
+    parse_cut(sources, file, cache, true)
+}
+
+/// [`parse_cached`]; with `keep` false, the pieces are moved into the tree instead of kept
+/// for the next parse (no piece is looked up either: the cache holds none).
+fn parse_cut(
+    sources: &SourceMap,
+    file: FileId,
+    cache: &mut ParseCache,
+    keep: bool,
+) -> Outcome<ast::File> {
     let text = &sources.get(file).text;
     cache.tree = None;
     cache.splice = None;
@@ -166,6 +178,29 @@ pub fn parse_cached(
         let end = starts.get(k + 1).copied().unwrap_or(text.len());
         let piece = &text[start..end];
         let (items_before, diagnostics_before) = (items.len(), diagnostics.len());
+        if !keep {
+            let Some(chunk) = parse_piece_cached(piece, &cache.groups, &mut used_groups) else {
+                return parse_whole(sources, file);
+            };
+            let m = relocate::Move::shift(file, start as i64);
+            let Chunk { items: mut piece_items, diagnostics: mut piece_diagnostics, groups: _ } =
+                chunk;
+            relocate::Relocate::relocate(&mut piece_items, m);
+            let blank = blank_before(text, file, previous_end, &piece_items);
+            items.extend(blank.clone());
+            previous_end = piece_items.last().map(|i| item_span(i).end as usize).or(previous_end);
+            items.extend(piece_items);
+            relocate::Relocate::relocate(&mut piece_diagnostics, m);
+            diagnostics.extend(piece_diagnostics);
+            pieces.push(Piece {
+                start,
+                items: items.len() - items_before,
+                blank: blank.is_some(),
+                diagnostics: diagnostics.len() - diagnostics_before,
+                groups: Vec::new(),
+            });
+            continue;
+        }
         let (key, chunk) = match used.get(piece) {
             Some(hit) => (None, std::rc::Rc::clone(hit)),
             None => match earlier.remove_entry(piece) {
@@ -220,8 +255,12 @@ pub fn parse_cached(
     }
     cache.chunks = used;
     cache.groups = GroupMap::default();
-    cache.last =
-        Some(LastCut { text: text.clone(), pieces, diagnostics: diagnostics.clone(), tree: None });
+    cache.last = Some(LastCut {
+        text: std::sync::Arc::clone(text),
+        pieces,
+        diagnostics: diagnostics.clone(),
+        tree: None,
+    });
     cache.generation += 1;
     cache.tree = Some(cache.generation);
     Outcome::new(ast::File { items, span: Span::new(file, 0, text.len()) }, diagnostics)
@@ -273,17 +312,16 @@ pub fn parse_edited(
             last.tree = Some(tree);
         }
     }
-    let parsed = parse_cached(sources, file, cache);
-    // The pieces are in the tree the caller hands back; a second copy is not kept.
+    // The pieces are moved into the tree the caller hands back; a second copy is not kept.
     cache.chunks = rustc_hash::FxHashMap::default();
-    parsed
+    parse_cut(sources, file, cache, false)
 }
 
 /// Edits `tree`, the tree of `last.text`, into the tree of `text` (see [`parse_edited`]), with
 /// `last` then describing `text`: the bytes of the pieces replaced in the old text and the new
 /// one (`start`, `old_end`, `new_end`), or `None` (with nothing changed) when it cannot.
 fn splice(
-    text: &str,
+    text: &std::sync::Arc<String>,
     file: FileId,
     last: &mut LastCut,
     groups: &mut GroupMap,
@@ -315,15 +353,40 @@ fn splice(
     if first_too_deep(&text[s0..region_end]).is_some() {
         return None;
     }
-    // Parse the new pieces before anything is changed.
+    // Parse the new pieces before anything is changed (a room edited inside its body, in
+    // place: its spans are then the text's, not the piece's).
     let mut used = GroupMap::default();
     let mut chunks = Vec::with_capacity(starts.len());
-    for (k, &at) in starts.iter().enumerate() {
-        let end = starts.get(k + 1).copied().unwrap_or(region_end);
-        chunks.push((at, parse_piece_cached(&text[at..end], groups, &mut used)?));
+    let i0: usize = pieces[..k0].iter().map(|p| p.items).sum();
+    let in_body = (starts.len() == 1 && k1 == k0 + 1)
+        .then(|| {
+            let piece = &pieces[k0];
+            let at = i0 + usize::from(piece.blank);
+            let ast::Item::Room(room) = tree.items.get_mut(at)? else { return None };
+            let edit = BodyEdit {
+                old_piece: &last.text[s0..old_region_end],
+                new_piece: &text[s0..region_end],
+                text,
+                file,
+                piece_start: s0,
+                edit: (start, old_end),
+            };
+            let keys = edit.apply(piece, room, groups, &mut used)?;
+            let room = std::mem::replace(&mut tree.items[at], ast::Item::Blank(Span::default()));
+            Some(Chunk { items: vec![room], diagnostics: Vec::new(), groups: keys })
+        })
+        .flatten();
+    let absolute = in_body.is_some();
+    match in_body {
+        Some(chunk) => chunks.push((s0, chunk)),
+        None => {
+            for (k, &at) in starts.iter().enumerate() {
+                let end = starts.get(k + 1).copied().unwrap_or(region_end);
+                chunks.push((at, parse_piece_cached(&text[at..end], groups, &mut used)?));
+            }
+        }
     }
     let delta = new_end as i64 - old_end as i64;
-    let i0: usize = pieces[..k0].iter().map(|p| p.items).sum();
     let i1: usize = i0 + pieces[k0..k1].iter().map(|p| p.items).sum::<usize>();
     let d0: usize = pieces[..k0].iter().map(|p| p.diagnostics).sum();
     let d1: usize = d0 + pieces[k0..k1].iter().map(|p| p.diagnostics).sum::<usize>();
@@ -335,7 +398,9 @@ fn splice(
     for (at, chunk) in chunks {
         let m = relocate::Move::shift(file, at as i64);
         let mut piece_items = chunk.items;
-        relocate::Relocate::relocate(&mut piece_items, m);
+        if !absolute {
+            relocate::Relocate::relocate(&mut piece_items, m);
+        }
         let blank = blank_before(text, file, previous_end, &piece_items);
         let (items_before, diagnostics_before) = (new_items.len(), new_diagnostics.len());
         let has_blank = blank.is_some();
@@ -402,7 +467,7 @@ fn splice(
         at += piece.items;
     }
     tree.span = Span::new(file, 0, text.len());
-    last.text = text.to_string();
+    last.text = std::sync::Arc::clone(text);
     Some((s0, old_region_end, region_end))
 }
 
@@ -433,6 +498,162 @@ fn parse_piece_cached(piece: &str, cache: &GroupMap, used: &mut GroupMap) -> Opt
         }
     }
     parse_piece(piece)
+}
+
+/// A room piece edited inside its body: the old and new texts of the piece, the whole new
+/// text, where the piece starts and where the edit starts and ended in the old text.
+struct BodyEdit<'a> {
+    old_piece: &'a str,
+    new_piece: &'a str,
+    text: &'a str,
+    file: FileId,
+    piece_start: usize,
+    edit: (usize, usize),
+}
+
+impl BodyEdit<'_> {
+    /// Edits `room`, the tree's room of the old piece (parsed by its statement groups, the
+    /// texts of which `piece` keeps), into the room of the new piece: the groups the two
+    /// bodies begin and end with keep their statements (moved by the change in length after
+    /// the edit), the groups between are parsed (with the cache) and put between them, and
+    /// the blank lines kept where they meet are made again. `None`, with nothing changed, when
+    /// the edit is not inside the body, the room or a group between has a diagnostic, or the
+    /// piece holds more than the room. The new groups' texts, in order (each in `used`).
+    fn apply(
+        &self,
+        piece: &Piece,
+        room: &mut ast::Room,
+        groups: &GroupMap,
+        used: &mut GroupMap,
+    ) -> Option<Vec<std::rc::Rc<str>>> {
+        if piece.groups.is_empty()
+            || piece.diagnostics != 0
+            || piece.items != 1 + usize::from(piece.blank)
+        {
+            return None;
+        }
+        let (open, close) = outer_braces(self.old_piece)?;
+        let (new_open, new_close) = outer_braces(self.new_piece)?;
+        let (edit_start, edit_end) = (
+            self.edit.0.checked_sub(self.piece_start)?,
+            self.edit.1.checked_sub(self.piece_start)?,
+        );
+        let delta = self.new_piece.len() as i64 - self.old_piece.len() as i64;
+        if new_open != open
+            || edit_start <= open
+            || edit_end > close
+            || new_close as i64 != close as i64 + delta
+        {
+            return None;
+        }
+        let old_body = &self.old_piece[open + 1..close];
+        let new_body = &self.new_piece[open + 1..new_close];
+        // The old groups' starts in the old body: their texts cut it.
+        let mut old_starts = Vec::with_capacity(piece.groups.len() + 1);
+        let mut at = 0;
+        for key in &piece.groups {
+            if old_body.get(at..at + key.len()) != Some(&**key) {
+                return None;
+            }
+            old_starts.push(at);
+            at += key.len();
+        }
+        if at != old_body.len() {
+            return None;
+        }
+        old_starts.push(at);
+        let new_starts = body_starts(new_body)?;
+        let new_group = |k: usize| {
+            let end = new_starts.get(k + 1).copied().unwrap_or(new_body.len());
+            &new_body[new_starts[k]..end]
+        };
+        let (n_old, n_new) = (piece.groups.len(), new_starts.len());
+        let same = n_old.min(n_new);
+        let p = (0..same).take_while(|&k| *piece.groups[k] == *new_group(k)).count();
+        let s = (0..same - p)
+            .take_while(|&j| *piece.groups[n_old - 1 - j] == *new_group(n_new - 1 - j))
+            .count();
+        // Every group's parse, from the cache (the groups kept) or parsed now (those between).
+        let kept = |key: &std::rc::Rc<str>| {
+            groups
+                .get_key_value(&**key)
+                .or_else(|| used.get_key_value(&**key))
+                .map(|(k, g)| (std::rc::Rc::clone(k), std::rc::Rc::clone(g)))
+        };
+        let mut parsed: Vec<(std::rc::Rc<str>, std::rc::Rc<Group>)> = Vec::with_capacity(n_new);
+        for k in 0..n_new {
+            let found = if k < p {
+                kept(&piece.groups[k])
+            } else if k >= n_new - s {
+                kept(&piece.groups[k + n_old - n_new])
+            } else {
+                let text = new_group(k);
+                match groups.get_key_value(text).or_else(|| used.get_key_value(text)) {
+                    Some((key, hit)) => Some((std::rc::Rc::clone(key), std::rc::Rc::clone(hit))),
+                    None => Some((std::rc::Rc::from(text), std::rc::Rc::new(parse_group(text)?))),
+                }
+            };
+            let (key, group) = found?;
+            if !group.diagnostics.is_empty() {
+                return None;
+            }
+            parsed.push((key, group));
+        }
+        // The statements of the groups kept: those before group `p`, and from group
+        // `n_old - s` on (a statement belongs to the group its span starts in).
+        let body_start = self.piece_start + open + 1;
+        let first_of = |g: usize| {
+            let at = (body_start + old_starts[g]) as u32;
+            room.body.partition_point(|st| room_stmt_span(st).start < at)
+        };
+        let (i_p, i_s) = (first_of(p), first_of(n_old - s));
+        // Nothing fails from here on.
+        let mut body = std::mem::take(&mut room.body);
+        let mut suffix = body.split_off(i_s);
+        body.truncate(i_p);
+        let mut previous_end = body.last().map(|st| room_stmt_span(st).end as usize);
+        let blank = |previous_end: Option<usize>, first: &ast::RoomStmt| {
+            let first_start = room_stmt_span(first).start as usize;
+            let end = previous_end?;
+            self.text
+                .get(end..first_start)
+                .is_some_and(|gap| gap.matches('\n').count() >= 2)
+                .then(|| ast::RoomStmt::Blank(Span::new(self.file, first_start, first_start)))
+        };
+        for (k, (_, group)) in parsed.iter().enumerate().take(n_new - s).skip(p) {
+            let m = relocate::Move::shift(
+                self.file,
+                (body_start + new_starts[k]) as i64 - GROUP_PREFIX.len() as i64,
+            );
+            let mut group_stmts = group.stmts.clone();
+            relocate::Relocate::relocate(&mut group_stmts, m);
+            if let Some(first) = group_stmts.first() {
+                body.extend(blank(previous_end, first));
+            }
+            previous_end =
+                group_stmts.last().map(|st| room_stmt_span(st).end as usize).or(previous_end);
+            body.extend(group_stmts);
+        }
+        if delta != 0 {
+            relocate::Relocate::relocate(&mut suffix, relocate::Move::shift(self.file, delta));
+        }
+        // The blank line kept before the groups kept after the edit: the text before changed.
+        if matches!(suffix.first(), Some(ast::RoomStmt::Blank(_))) {
+            suffix.remove(0);
+        }
+        if let Some(first) = suffix.first() {
+            body.extend(blank(previous_end, first));
+        }
+        body.extend(suffix);
+        room.body = body;
+        room.span.end = (i64::from(room.span.end) + delta) as u32;
+        let mut keys = Vec::with_capacity(parsed.len());
+        for (key, group) in parsed {
+            keys.push(std::rc::Rc::clone(&key));
+            used.insert(key, group);
+        }
+        Some(keys)
+    }
 }
 
 /// A group of room statements parsed alone: statements and diagnostics with spans from the
@@ -731,7 +952,7 @@ pub fn parse_whole(sources: &SourceMap, file: FileId) -> Outcome<ast::File> {
     let original = &sources.get(file).text;
     let whole = Span::new(file, 0, original.len());
     // The text read, and what was inserted into it: (offset in the text read, length).
-    let mut text = original.clone();
+    let mut text = original.to_string();
     let mut inserted: Vec<(usize, usize)> = Vec::new();
     let mut unclosed = Vec::new();
     // Every round closes one more block, so there are at most as many rounds as `{`.
@@ -783,7 +1004,7 @@ pub fn parse_whole(sources: &SourceMap, file: FileId) -> Outcome<ast::File> {
         inserted.sort_unstable();
     }
     let ast = ast::File {
-        items: vec![ast::Item::Error(ast::ErrorNode { text: original.clone(), span: whole })],
+        items: vec![ast::Item::Error(ast::ErrorNode { text: original.to_string(), span: whole })],
         span: whole,
     };
     Outcome::new(ast, unclosed)
@@ -844,7 +1065,7 @@ fn too_deep(sources: &SourceMap, file: FileId) -> Option<Outcome<ast::File>> {
     .with_primary(Span::new(file, at, at + 1), format!("level {}", MAX_NESTING + 1))
     .with_help("remove the extra braces: a scene's blocks close within four levels");
     let ast = ast::File {
-        items: vec![ast::Item::Error(ast::ErrorNode { text: text.clone(), span: whole })],
+        items: vec![ast::Item::Error(ast::ErrorNode { text: text.to_string(), span: whole })],
         span: whole,
     };
     Some(Outcome::new(ast, vec![d]))
@@ -1090,7 +1311,7 @@ impl Builder<'_> {
                 }
                 ast::RoomStmt::Corners(ast::Corners { unit, points, span })
             }
-            Rule::window => ast::RoomStmt::Window(self.window(pair)?),
+            Rule::window => ast::RoomStmt::Window(Box::new(self.window(pair)?)),
             Rule::object => ast::RoomStmt::Object(self.object(pair)?),
             Rule::wall_object => ast::RoomStmt::WallObject(self.object(pair)?),
             Rule::ceiling => {

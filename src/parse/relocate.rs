@@ -61,6 +61,12 @@ impl<T: Relocate> Relocate for Option<T> {
     }
 }
 
+impl<T: Relocate> Relocate for Box<T> {
+    fn relocate(&mut self, m: Move) {
+        T::relocate(self, m);
+    }
+}
+
 impl<T: Relocate> Relocate for Vec<T> {
     fn relocate(&mut self, m: Move) {
         for x in self {

@@ -1514,6 +1514,9 @@ impl Ctx<'_> {
             out.append(&mut walls);
         }
         out.extend(rest);
+        // Window rows split walls, so the list grew past what it was given: what it did not
+        // fill is given back (the plan is kept while the scene is edited).
+        out.shrink_to_fit();
         self.walls = out;
         // Walls are no longer where these say.
         self.room_walls.clear();

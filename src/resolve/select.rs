@@ -193,6 +193,54 @@ impl Resolved {
         }
     }
 
+    /// [`Resolved::put_room`], moving the room's resolutions out of `done` instead of copying
+    /// them (its objects', small objects', ceiling object's and ceiling light's are left empty;
+    /// its diagnostics and what it read and wrote stay).
+    pub fn put_room_taken(&mut self, room: &crate::check::Room, done: &mut RoomResolution) {
+        let objects = std::mem::take(&mut done.objects);
+        for (&id, res) in room.objects.iter().zip(objects) {
+            if let Some(slot) = self.objects.get_mut(id.0) {
+                *slot = res;
+            }
+        }
+        for ((i, k), list) in std::mem::take(&mut done.small) {
+            if let Some(&id) = room.objects.get(i) {
+                self.small.insert((id, k), list);
+            }
+        }
+        if let Some(light) = done.ceiling_light.take() {
+            self.ceiling_lights.insert(room.id, light);
+        }
+        if let Some(res) = done.ceiling.take() {
+            self.ceilings.insert(room.id, res);
+        }
+    }
+
+    /// Takes back into `done` what [`Resolved::put_room_taken`] put of a room that was room
+    /// `room` with objects `ids`: its objects' resolutions (each left "not resolved"), its small
+    /// objects', its ceiling object's and its ceiling light's (removed).
+    pub fn take_room(&mut self, room: RoomId, ids: &[ObjectId], done: &mut RoomResolution) {
+        done.objects = ids
+            .iter()
+            .map(|id| match self.objects.get_mut(id.0) {
+                Some(slot) => std::mem::replace(slot, not_resolved()),
+                None => not_resolved(),
+            })
+            .collect();
+        done.small = Vec::new();
+        for (i, &id) in ids.iter().enumerate() {
+            let keys: Vec<(ObjectId, usize)> =
+                self.small.range((id, 0)..=(id, usize::MAX)).map(|(key, _)| *key).collect();
+            for key in keys {
+                if let Some(list) = self.small.remove(&key) {
+                    done.small.push(((i, key.1), list));
+                }
+            }
+        }
+        done.ceiling = self.ceilings.remove(&room);
+        done.ceiling_light = self.ceiling_lights.remove(&room);
+    }
+
     /// The chosen asset of an object, if any.
     pub fn object(&self, id: ObjectId) -> Option<&Choice> {
         self.objects.get(id.0).and_then(Resolution::choice)
@@ -375,9 +423,11 @@ pub struct RoomResolution {
     pub ceiling_light: Option<String>,
     /// The room's diagnostics, in the order they were made.
     pub diagnostics: Vec<Diagnostic>,
-    /// Each asset whose use by an earlier room was asked, with the answer (`true`: free, no
-    /// earlier room uses it).
-    pub reads: Vec<(String, bool)>,
+    /// Each asset whose use by an earlier room was asked, with the answer: [`read`] of its
+    /// place in the catalog and whether it was free (no earlier room used it).
+    reads: Vec<u64>,
+    /// The catalog and seed the room was resolved with (what its reads' places are places in).
+    made_with: (usize, usize, u64),
     /// The assets the room uses.
     pub writes: BTreeSet<String>,
     /// The rankings the room asked for (kept alive in the [`RankCache`] while a room holds
@@ -409,7 +459,7 @@ struct GroupRun {
     diagnostics: Vec<Diagnostic>,
     reports: Vec<(SpanKey, bool)>,
     /// The assets it asked about, with the answers, and those it used, in order.
-    reads: Vec<(String, bool)>,
+    reads: Vec<u64>,
     writes: Vec<String>,
     /// The rankings it asked for.
     asked: Vec<std::rc::Rc<Vec<Candidate>>>,
@@ -445,8 +495,11 @@ impl RoomResolution {
 impl RoomResolution {
     /// Whether the room would read the same answers from `used` (the assets of the rooms
     /// before it).
-    pub fn reads_hold(&self, used: &rustc_hash::FxHashSet<String>) -> bool {
-        self.reads.iter().all(|(asset, free)| *free != used.contains(asset))
+    fn reads_hold(&self, catalog: &Catalog, used: &rustc_hash::FxHashSet<String>) -> bool {
+        self.reads.iter().all(|&r| {
+            let (place, free) = unread(r);
+            catalog.assets().get(place).is_some_and(|a| free != used.contains(a.id.as_ref()))
+        })
     }
 }
 
@@ -493,8 +546,20 @@ impl<'a> Resolver<'a> {
         room: &crate::check::Room,
         last: Option<&mut RoomResolution>,
     ) -> RoomResolution {
-        let groups = last.map_or_else(Vec::new, |l| std::mem::take(&mut l.groups));
+        // Groups chosen with another catalog or seed are not taken again.
+        let made_with = self.state.made_with();
+        let groups = last
+            .filter(|l| l.made_with == made_with)
+            .map_or_else(Vec::new, |l| std::mem::take(&mut l.groups));
         resolve_room(scene, room, &mut self.state, Some(groups))
+    }
+
+    /// Whether `room` (an earlier resolution, with this resolver's catalog and seed) would read
+    /// now what it read then: each asset it asked about is used or not by the rooms given to
+    /// [`Resolver::used_before`] as it was by the rooms before it then.
+    pub fn reads_hold(&self, room: &RoomResolution) -> bool {
+        room.made_with == self.state.made_with()
+            && room.reads_hold(self.state.catalog, &self.state.used)
     }
 
     /// Counts the assets of `room` as used by the rooms before the next one.
@@ -527,21 +592,33 @@ impl<'a> Resolver<'a> {
     }
 }
 
+/// A read of whether an asset is free, kept in one word: its place in the catalog and the
+/// answer. (A place is less than `isize::MAX`, the most elements a `Vec` holds: doubled, it
+/// fits.)
+fn read(place: usize, free: bool) -> u64 {
+    ((place as u64) << 1) | u64::from(free)
+}
+
+/// The place of no asset in a [`read`].
+const NO_PLACE: usize = usize::MAX >> 1;
+
+/// The place and answer [`read`] kept.
+fn unread(read: u64) -> (usize, bool) {
+    ((read >> 1) as usize, read & 1 == 1)
+}
+
+/// What stands for a thing no resolution was made for.
+fn not_resolved() -> Resolution {
+    Resolution::Unresolved(Unresolved { reason: "not resolved".into(), nearest: Vec::new() })
+}
+
 /// The resolution of a scene from its rooms' (in the scene's room order).
 pub fn assemble<'r>(
     scene: &Scene,
     rooms: impl IntoIterator<Item = &'r RoomResolution>,
 ) -> Outcome<Resolved> {
-    let mut resolved = Resolved {
-        objects: vec![
-            Resolution::Unresolved(Unresolved {
-                reason: "not resolved".into(),
-                nearest: Vec::new()
-            });
-            scene.objects.len()
-        ],
-        ..Resolved::default()
-    };
+    let mut resolved =
+        Resolved { objects: vec![not_resolved(); scene.objects.len()], ..Resolved::default() };
     let mut diagnostics = Vec::new();
     for (room, done) in scene.rooms.iter().zip(rooms) {
         resolved.put_room(room, done);
@@ -563,6 +640,7 @@ fn resolve_room(
         ceiling_light: None,
         diagnostics: Vec::new(),
         reads: Vec::new(),
+        made_with: state.made_with(),
         writes: BTreeSet::new(),
         ranks: Vec::new(),
         groups: Vec::new(),
@@ -650,17 +728,7 @@ fn resolve_room(
         }
         done.groups.push(run);
     }
-    done.objects = objects
-        .into_iter()
-        .map(|res| {
-            res.unwrap_or_else(|| {
-                Resolution::Unresolved(Unresolved {
-                    reason: "not resolved".into(),
-                    nearest: Vec::new(),
-                })
-            })
-        })
-        .collect();
+    done.objects = objects.into_iter().map(|res| res.unwrap_or_else(not_resolved)).collect();
     // Small objects on top, per instance and line; each prefers assets that fit on the
     // top of its receptacle's asset, less the margin the layout keeps round its edge.
     for (i, &id) in room.objects.iter().enumerate() {
@@ -749,10 +817,7 @@ pub fn resolve_query(
         span: Span::default(),
     };
     let mut results = state.choose(&what, query, Variance::Same, &[None], false);
-    let res = results.pop().unwrap_or(Resolution::Unresolved(Unresolved {
-        reason: "not resolved".into(),
-        nearest: Vec::new(),
-    }));
+    let res = results.pop().unwrap_or_else(not_resolved);
     Outcome::new(res, state.diagnostics)
 }
 
@@ -797,8 +862,9 @@ struct State<'a> {
     /// The assets the rooms before the one being resolved use.
     /// (Looked up once per candidate and object, never iterated: a hash set.)
     used: rustc_hash::FxHashSet<String>,
-    /// Which assets the room being resolved asked about, with the answers (free or not).
-    reads: Vec<(String, bool)>,
+    /// Which assets the room being resolved asked about, with the answers (free or not), as
+    /// [`read`] makes them.
+    reads: Vec<u64>,
     /// The assets the room being resolved uses.
     writes: BTreeSet<String>,
     /// The rankings the room being resolved asked for.
@@ -868,10 +934,14 @@ impl<'a> State<'a> {
         (std::ptr::from_ref(self.catalog) as usize, self.catalog.assets().len(), self.seed)
     }
 
-    /// Whether no room before this one uses `asset` (the answer is remembered).
-    fn is_free(&mut self, asset: &str) -> bool {
+    /// Whether no room before this one uses the asset at `place` in the catalog, `asset` (the
+    /// answer is remembered).
+    fn is_free(&mut self, place: usize, asset: &str) -> bool {
         let free = !self.used.contains(asset);
-        self.reads.push((asset.to_string(), free));
+        // A place that is not the asset's (no candidate has one) is kept as no place: a read
+        // that never holds again.
+        let known = self.catalog.assets().get(place).is_some_and(|a| a.id == asset);
+        self.reads.push(read(if known { place } else { NO_PLACE }, free));
         free
     }
 
@@ -971,8 +1041,11 @@ impl<'a> State<'a> {
     /// Whether a group's choice would read now what it read then: the same answers about the
     /// rooms before, and the same spans reported or not in the room so far.
     fn reads_hold(&self, run: &GroupRun) -> bool {
-        run.reads.iter().all(|(asset, free)| *free != self.used.contains(asset))
-            && run.reports.iter().all(|(key, new)| *new != self.reported.contains(key))
+        run.reads.iter().all(|&r| {
+            let (place, free) = unread(r);
+            let asset = self.catalog.assets().get(place);
+            asset.is_some_and(|a| free != self.used.contains(a.id.as_ref()))
+        }) && run.reports.iter().all(|(key, new)| *new != self.reported.contains(key))
     }
 
     /// Gives the room's resolution what a group's choice gave it when it was made.
@@ -983,7 +1056,7 @@ impl<'a> State<'a> {
             }
         }
         self.diagnostics.extend(run.diagnostics.iter().cloned());
-        self.reads.extend(run.reads.iter().cloned());
+        self.reads.extend(run.reads.iter().copied());
         for asset in &run.writes {
             self.mark_used(asset);
         }
@@ -1099,7 +1172,7 @@ impl<'a> State<'a> {
             if fresh.len() == need {
                 break;
             }
-            if self.is_free(&c.asset_id) {
+            if self.is_free(c.idx, &c.asset_id) {
                 fresh.push(*c);
             } else {
                 used.push(*c);

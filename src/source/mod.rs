@@ -95,15 +95,16 @@ pub struct SourceFile {
     /// The name shown to people (a path, or a label such as `<floor-plan answer>`).
     pub name: String,
     /// The full text.
-    pub text: String,
-    line_starts: Vec<usize>,
+    pub text: std::sync::Arc<String>,
+    /// (Shared by the copies of the file, as its text is; copied when one of them changes.)
+    line_starts: std::sync::Arc<Vec<usize>>,
 }
 
 impl SourceFile {
     /// Makes a file and indexes its lines.
     pub fn new(name: impl Into<String>, text: impl Into<String>) -> SourceFile {
         let text = text.into();
-        SourceFile { name: name.into(), line_starts: line_starts(&text), text }
+        SourceFile { name: name.into(), line_starts: line_starts(&text).into(), text: text.into() }
     }
 
     /// The 0-based line index holding byte `offset`.
@@ -164,7 +165,22 @@ impl SourceFile {
     pub fn replace_range(&mut self, range: std::ops::Range<usize>, with: &str) {
         let start = self.clamp(range.start);
         let end = self.clamp(range.end).max(start);
-        self.text.replace_range(start..end, with);
+        // Grown by a little at a time, not doubled: a large text edited keystroke by keystroke
+        // would otherwise hold twice its length.
+        let grown = (self.text.len() - (end - start)).saturating_add(with.len());
+        // The text is changed in place unless an analysis or the memo of an earlier version
+        // shares it: then it is copied once (with room to grow), and they keep theirs.
+        if std::sync::Arc::get_mut(&mut self.text).is_none() {
+            let mut copy = String::with_capacity(grown + (grown / 64).max(1024));
+            copy.push_str(&self.text);
+            self.text = std::sync::Arc::new(copy);
+        }
+        let text = std::sync::Arc::make_mut(&mut self.text);
+        if grown > text.capacity() {
+            let slack = (grown / 64).max(1024);
+            text.reserve_exact(grown - text.len() + slack);
+        }
+        text.replace_range(start..end, with);
         let new_end = start + with.len();
         // A line start `s` depends on bytes `s - 1` and `s`: those from `start` to `end` (old)
         // are made again from the new text, from byte `start - 1` to `new_end`.
@@ -181,8 +197,9 @@ impl SourceFile {
             }
         }
         let added = fresh.len();
-        let _ = self.line_starts.splice(keep..after, fresh);
-        for s in &mut self.line_starts[keep + added..] {
+        let line_starts = std::sync::Arc::make_mut(&mut self.line_starts);
+        let _ = line_starts.splice(keep..after, fresh);
+        for s in &mut line_starts[keep + added..] {
             *s = *s - end + new_end;
         }
     }
@@ -332,9 +349,9 @@ mod tests {
                         file.replace_range(start..end, with);
                         let mut expected = text.to_string();
                         expected.replace_range(start..end, with);
-                        assert_eq!(file.text, expected);
+                        assert_eq!(*file.text, expected);
                         assert_eq!(
-                            file.line_starts,
+                            *file.line_starts,
                             line_starts(&expected),
                             "{text:?} {start}..{end} {with:?}"
                         );
@@ -345,7 +362,7 @@ mod tests {
         // A range past the end or inside a character is clamped.
         let mut file = SourceFile::new("t", "é\nb");
         file.replace_range(1..99, "x");
-        assert_eq!((file.text.as_str(), file.line_starts.clone()), ("x", vec![0]));
+        assert_eq!((file.text.as_str(), (*file.line_starts).clone()), ("x", vec![0]));
     }
 
     #[test]
