@@ -322,18 +322,21 @@ fn near_along_wall(problem: &super::RoomProblem, j: usize, c: &super::ProblemCon
     let Some(target) = problem.objects.get(c.target) else { return false };
     obj.global == GlobalKind::Edge
         && target.global == GlobalKind::Edge
-        && !obj.constraints.iter().any(|o| {
-            o.target == c.target
-                && matches!(
-                    o.kind,
-                    RelationKind::InFrontOf
-                        | RelationKind::Behind
-                        | RelationKind::LeftOf
-                        | RelationKind::RightOf
-                        | RelationKind::SideOf
-                        | RelationKind::Around
-                )
-        })
+        && !obj.constraints.iter().any(|o| o.target == c.target && is_side_relation(o.kind))
+}
+
+/// Whether a relation puts the later object on a side of its target (the relations the
+/// look-ahead keeps room for).
+fn is_side_relation(kind: RelationKind) -> bool {
+    matches!(
+        kind,
+        RelationKind::InFrontOf
+            | RelationKind::Behind
+            | RelationKind::LeftOf
+            | RelationKind::RightOf
+            | RelationKind::SideOf
+            | RelationKind::Around
+    )
 }
 
 /// Whether relation `c` of object `j` draws a seat up to the front or back of a desk or table
@@ -1769,15 +1772,7 @@ pub(crate) fn run(
     let aisle = prep.reach.aisle();
     for (j, obj) in prep.problem.objects.iter().enumerate() {
         for c in &obj.constraints {
-            let side = matches!(
-                c.kind,
-                RelationKind::InFrontOf
-                    | RelationKind::Behind
-                    | RelationKind::LeftOf
-                    | RelationKind::RightOf
-                    | RelationKind::SideOf
-                    | RelationKind::Around
-            );
+            let side = is_side_relation(c.kind);
             let along_wall = c.kind == RelationKind::Near && near_along_wall(prep.problem, j, c);
             if !(side || along_wall) || c.target >= j {
                 continue;
