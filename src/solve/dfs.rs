@@ -117,8 +117,8 @@ type StaticGridKey = ([u64; 3], GlobalKind);
 /// Static candidates in the grid's order, with the tally of the rules that rejected the others.
 type StaticGrid = (Vec<Cand>, BTreeMap<HardRule, usize>);
 
-/// Shuffles object `k`'s static candidates in its seeded order.
-fn shuffle_static(cands: &mut [Cand], k: usize, seed: u64) {
+/// Shuffles object `k`'s static candidates (or their places in the grid) in its seeded order.
+fn shuffle_static<T>(cands: &mut [T], k: usize, seed: u64) {
     let mut rng = ChaCha8Rng::seed_from_u64(seed ^ (k as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15));
     cands.shuffle(&mut rng);
 }
@@ -377,13 +377,80 @@ struct Scorer {
     /// Each relation with its meaning, weight, the target's pose and footprint, and, for a
     /// chair around a table, the table's seats.
     relations: Vec<(RelationKind, constraints::Meaning, f64, Pose, Rect, Vec<Pose>)>,
+    /// Per relation, how far from its target it can be kept ([`Reach::of`]).
+    reaches: Vec<Reach>,
     sat_value: f64,
+}
+
+/// How far from its target a relation can be kept.
+#[derive(Clone, Copy)]
+enum Reach {
+    /// Only by a footprint within this gap (metres) of the target's: `near`, the sides, `around`
+    /// and a screen's `face to`, kept only within their largest gap.
+    Gap(f64),
+    /// Only by a centre in this rectangle: a chair at one of its table's seats.
+    Centre(Rect),
+    /// Anywhere (`far`, `face to`, `center aligned`, `face same as`).
+    Anywhere,
+}
+
+impl Reach {
+    /// The reach of a relation whose target stands at `tf` (`seats`: a table's, for a chair
+    /// around it); a little wider than the measure's own rule, so that no rounding is left out.
+    fn of(kind: RelationKind, meaning: &constraints::Meaning, seats: &[Pose]) -> Reach {
+        const SLACK: f64 = 1e-6;
+        let gap = meaning.max_gap + constraints::EPS + SLACK;
+        match kind {
+            RelationKind::Around if !seats.is_empty() => {
+                let grow = constraints::SEAT_TOLERANCE_M + constraints::EPS + SLACK;
+                let mut r = Rect {
+                    min_x: f64::INFINITY,
+                    min_z: f64::INFINITY,
+                    max_x: f64::NEG_INFINITY,
+                    max_z: f64::NEG_INFINITY,
+                };
+                for p in seats {
+                    r.min_x = r.min_x.min(p.x);
+                    r.max_x = r.max_x.max(p.x);
+                    r.min_z = r.min_z.min(p.z);
+                    r.max_z = r.max_z.max(p.z);
+                }
+                Reach::Centre(r.grow(grow))
+            }
+            RelationKind::Near
+            | RelationKind::InFrontOf
+            | RelationKind::Behind
+            | RelationKind::LeftOf
+            | RelationKind::RightOf
+            | RelationKind::SideOf
+            | RelationKind::Around
+                if gap.is_finite() =>
+            {
+                Reach::Gap(gap)
+            }
+            RelationKind::FaceTo if gap.is_finite() => Reach::Gap(gap),
+            _ => Reach::Anywhere,
+        }
+    }
+
+    /// Whether a candidate could keep the relation (to a target at `tf`).
+    fn within(&self, c: &Cand, tf: &Rect) -> bool {
+        match self {
+            Reach::Gap(gap) => {
+                let dx = (tf.min_x - c.fp.max_x).max(c.fp.min_x - tf.max_x).max(0.0);
+                let dz = (tf.min_z - c.fp.max_z).max(c.fp.min_z - tf.max_z).max(0.0);
+                dx * dx + dz * dz <= gap * gap
+            }
+            Reach::Centre(r) => r.contains_point([c.pose.x, c.pose.z]),
+            Reach::Anywhere => true,
+        }
+    }
 }
 
 impl Scorer {
     fn new(prep: &Prepared<'_>, k: usize, poses: &[Option<Pose>], sat_value: f64) -> Scorer {
         let obj = &prep.problem.objects[k];
-        let mut relations = Vec::new();
+        let (mut relations, mut reaches) = (Vec::new(), Vec::new());
         for (ci, c) in obj.constraints.iter().enumerate() {
             if let (Some(Some(tp)), Some(t)) =
                 (poses.get(c.target), prep.problem.objects.get(c.target))
@@ -397,10 +464,32 @@ impl Scorer {
                     }
                     _ => Vec::new(),
                 };
+                reaches.push(Reach::of(c.kind, &meaning, &seats));
                 relations.push((c.kind, meaning, constraints::weight(c.kind), *tp, tf, seats));
             }
         }
-        Scorer { relations, sat_value }
+        Scorer { relations, reaches, sat_value }
+    }
+
+    /// An upper bound of [`Scorer::score`] for a candidate beyond the reach of every relation
+    /// that has one (those cannot be kept there, and a relation's graded score is at most 1),
+    /// or `None` when the candidate is within one of them or no relation has a reach: its
+    /// score is worked out. Summed as the score is, term by term no less, so that no rounding
+    /// puts the score above it.
+    fn far_bound(&self, c: &Cand) -> Option<f64> {
+        let mut local = false;
+        let mut s = 0.0;
+        for ((_, _, weight, _, tf, _), reach) in self.relations.iter().zip(&self.reaches) {
+            match reach {
+                Reach::Anywhere => s += weight * 1.0 + self.sat_value,
+                _ if reach.within(c, tf) => return None,
+                _ => {
+                    local = true;
+                    s += weight * 1.0 + 0.0;
+                }
+            }
+        }
+        local.then_some(s)
     }
 
     fn score(&self, c: &Cand) -> f64 {
@@ -553,6 +642,38 @@ struct StaticSet {
     /// Per candidate, what [`Search::room_left_for_dependents`] would count with nothing
     /// placed: an upper bound of it at every node.
     room_static: Vec<(u8, u8)>,
+    /// The grid the candidates were shuffled from, shared by the objects alike.
+    grid: Rc<SharedGrid>,
+    /// Per place in the grid, the candidate's position in `cands`.
+    pos_of: Vec<u32>,
+}
+
+/// A static grid ([`static_grid`]) with what the objects alike share: the sides of each
+/// candidate touching a wall, and the candidates by each side of their footprints.
+struct SharedGrid {
+    cands: Vec<Cand>,
+    fails: BTreeMap<HardRule, usize>,
+    wall_touch: Vec<u8>,
+    /// The places in the grid by each side of their footprints (`min_x`, `max_x`, `min_z`,
+    /// `max_z`), sorted by that coordinate: the candidates that can touch a placed footprint
+    /// are looked up here ([`StaticSet::touching`]).
+    edges: [Vec<(f64, u32)>; 4],
+}
+
+impl SharedGrid {
+    fn new(prep: &Prepared<'_>, k: usize) -> SharedGrid {
+        let (cands, fails) = static_grid(prep, k);
+        let wall_touch =
+            cands.iter().map(|c| touching(&c.fp, |m| !prep.room.contains_rect(m))).collect();
+        let edge = |side: fn(&Rect) -> f64| {
+            let mut v: Vec<(f64, u32)> =
+                cands.iter().zip(0u32..).map(|(c, i)| (side(&c.fp), i)).collect();
+            v.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+            v
+        };
+        let edges = [edge(|r| r.min_x), edge(|r| r.max_x), edge(|r| r.min_z), edge(|r| r.max_z)];
+        SharedGrid { cands, fails, wall_touch, edges }
+    }
 }
 
 /// What the search knows of an object once the poses of its relations' targets are fixed:
@@ -562,7 +683,9 @@ struct StaticSet {
 /// other objects), so this is worked out once per set of target poses.
 struct TargetContext {
     derived: Vec<Cand>,
+    /// Per candidate, its score; NaN for one bounded without it ([`Scorer::far_bound`]).
     scores: Vec<f64>,
+    scorer: Scorer,
     bounds: Vec<f64>,
     /// The candidates that do not overlap a placed target in the order of their bounds (best
     /// first), put in order lazily: a node rarely walks far down the list.
@@ -609,11 +732,21 @@ impl TargetContext {
             steps.extend(piece.into_iter().map(|i| Step {
                 bound: bounds[i as usize],
                 cand: cand_of(i as usize),
-                score: self.scores[i as usize],
+                score: self.score_of(i as usize, &cand_of(i as usize)),
                 index: i,
             }));
         }
         walk.steps.get(n).copied()
+    }
+
+    /// Candidate `i`'s score, worked out now if the context bounded it without.
+    fn score_of(&self, i: usize, c: &Cand) -> f64 {
+        let s = self.scores[i];
+        if s.is_nan() {
+            self.scorer.score(c)
+        } else {
+            s
+        }
     }
 }
 
@@ -622,11 +755,64 @@ impl TargetContext {
 const MAX_TARGET_CONTEXTS: usize = 256;
 
 impl StaticSet {
-    fn new(prep: &Prepared<'_>, cands: Vec<Cand>, room_static: Vec<(u8, u8)>) -> StaticSet {
-        let wall_touch =
-            cands.iter().map(|c| touching(&c.fp, |m| !prep.room.contains_rect(m))).collect();
-        StaticSet { cands, wall_touch, room_static }
+    /// Object `k`'s candidates: the shared grid in the object's seeded order (`plan_index`, its
+    /// place in the plan), with no room for later objects worked out yet.
+    fn new(grid: Rc<SharedGrid>, plan_index: usize, seed: u64) -> StaticSet {
+        let mut order: Vec<u32> =
+            (0..u32::try_from(grid.cands.len()).unwrap_or(u32::MAX)).collect();
+        shuffle_static(&mut order, plan_index, seed);
+        let cands = order.iter().map(|&g| grid.cands[g as usize]).collect();
+        let wall_touch = order.iter().map(|&g| grid.wall_touch[g as usize]).collect();
+        let mut pos_of = vec![0; order.len()];
+        for (at, &g) in (0u32..).zip(&order) {
+            pos_of[g as usize] = at;
+        }
+        StaticSet { cands, wall_touch, room_static: Vec::new(), grid, pos_of }
     }
+
+    /// The candidates (sorted, each once) that come within [`CONTACT_M`] of one of the
+    /// `placed` footprints without overlapping it: every candidate that a placed footprint can
+    /// add a touching side to. A side can only touch a footprint from just outside one of its
+    /// edges, so each edge is looked up in the sorted sides of the candidates.
+    fn touching(&self, placed: &[Rect]) -> Vec<u32> {
+        // A little wider than the rules below, so that no rounding leaves a candidate out;
+        // the test itself is the one the walk makes.
+        const SLACK: f64 = 1e-9;
+        let (eps, c) = (constraints::EPS, CONTACT_M);
+        let mut out = Vec::new();
+        for p in placed {
+            let grown = p.grow(c);
+            // (side of the candidate, from, to): beyond +x, short of −x, beyond +z, short of −z.
+            let shells = [
+                (0, p.max_x - eps, p.max_x + c),
+                (1, p.min_x - c, p.min_x + eps),
+                (2, p.max_z - eps, p.max_z + c),
+                (3, p.min_z - c, p.min_z + eps),
+            ];
+            for (side, from, to) in shells {
+                let edge = &self.grid.edges[side];
+                let a = edge.partition_point(|e| e.0 < from - SLACK);
+                let b = edge.partition_point(|e| e.0 <= to + SLACK);
+                for &(_, g) in &edge[a..b.max(a)] {
+                    let fp = &self.grid.cands[g as usize].fp;
+                    if fp.overlaps(&grown) && !fp.overlaps(p) {
+                        out.push(self.pos_of[g as usize]);
+                    }
+                }
+            }
+        }
+        out.sort_unstable();
+        out.dedup();
+        out
+    }
+}
+
+/// A candidate's ordering key (see [`Search::walk_to`]) from its score, the side relations of
+/// later objects it leaves room for (`kept`, and `close` of them right next to it) and its
+/// sides touching something; with the most of each, an upper bound of the key. Keys and bounds
+/// are summed the same way, so that a bound equal to a key is equal to the bit.
+fn ordering_key(score: f64, sat_value: f64, kept: f64, close: f64, sides: f64) -> f64 {
+    score + sat_value * kept + ROOM_NEXT_TO_BONUS * close + CONTACT_BONUS * sides
 }
 
 /// A footprint moved by [`CONTACT_M`] towards −x, +x, −z and +z.
@@ -744,6 +930,14 @@ struct NodeWalk {
     kept: Vec<(f64, usize, f64, Cand)>,
     /// The next step of the target context's walk to meet.
     next: usize,
+    /// The static candidates that a placed footprint comes within [`CONTACT_M`] of
+    /// ([`StaticSet::touching`]), sorted: the context's walk bounds a static candidate with
+    /// the sides that touch a wall only, so these are met in a walk of their own, `touch`,
+    /// bounded with every side touching something.
+    touch_set: Vec<u32>,
+    /// The steps of `touch_set` in the order of their bounds, and the next to meet.
+    touch: Vec<Step>,
+    touch_next: usize,
     /// Whether every step has been met.
     done: bool,
     /// For why nothing is left: the candidates blocked, by the placed footprint they overlap
@@ -1086,18 +1280,35 @@ impl Search<'_, '_> {
         let (mut scores, mut bounds) = (Vec::with_capacity(n), Vec::with_capacity(n));
         let scorer = Scorer::new(prep, k, poses, self.sat_value);
         for (i, c) in set.cands.iter().chain(derived.iter()).enumerate() {
-            let s = scorer.score(c);
-            let (kept, close) = match set.room_static.get(i) {
-                Some(&room) => room,
-                None => self.room_left_static(k, c),
+            // A static candidate out of reach of every relation that has a reach is bounded
+            // without its score, worked out only if the walk comes to it (NaN until then).
+            let far = if i < set.cands.len() { scorer.far_bound(c) } else { None };
+            let (s, score) = match far {
+                Some(bound) => (bound, f64::NAN),
+                None => {
+                    let s = scorer.score(c);
+                    (s, s)
+                }
             };
-            // The ordering key (see `candidates`) with every relation of a later object still
-            // kept and every side touching something.
-            let bound = s
-                + self.sat_value * f64::from(kept)
-                + ROOM_NEXT_TO_BONUS * f64::from(close)
-                + CONTACT_BONUS * 4.0;
-            scores.push(s);
+            // The ordering key (see `walk_to`) with every relation of a later object still
+            // kept and every side touching something: for a static candidate, the sides that
+            // touch a wall (those that touch a placed footprint are the node's to add, see
+            // `NodeWalk::touch`).
+            let (kept, close, sides) = match (set.room_static.get(i), set.wall_touch.get(i)) {
+                (Some(&(kept, close)), Some(walls)) => (kept, close, walls.count_ones()),
+                _ => {
+                    let (kept, close) = self.room_left_static(k, c);
+                    (kept, close, 4)
+                }
+            };
+            let bound = ordering_key(
+                s,
+                self.sat_value,
+                f64::from(kept),
+                f64::from(close),
+                f64::from(sides),
+            );
+            scores.push(score);
             bounds.push(bound);
         }
         let targets: Vec<Rect> = obj
@@ -1119,7 +1330,7 @@ impl Search<'_, '_> {
                 !targets.iter().any(|t| t.overlaps(&fp))
             });
         let walk = RefCell::new(Walk { steps: Vec::new(), rest });
-        let context = Rc::new(TargetContext { derived, scores, bounds, walk, on_targets });
+        let context = Rc::new(TargetContext { derived, scores, scorer, bounds, walk, on_targets });
         let mut contexts = self.contexts.borrow_mut();
         if contexts.len() >= MAX_TARGET_CONTEXTS {
             contexts.clear();
@@ -1410,9 +1621,32 @@ impl Search<'_, '_> {
         {
             return NodeCandidates::Whole(Vec::new(), Some(static_reason(&self.static_fails[k])));
         }
+        // The static candidates a placed footprint can add a touching side to, but those on a
+        // target (met apart, below): each met once, in the node's own walk.
+        let touch_set: Vec<u32> = self.statics[k]
+            .touching(st.grid.rects())
+            .into_iter()
+            .filter(|i| context.on_targets.binary_search(i).is_err())
+            .collect();
+        let mut touch: Vec<Step> = touch_set
+            .iter()
+            .map(|&i| {
+                let at = i as usize;
+                let set = &self.statics[k];
+                let (kept, close) = set.room_static[at];
+                let score = context.score_of(at, &set.cands[at]);
+                let bound =
+                    ordering_key(score, self.sat_value, f64::from(kept), f64::from(close), 4.0);
+                Step { bound, cand: set.cands[at], score, index: i }
+            })
+            .collect();
+        touch.sort_unstable_by(|a, b| b.bound.total_cmp(&a.bound).then(a.index.cmp(&b.index)));
         let mut walk = NodeWalk {
             kept: Vec::new(),
             next: 0,
+            touch_set,
+            touch,
+            touch_next: 0,
             done: false,
             blockers: BTreeMap::new(),
             cleared_out: 0,
@@ -1480,11 +1714,20 @@ impl Search<'_, '_> {
         let n_static = set.cands.len();
         let derived = &context.derived;
         let pick = |i: usize| if i < n_static { set.cands[i] } else { derived[i - n_static] };
-        let stops =
-            |walk: &NodeWalk, step: &Step| walk.kept.len() >= m && step.bound < walk.kept[m - 1].0;
-        match context.step(walk.next, pick) {
+        // No step left can come before the `m`th kept: the steps are met in the order of their
+        // bounds and then of their positions, as the kept are ordered by key and position.
+        let stops = |walk: &NodeWalk, step: &Step| {
+            walk.kept.len() >= m && {
+                let (key, at, ..) = walk.kept[m - 1];
+                step.bound < key || (step.bound == key && step.index as usize > at)
+            }
+        };
+        if walk.done {
+            return;
+        }
+        match next_step(&context, walk, n_static, pick) {
             None => walk.done = true,
-            Some(step) if stops(walk, &step) => return,
+            Some((step, _)) if stops(walk, &step) => return,
             Some(_) => {}
         }
         if walk.done {
@@ -1522,14 +1765,18 @@ impl Search<'_, '_> {
             }
         };
         loop {
-            let Some(step) = context.step(walk.next, pick) else {
+            let Some((step, touches)) = next_step(&context, walk, n_static, pick) else {
                 walk.done = true;
                 break;
             };
             if stops(walk, &step) {
                 break;
             }
-            walk.next += 1;
+            if touches {
+                walk.touch_next += 1;
+            } else {
+                walk.next += 1;
+            }
             let c = step.cand;
             let i = step.index as usize;
             // The placed footprint the candidate overlaps first (lowest index), if any.
@@ -1549,10 +1796,13 @@ impl Search<'_, '_> {
                 + seat_promises.iter().map(|p| p.broken_by(&c.fp)).sum::<usize>();
             let crowded =
                 promises.iter().filter(|p| !p.next_to.is_empty() && covers(&p.next_to)).count();
-            let key = s
-                + self.sat_value * (kept as f64 - broken as f64)
-                + ROOM_NEXT_TO_BONUS * (close as f64 - crowded as f64)
-                + CONTACT_BONUS * f64::from(sides.count_ones());
+            let key = ordering_key(
+                s,
+                self.sat_value,
+                kept as f64 - broken as f64,
+                close as f64 - crowded as f64,
+                f64::from(sides.count_ones()),
+            );
             let entry = (key, i, s, c);
             let at = walk.kept.partition_point(|t| order(t, &entry).is_lt());
             if at < REACH_TRIES {
@@ -1560,6 +1810,38 @@ impl Search<'_, '_> {
                 walk.kept.truncate(REACH_TRIES);
             }
         }
+    }
+}
+
+/// The next step of a node's walk, and whether it is one of the candidates touching a placed
+/// footprint: the better of the context's next step (those in the touch set passed over) and
+/// the touch walk's, by bound and then position.
+fn next_step(
+    context: &TargetContext,
+    walk: &mut NodeWalk,
+    n_static: usize,
+    pick: impl Fn(usize) -> Cand,
+) -> Option<(Step, bool)> {
+    let from_context = loop {
+        match context.step(walk.next, &pick) {
+            Some(step)
+                if (step.index as usize) < n_static
+                    && walk.touch_set.binary_search(&step.index).is_ok() =>
+            {
+                walk.next += 1;
+            }
+            other => break other,
+        }
+    };
+    let from_touch = walk.touch.get(walk.touch_next).copied();
+    match (from_context, from_touch) {
+        (Some(a), Some(b)) => {
+            let touch_first = b.bound > a.bound || (b.bound == a.bound && b.index < a.index);
+            Some(if touch_first { (b, true) } else { (a, false) })
+        }
+        (Some(a), None) => Some((a, false)),
+        (None, Some(b)) => Some((b, true)),
+        (None, None) => None,
     }
 }
 
@@ -1735,25 +2017,25 @@ fn solve_in_order(prep: &Prepared<'_>, options: &SolveOptions, order: &[usize]) 
     let mut statics = Vec::with_capacity(n);
     let mut static_fails = Vec::with_capacity(n);
     // Objects alike get the same grid: worked out once for them all.
-    let mut grids: FxHashMap<StaticGridKey, StaticGrid> = FxHashMap::default();
+    let mut grids: FxHashMap<StaticGridKey, Rc<SharedGrid>> = FxHashMap::default();
     for (k, &plan_index) in order.iter().enumerate().take(n) {
         if crate::cancel::requested() {
             return RoomLayout::default();
         }
-        let (c, f) = grids.entry(static_grid_key(prep, k)).or_insert_with(|| static_grid(prep, k));
-        let mut c = c.clone();
-        shuffle_static(&mut c, plan_index, options.seed);
-        statics.push(c);
-        static_fails.push(f.clone());
+        let grid = grids
+            .entry(static_grid_key(prep, k))
+            .or_insert_with(|| Rc::new(SharedGrid::new(prep, k)));
+        static_fails.push(grid.fails.clone());
+        statics.push(StaticSet::new(Rc::clone(grid), plan_index, options.seed));
     }
     run(prep, options, statics, static_fails)
 }
 
 /// The search over objects from their static candidates.
-pub(crate) fn run(
+fn run(
     prep: &Prepared<'_>,
     options: &SolveOptions,
-    statics: Vec<Vec<Cand>>,
+    statics: Vec<StaticSet>,
     static_fails: Vec<BTreeMap<HardRule, usize>>,
 ) -> RoomLayout {
     let n = prep.problem.objects.len();
@@ -1852,9 +2134,8 @@ pub(crate) fn run(
         node_answers: FxHashMap::default(),
         reach_bases: Vec::new(),
     };
-    for (k, cands) in statics.into_iter().enumerate() {
-        let room_static = cands.iter().map(|c| search.room_left_static(k, c)).collect();
-        let set = StaticSet::new(prep, cands, room_static);
+    for (k, mut set) in statics.into_iter().enumerate() {
+        set.room_static = set.cands.iter().map(|c| search.room_left_static(k, c)).collect();
         search.statics.push(set);
     }
     let mut st = State {
