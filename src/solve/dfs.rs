@@ -377,80 +377,16 @@ struct Scorer {
     /// Each relation with its meaning, weight, the target's pose and footprint, and, for a
     /// chair around a table, the table's seats.
     relations: Vec<(RelationKind, constraints::Meaning, f64, Pose, Rect, Vec<Pose>)>,
-    /// Per relation, how far from its target it can be kept ([`Reach::of`]).
-    reaches: Vec<Reach>,
+    /// Per relation, for a chair around a table, the smallest rectangle holding the centres
+    /// of the table's seats ([`Scorer::far_bound`]).
+    seat_boxes: Vec<Option<Rect>>,
     sat_value: f64,
-}
-
-/// How far from its target a relation can be kept.
-#[derive(Clone, Copy)]
-enum Reach {
-    /// Only by a footprint within this gap (metres) of the target's: `near`, the sides, `around`
-    /// and a screen's `face to`, kept only within their largest gap.
-    Gap(f64),
-    /// Only by a centre in this rectangle: a chair at one of its table's seats.
-    Centre(Rect),
-    /// Anywhere (`far`, `face to`, `center aligned`, `face same as`).
-    Anywhere,
-}
-
-impl Reach {
-    /// The reach of a relation whose target stands at `tf` (`seats`: a table's, for a chair
-    /// around it); a little wider than the measure's own rule, so that no rounding is left out.
-    fn of(kind: RelationKind, meaning: &constraints::Meaning, seats: &[Pose]) -> Reach {
-        const SLACK: f64 = 1e-6;
-        let gap = meaning.max_gap + constraints::EPS + SLACK;
-        match kind {
-            RelationKind::Around if !seats.is_empty() => {
-                let grow = constraints::SEAT_TOLERANCE_M + constraints::EPS + SLACK;
-                let mut r = Rect {
-                    min_x: f64::INFINITY,
-                    min_z: f64::INFINITY,
-                    max_x: f64::NEG_INFINITY,
-                    max_z: f64::NEG_INFINITY,
-                };
-                for p in seats {
-                    r.min_x = r.min_x.min(p.x);
-                    r.max_x = r.max_x.max(p.x);
-                    r.min_z = r.min_z.min(p.z);
-                    r.max_z = r.max_z.max(p.z);
-                }
-                Reach::Centre(r.grow(grow))
-            }
-            RelationKind::Near
-            | RelationKind::InFrontOf
-            | RelationKind::Behind
-            | RelationKind::LeftOf
-            | RelationKind::RightOf
-            | RelationKind::SideOf
-            | RelationKind::Around
-                if gap.is_finite() =>
-            {
-                Reach::Gap(gap)
-            }
-            RelationKind::FaceTo if gap.is_finite() => Reach::Gap(gap),
-            _ => Reach::Anywhere,
-        }
-    }
-
-    /// Whether a candidate could keep the relation (to a target at `tf`).
-    fn within(&self, c: &Cand, tf: &Rect) -> bool {
-        match self {
-            Reach::Gap(gap) => {
-                let dx = (tf.min_x - c.fp.max_x).max(c.fp.min_x - tf.max_x).max(0.0);
-                let dz = (tf.min_z - c.fp.max_z).max(c.fp.min_z - tf.max_z).max(0.0);
-                dx * dx + dz * dz <= gap * gap
-            }
-            Reach::Centre(r) => r.contains_point([c.pose.x, c.pose.z]),
-            Reach::Anywhere => true,
-        }
-    }
 }
 
 impl Scorer {
     fn new(prep: &Prepared<'_>, k: usize, poses: &[Option<Pose>], sat_value: f64) -> Scorer {
         let obj = &prep.problem.objects[k];
-        let (mut relations, mut reaches) = (Vec::new(), Vec::new());
+        let (mut relations, mut seat_boxes) = (Vec::new(), Vec::new());
         for (ci, c) in obj.constraints.iter().enumerate() {
             if let (Some(Some(tp)), Some(t)) =
                 (poses.get(c.target), prep.problem.objects.get(c.target))
@@ -464,32 +400,54 @@ impl Scorer {
                     }
                     _ => Vec::new(),
                 };
-                reaches.push(Reach::of(c.kind, &meaning, &seats));
+                seat_boxes.push(seats.first().map(|first| {
+                    seats.iter().fold(footprint(first, [0.0, 0.0]), |r, p| Rect {
+                        min_x: r.min_x.min(p.x),
+                        min_z: r.min_z.min(p.z),
+                        max_x: r.max_x.max(p.x),
+                        max_z: r.max_z.max(p.z),
+                    })
+                }));
                 relations.push((c.kind, meaning, constraints::weight(c.kind), *tp, tf, seats));
             }
         }
-        Scorer { relations, reaches, sat_value }
+        Scorer { relations, seat_boxes, sat_value }
     }
 
-    /// An upper bound of [`Scorer::score`] for a candidate beyond the reach of every relation
-    /// that has one (those cannot be kept there, and a relation's graded score is at most 1),
-    /// or `None` when the candidate is within one of them or no relation has a reach: its
-    /// score is worked out. Summed as the score is, term by term no less, so that no rounding
-    /// puts the score above it.
+    /// An upper bound of [`Scorer::score`] for a candidate too far from its table's seats
+    /// to stand at one (the seats' measure is the costly part of a chair's score), or `None`
+    /// when it is near enough, or has no table: its score is worked out. Away from every seat
+    /// a chair's `around` is not kept, and its graded score is at most what the distance to the
+    /// seats' rectangle (no more than to the nearest seat) draws it by, with the most for
+    /// facing the table; every other relation is worked out as [`Scorer::score`] does. Summed
+    /// as the score is, term by term no less, so that no rounding puts the score above it.
     fn far_bound(&self, c: &Cand) -> Option<f64> {
-        let mut local = false;
+        // A little farther than the seats' own tolerance, so that no rounding is left out.
+        const SLACK: f64 = 1e-6;
+        let reach = constraints::SEAT_TOLERANCE_M + constraints::EPS + SLACK;
+        let centre = [c.pose.x, c.pose.z];
+        let boxes = || self.seat_boxes.iter().flatten();
+        if boxes().next().is_none() || boxes().any(|b| b.distance_to_point(centre) <= reach) {
+            return None;
+        }
         let mut s = 0.0;
-        for ((_, _, weight, _, tf, _), reach) in self.relations.iter().zip(&self.reaches) {
-            match reach {
-                Reach::Anywhere => s += weight * 1.0 + self.sat_value,
-                _ if reach.within(c, tf) => return None,
-                _ => {
-                    local = true;
-                    s += weight * 1.0 + 0.0;
-                }
+        for ((kind, meaning, weight, tp, tf, seats), seat_box) in
+            self.relations.iter().zip(&self.seat_boxes)
+        {
+            if let Some(seat_box) = seat_box {
+                let d = seat_box.distance_to_point(centre);
+                let toward = (1.0 - (d - SLACK).max(0.0) / 2.0).clamp(0.0, 1.0);
+                s += weight * (0.3 * toward + 0.5) + 0.0;
+            } else {
+                let m = if seats.is_empty() {
+                    constraints::relation_fit_with(*kind, meaning, &c.pose, &c.fp, tp, tf)
+                } else {
+                    constraints::around_seats(meaning, &c.pose, &c.fp, tf, seats)
+                };
+                s += weight * m.score + if m.satisfied { self.sat_value } else { 0.0 };
             }
         }
-        local.then_some(s)
+        Some(s)
     }
 
     fn score(&self, c: &Cand) -> f64 {
@@ -692,6 +650,8 @@ struct TargetContext {
     walk: RefCell<Walk>,
     /// The candidates that overlap a placed target: blocked at every node of this context.
     on_targets: Vec<u32>,
+    /// The static candidates of `on_targets`, one bit each.
+    on_target_bits: Vec<u64>,
 }
 
 /// One step of a walk: a candidate's bound, footprint and position (statics then derived),
@@ -770,17 +730,17 @@ impl StaticSet {
         StaticSet { cands, wall_touch, room_static: Vec::new(), grid, pos_of }
     }
 
-    /// The candidates (sorted, each once) that come within [`CONTACT_M`] of one of the
-    /// `placed` footprints without overlapping it: every candidate that a placed footprint can
-    /// add a touching side to. A side can only touch a footprint from just outside one of its
-    /// edges, so each edge is looked up in the sorted sides of the candidates.
-    fn touching(&self, placed: &[Rect]) -> Vec<u32> {
+    /// The candidates (sorted, each once) that come within [`CONTACT_M`] of the placed
+    /// footprint `p` without overlapping it: every candidate that it can add a touching side
+    /// to. A side can only touch a footprint from just outside one of its edges, so each edge
+    /// is looked up in the sorted sides of the candidates.
+    fn touching(&self, p: &Rect) -> Vec<u32> {
         // A little wider than the rules below, so that no rounding leaves a candidate out;
         // the test itself is the one the walk makes.
         const SLACK: f64 = 1e-9;
         let (eps, c) = (constraints::EPS, CONTACT_M);
         let mut out = Vec::new();
-        for p in placed {
+        {
             let grown = p.grow(c);
             // (side of the candidate, from, to): beyond +x, short of −x, beyond +z, short of −z.
             let shells = [
@@ -900,6 +860,8 @@ struct Search<'p, 'a> {
     pin_breaks: Vec<(usize, HardRule)>,
     /// Per object, its poses anywhere in the room ([`anywhere_candidates`]), once asked for.
     anywhere: RefCell<Vec<Option<Rc<Vec<Cand>>>>>,
+    /// Per object and placed footprint (its bits), the object's static candidates it touches.
+    touch_answers: RefCell<FxHashMap<TouchKey, Rc<[u32]>>>,
     /// Target contexts by object and the bits of its targets' poses.
     contexts: RefCell<FxHashMap<ContextKey, Rc<TargetContext>>>,
     /// Reachability answers by the bits of the footprints (placed, then the candidate).
@@ -945,6 +907,12 @@ struct NodeWalk {
     blockers: BTreeMap<usize, usize>,
     cleared_out: usize,
 }
+
+/// A key of [`Search::touching`]: the object and the bits of a placed footprint.
+type TouchKey = (usize, [u64; 4]);
+
+/// The most answers of [`Search::touching`] kept; the store is emptied when it is full.
+const MAX_TOUCH_ANSWERS: usize = 1 << 16;
 
 /// The most nodes whose candidates are kept; the store is emptied when it is full.
 const MAX_NODE_ANSWERS: usize = 4096;
@@ -1058,6 +1026,23 @@ impl Search<'_, '_> {
             self.visit(k + 1, disc, st);
             st.fails[k] = None;
         }
+    }
+
+    /// Object `k`'s static candidates that the placed footprint `fp` can add a touching side
+    /// to ([`StaticSet::touching`]): worked out once per footprint, as the search meets the
+    /// same footprints placed again and again.
+    fn touching(&self, k: usize, fp: &Rect) -> Rc<[u32]> {
+        let key = (k, [fp.min_x, fp.min_z, fp.max_x, fp.max_z].map(f64::to_bits));
+        if let Some(found) = self.touch_answers.borrow().get(&key) {
+            return Rc::clone(found);
+        }
+        let found: Rc<[u32]> = self.statics[k].touching(fp).into();
+        let mut answers = self.touch_answers.borrow_mut();
+        if answers.len() >= MAX_TOUCH_ANSWERS {
+            answers.clear();
+        }
+        answers.insert(key, Rc::clone(&found));
+        found
     }
 
     /// The candidates of object `k` at this node, the first of them found. Each round of
@@ -1279,10 +1264,11 @@ impl Search<'_, '_> {
         let n = set.cands.len() + derived.len();
         let (mut scores, mut bounds) = (Vec::with_capacity(n), Vec::with_capacity(n));
         let scorer = Scorer::new(prep, k, poses, self.sat_value);
+        let lazy = scorer.seat_boxes.iter().any(Option::is_some);
         for (i, c) in set.cands.iter().chain(derived.iter()).enumerate() {
-            // A static candidate out of reach of every relation that has a reach is bounded
-            // without its score, worked out only if the walk comes to it (NaN until then).
-            let far = if i < set.cands.len() { scorer.far_bound(c) } else { None };
+            // A chair's static candidate far from its table's seats is bounded without its
+            // score, worked out only if the walk comes to it (NaN until then).
+            let far = if lazy && i < set.cands.len() { scorer.far_bound(c) } else { None };
             let (s, score) = match far {
                 Some(bound) => (bound, f64::NAN),
                 None => {
@@ -1330,7 +1316,19 @@ impl Search<'_, '_> {
                 !targets.iter().any(|t| t.overlaps(&fp))
             });
         let walk = RefCell::new(Walk { steps: Vec::new(), rest });
-        let context = Rc::new(TargetContext { derived, scores, scorer, bounds, walk, on_targets });
+        let mut on_target_bits = vec![0u64; set.cands.len().div_ceil(64)];
+        for &i in on_targets.iter().filter(|&&i| (i as usize) < set.cands.len()) {
+            on_target_bits[i as usize / 64] |= 1 << (i % 64);
+        }
+        let context = Rc::new(TargetContext {
+            derived,
+            scores,
+            scorer,
+            bounds,
+            walk,
+            on_targets,
+            on_target_bits,
+        });
         let mut contexts = self.contexts.borrow_mut();
         if contexts.len() >= MAX_TARGET_CONTEXTS {
             contexts.clear();
@@ -1623,11 +1621,13 @@ impl Search<'_, '_> {
         }
         // The static candidates a placed footprint can add a touching side to, but those on a
         // target (met apart, below): each met once, in the node's own walk.
-        let touch_set: Vec<u32> = self.statics[k]
-            .touching(st.grid.rects())
-            .into_iter()
-            .filter(|i| context.on_targets.binary_search(i).is_err())
-            .collect();
+        let mut touch_set: Vec<u32> = Vec::new();
+        for fp in st.grid.rects() {
+            touch_set.extend_from_slice(&self.touching(k, fp));
+        }
+        touch_set.sort_unstable();
+        touch_set.dedup();
+        touch_set.retain(|&i| context.on_target_bits[i as usize / 64] & (1 << (i % 64)) == 0);
         let mut touch: Vec<Step> = touch_set
             .iter()
             .map(|&i| {
@@ -2130,6 +2130,7 @@ fn run(
         pin_breaks: Vec::new(),
         anywhere: RefCell::new(vec![None; n]),
         contexts: RefCell::new(FxHashMap::default()),
+        touch_answers: RefCell::new(FxHashMap::default()),
         reach_answers: FxHashMap::default(),
         node_answers: FxHashMap::default(),
         reach_bases: Vec::new(),
