@@ -570,7 +570,8 @@ fn every_object_asked_is_placed_or_reported() {
 /// all yet: at some seeds the teacher's desk goes to a short wall, where three rows do not fit.
 /// Over seeds 1 to 10 the build kept 960 of 980 relations before the chain was looked at, 967
 /// after, 972 since the way behind a chair is as wide as the reachability grid needs (the
-/// agent and one cell).
+/// agent and one cell), 973 since a pass of discrepancy tries the teacher's desk's other poses
+/// first.
 #[test]
 fn the_classroom_keeps_its_rows_with_other_seeds() {
     let path = Path::new("examples/classroom.holo");
@@ -593,5 +594,5 @@ fn the_classroom_keeps_its_rows_with_other_seeds() {
         }
     }
     assert_eq!(total_all, 980);
-    assert!(kept_all >= 972, "{kept_all} of {total_all} relations kept over seeds 1 to 10");
+    assert!(kept_all >= 973, "{kept_all} of {total_all} relations kept over seeds 1 to 10");
 }

@@ -855,6 +855,9 @@ struct Search<'p, 'a> {
     /// search returns. Every layout the search improves on is measured, so a larger budget,
     /// which walks the same nodes first, never returns a worse layout.
     kept: Option<(State, Rank)>,
+    /// The first object without a pin: where each round of discrepancy tries other poses
+    /// first (see [`Search::visit`]).
+    anchor: Option<usize>,
     /// The nodes walked when `kept` was found.
     found_at: u64,
     pin_breaks: Vec<(usize, HardRule)>,
@@ -995,6 +998,12 @@ impl Search<'_, '_> {
         let mut tried = 0usize;
         let mut pruned = false;
         let mut reach_checks = 0;
+        // At the anchor (the first object the search chooses a pose for: the first of the
+        // largest group, see `placement_order`) a round spends its discrepancy here first: its
+        // best pose, with the discrepancy left for the objects after it, is walked last. The
+        // same paths, in another order.
+        let anchor_first = Some(k) == self.anchor && disc > 0;
+        let mut best_last: Option<(Cand, f64)> = None;
         while tried <= disc && reach_checks < REACH_TRIES {
             let Some((c, s)) = self.node_candidate(k, st, &found, reach_checks) else { break };
             let (c, s) = (&c, &s);
@@ -1008,6 +1017,11 @@ impl Search<'_, '_> {
             if self.boxed(c, st) {
                 continue;
             }
+            if anchor_first && tried == 0 {
+                best_last = Some((*c, *s));
+                tried += 1;
+                continue;
+            }
             let v = self.placed_value + s;
             self.place(k, c.pose, c.fp, v, "dfs", st);
             self.visit(k + 1, disc - tried, st);
@@ -1015,6 +1029,14 @@ impl Search<'_, '_> {
             tried += 1;
             if self.out_of_budget() {
                 break;
+            }
+        }
+        if let Some((c, s)) = best_last {
+            if !self.out_of_budget() {
+                let v = self.placed_value + s;
+                self.place(k, c.pose, c.fp, v, "dfs", st);
+                self.visit(k + 1, disc, st);
+                self.unplace(k, v, st);
             }
         }
         if tried == 0 && !pruned {
@@ -2126,6 +2148,7 @@ fn run(
         nodes: 0,
         best: None,
         kept: None,
+        anchor: prep.problem.objects.iter().position(|o| o.pin.is_none()),
         found_at: 0,
         pin_breaks: Vec::new(),
         anywhere: RefCell::new(vec![None; n]),
