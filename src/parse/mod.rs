@@ -170,35 +170,17 @@ fn parse_cut(
     let mut used: rustc_hash::FxHashMap<String, std::rc::Rc<Chunk>> =
         rustc_hash::FxHashMap::default();
     let mut used_groups = GroupMap::default();
-    let mut items = Vec::new();
-    let mut diagnostics = Vec::new();
+    let mut tree = CutTree::default();
     let mut pieces = Vec::with_capacity(starts.len());
-    let mut previous_end: Option<usize> = None;
     for (k, &start) in starts.iter().enumerate() {
         let end = starts.get(k + 1).copied().unwrap_or(text.len());
         let piece = &text[start..end];
-        let (items_before, diagnostics_before) = (items.len(), diagnostics.len());
         if !keep {
             let Some(chunk) = parse_piece_cached(piece, &cache.groups, &mut used_groups) else {
                 return parse_whole(sources, file);
             };
-            let m = relocate::Move::shift(file, start as i64);
-            let Chunk { items: mut piece_items, diagnostics: mut piece_diagnostics, groups: _ } =
-                chunk;
-            relocate::Relocate::relocate(&mut piece_items, m);
-            let blank = blank_before(text, file, previous_end, &piece_items);
-            items.extend(blank.clone());
-            previous_end = piece_items.last().map(|i| item_span(i).end as usize).or(previous_end);
-            items.extend(piece_items);
-            relocate::Relocate::relocate(&mut piece_diagnostics, m);
-            diagnostics.extend(piece_diagnostics);
-            pieces.push(Piece {
-                start,
-                items: items.len() - items_before,
-                blank: blank.is_some(),
-                diagnostics: diagnostics.len() - diagnostics_before,
-                groups: Vec::new(),
-            });
+            let Chunk { items: piece_items, diagnostics: piece_diagnostics, groups: _ } = chunk;
+            pieces.push(tree.place(text, file, start, piece_items, piece_diagnostics));
             continue;
         }
         let (key, chunk) = match used.get(piece) {
@@ -224,35 +206,17 @@ fn parse_cut(
                 },
             },
         };
-        let m = relocate::Move::shift(file, start as i64);
-        let mut piece_items = chunk.items.clone();
-        relocate::Relocate::relocate(&mut piece_items, m);
-        let blank = blank_before(text, file, previous_end, &piece_items);
-        items.extend(blank.clone());
-        previous_end = piece_items.last().map(|i| item_span(i).end as usize).or(previous_end);
-        items.extend(piece_items);
-        let mut piece_diagnostics = chunk.diagnostics.clone();
-        relocate::Relocate::relocate(&mut piece_diagnostics, m);
-        diagnostics.extend(piece_diagnostics);
-        pieces.push(Piece {
-            start,
-            items: items.len() - items_before,
-            blank: blank.is_some(),
-            diagnostics: diagnostics.len() - diagnostics_before,
-            groups: chunk.groups.clone(),
-        });
+        pieces.push(tree.place(text, file, start, chunk.items.clone(), chunk.diagnostics.clone()));
         if let Some(key) = key {
             used.insert(key, chunk);
         }
     }
-    // Only what the text still holds is kept. The rooms' statement groups are not: they are
-    // a second copy of every room's statements, and what they save is parsing a room's other
-    // statements again at its next edit, which only the rooms being edited need
-    // ([`parse_edited`] keeps the groups of the rooms it parses again).
+    // Only what the text still holds is kept. The rooms' statement groups are not (the pieces
+    // are placed without them): they are a second copy of every room's statements, and what
+    // they save is parsing a room's other statements again at its next edit, which only the
+    // rooms being edited need ([`parse_edited`] keeps the groups of the rooms it parses again).
     drop(used_groups);
-    for piece in &mut pieces {
-        piece.groups = Vec::new();
-    }
+    let CutTree { items, diagnostics, .. } = tree;
     cache.chunks = used;
     cache.groups = GroupMap::default();
     cache.last = Some(LastCut {
@@ -264,6 +228,46 @@ fn parse_cut(
     cache.generation += 1;
     cache.tree = Some(cache.generation);
     Outcome::new(ast::File { items, span: Span::new(file, 0, text.len()) }, diagnostics)
+}
+
+/// The tree [`parse_cut`] puts together from its pieces: the items, the diagnostics, and where
+/// the items placed so far end (for the blank line kept before the next piece).
+#[derive(Default)]
+struct CutTree {
+    items: Vec<ast::Item>,
+    diagnostics: Vec<Diagnostic>,
+    previous_end: Option<usize>,
+}
+
+impl CutTree {
+    /// Puts the items and diagnostics of a piece parsed on its own where the piece starts in
+    /// the text, with the blank line kept before it; its [`Piece`], without statement groups.
+    fn place(
+        &mut self,
+        text: &str,
+        file: FileId,
+        start: usize,
+        mut piece_items: Vec<ast::Item>,
+        mut piece_diagnostics: Vec<Diagnostic>,
+    ) -> Piece {
+        let (items_before, diagnostics_before) = (self.items.len(), self.diagnostics.len());
+        let m = relocate::Move::shift(file, start as i64);
+        relocate::Relocate::relocate(&mut piece_items, m);
+        let blank = blank_before(text, file, self.previous_end, &piece_items);
+        self.items.extend(blank.clone());
+        self.previous_end =
+            piece_items.last().map(|i| item_span(i).end as usize).or(self.previous_end);
+        self.items.extend(piece_items);
+        relocate::Relocate::relocate(&mut piece_diagnostics, m);
+        self.diagnostics.extend(piece_diagnostics);
+        Piece {
+            start,
+            items: self.items.len() - items_before,
+            blank: blank.is_some(),
+            diagnostics: self.diagnostics.len() - diagnostics_before,
+            groups: Vec::new(),
+        }
+    }
 }
 
 /// The blank line kept before a piece's items: when the text between the end of the items
