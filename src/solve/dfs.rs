@@ -20,7 +20,7 @@ use rustc_hash::FxHashMap;
 use super::constraints::{
     self, footprint, half_extents, HardRule, Occupancy, Pose, ReachBase, Rect, Rot,
 };
-use super::grid::FootprintGrid;
+use super::grid::{CentreIndex, FootprintGrid};
 use super::{measure_object, PlacedFloor, Prepared, RoomLayout, SolveOptions, Unplaced};
 use crate::check::scene::{GlobalKind, RelationKind};
 
@@ -201,13 +201,13 @@ fn dedup_cands(v: &mut Vec<Cand>) {
     // positive so that the cast truncates like `floor`, which is cheaper than `round`).
     let q = |v: f64| (v * 1e4 + 1e9 + 0.5) as i64;
     let key = |c: &Cand| (q(c.pose.x), q(c.pose.z), c.pose.rot);
-    // Each key worked out once; the sort is stable (equal keys keep their order, the first of
-    // them is kept) and finds the runs already in order (each rotation's grid is one).
-    let mut keyed: Vec<_> = v.iter().map(|c| (key(c), *c)).collect();
-    keyed.sort_by_key(|a| a.0);
+    // Each key worked out once and sorted with the candidate's place (equal keys keep their
+    // order, the first of them is kept), the candidates gathered after.
+    let mut keyed: Vec<_> = v.iter().zip(0u32..).map(|(c, i)| (key(c), i)).collect();
+    keyed.sort_unstable();
     keyed.dedup_by(|a, b| a.0 == b.0);
-    v.clear();
-    v.extend(keyed.into_iter().map(|(_, c)| c));
+    let kept: Vec<Cand> = keyed.iter().map(|&(_, i)| v[i as usize]).collect();
+    *v = kept;
 }
 
 /// Candidates derived from the placed targets of object `k`'s relations: flush against a
@@ -450,6 +450,50 @@ impl Scorer {
         Some(s)
     }
 
+    /// Per relation, how near a candidate must stand to its target for the relation to hold
+    /// ([`Reach`]).
+    fn reaches(&self) -> Vec<Reach> {
+        // Wider than the measures' own tolerances by more than any rounding of a gap.
+        const SLACK: f64 = 1e-6;
+        let (eps, seat) = (constraints::EPS, constraints::SEAT_TOLERANCE_M);
+        self.relations
+            .iter()
+            .zip(&self.seat_boxes)
+            .map(|((kind, meaning, _, _, tf, _), seat_box)| match (kind, seat_box) {
+                (RelationKind::Around, Some(seats)) => Reach::Seats(*seats, seat + eps + SLACK),
+                (RelationKind::Around, None) if meaning.ring.is_some() => Reach::Anywhere,
+                (
+                    RelationKind::Near
+                    | RelationKind::InFrontOf
+                    | RelationKind::Behind
+                    | RelationKind::LeftOf
+                    | RelationKind::RightOf
+                    | RelationKind::SideOf
+                    | RelationKind::Around
+                    | RelationKind::FaceTo,
+                    _,
+                ) if meaning.max_gap.is_finite() => {
+                    // A side relation also asks the centre to lie across from the target
+                    // (within `EPS`), which the gap of the footprints measures with it.
+                    Reach::Gap(*tf, meaning.max_gap + 3.0 * eps + SLACK)
+                }
+                _ => Reach::Anywhere,
+            })
+            .collect()
+    }
+
+    /// An upper bound of the score of every candidate that stands beyond the reach of every
+    /// relation `reaches` bounds (none of those holds there; each score is at most 1), summed
+    /// as [`Scorer::score`] sums, term by term no less.
+    fn beyond_reach(&self, reaches: &[Reach]) -> f64 {
+        let mut s = 0.0;
+        for ((_, _, weight, ..), reach) in self.relations.iter().zip(reaches) {
+            let sat = if matches!(reach, Reach::Anywhere) { self.sat_value } else { 0.0 };
+            s += weight * 1.0 + sat;
+        }
+        s
+    }
+
     fn score(&self, c: &Cand) -> f64 {
         let mut s = 0.0;
         for (kind, meaning, weight, tp, tf, seats) in &self.relations {
@@ -461,6 +505,27 @@ impl Scorer {
             s += weight * m.score + if m.satisfied { self.sat_value } else { 0.0 };
         }
         s
+    }
+}
+
+/// How near to its target a candidate must stand for a relation to hold: its footprint within
+/// a gap of the target's footprint, its centre within a distance of the rectangle holding a
+/// table's seats, or anywhere (a relation of facing or alignment).
+#[derive(Clone, Copy, Debug)]
+enum Reach {
+    Gap(Rect, f64),
+    Seats(Rect, f64),
+    Anywhere,
+}
+
+impl Reach {
+    /// Whether candidate `c` stands within the reach (always for `Anywhere`).
+    fn holds(&self, c: &Cand) -> bool {
+        match self {
+            Reach::Gap(tf, d) => c.fp.gap(tf) <= *d,
+            Reach::Seats(seats, d) => seats.distance_to_point([c.pose.x, c.pose.z]) <= *d,
+            Reach::Anywhere => true,
+        }
     }
 }
 
@@ -600,6 +665,8 @@ struct StaticSet {
     /// Per candidate, what [`Search::room_left_for_dependents`] would count with nothing
     /// placed: an upper bound of it at every node.
     room_static: Vec<(u8, u8)>,
+    /// The most of each part of `room_static` over the candidates.
+    room_max: (u8, u8),
     /// The grid the candidates were shuffled from, shared by the objects alike.
     grid: Rc<SharedGrid>,
     /// Per place in the grid, the candidate's position in `cands`.
@@ -616,6 +683,9 @@ struct SharedGrid {
     /// `max_z`), sorted by that coordinate: the candidates that can touch a placed footprint
     /// are looked up here ([`StaticSet::touching`]).
     edges: [Vec<(f64, u32)>; 4],
+    /// The places in the grid by their centres: the candidates near a placed target are
+    /// looked up here ([`Search::target_context`]).
+    centres: CentreIndex,
 }
 
 impl SharedGrid {
@@ -630,7 +700,9 @@ impl SharedGrid {
             v
         };
         let edges = [edge(|r| r.min_x), edge(|r| r.max_x), edge(|r| r.min_z), edge(|r| r.max_z)];
-        SharedGrid { cands, fails, wall_touch, edges }
+        let fps: Vec<Rect> = cands.iter().map(|c| c.fp).collect();
+        let centres = CentreIndex::new(&prep.room.bounds, &fps);
+        SharedGrid { cands, fails, wall_touch, edges, centres }
     }
 }
 
@@ -641,10 +713,10 @@ impl SharedGrid {
 /// other objects), so this is worked out once per set of target poses.
 struct TargetContext {
     derived: Vec<Cand>,
-    /// Per candidate, its score; NaN for one bounded without it ([`Scorer::far_bound`]).
-    scores: Vec<f64>,
     scorer: Scorer,
-    bounds: Vec<f64>,
+    /// Whether a chair's static candidates far from its table's seats are bounded without
+    /// their scores ([`Scorer::far_bound`]).
+    lazy: bool,
     /// The candidates that do not overlap a placed target in the order of their bounds (best
     /// first), put in order lazily: a node rarely walks far down the list.
     walk: RefCell<Walk>,
@@ -668,45 +740,171 @@ struct Step {
 struct Walk {
     steps: Vec<Step>,
     rest: Vec<u32>,
+    /// Per candidate, its score; NaN for one bounded without it ([`Scorer::far_bound`]) or not
+    /// worked out yet (waiting in a tier).
+    scores: Vec<f64>,
+    /// Per candidate, an upper bound of its ordering key (worked out for those in `rest`).
+    bounds: Vec<f64>,
+    /// Per candidate, the tier it waits in, plus one (0: not waiting).
+    waiting: Vec<u8>,
+    /// The candidates beyond the reach ([`Reach`]) of some of the object's relations that have
+    /// one, by how many of those relations they are within reach of: every other such
+    /// relation is broken there, so each tier has one bound for all its candidates, and none
+    /// of them is worked out until the walk comes down to it. Best (last) first.
+    tiers: Vec<Tier>,
 }
 
 /// How many candidates a walk puts in order at first; each further piece doubles it.
 const FIRST_STEPS: usize = 64;
 
+/// The candidates waiting for the walk to come down to a bound.
+#[derive(Clone, Copy, Debug)]
+struct Tier {
+    /// An upper bound of the ordering key of each of them, every side touching something.
+    bound: f64,
+    /// Whether they have joined the walk.
+    joined: bool,
+}
+
 impl TargetContext {
-    /// The `n`th step of the walk, putting more of it in order when needed.
-    fn step(&self, n: usize, cand_of: impl Fn(usize) -> Cand) -> Option<Step> {
+    /// The `n`th step of object `k`'s walk, putting more of it in order when needed.
+    fn step(&self, n: usize, search: &Search<'_, '_>, k: usize) -> Option<Step> {
         let mut walk = self.walk.borrow_mut();
-        if n >= walk.steps.len() && !walk.rest.is_empty() {
-            let bounds = &self.bounds;
+        if n >= walk.steps.len() {
+            self.extend(&mut walk, search, k);
+        }
+        walk.steps.get(n).copied()
+    }
+
+    /// The best tier still waiting, if any.
+    fn next_tier(walk: &Walk) -> Option<usize> {
+        walk.tiers.iter().rposition(|t| !t.joined)
+    }
+
+    /// Puts the next piece of the walk in order. A tier waiting joins it first when nothing
+    /// left in it has a bound above the tier's.
+    fn extend(&self, walk: &mut Walk, search: &Search<'_, '_>, k: usize) {
+        let set = &search.statics[k];
+        let n_static = set.cands.len();
+        let cand_of =
+            |i: usize| if i < n_static { set.cands[i] } else { self.derived[i - n_static] };
+        loop {
+            let tier = TargetContext::next_tier(walk);
+            let above = match tier {
+                Some(t) => {
+                    let (bound, bounds) = (walk.tiers[t].bound, &walk.bounds);
+                    let above = |&&i: &&u32| bounds[i as usize].total_cmp(&bound).is_gt();
+                    walk.rest.iter().filter(above).count()
+                }
+                None => walk.rest.len(),
+            };
+            if above == 0 {
+                let Some(t) = tier else { return };
+                self.join(walk, t, search, k);
+                continue;
+            }
+            let Walk { steps, rest, scores, bounds, .. } = &mut *walk;
+            let bounds = &*bounds;
             let better = |a: &u32, b: &u32| {
                 bounds[*b as usize].total_cmp(&bounds[*a as usize]).then(a.cmp(b))
             };
-            let take = walk.steps.len().max(FIRST_STEPS).min(walk.rest.len());
-            let Walk { steps, rest } = &mut *walk;
+            let take = steps.len().max(FIRST_STEPS).min(above);
             if take < rest.len() {
                 rest.select_nth_unstable_by(take - 1, better);
             }
             let mut piece: Vec<u32> = rest.drain(..take).collect();
             piece.sort_unstable_by(better);
-            steps.extend(piece.into_iter().map(|i| Step {
-                bound: bounds[i as usize],
-                cand: cand_of(i as usize),
-                score: self.score_of(i as usize, &cand_of(i as usize)),
-                index: i,
+            steps.extend(piece.into_iter().map(|i| {
+                let at = i as usize;
+                let cand = cand_of(at);
+                let score = if scores[at].is_nan() { self.scorer.score(&cand) } else { scores[at] };
+                Step { bound: bounds[at], cand, score, index: i }
             }));
+            return;
         }
-        walk.steps.get(n).copied()
     }
 
-    /// Candidate `i`'s score, worked out now if the context bounded it without.
-    fn score_of(&self, i: usize, c: &Cand) -> f64 {
-        let s = self.scores[i];
-        if s.is_nan() {
-            self.scorer.score(c)
-        } else {
-            s
+    /// Works out tier `t`'s candidates as the others were, and puts them with the rest.
+    fn join(&self, walk: &mut Walk, t: usize, search: &Search<'_, '_>, k: usize) {
+        let set = &search.statics[k];
+        let n_static = set.cands.len();
+        walk.tiers[t].joined = true;
+        let mark = u8::try_from(t + 1).unwrap_or(u8::MAX);
+        for at in 0..walk.waiting.len() {
+            if walk.waiting[at] != mark {
+                continue;
+            }
+            walk.waiting[at] = 0;
+            let (score, bound) = if at < n_static {
+                static_bound(&self.scorer, self.lazy, search.sat_value, set, at)
+            } else {
+                search.derived_bound(&self.scorer, k, &self.derived[at - n_static])
+            };
+            walk.scores[at] = score;
+            walk.bounds[at] = bound;
+            walk.rest.push(u32::try_from(at).unwrap_or(u32::MAX));
         }
+    }
+
+    /// Static candidate `i`'s step in a node's walk of the candidates touching placed
+    /// footprints: bounded with every side touching something, by its tier's bound for one
+    /// waiting (its score worked out only if the walk comes to it, NaN until then).
+    fn touch_step(&self, i: u32, set: &StaticSet, sat_value: f64) -> Step {
+        let at = i as usize;
+        let cand = set.cands[at];
+        let walk = self.walk.borrow();
+        if let Some(t) = walk.waiting.get(at).and_then(|&w| w.checked_sub(1)) {
+            let bound = walk.tiers[t as usize].bound;
+            return Step { bound, cand, score: f64::NAN, index: i };
+        }
+        let score =
+            if walk.scores[at].is_nan() { self.scorer.score(&cand) } else { walk.scores[at] };
+        let (kept, close) = set.room_static.get(at).copied().unwrap_or((u8::MAX, u8::MAX));
+        let bound = ordering_key(score, sat_value, f64::from(kept), f64::from(close), 4.0);
+        Step { bound, cand, score, index: i }
+    }
+}
+
+/// Static candidate `i`'s score (NaN when bounded without it) and the upper bound of its
+/// ordering key with every relation of a later object still kept and the sides that touch a
+/// wall (those that touch a placed footprint are the node's to add, see `NodeWalk::touch`).
+fn static_bound(
+    scorer: &Scorer,
+    lazy: bool,
+    sat_value: f64,
+    set: &StaticSet,
+    i: usize,
+) -> (f64, f64) {
+    let c = &set.cands[i];
+    // A chair's static candidate far from its table's seats is bounded without its score,
+    // worked out only if the walk comes to it.
+    let (s, score) = match lazy.then(|| scorer.far_bound(c)).flatten() {
+        Some(bound) => (bound, f64::NAN),
+        None => {
+            let s = scorer.score(c);
+            (s, s)
+        }
+    };
+    let (kept, close) = set.room_static.get(i).copied().unwrap_or((u8::MAX, u8::MAX));
+    let sides = set.wall_touch.get(i).map_or(4, |w| w.count_ones());
+    (score, ordering_key(s, sat_value, f64::from(kept), f64::from(close), f64::from(sides)))
+}
+
+#[cfg(test)]
+thread_local! {
+    /// Tests set this to work out every candidate of a target context, without tiers.
+    static WHOLE_CONTEXTS: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+}
+
+/// Whether target contexts work out every candidate (only tests ask for it, to compare).
+fn whole_contexts() -> bool {
+    #[cfg(test)]
+    {
+        WHOLE_CONTEXTS.with(std::cell::Cell::get)
+    }
+    #[cfg(not(test))]
+    {
+        false
     }
 }
 
@@ -727,7 +925,7 @@ impl StaticSet {
         for (at, &g) in (0u32..).zip(&order) {
             pos_of[g as usize] = at;
         }
-        StaticSet { cands, wall_touch, room_static: Vec::new(), grid, pos_of }
+        StaticSet { cands, wall_touch, room_static: Vec::new(), room_max: (0, 0), grid, pos_of }
     }
 
     /// The candidates (sorted, each once) that come within [`CONTACT_M`] of the placed
@@ -1233,6 +1431,30 @@ impl Search<'_, '_> {
         offsets.into_iter().flatten().map(move |o| o.at(&pose))
     }
 
+    /// Everything [`Search::room_left_static`] reads of object `k` besides its candidate and
+    /// its static grid: its ring of chairs and, per later object with a side relation to it,
+    /// the relation, gaps and reach and the later object's smaller side.
+    fn room_signature(&self, k: usize) -> Vec<u64> {
+        let mut sig = Vec::new();
+        if let Some(ring) = &self.rings[k] {
+            sig.extend([ring.seats as u64, ring.seat[0].to_bits(), ring.seat[1].to_bits()]);
+        }
+        for d in &self.dependents[k] {
+            let dep = &self.prep.problem.objects[d.object];
+            let side = dep.size[0].min(dep.size[1]);
+            sig.extend([
+                u64::MAX,
+                d.kind as u64,
+                d.gaps.0.to_bits(),
+                d.gaps.1.to_bits(),
+                u64::from(d.ring),
+                d.reach.to_bits(),
+                side.to_bits(),
+            ]);
+        }
+        sig
+    }
+
     /// [`Search::room_left_for_dependents`] with nothing placed: what no node can exceed.
     fn room_left_static(&self, k: usize, c: &Cand) -> (u8, u8) {
         let (kept, close) = self.room_left_where(k, c, |z| self.zone_open(z));
@@ -1265,6 +1487,14 @@ impl Search<'_, '_> {
         (kept, close)
     }
 
+    /// Derived candidate `c`'s score and the upper bound of its ordering key: its room for
+    /// later objects worked out here, every side counted as touching something.
+    fn derived_bound(&self, scorer: &Scorer, k: usize, c: &Cand) -> (f64, f64) {
+        let s = scorer.score(c);
+        let (kept, close) = self.room_left_static(k, c);
+        (s, ordering_key(s, self.sat_value, f64::from(kept), f64::from(close), 4.0))
+    }
+
     /// The target context of object `k` with the targets posed as in `poses`, worked out now
     /// or found again.
     fn target_context(&self, k: usize, poses: &[Option<Pose>]) -> Rc<TargetContext> {
@@ -1283,42 +1513,10 @@ impl Search<'_, '_> {
         }
         let set = &self.statics[k];
         let derived = derived_candidates(prep, k, poses);
-        let n = set.cands.len() + derived.len();
-        let (mut scores, mut bounds) = (Vec::with_capacity(n), Vec::with_capacity(n));
+        let n_static = set.cands.len();
+        let n = n_static + derived.len();
         let scorer = Scorer::new(prep, k, poses, self.sat_value);
         let lazy = scorer.seat_boxes.iter().any(Option::is_some);
-        for (i, c) in set.cands.iter().chain(derived.iter()).enumerate() {
-            // A chair's static candidate far from its table's seats is bounded without its
-            // score, worked out only if the walk comes to it (NaN until then).
-            let far = if lazy && i < set.cands.len() { scorer.far_bound(c) } else { None };
-            let (s, score) = match far {
-                Some(bound) => (bound, f64::NAN),
-                None => {
-                    let s = scorer.score(c);
-                    (s, s)
-                }
-            };
-            // The ordering key (see `walk_to`) with every relation of a later object still
-            // kept and every side touching something: for a static candidate, the sides that
-            // touch a wall (those that touch a placed footprint are the node's to add, see
-            // `NodeWalk::touch`).
-            let (kept, close, sides) = match (set.room_static.get(i), set.wall_touch.get(i)) {
-                (Some(&(kept, close)), Some(walls)) => (kept, close, walls.count_ones()),
-                _ => {
-                    let (kept, close) = self.room_left_static(k, c);
-                    (kept, close, 4)
-                }
-            };
-            let bound = ordering_key(
-                s,
-                self.sat_value,
-                f64::from(kept),
-                f64::from(close),
-                f64::from(sides),
-            );
-            scores.push(score);
-            bounds.push(bound);
-        }
         let targets: Vec<Rect> = obj
             .constraints
             .iter()
@@ -1327,30 +1525,98 @@ impl Search<'_, '_> {
                 Some(footprint(&pose, prep.problem.objects.get(c.target)?.size))
             })
             .collect();
-        let (rest, on_targets): (Vec<u32>, Vec<u32>) = (0..u32::try_from(n).unwrap_or(u32::MAX))
-            .partition(|&i| {
-                let i = i as usize;
-                let fp = if i < set.cands.len() {
-                    set.cands[i].fp
+        let on_target = |c: &Cand| targets.iter().any(|t| t.overlaps(&c.fp));
+        let (mut scores, mut bounds) = (vec![f64::NAN; n], vec![f64::NAN; n]);
+        let (mut rest, mut on_targets) = (Vec::new(), Vec::new());
+        let mut waiting = Vec::new();
+        let mut tiers = Vec::new();
+        // The relations that hold only near their targets: a candidate beyond reach of some
+        // of them waits in a tier (see `Walk::tiers`); with none, every candidate is worked out.
+        let reaches = scorer.reaches();
+        let limited: Vec<&Reach> =
+            reaches.iter().filter(|r| !matches!(r, Reach::Anywhere)).collect();
+        let sat = self.sat_value;
+        // (Tiers are counted in bytes: an object with more such relations than that is worked
+        // out whole.)
+        if limited.is_empty() || limited.len() >= usize::from(u8::MAX) || whole_contexts() {
+            for i in 0..u32::try_from(n_static).unwrap_or(u32::MAX) {
+                let at = i as usize;
+                if on_target(&set.cands[at]) {
+                    on_targets.push(i);
                 } else {
-                    derived[i - set.cands.len()].fp
-                };
-                !targets.iter().any(|t| t.overlaps(&fp))
-            });
-        let walk = RefCell::new(Walk { steps: Vec::new(), rest });
-        let mut on_target_bits = vec![0u64; set.cands.len().div_ceil(64)];
-        for &i in on_targets.iter().filter(|&&i| (i as usize) < set.cands.len()) {
+                    (scores[at], bounds[at]) = static_bound(&scorer, lazy, sat, set, at);
+                    rest.push(i);
+                }
+            }
+        } else {
+            // How many of those relations each static candidate is within reach of, and
+            // which stand on a target (looked up by their centres).
+            let grid = &set.grid;
+            let mut within = vec![0u8; n_static];
+            let mut on = vec![false; n_static];
+            for reach in &limited {
+                let (Reach::Gap(r, d) | Reach::Seats(r, d)) = reach else { continue };
+                grid.centres.within(r, *d, |g| {
+                    if reach.holds(&grid.cands[g as usize]) {
+                        let at = set.pos_of[g as usize] as usize;
+                        within[at] = within[at].saturating_add(1);
+                    }
+                });
+            }
+            for t in &targets {
+                grid.centres.within(t, 0.0, |g| {
+                    if t.overlaps(&grid.cands[g as usize].fp) {
+                        on[set.pos_of[g as usize] as usize] = true;
+                    }
+                });
+            }
+            let all = u8::try_from(limited.len()).unwrap_or(u8::MAX);
+            waiting = vec![0u8; n];
+            for i in 0..u32::try_from(n_static).unwrap_or(u32::MAX) {
+                let at = i as usize;
+                if on[at] {
+                    on_targets.push(i);
+                } else if within[at] >= all {
+                    (scores[at], bounds[at]) = static_bound(&scorer, lazy, sat, set, at);
+                    rest.push(i);
+                } else {
+                    waiting[at] = within[at] + 1;
+                }
+            }
+            // Every tier's bound: its relations within reach may hold, the others cannot;
+            // every later object's relation kept (as many as there are, for a derived
+            // candidate) and every side touching something.
+            let most = u8::try_from(self.dependents[k].len()).unwrap_or(u8::MAX);
+            let (kept, close) = (set.room_max.0.max(most), set.room_max.1.max(most));
+            let full = scorer.beyond_reach(&reaches);
+            for j in 0..all {
+                let s = full + sat * f64::from(j);
+                let key = ordering_key(s, sat, f64::from(kept), f64::from(close), 4.0);
+                // Above any rounding of the keys it bounds.
+                tiers.push(Tier { bound: key + key.abs() * 1e-12 + 1e-9, joined: false });
+            }
+        }
+        for (i, c) in (0..u32::try_from(n).unwrap_or(u32::MAX)).skip(n_static).zip(&derived) {
+            let at = i as usize;
+            if on_target(c) {
+                on_targets.push(i);
+                continue;
+            }
+            let within = limited.iter().filter(|r| r.holds(c)).count();
+            if !tiers.is_empty() && within < limited.len() {
+                waiting[at] = u8::try_from(within + 1).unwrap_or(u8::MAX);
+                continue;
+            }
+            (scores[at], bounds[at]) = self.derived_bound(&scorer, k, c);
+            rest.push(i);
+        }
+        let mut on_target_bits = vec![0u64; n_static.div_ceil(64)];
+        for &i in on_targets.iter().filter(|&&i| (i as usize) < n_static) {
             on_target_bits[i as usize / 64] |= 1 << (i % 64);
         }
-        let context = Rc::new(TargetContext {
-            derived,
-            scores,
-            scorer,
-            bounds,
-            walk,
-            on_targets,
-            on_target_bits,
-        });
+        let walk = RefCell::new(Walk { steps: Vec::new(), rest, scores, bounds, waiting, tiers });
+        let context =
+            Rc::new(TargetContext { derived, scorer, lazy, walk, on_targets, on_target_bits });
         let mut contexts = self.contexts.borrow_mut();
         if contexts.len() >= MAX_TARGET_CONTEXTS {
             contexts.clear();
@@ -1650,18 +1916,9 @@ impl Search<'_, '_> {
         touch_set.sort_unstable();
         touch_set.dedup();
         touch_set.retain(|&i| context.on_target_bits[i as usize / 64] & (1 << (i % 64)) == 0);
-        let mut touch: Vec<Step> = touch_set
-            .iter()
-            .map(|&i| {
-                let at = i as usize;
-                let set = &self.statics[k];
-                let (kept, close) = set.room_static[at];
-                let score = context.score_of(at, &set.cands[at]);
-                let bound =
-                    ordering_key(score, self.sat_value, f64::from(kept), f64::from(close), 4.0);
-                Step { bound, cand: set.cands[at], score, index: i }
-            })
-            .collect();
+        let set = &self.statics[k];
+        let mut touch: Vec<Step> =
+            touch_set.iter().map(|&i| context.touch_step(i, set, self.sat_value)).collect();
         touch.sort_unstable_by(|a, b| b.bound.total_cmp(&a.bound).then(a.index.cmp(&b.index)));
         let mut walk = NodeWalk {
             kept: Vec::new(),
@@ -1734,8 +1991,6 @@ impl Search<'_, '_> {
         let context = self.target_context(k, &st.poses);
         let set = &self.statics[k];
         let n_static = set.cands.len();
-        let derived = &context.derived;
-        let pick = |i: usize| if i < n_static { set.cands[i] } else { derived[i - n_static] };
         // No step left can come before the `m`th kept: the steps are met in the order of their
         // bounds and then of their positions, as the kept are ordered by key and position.
         let stops = |walk: &NodeWalk, step: &Step| {
@@ -1747,7 +2002,7 @@ impl Search<'_, '_> {
         if walk.done {
             return;
         }
-        match next_step(&context, walk, n_static, pick) {
+        match next_step(&context, walk, self, k) {
             None => walk.done = true,
             Some((step, _)) if stops(walk, &step) => return,
             Some(_) => {}
@@ -1787,7 +2042,7 @@ impl Search<'_, '_> {
             }
         };
         loop {
-            let Some((step, touches)) = next_step(&context, walk, n_static, pick) else {
+            let Some((step, touches)) = next_step(&context, walk, self, k) else {
                 walk.done = true;
                 break;
             };
@@ -1811,7 +2066,8 @@ impl Search<'_, '_> {
                 continue;
             }
             let sides = sides(i, &c);
-            let s = step.score;
+            // A touching candidate beyond reach is scored only now.
+            let s = if step.score.is_nan() { context.scorer.score(&c) } else { step.score };
             let (kept, close) = self.room_left_for_dependents(k, &c, placed, &reserved);
             let covers = |zones: &[Rect]| zones.iter().all(|z| z.overlaps(&c.fp));
             let broken = promises.iter().filter(|p| covers(&p.zones)).count()
@@ -1841,11 +2097,12 @@ impl Search<'_, '_> {
 fn next_step(
     context: &TargetContext,
     walk: &mut NodeWalk,
-    n_static: usize,
-    pick: impl Fn(usize) -> Cand,
+    search: &Search<'_, '_>,
+    k: usize,
 ) -> Option<(Step, bool)> {
+    let n_static = search.statics[k].cands.len();
     let from_context = loop {
-        match context.step(walk.next, &pick) {
+        match context.step(walk.next, search, k) {
             Some(step)
                 if (step.index as usize) < n_static
                     && walk.touch_set.binary_search(&step.index).is_ok() =>
@@ -2053,6 +2310,10 @@ fn solve_in_order(prep: &Prepared<'_>, options: &SolveOptions, order: &[usize]) 
     run(prep, options, statics, static_fails)
 }
 
+/// A shared grid (by its address, which only tells grids apart) and what
+/// [`Search::room_left_static`] reads of an object ([`Search::room_signature`]).
+type RoomKey = (usize, Vec<u64>);
+
 /// The search over objects from their static candidates.
 fn run(
     prep: &Prepared<'_>,
@@ -2158,8 +2419,21 @@ fn run(
         node_answers: FxHashMap::default(),
         reach_bases: Vec::new(),
     };
+    // What a candidate leaves for later objects with nothing placed depends on the grid and
+    // on the later objects' relations: objects alike with alike dependents (the desks of a
+    // row) share it, worked out once in the grid's order.
+    let mut room_by_grid: FxHashMap<RoomKey, Vec<(u8, u8)>> = FxHashMap::default();
     for (k, mut set) in statics.into_iter().enumerate() {
-        set.room_static = set.cands.iter().map(|c| search.room_left_static(k, c)).collect();
+        let key = (Rc::as_ptr(&set.grid) as usize, search.room_signature(k));
+        let by_grid = room_by_grid.entry(key).or_insert_with(|| {
+            set.grid.cands.iter().map(|c| search.room_left_static(k, c)).collect()
+        });
+        let mut room_static = vec![(0, 0); set.cands.len()];
+        for (g, &at) in set.pos_of.iter().enumerate() {
+            room_static[at as usize] = by_grid[g];
+        }
+        set.room_static = room_static;
+        set.room_max = set.room_static.iter().fold((0, 0), |m, r| (m.0.max(r.0), m.1.max(r.1)));
         search.statics.push(set);
     }
     let mut st = State {
@@ -2292,6 +2566,97 @@ mod tests {
         // Nothing to reorder: plan order.
         let q = problem(&[([1.0, 1.0], true, false, vec![]), ([0.5, 0.5], true, false, vec![0])]);
         assert_eq!(placement_order(&q), vec![0, 1]);
+    }
+
+    /// One object of a test room: its size, whether it stands against a wall, its role and its
+    /// relations (kind, target).
+    type TestObject = ([f64; 2], bool, Role, Vec<(RelationKind, usize)>);
+
+    /// A room of objects, 6 m by 5 m.
+    fn problem_with(objects: &[TestObject]) -> RoomProblem {
+        let mut p = problem(&[]);
+        p.outline = vec![[0.0, 0.0], [0.0, 5.0], [6.0, 5.0], [6.0, 0.0]];
+        p.objects = objects
+            .iter()
+            .enumerate()
+            .map(|(k, (size, edge, role, relations))| FloorObject {
+                id: format!("obj-{k}"),
+                size: *size,
+                height: 0.8,
+                global: if *edge { GlobalKind::Edge } else { GlobalKind::Middle },
+                role: *role,
+                constraints: relations
+                    .iter()
+                    .map(|&(kind, target)| ProblemConstraint { kind, target, span: None })
+                    .collect(),
+                pin: None,
+                thor_type: None,
+                span: None,
+            })
+            .collect();
+        p
+    }
+
+    /// Every pose, the unplaced and the nodes of a layout, to compare two to the bit.
+    fn layout_bits(l: &RoomLayout) -> String {
+        use std::fmt::Write as _;
+        let mut out = format!("nodes {} found {} score {:?}\n", l.nodes, l.found_at, l.score);
+        for f in &l.floor {
+            let _ = writeln!(out, "{} {:?} {:?} {:?}", f.index, f.pose.x, f.pose.z, f.pose.rot);
+        }
+        for u in &l.unplaced {
+            let _ = writeln!(out, "unplaced {} {}", u.id, u.reason);
+        }
+        out
+    }
+
+    const KINDS: [RelationKind; 9] = [
+        RelationKind::Near,
+        RelationKind::SideOf,
+        RelationKind::InFrontOf,
+        RelationKind::Behind,
+        RelationKind::LeftOf,
+        RelationKind::FaceTo,
+        RelationKind::FaceSameAs,
+        RelationKind::CenterAligned,
+        RelationKind::Around,
+    ];
+    const ROLES: [Role; 5] = [Role::Other, Role::Seat, Role::Table, Role::Desk, Role::Screen];
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 48, rng_seed: proptest::test_runner::RngSeed::Fixed(0x7469_6572), ..ProptestConfig::default() })]
+        /// The tiers of a target context (candidates beyond reach of a relation met only when
+        /// the walk comes down to them) change no layout: the same poses, nodes and score as
+        /// with every candidate worked out.
+        #[test]
+        fn tiers_change_no_layout(
+            objects in prop::collection::vec(
+                ((0.3f64..1.6, 0.3f64..1.6), prop::bool::weighted(0.3), 0usize..5,
+                 prop::collection::vec((0usize..9, any::<prop::sample::Index>()), 0..3)),
+                2..10,
+            ),
+            seed in 0u64..4,
+        ) {
+            let objects: Vec<_> = objects
+                .iter()
+                .enumerate()
+                .map(|(k, ((w, d), edge, role, relations))| {
+                    let relations = if k == 0 {
+                        Vec::new()
+                    } else {
+                        relations.iter().map(|(kind, t)| (KINDS[*kind], t.index(k))).collect()
+                    };
+                    ([*w, *d], *edge, ROLES[*role], relations)
+                })
+                .collect();
+            let p = problem_with(&objects);
+            let options = SolveOptions { seed, node_budget: 150, ..SolveOptions::default() };
+            let tiered = crate::solve::solve_room(&p, &options).value;
+            WHOLE_CONTEXTS.with(|w| w.set(true));
+            let whole = crate::solve::solve_room(&p, &options).value;
+            WHOLE_CONTEXTS.with(|w| w.set(false));
+            prop_assert_eq!(layout_bits(&tiered), layout_bits(&whole));
+        }
     }
 
     proptest! {

@@ -32,18 +32,26 @@ const MAX_CELLS_PER_SIDE: usize = 64;
 #[derive(Clone)]
 pub(crate) struct FootprintGrid {
     rects: Vec<Rect>,
+    at: Cells,
+    /// Per cell (row-major, x fastest), the indices of the footprints covering it, ascending.
+    cells: Vec<Vec<u32>>,
+}
+
+/// Where the cells of a bucket grid over a room lie: square cells of one side from an origin,
+/// `nx` by `nz` of them; coordinates outside are clamped into the edge cells.
+#[derive(Clone, Copy)]
+struct Cells {
     x0: f64,
     z0: f64,
     inv_cell: f64,
     nx: usize,
     nz: usize,
-    /// Per cell (row-major, x fastest), the indices of the footprints covering it, ascending.
-    cells: Vec<Vec<u32>>,
 }
 
-impl FootprintGrid {
-    /// The grid over `bounds` (the room's bounding box) holding `rects`.
-    pub(crate) fn new(bounds: &Rect, rects: Vec<Rect>) -> FootprintGrid {
+impl Cells {
+    /// Cells of [`CELL_M`] over `bounds` (the room's bounding box), larger when the room
+    /// would pass [`MAX_CELLS_PER_SIDE`] on a side.
+    fn over(bounds: &Rect) -> Cells {
         let (w, d) = (bounds.width().max(0.0), bounds.depth().max(0.0));
         let longest = w.max(d);
         let cell = if longest / CELL_M > MAX_CELLS_PER_SIDE as f64 {
@@ -62,14 +70,51 @@ impl FootprintGrid {
         let (nx, nz) = (count(w), count(d));
         let x0 = if bounds.min_x.is_finite() { bounds.min_x } else { 0.0 };
         let z0 = if bounds.min_z.is_finite() { bounds.min_z } else { 0.0 };
+        Cells { x0, z0, inv_cell: 1.0 / cell, nx, nz }
+    }
+
+    /// One cell holding everything.
+    fn one() -> Cells {
+        Cells { x0: 0.0, z0: 0.0, inv_cell: 0.0, nx: 1, nz: 1 }
+    }
+
+    fn count(&self) -> usize {
+        self.nx * self.nz
+    }
+
+    /// The cell index of coordinate `v` along an axis starting at `origin` with `n` cells,
+    /// clamped into the grid.
+    #[inline]
+    fn cell_of(&self, v: f64, origin: f64, n: usize) -> usize {
+        // Clamped into the grid first (`max` takes 0 for NaN), then truncated, which is the
+        // floor for what is not negative (and no libm call on a hot path).
+        let c = ((v - origin) * self.inv_cell).max(0.0).min((n - 1) as f64);
+        c as usize
+    }
+
+    /// The cell (row-major, x fastest) of a point, clamped into the grid.
+    #[inline]
+    fn of_point(&self, p: [f64; 2]) -> usize {
+        self.cell_of(p[1], self.z0, self.nz) * self.nx + self.cell_of(p[0], self.x0, self.nx)
+    }
+
+    /// The inclusive cell ranges along x and z a rectangle covers, clamped into the grid.
+    #[inline]
+    fn span(&self, r: &Rect) -> ((usize, usize), (usize, usize)) {
+        let xs = (self.cell_of(r.min_x, self.x0, self.nx), self.cell_of(r.max_x, self.x0, self.nx));
+        let zs = (self.cell_of(r.min_z, self.z0, self.nz), self.cell_of(r.max_z, self.z0, self.nz));
+        ((xs.0, xs.1.max(xs.0)), (zs.0, zs.1.max(zs.0)))
+    }
+}
+
+impl FootprintGrid {
+    /// The grid over `bounds` (the room's bounding box) holding `rects`.
+    pub(crate) fn new(bounds: &Rect, rects: Vec<Rect>) -> FootprintGrid {
+        let at = Cells::over(bounds);
         let mut grid = FootprintGrid {
             rects: Vec::with_capacity(rects.len()),
-            x0,
-            z0,
-            inv_cell: 1.0 / cell,
-            nx,
-            nz,
-            cells: vec![Vec::new(); nx * nz],
+            at,
+            cells: vec![Vec::new(); at.count()],
         };
         for r in rects {
             grid.push(r);
@@ -81,17 +126,17 @@ impl FootprintGrid {
     /// footprints asked about at one node only, cheaper than a grid to make and to drop.
     pub(crate) fn scan(rects: Vec<Rect>) -> FootprintGrid {
         let all = (0..u32::try_from(rects.len()).unwrap_or(u32::MAX)).collect();
-        FootprintGrid { rects, x0: 0.0, z0: 0.0, inv_cell: 0.0, nx: 1, nz: 1, cells: vec![all] }
+        FootprintGrid { rects, at: Cells::one(), cells: vec![all] }
     }
 
     /// Adds a footprint after the others (its index is the number held before).
     pub(crate) fn push(&mut self, r: Rect) {
         // More than `u32::MAX` footprints cannot be indexed: such a one is held but never found.
         if let Ok(index) = u32::try_from(self.rects.len()) {
-            let (xs, zs) = self.span(&r);
+            let (xs, zs) = self.at.span(&r);
             for cz in zs.0..=zs.1 {
                 for cx in xs.0..=xs.1 {
-                    self.cells[cz * self.nx + cx].push(index);
+                    self.cells[cz * self.at.nx + cx].push(index);
                 }
             }
         }
@@ -102,11 +147,11 @@ impl FootprintGrid {
     pub(crate) fn pop(&mut self) -> Option<Rect> {
         let r = self.rects.pop()?;
         let Ok(index) = u32::try_from(self.rects.len()) else { return Some(r) };
-        let (xs, zs) = self.span(&r);
+        let (xs, zs) = self.at.span(&r);
         for cz in zs.0..=zs.1 {
             for cx in xs.0..=xs.1 {
                 // Indices in a cell ascend and this one is the largest: it is the cell's last.
-                let cell = &mut self.cells[cz * self.nx + cx];
+                let cell = &mut self.cells[cz * self.at.nx + cx];
                 if cell.last() == Some(&index) {
                     cell.pop();
                 }
@@ -121,31 +166,13 @@ impl FootprintGrid {
         self.rects.len()
     }
 
-    /// The cell index of coordinate `v` along an axis starting at `origin` with `n` cells,
-    /// clamped into the grid.
-    #[inline]
-    fn cell_of(&self, v: f64, origin: f64, n: usize) -> usize {
-        // Clamped into the grid first (`max` takes 0 for NaN), then truncated, which is the
-        // floor for what is not negative (and no libm call on a hot path).
-        let c = ((v - origin) * self.inv_cell).max(0.0).min((n - 1) as f64);
-        c as usize
-    }
-
-    /// The inclusive cell ranges along x and z a rectangle covers, clamped into the grid.
-    #[inline]
-    fn span(&self, r: &Rect) -> ((usize, usize), (usize, usize)) {
-        let xs = (self.cell_of(r.min_x, self.x0, self.nx), self.cell_of(r.max_x, self.x0, self.nx));
-        let zs = (self.cell_of(r.min_z, self.z0, self.nz), self.cell_of(r.max_z, self.z0, self.nz));
-        ((xs.0, xs.1.max(xs.0)), (zs.0, zs.1.max(zs.0)))
-    }
-
     /// Calls `f` with the index of every footprint in a cell `r` covers (a footprint in
     /// several such cells comes several times); stops when `f` returns `false`.
     fn for_each_near(&self, r: &Rect, mut f: impl FnMut(usize) -> bool) {
-        let (xs, zs) = self.span(r);
+        let (xs, zs) = self.at.span(r);
         for cz in zs.0..=zs.1 {
             for cx in xs.0..=xs.1 {
-                for &i in &self.cells[cz * self.nx + cx] {
+                for &i in &self.cells[cz * self.at.nx + cx] {
                     if !f(i as usize) {
                         return;
                     }
@@ -201,6 +228,74 @@ impl FootprintGrid {
     }
 }
 
+/// The candidate poses of one object bucketed by their centres: which of them can stand within
+/// a distance of a rectangle is looked up in the cells near it instead of going through all.
+///
+/// A footprint whose half extents are at most `half` can come within `d` of a rectangle only
+/// if its centre lies in the rectangle grown by `d` plus `half` along each axis; the lookup
+/// gives every candidate whose centre's cell meets that box (clamping keeps it a superset) and
+/// the caller tests each one.
+pub(crate) struct CentreIndex {
+    at: Cells,
+    /// Per cell, where its candidates begin in `items` (one more entry than cells).
+    starts: Vec<u32>,
+    /// The candidates' indices, cell after cell, ascending within a cell.
+    items: Vec<u32>,
+    /// The largest half extents along x and z of the footprints indexed.
+    half: [f64; 2],
+}
+
+impl CentreIndex {
+    /// The index over `bounds` (the room's bounding box) of `footprints`, by their centres.
+    pub(crate) fn new(bounds: &Rect, footprints: &[Rect]) -> CentreIndex {
+        let at = Cells::over(bounds);
+        let mut half = [0.0f64; 2];
+        let cells: Vec<usize> = footprints
+            .iter()
+            .map(|fp| {
+                half[0] = half[0].max(fp.width() / 2.0);
+                half[1] = half[1].max(fp.depth() / 2.0);
+                at.of_point(fp.center())
+            })
+            .collect();
+        let mut starts = vec![0u32; at.count() + 1];
+        for &c in &cells {
+            starts[c + 1] += 1;
+        }
+        for c in 0..at.count() {
+            starts[c + 1] += starts[c];
+        }
+        let mut fill = starts.clone();
+        let mut items = vec![0u32; cells.len()];
+        for (i, &c) in (0u32..).zip(&cells) {
+            items[fill[c] as usize] = i;
+            fill[c] += 1;
+        }
+        CentreIndex { at, starts, items, half }
+    }
+
+    /// Calls `f` with every candidate whose footprint can come within `d` of `r` (each once, in
+    /// no particular order; some may be farther: the caller tests).
+    pub(crate) fn within(&self, r: &Rect, d: f64, mut f: impl FnMut(u32)) {
+        // Beyond any rounding of a footprint's centre and half extents.
+        const SLACK: f64 = 1e-6;
+        let box_ = Rect {
+            min_x: r.min_x - d - self.half[0] - SLACK,
+            max_x: r.max_x + d + self.half[0] + SLACK,
+            min_z: r.min_z - d - self.half[1] - SLACK,
+            max_z: r.max_z + d + self.half[1] + SLACK,
+        };
+        let (xs, zs) = self.at.span(&box_);
+        for cz in zs.0..=zs.1 {
+            let row = cz * self.at.nx;
+            let (a, b) = (self.starts[row + xs.0] as usize, self.starts[row + xs.1 + 1] as usize);
+            for &i in &self.items[a..b] {
+                f(i);
+            }
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -243,6 +338,41 @@ mod tests {
                 let mut seen = vec![false; rects.len()];
                 grid.near(&q, |i| seen[i] = true);
                 assert!(rects.iter().enumerate().all(|(i, r)| !r.overlaps(&q) || seen[i]));
+            }
+        }
+    }
+
+    #[test]
+    fn the_centre_index_finds_every_footprint_within_a_distance() {
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(5);
+        for room in [rect(0.0, 0.0, 7.0, 8.0), rect(-3.0, 2.0, 50.0, 0.6)] {
+            let fps: Vec<Rect> = (0..500)
+                .map(|_| {
+                    rect(
+                        rng.gen_range(room.min_x - 0.5..room.max_x + 0.5),
+                        rng.gen_range(room.min_z - 0.5..room.max_z + 0.5),
+                        rng.gen_range(0.0..1.5),
+                        rng.gen_range(0.0..1.5),
+                    )
+                })
+                .collect();
+            let index = CentreIndex::new(&room, &fps);
+            for _ in 0..500 {
+                let q = rect(
+                    rng.gen_range(room.min_x - 2.0..room.max_x + 2.0),
+                    rng.gen_range(room.min_z - 2.0..room.max_z + 2.0),
+                    rng.gen_range(0.0..2.0),
+                    rng.gen_range(0.0..2.0),
+                );
+                let d = rng.gen_range(0.0..1.5);
+                let mut seen = vec![0u32; fps.len()];
+                index.within(&q, d, |i| seen[i as usize] += 1);
+                assert!(seen.iter().all(|&n| n <= 1), "each candidate at most once");
+                for (i, fp) in fps.iter().enumerate() {
+                    if fp.gap(&q) <= d {
+                        assert_eq!(seen[i], 1, "{fp:?} is within {d} of {q:?}");
+                    }
+                }
             }
         }
     }
