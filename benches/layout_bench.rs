@@ -3,7 +3,10 @@
 //! `cargo bench --bench layout_bench -- --table` prints a table per room (median time of the
 //! DFS over a few runs, objects placed, constraints satisfied by the DFS, by the MILP and by the
 //! greedy baseline). Without `--table` it runs criterion on a few representative rooms (a
-//! criterion filter such as `dfs/classroom_25` picks one).
+//! criterion filter such as `dfs/classroom_25` picks one). `--why` prints the objects each room
+//! leaves out and the constraints its layout breaks, `--summary` one line per room and the
+//! totals (`--budget N` sets their node budget); `--only NAME` keeps one room, `--dir DIR` reads
+//! the rooms of another folder.
 
 // The table is the point of this binary: it prints to stdout on purpose.
 #![allow(clippy::print_stdout)]
@@ -131,9 +134,14 @@ fn table(rooms: &[(String, RoomProblem)]) {
 }
 
 fn main() {
-    let mut rooms = solve_corpus::load_all();
-    // `--only NAME` keeps one room (for profiling with `--table` or `--repeat`).
     let args: Vec<String> = std::env::args().collect();
+    // `--dir DIR` reads the rooms of another folder in the corpus's format (the generator of
+    // `make_corpus.py` at other seeds and sizes) instead of the corpus.
+    let mut rooms = match args.iter().position(|a| a == "--dir").and_then(|i| args.get(i + 1)) {
+        Some(dir) => solve_corpus::load_dir(std::path::Path::new(dir)),
+        None => solve_corpus::load_all(),
+    };
+    // `--only NAME` keeps one room (for profiling with `--table` or `--repeat`).
     if let Some(name) = args.iter().position(|a| a == "--only").and_then(|i| args.get(i + 1)) {
         rooms.retain(|(n, _)| n == name);
     }
@@ -149,6 +157,49 @@ fn main() {
     }
     if args.iter().any(|a| a == "--table") {
         table(&rooms);
+        return;
+    }
+    // `--budget N` sets the node budget of `--summary` and `--why` (0: the greedy pass).
+    let options = match args.iter().position(|a| a == "--budget").and_then(|i| args.get(i + 1)) {
+        Some(n) => {
+            SolveOptions { node_budget: n.parse().unwrap_or(1000), ..SolveOptions::default() }
+        }
+        None => SolveOptions::default(),
+    };
+    // `--summary` prints one line per room (objects, placed, constraints kept, nodes, found
+    // at) and the totals: a quick comparison of two builds over many rooms.
+    if args.iter().any(|a| a == "--summary") {
+        let (mut placed, mut kept, mut total, mut nodes) = (0, 0, 0, 0);
+        for (name, p) in &rooms {
+            let out = solve::solve_room(p, &options).value;
+            let (ok, all) = out.constraint_tally(p);
+            println!(
+                "{name} {} placed {} kept {ok}/{all} nodes {} found {}",
+                p.objects.len(),
+                out.floor.len(),
+                out.nodes,
+                out.found_at
+            );
+            (placed, kept, total, nodes) =
+                (placed + out.floor.len(), kept + ok, total + all, nodes + out.nodes);
+        }
+        println!("all: placed {placed} kept {kept}/{total} nodes {nodes}");
+        return;
+    }
+    // `--why` prints, per room, the objects left out and the constraints the layout breaks.
+    if args.iter().any(|a| a == "--why") {
+        for (name, p) in &rooms {
+            let out = solve::solve_room(p, &options).value;
+            println!("{name}: {} nodes, found at {}", out.nodes, out.found_at);
+            for u in &out.unplaced {
+                println!("  left out {}: {}", u.id, u.reason);
+            }
+            for f in &out.floor {
+                for c in f.constraints.iter().filter(|c| !c.measure.satisfied) {
+                    println!("  {} {}: {:?}", p.objects[f.index].id, c.text, c.measure);
+                }
+            }
+        }
         return;
     }
     let mut c = Criterion::default().configure_from_args().sample_size(20);

@@ -53,7 +53,7 @@ pub(crate) fn grid_step(bounds: &Rect) -> f64 {
 
 /// The step along walls: 1/40 of the room's longer side, between 10 and 25 cm.
 pub(crate) fn wall_step(bounds: &Rect) -> f64 {
-    (bounds.width().max(bounds.depth()) / 40.0).clamp(0.1, 0.25)
+    (bounds.width().max(bounds.depth()) / 60.0).clamp(0.1, 0.15)
 }
 
 /// Coordinates along one axis: a grid from `lo + h` to `hi − h` plus both ends.
@@ -1444,6 +1444,7 @@ impl Search<'_, '_> {
             let side = dep.size[0].min(dep.size[1]);
             sig.extend([
                 u64::MAX,
+                u64::from(dep.global == GlobalKind::Edge),
                 d.kind as u64,
                 d.gaps.0.to_bits(),
                 d.gaps.1.to_bits(),
@@ -1471,10 +1472,17 @@ impl Search<'_, '_> {
         for d in self.dependents[k].iter().filter(|d| !d.ring) {
             let dep = &self.prep.problem.objects[d.object];
             let side = dep.size[0].min(dep.size[1]);
+            // An object that wants a wall `in front of` or `behind` its target (a TV stand in
+            // front of the sofa) stands only in a zone with a wall within its own width: across
+            // the room from the sofa, not in the middle of the floor. (Beside its target, a
+            // nightstand by a bed, it stands against the target's wall, which the zone beside
+            // the middle of the bed does not show.)
+            let edge = dep.global == GlobalKind::Edge
+                && matches!(d.kind, RelationKind::InFrontOf | RelationKind::Behind);
             let (mut some_free, mut some_free_next_to) = (false, false);
             let zone = |z: Rect, listed: bool, next_to: bool| {
                 let wanted = (listed && !some_free) || (next_to && !some_free_next_to);
-                if wanted && free(&z) {
+                if wanted && (!edge || self.by_a_wall(&z, side)) && free(&z) {
                     some_free |= listed;
                     some_free_next_to |= next_to;
                 }
@@ -1891,6 +1899,21 @@ impl Search<'_, '_> {
     }
 
     /// Whether a zone is inside the room and outside the door zones.
+    /// Whether zone `z` (inside the room) has a wall within `d` of one of its sides: moved by
+    /// `d` one way or another, it leaves the room.
+    fn by_a_wall(&self, z: &Rect, d: f64) -> bool {
+        let room = &self.prep.room;
+        [[-d, 0.0], [d, 0.0], [0.0, -d], [0.0, d]].iter().any(|m| {
+            let moved = Rect {
+                min_x: z.min_x + m[0],
+                max_x: z.max_x + m[0],
+                min_z: z.min_z + m[1],
+                max_z: z.max_z + m[1],
+            };
+            !room.contains_rect(&moved)
+        })
+    }
+
     fn zone_open(&self, z: &Rect) -> bool {
         self.prep.room.contains_rect(z) && !self.prep.keep_out.iter().any(|o| o.overlaps(z))
     }

@@ -70,7 +70,12 @@ pub fn corpus_dir() -> PathBuf {
 
 /// Every corpus room, sorted by file name.
 pub fn load_all() -> Vec<(String, RoomProblem)> {
-    let mut files: Vec<PathBuf> = std::fs::read_dir(corpus_dir())
+    load_dir(&corpus_dir())
+}
+
+/// Every room of a folder of rooms in the corpus's format, sorted by file name.
+pub fn load_dir(dir: &Path) -> Vec<(String, RoomProblem)> {
+    let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
         .expect("corpus folder exists")
         .filter_map(|e| e.ok().map(|e| e.path()))
         .filter(|p| p.extension().is_some_and(|e| e == "json"))
