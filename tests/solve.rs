@@ -107,7 +107,7 @@ fn check_use_clearances(problem: &RoomProblem, layout: &RoomLayout, beds: bool) 
     };
     for p in &layout.floor {
         let o = &problem.objects[p.index];
-        let (zones, all) = solve::constraints::use_zones(o.role, &p.pose, o.size, o.height);
+        let (zones, all) = solve::use_zones_of(problem, p.index, &p.pose);
         if zones.is_empty() || (!all && !beds) {
             continue;
         }
@@ -937,4 +937,43 @@ fn a_pass_tries_the_anchors_other_poses_first() {
     let (kept, total) = out.constraint_tally(&problem);
     assert_eq!(kept, total, "{kept} of {total}");
     assert!(out.found_at <= 100, "found at node {} (497 from the bottom up)", out.found_at);
+}
+
+/// A student desk faces the teacher and its chair is drawn up `behind` it: the desk is used
+/// from behind, so its pull-out space is there, where its chair stands, and not in front, where
+/// it would keep the row ahead (and that row's chairs) 0.75 m further off. In the corpus's
+/// classroom every student chair stands in its own desk's pull-out space, and a desk whose
+/// chair is drawn up in front of it (the teacher's desk of `classroom_rows`) keeps its space
+/// in front.
+#[test]
+fn a_desk_used_from_behind_keeps_its_pull_out_space_behind() {
+    let problem = solve_corpus::load(&solve_corpus::corpus_dir().join("classroom_25.json"));
+    let out = solve::solve_room(&problem, &SolveOptions::default()).value;
+    let pose_of = |k: usize| out.floor.iter().find(|p| p.index == k);
+    let mut chairs = 0;
+    for (j, o) in problem.objects.iter().enumerate() {
+        let Some(c) = o.constraints.iter().find(|c| c.kind == RelationKind::Behind) else {
+            continue;
+        };
+        if !o.id.starts_with("student_chair") {
+            continue;
+        }
+        let (Some(chair), Some(desk)) = (pose_of(j), pose_of(c.target)) else { continue };
+        let (zones, _) = solve::use_zones_of(&problem, c.target, &desk.pose);
+        assert!(
+            zones.iter().any(|z| z.overlaps(&chair.footprint)),
+            "{} does not stand in the pull-out space of {}",
+            o.id,
+            problem.objects[c.target].id
+        );
+        chairs += 1;
+    }
+    assert!(chairs >= 10, "{chairs} student chairs checked");
+    let rows = solve_corpus::load(&solve_corpus::corpus_dir().join("classroom_rows.json"));
+    let out = solve::solve_room(&rows, &SolveOptions::default()).value;
+    let (teacher, chair) = (0, 1);
+    let desk = out.floor.iter().find(|p| p.index == teacher).expect("the teacher's desk stands");
+    let seat = out.floor.iter().find(|p| p.index == chair).expect("the teacher's chair stands");
+    let (zones, _) = solve::use_zones_of(&rows, teacher, &desk.pose);
+    assert!(zones.iter().any(|z| z.overlaps(&seat.footprint)), "the teacher sits at the desk");
 }

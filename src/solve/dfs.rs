@@ -231,6 +231,11 @@ pub(crate) fn derived_candidates(
         };
         let tf = footprint(tp, t.size);
         let mut gaps = target_gaps(prep, k, c.target);
+        // Right beyond the target's use-clearance that the object may not enter (a student
+        // desk in front of the teacher's, beyond its pull-out space).
+        if let Some(clear) = kept_out_of(prep.problem, k, c.target) {
+            gaps.push(clear);
+        }
         // The gaps the object's relations to this target mean (a coffee table 0.3–0.6 m in
         // front of its sofa, `near` not touching): their ends and middle; and the seats of a
         // table the object is one of the chairs around.
@@ -293,12 +298,18 @@ fn target_gaps(prep: &Prepared<'_>, k: usize, target: usize) -> Vec<f64> {
             .filter(|&ci| other.constraints[ci].target == target)
             .map(|ci| prep.meaning(j, ci).min_gap)
             .fold(0.0, f64::max);
+        // Its depth, when it faces the target or the way the target faces (a chair at a desk),
+        // as the look-ahead counts it ([`chain_depth`]).
+        let faces = other.constraints.iter().any(|c| {
+            c.target == target && matches!(c.kind, RelationKind::FaceTo | RelationKind::FaceSameAs)
+        });
         for c in other.constraints.iter().filter(|c| c.target == target) {
             let side = other.size[0].min(other.size[1]);
             gaps.push(side);
             if drawn_up(prep.problem, j, c) {
                 // A chair drawn up to the same desk, at its least gap, and the way to it.
-                aisles.push(least + side + prep.reach.aisle());
+                let depth = if faces { other.size[1] } else { side };
+                aisles.push(least + depth + prep.reach.aisle());
             }
         }
     }
@@ -308,6 +319,16 @@ fn target_gaps(prep: &Prepared<'_>, k: usize, target: usize) -> Vec<f64> {
     gaps.extend(aisles.into_iter().take(1));
     dedup(&mut gaps);
     gaps
+}
+
+/// The depth of `target`'s use-clearance in front of it when object `k` may not stand in it
+/// (a desk's pull-out space keeps out everything but a seat): `k` stands in front of it at
+/// least that far off.
+fn kept_out_of(problem: &super::RoomProblem, k: usize, target: usize) -> Option<f64> {
+    let (obj, t) = (problem.objects.get(k)?, problem.objects.get(target)?);
+    let depth = t.role.front_clearance(t.height);
+    let in_front = !super::used_from_behind(problem, target);
+    (in_front && depth > constraints::EPS && !t.role.lets_in(obj.role)).then_some(depth)
 }
 
 /// The most stand-off gaps [`target_gaps`] gives (the smallest ones), besides the one that
@@ -1836,7 +1857,7 @@ impl Search<'_, '_> {
                 continue;
             }
             let rel = related(i, k);
-            let (z, all) = constraints::use_zones(o.role, &p, o.size, o.height);
+            let (z, all) = self.prep.use_zones(i, &p);
             if z.is_empty() || (rel && o.role.lets_in(objects[k].role)) {
                 continue;
             }
@@ -1881,8 +1902,7 @@ impl Search<'_, '_> {
     /// (it does not stand in them unless it relates to that object: a chair at its desk, a
     /// coffee table before its sofa, a nightstand by its bed).
     fn clearances_kept(&self, k: usize, c: &Cand, ctx: &Clearances) -> bool {
-        let obj = &self.prep.problem.objects[k];
-        let (zones, all) = constraints::use_zones(obj.role, &c.pose, obj.size, obj.height);
+        let (zones, all) = self.prep.use_zones(k, &c.pose);
         let own_free = |z: &Rect| {
             self.prep.room.contains_rect(z) && !ctx.placed.any_overlap_where(z, |i| !ctx.related[i])
         };
@@ -2282,6 +2302,7 @@ pub(crate) fn solve(prep: &Prepared<'_>, options: &SolveOptions) -> RoomLayout {
         reach: prep.reach.clone(),
         walls: prep.walls.clone(),
         meanings: order.iter().map(|&k| prep.meanings[k].clone()).collect(),
+        from_behind: order.iter().map(|&k| prep.from_behind[k]).collect(),
     };
     let mut layout = solve_in_order(&placing, options, &order);
     // Back to plan order: the placed objects by index, the objects left out in the order of
@@ -2375,6 +2396,12 @@ fn run(
                 gaps.0 = f64::max(gaps.0, m.min_gap);
                 gaps.1 = gaps.1.min(m.max_gap);
             }
+            // In front of its target, beyond the target's use-clearance it may not enter.
+            if kind == RelationKind::InFrontOf {
+                if let Some(clear) = kept_out_of(prep.problem, j, c.target) {
+                    gaps.0 = gaps.0.max(clear);
+                }
+            }
             if gaps.1 < gaps.0 {
                 gaps.1 = gaps.0;
             }
@@ -2398,6 +2425,26 @@ fn run(
             let size = prep.problem.objects[d.object].size;
             let side = size[0].min(size[1]);
             dependents[t][i].reach = d.beyond.max(depth - side);
+        }
+    }
+    // A chair drawn up to a desk stands between the desk and what else stands out that way
+    // (the row of desks behind): that object's zone starts beyond the chair and its way.
+    for list in &mut dependents {
+        let chairs: Vec<(RelationKind, f64)> = list
+            .iter()
+            .filter(|d| d.beyond > 0.0 && !d.ring)
+            .map(|d| {
+                let size = prep.problem.objects[d.object].size;
+                (d.kind, d.gaps.0 + size[0].min(size[1]) + d.reach)
+            })
+            .collect();
+        for d in list.iter_mut().filter(|d| d.beyond == 0.0 && !d.ring) {
+            for &(kind, out) in &chairs {
+                if kind == d.kind && out > d.gaps.0 {
+                    d.gaps.0 = out;
+                    d.gaps.1 = d.gaps.1.max(out);
+                }
+            }
         }
     }
     let rings: Vec<Option<constraints::SeatRing>> = (0..n)

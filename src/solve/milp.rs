@@ -362,9 +362,9 @@ fn clearance_obstacles(
             || objects[b].constraints.iter().any(|x| x.target == a)
     };
     let fp = footprint(pose, obj.size);
-    let (own, own_all) = constraints::use_zones(obj.role, pose, obj.size, obj.height);
+    let (own, own_all) = prep.use_zones(k, pose);
     let depth = obj.role.front_clearance(obj.height);
-    let f = pose.rot.front();
+    let f = super::use_pose(pose, prep.from_behind[k]).rot.front();
     let mut out = Vec::new();
     for (i, o) in objects.iter().enumerate() {
         let Some(p) = poses.get(i).copied().flatten() else { continue };
@@ -381,7 +381,7 @@ fn clearance_obstacles(
                 max_z: ofp.max_z + if f[1] < 0.0 { depth } else { 0.0 },
             });
         }
-        let (theirs, all) = constraints::use_zones(o.role, &p, o.size, o.height);
+        let (theirs, all) = prep.use_zones(i, &p);
         if all && !(rel && o.role.lets_in(obj.role)) {
             out.extend(theirs.into_iter().filter(|z| z.overlaps(&fp)));
         }

@@ -379,9 +379,18 @@ pub(crate) struct Prepared<'a> {
     pub walls: Vec<([f64; 2], [f64; 2], [f64; 2])>,
     /// Per object and relation, what the relation means ([`meaning_of`], worked out once).
     pub meanings: Vec<Vec<Meaning>>,
+    /// Per object, whether it is used from behind ([`used_from_behind`]).
+    pub from_behind: Vec<bool>,
 }
 
 impl Prepared<'_> {
+    /// Object `k`'s use-clearance at `pose` ([`constraints::use_zones`]), on the side it is
+    /// used from.
+    pub(crate) fn use_zones(&self, k: usize, pose: &Pose) -> (Vec<Rect>, bool) {
+        let o = &self.problem.objects[k];
+        constraints::use_zones(o.role, &use_pose(pose, self.from_behind[k]), o.size, o.height)
+    }
+
     /// What relation `c` of floor object `k` means.
     pub(crate) fn meaning(&self, k: usize, c: usize) -> Meaning {
         self.meanings[k][c]
@@ -455,7 +464,8 @@ pub fn solve_room(problem: &RoomProblem, options: &SolveOptions) -> Outcome<Room
         .enumerate()
         .map(|(k, o)| o.constraints.iter().map(|c| meaning_of(problem, k, c)).collect())
         .collect();
-    let prep = Prepared { problem, room, keep_out, windows, reach, walls, meanings };
+    let from_behind = (0..problem.objects.len()).map(|k| used_from_behind(problem, k)).collect();
+    let prep = Prepared { problem, room, keep_out, windows, reach, walls, meanings, from_behind };
     let mut layout = match options.solver {
         Solver::Dfs => dfs::solve(&prep, options),
         Solver::Milp => milp::solve(&prep, options),
@@ -574,6 +584,37 @@ pub fn seat_ring(problem: &RoomProblem, t: usize) -> Option<constraints::SeatRin
     (seats > 0).then_some(constraints::SeatRing { seats, seat })
 }
 
+/// Whether object `k` is used from behind: a desk whose seat is drawn up `behind` it (a
+/// student desk facing the teacher, its chair behind it, the way the desk faces). Its
+/// pull-out space is then behind it, where its chair stands, not in front, where the row
+/// ahead sits.
+pub(crate) fn used_from_behind(problem: &RoomProblem, k: usize) -> bool {
+    problem.objects.get(k).is_some_and(|desk| desk.role == Role::Desk)
+        && problem.objects.iter().any(|o| {
+            o.role.is_seat()
+                && o.constraints.iter().any(|c| c.target == k && c.kind == RelationKind::Behind)
+        })
+}
+
+/// The pose whose front is the side an object is used from: turned round when it is used
+/// from behind.
+pub(crate) fn use_pose(pose: &Pose, from_behind: bool) -> Pose {
+    if from_behind {
+        Pose { rot: Rot::from_deg(pose.rot.deg() + 180.0), ..*pose }
+    } else {
+        *pose
+    }
+}
+
+/// The use-clearance of floor object `k` at `pose` ([`constraints::use_zones`]) on the side it
+/// is used from: behind a desk whose chair is drawn up `behind` it (a student desk facing the
+/// teacher, its chair behind it).
+pub fn use_zones_of(problem: &RoomProblem, k: usize, pose: &Pose) -> (Vec<Rect>, bool) {
+    let o = &problem.objects[k];
+    let pose = use_pose(pose, used_from_behind(problem, k));
+    constraints::use_zones(o.role, &pose, o.size, o.height)
+}
+
 /// How many of the placed floor objects that have a use-clearance keep it free (inside the
 /// room and clear of placed furniture they have no relation with; one open side for a bed),
 /// and how many have one: what the benchmark reports.
@@ -586,7 +627,7 @@ pub fn use_clearances_kept(problem: &RoomProblem, layout: &RoomLayout) -> (usize
     let (mut kept, mut total) = (0, 0);
     for p in &layout.floor {
         let o = &problem.objects[p.index];
-        let (zones, all) = constraints::use_zones(o.role, &p.pose, o.size, o.height);
+        let (zones, all) = use_zones_of(problem, p.index, &p.pose);
         if zones.is_empty() {
             continue;
         }
