@@ -1411,15 +1411,20 @@ impl Search<'_, '_> {
     }
 
     /// What candidate `c` of object `k` leaves for the side relations later objects have to
-    /// `k`: how many still find a free zone, and how many find one right next to `k`.
+    /// `k`: how many still find a free zone, and how many find one right next to `k`. A zone is
+    /// free when no placed footprint and no use-clearance `k` must keep out of (`keep_free`: a
+    /// sofa's legroom, a desk's pull-out space) covers it: a plant beside its shelf does not
+    /// stand in the legroom of the sofa next to the shelf either.
     fn room_left_for_dependents(
         &self,
         k: usize,
         c: &Cand,
         placed: &FootprintGrid,
+        keep_free: &FootprintGrid,
         reserved: &[Rect],
     ) -> (usize, usize) {
-        let (kept, close) = self.room_left_where(k, c, |z| self.zone_free(z, placed));
+        let (kept, close) =
+            self.room_left_where(k, c, |z| self.zone_free(z, placed) && !keep_free.any_overlap(z));
         let seats = self.seats_left(k, c, |p, ring| {
             let apart = seat_apart_zone(p, ring);
             self.zone_free(&seat_zone(p, ring), placed)
@@ -2111,7 +2116,8 @@ impl Search<'_, '_> {
             let sides = sides(i, &c);
             // A touching candidate beyond reach is scored only now.
             let s = if step.score.is_nan() { context.scorer.score(&c) } else { step.score };
-            let (kept, close) = self.room_left_for_dependents(k, &c, placed, &reserved);
+            let (kept, close) =
+                self.room_left_for_dependents(k, &c, placed, &clearances.keep_free, &reserved);
             let covers = |zones: &[Rect]| zones.iter().all(|z| z.overlaps(&c.fp));
             let broken = promises.iter().filter(|p| covers(&p.zones)).count()
                 + seat_promises.iter().map(|p| p.broken_by(&c.fp)).sum::<usize>();
