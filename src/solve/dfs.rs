@@ -233,7 +233,7 @@ pub(crate) fn derived_candidates(
         let mut gaps = target_gaps(prep, k, c.target);
         // Right beyond the target's use-clearance that the object may not enter (a student
         // desk in front of the teacher's, beyond its pull-out space).
-        if let Some(clear) = kept_out_of(prep.problem, k, c.target) {
+        if let Some(clear) = kept_out_of(prep, k, c.target) {
             gaps.push(clear);
         }
         // The gaps the object's relations to this target mean (a coffee table 0.3–0.6 m in
@@ -324,10 +324,10 @@ fn target_gaps(prep: &Prepared<'_>, k: usize, target: usize) -> Vec<f64> {
 /// The depth of `target`'s use-clearance in front of it when object `k` may not stand in it
 /// (a desk's pull-out space keeps out everything but a seat): `k` stands in front of it at
 /// least that far off.
-fn kept_out_of(problem: &super::RoomProblem, k: usize, target: usize) -> Option<f64> {
-    let (obj, t) = (problem.objects.get(k)?, problem.objects.get(target)?);
+fn kept_out_of(prep: &Prepared<'_>, k: usize, target: usize) -> Option<f64> {
+    let (obj, t) = (prep.problem.objects.get(k)?, prep.problem.objects.get(target)?);
     let depth = t.role.front_clearance(t.height);
-    let in_front = !super::used_from_behind(problem, target);
+    let in_front = !prep.from_behind[target];
     (in_front && depth > constraints::EPS && !t.role.lets_in(obj.role)).then_some(depth)
 }
 
@@ -2404,7 +2404,7 @@ fn run(
             }
             // In front of its target, beyond the target's use-clearance it may not enter.
             if kind == RelationKind::InFrontOf {
-                if let Some(clear) = kept_out_of(prep.problem, j, c.target) {
+                if let Some(clear) = kept_out_of(prep, j, c.target) {
                     gaps.0 = gaps.0.max(clear);
                 }
             }
@@ -2584,28 +2584,42 @@ mod tests {
     use crate::solve::{FloorObject, ProblemConstraint, Role, RoomProblem};
     use proptest::prelude::*;
 
+    /// Test object `k`: its size, whether it stands against a wall, its role and its relations
+    /// (kind, target).
+    fn object(
+        k: usize,
+        size: [f64; 2],
+        edge: bool,
+        role: Role,
+        relations: &[(RelationKind, usize)],
+    ) -> FloorObject {
+        FloorObject {
+            id: format!("obj-{k}"),
+            size,
+            height: 0.8,
+            global: if edge { GlobalKind::Edge } else { GlobalKind::Middle },
+            role,
+            constraints: relations
+                .iter()
+                .map(|&(kind, target)| ProblemConstraint { kind, target, span: None })
+                .collect(),
+            pin: None,
+            thor_type: None,
+            span: None,
+        }
+    }
+
     /// A room of objects `(size, edge, pinned, targets)`.
     fn problem(objects: &[([f64; 2], bool, bool, Vec<usize>)]) -> RoomProblem {
         let objects = objects
             .iter()
             .enumerate()
-            .map(|(k, (size, edge, pinned, targets))| FloorObject {
-                id: format!("obj-{k}"),
-                size: *size,
-                height: 0.8,
-                global: if *edge { GlobalKind::Edge } else { GlobalKind::Middle },
-                role: Role::Other,
-                constraints: targets
-                    .iter()
-                    .map(|&target| ProblemConstraint {
-                        kind: RelationKind::Near,
-                        target,
-                        span: None,
-                    })
-                    .collect(),
-                pin: pinned.then_some(Pose { x: 1.0, z: 1.0, rot: Rot::R0 }),
-                thor_type: None,
-                span: None,
+            .map(|(k, (size, edge, pinned, targets))| {
+                let near: Vec<_> = targets.iter().map(|&t| (RelationKind::Near, t)).collect();
+                FloorObject {
+                    pin: pinned.then_some(Pose { x: 1.0, z: 1.0, rot: Rot::R0 }),
+                    ..object(k, *size, *edge, Role::Other, &near)
+                }
             })
             .collect();
         RoomProblem {
@@ -2655,20 +2669,7 @@ mod tests {
         p.objects = objects
             .iter()
             .enumerate()
-            .map(|(k, (size, edge, role, relations))| FloorObject {
-                id: format!("obj-{k}"),
-                size: *size,
-                height: 0.8,
-                global: if *edge { GlobalKind::Edge } else { GlobalKind::Middle },
-                role: *role,
-                constraints: relations
-                    .iter()
-                    .map(|&(kind, target)| ProblemConstraint { kind, target, span: None })
-                    .collect(),
-                pin: None,
-                thor_type: None,
-                span: None,
-            })
+            .map(|(k, (size, edge, role, relations))| object(k, *size, *edge, *role, relations))
             .collect();
         p
     }

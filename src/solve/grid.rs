@@ -305,30 +305,27 @@ mod tests {
         Rect { min_x: x, min_z: z, max_x: x + w, max_z: z + d }
     }
 
+    /// A rectangle whose corner lies within `margin` of `room` and whose sides are below `most`.
+    fn random_rect(rng: &mut rand_chacha::ChaCha8Rng, room: &Rect, margin: f64, most: f64) -> Rect {
+        rect(
+            rng.gen_range(room.min_x - margin..room.max_x + margin),
+            rng.gen_range(room.min_z - margin..room.max_z + margin),
+            rng.gen_range(0.0..most),
+            rng.gen_range(0.0..most),
+        )
+    }
+
     #[test]
     fn answers_as_a_linear_scan_does() {
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
         for room in [rect(0.0, 0.0, 4.0, 3.0), rect(-2.0, 1.0, 40.0, 0.5), rect(0.0, 0.0, 0.1, 0.1)]
         {
-            let rects: Vec<Rect> = (0..60)
-                .map(|_| {
-                    rect(
-                        rng.gen_range(room.min_x - 1.0..room.max_x + 1.0),
-                        rng.gen_range(room.min_z - 1.0..room.max_z + 1.0),
-                        rng.gen_range(0.0..2.0),
-                        rng.gen_range(0.0..2.0),
-                    )
-                })
-                .collect();
+            let rects: Vec<Rect> =
+                (0..60).map(|_| random_rect(&mut rng, &room, 1.0, 2.0)).collect();
             let grid = FootprintGrid::new(&room, rects.clone());
             let scan = FootprintGrid::scan(rects.clone());
             for _ in 0..2000 {
-                let q = rect(
-                    rng.gen_range(room.min_x - 2.0..room.max_x + 2.0),
-                    rng.gen_range(room.min_z - 2.0..room.max_z + 2.0),
-                    rng.gen_range(0.0..3.0),
-                    rng.gen_range(0.0..3.0),
-                );
+                let q = random_rect(&mut rng, &room, 2.0, 3.0);
                 let first = rects.iter().position(|r| r.overlaps(&q));
                 assert_eq!(grid.first_overlap(&q), first);
                 assert_eq!(scan.first_overlap(&q), first);
@@ -346,24 +343,10 @@ mod tests {
     fn the_centre_index_finds_every_footprint_within_a_distance() {
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(5);
         for room in [rect(0.0, 0.0, 7.0, 8.0), rect(-3.0, 2.0, 50.0, 0.6)] {
-            let fps: Vec<Rect> = (0..500)
-                .map(|_| {
-                    rect(
-                        rng.gen_range(room.min_x - 0.5..room.max_x + 0.5),
-                        rng.gen_range(room.min_z - 0.5..room.max_z + 0.5),
-                        rng.gen_range(0.0..1.5),
-                        rng.gen_range(0.0..1.5),
-                    )
-                })
-                .collect();
+            let fps: Vec<Rect> = (0..500).map(|_| random_rect(&mut rng, &room, 0.5, 1.5)).collect();
             let index = CentreIndex::new(&room, &fps);
             for _ in 0..500 {
-                let q = rect(
-                    rng.gen_range(room.min_x - 2.0..room.max_x + 2.0),
-                    rng.gen_range(room.min_z - 2.0..room.max_z + 2.0),
-                    rng.gen_range(0.0..2.0),
-                    rng.gen_range(0.0..2.0),
-                );
+                let q = random_rect(&mut rng, &room, 2.0, 2.0);
                 let d = rng.gen_range(0.0..1.5);
                 let mut seen = vec![0u32; fps.len()];
                 index.within(&q, d, |i| seen[i as usize] += 1);
