@@ -32,6 +32,27 @@ ADDED = [
     ("ShelvingUnit", "Television", "a television on an open shelf unit"),
 ]
 
+# The things holoc makes (src/make/) have types of their own that receptacles.json cannot
+# know; where people put each, ours.
+MADE_ON = {
+    "Blanket": (["Sofa", "ArmChair", "Bed", "Ottoman", "Dresser", "ShelvingUnit"], "a folded throw on a seat, a bed or storage"),
+    "PhotoFrame": (["Dresser", "Desk", "SideTable", "ShelvingUnit", "CoffeeTable", "TVStand", "CounterTop", "DiningTable"], "a standing photo frame on furniture with a top"),
+    "Projector": (["DiningTable", "Desk", "CoffeeTable", "SideTable", "ShelvingUnit"], "a projector on a table or shelf"),
+    "ConferencePhone": (["DiningTable", "Desk", "CoffeeTable", "SideTable"], "a conference phone in the middle of a table"),
+    "PenHolder": (["Desk", "DiningTable", "ShelvingUnit", "SideTable", "Dresser", "CounterTop"], "a pen holder on a desk or a table"),
+    "Speaker": (["TVStand", "ShelvingUnit", "Desk", "SideTable", "Dresser"], "a speaker beside a screen or on a shelf"),
+    "GameConsole": (["TVStand", "ShelvingUnit", "Dresser", "SideTable"], "a console under its screen"),
+    "CuttingBoard": (["CounterTop", "DiningTable"], "a cutting board where food is prepared"),
+    "Pitcher": (["CounterTop", "DiningTable", "CoffeeTable", "SideTable", "ShelvingUnit"], "a pitcher on a table or counter"),
+    "Coasters": (["CoffeeTable", "SideTable", "DiningTable", "Desk"], "coasters where drinks are put down"),
+    "PetBowl": (["CounterTop"], "a pet bowl on a counter"),
+    "BathCaddy": (["Toilet", "CounterTop", "ShelvingUnit"], "a bath caddy on the cistern, a counter or a shelf"),
+    "PetBed": (["Bed", "Sofa", "ArmChair", "ShelvingUnit"], "a pet bed on a bed, a seat or a shelf"),
+}
+for _item, (_receptacles, _reason) in MADE_ON.items():
+    for _receptacle in _receptacles:
+        ADDED.append((_receptacle, _item, f"made by holoc: {_reason}"))
+
 
 def main():
     with open(os.path.join(SRC, "receptacles.json"), encoding="utf-8") as f:

@@ -157,6 +157,8 @@ pub struct BuildOptions<'a> {
     /// Whether assets of another type that do the same job stand in for things the catalog
     /// lacks (W0403); `--no-stand-ins` turns it off.
     pub stand_ins: bool,
+    /// Whether holoc makes what no catalog has (`crate::make`); on by default.
+    pub make: bool,
     /// Whether the rooms are solved in parallel ([`SolveOptions::rooms_in_parallel`]).
     pub rooms_in_parallel: bool,
 }
@@ -174,6 +176,7 @@ impl<'a> BuildOptions<'a> {
             agent_radius_m: None,
             repair: false,
             stand_ins: true,
+            make: true,
             rooms_in_parallel: true,
         }
     }
@@ -217,6 +220,8 @@ pub fn build(
         return Outcome::new(None, diagnostics);
     }
     let layout = solved.value;
+    let mut resolved = resolved;
+    crate::make::fit_to_layout(&layout, &mut resolved);
     crate::cancel::stage("lower");
     let mut plan = plan;
     plan.agent = crate::lower::agent_start(&plan, &layout);
@@ -275,7 +280,7 @@ fn before_solve(
         &scene,
         options.catalog,
         scene.seed,
-        &crate::resolve::ResolveOptions { stand_ins: options.stand_ins },
+        &crate::resolve::ResolveOptions { stand_ins: options.stand_ins, make: options.make },
     );
     diagnostics.extend(resolved.diagnostics);
     if has_errors(&diagnostics) || crate::cancel::requested() {

@@ -20,6 +20,7 @@ pub mod geometry;
 pub mod import;
 pub mod lower;
 pub mod lsp;
+pub mod make;
 pub mod parse;
 pub mod plan;
 pub mod render;

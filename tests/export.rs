@@ -159,6 +159,7 @@ fn rooms_objects_and_ceilings_can_be_left_out() {
         ceiling: false,
         rooms: Some(BTreeSet::from([first.clone()])),
         objects: ObjectMode::None,
+        ..ExportOptions::default()
     };
     let exported = export(house, &catalog, &options).expect("exports");
     let c = exported.counts;

@@ -244,6 +244,7 @@ fn build_text(name: &str, text: String, job: &Job, options: &RunOptions, files: 
         solver: solver_of(job),
         node_budget: job.spec.node_budget,
         stand_ins: job.spec.stand_ins.unwrap_or(true),
+        make: true,
         // The jobs run in parallel (`--jobs`); a job's rooms one after the other.
         rooms_in_parallel: false,
         ..BuildOptions::new(catalog)

@@ -122,6 +122,9 @@ pub struct SearchArgs {
     /// Do not let an asset of another type stand in (as `holoc build --no-stand-ins`).
     #[arg(long)]
     pub no_stand_ins: bool,
+    /// Show what the built-in and user catalogs give, without the assets holoc makes.
+    #[arg(long)]
+    pub no_make: bool,
     /// Desired size, width x depth x height with a unit: `200x100x80cm`, `2x1x0.8m`.
     #[arg(long, value_name = "WxDxH")]
     pub size: Option<String>,
@@ -255,7 +258,7 @@ fn search(args: &SearchArgs) -> ExitCode {
             |c: &resolve::Candidate| c.features.as_ref().map_or(c.score, |f| f.lexical_score);
         candidates.sort_by(|a, b| lexical(b).total_cmp(&lexical(a)));
     }
-    let options = resolve::ResolveOptions { stand_ins: !args.no_stand_ins };
+    let options = resolve::ResolveOptions { stand_ins: !args.no_stand_ins, make: !args.no_make };
     // The verdict is for one kind of placement: the one asked, else the first the best
     // candidate allows (a coffee machine stands on furniture), else the floor; it is named.
     let verdict_kind = kind

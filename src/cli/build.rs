@@ -91,6 +91,14 @@ pub struct BuildArgs {
     /// the same job stand in (W0403).
     #[arg(long)]
     pub no_stand_ins: bool,
+    /// Make nothing: things no catalog has are stood in for or left out, and the house uses
+    /// built-in assets only (for a plain `CreateHouse` without the run-time asset hook).
+    #[arg(long)]
+    pub no_make: bool,
+    /// Where to write the folders of the assets holoc makes (default: `<house stem>.assets/`
+    /// beside `-o`).
+    #[arg(long, value_name = "DIR")]
+    pub assets_dir: Option<PathBuf>,
 }
 
 /// Runs `holoc build`.
@@ -123,6 +131,7 @@ pub fn run(args: &BuildArgs) -> ExitCode {
         color: args.color,
         stdout_taken: args.output.as_deref().is_none_or(|p| p.as_os_str() == "-"),
         stand_ins: !args.no_stand_ins,
+        make: !args.no_make,
     };
     if args.emit == Emit::Glb && request.stdout_taken {
         common::emit_plain(
@@ -138,9 +147,32 @@ pub fn run(args: &BuildArgs) -> ExitCode {
         Ok(built) => built,
         Err(code) => return code,
     };
+    // The assets holoc made, written before the house that names them.
+    let made = crate::make::used_in(
+        &product.resolved,
+        product.objects.iter().map(|o| o.asset_id.as_str()),
+    );
+    let made_folder = args.assets_dir.clone().or_else(|| match args.output.as_deref() {
+        Some(p) if p.as_os_str() != "-" => Some(crate::make::folder_beside(p)),
+        _ => None,
+    });
+    let writes_house = args.emit == Emit::House;
+    if let (false, true, Some(dir)) = (made.is_empty(), writes_house, &made_folder) {
+        let refs: Vec<&crate::make::MadeAsset> = made.iter().map(AsRef::as_ref).collect();
+        if let Err(e) = crate::make::runtime::write_all(dir, &refs) {
+            common::emit_plain(&crate::diag::Diagnostic::new(
+                crate::diag::Code::E0001,
+                format!("cannot write the made assets into {}: {e}", dir.display()),
+            ));
+            return ExitCode::from(2);
+        }
+    }
     let bytes: Vec<u8> = match args.emit {
         Emit::Glb => {
-            let options = crate::export::ExportOptions::default();
+            let options = crate::export::ExportOptions {
+                made: std::sync::Arc::new(crate::export::MadeMeshes::of_made(&made)),
+                ..crate::export::ExportOptions::default()
+            };
             match super::export::export_or_report(&product.house.house, &catalog, &options) {
                 Ok(e) => e.to_glb(),
                 Err(code) => return code,
@@ -152,7 +184,8 @@ pub fn run(args: &BuildArgs) -> ExitCode {
         Emit::House | Emit::Ast | Emit::Scene => product.house.to_json_string().into_bytes(),
     };
     if let Some(path) = &args.report {
-        let report = crate::report::report(&product, &catalog);
+        let mut report = crate::report::report(&product, &catalog);
+        crate::report::add_made_folder(&mut report, made_folder.as_deref());
         let mut json = serde_json::to_string_pretty(&report).unwrap_or_default();
         json.push('\n');
         if let Err(d) = common::write_atomic(path, json.as_bytes()) {
@@ -174,8 +207,18 @@ pub fn run(args: &BuildArgs) -> ExitCode {
             Some(p) if p.as_os_str() != "-" => p.display().to_string(),
             _ => "stdout".to_string(),
         };
+        let made_note = match (if writes_house { made.len() } else { 0 }, &made_folder) {
+            (0, _) => String::new(),
+            (n, Some(dir)) => {
+                format!(", {n} asset{} made in {}", if n == 1 { "" } else { "s" }, dir.display())
+            }
+            (n, None) => format!(
+                ", {n} asset{} made (not written: name a folder with --assets-dir)",
+                if n == 1 { "" } else { "s" }
+            ),
+        };
         common::emit_status(&format!(
-            "built {target}: {summary}, in {} ms",
+            "built {target}: {summary}{made_note}, in {} ms",
             started.elapsed().as_millis()
         ));
     }
@@ -237,6 +280,8 @@ pub(crate) struct BuildRequest<'a> {
     pub stdout_taken: bool,
     /// Whether stand-ins fill in for things the catalog lacks.
     pub stand_ins: bool,
+    /// Whether holoc makes what no catalog has.
+    pub make: bool,
 }
 
 /// Loads the catalogs, builds the file and prints the diagnostics. On success: the build, the
@@ -268,6 +313,7 @@ pub(crate) fn run_build(
         agent_radius_m: request.agent_radius_m,
         repair: request.repair,
         stand_ins: request.stand_ins,
+        make: request.make,
         rooms_in_parallel: true,
     };
     let mut built = crate::compile::build(sources, file, &options);

@@ -21,6 +21,10 @@ pub struct DrawArgs {
     /// How objects are drawn: as their asset's bounding box, or not at all.
     #[arg(long, value_enum, default_value_t = ObjectMode::Boxes)]
     pub objects: ObjectMode,
+    /// The folder of the assets holoc made for the house (default: `<house stem>.assets/`
+    /// beside it): they are drawn with their parts and colours.
+    #[arg(long, value_name = "DIR")]
+    pub assets_dir: Option<PathBuf>,
 }
 
 impl DrawArgs {
@@ -31,6 +35,7 @@ impl DrawArgs {
             rooms: (!self.rooms.is_empty())
                 .then(|| self.rooms.iter().cloned().collect::<BTreeSet<_>>()),
             objects: self.objects,
+            made: std::sync::Arc::default(),
         }
     }
 }
@@ -66,12 +71,15 @@ pub(crate) struct LoadedHouse {
     pub house: House,
     pub catalog: Catalog,
     pub diagnostics: Vec<Diagnostic>,
+    /// The meshes of the made assets it uses, read from their folder.
+    pub made: crate::export::MadeMeshes,
 }
 
 /// Reads and validates a house file; prints its diagnostics. Errors give the exit code.
 pub(crate) fn load_house(
     path: &std::path::Path,
     catalogs: &super::assets::CatalogArgs,
+    assets_dir: Option<&std::path::Path>,
     format: DiagFormat,
     color: ColorChoice,
 ) -> Result<LoadedHouse, ExitCode> {
@@ -82,7 +90,13 @@ pub(crate) fn load_house(
         return Err(ExitCode::from(1));
     }
     let mut diagnostics = loaded.diagnostics;
-    let catalog = loaded.value;
+    // The assets holoc made for it, from their folder: known to the checks by their boxes.
+    let folder =
+        assets_dir.map_or_else(|| crate::make::folder_beside(path), std::path::Path::to_path_buf);
+    let (made_assets, _) = crate::make::read_folder(&folder);
+    let made_ids: Vec<String> = made_assets.iter().map(|a| a.id.to_string()).collect();
+    let catalog = loaded.value.with_made(made_assets);
+    let made = crate::export::MadeMeshes::read(&folder, made_ids.iter().map(String::as_str));
     let file = match common::read_source(&mut sources, path) {
         Ok(id) => id,
         Err(d) => {
@@ -112,7 +126,7 @@ pub(crate) fn load_house(
     };
     common::emit(&sources, &diagnostics, format, color);
     match house {
-        Some(house) => Ok(LoadedHouse { house, catalog, diagnostics }),
+        Some(house) => Ok(LoadedHouse { house, catalog, diagnostics, made }),
         None => Err(common::exit_for(&diagnostics)),
     }
 }
@@ -145,11 +159,18 @@ pub(crate) fn export_or_report(
 
 /// Runs `holoc export`.
 pub fn run(args: &ExportArgs) -> ExitCode {
-    let loaded = match load_house(&args.file, &args.catalogs, args.format, args.color) {
+    let loaded = match load_house(
+        &args.file,
+        &args.catalogs,
+        args.draw.assets_dir.as_deref(),
+        args.format,
+        args.color,
+    ) {
         Ok(l) => l,
         Err(code) => return code,
     };
-    let options = args.draw.options(!args.no_ceiling);
+    let mut options = args.draw.options(!args.no_ceiling);
+    options.made = std::sync::Arc::new(loaded.made.clone());
     let exported = match export_or_report(&loaded.house, &loaded.catalog, &options) {
         Ok(e) => e,
         Err(code) => return code,

@@ -70,6 +70,7 @@ pub fn run(args: &RenderArgs) -> ExitCode {
         color: args.color,
         stdout_taken: args.output.as_deref().is_none_or(|p| p.as_os_str() == "-"),
         stand_ins: !args.no_stand_ins,
+        make: true,
     };
     let (product, catalog, diagnostics) =
         match super::build::run_build(&mut sources, file, &request) {
@@ -77,14 +78,17 @@ pub fn run(args: &RenderArgs) -> ExitCode {
             Err(code) => return code,
         };
     let svg = if args.three_d {
-        let exported = match super::export::export_or_report(
-            &product.house.house,
-            &catalog,
-            &args.draw.options(false),
-        ) {
-            Ok(e) => e,
-            Err(code) => return code,
-        };
+        let made = crate::make::used_in(
+            &product.resolved,
+            product.objects.iter().map(|o| o.asset_id.as_str()),
+        );
+        let mut options = args.draw.options(false);
+        options.made = std::sync::Arc::new(crate::export::MadeMeshes::of_made(&made));
+        let exported =
+            match super::export::export_or_report(&product.house.house, &catalog, &options) {
+                Ok(e) => e,
+                Err(code) => return code,
+            };
         let report = crate::report::report(&product, &catalog);
         let title = args.file.file_stem().map_or_else(|| "house".into(), |s| s.to_string_lossy());
         crate::export::viewer::page(&product.house.house, &exported.to_glb(), Some(&report), &title)

@@ -16,6 +16,10 @@ pub struct ValidateArgs {
     /// for the footprint checks.
     #[command(flatten)]
     pub catalogs: super::assets::CatalogArgs,
+    /// The folder of the assets holoc made for these houses (default: `<house stem>.assets/`
+    /// beside each house, when it exists).
+    #[arg(long, value_name = "DIR")]
+    pub assets_dir: Option<PathBuf>,
     /// How to print diagnostics.
     #[arg(long, value_enum, default_value_t = DiagFormat::Human)]
     pub format: DiagFormat,
@@ -45,11 +49,15 @@ pub fn run(args: &ValidateArgs) -> ExitCode {
     for path in &args.files {
         match common::read_source(&mut sources, path) {
             Ok(id) => {
+                let folder =
+                    args.assets_dir.clone().unwrap_or_else(|| crate::make::folder_beside(path));
+                let (made, _) = crate::make::read_folder(&folder);
+                let with_made = catalog.with_made(made);
                 let outcome = crate::lower::validate::validate(
                     &sources,
                     id,
                     StructureCatalog::builtin(),
-                    &catalog,
+                    &with_made,
                 );
                 diagnostics.extend(outcome.diagnostics);
                 diagnostics.extend(objathor_on_disk(&sources, id, &catalog));

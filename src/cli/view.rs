@@ -58,12 +58,18 @@ pub fn run(args: &ViewArgs) -> ExitCode {
             return ExitCode::from(2);
         }
     };
-    let loaded =
-        match super::export::load_house(&args.file, &args.catalogs, args.format, args.color) {
-            Ok(l) => l,
-            Err(code) => return code,
-        };
-    let options = args.draw.options(args.ceiling);
+    let loaded = match super::export::load_house(
+        &args.file,
+        &args.catalogs,
+        args.draw.assets_dir.as_deref(),
+        args.format,
+        args.color,
+    ) {
+        Ok(l) => l,
+        Err(code) => return code,
+    };
+    let mut options = args.draw.options(args.ceiling);
+    options.made = std::sync::Arc::new(loaded.made.clone());
     let exported = match super::export::export_or_report(&loaded.house, &loaded.catalog, &options) {
         Ok(e) => e,
         Err(code) => return code,

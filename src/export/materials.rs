@@ -109,6 +109,30 @@ pub fn door_leaf() -> Pbr {
     pbr("door leaf".to_string(), Row { srgb: [160, 115, 75], roughness: 0.6, metalness: 0.0 }, None)
 }
 
+/// A part of an asset holoc made: its swatch's colour (sRGB, 0…1) and finish; glass is
+/// see-through.
+pub fn made(rgb: [f64; 3], roughness: f64, metalness: f64, glass: bool) -> Pbr {
+    let name = format!(
+        "made {:.3},{:.3},{:.3} r{roughness:.2} m{metalness:.2}{}",
+        rgb[0],
+        rgb[1],
+        rgb[2],
+        if glass { " glass" } else { "" }
+    );
+    Pbr {
+        name,
+        base_color: [
+            linear(rgb[0]),
+            linear(rgb[1]),
+            linear(rgb[2]),
+            if glass { 0.35 } else { 1.0 },
+        ],
+        roughness: roughness as f32,
+        metalness: metalness as f32,
+        glass,
+    }
+}
+
 /// Window panes: pale blue glass, mostly transparent.
 pub fn glass() -> Pbr {
     Pbr {

@@ -25,6 +25,24 @@ impl Geometry {
         self.indices.is_empty()
     }
 
+    /// Adds a triangle of three `(position, normal)` corners, counter-clockwise seen from
+    /// outside.
+    pub fn push_triangle(&mut self, corners: impl Iterator<Item = ([f64; 3], [f64; 3])>) {
+        let base = self.positions.len() as u32;
+        let mut n = 0;
+        for (p, normal) in corners.take(3) {
+            self.positions.push([p[0] as f32, p[1] as f32, p[2] as f32]);
+            self.normals.push([normal[0] as f32, normal[1] as f32, normal[2] as f32]);
+            n += 1;
+        }
+        if n == 3 {
+            self.indices.extend([base, base + 1, base + 2]);
+        } else {
+            self.positions.truncate(base as usize);
+            self.normals.truncate(base as usize);
+        }
+    }
+
     /// Adds a quad `a b c d` (counter-clockwise seen from `normal`).
     fn quad(&mut self, corners: [Point3<f64>; 4], normal: Vector3<f64>) {
         let base = self.positions.len() as u32;

@@ -70,11 +70,114 @@ pub struct ExportOptions {
     pub rooms: Option<BTreeSet<String>>,
     /// How objects are drawn.
     pub objects: ObjectMode,
+    /// The meshes of the assets holoc made, drawn with their parts instead of boxes.
+    pub made: std::sync::Arc<MadeMeshes>,
 }
 
 impl Default for ExportOptions {
     fn default() -> Self {
-        ExportOptions { ceiling: true, rooms: None, objects: ObjectMode::Boxes }
+        ExportOptions {
+            ceiling: true,
+            rooms: None,
+            objects: ObjectMode::Boxes,
+            made: std::sync::Arc::default(),
+        }
+    }
+}
+
+/// The meshes of made assets (`crate::make`) by uid: each a list of parts, one per colour,
+/// in the asset's own frame (centred on its box, front to `+z`).
+#[derive(Clone, Debug, Default)]
+pub struct MadeMeshes {
+    by_uid: BTreeMap<String, Vec<(Geometry, Pbr)>>,
+}
+
+impl PartialEq for MadeMeshes {
+    fn eq(&self, other: &Self) -> bool {
+        self.by_uid.keys().eq(other.by_uid.keys())
+    }
+}
+
+impl Eq for MadeMeshes {}
+
+impl MadeMeshes {
+    /// The meshes of a build's made assets.
+    pub fn of_made(made: &[std::sync::Arc<crate::make::MadeAsset>]) -> MadeMeshes {
+        let mut by_uid = BTreeMap::new();
+        for m in made {
+            let mut parts: Vec<(Geometry, Pbr)> = m
+                .palette
+                .iter()
+                .map(|s| {
+                    let glass = matches!(s.material, crate::make::finish::Material::Glass);
+                    (Geometry::default(), materials::made(s.rgb, s.roughness, s.metallic, glass))
+                })
+                .collect();
+            let swatch_of: Vec<usize> = m.parts.iter().map(|(_, s)| *s).collect();
+            let mesh = &m.mesh;
+            for (t, tri) in mesh.triangles.chunks_exact(3).enumerate() {
+                let s = mesh.part_of.get(t).and_then(|p| swatch_of.get(*p)).copied().unwrap_or(0);
+                if let Some((g, _)) = parts.get_mut(s) {
+                    g.push_triangle(
+                        tri.iter().map(|&i| (mesh.vertices[i as usize], mesh.normals[i as usize])),
+                    );
+                }
+            }
+            parts.retain(|(g, _)| !g.is_empty());
+            by_uid.insert(m.uid.clone(), parts);
+        }
+        MadeMeshes { by_uid }
+    }
+
+    /// The meshes of the made assets among `ids` read from their folders in `dir`
+    /// (`make::runtime::read_asset`), one part per colour of the albedo texture; an asset
+    /// whose folder cannot be read is left out (it is drawn as its catalog box, if any).
+    pub fn read<'a>(dir: &std::path::Path, ids: impl IntoIterator<Item = &'a str>) -> MadeMeshes {
+        let mut by_uid = BTreeMap::new();
+        for id in ids.into_iter().filter(|id| crate::make::is_made_id(id)) {
+            if by_uid.contains_key(id) {
+                continue;
+            }
+            let Ok(read) = crate::make::runtime::read_asset(dir, id) else { continue };
+            let mut colours: BTreeMap<[u8; 3], Geometry> = BTreeMap::new();
+            for (t, tri) in read.triangles.chunks_exact(3).enumerate() {
+                let rgb = read.triangle_rgb.get(t).copied().unwrap_or([0.6; 3]);
+                let key = rgb.map(|c| (c * 255.0).round() as u8);
+                let [a, b, c] = [tri[0], tri[1], tri[2]].map(|i| read.vertices[i as usize]);
+                let n = face_normal(a, b, c);
+                colours.entry(key).or_default().push_triangle([(a, n), (b, n), (c, n)].into_iter());
+            }
+            let parts = colours
+                .into_iter()
+                .map(|(k, g)| {
+                    (g, materials::made(k.map(|c| f64::from(c) / 255.0), 0.6, 0.0, false))
+                })
+                .collect();
+            by_uid.insert(id.to_string(), parts);
+        }
+        MadeMeshes { by_uid }
+    }
+
+    /// Whether it holds no mesh.
+    pub fn is_empty(&self) -> bool {
+        self.by_uid.is_empty()
+    }
+
+    /// The uids it has meshes of.
+    pub fn uids(&self) -> impl Iterator<Item = &str> {
+        self.by_uid.keys().map(String::as_str)
+    }
+}
+
+fn face_normal(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> [f64; 3] {
+    let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+    let v = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
+    let n = [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]];
+    let l = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+    if l < 1e-12 {
+        [0.0, 1.0, 0.0]
+    } else {
+        n.map(|x| x / l)
     }
 }
 
@@ -694,17 +797,29 @@ pub fn export(
         for o in house.objects.iter().filter(|o| keep(&o.room_id)) {
             flatten(o, None, &mut flat);
         }
+        let mut made_meshes: BTreeMap<&str, Option<json::Index<json::Mesh>>> = BTreeMap::new();
         for (o, parent) in flat {
             let asset = catalog.get(&o.asset_id);
-            let object_type = asset.map(|a| a.object_type.clone());
+            let object_type = asset
+                .map(|a| a.object_type.clone())
+                .or_else(|| made_type(&o.asset_id).map(std::borrow::Cow::Borrowed));
             let r = o.rotation;
             let rotation = euler_rotation(r.x, r.y, r.z);
-            let (mesh, scale) = match asset {
-                Some(a) => {
+            let made = options.made.by_uid.get_key_value(o.asset_id.as_str());
+            let (mesh, scale) = match (made, asset) {
+                (Some((uid, parts)), _) => {
+                    let mesh = *made_meshes.entry(uid.as_str()).or_insert_with(|| {
+                        let refs: Vec<(&Geometry, Pbr)> =
+                            parts.iter().map(|(g, p)| (g, p.clone())).collect();
+                        b.mesh(uid, &refs)
+                    });
+                    (mesh, None)
+                }
+                (None, Some(a)) => {
                     let pbr = materials::object(&a.object_type);
                     (Some(b.cube_mesh(&pbr)), Some(f32x3(a.bbox_m)))
                 }
-                None => (None, None),
+                (None, None) => (None, None),
             };
             let mut extra = serde_json::json!({
                 "kind": "object",
@@ -743,6 +858,15 @@ pub fn export(
     });
     b.root.scene = Some(scene);
     Ok(Export { root: b.root, bin: b.bin, counts })
+}
+
+/// The object type of a made asset's uid (`holoc_<kind>_<hash>`), from its kind.
+fn made_type(id: &str) -> Option<&'static str> {
+    if !crate::make::is_made_id(id) {
+        return None;
+    }
+    let kind = id.strip_prefix("holoc_")?.rsplit_once('_')?.0;
+    crate::make::kind(kind).map(|k| k.object_type)
 }
 
 fn flatten<'h>(

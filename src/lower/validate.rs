@@ -673,6 +673,13 @@ pub fn validate(
             ))
             .with_help("give the catalog they come from with `--catalog` (e.g. the objathor annotations of Objaverse assets) if they are installed where the house is loaded"),
         );
+        if let Some(made) = unknown.keys().find(|a| crate::make::is_made_id(a)) {
+            if let Some(last) = ctx.diags.last_mut() {
+                *last = last.clone().with_note(format!(
+                    "`{made}` is an asset holoc made: its folder `<house stem>.assets/{made}/` is missing or unreadable; build the scene again, or name the folder with `--assets-dir`"
+                ));
+            }
+        }
     }
     procthor_checks(&mut ctx, &value, catalog);
     resting_checks(&mut ctx, top_objects, objects_catalog, &value);

@@ -346,6 +346,9 @@ fn solve_text(
 fn resolution_text(resolution: Option<&Resolution>) -> String {
     match resolution {
         Some(Resolution::Chosen(c)) => {
+            if let Some(made) = &c.made {
+                return format!("`{}`, {}", c.asset_id, made.summary());
+            }
             let [x, y, z] = c.bbox_m;
             let how = if c.pinned {
                 "pinned".to_string()

@@ -120,13 +120,68 @@ pub fn report(built: &Built, catalog: &Catalog) -> Value {
             "search_nodes": solved.layout.nodes,
         }));
     }
-    json!({
+    let mut report = json!({
         "version": REPORT_VERSION,
         "request": built.scene.request,
         "seed": built.scene.seed,
         "assets": assets,
         "layout": rooms,
-    })
+    });
+    let made = made_assets(built);
+    if let (false, Some(map)) = (made.is_empty(), report.as_object_mut()) {
+        map.insert("madeAssets".into(), Value::Array(made));
+    }
+    report
+}
+
+/// The assets the build made (`crate::make`), by uid: the house objects that use each, its
+/// kind and generator, its size, parameters, parts and AI2-THOR properties.
+fn made_assets(built: &Built) -> Vec<Value> {
+    let made =
+        crate::make::used_in(&built.resolved, built.objects.iter().map(|o| o.asset_id.as_str()));
+    made.iter()
+        .map(|m| {
+            let objects: Vec<&str> = built
+                .objects
+                .iter()
+                .filter(|o| o.asset_id == m.uid)
+                .map(|o| o.id.as_str())
+                .collect();
+            let [w, h, d] = m.bbox_m();
+            json!({
+                "uid": m.uid,
+                "objects": objects,
+                "kind": m.kind,
+                "generator": format!("make::{}::{}", m.family, m.kind),
+                "objectType": m.object_type,
+                "sizeM": {"width": r4(w), "depth": r4(d), "height": r4(h)},
+                "parameters": m.params,
+                "parts": m.parts.iter().map(|(name, swatch)| json!({
+                    "part": name,
+                    "material": m.palette[*swatch].material.name(),
+                    "color": m.palette[*swatch].hex(),
+                })).collect::<Vec<_>>(),
+                "primaryProperty": m.thor.primary(),
+                "secondaryProperties": m.thor.secondary(),
+                "triangles": m.mesh.triangles.len() / 3,
+            })
+        })
+        .collect()
+}
+
+/// Adds the folder the made assets were written to (`<folder>/<uid>/`) to each entry of a
+/// report's `madeAssets`, or `null` when they were not written.
+pub fn add_made_folder(report: &mut Value, folder: Option<&std::path::Path>) {
+    let Some(list) = report.get_mut("madeAssets").and_then(Value::as_array_mut) else { return };
+    for entry in list {
+        let uid = entry.get("uid").and_then(Value::as_str).unwrap_or_default().to_string();
+        if let Some(map) = entry.as_object_mut() {
+            map.insert(
+                "folder".into(),
+                folder.map_or(Value::Null, |f| json!(f.join(&uid).display().to_string())),
+            );
+        }
+    }
 }
 
 /// What a build made, in the counts `holoc build` prints on its last line.

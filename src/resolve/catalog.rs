@@ -231,6 +231,39 @@ impl Catalog {
         (start, self.assets.len(), entries)
     }
 
+    /// This catalog with assets holoc made (`crate::make`) appended under a source of their
+    /// own, `made by holoc` (an id already known keeps its asset). Their words are not indexed:
+    /// they are looked up by id (validation, export, diff), never ranked.
+    #[must_use]
+    pub fn with_made(&self, made: Vec<Asset>) -> Catalog {
+        let mut catalog = self.clone();
+        if made.is_empty() {
+            return catalog;
+        }
+        let _ = catalog.index();
+        let source = catalog.sources.len();
+        let assets = Arc::make_mut(&mut catalog.assets).to_mut();
+        let by_id = Arc::make_mut(&mut catalog.by_id).to_mut();
+        let mut n = 0;
+        for mut asset in made {
+            if by_id.contains_key(&*asset.id) {
+                continue;
+            }
+            asset.source = source;
+            by_id.insert(asset.id.to_string(), assets.len());
+            assets.push(asset);
+            n += 1;
+        }
+        catalog.sources.push(CatalogSource {
+            name: "made by holoc".to_string(),
+            version: Some(format!("generators {}", crate::make::GENERATOR_VERSION)),
+            sha256: String::new(),
+            path: None,
+            n_assets: n,
+        });
+        catalog
+    }
+
     /// Keeps the loaded objathor folder.
     pub(crate) fn set_objathor(&mut self, objathor: super::objathor::Objathor) {
         self.objathor = Some(Box::new(objathor));

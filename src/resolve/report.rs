@@ -39,6 +39,8 @@ fn resolution(res: &Resolution, catalog: &Catalog, mut head: Map<String, Value>)
             let source = &catalog.sources()[c.source.min(catalog.sources().len() - 1)];
             let status = if c.pinned {
                 "pinned"
+            } else if c.made.is_some() {
+                "made"
             } else if c.stand_in.is_some() {
                 "stand-in"
             } else {
@@ -59,7 +61,15 @@ fn resolution(res: &Resolution, catalog: &Catalog, mut head: Map<String, Value>)
             }
             head.insert("assetId".into(), json!(c.asset_id));
             head.insert("objectType".into(), json!(c.object_type));
-            head.insert("catalog".into(), json!(source.name));
+            match &c.made {
+                Some(m) => {
+                    head.insert("catalog".into(), json!("made by holoc"));
+                    head.insert("madeKind".into(), json!(m.kind));
+                }
+                None => {
+                    head.insert("catalog".into(), json!(source.name));
+                }
+            }
             head.insert("bboxM".into(), json!([r4(c.bbox_m[0]), r4(c.bbox_m[1]), r4(c.bbox_m[2])]));
             head.insert(
                 "score".into(),

@@ -103,6 +103,9 @@ pub struct Choice {
     /// For a stand-in or a thing placed otherwise, with a size asked: how far the asset's size
     /// is from it (`resolve::standins::size_ratio`; at most `MAX_STAND_IN_RATIO`).
     pub size_ratio: Option<f64>,
+    /// When no catalog has the thing and holoc made it (`crate::make`): the made asset, whose
+    /// uid is `asset_id`.
+    pub made: Option<std::sync::Arc<crate::make::MadeAsset>>,
 }
 
 impl Choice {
@@ -121,6 +124,26 @@ impl Choice {
             kind_of: None,
             placed_as: None,
             size_ratio: None,
+            made: None,
+        }
+    }
+
+    /// The choice of a made asset.
+    fn of_made(made: std::sync::Arc<crate::make::MadeAsset>, source: usize) -> Choice {
+        Choice {
+            asset_id: made.uid.clone(),
+            object_type: made.object_type.to_string(),
+            bbox_m: made.bbox_m(),
+            receptacle: made.receptacle(),
+            source,
+            pinned: false,
+            parts: None,
+            runner_up: None,
+            stand_in: None,
+            kind_of: None,
+            placed_as: None,
+            size_ratio: None,
+            made: Some(made),
         }
     }
 }
@@ -350,11 +373,14 @@ pub struct ResolveOptions {
     /// Whether an asset of another type that does the same job stands in for a thing the
     /// catalog lacks (the stand-in table of `resolve::standins`); on by default.
     pub stand_ins: bool,
+    /// Whether holoc makes what no catalog has (`crate::make`), before a stand-in; on by
+    /// default (`--no-make` turns it off, for houses of built-in assets only).
+    pub make: bool,
 }
 
 impl Default for ResolveOptions {
     fn default() -> Self {
-        ResolveOptions { stand_ins: true }
+        ResolveOptions { stand_ins: true, make: true }
     }
 }
 
@@ -1179,6 +1205,15 @@ impl<'a> State<'a> {
             }
         }
         let pool: Vec<&Candidate> = fresh.into_iter().chain(used).collect();
+        // Words that name a kind holoc makes take the made asset before a built-in asset of
+        // another type (a painting for `round mirror`); the scene's own catalogs and objathor
+        // still come first.
+        let made_first = self.options.make
+            && pool.first().is_some_and(|c| {
+                self.catalog.asset_at(c.idx).source == 0
+                    && crate::make::named(&query.category, kind)
+                        .is_some_and(|k| !crate::make::builtin_is(k, &c.object_type))
+            });
 
         let mut out = Vec::with_capacity(pins.len());
         for (i, pin) in pins.iter().enumerate() {
@@ -1186,8 +1221,18 @@ impl<'a> State<'a> {
                 out.push(self.pinned(what, pin, kind, &ranked));
                 continue;
             }
+            if made_first {
+                if let Some(res) = self.made(what, query, kind) {
+                    out.push(res);
+                    continue;
+                }
+            }
             if pool.is_empty() {
                 if let Some(res) = self.kind_of(query, kind, wants_receptacle) {
+                    out.push(res);
+                    continue;
+                }
+                if let Some(res) = self.made(what, query, kind) {
                     out.push(res);
                     continue;
                 }
@@ -1252,6 +1297,16 @@ impl<'a> State<'a> {
         let description = query.description.as_deref().map(|d| text::split_phrase(d).0);
         let row =
             kinds::lookup(&category).or_else(|| description.as_deref().and_then(kinds::lookup))?;
+        // When the object's words name a kind holoc makes, only a type that is that kind (a
+        // dog bed for a cat bed) goes before the made asset: a `round mirror, brass frame` is
+        // not a painting because its description ends in `frame`.
+        if let Some(named) =
+            self.options.make.then(|| crate::make::named(&query.category, kind)).flatten()
+        {
+            if !row.types.iter().any(|t| crate::make::builtin_is(named, t)) {
+                return None;
+            }
+        }
         let types = self.holding_types(&row.types, wants_receptacle);
         let asset = standins::pick_of_types(self.catalog, &types, kind, query.size_m)?;
         if kind == PlacementKind::OnObject
@@ -1330,6 +1385,26 @@ impl<'a> State<'a> {
             }
         }
         None
+    }
+
+    /// An asset holoc makes (`crate::make`) when one of its generators makes this kind of
+    /// thing placed this way; `None` when making is off or no kind is named. Made assets of
+    /// one request are the same asset (one uid, one folder).
+    fn made(&mut self, what: &Subject, query: &Query, kind: PlacementKind) -> Option<Resolution> {
+        if !self.options.make {
+            return None;
+        }
+        let description = query.description.as_deref().or(Some(what.description.as_str()));
+        let made_kind = crate::make::recognise(&query.category, description, kind)
+            .or_else(|| crate::make::recognise(&what.name.replace(['_', '-'], " "), None, kind))?;
+        let request = crate::make::Request {
+            kind: made_kind,
+            size_m: query.size_m,
+            description: query.description.clone().unwrap_or_else(|| query.category.clone()),
+        };
+        let made = crate::make::make(&request);
+        let source = self.catalog.sources().len().saturating_sub(1);
+        Some(Resolution::Chosen(Choice::of_made(made, source)))
     }
 
     /// An asset of another type that does the same job, from the stand-in table, with its

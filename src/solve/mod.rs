@@ -175,6 +175,9 @@ pub struct WallObject {
     pub height_m: Option<f64>,
     /// The AI2-THOR object type of its asset, when known (a towel holder hangs its towels).
     pub thor_type: Option<String>,
+    /// Whether its asset can be made again at another size (an asset holoc made): curtains
+    /// and blinds then dress a window at its size.
+    pub resizable: bool,
     /// Where the object is declared.
     pub span: Option<Span>,
 }
@@ -292,6 +295,9 @@ pub struct PlacedObject {
     pub rotation_deg: f64,
     /// For small objects, the receptacle.
     pub on: Option<Holder>,
+    /// When the layout sized it (curtains and blinds to the window they dress): its box
+    /// `[width, depth, height]`, metres.
+    pub sized_m: Option<[f64; 3]>,
 }
 
 /// An object left out, and why.

@@ -111,6 +111,7 @@ pub(crate) fn finish(prep: &Prepared<'_>, layout: &mut RoomLayout) {
             position_m: [p.pose.x, obj.height / 2.0, p.pose.z],
             rotation_deg: p.pose.rot.deg(),
             on: None,
+            sized_m: None,
         });
     }
     place_walls(prep, layout);
@@ -127,7 +128,26 @@ fn place_walls(prep: &Prepared<'_>, layout: &mut RoomLayout) {
         .map(|p| Box3 { rect: p.footprint, y0: 0.0, y1: problem.objects[p.index].height })
         .collect();
     let mut placed: Vec<(Box3, [f64; 2])> = Vec::new();
-    for wo in &problem.wall_objects {
+    // Curtains and blinds holoc made dress the windows first, each the first window free; the
+    // other wall objects then keep clear of them.
+    let mut dressed = vec![false; problem.wall_objects.len()];
+    let mut dressings = Vec::new();
+    for (i, wo) in problem.wall_objects.iter().enumerate() {
+        if let Some(dressing) = Dressing::of(wo.thor_type.as_deref()).filter(|_| wo.resizable) {
+            if let Some(p) = dress_window(prep, &segs, wo, dressing, &mut placed) {
+                dressings.push((i, p));
+                dressed[i] = true;
+            }
+        }
+    }
+    let mut dressings = dressings.into_iter().peekable();
+    for (i, wo) in problem.wall_objects.iter().enumerate() {
+        if dressed[i] {
+            if let Some((_, p)) = dressings.next_if(|(k, _)| *k == i) {
+                layout.wall.push(p);
+            }
+            continue;
+        }
         let [w, dd, h] = wo.size;
         let top_limit = problem.wall_height - h - CEILING_MARGIN_M;
         let bottom = wo.height_m.unwrap_or(DEFAULT_WALL_HEIGHT_M).min(top_limit).max(0.0);
@@ -209,6 +229,7 @@ fn place_walls(prep: &Prepared<'_>, layout: &mut RoomLayout) {
                     ],
                     rotation_deg: rot.deg(),
                     on: None,
+                    sized_m: None,
                 });
                 placed.push((bx, centre));
             }
@@ -232,6 +253,99 @@ fn place_walls(prep: &Prepared<'_>, layout: &mut RoomLayout) {
             }
         }
     }
+}
+
+/// What dresses a window: curtains hang from above it to the floor (or, short, to under its
+/// sill), blinds cover it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Dressing {
+    Curtains,
+    Blinds,
+}
+
+/// Curtains reach this far past each side of their window and their rod this far above it,
+/// metres (common practice: 15–30 cm each side, 10–15 cm above).
+pub const CURTAIN_OVERLAP_M: f64 = 0.25;
+/// How far above the window the curtain rod is, metres.
+pub const CURTAIN_ROD_ABOVE_M: f64 = 0.15;
+/// How far blinds reach past their window on each side and above it, metres.
+pub const BLIND_OVERLAP_M: f64 = 0.03;
+
+impl Dressing {
+    fn of(thor_type: Option<&str>) -> Option<Dressing> {
+        match thor_type? {
+            "Curtains" => Some(Dressing::Curtains),
+            "Blinds" => Some(Dressing::Blinds),
+            _ => None,
+        }
+    }
+}
+
+/// Hangs curtains or blinds over the first window of the room that nothing dresses yet,
+/// sized to it (`PlacedObject::sized_m`): curtains from [`CURTAIN_ROD_ABOVE_M`] above the
+/// window to the floor, [`CURTAIN_OVERLAP_M`] wider each side (as far as the wall allows);
+/// blinds over the window with [`BLIND_OVERLAP_M`] round it. `None` when every window is
+/// dressed (the object is then hung as any wall object).
+fn dress_window(
+    prep: &Prepared<'_>,
+    segs: &[WallSegment],
+    wo: &super::WallObject,
+    dressing: Dressing,
+    placed: &mut Vec<(Box3, [f64; 2])>,
+) -> Option<PlacedObject> {
+    let problem = prep.problem;
+    let depth = wo.size[1];
+    for seg in segs {
+        let (d, len) = unit(seg.a, seg.b);
+        let n = inward(&prep.room, seg.a, d, len);
+        let Some(rot) = Rot::facing([n[0].round(), n[1].round()]) else { continue };
+        for hole in seg.holes.iter().filter(|h| h.window) {
+            let (lo, hi, top) = match dressing {
+                Dressing::Curtains => (
+                    (hole.from_m - CURTAIN_OVERLAP_M).max(0.0),
+                    (hole.to_m + CURTAIN_OVERLAP_M).min(len),
+                    (hole.top_m + CURTAIN_ROD_ABOVE_M).min(problem.wall_height - 0.02),
+                ),
+                Dressing::Blinds => (
+                    (hole.from_m - BLIND_OVERLAP_M).max(0.0),
+                    (hole.to_m + BLIND_OVERLAP_M).min(len),
+                    (hole.top_m + BLIND_OVERLAP_M).min(problem.wall_height - 0.02),
+                ),
+            };
+            let bottom = match dressing {
+                Dressing::Curtains => 0.0,
+                Dressing::Blinds => (hole.bottom_m - BLIND_OVERLAP_M).max(0.0),
+            };
+            let (w, h) = (hi - lo, top - bottom);
+            if w <= 0.05 || h <= 0.05 {
+                continue;
+            }
+            let s = f64::midpoint(lo, hi);
+            let c = [seg.a[0] + d[0] * s, seg.a[1] + d[1] * s];
+            let p0 = [c[0] - d[0] * w / 2.0, c[1] - d[1] * w / 2.0];
+            let p1 = [c[0] + d[0] * w / 2.0 + n[0] * depth, c[1] + d[1] * w / 2.0 + n[1] * depth];
+            let rect = Rect::from_corners(p0, p1);
+            let bx = Box3 { rect, y0: bottom, y1: top };
+            if placed.iter().any(|(b, _)| b.overlaps(&bx)) {
+                continue;
+            }
+            let centre = rect.center();
+            placed.push((bx, centre));
+            let f = rot.front();
+            return Some(PlacedObject {
+                id: wo.id.clone(),
+                position_m: [
+                    centre[0] + f[0] * WALL_OFFSET_M,
+                    bottom + h / 2.0,
+                    centre[1] + f[1] * WALL_OFFSET_M,
+                ],
+                rotation_deg: rot.deg(),
+                on: None,
+                sized_m: Some([w, depth, h]),
+            });
+        }
+    }
+    None
 }
 
 /// A receptacle as the small objects see it: where its box stands and how it carries things.
@@ -303,6 +417,7 @@ impl Receptacle {
             ],
             rotation_deg: (self.rot.deg() + turn).rem_euclid(360.0),
             on: Some(on),
+            sized_m: None,
         }
     }
 }
@@ -731,5 +846,6 @@ fn place_ceiling(prep: &Prepared<'_>, layout: &mut RoomLayout) {
         position_m: [at[0], problem.wall_height - c.size[2] / 2.0, at[1]],
         rotation_deg: 0.0,
         on: None,
+        sized_m: None,
     });
 }

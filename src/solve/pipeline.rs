@@ -77,6 +77,10 @@ impl Sizes for ResolvedSizes<'_> {
         self.resolved.object(object.id).map(|c| c.object_type.clone())
     }
 
+    fn resizable(&self, object: &crate::check::scene::Object) -> bool {
+        self.resolved.object(object.id).is_some_and(|c| c.made.is_some())
+    }
+
     fn ceiling(&self, room: RoomId) -> [f64; 3] {
         self.resolved
             .ceilings

@@ -22,6 +22,11 @@ pub trait Sizes {
     fn thor_type(&self, _object: &Object) -> Option<String> {
         None
     }
+    /// Whether the object's asset can be made again at another size (an asset holoc made):
+    /// curtains and blinds are then sized to the window they dress.
+    fn resizable(&self, _object: &Object) -> bool {
+        false
+    }
 }
 
 /// Sizes from the scene alone: the written `size`, else 0.5 m × 0.5 m × 0.5 m; small objects
@@ -100,6 +105,7 @@ pub fn room_problem(
                     above: above.and_then(|(t, _)| index_of(t)),
                     height_m: *height_m,
                     thor_type: sizes.thor_type(o),
+                    resizable: sizes.resizable(o),
                     span: Some(o.name_span),
                 });
                 let on = Holder::Wall(wall_objects.len() - 1);

@@ -151,6 +151,7 @@ pub fn load(path: &Path) -> RoomProblem {
                 above: w.above.as_deref().map(index),
                 height_m: w.height,
                 thor_type: None,
+                resizable: false,
                 span: None,
             })
             .collect(),
