@@ -25,6 +25,20 @@ struct Example {
     name: String,
     house: House,
     report: serde_json::Value,
+    /// The assets holoc made for it.
+    made: Vec<std::sync::Arc<holoc::make::MadeAsset>>,
+}
+
+impl Example {
+    /// The catalog with its made assets, and export options that draw them.
+    fn with_made(&self, catalog: &Catalog) -> (Catalog, ExportOptions) {
+        let with = catalog.with_made(holoc::make::catalog_assets(&self.made));
+        let options = ExportOptions {
+            made: std::sync::Arc::new(holoc::export::MadeMeshes::of_made(&self.made)),
+            ..ExportOptions::default()
+        };
+        (with, options)
+    }
 }
 
 fn examples() -> &'static [Example] {
@@ -48,7 +62,11 @@ fn examples() -> &'static [Example] {
                 let built = built.value.unwrap_or_else(|| panic!("{} builds", path.display()));
                 let name = path.file_stem().expect("a name").to_string_lossy().into_owned();
                 let report = holoc::report::report(&built, &catalog);
-                Example { name, house: built.house.house.clone(), report }
+                let made = holoc::make::used_in(
+                    &built.resolved,
+                    built.objects.iter().map(|o| o.asset_id.as_str()),
+                );
+                Example { name, house: built.house.house.clone(), report, made }
             })
             .collect()
     })
@@ -84,10 +102,11 @@ fn expected_nodes(house: &House) -> usize {
 fn every_example_reads_back_with_one_node_per_thing_and_every_box_in_place() {
     let catalog = Catalog::embedded();
     for ex in examples() {
-        let exported = export(&ex.house, &catalog, &ExportOptions::default()).expect("exports");
+        let (catalog, options) = ex.with_made(&catalog);
+        let exported = export(&ex.house, &catalog, &options).expect("exports");
         let glb = exported.to_glb();
         assert_eq!(
-            export(&ex.house, &catalog, &ExportOptions::default()).expect("exports").to_glb(),
+            export(&ex.house, &catalog, &options).expect("exports").to_glb(),
             glb,
             "{}: not deterministic",
             ex.name
@@ -106,7 +125,15 @@ fn every_example_reads_back_with_one_node_per_thing_and_every_box_in_place() {
             let asset = catalog.get(&o.asset_id).expect("the asset is in the catalog");
             // The box the viewer draws: the mesh's bounds, placed by the node.
             let mesh = node.mesh().expect("an object has a mesh");
-            let bounds = mesh.primitives().next().expect("a primitive").bounding_box();
+            // A made asset is several primitives (one per colour): their bounds together.
+            let mut bounds = mesh.primitives().next().expect("a primitive").bounding_box();
+            for p in mesh.primitives() {
+                let b = p.bounding_box();
+                for i in 0..3 {
+                    bounds.min[i] = bounds.min[i].min(b.min[i]);
+                    bounds.max[i] = bounds.max[i].max(b.max[i]);
+                }
+            }
             let (t, r, s) = node.transform().decomposed();
             let q = nalgebra::UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(
                 f64::from(r[3]),
@@ -219,8 +246,9 @@ fn the_khronos_validator_finds_no_error_and_no_warning() {
     let dir = tempfile::tempdir().expect("a scratch folder");
     let mut files = Vec::new();
     for ex in examples() {
+        let (catalog, drawn) = ex.with_made(&catalog);
         let variants = [
-            ("", ExportOptions::default()),
+            ("", drawn),
             (
                 "-bare",
                 ExportOptions {

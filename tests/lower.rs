@@ -220,7 +220,8 @@ fn hallway_with_a_desk(
     (scene, planned, desk)
 }
 
-/// Things on a receptacle AI2-THOR has no asset for (a floating wall shelf) go to the room's
+/// Things on a receptacle AI2-THOR has no asset for (a floating wall shelf, built with
+/// `--no-make`) go to the room's
 /// receptacles that take them, in the order declared (W0506 says where and why), named by where
 /// they are; a name taken there by a thing declared on it gets the next free number, so ids
 /// stay unique.
@@ -247,9 +248,23 @@ door exterior -- den : doorway single
     let mut sources = SourceMap::new();
     let id = sources.add("reading.holo".to_string(), text.to_string());
     let catalog = holoc::resolve::Catalog::embedded();
-    let out = holoc::compile::build(&sources, id, &holoc::compile::BuildOptions::new(&catalog));
+    // Without making (`--no-make`): with it, holoc makes the wall shelf and the books stay on it
+    // (asserted at the end).
+    let options =
+        holoc::compile::BuildOptions { make: false, ..holoc::compile::BuildOptions::new(&catalog) };
+    let out = holoc::compile::build(&sources, id, &options);
     let codes: Vec<String> = out.diagnostics.iter().map(|d| d.code.as_str().to_string()).collect();
     let built = out.value.unwrap_or_else(|| panic!("does not build: {codes:?}"));
+    let made = holoc::compile::build(&sources, id, &holoc::compile::BuildOptions::new(&catalog));
+    let made = made.value.expect("builds with making");
+    let on_made_shelf: Vec<String> = made
+        .house
+        .all_objects()
+        .iter()
+        .filter(|o| o.id.starts_with("book-") && o.id.contains("wall_shelf-0"))
+        .map(|o| o.id.clone())
+        .collect();
+    assert_eq!(on_made_shelf.len(), 3, "the made wall shelf holds its books: {on_made_shelf:?}");
     let books: Vec<String> = built
         .house
         .all_objects()

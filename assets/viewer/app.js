@@ -2,7 +2,8 @@
 // HOLOC3D, bundled by scripts/bundle_viewer.sh). It reads the page's JSON data (the GLB in
 // base64, room labels, object facts and relations), shows the house with orbit controls, labels
 // the rooms and tells what a clicked object is. `#top` in the address shows a fixed top view
-// without labels (what the tests compare). When the house is loaded, the element #status says
+// without labels (what the tests compare); `#look=NAME` looks closely at the object of that
+// instance name (`cat_tree-0`) from its front. When the house is loaded, the element #status says
 // `loaded: N objects` and the console logs `holoc-view: N objects`.
 (function () {
   "use strict";
@@ -11,6 +12,7 @@
   const status = document.getElementById("status");
   const panel = document.getElementById("panel");
   const topView = location.hash === "#top";
+  const lookAt = location.hash.startsWith("#look=") ? decodeURIComponent(location.hash.slice(6)) : null;
   if (topView) document.body.classList.add("top");
 
   const renderer = new T.WebGLRenderer({ antialias: !topView, preserveDrawingBuffer: true });
@@ -65,6 +67,34 @@
       controls.addEventListener("change", render);
       controls.update();
     }
+  }
+
+  // The camera close in front of one object (its front: +z of its own frame, turned and
+  // mirrored as the house is), a little from the side and above.
+  function look(name) {
+    let node = null;
+    house.traverse((o) => {
+      if (!node && o.userData.kind === "object" && o.userData.objectName === name) node = o;
+    });
+    if (!node) return false;
+    const box = new T.Box3().setFromObject(node);
+    const centre = box.getCenter(new T.Vector3());
+    const size = box.getSize(new T.Vector3());
+    const dist = Math.max(size.x, size.y, size.z) * 1.5 + 0.4;
+    const front = new T.Vector3(0, 0, 1).transformDirection(node.matrixWorld);
+    front.y = 0;
+    if (front.lengthSq() < 1e-6) front.set(0, 0, 1);
+    front.normalize();
+    const side = new T.Vector3().crossVectors(new T.Vector3(0, 1, 0), front);
+    camera.position.copy(centre).addScaledVector(front, dist).addScaledVector(side, dist * 0.35);
+    camera.position.y = centre.y + dist * 0.4;
+    if (controls) {
+      controls.target.copy(centre);
+      controls.update();
+    } else {
+      camera.lookAt(centre);
+    }
+    return true;
   }
 
   function addLabels() {
@@ -166,7 +196,8 @@
       });
       house.updateMatrixWorld(true);
       frame(new T.Box3().setFromObject(house));
-      if (!topView) addLabels();
+      const looking = !topView && lookAt !== null && look(lookAt);
+      if (!topView && !looking) addLabels();
       draw();
       status.textContent = "loaded: " + objects + " objects";
       status.dataset.objects = String(objects);

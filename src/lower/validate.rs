@@ -461,6 +461,8 @@ pub fn validate(
         }
     }
     // Objects inside rooms; floor footprints inside their room and not overlapping.
+    let nested_items: std::collections::BTreeSet<*const Value> =
+        objects.iter().flat_map(|o| arr(o, "children").iter().map(std::ptr::from_ref)).collect();
     let mut footprints: Vec<Footprint<'_>> = Vec::new();
     for &o in &objects {
         let id = s(o, "id").unwrap_or("?");
@@ -491,8 +493,10 @@ pub fn validate(
             );
             continue;
         }
-        // Objects of unknown size (E0614 below) have no footprint to check.
-        if let Some(fp) = floor_footprint(o, pos, objects_catalog) {
+        // Objects of unknown size (E0614 below) have no footprint to check; an item nested on
+        // a receptacle stands on it, even on a bottom shelf just above the floor.
+        let nested = nested_items.contains(&std::ptr::from_ref(o));
+        if let Some(fp) = floor_footprint(o, pos, objects_catalog).filter(|_| !nested) {
             footprints.push(Footprint { id, room: s(o, "roomId"), ..fp });
         }
     }

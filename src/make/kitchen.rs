@@ -70,7 +70,6 @@ fn pitcher(ctx: &mut Ctx<'_>) -> Build {
     let body = ctx.main(Material::Ceramic);
     let mut b = Build::default();
     let r = w / 2.0;
-    let handle = (d - w).max(0.02);
     let cz = -d / 2.0 + r;
     b.add(
         "body",
@@ -86,18 +85,13 @@ fn pitcher(ctx: &mut Ctx<'_>) -> Build {
         },
     );
     b.add("bottom", body, Shape::cylinder(Axis::Y, [0.0, 0.0, cz], 0.01, r * 0.85));
-    // The spout at the front (+z side... the handle's side is the back).
+    // The spout on the side away from the handle.
     b.add(
         "spout",
         body,
-        Shape::Cuboid {
-            min: [-r * 0.25, h * 0.85, cz + r * 0.7],
-            max: [r * 0.25, h, d / 2.0 - handle + r * 0.2],
-        },
+        Shape::Cuboid { min: [-r * 0.25, h * 0.85, -d / 2.0], max: [r * 0.25, h, cz - r * 0.6] },
     );
-    // The handle at the back.
-    let hz0 = -d / 2.0;
-    let _ = hz0;
+    // The handle on the other side.
     let back = cz + r;
     let hb = (d / 2.0 - back).max(0.015);
     b.add(

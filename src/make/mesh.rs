@@ -183,30 +183,41 @@ impl Build {
     /// The mesh: every shape triangulated, moved so that the bounding box is centred on the
     /// origin, with each vertex's uv at its part's swatch cell (`cell_uv`).
     pub fn finish(&self, cell_uv: impl Fn(usize) -> [f64; 2]) -> Mesh {
-        let (min, max) = self.bounds();
-        let centre = [0, 1, 2].map(|i| f64::midpoint(min[i], max[i]));
         let mut mesh = Mesh::default();
         for (p, part) in self.parts.iter().enumerate() {
             let uv = cell_uv(part.swatch);
             for shape in &part.shapes {
-                let start = mesh.vertices.len();
-                let first_triangle = mesh.triangles.len();
                 triangulate(shape, &mut mesh);
-                for v in &mut mesh.vertices[start..] {
-                    for i in 0..3 {
-                        v[i] -= centre[i];
-                    }
-                }
                 mesh.uvs.resize(mesh.vertices.len(), uv);
                 mesh.part_of.resize(mesh.triangles.len() / 3, p);
-                debug_assert!(mesh.triangles.len() >= first_triangle);
-                let (a, b) = shape.bounds();
-                let lo = [a[0] - centre[0], a[1] - centre[1], a[2] - centre[2]];
-                let hi = [b[0] - centre[0], b[1] - centre[1], b[2] - centre[2]];
-                mesh.colliders.push((lo, hi));
+                mesh.colliders.push(shape.bounds());
             }
         }
-        mesh.size = [max[0] - min[0], max[1] - min[1], max[2] - min[2]];
+        // The box of the vertices themselves (a sheet's ends and a round solid's facets stop
+        // inside their shapes' boxes), centred on the origin.
+        let (mut min, mut max) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+        for v in &mesh.vertices {
+            for i in 0..3 {
+                min[i] = min[i].min(v[i]);
+                max[i] = max[i].max(v[i]);
+            }
+        }
+        if mesh.vertices.is_empty() {
+            (min, max) = ([0.0; 3], [0.0; 3]);
+        }
+        let centre = [0, 1, 2].map(|i| f64::midpoint(min[i], max[i]));
+        for v in &mut mesh.vertices {
+            for i in 0..3 {
+                v[i] -= centre[i];
+            }
+        }
+        for (lo, hi) in &mut mesh.colliders {
+            for i in 0..3 {
+                lo[i] = lo[i].max(min[i]) - centre[i];
+                hi[i] = hi[i].min(max[i]) - centre[i];
+            }
+        }
+        mesh.size = [0, 1, 2].map(|i| max[i] - min[i]);
         mesh
     }
 }

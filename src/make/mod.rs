@@ -350,7 +350,7 @@ pub struct Request<'k> {
 }
 
 /// A made asset.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, PartialEq)]
 pub struct MadeAsset {
     /// Its id in the house and the name of its folder: `holoc_<kind>_<hash>`.
     pub uid: String,
@@ -374,6 +374,18 @@ pub struct MadeAsset {
     pub palette: Vec<Swatch>,
     /// Its triangle mesh, centred on its bounding box.
     pub mesh: Mesh,
+}
+
+impl std::fmt::Debug for MadeAsset {
+    /// Its uid, kind, size and how many triangles: the mesh itself is too long to read.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("MadeAsset")
+            .field("uid", &self.uid)
+            .field("kind", &self.kind)
+            .field("size_m", &self.size_m)
+            .field("triangles", &(self.mesh.triangles.len() / 3))
+            .finish_non_exhaustive()
+    }
 }
 
 impl MadeAsset {

@@ -1145,7 +1145,15 @@ impl<'a> State<'a> {
             }
             match mix {
                 objathor::Mix::BuiltinFirst => {
-                    if good.is_empty() {
+                    // The built-in set first, unless its best is not the kind of thing the
+                    // words name and holoc would make it (objathor's assets come before a
+                    // made one).
+                    let not_the_thing = self.options.make
+                        && good.first().is_some_and(|c| {
+                            crate::make::named(&query.category, kind)
+                                .is_some_and(|k| !crate::make::builtin_is(k, &c.object_type))
+                        });
+                    if good.is_empty() || (not_the_thing && !extra.is_empty()) {
                         good = extra;
                     }
                 }
