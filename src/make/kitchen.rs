@@ -199,19 +199,17 @@ fn range(ctx: &mut Ctx<'_>) -> Build {
     {
         let r = if k % 3 == 0 { 0.09 } else { 0.07 };
         let r = r * (w / 0.76).min(1.2);
-        b.add("burner", grate, Shape::tube(Axis::Y, [fx * w, h - panel_h, fz * d], 0.015, r, 0.8));
-        b.add(
-            "burner",
-            grate,
-            Shape::cylinder(Axis::Y, [fx * w, h - panel_h, fz * d], 0.02, r * 0.35),
-        );
+        let at = [fx * w, h - panel_h, fz * d];
+        b.add("burner", grate, Shape::tube(Axis::Y, at, 0.015, r, 0.8).with_segments(12));
+        b.add("burner", grate, Shape::cylinder(Axis::Y, at, 0.02, r * 0.35).with_segments(10));
     }
     for i in 0..4 {
         let x = -w * 0.3 + i as f64 * w * 0.2;
         b.add(
             "knob",
             grate,
-            Shape::cylinder(Axis::Z, [x, h - panel_h * 0.5, -d / 2.0 + 0.05], 0.025, 0.018),
+            Shape::cylinder(Axis::Z, [x, h - panel_h * 0.5, -d / 2.0 + 0.05], 0.025, 0.018)
+                .with_segments(10),
         );
     }
     // The oven door on the front with its window and handle.

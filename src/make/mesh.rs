@@ -76,17 +76,27 @@ impl Shape {
 
     /// A cylinder along `axis` from `from`.
     pub fn cylinder(axis: Axis, from: [f64; 3], length: f64, radius: f64) -> Shape {
-        Shape::Round { axis, from, length, r0: radius, r1: radius, inner: 0.0, segments: 20 }
+        Shape::Round { axis, from, length, r0: radius, r1: radius, inner: 0.0, segments: 16 }
     }
 
     /// A cone or frustum along `axis` from `from`.
     pub fn frustum(axis: Axis, from: [f64; 3], length: f64, r0: f64, r1: f64) -> Shape {
-        Shape::Round { axis, from, length, r0, r1, inner: 0.0, segments: 20 }
+        Shape::Round { axis, from, length, r0, r1, inner: 0.0, segments: 16 }
     }
 
     /// A tube (a ring with walls) along `axis`: outer radius `radius`, inner `inner × radius`.
     pub fn tube(axis: Axis, from: [f64; 3], length: f64, radius: f64, inner: f64) -> Shape {
-        Shape::Round { axis, from, length, r0: radius, r1: radius, inner, segments: 24 }
+        Shape::Round { axis, from, length, r0: radius, r1: radius, inner, segments: 20 }
+    }
+
+    /// A round solid with `n` segments round its axis (fewer for small details, so that an
+    /// asset stays small on disk); other shapes are unchanged.
+    #[must_use]
+    pub fn with_segments(mut self, n: usize) -> Shape {
+        if let Shape::Round { segments, .. } = &mut self {
+            *segments = n.max(3);
+        }
+        self
     }
 
     /// The box that holds it.

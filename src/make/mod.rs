@@ -681,6 +681,15 @@ mod tests {
     }
 
     #[test]
+    fn every_kind_is_at_most_200_kb_on_disk() {
+        for kind in KINDS {
+            let made = make(&Request { kind, size_m: None, description: kind.phrases[0].into() });
+            let bytes: usize = runtime::files(&made).iter().map(|(_, b)| b.len()).sum();
+            assert!(bytes <= 200 * 1024, "{}: {bytes} bytes", kind.name);
+        }
+    }
+
+    #[test]
     fn an_asked_size_is_the_box_filled() {
         let kind = kind("wall_shelf").expect("a wall shelf kind");
         let made = make(&Request {

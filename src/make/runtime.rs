@@ -83,9 +83,9 @@ fn jpeg(width: u16, height: u16, rgb: &[u8]) -> Vec<u8> {
     out
 }
 
-/// Rounds to 5 decimals (0.01 mm), so that files stay small and stable.
+/// Rounds to 4 decimals (0.1 mm, and normals to 1e-4), so that files stay small and stable.
 fn r5(v: f64) -> Value {
-    let r = (v * 100_000.0).round() / 100_000.0;
+    let r = (v * 10_000.0).round() / 10_000.0;
     let r = if r == 0.0 { 0.0 } else { r };
     serde_json::Number::from_f64(r).map_or(Value::Null, Value::Number)
 }

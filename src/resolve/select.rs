@@ -307,6 +307,17 @@ impl Resolved {
 fn dump_resolution(res: &Resolution, catalog: &Catalog) -> String {
     match res {
         Resolution::Chosen(c) => {
+            if let Some(m) = &c.made {
+                let [w, h, d] = c.bbox_m;
+                return format!(
+                    "→ {} ({}, made by holoc) {w:.2}×{h:.2}×{d:.2} m, made: {} ({} parts, {} triangles)",
+                    c.asset_id,
+                    c.object_type,
+                    m.kind.replace('_', " "),
+                    m.parts.len(),
+                    m.mesh.triangles.len() / 3
+                );
+            }
             let source = &catalog.sources()[c.source.min(catalog.sources().len() - 1)].name;
             let how = match &c.parts {
                 _ if c.pinned => "pinned".to_string(),
