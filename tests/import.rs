@@ -587,9 +587,10 @@ fn standalone(stage: Stage, room: Option<&str>, answer: &str) -> (String, Vec<ho
 /// Builds a `.holo` (its rooms given an outline where they have none) with the default
 /// catalog: whether it builds, and the diagnostics.
 fn builds(holo: &str) -> (bool, String) {
-    let with_corners = holo.replace(
-        "\" {\n",
-        "\" {\n  corners in m (0, 0) (0, 6) (6, 6) (6, 0)\n",
+    let with_corners = holo.replacen(
+        "room living_room \"living room\" {\n",
+        "room living_room \"living room\" {\n  corners in m (0, 0) (0, 6) (6, 6) (6, 0)\n",
+        1,
     );
     let text = format!("{with_corners}door exterior -- living_room : doorway single\n");
     let catalog = holoc::resolve::Catalog::embedded();
