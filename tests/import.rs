@@ -575,7 +575,11 @@ fn real_holodeck_scenes_keep_what_has_an_asset() {
 }
 
 /// Imports one stand-alone answer of `stage` for `room`: its `.holo` and its diagnostics.
-fn standalone(stage: Stage, room: Option<&str>, answer: &str) -> (String, Vec<holoc::diag::Diagnostic>, SourceMap) {
+fn standalone(
+    stage: Stage,
+    room: Option<&str>,
+    answer: &str,
+) -> (String, Vec<holoc::diag::Diagnostic>, SourceMap) {
     let mut sources = SourceMap::new();
     let id = sources.add("answer", answer.to_string());
     let mut ctx = ImportContext::new();
@@ -670,7 +674,10 @@ fn a_relation_to_a_later_line_is_kept_or_breaks_a_circle() {
     let codes: Vec<&str> = diagnostics.iter().map(|d| d.code.as_str()).collect();
     assert_eq!(codes, ["W0708"], "{}", render(&sources, &diagnostics));
     assert!(holo.contains("// raw floor-constraints: near, armchair-0"), "{holo}");
-    assert!(holo.contains("near coffee_table-0") && holo.contains("face to coffee_table-0"), "{holo}");
+    assert!(
+        holo.contains("near coffee_table-0") && holo.contains("face to coffee_table-0"),
+        "{holo}"
+    );
     let (built, why) = builds(&holo);
     assert!(built, "{why}");
     // Without the circle, the relation to the later line stays and the scene builds.
@@ -716,7 +723,15 @@ fn import_output_is_written_whenever_something_was_read() {
     std::fs::write(&answer, "sofa-0 | edge\ntable-0 | middle | near, lamp-9\n").expect("write");
     let scene = dir.join("scene.holo");
     let run = std::process::Command::new(env!("CARGO_BIN_EXE_holoc"))
-        .args(["import", "--stage", "floor-constraints", "--room", "living room", "--format", "short"])
+        .args([
+            "import",
+            "--stage",
+            "floor-constraints",
+            "--room",
+            "living room",
+            "--format",
+            "short",
+        ])
         .arg(&answer)
         .arg("-o")
         .arg(&scene)
@@ -727,7 +742,11 @@ fn import_output_is_written_whenever_something_was_read() {
     assert!(stderr.contains("E0707"), "{stderr}");
     assert!(stderr.contains("1 error above"), "{stderr}");
     let written = std::fs::read_to_string(&scene).expect("the scene is written");
-    assert!(written.contains("object sofa") && written.contains("// raw floor-constraints: near, lamp-9"), "{written}");
+    assert!(
+        written.contains("object sofa")
+            && written.contains("// raw floor-constraints: near, lamp-9"),
+        "{written}"
+    );
     // Nothing readable: no file, and it says so.
     let empty = dir.join("empty.txt");
     std::fs::write(&empty, "I cannot help with that.\n").expect("write");

@@ -153,7 +153,10 @@ fn read_anything(items: &[ast::Item]) -> bool {
         }),
         ast::Item::Door(_) => true,
         ast::Item::Room(room) => room.body.iter().any(|stmt| {
-            !matches!(stmt, ast::RoomStmt::Comment(_) | ast::RoomStmt::Blank(_) | ast::RoomStmt::Error(_))
+            !matches!(
+                stmt,
+                ast::RoomStmt::Comment(_) | ast::RoomStmt::Blank(_) | ast::RoomStmt::Error(_)
+            )
         }),
         ast::Item::Comment(_) | ast::Item::Blank(_) | ast::Item::Error(_) => false,
     })

@@ -119,6 +119,7 @@ codes! {
     W0306 "door-dropped" "a door between rooms that does not fit is left out, every room being reachable without it";
     W0307 "plan-repaired" "room corners were moved, as little as possible, so that the floor plan builds";
     W0308 "rooms-gap" "two rooms face each other across a gap narrower than the repair's bound";
+    W0309 "repair-work-bound" "the floor-plan repair stopped at its bound on work";
 
     E0601 "invalid-house-json" "a house file is not JSON or does not follow the house schema";
     E0602 "duplicate-id" "two entities of a house share an id";
