@@ -608,3 +608,40 @@ proptest! {
         prop_assert!(!again.changed, "{}", repaired.text);
     }
 }
+
+/// A room whose north-east side is a staircase of `steps` steps (`2 * steps + 3` corners) from
+/// (0, 6) down to (6, 1), and a room south of it drawn `overlap` metres into it, with a door
+/// between them and one to the outside.
+fn staircase_plan(steps: usize, overlap: f64) -> String {
+    let (w, h) = (6.0, 6.0);
+    let (s, t) = (w / steps as f64, (h - 1.0) / steps as f64);
+    let mut corners = vec![[0.0, 0.0], [0.0, h]];
+    for i in 0..steps {
+        corners.push([(i + 1) as f64 * s, h - i as f64 * t]);
+        corners.push([(i + 1) as f64 * s, h - (i + 1) as f64 * t]);
+    }
+    corners.push([w, 0.0]);
+    let cs: Vec<String> = corners.iter().map(|p| format!("({:.4}, {:.4})", p[0], p[1])).collect();
+    format!(
+        "scene \"stairs\" {{ seed 1 }}\n\
+         room stairs \"stairs\" {{ corners in m {} }}\n\
+         room south \"south\" {{ corners in m (0, -3) (0, {z:.4}) (6, {z:.4}) (6, -3) }}\n\
+         door exterior -- stairs : doorway single\n\
+         door stairs -- south : doorway single\n",
+        cs.join(" "),
+        z = overlap,
+    )
+}
+
+/// Issue 50: a room of 199 corners (a staircase; holoc takes at most 200) overlapping its neighbour is repaired like a
+/// rectangle would be, within the bound on work (no W0309): the repair's candidates grow with
+/// the room's walls, not with their square.
+#[test]
+fn a_staircase_room_is_repaired_within_the_bound_on_work() {
+    let text = staircase_plan(98, 0.2);
+    let repaired = repair_text("stairs.holo", &text);
+    let codes: Vec<&str> = repaired.diagnostics.iter().map(|d| d.code.as_str()).collect();
+    assert_eq!(codes, ["W0307"], "{}", render(&repaired.sources, &repaired.diagnostics));
+    assert_eq!(plan_errors(&repaired.text), Vec::<&str>::new(), "{}", repaired.text);
+    assert!(repaired.max_move_m <= 0.2 + 1e-9, "{}", repaired.max_move_m);
+}

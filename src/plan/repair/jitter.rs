@@ -157,11 +157,10 @@ pub(super) fn snap(rooms: &[Vec<[f64; 2]>]) -> Vec<Vec<[f64; 2]>> {
         // Each group's line: the roundest coordinate within the span of its corners nearest
         // the mean of its walls weighted by their length.
         let mut line_of_node: Vec<Option<f64>> = vec![None; total];
-        for g in 0..walls.len() {
+        for (g, ws) in members.iter().enumerate() {
             if find(&mut group, g) != g {
                 continue;
             }
-            let ws = &members[g];
             let mut nodes: Vec<usize> = Vec::new();
             for &w in ws {
                 let root = walls[w].node;
