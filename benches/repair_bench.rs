@@ -26,7 +26,8 @@
 //! of the plan meant is from the repaired plan (*deviation from meant*; target at most 1 m),
 //! and the CPU per plan; then plans of up to 64 KB (rows of rooms of 199 corners each drawn
 //! into the next) with their time and whether the bound on work (W0309) was reached (target:
-//! no repair over 1 s).
+//! no repair over 1 s). `REPAIR_BENCH_ONLY=large` prints that last table alone, and
+//! `REPAIR_BENCH_NO_GENERATE=1` leaves out the `holoc generate` figures.
 //!
 //! The target (issue 15): at least 95% of the `shift` and `scale` plans (overlaps and gaps of up
 //! to 0.5 m) valid after repair with no corner moved by more than 0.5 m, every run identical,
@@ -513,7 +514,12 @@ struct Row {
 }
 
 fn main() {
-    // `cargo bench` passes `--bench`; nothing else is read.
+    // `cargo bench` passes `--bench`; nothing else is read. `REPAIR_BENCH_ONLY=large` runs the
+    // table of large plans alone.
+    if std::env::var("REPAIR_BENCH_ONLY").is_ok_and(|v| v == "large") {
+        large_plans();
+        return;
+    }
     let mut valid_plans = real_plans();
     for entry in std::fs::read_dir("examples").into_iter().flatten().filter_map(Result::ok) {
         let path = entry.path();

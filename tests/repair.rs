@@ -645,3 +645,58 @@ fn a_staircase_room_is_repaired_within_the_bound_on_work() {
     assert_eq!(plan_errors(&repaired.text), Vec::<&str>::new(), "{}", repaired.text);
     assert!(repaired.max_move_m <= 0.2 + 1e-9, "{}", repaired.max_move_m);
 }
+
+/// A row of `rooms` rooms of 199 corners each (their walls cut into many short pieces), each
+/// drawn 10 cm into the one before, with a door between neighbours: about 3.8 KB a room.
+fn large_row(rooms: usize) -> String {
+    let mut text = String::from("scene \"row\" { seed 1 }\n");
+    for r in 0..rooms {
+        let x0 = r as f64 * 4.0 - if r > 0 { 0.1 } else { 0.0 };
+        let x1 = (r + 1) as f64 * 4.0;
+        let mut corners = Vec::new();
+        for i in 0..50 {
+            corners.push([x0, 6.0 * i as f64 / 50.0]);
+        }
+        for i in 0..50 {
+            corners.push([x0 + (x1 - x0) * i as f64 / 50.0, 6.0]);
+        }
+        for i in 0..50 {
+            corners.push([x1, 6.0 - 6.0 * i as f64 / 50.0]);
+        }
+        for i in 0..49 {
+            corners.push([x1 - (x1 - x0) * i as f64 / 49.0, 0.0]);
+        }
+        let cs: Vec<String> =
+            corners.iter().map(|p| format!("({:.4}, {:.4})", p[0], p[1])).collect();
+        let _ = writeln!(text, "room r{r} \"r{r}\" {{ corners in m {} }}", cs.join(" "));
+    }
+    text.push_str("door exterior -- r0 : doorway single\n");
+    for r in 1..rooms {
+        let _ = writeln!(text, "door r{} -- r{r} : doorway single", r - 1);
+    }
+    text
+}
+
+/// Issue 50 (and 51): the repair's work is bounded. A plan of 17 rooms of 199 corners, each
+/// drawn into the one before (64 KB), reaches the bound: the repair stops with W0309, and what
+/// it returns is never worse than the plan as written.
+#[test]
+fn the_bound_on_work_stops_a_repair_with_w0309() {
+    let text = large_row(17);
+    assert!(text.len() <= 64 * 1024, "{} bytes", text.len());
+    let before = plan_errors(&text);
+    let repaired = repair_text("row.holo", &text);
+    let w0309: Vec<_> =
+        repaired.diagnostics.iter().filter(|d| d.code.as_str() == "W0309").collect();
+    assert_eq!(w0309.len(), 1, "{}", render(&repaired.sources, &repaired.diagnostics));
+    assert!(w0309[0].message.contains("bound on work"), "{}", w0309[0].message);
+    let after = plan_errors(&repaired.text);
+    let mut left = before.clone();
+    for code in &after {
+        let i = left.iter().position(|c| c == code);
+        assert!(i.is_some(), "a new error {code}: {before:?} → {after:?}");
+        if let Some(i) = i {
+            left.remove(i);
+        }
+    }
+}

@@ -9,6 +9,10 @@
 //! unreachable room or an unknown asset, and its gaps between facing rooms (W0308). A plan
 //! without either comes back unchanged. Otherwise:
 //!
+//! 0. **Jitter snapped onto shared lines** (`jitter.rs`), when outlines in at least two rooms
+//!    have slanted edges: nearly straight edges, facing walls and walls continuing one another
+//!    within twice [`MAX_JITTER_M`] become one line each, before any room moves; the snapped
+//!    plan is kept when it is never worse and better (see step 3).
 //! 1. **Outline clean-up**, of outlines with a repeated corner or a slanted edge: repeated
 //!    corners and corners in the middle of a straight wall are dropped; an edge slanted by at
 //!    most [`MAX_MOVE_M`] is made straight by moving the corner whose coordinate no nearby room
@@ -72,6 +76,10 @@
 //! (even one still with errors) changes nothing: repair is idempotent (a plan repaired by
 //! step 2 is clean, so it comes back unchanged). What it cannot fix is left for the plan stage
 //! to report.
+//!
+//! The whole repair is bounded by [`MAX_REPAIR_WORK`] (W0309 when reached), and a room's
+//! candidate moves per axis by `MAX_AXIS_CANDIDATES`, the nearest first, so that a room with
+//! many walls gives candidates in proportion to its walls, not their square.
 
 mod jitter;
 
@@ -105,7 +113,7 @@ const GAP_GRID_CELL_M: f64 = 4.0;
 const GAP_GRID_MARGIN_M: f64 = 1e-3;
 
 /// The most work a repair does, in corners handled: each candidate plan built and each plan
-/// the plan stage judges costs its number of corners (a judged plan [`JUDGE_COST`] times
+/// the plan stage judges costs its number of corners (a judged plan `JUDGE_COST` times
 /// over). A repair that reaches it stops where it is (W0309): the work of a repair is bounded
 /// whatever the plan, about a second on the slowest plans measured.
 pub const MAX_REPAIR_WORK: u64 = 4_000_000;
@@ -141,6 +149,14 @@ impl Work {
 
 fn corner_count(rooms: &[Vec<[f64; 2]>]) -> usize {
     rooms.iter().map(Vec::len).sum()
+}
+
+/// The work of weighing one candidate that changes room `r`: every corner of the plan, and
+/// each corner of `r` against each corner of the rooms near it (their shared walls, overlaps
+/// and near misses are measured pair by pair).
+fn candidate_work(rooms: &[Vec<[f64; 2]>], r: usize) -> usize {
+    let near: usize = rooms_near(rooms, r).map(Vec::len).sum();
+    corner_count(rooms).saturating_add(rooms[r].len().saturating_mul(near))
 }
 
 /// The repaired outlines, one per room of the scene, and whether anything moved.
@@ -458,10 +474,10 @@ fn best_step(
 ) -> Option<(State, Badness)> {
     let mut candidates: Vec<(Cost, State)> = Vec::new();
     let links = door_links(scene, state.rooms.len());
-    let corners = corner_count(&state.rooms);
     for r in 0..state.rooms.len() {
+        let each = candidate_work(&state.rooms, r);
         for rooms in single_room_candidates(&state.rooms, r, &links) {
-            if !work.spend(corners) {
+            if !work.spend(each) {
                 return None;
             }
             let mut next = state.clone();
@@ -599,6 +615,7 @@ fn move_one_room_back(
     let mm = |v: f64| (v * 1e3).round() as i64;
     let mut candidates: Vec<(WholeMoveOrder, usize, [f64; 2])> = Vec::new();
     for r in (0..n).filter(|&r| suspect[r]) {
+        let each = candidate_work(rooms, r);
         let bound = if apart[r] { MAX_TRANSLATION_M } else { MAX_MOVE_M };
         let mut deltas: [Vec<f64>; 2] = [vec![0.0], vec![0.0]];
         for (axis, out) in deltas.iter_mut().enumerate() {
@@ -627,7 +644,7 @@ fn move_one_room_back(
                 if dx.abs() <= SAME_M && dz.abs() <= SAME_M {
                     continue;
                 }
-                if !work.spend(rooms[r].len()) {
+                if !work.spend(each) {
                     return None;
                 }
                 let moved: Vec<[f64; 2]> =
@@ -738,6 +755,7 @@ fn fit_one_room_to_lines(
     let origin = [lowest(rooms, 0), lowest(rooms, 1)];
     let mut candidates: Vec<(RefitOrder, usize, Vec<[f64; 2]>, bool)> = Vec::new();
     for r in (0..n).filter(|&r| suspect[r]) {
+        let each = candidate_work(rooms, r);
         let total = coords[r][0].len() + coords[r][1].len();
         let straight = rooms[r]
             .iter()
@@ -783,7 +801,7 @@ fn fit_one_room_to_lines(
                 if fit == before {
                     continue;
                 }
-                if !work.spend(rooms[r].len()) {
+                if !work.spend(each) {
                     return None;
                 }
                 let mut next = rooms.to_vec();
