@@ -13,7 +13,21 @@
 //! - `doubled`: one corner written twice and a corner added in the middle of a wall;
 //! - `detached`: a room with one neighbour moved 30 to 90 cm away from it;
 //! - `corner dropped`: one corner of a room left out (a slanted wall across the room; most of
-//!   these need more than the bounds allow and stay errors, reported for information).
+//!   these need more than the bounds allow and stay errors, reported for information);
+//! - `jitter` (issue 50): every corner of the plan moved by up to 17 cm on each axis, three
+//!   ways per plan;
+//! - `corner only` (issue 50): a room with one neighbour slid along their shared wall until the
+//!   two meet only at a corner;
+//! - `staircase` (issue 50): a room whose side is a staircase of 50 to 199 corners (holoc takes
+//!   at most 200 per room) drawn 10 to 30 cm into its neighbour (our own plans only).
+//!
+//! Issue 50 adds, per kind: the share of repaired plans that keep the wall-sharing pairs of the
+//! plan meant (*pairs kept*; target 99% for `jitter` and `corner only`), the farthest a corner
+//! of the plan meant is from the repaired plan (*deviation from meant*; target at most 1 m),
+//! and the CPU per plan; then plans of up to 64 KB (rows of rooms of 199 corners each drawn
+//! into the next) with their time and whether the bound on work (W0309) was reached (target:
+//! no repair over 1 s). `REPAIR_BENCH_ONLY=large` prints that last table alone, and
+//! `REPAIR_BENCH_NO_GENERATE=1` leaves out the `holoc generate` figures.
 //!
 //! The target (issue 15): at least 95% of the `shift` and `scale` plans (overlaps and gaps of up
 //! to 0.5 m) valid after repair with no corner moved by more than 0.5 m, every run identical,
@@ -102,6 +116,8 @@ struct Outcome {
     area_change: f64,
     time: Duration,
     text: String,
+    /// Whether the repair reached its bound on work (W0309).
+    bounded: bool,
 }
 
 fn repair_plan(text: &str) -> Option<Outcome> {
@@ -144,6 +160,7 @@ fn repair_plan(text: &str) -> Option<Outcome> {
         area_change,
         time: times[times.len() / 2],
         text: holoc::diag::apply_fixes(text, id, &repaired.diagnostics),
+        bounded: repaired.diagnostics.iter().any(|d| d.code.as_str() == "W0309"),
     })
 }
 
@@ -296,8 +313,11 @@ fn shared_wall(a: &[f64; 4], b: &[f64; 4]) -> f64 {
     }
 }
 
+/// A broken plan: its kind, the room broken (`usize::MAX`: every room) and the plan.
+type Break = (&'static str, usize, Plan);
+
 /// The broken plans of each kind made from one valid plan.
-fn breaks(plan: &Plan) -> Vec<(&'static str, usize, Plan)> {
+fn breaks(plan: &Plan) -> Vec<Break> {
     let mut out = Vec::new();
     let n = plan.rooms.len();
     let with = |room: usize, corners: Vec<[f64; 2]>| {
@@ -359,6 +379,55 @@ fn breaks(plan: &Plan) -> Vec<(&'static str, usize, Plan)> {
             dropped.remove(0);
             let (r, p) = with(room, dropped);
             out.push(("corner dropped", r, p));
+        }
+    }
+    // Every corner moved by up to 17 cm on each axis, three ways.
+    let mut rng = Rng(0x6a69_7474 ^ (n as u64) ^ plan.name.len() as u64);
+    for _ in 0..3 {
+        let mut p = plan.clone();
+        for (_, corners) in &mut p.rooms {
+            for c in corners.iter_mut() {
+                c[0] += rng.range(-0.17, 0.17);
+                c[1] += rng.range(-0.17, 0.17);
+            }
+        }
+        out.push(("jitter", usize::MAX, p));
+    }
+    // A room with one neighbour slid along their shared wall until they meet at a corner only.
+    for room in 1..n {
+        let neighbours: Vec<usize> = plan
+            .doors
+            .iter()
+            .filter_map(|&(a, b)| match a {
+                Some(a) if a == room => Some(b),
+                Some(a) if b == room => Some(a),
+                _ => None,
+            })
+            .collect();
+        if neighbours.len() != 1 {
+            continue;
+        }
+        let (lo, hi) = bounds(&plan.rooms[room].1);
+        let (olo, ohi) = bounds(&plan.rooms[neighbours[0]].1);
+        for axis in 0..2 {
+            let other = 1 - axis;
+            // They share a wall across `axis`: slide along `other` past the neighbour's end.
+            let meets = (lo[axis] - ohi[axis]).abs() < 1e-6 || (olo[axis] - hi[axis]).abs() < 1e-6;
+            if !meets {
+                continue;
+            }
+            for toward_high in [false, true] {
+                let mut shift = [0.0; 2];
+                shift[other] =
+                    if toward_high { ohi[other] - lo[other] } else { olo[other] - hi[other] };
+                if shift[other].abs() > 4.0 {
+                    continue;
+                }
+                let moved =
+                    plan.rooms[room].1.iter().map(|p| [p[0] + shift[0], p[1] + shift[1]]).collect();
+                let (r, p) = with(room, moved);
+                out.push(("corner only", r, p));
+            }
         }
     }
     // A room with one neighbour, moved away from it.
@@ -436,10 +505,21 @@ struct Row {
     changed: usize,
     /// Changed plans not equal to the plan meant (numbering for `REPAIR_BENCH_DUMP`).
     missed: usize,
+    /// Repaired plans whose wall-sharing pairs are those of the plan meant.
+    pairs_kept: usize,
+    /// The farthest a corner of the plan meant is from its repaired room's corners, metres.
+    deviation: f64,
+    /// Repairs that reached the bound on work (W0309).
+    bounded: usize,
 }
 
 fn main() {
-    // `cargo bench` passes `--bench`; nothing else is read.
+    // `cargo bench` passes `--bench`; nothing else is read. `REPAIR_BENCH_ONLY=large` runs the
+    // table of large plans alone.
+    if std::env::var("REPAIR_BENCH_ONLY").is_ok_and(|v| v == "large") {
+        large_plans();
+        return;
+    }
     let mut valid_plans = real_plans();
     for entry in std::fs::read_dir("examples").into_iter().flatten().filter_map(Result::ok) {
         let path = entry.path();
@@ -456,12 +536,30 @@ fn main() {
         .into_iter()
         .filter(|p| plan_errors(&p.to_holo()).is_some_and(|e| e.is_empty()))
         .collect();
-    let kinds = ["shift", "scale", "slant", "doubled", "detached", "corner dropped"];
+    let kinds = [
+        "shift",
+        "scale",
+        "slant",
+        "doubled",
+        "detached",
+        "corner dropped",
+        "jitter",
+        "corner only",
+        "staircase",
+    ];
     let mut rows: Vec<Row> = kinds.iter().map(|_| Row::default()).collect();
     let mut deterministic = true;
     let mut failures: Vec<String> = Vec::new();
-    for base in &bases {
-        for (kind, broken_room, broken) in breaks(base) {
+    let staircases = staircase_plans();
+    let all: Vec<(Plan, Vec<Break>)> = bases
+        .iter()
+        .map(|b| (b.clone(), breaks(b)))
+        .chain(
+            staircases.into_iter().map(|(meant, broken)| (meant, vec![("staircase", 1, broken)])),
+        )
+        .collect();
+    for (base, broken_plans) in &all {
+        for (kind, broken_room, broken) in broken_plans.iter().cloned() {
             let text = broken.to_holo();
             let Some(errors) = plan_errors(&text) else { continue };
             let row = &mut rows[kinds.iter().position(|k| *k == kind).unwrap_or(0)];
@@ -479,6 +577,15 @@ fn main() {
             }
             if out.errors_after.iter().any(|c| !errors.contains(c)) {
                 row.new_kinds += 1;
+            }
+            if out.changed && out.valid {
+                if sharing_pairs(&out.corners) == sharing_pairs_of(base) {
+                    row.pairs_kept += 1;
+                }
+                row.deviation = row.deviation.max(deviation_from_meant(base, &out.corners));
+            }
+            if out.bounded {
+                row.bounded += 1;
             }
             if out.changed {
                 row.changed += 1;
@@ -508,6 +615,7 @@ fn main() {
                     .zip(&broken.rooms)
                     .enumerate()
                     .any(|(i, (c, r))| i != broken_room && !same_outline(c, &r.1));
+                let others = others && broken_room != usize::MAX;
                 if others {
                     row.others_moved += 1;
                 }
@@ -537,20 +645,22 @@ fn main() {
         kinds.len()
     );
     println!(
-        "| break | plans | valid as broken | to repair | repaired | share | equal to meant | other rooms moved | new error kinds | idempotent | largest corner move m | median corner move m | largest wall move m | largest area change | median ms | max ms |"
+        "| break | plans | valid as broken | to repair | repaired | share | equal to meant | pairs kept | deviation from meant m | other rooms moved | new error kinds | idempotent | largest corner move m | median corner move m | largest wall move m | largest area change | median ms | max ms | W0309 |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     for (kind, row) in kinds.iter().zip(&rows) {
         let to_repair = row.plans - row.already_valid;
         let share =
             |n: usize, of: usize| if of == 0 { 100.0 } else { 100.0 * n as f64 / of as f64 };
         println!(
-            "| {kind} | {} | {} | {to_repair} | {} | {:.1}% | {:.1}% | {} | {} | {:.1}% | {:.2} | {:.2} | {:.2} | {:.1}% | {:.3} | {:.3} |",
+            "| {kind} | {} | {} | {to_repair} | {} | {:.1}% | {:.1}% | {:.1}% | {:.2} | {} | {} | {:.1}% | {:.2} | {:.2} | {:.2} | {:.1}% | {:.3} | {:.3} | {} |",
             row.plans,
             row.already_valid,
             row.repaired,
             share(row.repaired, to_repair),
             share(row.meant, row.changed),
+            share(row.pairs_kept, row.repaired),
+            row.deviation,
             row.others_moved,
             row.new_kinds,
             share(row.idempotent, to_repair),
@@ -560,6 +670,7 @@ fn main() {
             row.area * 100.0,
             median(row.times.clone()),
             row.max_time,
+            row.bounded,
         );
     }
     let target: Vec<&Row> = rows.iter().take(2).collect();
@@ -573,8 +684,152 @@ fn main() {
     for f in failures.iter().take(10) {
         println!("not repaired: {f}");
     }
+    large_plans();
     issue_cases();
-    generate_figures(&bases);
+    if std::env::var_os("REPAIR_BENCH_NO_GENERATE").is_none() {
+        generate_figures(&bases);
+    }
+}
+
+/// The pairs of rooms (by index) that share more than 10 cm of wall.
+fn sharing_pairs(rooms: &[Vec<[f64; 2]>]) -> Vec<(usize, usize)> {
+    let mut out = Vec::new();
+    for i in 0..rooms.len() {
+        for j in i + 1..rooms.len() {
+            if shared_wall_m(&rooms[i], &rooms[j]) > 0.1 {
+                out.push((i, j));
+            }
+        }
+    }
+    out
+}
+
+fn sharing_pairs_of(plan: &Plan) -> Vec<(usize, usize)> {
+    let rooms: Vec<Vec<[f64; 2]>> = plan.rooms.iter().map(|r| r.1.clone()).collect();
+    sharing_pairs(&rooms)
+}
+
+/// The length of wall two rectilinear outlines share.
+fn shared_wall_m(a: &[[f64; 2]], b: &[[f64; 2]]) -> f64 {
+    let mut total = 0.0;
+    for i in 0..a.len() {
+        let (p, q) = (a[i], a[(i + 1) % a.len()]);
+        for j in 0..b.len() {
+            let (r, s) = (b[j], b[(j + 1) % b.len()]);
+            for axis in 0..2 {
+                let other = 1 - axis;
+                let on_line = (p[axis] - q[axis]).abs() < 1e-6
+                    && (r[axis] - s[axis]).abs() < 1e-6
+                    && (p[axis] - r[axis]).abs() < 1e-6;
+                if on_line {
+                    let lo = p[other].min(q[other]).max(r[other].min(s[other]));
+                    let hi = p[other].max(q[other]).min(r[other].max(s[other]));
+                    total += (hi - lo).max(0.0);
+                }
+            }
+        }
+    }
+    total
+}
+
+/// The farthest a corner of the plan meant is from the nearest corner of its repaired room.
+fn deviation_from_meant(meant: &Plan, got: &[Vec<[f64; 2]>]) -> f64 {
+    let mut worst: f64 = 0.0;
+    for ((_, m), g) in meant.rooms.iter().zip(got) {
+        for p in m {
+            let nearest =
+                g.iter().map(|q| (p[0] - q[0]).hypot(p[1] - q[1])).fold(f64::INFINITY, f64::min);
+            worst = worst.max(nearest);
+        }
+    }
+    worst
+}
+
+/// A room whose north-east side is a staircase of `steps` steps from (0, 6) down to (6, 1),
+/// and a room south of it: the plan meant.
+fn staircase_plan(steps: usize, south_top: f64) -> Plan {
+    let (w, h) = (6.0, 6.0);
+    let (s, t) = (w / steps as f64, (h - 1.0) / steps as f64);
+    let mut corners = vec![[0.0, 0.0], [0.0, h]];
+    for i in 0..steps {
+        corners.push([(i + 1) as f64 * s, h - i as f64 * t]);
+        corners.push([(i + 1) as f64 * s, h - (i + 1) as f64 * t]);
+    }
+    corners.push([w, 0.0]);
+    Plan {
+        name: format!("staircase {}", corners.len()),
+        rooms: vec![
+            ("stairs".into(), corners),
+            ("south".into(), vec![[0.0, -3.0], [0.0, south_top], [6.0, south_top], [6.0, -3.0]]),
+        ],
+        doors: vec![(None, 0), (Some(0), 1)],
+    }
+}
+
+/// Staircase rooms of 51 to 199 corners, each with its neighbour drawn 10, 20 or 30 cm into it.
+fn staircase_plans() -> Vec<(Plan, Plan)> {
+    let mut out = Vec::new();
+    for steps in [24, 49, 74, 98] {
+        for overlap in [0.1, 0.2, 0.3] {
+            out.push((staircase_plan(steps, 0.0), staircase_plan(steps, overlap)));
+        }
+    }
+    out
+}
+
+/// Plans of up to 64 KB: a row of rooms of 199 corners each (their walls cut into many short
+/// pieces), each drawn 10 cm into the one before. The time of one repair and whether it
+/// reached the bound on work (W0309).
+fn large_plans() {
+    println!(
+        "
+| large plan | rooms | corners | KB | repaired | ms | W0309 |"
+    );
+    println!("|---|---|---|---|---|---|---|");
+    for rooms in [2, 5, 10, 17] {
+        let mut plan =
+            Plan { name: format!("row of {rooms}"), rooms: Vec::new(), doors: vec![(None, 0)] };
+        for r in 0..rooms {
+            let x0 = r as f64 * 4.0 - if r > 0 { 0.1 } else { 0.0 };
+            let x1 = (r + 1) as f64 * 4.0;
+            // 199 corners: 50 on each of the west, north and east walls, 49 on the south one.
+            let mut corners = Vec::new();
+            for i in 0..50 {
+                corners.push([x0, 6.0 * i as f64 / 50.0]);
+            }
+            for i in 0..50 {
+                corners.push([x0 + (x1 - x0) * i as f64 / 50.0, 6.0]);
+            }
+            for i in 0..50 {
+                corners.push([x1, 6.0 - 6.0 * i as f64 / 50.0]);
+            }
+            for i in 0..49 {
+                corners.push([x1 - (x1 - x0) * i as f64 / 49.0, 0.0]);
+            }
+            plan.rooms.push((format!("r{r}"), corners));
+            if r > 0 {
+                plan.doors.push((Some(r - 1), r));
+            }
+        }
+        let text = plan.to_holo();
+        let corners: usize = plan.rooms.iter().map(|r| r.1.len()).sum();
+        let Some(out) = repair_plan(&text) else {
+            println!(
+                "| {} | {rooms} | {corners} | {:.1} | (not checked) | | |",
+                plan.name,
+                text.len() as f64 / 1024.0
+            );
+            continue;
+        };
+        println!(
+            "| {} | {rooms} | {corners} | {:.1} | {} | {:.1} | {} |",
+            plan.name,
+            text.len() as f64 / 1024.0,
+            out.valid && out.changed,
+            out.time.as_secs_f64() * 1000.0,
+            out.bounded
+        );
+    }
 }
 
 /// Whether two outlines have the same corners (as sets, to the millimetre).

@@ -573,3 +573,194 @@ fn real_holodeck_scenes_keep_what_has_an_asset() {
         lines.join("\n")
     );
 }
+
+/// Imports one stand-alone answer of `stage` for `room`: its `.holo` and its diagnostics.
+fn standalone(
+    stage: Stage,
+    room: Option<&str>,
+    answer: &str,
+) -> (String, Vec<holoc::diag::Diagnostic>, SourceMap) {
+    let mut sources = SourceMap::new();
+    let id = sources.add("answer", answer.to_string());
+    let mut ctx = ImportContext::new();
+    ctx.set_room(room);
+    let out = import::import_answer(stage, &sources, id, &ctx);
+    (holoc::fmt::print(&out.value.fragment), out.diagnostics, sources)
+}
+
+/// Builds a `.holo` (its rooms given an outline where they have none) with the default
+/// catalog: whether it builds, and the diagnostics.
+fn builds(holo: &str) -> (bool, String) {
+    let with_corners = holo.replacen(
+        "room living_room \"living room\" {\n",
+        "room living_room \"living room\" {\n  corners in m (0, 0) (0, 6) (6, 6) (6, 0)\n",
+        1,
+    );
+    let text = format!("{with_corners}door exterior -- living_room : doorway single\n");
+    let catalog = holoc::resolve::Catalog::embedded();
+    let mut sources = SourceMap::new();
+    let id = sources.add("scene.holo", text.clone());
+    let built = holoc::compile::build(&sources, id, &holoc::compile::BuildOptions::new(&catalog));
+    (built.value.is_some(), format!("{text}\n{}", render(&sources, &built.diagnostics)))
+}
+
+/// Issue 50: names are resolved after the whole answer is read, in every stage whose lines name
+/// things (floor and wall constraints, small objects, doorways, windows, ceiling, absolute
+/// layout): a line may name what a later line declares, and a stand-alone answer declares what
+/// it names by one rule, spaces and capitals included. None of these is an error.
+#[test]
+fn every_stage_reads_names_declared_later() {
+    let cases: &[(Stage, &str, &[&str])] = &[
+        (
+            Stage::FloorConstraints,
+            "coffee_table-0 | middle | in front of, sofa-0 | near, armchair-0\n\
+             sofa-0 | edge\narmchair-0 | edge | near, sofa-0\n",
+            &["in front of sofa-0", "near armchair-0", "near sofa-0"],
+        ),
+        (
+            Stage::WallConstraints,
+            "painting-0 | above, TV Stand-0 | 160\nmirror-0 | above, tv stand-0 | 150\n",
+            &["above tv_stand-0", "object tv_stand"],
+        ),
+        (
+            Stage::SmallObjects,
+            "sofa-0 (living room) | remote control for TV, 1, same | book, 2, varied | gray fabric pillow, 2, varied\n\
+             tv stand-0 (living room) | 49 inch TV, 1, same | speaker, 2, same\n\
+             Book Shelf 2-0 (living room) | vase, 1, same\n",
+            &["object sofa", "object tv_stand", "object book_shelf_2", "\"49 inch TV\""],
+        ),
+        (
+            Stage::Doorways,
+            "living room | kitchen | doorway | single | oak door\nexterior | kitchen | doorway | single | oak door\n",
+            &["door living_room -- kitchen", "door exterior -- kitchen"],
+        ),
+        (
+            Stage::Windows,
+            "living room | south | fixed | (130, 130) | 1 | 50\nBed Room | north | fixed | (100, 100) | 1 | 60\n",
+            &["room living_room", "room bed_room"],
+        ),
+        (Stage::Ceiling, "living room | white light\nKitchen 2 | pendant\n", &["room kitchen_2"]),
+        (
+            Stage::AbsoluteLayout,
+            "[{\"object_name\": \"TV Stand-0\", \"position\": {\"X\": 100, \"Y\": 50}, \"rotation\": 0}, \
+             {\"object_name\": \"sofa-0\", \"position\": {\"X\": 300, \"Y\": 50}, \"rotation\": 90}]",
+            &["object tv_stand", "object sofa"],
+        ),
+    ];
+    for (stage, answer, wanted) in cases {
+        let (holo, diagnostics, sources) = standalone(*stage, Some("living room"), answer);
+        assert!(
+            !diagnostics.iter().any(holoc::diag::Diagnostic::is_error),
+            "{stage}: {}\n{holo}",
+            render(&sources, &diagnostics)
+        );
+        for w in *wanted {
+            assert!(holo.contains(w), "{stage}: `{w}` missing from\n{holo}");
+        }
+    }
+}
+
+/// Issue 50's first answer: a relation names `armchair-0` one line before its line. It is kept
+/// where it closes no circle; here `armchair-0` names `coffee_table-0` back, so the relation of
+/// `coffee_table-0` (the one naming a later line) is dropped with W0708 and kept as a comment,
+/// and the room imports and builds.
+#[test]
+fn a_relation_to_a_later_line_is_kept_or_breaks_a_circle() {
+    let answer = "sofa-0 | edge\n\
+                  coffee_table-0 | middle | in front of, sofa-0 | near, armchair-0\n\
+                  armchair-0 | middle | near, coffee_table-0 | face to, coffee_table-0\n";
+    let (holo, diagnostics, sources) =
+        standalone(Stage::FloorConstraints, Some("living room"), answer);
+    let codes: Vec<&str> = diagnostics.iter().map(|d| d.code.as_str()).collect();
+    assert_eq!(codes, ["W0708"], "{}", render(&sources, &diagnostics));
+    assert!(holo.contains("// raw floor-constraints: near, armchair-0"), "{holo}");
+    assert!(
+        holo.contains("near coffee_table-0") && holo.contains("face to coffee_table-0"),
+        "{holo}"
+    );
+    let (built, why) = builds(&holo);
+    assert!(built, "{why}");
+    // Without the circle, the relation to the later line stays and the scene builds.
+    let answer = "sofa-0 | edge\n\
+                  coffee_table-0 | middle | in front of, sofa-0 | near, armchair-0\n\
+                  armchair-0 | edge | near, sofa-0\n";
+    let (holo, diagnostics, sources) =
+        standalone(Stage::FloorConstraints, Some("living room"), answer);
+    assert!(diagnostics.is_empty(), "{}", render(&sources, &diagnostics));
+    assert!(holo.contains("near armchair-0"), "{holo}");
+    let (built, why) = builds(&holo);
+    assert!(built, "{why}");
+}
+
+/// Issue 50's second answer: a stand-alone small-object answer with a receptacle whose name has
+/// a space imports both receptacles as objects, and the room builds.
+#[test]
+fn a_receptacle_with_a_space_is_an_object_too() {
+    let answer = "sofa-0 (living room) | remote control for TV, 1, same | book, 2, varied | gray fabric pillow, 2, varied\n\
+                  tv stand-0 (living room) | 49 inch TV, 1, same | speaker, 2, same\n";
+    let (holo, diagnostics, sources) = standalone(Stage::SmallObjects, None, answer);
+    assert!(diagnostics.is_empty(), "{}", render(&sources, &diagnostics));
+    assert!(holo.contains("object tv_stand \"tv stand\""), "{holo}");
+    assert!(holo.contains("on top \"49 inch TV\""), "{holo}");
+    let (built, why) = builds(&holo);
+    assert!(built, "{why}");
+}
+
+/// A scratch folder of this test binary, emptied.
+fn scratch(name: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("holoc-import-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("scratch folder");
+    dir
+}
+
+/// `import -o` writes the scene whenever something could be read, errors or not (the unusable
+/// lines kept as `// raw` comments, exit status 1), and nothing when nothing could be read.
+#[test]
+fn import_output_is_written_whenever_something_was_read() {
+    let dir = scratch("output");
+    let answer = dir.join("constraints.txt");
+    std::fs::write(&answer, "sofa-0 | edge\ntable-0 | middle | near, lamp-9\n").expect("write");
+    let scene = dir.join("scene.holo");
+    let run = std::process::Command::new(env!("CARGO_BIN_EXE_holoc"))
+        .args([
+            "import",
+            "--stage",
+            "floor-constraints",
+            "--room",
+            "living room",
+            "--format",
+            "short",
+        ])
+        .arg(&answer)
+        .arg("-o")
+        .arg(&scene)
+        .output()
+        .expect("runs");
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert_eq!(run.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("E0707"), "{stderr}");
+    assert!(stderr.contains("1 error above"), "{stderr}");
+    let written = std::fs::read_to_string(&scene).expect("the scene is written");
+    assert!(
+        written.contains("object sofa")
+            && written.contains("// raw floor-constraints: near, lamp-9"),
+        "{written}"
+    );
+    // Nothing readable: no file, and it says so.
+    let empty = dir.join("empty.txt");
+    std::fs::write(&empty, "I cannot help with that.\n").expect("write");
+    let nothing = dir.join("nothing.holo");
+    let run = std::process::Command::new(env!("CARGO_BIN_EXE_holoc"))
+        .args(["import", "--stage", "floor-constraints", "--room", "living room"])
+        .arg(&empty)
+        .arg("-o")
+        .arg(&nothing)
+        .output()
+        .expect("runs");
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert_eq!(run.status.code(), Some(1), "{stderr}");
+    assert!(!nothing.exists(), "{stderr}");
+    assert!(stderr.contains("nothing could be read"), "{stderr}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -493,3 +493,210 @@ fn a_slanted_wall_keeps_the_line_of_the_room_across_it() {
     assert_eq!(other_room_lines(&repaired.text, "study"), other_room_lines(text, "study"));
     assert_eq!(plan_errors(&repaired.text), Vec::<&str>::new());
 }
+
+/// A valid apartment of five rooms (a living room, a kitchen, a hallway across the plan and two
+/// bedrooms off it) and its doors: the plan meant of the jitter tests.
+const APARTMENT: [(&str, [f64; 4]); 5] = [
+    ("living", [0.0, 0.0, 6.0, 5.0]),
+    ("kitchen", [6.0, 0.0, 9.0, 5.0]),
+    ("hallway", [0.0, 5.0, 9.0, 6.5]),
+    ("bed_one", [0.0, 6.5, 4.5, 10.0]),
+    ("bed_two", [4.5, 6.5, 9.0, 10.0]),
+];
+
+/// The apartment's text with each corner moved by `offsets` (two per corner, in room order).
+fn jittered_apartment(offsets: &[f64]) -> String {
+    let mut text = String::from("scene \"jitter\" { seed 1 }\n");
+    let mut k = 0;
+    for (id, b) in APARTMENT {
+        let corners: Vec<String> = [[b[0], b[1]], [b[0], b[3]], [b[2], b[3]], [b[2], b[1]]]
+            .iter()
+            .map(|p| {
+                let c = format!("({:.3}, {:.3})", p[0] + offsets[k], p[1] + offsets[k + 1]);
+                k += 2;
+                c
+            })
+            .collect();
+        let _ = writeln!(text, "room {id} \"{id}\" {{ corners in m {} }}", corners.join(" "));
+    }
+    text.push_str(
+        "door exterior -- living : doorway single\n\
+         door living -- kitchen : doorway single\n\
+         door living -- hallway : doorway single\n\
+         door hallway -- bed_one : doorway single\n\
+         door hallway -- bed_two : doorway single\n",
+    );
+    text
+}
+
+/// The length of wall two rectilinear outlines share.
+fn shared_wall_m(a: &[[f64; 2]], b: &[[f64; 2]]) -> f64 {
+    let mut total = 0.0;
+    for i in 0..a.len() {
+        let (p, q) = (a[i], a[(i + 1) % a.len()]);
+        for j in 0..b.len() {
+            let (r, s) = (b[j], b[(j + 1) % b.len()]);
+            for axis in 0..2 {
+                let other = 1 - axis;
+                let on_line = (p[axis] - q[axis]).abs() < 1e-6
+                    && (r[axis] - s[axis]).abs() < 1e-6
+                    && (p[axis] - r[axis]).abs() < 1e-6;
+                if on_line {
+                    let lo = p[other].min(q[other]).max(r[other].min(s[other]));
+                    let hi = p[other].max(q[other]).min(r[other].max(s[other]));
+                    total += (hi - lo).max(0.0);
+                }
+            }
+        }
+    }
+    total
+}
+
+/// The pairs of rooms that share more than 10 cm of wall.
+fn sharing_pairs(rooms: &[(String, Vec<[f64; 2]>)]) -> Vec<(String, String)> {
+    let mut out = Vec::new();
+    for (i, a) in rooms.iter().enumerate() {
+        for b in &rooms[i + 1..] {
+            if shared_wall_m(&a.1, &b.1) > 0.1 {
+                out.push((a.0.clone(), b.0.clone()));
+            }
+        }
+    }
+    out
+}
+
+/// The farthest any corner of the plan meant is from the nearest corner of its repaired room.
+fn deviation_from_meant(meant: &[(String, Vec<[f64; 2]>)], got: &[(String, Vec<[f64; 2]>)]) -> f64 {
+    let mut worst: f64 = 0.0;
+    for ((_, m), (_, g)) in meant.iter().zip(got) {
+        for p in m {
+            let nearest =
+                g.iter().map(|q| (p[0] - q[0]).hypot(p[1] - q[1])).fold(f64::INFINITY, f64::min);
+            worst = worst.max(nearest);
+        }
+    }
+    worst
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig {
+        cases: 120,
+        rng_seed: proptest::test_runner::RngSeed::Fixed(0x6a69_7474),
+        failure_persistence: None,
+        ..ProptestConfig::default()
+    })]
+
+    /// Issue 50: every corner of the apartment moved by up to 17 cm on each axis. The repair
+    /// snaps the jitter onto shared lines: the plan builds, the rooms that share a wall in the
+    /// plan meant share one after (the hallway and its bedrooms too), no corner is more than
+    /// 0.4 m from the plan meant, no room's area changes by more than the bound, and a second
+    /// repair changes nothing.
+    #[test]
+    fn jittered_plans_keep_their_wall_sharing_pairs(
+        offsets in proptest::collection::vec(-0.17f64..0.17, 40),
+    ) {
+        let meant = outlines(&jittered_apartment(&[0.0; 40]));
+        let text = jittered_apartment(&offsets);
+        let repaired = repair_text("jitter.holo", &text);
+        prop_assert_eq!(plan_errors(&repaired.text), Vec::<&str>::new(), "{}\n{}", text, repaired.text);
+        let got = outlines(&repaired.text);
+        prop_assert_eq!(sharing_pairs(&got), sharing_pairs(&meant), "{}\n{}", text, repaired.text);
+        let deviation = deviation_from_meant(&meant, &got);
+        prop_assert!(deviation <= 0.4, "{deviation} m\n{}\n{}", text, repaired.text);
+        prop_assert!(repaired.area_change <= MAX_AREA_CHANGE + 1e-9);
+        let again = repair_text("repaired.holo", &repaired.text);
+        prop_assert!(!again.changed, "{}", repaired.text);
+    }
+}
+
+/// A room whose north-east side is a staircase of `steps` steps (`2 * steps + 3` corners) from
+/// (0, 6) down to (6, 1), and a room south of it drawn `overlap` metres into it, with a door
+/// between them and one to the outside.
+fn staircase_plan(steps: usize, overlap: f64) -> String {
+    let (w, h) = (6.0, 6.0);
+    let (s, t) = (w / steps as f64, (h - 1.0) / steps as f64);
+    let mut corners = vec![[0.0, 0.0], [0.0, h]];
+    for i in 0..steps {
+        corners.push([(i + 1) as f64 * s, h - i as f64 * t]);
+        corners.push([(i + 1) as f64 * s, h - (i + 1) as f64 * t]);
+    }
+    corners.push([w, 0.0]);
+    let cs: Vec<String> = corners.iter().map(|p| format!("({:.4}, {:.4})", p[0], p[1])).collect();
+    format!(
+        "scene \"stairs\" {{ seed 1 }}\n\
+         room stairs \"stairs\" {{ corners in m {} }}\n\
+         room south \"south\" {{ corners in m (0, -3) (0, {z:.4}) (6, {z:.4}) (6, -3) }}\n\
+         door exterior -- stairs : doorway single\n\
+         door stairs -- south : doorway single\n",
+        cs.join(" "),
+        z = overlap,
+    )
+}
+
+/// Issue 50: a room of 199 corners (a staircase; holoc takes at most 200) overlapping its neighbour is repaired like a
+/// rectangle would be, within the bound on work (no W0309): the repair's candidates grow with
+/// the room's walls, not with their square.
+#[test]
+fn a_staircase_room_is_repaired_within_the_bound_on_work() {
+    let text = staircase_plan(98, 0.2);
+    let repaired = repair_text("stairs.holo", &text);
+    let codes: Vec<&str> = repaired.diagnostics.iter().map(|d| d.code.as_str()).collect();
+    assert_eq!(codes, ["W0307"], "{}", render(&repaired.sources, &repaired.diagnostics));
+    assert_eq!(plan_errors(&repaired.text), Vec::<&str>::new(), "{}", repaired.text);
+    assert!(repaired.max_move_m <= 0.2 + 1e-9, "{}", repaired.max_move_m);
+}
+
+/// A row of `rooms` rooms of 199 corners each (their walls cut into many short pieces), each
+/// drawn 10 cm into the one before, with a door between neighbours: about 3.8 KB a room.
+fn large_row(rooms: usize) -> String {
+    let mut text = String::from("scene \"row\" { seed 1 }\n");
+    for r in 0..rooms {
+        let x0 = r as f64 * 4.0 - if r > 0 { 0.1 } else { 0.0 };
+        let x1 = (r + 1) as f64 * 4.0;
+        let mut corners = Vec::new();
+        for i in 0..50 {
+            corners.push([x0, 6.0 * i as f64 / 50.0]);
+        }
+        for i in 0..50 {
+            corners.push([x0 + (x1 - x0) * i as f64 / 50.0, 6.0]);
+        }
+        for i in 0..50 {
+            corners.push([x1, 6.0 - 6.0 * i as f64 / 50.0]);
+        }
+        for i in 0..49 {
+            corners.push([x1 - (x1 - x0) * i as f64 / 49.0, 0.0]);
+        }
+        let cs: Vec<String> =
+            corners.iter().map(|p| format!("({:.4}, {:.4})", p[0], p[1])).collect();
+        let _ = writeln!(text, "room r{r} \"r{r}\" {{ corners in m {} }}", cs.join(" "));
+    }
+    text.push_str("door exterior -- r0 : doorway single\n");
+    for r in 1..rooms {
+        let _ = writeln!(text, "door r{} -- r{r} : doorway single", r - 1);
+    }
+    text
+}
+
+/// Issue 50 (and 51): the repair's work is bounded. A plan of 17 rooms of 199 corners, each
+/// drawn into the one before (64 KB), reaches the bound: the repair stops with W0309, and what
+/// it returns is never worse than the plan as written.
+#[test]
+fn the_bound_on_work_stops_a_repair_with_w0309() {
+    let text = large_row(17);
+    assert!(text.len() <= 64 * 1024, "{} bytes", text.len());
+    let before = plan_errors(&text);
+    let repaired = repair_text("row.holo", &text);
+    let w0309: Vec<_> =
+        repaired.diagnostics.iter().filter(|d| d.code.as_str() == "W0309").collect();
+    assert_eq!(w0309.len(), 1, "{}", render(&repaired.sources, &repaired.diagnostics));
+    assert!(w0309[0].message.contains("bound on work"), "{}", w0309[0].message);
+    let after = plan_errors(&repaired.text);
+    let mut left = before.clone();
+    for code in &after {
+        let i = left.iter().position(|c| c == code);
+        assert!(i.is_some(), "a new error {code}: {before:?} → {after:?}");
+        if let Some(i) = i {
+            left.remove(i);
+        }
+    }
+}

@@ -5,6 +5,7 @@
 //! whole scene (a holoc transcript or an original Holodeck scene JSON).
 
 use super::common::{self, ColorChoice, DiagFormat};
+use crate::ast;
 use crate::diag::{Code, Diagnostic};
 use crate::import::{self, ImportContext, ImportOptions, Stage, Transcript};
 use crate::source::SourceMap;
@@ -48,7 +49,7 @@ pub fn run(args: &ImportArgs) -> ExitCode {
             return ExitCode::from(2);
         }
     };
-    let (holo, diagnostics) = if let Some(stage_name) = &args.stage {
+    let (scene, diagnostics) = if let Some(stage_name) = &args.stage {
         let Some(stage) = Stage::parse(stage_name) else {
             let names: Vec<&str> = Stage::ALL.iter().map(|s| Stage::as_str(*s)).collect();
             common::emit_plain(
@@ -60,7 +61,7 @@ pub fn run(args: &ImportArgs) -> ExitCode {
         let mut ctx = ImportContext::new();
         ctx.set_room(args.room.as_deref());
         let out = import::import_answer(stage, &sources, file, &ctx);
-        (crate::fmt::print(&out.value.fragment), out.diagnostics)
+        (out.value.fragment, out.diagnostics)
     } else {
         let text = sources.get(file).text.clone();
         let options = ImportOptions { keep_layout: args.keep_layout };
@@ -71,7 +72,7 @@ pub fn run(args: &ImportArgs) -> ExitCode {
                 match serde_json::from_value::<Transcript>(value) {
                     Ok(t) => {
                         let out = import::import_transcript(&t, &mut sources, &options);
-                        (crate::fmt::print(&out.value), out.diagnostics)
+                        (out.value, out.diagnostics)
                     }
                     Err(e) => {
                         common::emit_plain(
@@ -89,7 +90,7 @@ pub fn run(args: &ImportArgs) -> ExitCode {
             }
             Ok(value) => {
                 let out = import::import_holodeck_scene_file(&value, &mut sources, file, &options);
-                (crate::fmt::print(&out.value), out.diagnostics)
+                (out.value, out.diagnostics)
             }
             Err(e) => {
                 common::emit_plain(
@@ -100,11 +101,22 @@ pub fn run(args: &ImportArgs) -> ExitCode {
             }
         }
     };
+    let holo = crate::fmt::print(&scene);
     common::emit(&sources, &diagnostics, args.format, args.color);
-    // An import with errors writes no file: an empty or partial scene would later build as
-    // if it were the answer. The text still goes to stdout when no `-o` is given, to be read.
-    if args.output.is_some() && diagnostics.iter().any(Diagnostic::is_error) {
-        return common::exit_for(&diagnostics);
+    // The scene is written whenever something could be read: the lines that could not be used
+    // are diagnostics and stay in it as `// raw` comments, so nothing the model said is lost.
+    // Only an import that read nothing writes no file (an existing one is left as it was).
+    if let Some(path) = args.output.as_deref() {
+        if !read_anything(&scene.items) {
+            if args.format != DiagFormat::Json {
+                common::emit_status(&format!(
+                    "nothing could be read from `{}`: `{}` was not written",
+                    args.file.display(),
+                    path.display()
+                ));
+            }
+            return common::exit_for(&diagnostics);
+        }
     }
     if args.format != DiagFormat::Json || args.output.is_some() {
         if let Err(d) = common::write_output(args.output.as_deref(), &holo) {
@@ -112,5 +124,40 @@ pub fn run(args: &ImportArgs) -> ExitCode {
             return ExitCode::from(2);
         }
     }
+    if let Some(path) = args.output.as_deref() {
+        let dropped = diagnostics.iter().filter(|d| d.is_error()).count();
+        if dropped > 0 && args.format != DiagFormat::Json {
+            common::emit_status(&format!(
+                "wrote `{}`; {dropped} error{} above: what could not be read is kept there as \
+                 `// raw` comments",
+                path.display(),
+                if dropped == 1 { "" } else { "s" }
+            ));
+        }
+    }
     common::exit_for(&diagnostics)
+}
+
+/// Whether an import read anything from the answers: a scene setting (the request and seed of a
+/// transcript do not count), a door, or a room with a statement that is not a comment.
+fn read_anything(items: &[ast::Item]) -> bool {
+    items.iter().any(|item| match item {
+        ast::Item::Scene(scene) => scene.body.iter().any(|stmt| {
+            !matches!(
+                stmt,
+                ast::SceneStmt::Seed(..)
+                    | ast::SceneStmt::Comment(_)
+                    | ast::SceneStmt::Blank(_)
+                    | ast::SceneStmt::Error(_)
+            )
+        }),
+        ast::Item::Door(_) => true,
+        ast::Item::Room(room) => room.body.iter().any(|stmt| {
+            !matches!(
+                stmt,
+                ast::RoomStmt::Comment(_) | ast::RoomStmt::Blank(_) | ast::RoomStmt::Error(_)
+            )
+        }),
+        ast::Item::Comment(_) | ast::Item::Blank(_) | ast::Item::Error(_) => false,
+    })
 }

@@ -119,6 +119,7 @@ codes! {
     W0306 "door-dropped" "a door between rooms that does not fit is left out, every room being reachable without it";
     W0307 "plan-repaired" "room corners were moved, as little as possible, so that the floor plan builds";
     W0308 "rooms-gap" "two rooms face each other across a gap narrower than the repair's bound";
+    W0309 "repair-work-bound" "the floor-plan repair stopped at its bound on work";
 
     E0601 "invalid-house-json" "a house file is not JSON or does not follow the house schema";
     E0602 "duplicate-id" "two entities of a house share an id";
@@ -156,7 +157,7 @@ codes! {
     E0704 "unknown-answer-object" "an answer names an object the room does not have";
     E0705 "unknown-answer-keyword" "an answer uses a word outside its vocabulary and synonym table";
     E0706 "invalid-answer-json" "an answer holds no usable JSON value";
-    E0707 "dropped-constraint" "a constraint names an unknown, later or the same object";
+    E0707 "dropped-constraint" "a constraint names an unknown object or the object itself";
     E0708 "empty-answer" "an answer holds nothing the stage can use";
     E0709 "invalid-transcript" "a transcript or scene file cannot be read";
     W0701 "tolerated-noise" "an answer had decoration that was removed";
@@ -166,6 +167,7 @@ codes! {
     W0705 "no-constraints" "a floor object has no constraints and will be placed at an edge";
     W0706 "ignored-input" "a line or field was ignored or replaced";
     W0707 "adjusted-value" "a value was clamped or defaulted";
+    W0708 "circular-constraint" "a constraint naming a later line closes a circle of relations and is dropped";
     E0501 "unusable-room-outline" "a room's outline is not a rectilinear polygon the solver can use";
     E0502 "unusable-object" "an object's size, height or reference cannot be used by the solver";
     W0501 "unplaceable-object" "an object cannot be placed without breaking a hard rule and is left out";

@@ -1545,7 +1545,18 @@ fn floor_constraints(text: &str, file: FileId, ctx: &mut ImportContext, d: &mut 
     let implicit = all_insts(ctx, &room, Some(false)).is_empty();
     let mut pending: Vec<Pending> = Vec::new();
     let mut seen: Vec<Inst> = Vec::new();
-    for (pos, line) in start_lines(text, file, d, Stage::FloorConstraints).into_iter().enumerate() {
+    let lines = start_lines(text, file, d, Stage::FloorConstraints);
+    if implicit {
+        // Names are resolved after the whole answer is read: every line's object is declared
+        // first, so that a relation may name an object whose line comes later.
+        for line in &lines {
+            let head = &line.fields()[0];
+            if find_inst(ctx, &room, &head.text, None).is_none() {
+                declare_inst(ctx, &room, &head.text, false);
+            }
+        }
+    }
+    for (pos, line) in lines.into_iter().enumerate() {
         let fields = line.fields();
         let head = &fields[0];
         let found = find_inst(ctx, &room, &head.text, Some(false)).or_else(|| {
@@ -1697,38 +1708,108 @@ fn floor_constraints(text: &str, file: FileId, ctx: &mut ImportContext, d: &mut 
             }
         }
     }
-    // Targets must come earlier in the model's order of lines (the paper's placement order);
-    // the scene keeps that order even where instances of one object are grouped, since the
-    // checker places an object after the objects it names.
+    keep_acyclic(ctx, &room, stage, pending, d);
+    no_constraints(ctx, &room, Span::new(file, 0, 0), d);
+}
+
+/// Puts the answer's relations on their objects. A relation may name an object whose line comes
+/// later (the checker places every object after the objects it names), unless it closes a
+/// circle: objects are placed one after another, so of a circle the relation that names a later
+/// line leaves the scene (W0708, kept as a `// raw` comment), as the original system drops every
+/// relation to a later line. Relations to earlier lines are kept first, and the others in the
+/// answer's order, each only when it closes no circle with those kept before it.
+fn keep_acyclic(
+    ctx: &mut ImportContext,
+    room: &str,
+    stage: &str,
+    pending: Vec<Pending>,
+    d: &mut Diags,
+) {
     let key = |ctx: &ImportContext, (oi, ii): Inst| -> usize {
-        let o = ctx.draft.room(&room).and_then(|r| r.objects.get(oi));
+        let o = ctx.draft.room(room).and_then(|r| r.objects.get(oi));
         o.and_then(|o| o.instances.get(ii)).and_then(|i| i.order).unwrap_or(usize::MAX)
     };
-    for p in pending {
-        let (kf, kt) = (key(ctx, p.from), key(ctx, p.to));
-        if kt < kf {
-            let target = inst_name(ctx, &room, p.to);
-            if let Some(i) = inst_mut(ctx, &room, p.from) {
-                i.constraints.push((p.name, Some(target)));
+    let backward: Vec<bool> = pending.iter().map(|p| key(ctx, p.to) < key(ctx, p.from)).collect();
+    // The kept relations, as indices into `pending`.
+    let mut kept: Vec<usize> = (0..pending.len()).filter(|&k| backward[k]).collect();
+    let mut dropped: Vec<(usize, Vec<usize>)> = Vec::new();
+    for k in (0..pending.len()).filter(|&k| !backward[k]) {
+        match relation_path(&pending, &kept, pending[k].to, pending[k].from) {
+            Some(path) => dropped.push((k, path)),
+            None => kept.push(k),
+        }
+    }
+    for (k, path) in &dropped {
+        let p = &pending[*k];
+        let me = inst_name(ctx, room, p.from);
+        let target = inst_name(ctx, room, p.to);
+        let mut diag = Diagnostic::new(
+            Code::W0708,
+            format!("constraint `{}` of `{me}` names `{target}`, which depends on `{me}`", p.name),
+        )
+        .with_primary(p.span, "dropped: closes a circle");
+        for &j in path {
+            let q = &pending[j];
+            diag = diag.with_secondary(
+                q.span,
+                format!(
+                    "`{}` names `{}` here",
+                    inst_name(ctx, room, q.from),
+                    inst_name(ctx, room, q.to)
+                ),
+            );
+        }
+        d.push(
+            diag.with_help(format!(
+                "objects are placed one after another; to keep it, remove the relation of \
+                 `{target}` that names `{me}`"
+            ))
+            .with_note("kept as a `// raw` comment"),
+        );
+    }
+    let dropped: Vec<usize> = dropped.into_iter().map(|(k, _)| k).collect();
+    for (k, p) in pending.into_iter().enumerate() {
+        if dropped.contains(&k) {
+            if let Some(i) = inst_mut(ctx, room, p.from) {
+                i.comments.push(front::raw_comment(stage, &p.raw));
             }
         } else {
-            let target = inst_name(ctx, &room, p.to);
-            d.push(
-                Diagnostic::new(
-                    Code::E0707,
-                    format!("constraint `{}` names `{target}`, which is placed later", p.name),
-                )
-                .with_primary(p.span, "dropped")
-                .with_help(format!(
-                    "constrain `{target}` first, or move this constraint to `{target}`"
-                )),
-            );
-            if let Some(i) = inst_mut(ctx, &room, p.from) {
-                i.comments.push(front::raw_comment(stage, &p.raw));
+            let target = inst_name(ctx, room, p.to);
+            if let Some(i) = inst_mut(ctx, room, p.from) {
+                i.constraints.push((p.name, Some(target)));
             }
         }
     }
-    no_constraints(ctx, &room, Span::new(file, 0, 0), d);
+}
+
+/// A chain of kept relations (indices into `pending`) that leads from `from` to `to`, if any
+/// (breadth first, so the shortest).
+fn relation_path(pending: &[Pending], kept: &[usize], from: Inst, to: Inst) -> Option<Vec<usize>> {
+    let mut came_by: Vec<(Inst, usize)> = Vec::new();
+    let mut queue = std::collections::VecDeque::from([from]);
+    let mut reached = vec![from];
+    while let Some(at) = queue.pop_front() {
+        if at == to {
+            let mut path = Vec::new();
+            let mut node = to;
+            while node != from {
+                let &(_, k) = came_by.iter().find(|(n, _)| *n == node)?;
+                path.push(k);
+                node = pending[k].from;
+            }
+            path.reverse();
+            return Some(path);
+        }
+        for &k in kept.iter().filter(|&&k| pending[k].from == at) {
+            let next = pending[k].to;
+            if !reached.contains(&next) {
+                reached.push(next);
+                came_by.push((next, k));
+                queue.push_back(next);
+            }
+        }
+    }
+    None
 }
 
 /// The instances of a room's floor objects that have no constraints and no pinned position:
@@ -1967,6 +2048,10 @@ const SMALL_SHAPE: &str = "receptacle-0 (room) | item, quantity, same/varied | .
 
 fn small_objects(text: &str, file: FileId, ctx: &mut ImportContext, d: &mut Diags) {
     let stage = "small-objects";
+    // Whether each room named had no objects before this answer (then every receptacle the
+    // answer names is declared, by the rule of the floor-constraint answer): decided once per
+    // room, so that the receptacles declared by earlier lines do not make later ones unknown.
+    let mut implicit_rooms: Vec<(String, bool)> = Vec::new();
     for line in start_lines(text, file, d, Stage::SmallObjects) {
         let fields = line.fields();
         if fields.len() < 2 {
@@ -1990,7 +2075,14 @@ fn small_objects(text: &str, file: FileId, ctx: &mut ImportContext, d: &mut Diag
             ctx.draft.comments.push(line.raw_comment(stage));
             continue;
         };
-        let implicit = all_insts(ctx, &room, None).is_empty();
+        let implicit = match implicit_rooms.iter().find(|(r, _)| *r == room) {
+            Some(&(_, implicit)) => implicit,
+            None => {
+                let implicit = all_insts(ctx, &room, None).is_empty();
+                implicit_rooms.push((room.clone(), implicit));
+                implicit
+            }
+        };
         let found = find_inst(ctx, &room, &rec_name, None).or_else(|| {
             if implicit {
                 declare_inst(ctx, &room, &rec_name, false)

@@ -9,6 +9,10 @@
 //! unreachable room or an unknown asset, and its gaps between facing rooms (W0308). A plan
 //! without either comes back unchanged. Otherwise:
 //!
+//! 0. **Jitter snapped onto shared lines** (`jitter.rs`), when outlines in at least two rooms
+//!    have slanted edges: nearly straight edges, facing walls and walls continuing one another
+//!    within twice [`MAX_JITTER_M`] become one line each, before any room moves; the snapped
+//!    plan is kept when it is never worse and better (see step 3).
 //! 1. **Outline clean-up**, of outlines with a repeated corner or a slanted edge: repeated
 //!    corners and corners in the middle of a straight wall are dropped; an edge slanted by at
 //!    most [`MAX_MOVE_M`] is made straight by moving the corner whose coordinate no nearby room
@@ -72,8 +76,16 @@
 //! (even one still with errors) changes nothing: repair is idempotent (a plan repaired by
 //! step 2 is clean, so it comes back unchanged). What it cannot fix is left for the plan stage
 //! to report.
+//!
+//! The whole repair is bounded by [`MAX_REPAIR_WORK`] (W0309 when reached), and a room's
+//! candidate moves per axis by `MAX_AXIS_CANDIDATES`, the nearest first, so that a room with
+//! many walls gives candidates in proportion to its walls, not their square.
+
+mod jitter;
 
 use std::collections::BTreeMap;
+
+pub use jitter::MAX_JITTER_M;
 
 use crate::check::scene::{DoorSide, Scene};
 use crate::diag::{Code, Diagnostic, Fix, Outcome};
@@ -99,6 +111,53 @@ const GAP_GRID_CELL_M: f64 = 4.0;
 /// How far beyond a room's box [`facing_gaps`] looks, besides the move, metres: far more than
 /// its tolerances ([`SAME_M`]).
 const GAP_GRID_MARGIN_M: f64 = 1e-3;
+
+/// The most work a repair does, in corners handled: each candidate plan built and each plan
+/// the plan stage judges costs its number of corners (a judged plan `JUDGE_COST` times
+/// over). A repair that reaches it stops where it is (W0309): the work of a repair is bounded
+/// whatever the plan, about a second on the slowest plans measured.
+pub const MAX_REPAIR_WORK: u64 = 4_000_000;
+/// How many times its corners a plan the plan stage judges counts in [`MAX_REPAIR_WORK`].
+const JUDGE_COST: u64 = 20;
+/// The most candidate moves of one room along one axis (the nearest first): rooms with many
+/// walls (a staircase) would otherwise give candidates in the square of their walls.
+const MAX_AXIS_CANDIDATES: usize = 24;
+
+/// The work a repair has done, against [`MAX_REPAIR_WORK`].
+#[derive(Debug)]
+struct Work {
+    spent: u64,
+    limit: u64,
+}
+
+impl Work {
+    /// Counts `units` of work; whether the repair may go on.
+    fn spend(&mut self, units: usize) -> bool {
+        self.spent = self.spent.saturating_add(units as u64);
+        self.spent <= self.limit
+    }
+
+    /// Counts a plan judged by the plan stage; whether the repair may go on.
+    fn judge(&mut self, rooms: &[Vec<[f64; 2]>]) -> bool {
+        self.spend(corner_count(rooms).saturating_mul(JUDGE_COST as usize))
+    }
+
+    fn exhausted(&self) -> bool {
+        self.spent > self.limit
+    }
+}
+
+fn corner_count(rooms: &[Vec<[f64; 2]>]) -> usize {
+    rooms.iter().map(Vec::len).sum()
+}
+
+/// The work of weighing one candidate that changes room `r`: every corner of the plan, and
+/// each corner of `r` against each corner of the rooms near it (their shared walls, overlaps
+/// and near misses are measured pair by pair).
+fn candidate_work(rooms: &[Vec<[f64; 2]>], r: usize) -> usize {
+    let near: usize = rooms_near(rooms, r).map(Vec::len).sum();
+    corner_count(rooms).saturating_add(rooms[r].len().saturating_mul(near))
+}
 
 /// The repaired outlines, one per room of the scene, and whether anything moved.
 #[derive(Clone, Debug, PartialEq)]
@@ -127,11 +186,29 @@ pub fn repair(scene: &Scene, catalog: &StructureCatalog) -> Outcome<Repair> {
     if before.is_clean() {
         return Outcome::new(unchanged, Vec::new());
     }
+    let mut work = Work { spent: 0, limit: MAX_REPAIR_WORK };
     let mut state = State {
         rooms: original.clone(),
         // For each repaired corner, the index of the corner as written it comes from.
         origins: original.iter().map(|c| (0..c.len()).collect()).collect(),
     };
+    // Jitter (slanted edges in several rooms) is snapped onto the plan's lines before any room
+    // moves, so that rooms that nearly share a wall share it.
+    if jitter::jittered(&state.rooms) {
+        let mut snapped = state.clone();
+        snapped.rooms = jitter::snap(&state.rooms);
+        for r in 0..snapped.rooms.len() {
+            if needs_cleaning(&snapped.rooms[r]) {
+                let others = other_coordinates(&snapped.rooms, r);
+                let walls = nearby_walls(&snapped.rooms, r);
+                clean_outline(&mut snapped.rooms[r], &mut snapped.origins[r], &others, &walls);
+            }
+        }
+        work.judge(&snapped.rooms);
+        if Badness::of(scene, &snapped.rooms, catalog).improves_on(&before) {
+            state = snapped;
+        }
+    }
     // Only outlines that need it are cleaned: a room with a corner on a straight wall (the
     // plan stage accepts those) and nothing else wrong stays as written.
     for r in 0..state.rooms.len() {
@@ -150,8 +227,9 @@ pub fn repair(scene: &Scene, catalog: &StructureCatalog) -> Outcome<Repair> {
         // A room none of whose walls is on the plan's lines may be drawn too large or too
         // small rather than shifted: of the two, the plan with fewer walls off the lines wins
         // (the move back whole on a tie).
-        let back = move_one_room_back(scene, &state.rooms, catalog).map(|rooms| (rooms, None));
-        let fit = fit_one_room_to_lines(scene, &state.rooms, catalog);
+        let back =
+            move_one_room_back(scene, &state.rooms, catalog, &mut work).map(|rooms| (rooms, None));
+        let fit = fit_one_room_to_lines(scene, &state.rooms, catalog, &mut work);
         let chosen = match (back, fit) {
             (Some(back), Some(fit)) => {
                 Some(if walls_off_lines(&fit.0) < walls_off_lines(&back.0) { fit } else { back })
@@ -165,10 +243,10 @@ pub fn repair(scene: &Scene, catalog: &StructureCatalog) -> Outcome<Repair> {
         }
     }
     for _ in 0..MAX_STEPS {
-        if bad.is_clean() {
+        if bad.is_clean() || work.exhausted() {
             break;
         }
-        match best_step(scene, &state, &bad, catalog) {
+        match best_step(scene, &state, &bad, catalog, &mut work) {
             Some((next, next_bad)) => {
                 state = next;
                 bad = next_bad;
@@ -197,11 +275,14 @@ pub fn repair(scene: &Scene, catalog: &StructureCatalog) -> Outcome<Repair> {
             || off_lines(&coords, r) == 0
             || (area(after) - a0).abs() / a0 <= MAX_AREA_CHANGE
     });
+    let mut diagnostics = Vec::new();
+    if work.exhausted() {
+        diagnostics.push(work_bound_reached(scene, &work));
+    }
     if !within_area || !bad.improves_on(&before) {
-        return Outcome::new(unchanged, Vec::new());
+        return Outcome::new(unchanged, diagnostics);
     }
 
-    let mut diagnostics = Vec::new();
     let mut max_move: f64 = 0.0;
     let mut max_wall_move: f64 = 0.0;
     let mut changed = false;
@@ -258,6 +339,28 @@ pub fn repair(scene: &Scene, catalog: &StructureCatalog) -> Outcome<Repair> {
         Repair { corners: rooms, changed, max_move_m: max_move, max_wall_move_m: max_wall_move },
         diagnostics,
     )
+}
+
+/// W0309: the repair stopped at its bound on work, at the first room's name.
+fn work_bound_reached(scene: &Scene, work: &Work) -> Diagnostic {
+    let mut d = Diagnostic::new(
+        Code::W0309,
+        format!(
+            "the floor-plan repair stopped at its bound on work ({} of {} units, {} corners)",
+            work.spent.min(work.limit),
+            work.limit,
+            scene.rooms.iter().map(|r| r.corners.len()).sum::<usize>()
+        ),
+    )
+    .with_help(
+        "what the repair found so far is kept when it is better than the plan as written; \
+         redraw the rooms the plan stage still reports, with fewer corners",
+    )
+    .with_note("the bound keeps every repair to about a second, whatever the plan");
+    if let Some(room) = scene.rooms.first() {
+        d = d.with_primary(room.name_span, "the plan starts here");
+    }
+    d
 }
 
 /// A fix that rewrites the corners of `room` as `corners`: `corners in cm (…)` becomes
@@ -367,11 +470,16 @@ fn best_step(
     state: &State,
     bad: &Badness,
     catalog: &StructureCatalog,
+    work: &mut Work,
 ) -> Option<(State, Badness)> {
     let mut candidates: Vec<(Cost, State)> = Vec::new();
     let links = door_links(scene, state.rooms.len());
     for r in 0..state.rooms.len() {
+        let each = candidate_work(&state.rooms, r);
         for rooms in single_room_candidates(&state.rooms, r, &links) {
+            if !work.spend(each) {
+                return None;
+            }
             let mut next = state.clone();
             next.rooms = rooms;
             let others = other_coordinates(&next.rooms, r);
@@ -408,6 +516,9 @@ fn best_step(
         // A candidate that makes rooms overlap that did not cannot be never worse.
         if overlap_count(&next.rooms) > overlaps_now {
             continue;
+        }
+        if !work.judge(&next.rooms) {
+            break;
         }
         let b = Badness::of(scene, &next.rooms, catalog);
         if !b.improves_on(bad) {
@@ -484,6 +595,7 @@ fn move_one_room_back(
     scene: &Scene,
     rooms: &[Vec<[f64; 2]>],
     catalog: &StructureCatalog,
+    work: &mut Work,
 ) -> Option<Vec<Vec<[f64; 2]>>> {
     let n = rooms.len();
     if n < 2 {
@@ -503,6 +615,7 @@ fn move_one_room_back(
     let mm = |v: f64| (v * 1e3).round() as i64;
     let mut candidates: Vec<(WholeMoveOrder, usize, [f64; 2])> = Vec::new();
     for r in (0..n).filter(|&r| suspect[r]) {
+        let each = candidate_work(rooms, r);
         let bound = if apart[r] { MAX_TRANSLATION_M } else { MAX_MOVE_M };
         let mut deltas: [Vec<f64>; 2] = [vec![0.0], vec![0.0]];
         for (axis, out) in deltas.iter_mut().enumerate() {
@@ -522,6 +635,7 @@ fn move_one_room_back(
             }
             out.sort_by(f64::total_cmp);
             out.dedup_by(|a, b| (*a - *b).abs() <= SAME_M);
+            nearest_first(out);
         }
         let mut outline: Vec<(i64, i64)> = rooms[r].iter().map(|p| (mm(p[0]), mm(p[1]))).collect();
         outline.sort_unstable();
@@ -529,6 +643,9 @@ fn move_one_room_back(
             for &dz in &deltas[1] {
                 if dx.abs() <= SAME_M && dz.abs() <= SAME_M {
                     continue;
+                }
+                if !work.spend(each) {
+                    return None;
                 }
                 let moved: Vec<[f64; 2]> =
                     rooms[r].iter().map(|p| [p[0] + dx, p[1] + dz]).collect();
@@ -582,7 +699,17 @@ fn move_one_room_back(
         }
         (next, ())
     });
-    first_clean(scene, catalog, plans).map(|(next, ())| next)
+    first_clean(scene, catalog, plans, work).map(|(next, ())| next)
+}
+
+/// Keeps the [`MAX_AXIS_CANDIDATES`] smallest moves of `deltas` (sorted), in their order.
+fn nearest_first(deltas: &mut Vec<f64>) {
+    if deltas.len() > MAX_AXIS_CANDIDATES {
+        let mut by_size = deltas.clone();
+        by_size.sort_by(|a, b| a.abs().total_cmp(&b.abs()).then(a.total_cmp(b)));
+        by_size.truncate(MAX_AXIS_CANDIDATES);
+        deltas.retain(|d| by_size.iter().any(|k| k.to_bits() == d.to_bits()));
+    }
 }
 
 /// The outlines of a plan's rooms, in scene order, metres.
@@ -613,6 +740,7 @@ fn fit_one_room_to_lines(
     scene: &Scene,
     rooms: &[Vec<[f64; 2]>],
     catalog: &StructureCatalog,
+    work: &mut Work,
 ) -> Option<(Outlines, Option<usize>)> {
     let n = rooms.len();
     if n < 2 {
@@ -627,6 +755,7 @@ fn fit_one_room_to_lines(
     let origin = [lowest(rooms, 0), lowest(rooms, 1)];
     let mut candidates: Vec<(RefitOrder, usize, Vec<[f64; 2]>, bool)> = Vec::new();
     for r in (0..n).filter(|&r| suspect[r]) {
+        let each = candidate_work(rooms, r);
         let total = coords[r][0].len() + coords[r][1].len();
         let straight = rooms[r]
             .iter()
@@ -671,6 +800,9 @@ fn fit_one_room_to_lines(
                 let fit = [ex, ez];
                 if fit == before {
                     continue;
+                }
+                if !work.spend(each) {
+                    return None;
                 }
                 let mut next = rooms.to_vec();
                 next[r] = refit(&rooms[r], before, fit, &lines);
@@ -726,7 +858,7 @@ fn fit_one_room_to_lines(
         next[r] = outline;
         (next, exempt.then_some(r))
     });
-    first_clean(scene, catalog, plans)
+    first_clean(scene, catalog, plans, work)
 }
 
 /// The first of `plans` (each with what the caller keeps with it) that leaves no gap between
@@ -735,10 +867,12 @@ fn first_clean<T>(
     scene: &Scene,
     catalog: &StructureCatalog,
     plans: impl Iterator<Item = (Outlines, T)>,
+    work: &mut Work,
 ) -> Option<(Outlines, T)> {
     plans
         .filter(|(next, _)| facing_gaps(next).is_empty())
         .take(MAX_WHOLE_MOVES_TRIED)
+        .take_while(|(next, _)| work.judge(next))
         .find(|(next, _)| Badness::of(scene, next, catalog).is_clean())
 }
 
@@ -1077,6 +1211,15 @@ fn single_room_candidates(
         }
         snaps.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1)));
         snaps.dedup_by(|a, b| (a.0 - b.0).abs() <= SAME_M && (a.1 - b.1).abs() <= SAME_M);
+        // A room with many walls (a staircase) keeps its smallest snaps: their pairs would
+        // otherwise be the square of its walls.
+        if snaps.len() > MAX_AXIS_CANDIDATES / 4 {
+            snaps.sort_by(|a, b| {
+                (a.1 - a.0).abs().total_cmp(&(b.1 - b.0).abs()).then(a.0.total_cmp(&b.0))
+            });
+            snaps.truncate(MAX_AXIS_CANDIDATES / 4);
+            snaps.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1)));
+        }
         for &(from, to) in &snaps {
             options.push(AxisMove::Snap(vec![(from, to)]));
         }
@@ -1112,6 +1255,7 @@ fn single_room_candidates(
         }
         deltas.sort_by(f64::total_cmp);
         deltas.dedup_by(|a, b| (*a - *b).abs() <= SAME_M);
+        nearest_first(&mut deltas);
         for d in deltas {
             if d.abs() > SAME_M {
                 options.push(AxisMove::Shift(d));
