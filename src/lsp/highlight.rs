@@ -416,8 +416,9 @@ fn word<'t>(
         push(start, end, Class::Keyword, 0);
         statement.expect = match (statement.first, word) {
             (Some("room"), "room") => Expect::RoomDeclaration,
-            (Some("object" | "instance"), "object" | "instance") => Expect::ObjectDeclaration,
-            (Some("wall"), "object") => Expect::ObjectDeclaration,
+            (Some("object" | "instance"), "object" | "instance") | (Some("wall"), "object") => {
+                Expect::ObjectDeclaration
+            }
             (Some("door"), "door") => Expect::DoorRooms,
             (Some("above"), "above") => Expect::ObjectReference,
             (Some("corners"), "in") => Expect::Unit,
