@@ -1003,6 +1003,39 @@ fn locations_keep_the_editors_uri_and_link_to_absolute_pages() {
 }
 
 #[test]
+fn check_format_lsp_links_pages_as_the_server_does() {
+    let dir = std::env::temp_dir().join(format!("holoc-lsp-check-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("scratch");
+    let path = dir.join("twice.holo");
+    std::fs::write(&path, BEDROOM.replacen("  object desk_chair ", "  object desk ", 1))
+        .expect("write");
+    let output = std::process::Command::new(env!("CARGO_BIN_EXE_holoc"))
+        .args(["check", "--format", "lsp"])
+        .arg(&path)
+        .output()
+        .expect("holoc check runs");
+    let printed: Value = serde_json::from_slice(&output.stdout).expect("JSON");
+    let d = printed["diagnostics"]
+        .as_array()
+        .expect("diagnostics")
+        .iter()
+        .map(|item| &item["diagnostic"])
+        .find(|d| d["code"] == "E0203")
+        .expect("a duplicate");
+    let href = d["codeDescription"]["href"].as_str().expect("a link");
+    let server =
+        holoc::lsp::features::code_href(holoc::diag::Code::parse("E0203").expect("a code"))
+            .expect("the sources are here");
+    assert_eq!(href, server.as_str());
+    assert!(
+        href.starts_with("file:///") && href.ends_with("/book/src/diagnostics/E0203.md"),
+        "{href}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
 fn line_endings_stay_as_the_document_has_them() {
     let mut client = Client::start(false);
     let messy = BEDROOM.replace("  object bed \"bed\" {", "object    bed \"bed\"   {");
