@@ -493,6 +493,26 @@ pub fn encode(text: &str, tokens: &[Token], lines: Option<(u32, u32)>) -> Vec<Se
 #[cfg(test)]
 mod tests {
     use super::*;
+    use proptest::prelude::*;
+
+    proptest! {
+        /// Any text, broken or not: the tokens are in order, apart, on character boundaries and
+        /// on one line each, and their encoding counts every one of them.
+        #[test]
+        fn tokens_are_ordered_and_on_one_line_whatever_the_text(
+            text in "(room |object |wall |near |in front of |door |exterior|--|:|x2|x |×|é|😀|\"|\\\\|/\\*|\\*/|//|[ \t\r\n{};(),0-9.-]|[a-z_]{1,6}|cm|m ){0,80}"
+        ) {
+            let found = tokens(&text);
+            let mut last = 0;
+            for t in &found {
+                prop_assert!(last <= t.start && t.start < t.end && t.end <= text.len());
+                prop_assert!(text.is_char_boundary(t.start) && text.is_char_boundary(t.end));
+                prop_assert!(!text[t.start..t.end].contains(['\n', '\r']));
+                last = t.end;
+            }
+            prop_assert_eq!(encode(&text, &found, None).len(), found.len());
+        }
+    }
 
     fn show(text: &str) -> String {
         tokens(text)
