@@ -1,6 +1,8 @@
 //! The language server in memory (`Connection::memory()`): every request it answers, in order,
 //! with snapshots of what an editor receives.
 
+mod common;
+
 use lsp_server::{Connection, Message, Notification, Request, RequestId, Response};
 use serde_json::{json, Value};
 use std::fmt::Write as _;
@@ -285,6 +287,137 @@ fn diagnostics_cover_every_stage_before_the_solver_and_carry_the_version() {
     let second = client.wait_published(|p| p["version"] == 2);
     assert!(!diagnostics_text(&second).contains("E03"), "{second}");
     assert_eq!(diagnostics_text(&second), check_text(&fixed, 2));
+    client.stop();
+}
+
+#[test]
+fn past_the_cap_a_closing_diagnostic_counts_what_is_not_shown() {
+    let mut client = Client::start(false);
+    // 144 objects that each name an object that does not exist: 144 errors (E0201).
+    let mut stools = String::new();
+    for k in 0..144 {
+        let _ = writeln!(stools, "  object stool_{k} \"stool\" {{\n    near ghost-{k}\n  }}");
+    }
+    let ceiling = "  ceiling \"round flush mount ceiling light\"\n";
+    let text = BEDROOM.replacen(ceiling, &format!("{stools}{ceiling}"), 1);
+    let all = check_text(&text, 1);
+    assert_eq!(all.matches(" E0201 ").count(), 144, "{all}");
+    client.open(URI, &text);
+    let published = client.wait_published(|p| p["version"] == 1);
+    let list = published["diagnostics"].as_array().expect("an array");
+    let max = holoc::diag::MAX_SHOWN_PER_FILE;
+    assert_eq!(list.len(), max + 1, "{published}");
+    // The first `max` are `holoc check`'s first `max`, in its order.
+    let shown = diagnostics_text(&published);
+    let expected: Vec<&str> = all.lines().take(max + 1).collect();
+    let got: Vec<&str> = shown.lines().take(max + 1).collect();
+    assert_eq!(got, expected);
+    // The closing one: where the first one left out is, as severe as the worst of them, with
+    // how many and where to see them all.
+    let closing = &list[max];
+    let first_hidden = all.lines().nth(max + 1).expect("one left out");
+    let at = format!(
+        "{}:{} ",
+        closing["range"]["start"]["line"], closing["range"]["start"]["character"]
+    );
+    assert!(first_hidden.starts_with(&at), "{first_hidden} vs {closing}");
+    assert_eq!(closing["severity"], 1, "{closing}");
+    let message = closing["message"].as_str().expect("a message");
+    let hidden = all.lines().count() - 1 - max;
+    assert!(
+        message.starts_with(&format!("and {hidden} more diagnostic(s) from here on not shown (")),
+        "{message}"
+    );
+    assert!(message.contains("`holoc check --format json`"), "{message}");
+    client.stop();
+}
+
+/// Semantic tokens decoded: `line:column text type[+modifier…]`, one per line, with the types
+/// and modifiers named by the server's legend (columns count UTF-16 code units).
+fn decode_tokens(text: &str, tokens: &Value) -> Vec<String> {
+    let legend = holoc::lsp::highlight::legend();
+    let data: Vec<u32> = tokens["data"]
+        .as_array()
+        .expect("data")
+        .iter()
+        .map(|n| u32::try_from(n.as_u64().expect("a number")).expect("fits"))
+        .collect();
+    let lines: Vec<&str> = text.lines().collect();
+    let (mut line, mut column) = (0, 0);
+    let mut out = Vec::new();
+    for t in data.chunks(5) {
+        if t[0] > 0 {
+            column = 0;
+        }
+        line += t[0];
+        column += t[1];
+        let units: Vec<u16> = lines[line as usize].encode_utf16().collect();
+        let word =
+            String::from_utf16(&units[column as usize..(column + t[2]) as usize]).expect("text");
+        let mut kind = legend.token_types[t[3] as usize].as_str().to_string();
+        for (bit, modifier) in legend.token_modifiers.iter().enumerate() {
+            if t[4] & (1 << bit) != 0 {
+                kind = format!("{kind}+{}", modifier.as_str());
+            }
+        }
+        out.push(format!("{}:{} {word} {kind}", line + 1, column + 1));
+    }
+    out
+}
+
+#[test]
+fn semantic_tokens_colour_keywords_names_references_units_strings_numbers_and_comments() {
+    let mut client = Client::start(false);
+    client.open(URI, BEDROOM);
+    let caps = serde_json::to_value(holoc::lsp::capabilities()).expect("JSON");
+    let provider = &caps["semanticTokensProvider"];
+    assert_eq!(provider["full"], true, "{provider}");
+    assert_eq!(provider["range"], true, "{provider}");
+    let full =
+        client.request("textDocument/semanticTokens/full", json!({"textDocument": {"uri": URI}}));
+    let decoded = decode_tokens(BEDROOM, &full);
+    let has = |entry: &str| decoded.iter().any(|d| d.ends_with(entry));
+    for entry in [
+        "room keyword",
+        "bedroom namespace+declaration",
+        "bed variable+declaration",
+        "nightstand-0 variable+declaration",
+        "bed-0 variable",
+        "left of keyword",
+        "face same as keyword",
+        "cm type",
+        "hung enumMember",
+        "same enumMember",
+        "x operator",
+        "exterior namespace+defaultLibrary",
+        "\"white panel door\" string",
+        "4.5 number",
+    ] {
+        assert!(has(entry), "no `{entry}` in:\n{}", decoded.join("\n"));
+    }
+    assert!(decoded[0].starts_with("1:1 // A bedroom") && decoded[0].ends_with(" comment"));
+    snapshot("semantic_tokens", &decoded.join("\n"));
+    // A range gives the tokens of its lines, the same as the whole document's.
+    let range = client.request(
+        "textDocument/semanticTokens/range",
+        json!({"textDocument": {"uri": URI},
+               "range": {"start": {"line": 15, "character": 0}, "end": {"line": 30, "character": 0}}}),
+    );
+    let in_range: Vec<String> = decoded
+        .iter()
+        .filter(|d| {
+            let line: u32 = d.split(':').next().and_then(|l| l.parse().ok()).expect("a line");
+            (16..=31).contains(&line)
+        })
+        .cloned()
+        .collect();
+    assert_eq!(decode_tokens(BEDROOM, &range), in_range);
+    // A document that is not open gets an error, not a crash.
+    let response = client.response(
+        "textDocument/semanticTokens/full",
+        json!({"textDocument": {"uri": "file:///nonexistent/other.holo"}}),
+    );
+    assert!(response.error.is_some());
     client.stop();
 }
 
@@ -709,7 +842,7 @@ fn catalogs_come_from_holoc_toml_beside_the_file() {
 fn bad_requests_get_errors_never_a_crash() {
     let mut client = Client::start(false);
     let unknown =
-        client.response("textDocument/semanticTokens/full", json!({"textDocument": {"uri": URI}}));
+        client.response("textDocument/foldingRange", json!({"textDocument": {"uri": URI}}));
     assert_eq!(unknown.error.expect("an error").code, lsp_server::ErrorCode::MethodNotFound as i32);
     let bad = client.response("textDocument/hover", json!({"nonsense": true}));
     assert_eq!(bad.error.expect("an error").code, lsp_server::ErrorCode::InvalidParams as i32);
@@ -870,6 +1003,39 @@ fn locations_keep_the_editors_uri_and_link_to_absolute_pages() {
 }
 
 #[test]
+fn check_format_lsp_links_pages_as_the_server_does() {
+    let dir = std::env::temp_dir().join(format!("holoc-lsp-check-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("scratch");
+    let path = dir.join("twice.holo");
+    std::fs::write(&path, BEDROOM.replacen("  object desk_chair ", "  object desk ", 1))
+        .expect("write");
+    let output = std::process::Command::new(env!("CARGO_BIN_EXE_holoc"))
+        .args(["check", "--format", "lsp"])
+        .arg(&path)
+        .output()
+        .expect("holoc check runs");
+    let printed: Value = serde_json::from_slice(&output.stdout).expect("JSON");
+    let d = printed["diagnostics"]
+        .as_array()
+        .expect("diagnostics")
+        .iter()
+        .map(|item| &item["diagnostic"])
+        .find(|d| d["code"] == "E0203")
+        .expect("a duplicate");
+    let href = d["codeDescription"]["href"].as_str().expect("a link");
+    let server =
+        holoc::lsp::features::code_href(holoc::diag::Code::parse("E0203").expect("a code"))
+            .expect("the sources are here");
+    assert_eq!(href, server.as_str());
+    assert!(
+        href.starts_with("file:///") && href.ends_with("/book/src/diagnostics/E0203.md"),
+        "{href}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
 fn line_endings_stay_as_the_document_has_them() {
     let mut client = Client::start(false);
     let messy = BEDROOM.replace("  object bed \"bed\" {", "object    bed \"bed\"   {");
@@ -988,29 +1154,103 @@ fn exit_without_shutdown_ends_the_session_as_an_error() {
     assert_eq!(client.exit_at_once(), Ok(holoc::lsp::Ending::WithoutShutdown));
 }
 
+/// One message framed as the protocol sends it.
+fn frame(body: &str) -> String {
+    format!("Content-Length: {}\r\n\r\n{body}", body.len())
+}
+
+/// The next message the binary writes.
+fn read_message(out: &mut impl std::io::BufRead) -> Value {
+    let mut length = 0;
+    loop {
+        let mut line = String::new();
+        out.read_line(&mut line).expect("a header");
+        let line = line.trim_end();
+        if line.is_empty() {
+            break;
+        }
+        if let Some(n) = line.strip_prefix("Content-Length: ") {
+            length = n.parse().expect("a length");
+        }
+    }
+    let mut body = vec![0; length];
+    out.read_exact(&mut body).expect("a body");
+    serde_json::from_slice(&body).expect("JSON")
+}
+
+/// The CPU time a process has used so far (user and system), in the kernel's clock ticks
+/// (`USER_HZ`, 100 a second on Linux); `None` without `/proc`.
+fn cpu_ticks(pid: u32) -> Option<u64> {
+    let stat = std::fs::read_to_string(format!("/proc/{pid}/stat")).ok()?;
+    // The fields after the command name (which may hold spaces) in parentheses.
+    let rest = &stat[stat.rfind(')')? + 2..];
+    let fields: Vec<&str> = rest.split_whitespace().collect();
+    // utime and stime are fields 14 and 15 of the whole line, 12 and 13 after the name.
+    Some(fields.get(11)?.parse::<u64>().ok()? + fields.get(12)?.parse::<u64>().ok()?)
+}
+
+#[test]
+fn the_binary_uses_no_cpu_while_idle_with_or_without_the_solve() {
+    use std::io::Write as _;
+    if cpu_ticks(std::process::id()).is_none() {
+        common::skip(
+            "the_binary_uses_no_cpu_while_idle_with_or_without_the_solve",
+            "/proc/<pid>/stat cannot be read on this system",
+        );
+        return;
+    }
+    for no_solve in [true, false] {
+        let mut command = std::process::Command::new(env!("CARGO_BIN_EXE_holoc"));
+        command.arg("lsp");
+        if no_solve {
+            command.arg("--no-solve");
+        }
+        let mut child = command
+            .stdin(std::process::Stdio::piped())
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::null())
+            .spawn()
+            .expect("holoc lsp starts");
+        let mut input = child.stdin.take().expect("stdin");
+        let mut output = std::io::BufReader::new(child.stdout.take().expect("stdout"));
+        let init = r#"{"jsonrpc":"2.0","id":1,"method":"initialize","params":{"capabilities":{}}}"#;
+        input.write_all(frame(init).as_bytes()).expect("write");
+        assert!(read_message(&mut output)["result"]["capabilities"].is_object());
+        let open = json!({"jsonrpc": "2.0", "method": "textDocument/didOpen", "params": {
+            "textDocument": {"uri": URI, "languageId": "holo", "version": 1, "text": BEDROOM}}});
+        input.write_all(frame(&open.to_string()).as_bytes()).expect("write");
+        // The diagnostics of the open.
+        assert_eq!(read_message(&mut output)["method"], "textDocument/publishDiagnostics");
+        let pid = child.id();
+        // Let the solve (when on) finish: idle is measured once the process has stopped
+        // using CPU for a whole second, within a minute.
+        let mut last = cpu_ticks(pid).expect("the server's CPU time");
+        for _ in 0..60 {
+            std::thread::sleep(Duration::from_secs(1));
+            let now = cpu_ticks(pid).expect("the server's CPU time");
+            if now == last {
+                break;
+            }
+            last = now;
+        }
+        let before = cpu_ticks(pid).expect("the server's CPU time");
+        std::thread::sleep(Duration::from_secs(3));
+        let after = cpu_ticks(pid).expect("the server's CPU time");
+        // 2% of a core over 3 s is 6 ticks of 10 ms; a spinning loop takes about 300.
+        assert!(
+            after - before <= 6,
+            "holoc lsp{} used {} ticks of CPU in 3 s of idleness",
+            if no_solve { " --no-solve" } else { "" },
+            after - before
+        );
+        input.write_all(frame(r#"{"jsonrpc":"2.0","method":"exit"}"#).as_bytes()).expect("write");
+        let _ = child.wait();
+    }
+}
+
 #[test]
 fn the_binary_answers_malformed_json_and_exits_by_the_protocol() {
     use std::io::Write as _;
-    fn frame(body: &str) -> String {
-        format!("Content-Length: {}\r\n\r\n{body}", body.len())
-    }
-    fn read_message(out: &mut impl std::io::BufRead) -> Value {
-        let mut length = 0;
-        loop {
-            let mut line = String::new();
-            out.read_line(&mut line).expect("a header");
-            let line = line.trim_end();
-            if line.is_empty() {
-                break;
-            }
-            if let Some(n) = line.strip_prefix("Content-Length: ") {
-                length = n.parse().expect("a length");
-            }
-        }
-        let mut body = vec![0; length];
-        out.read_exact(&mut body).expect("a body");
-        serde_json::from_slice(&body).expect("JSON")
-    }
     for (shutdown, code) in [(true, 0), (false, 1)] {
         let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_holoc"))
             .args(["lsp", "--no-solve"])

@@ -37,18 +37,33 @@ pub struct Links<'a> {
     pub href: &'a dyn Fn(super::Code) -> Option<Uri>,
 }
 
+/// The absolute `file:` URI of a code's page in the holoc sources this program was built from,
+/// when they are there (`None` otherwise: an editor cannot open a relative path, so none is
+/// given). `holoc explain CODE` prints the same page.
+pub fn page_uri(code: super::Code) -> Option<Uri> {
+    use std::sync::OnceLock;
+    static PAGES: OnceLock<Option<std::path::PathBuf>> = OnceLock::new();
+    let dir = PAGES.get_or_init(|| {
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("book/src/diagnostics");
+        dir.is_dir().then_some(dir)
+    });
+    let page = dir.as_ref()?.join(format!("{}.md", code.as_str()));
+    file_uri(&page.to_string_lossy())
+}
+
 /// Converts diagnostics to LSP diagnostics, each paired with the file it belongs to. Files are
-/// named by their path's `file:` URI, and a code's page by its path in the book's sources.
+/// named by their path's `file:` URI, and a code's page by [`page_uri`], as the language
+/// server names it.
 pub fn to_lsp(
     sources: &SourceMap,
     diagnostics: &[Diagnostic],
 ) -> Vec<(String, lsp_types::Diagnostic)> {
-    let links = Links { uri: &file_uri, href: &|code| Uri::from_str(&code.url()).ok() };
+    let links = Links { uri: &file_uri, href: &page_uri };
     to_lsp_with(sources, diagnostics, &links)
 }
 
-/// [`to_lsp`] with the language server's names: its documents' URIs as the editor gave them,
-/// and absolute links to the codes' pages.
+/// [`to_lsp`] with other names for files (the language server's: its documents' URIs as the
+/// editor gave them) and pages.
 pub fn to_lsp_with(
     sources: &SourceMap,
     diagnostics: &[Diagnostic],

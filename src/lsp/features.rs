@@ -37,6 +37,50 @@ pub fn diagnostics(analysis: &Analysis, solved: Option<&Solved>) -> Vec<lsp_type
     out
 }
 
+/// The first `max` of a document's diagnostics and, when there are more, one closing
+/// diagnostic that says how many are left out, of which severities, and where to see them all
+/// (`holoc check --format json`): an editor is never shown a silently shortened list. The
+/// closing one stands where the first one left out does, with the severity of the most severe
+/// one left out, so that an editor's count of errors still says there are errors.
+pub fn capped(
+    mut diagnostics: Vec<lsp_types::Diagnostic>,
+    max: usize,
+) -> Vec<lsp_types::Diagnostic> {
+    use lsp_types::DiagnosticSeverity as S;
+    if diagnostics.len() <= max {
+        return diagnostics;
+    }
+    let hidden = diagnostics.split_off(max);
+    let count = |severity: S| hidden.iter().filter(|d| d.severity == Some(severity)).count();
+    let kinds: Vec<String> = [
+        (S::ERROR, "error(s)"),
+        (S::WARNING, "warning(s)"),
+        (S::INFORMATION, "note(s)"),
+        (S::HINT, "hint(s)"),
+    ]
+    .into_iter()
+    .filter_map(|(severity, word)| {
+        let n = count(severity);
+        (n > 0).then(|| format!("{n} {word}"))
+    })
+    .collect();
+    // ERROR is 1 and HINT 4: the smallest is the most severe.
+    let severity = hidden.iter().filter_map(|d| d.severity).min().unwrap_or(S::INFORMATION);
+    let first = hidden.first().map(|d| d.range).unwrap_or_default();
+    diagnostics.push(lsp_types::Diagnostic {
+        range: first,
+        severity: Some(severity),
+        source: Some("holoc".to_string()),
+        message: format!(
+            "and {} more diagnostic(s) from here on not shown ({}): the editor is sent at most {max} per file; `holoc check --format json` on the file lists them all",
+            hidden.len(),
+            kinds.join(", "),
+        ),
+        ..Default::default()
+    });
+    diagnostics
+}
+
 /// Diagnostics in the LSP form, with the server's links: the document's own URI for places in
 /// it (as the editor named it: a `file:` URI, or `untitled:1`), and absolute links to the
 /// codes' pages.
@@ -56,14 +100,7 @@ fn to_lsp(analysis: &Analysis, all: &[Diagnostic]) -> Vec<(String, lsp_types::Di
 /// The absolute `file:` URI of a code's page in the holoc sources the server was built from,
 /// when they are there (`holoc explain CODE` prints the same page).
 pub fn code_href(code: crate::diag::Code) -> Option<Uri> {
-    use std::sync::OnceLock;
-    static PAGES: OnceLock<Option<std::path::PathBuf>> = OnceLock::new();
-    let dir = PAGES.get_or_init(|| {
-        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("book/src/diagnostics");
-        dir.is_dir().then_some(dir)
-    });
-    let page = dir.as_ref()?.join(format!("{}.md", code.as_str()));
-    crate::diag::lsp::file_uri(&page.to_string_lossy())
+    crate::diag::lsp::page_uri(code)
 }
 
 /// One hint per relation of a placed object that does not hold in the last solve (every

@@ -20,6 +20,7 @@
 
 pub mod document;
 pub mod features;
+pub mod highlight;
 pub mod incremental;
 pub mod index;
 pub mod transport;
@@ -104,6 +105,15 @@ pub fn capabilities() -> lsp_types::ServerCapabilities {
             code_action_kinds: Some(vec![CodeActionKind::QUICKFIX]),
             ..Default::default()
         })),
+        semantic_tokens_provider: Some(
+            lsp_types::SemanticTokensOptions {
+                legend: highlight::legend(),
+                range: Some(true),
+                full: Some(lsp_types::SemanticTokensFullOptions::Bool(true)),
+                ..Default::default()
+            }
+            .into(),
+        ),
         ..Default::default()
     }
 }
@@ -166,7 +176,14 @@ pub fn serve(connection: &Connection, options: ServerOptions) -> Result<Ending, 
             objathor = found;
         }
     }
-    let (jobs, results) = solve_worker(options.solve_gate.clone());
+    // Without the solve there is no worker, and the loop waits on a channel that never
+    // delivers (a dropped sender would make every wait return at once, spinning a core).
+    let (jobs, mut results) = if options.solve_on_save {
+        let (jobs, results) = solve_worker(options.solve_gate.clone());
+        (Some(jobs), results)
+    } else {
+        (None, crossbeam_channel::never())
+    };
     let mut server = Server {
         sender: connection.sender.clone(),
         documents: BTreeMap::new(),
@@ -177,7 +194,7 @@ pub fn serve(connection: &Connection, options: ServerOptions) -> Result<Ending, 
         configs: HashMap::new(),
         roots: workspace_roots(&init),
         dirty: BTreeSet::new(),
-        jobs: options.solve_on_save.then_some(jobs),
+        jobs,
         cancel: BTreeMap::new(),
         shutting_down: false,
     };
@@ -190,8 +207,11 @@ pub fn serve(connection: &Connection, options: ServerOptions) -> Result<Ending, 
                 }
             }
             recv(results) -> event => {
-                if let Ok(event) = event {
-                    server.solved(event);
+                match event {
+                    Ok(event) => server.solved(event),
+                    // The solver thread is gone (it could not start, or the server's end of
+                    // its queue closed): wait on the client alone from now on.
+                    Err(_) => results = crossbeam_channel::never(),
                 }
             }
         }
@@ -508,9 +528,12 @@ impl Server {
             let Some(doc) = self.analysed(&key) else { continue };
             let version = doc.version;
             let Some(analysis) = doc.analysis.as_ref() else { continue };
-            let mut diagnostics = features::diagnostics(analysis, doc.solved.as_ref());
-            // An editor shows a bounded list, as `holoc check` prints one.
-            diagnostics.truncate(crate::diag::MAX_SHOWN_PER_FILE);
+            // An editor shows a bounded list, as `holoc check` prints one, closed by a
+            // diagnostic that counts the rest.
+            let diagnostics = features::capped(
+                features::diagnostics(analysis, doc.solved.as_ref()),
+                crate::diag::MAX_SHOWN_PER_FILE,
+            );
             // The version published never goes back, whatever the client sent.
             let version = match self.published.get(&key) {
                 Some(&last) if version < last => None,
@@ -612,6 +635,22 @@ impl Server {
         let doc = self.analysed(uri.as_str()).ok_or_else(not_open)?;
         let analysis = doc.analysis.as_ref().ok_or_else(not_open)?;
         Ok((analysis, doc.solved.as_ref()))
+    }
+
+    /// The text of an open document, without analysing it (highlighting reads the text
+    /// alone), or the error a request on a document that is not open or out of sync gets.
+    fn text_of(&self, uri: &Uri) -> Result<&str, (ErrorCode, String)> {
+        let doc = self
+            .documents
+            .get(uri.as_str())
+            .ok_or_else(|| (ErrorCode::InvalidParams, format!("`{}` is not open", uri.as_str())))?;
+        if let Some(why) = &doc.out_of_sync {
+            return Err((
+                ErrorCode::RequestFailed,
+                format!("`{}` is out of sync ({why}); close and reopen it", uri.as_str()),
+            ));
+        }
+        Ok(doc.text())
     }
 
     /// Keeps where a request says the user is (its position, or the start of its range) as
@@ -718,6 +757,19 @@ impl Server {
                 let uri = p.text_document.uri;
                 let (analysis, solved) = self.opened(&uri)?;
                 json(features::code_actions(analysis, solved, &uri, p.range))
+            }
+            request::SemanticTokensFullRequest::METHOD => {
+                let p: lsp_types::SemanticTokensParams = params(request)?;
+                let text = self.text_of(&p.text_document.uri)?;
+                let data = highlight::encode(text, &highlight::tokens(text), None);
+                json(lsp_types::SemanticTokens { result_id: None, data })
+            }
+            request::SemanticTokensRangeRequest::METHOD => {
+                let p: lsp_types::SemanticTokensRangeParams = params(request)?;
+                let text = self.text_of(&p.text_document.uri)?;
+                let lines = Some((p.range.start.line, p.range.end.line));
+                let data = highlight::encode(text, &highlight::tokens(text), lines);
+                json(lsp_types::SemanticTokens { result_id: None, data })
             }
             other => Err((ErrorCode::MethodNotFound, format!("holoc does not answer `{other}`"))),
         }

@@ -1,9 +1,12 @@
 -- Drives `holoc lsp` from a real editor: neovim's built-in LSP client (0.7 and later), set up
 -- by the book's Lua ($HOLO_SETUP, with `holoc` on the PATH). Opens $HOLO_SCENE, checks that its
--- filetype is `holo` and a client attached, waits for the server's first diagnostics, turns
--- `far bed-0` into a typo through the buffer (so neovim sends an incremental change), waits for the diagnostic the
--- server publishes for it, and writes what neovim holds to $HOLO_OUT, one line per diagnostic:
--- `opened: <codes>`, then `<line> <code> <message>`, then `done`.
+-- filetype is `holo` and a client attached, waits for the server's first diagnostics, notes the
+-- syntax colours of a few words and the word 0.7's completion (`vim.lsp.omnifunc`) replaces
+-- after `near desk-`, turns `far bed-0` into a typo through the buffer (so neovim sends an
+-- incremental change), waits for the diagnostic the server publishes for it, and writes what
+-- neovim holds to $HOLO_OUT: `opened: <codes>`, then `syntax <word> <group>` and
+-- `completion replaces <word>` lines, then `<line> <code> <message>` per diagnostic, then
+-- `done`.
 local scene = os.getenv("HOLO_SCENE")
 local out_path = os.getenv("HOLO_OUT")
 local out = {}
@@ -57,6 +60,28 @@ end
 table.insert(out, "opened: " .. table.concat(at_open, " "))
 
 local lines = vim.api.nvim_buf_get_lines(buf, 0, -1, false)
+-- The syntax group of the first `word` on a line that matches `line_pattern`.
+local function syntax(line_pattern, word)
+  for i, line in ipairs(lines) do
+    if line:match(line_pattern) then
+      local col = line:find(word, 1, true)
+      local group = vim.fn.synIDattr(vim.fn.synID(i, col, 1), "name")
+      table.insert(out, "syntax " .. word .. " " .. group)
+      return
+    end
+  end
+  table.insert(out, "syntax " .. word .. ": no line matches " .. line_pattern)
+end
+syntax("^room ", "room")
+syntax("^room ", "bedroom")
+syntax("left of bed%-0", "bed-0")
+syntax("size 160 cm", "cm")
+syntax("^door ", "\"white panel door\"")
+-- What 0.7's `vim.lsp.omnifunc` replaces: the keyword before the cursor (`\k*$`).
+local typed = "    near desk-"
+local start = vim.fn.match(typed, "\\k*$")
+table.insert(out, "completion replaces " .. typed:sub(start + 1))
+
 for i, line in ipairs(lines) do
   if line:match("^%s*far bed%-0") then
     vim.api.nvim_buf_set_lines(buf, i - 1, i, false, { (line:gsub("far bed", "fra bed")) })

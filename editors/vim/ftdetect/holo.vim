@@ -1,0 +1,2 @@
+" `.holo` files are holoc's scenes.
+autocmd BufRead,BufNewFile *.holo setfiletype holo
