@@ -262,7 +262,13 @@ fn folder_error(dir: &Path, message: String, help: &str) -> Box<Diagnostic> {
 }
 
 fn annotations_in(dir: &Path) -> Option<PathBuf> {
-    ["annotations.json.gz", "annotations.json"].iter().map(|n| dir.join(n)).find(|p| p.is_file())
+    ["annotations.json.gz", "annotations.json"].iter().map(|n| dir.join(n)).find(|p| present(p))
+}
+
+/// Whether something that is not a folder stands at `path` (a named pipe or a device counts:
+/// reading it then says what it is, instead of calling it missing).
+fn present(path: &Path) -> bool {
+    std::fs::symlink_metadata(path).is_ok_and(|m| !m.is_dir())
 }
 
 /// The version folder `options` names: `dir` itself when it holds the annotations (or its
@@ -390,7 +396,7 @@ fn feature_path(root: &Path, name: &str) -> Option<PathBuf> {
     [format!("{name}.pkl"), format!("{name}.pkl.gz")]
         .iter()
         .map(|n| root.join("features").join(n))
-        .find(|p| p.is_file())
+        .find(|p| present(p))
 }
 
 /// Loads the version folder `options` names into `catalog` (after every other catalog),
@@ -428,7 +434,10 @@ pub fn load(
     let (text, sha256) = match annotations {
         Ok(found) => found,
         Err(message) => {
-            diags.push(super::catalog::unreadable(&name, &message));
+            diags.push(super::catalog::unreadable(&name, &message).with_help(
+                "check the annotations of the folder given to `--objathor` (download them again \
+                 with objathor's script if they are damaged)",
+            ));
             return diags;
         }
     };
