@@ -54,6 +54,21 @@ fn overlapping(n: usize) -> String {
     text
 }
 
+/// Rooms on the same square, as many as fit in `bytes`: the largest input of overlapping rooms.
+fn overlapping_bytes(bytes: usize) -> String {
+    let door = "door exterior -- r0 : doorway single\n";
+    let mut text = String::new();
+    for i in 0.. {
+        let room = format!("room r{i} \"r\" {{\n  corners in m (0, 0) (0, 4) (4, 4) (4, 0)\n}}\n");
+        if text.len() + room.len() + door.len() > bytes {
+            break;
+        }
+        text.push_str(&room);
+    }
+    text.push_str(door);
+    text
+}
+
 /// Braces nested `n` deep inside a room.
 fn nested(n: usize) -> String {
     format!(
@@ -209,6 +224,7 @@ fn main() {
         ("16,000-character name", long_name(16_000), false),
         ("1,000,000-character name", long_name(1_000_000), false),
         ("32 MiB (classroom + comments)", padded(32 * 1024 * 1024 - 1024), true),
+        ("32 MiB of overlapping rooms", overlapping_bytes(32 * 1024 * 1024 - 1024), false),
     ];
     println!("| input | bytes | command | seconds | peak MB | exit |");
     println!("|---|---:|---|---:|---:|---:|");
@@ -265,6 +281,32 @@ fn main() {
             &holoc,
         );
         row(&format!("house with {n} beds on one spot"), text.len(), "validate", s, peak, code);
+    }
+    // The readers of `diff` and `view` on the largest house they read (just under 32 MiB of
+    // beds on one spot), and on that house against one bed fewer.
+    let house = dir.join("largest.json");
+    let mut n = 2000;
+    let text = loop {
+        let text = crowded_house(&holoc, &dir, n);
+        if text.len() > 30 * 1024 * 1024 {
+            break text;
+        }
+        n = n * 30 * 1024 * 1024 / text.len().max(1) + 100;
+    };
+    std::fs::write(&house, &text).expect("write");
+    let other = dir.join("other.json");
+    std::fs::write(&other, crowded_house(&holoc, &dir, n - 1)).expect("write");
+    let name = format!("house with {n} beds on one spot");
+    for (command, args) in [
+        ("diff (against itself)", vec!["diff".as_ref(), house.as_os_str(), house.as_os_str()]),
+        ("diff (one bed fewer)", vec!["diff".as_ref(), house.as_os_str(), other.as_os_str()]),
+        (
+            "validate",
+            vec!["validate".as_ref(), "--format".as_ref(), "short".as_ref(), house.as_os_str()],
+        ),
+    ] {
+        let (s, peak, code) = measure(&args, &holoc);
+        row(&name, text.len(), command, s, peak, code);
     }
     let _ = std::fs::remove_dir_all(&dir);
 }

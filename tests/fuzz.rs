@@ -1,7 +1,8 @@
 //! In-process fuzzing of every reader holoc has: `.holo` (parse, check, format, every
 //! diagnostic format), each answer stage of the importer, original Holodeck scenes, holoc
-//! transcripts, house validation, user catalogs (JSON and gzip) and the LLM client's reading of
-//! a chat completion.
+//! transcripts, house validation, user catalogs (JSON and gzip), the LLM client's reading of
+//! a chat completion, objathor's annotations and feature pickles, and what `diff`, `export` and
+//! `view` do with a house.
 //!
 //! A stable harness (no nightly toolchain here): inputs are the seeds of each target (the test
 //! corpora, the examples, the transcripts and, when present, `../shared/data`) mutated by a
@@ -19,7 +20,7 @@
 //! `cargo test --test fuzz` runs a short smoke of every target (`HOLOC_FUZZ_ITERS`, default 200
 //! inputs each). The campaign: `HOLOC_FUZZ_ITERS=1000000 cargo test --release --test fuzz --
 //! --ignored --nocapture fuzz_campaign` (every target, a table of inputs, failures, slowest
-//! input and peak memory).
+//! input and peak memory); `HOLOC_FUZZ_TARGETS=feature-pickle,house-readers` runs only those.
 
 #![allow(clippy::print_stdout, reason = "the campaign prints its table")]
 
@@ -151,6 +152,148 @@ fn run_catalog(bytes: &[u8]) {
     let out = holoc::resolve::Catalog::read_user_catalog("fuzz.json", bytes, &mut sources);
     render_all(&sources, &out.diagnostics);
 }
+
+fn run_annotations(bytes: &[u8]) {
+    let mut sources = SourceMap::new();
+    let (_, diagnostics) = holoc::resolve::objathor::read_annotations(bytes, &mut sources);
+    render_all(&sources, &diagnostics);
+}
+
+fn run_features(bytes: &[u8]) {
+    let _ = holoc::resolve::objathor::read_feature_bytes(bytes.to_vec());
+}
+
+/// A house through what `diff`, `export` and `view` do with it: the diff's view (against
+/// itself and against the first seed house, rendered both ways), and, for a house `validate`
+/// accepts, the glTF export and the viewer page.
+fn run_house_readers(bytes: &[u8]) {
+    use holoc::diff::{diff, HouseView, Options};
+    static OTHER: std::sync::OnceLock<Option<HouseView>> = std::sync::OnceLock::new();
+    let other = OTHER.get_or_init(|| {
+        let first = house_seeds().into_iter().next()?;
+        let value = serde_json::from_slice::<serde_json::Value>(&first).ok()?;
+        HouseView::read(&value).ok()
+    });
+    let text = text(bytes);
+    if let Ok(value) = serde_json::from_str::<serde_json::Value>(&text) {
+        if let Ok(view) = HouseView::read(&value) {
+            for d in [
+                Some(diff(&view, &view, &Options::default())),
+                other.as_ref().map(|o| diff(o, &view, &Options::default())),
+            ]
+            .into_iter()
+            .flatten()
+            {
+                let _ = d.render();
+                let _ = d.summary();
+                let _ = holoc::diff::to_json(&d);
+            }
+        }
+    }
+    let mut sources = SourceMap::new();
+    let file = sources.add("house.json", text.clone());
+    let checked = holoc::lower::validate::validate(
+        &sources,
+        file,
+        holoc::resolve::structure::StructureCatalog::builtin(),
+        embedded_catalog(),
+    );
+    if checked.diagnostics.iter().any(Diagnostic::is_error) {
+        return;
+    }
+    let Ok(house) = serde_json::from_str::<holoc::lower::thor::House>(&text) else { return };
+    let options = holoc::export::ExportOptions::default();
+    if let Ok(exported) = holoc::export::export(&house, embedded_catalog(), &options) {
+        let glb = exported.to_glb();
+        let _ = holoc::export::viewer::page(&house, &glb, None, "fuzz");
+    }
+}
+
+/// The houses of the lower snapshots (without insta's header), then `{}`.
+fn house_seeds() -> Vec<Vec<u8>> {
+    let mut seeds = Vec::new();
+    for snap in read_all(&files(Path::new("snapshots/lower"), &[".snap"])) {
+        let snap = text(&snap);
+        if let Some((_, house)) = snap.split_once("\n---\n") {
+            seeds.push(house.as_bytes().to_vec());
+        }
+    }
+    seeds.push(b"{}".to_vec());
+    seeds
+}
+
+/// The objathor fixture's annotations (gzip and plain) and feature pickles (every protocol),
+/// and the real numpy pickles of `tests/objathor/pickles`.
+fn objathor_seeds() -> (Vec<Vec<u8>>, Vec<Vec<u8>>) {
+    use holoc::resolve::objathor::fixture::{write_fixture, FixtureOptions};
+    use holoc::resolve::objathor::pickle::NumpyModules;
+    let mut annotations = Vec::new();
+    let mut pickles = read_all(&files(Path::new("tests/objathor/pickles"), &[".pkl"]));
+    let Ok(dir) = tempfile::tempdir() else { return (annotations, pickles) };
+    for (protocol, modules) in [
+        (2, NumpyModules::Core),
+        (3, NumpyModules::Core),
+        (4, NumpyModules::UnderscoreCore),
+        (5, NumpyModules::UnderscoreCore),
+    ] {
+        let base = dir.path().join(format!("p{protocol}"));
+        let options =
+            FixtureOptions { protocol, modules, assets: false, ..FixtureOptions::default() };
+        let Ok(root) = write_fixture(&base, options) else { continue };
+        for name in ["clip_features.pkl", "sbert_features.pkl"] {
+            pickles.extend(std::fs::read(root.join("features").join(name)));
+        }
+        if protocol == 2 {
+            let gz = std::fs::read(root.join("annotations.json.gz")).unwrap_or_default();
+            let mut plain = Vec::new();
+            let _ =
+                std::io::Read::read_to_end(&mut flate2::read::GzDecoder::new(&gz[..]), &mut plain);
+            annotations.push(plain);
+            annotations.push(gz);
+        }
+    }
+    (annotations, pickles)
+}
+
+/// Tokens of numpy's pickles: opcodes, module names, dtype names, sizes.
+const PICKLE_WORDS: &[&str] = &[
+    "\u{80}\u{4}",
+    "\u{95}",
+    "}",
+    "]",
+    ")",
+    "(",
+    "t",
+    "R",
+    "b",
+    "u",
+    "e",
+    ".",
+    "N",
+    "K\u{0}",
+    "K\u{ff}",
+    "J\u{ff}\u{ff}\u{ff}\u{7f}",
+    "\u{8a}\u{8}",
+    "\u{8c}\u{3}f2",
+    "\u{94}",
+    "\u{93}",
+    "h\u{0}",
+    "C\u{2}",
+    "B",
+    "\u{8e}",
+    "\u{96}",
+    "numpy",
+    "numpy.core.multiarray",
+    "_reconstruct",
+    "_frombuffer",
+    "dtype",
+    "uids",
+    "img_features",
+    "text_features",
+    ">",
+    "<",
+    "latin1",
+];
 
 fn run_completion(bytes: &[u8]) {
     let _ = holoc::generate::client::parse_completion(&text(bytes));
@@ -349,18 +492,8 @@ fn targets() -> Vec<Target> {
             "absent; the original-scene and validate targets start from the repository's seeds",
         );
     }
-    let houses = {
-        let mut seeds = shared_scenes.clone();
-        // The houses of the lower snapshots, without insta's header.
-        for snap in read_all(&files(Path::new("snapshots/lower"), &[".snap"])) {
-            let snap = text(&snap);
-            if let Some((_, house)) = snap.split_once("\n---\n") {
-                seeds.push(house.as_bytes().to_vec());
-            }
-        }
-        seeds.push(b"{}".to_vec());
-        seeds
-    };
+    let houses = [shared_scenes.clone(), house_seeds()].concat();
+    let (annotations, pickles) = objathor_seeds();
     let transcripts = read_all(&files(Path::new("examples/transcripts"), &[".json"]));
     let catalogs = {
         let mut seeds = read_all(&files(Path::new("tests/catalog"), &[".json"]));
@@ -407,6 +540,9 @@ fn targets() -> Vec<Target> {
         t("catalog-json", catalogs, JSON_WORDS, run_catalog),
         t("catalog-gzip", gz_catalogs, JSON_WORDS, run_catalog),
         t("completion", completions, JSON_WORDS, run_completion),
+        t("objathor-annotations", annotations, JSON_WORDS, run_annotations),
+        t("feature-pickle", pickles, PICKLE_WORDS, run_features),
+        t("house-readers", house_seeds(), JSON_WORDS, run_house_readers),
     ]
 }
 
@@ -636,7 +772,12 @@ fn fuzz_campaign() {
     println!("|---|---|---|---|---|---|---|");
     let mut failures = Vec::new();
     quiet_panics(|| {
-        for target in &targets() {
+        // `HOLOC_FUZZ_TARGETS=a,b` runs only those targets.
+        let only: Option<Vec<String>> = std::env::var("HOLOC_FUZZ_TARGETS")
+            .ok()
+            .map(|v| v.split(',').map(|t| t.trim().to_string()).collect());
+        let chosen = |t: &Target| only.as_ref().is_none_or(|o| o.iter().any(|n| n == t.name));
+        for target in targets().iter().filter(|t| chosen(t)) {
             let start = Instant::now();
             let found = fuzz(target, n, seed);
             keep_findings(target, &found);

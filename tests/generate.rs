@@ -503,6 +503,60 @@ fn a_key_echoed_in_answers_is_redacted_everywhere() {
     assert!(text.contains("[redacted]"));
 }
 
+/// Every shape of the key a server might echo: base64 (standard and URL-safe, alone or after
+/// `user:` as in a `Basic` header) and split by a line break.
+fn key_shapes() -> Vec<String> {
+    use base64::Engine as _;
+    let standard = base64::engine::general_purpose::STANDARD;
+    let url = base64::engine::general_purpose::URL_SAFE_NO_PAD;
+    vec![
+        standard.encode(KEY),
+        url.encode(KEY),
+        standard.encode(format!("user:{KEY}")),
+        format!("{}\n{}", &KEY[..9], &KEY[9..]),
+        format!("{}\r\n  {}", &KEY[..4], &KEY[4..]),
+    ]
+}
+
+/// Whether `text` holds the key in any of [`key_shapes`]' shapes (or plainly).
+fn leaks(text: &str) -> bool {
+    use base64::Engine as _;
+    let core = |encoded: &str| encoded[2..encoded.len() - 4].to_string();
+    let standard = base64::engine::general_purpose::STANDARD;
+    let url = base64::engine::general_purpose::URL_SAFE_NO_PAD;
+    let joined = text.replace("\r\n  ", "").replace('\n', "").replace("\\n", "");
+    text.contains(KEY)
+        || joined.contains(KEY)
+        || joined.contains(&core(&standard.encode(KEY)))
+        || joined.contains(&core(&url.encode(KEY)))
+        || joined.contains(&core(&standard.encode(format!("user:{KEY}"))))
+}
+
+#[test]
+fn a_key_echoed_in_base64_or_split_by_a_line_is_redacted_everywhere() {
+    // In the answers of a run that succeeds…
+    let server = Server::start(Arc::new(|asked: &Asked, _| {
+        let Reply { body, .. } = clean_answer(asked);
+        let value: serde_json::Value = serde_json::from_str(&body).expect("json reply");
+        let text =
+            value.pointer("/choices/0/message/content").and_then(|v| v.as_str()).unwrap_or("");
+        let shapes = key_shapes().join(" and ");
+        Reply::answer(&format!("Your key is {shapes}.\n{text}\n{shapes} | {shapes}"))
+    }));
+    let outcome = generate(&request(), &client(&server), &options());
+    let text = everything(&outcome);
+    assert!(!leaks(&text), "the API key leaked: {text}");
+    assert!(text.contains("[redacted]"));
+    // …and in a 401 body.
+    let server = Server::start(Arc::new(|_: &Asked, _| {
+        Reply::status(401, &format!("{{\"error\": \"bad key {}\"}}", key_shapes().join(" ")))
+    }));
+    let outcome = generate(&request(), &client(&server), &options());
+    assert_eq!(codes(&outcome.diagnostics), vec!["E0803"]);
+    let text = everything(&outcome);
+    assert!(!leaks(&text), "the API key leaked: {text}");
+}
+
 /// Writes `examples/transcripts/apartment.transcript.json`, the transcript the book's tutorial
 /// replays offline: a clean run of the loopback server's answers. Run by hand after a change of
 /// the prompts or the transcript format:

@@ -404,3 +404,367 @@ fn the_language_server_skips_bad_frames() {
     assert!(err.contains("over the limit"), "{err}");
     let _ = output.fill_buf();
 }
+
+#[test]
+fn a_feature_array_whose_shape_overflows_is_refused_not_read_past_its_end() {
+    use holoc::resolve::objathor::fixture::{write_fixture, FixtureOptions, FIXTURE_ASSETS};
+    use holoc::resolve::objathor::pickle::{write, NumpyModules, Value};
+    let dir = scratch("overflow-shape");
+    let root = write_fixture(&dir, FixtureOptions::default()).expect("the fixture");
+    let uids: Vec<String> = FIXTURE_ASSETS.iter().map(|a| a.uid.to_string()).collect();
+    let n = uids.len();
+    // `n × 2^62 × 8` float16 elements: the product wraps to zero bytes in 64 bits, which the
+    // empty data then matches.
+    for (shape, protocol) in [(vec![n, 0], 2), (vec![n, 1 << 62, 8], 5), (vec![n, 1 << 62, 8], 4)] {
+        let clip = write(
+            &[
+                ("uids", Value::Strings(uids.clone())),
+                ("img_features", Value::F16 { shape: shape.clone(), bits: Vec::new() }),
+            ],
+            protocol,
+            NumpyModules::Core,
+        );
+        std::fs::write(root.join("features").join("clip_features.pkl"), &clip).expect("write");
+        for args in [
+            &["check", "tests/objathor/cat_room.holo", "--format", "short"][..],
+            &["build", "tests/objathor/cat_room.holo", "-q", "-o", "-"][..],
+            &["assets", "search", "cat tower", "--objathor-scoring", "lexical"][..],
+        ] {
+            let out = holoc().args(args).arg("--objathor").arg(&root).output().expect("runs");
+            no_abort(&out);
+            assert_ne!(out.status.code(), Some(101), "{args:?} {shape:?}: {}", stderr(&out));
+            assert!(stderr(&out).contains("W0405"), "{args:?} {shape:?}: {}", stderr(&out));
+        }
+    }
+}
+
+/// Runs a command with stdin closed, killing it (and failing) when it runs past `seconds`.
+fn bounded(mut cmd: Command, what: &str, seconds: u64) -> Output {
+    let mut child = cmd
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("holoc starts");
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(seconds);
+    // The pipes are drained on threads, so a chatty child never blocks on a full pipe.
+    let mut out_pipe = child.stdout.take().expect("piped");
+    let mut err_pipe = child.stderr.take().expect("piped");
+    let out_thread = std::thread::spawn(move || {
+        let mut v = Vec::new();
+        let _ = out_pipe.read_to_end(&mut v);
+        v
+    });
+    let err_thread = std::thread::spawn(move || {
+        let mut v = Vec::new();
+        let _ = err_pipe.read_to_end(&mut v);
+        v
+    });
+    let status = loop {
+        if let Some(status) = child.try_wait().expect("wait") {
+            break status;
+        }
+        if std::time::Instant::now() > deadline {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("{what}: still running after {seconds} s");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    };
+    Output {
+        status,
+        stdout: out_thread.join().expect("stdout"),
+        stderr: err_thread.join().expect("stderr"),
+    }
+}
+
+/// Every command, with every path it reads in turn replaced by a named pipe, `/dev/zero`, a
+/// link to itself and a file over the 32 MiB bound: each ends at once with a diagnostic
+/// (exit 1 or 2), never waits for a writer, never reads without end, never panics.
+#[test]
+fn every_command_refuses_pipes_devices_link_loops_and_oversize_files() {
+    let dir = scratch("walk");
+    let fifo = dir.join("fifo.json");
+    if !mkfifo(&fifo) || !Path::new("/dev/zero").exists() {
+        common::skip(
+            "every_command_refuses_pipes_devices_link_loops_and_oversize_files",
+            "no FIFO",
+        );
+        return;
+    }
+    let looped = dir.join("loop.json");
+    std::os::unix::fs::symlink(&looped, &looped).expect("a link to itself");
+    let big = dir.join("big.json");
+    std::fs::File::create(&big).expect("create").set_len(33 * 1024 * 1024).expect("sparse");
+    let house = dir.join("house.json");
+    let out = holoc().args(["build", "examples/bedroom.holo", "-q", "-o"]).arg(&house).output();
+    assert!(out.expect("runs").status.success());
+    let tests = dir.join("tests");
+    std::fs::create_dir_all(&tests).expect("folder");
+    std::fs::copy("examples/bedroom.holo", tests.join("bedroom.holo")).expect("copy");
+    let h = house.to_str().expect("utf-8");
+    let o = dir.join("out");
+    let o = o.to_str().expect("utf-8");
+    let (glb, html, svg, holo) =
+        (format!("{o}.glb"), format!("{o}.html"), format!("{o}.svg"), format!("{o}.holo"));
+    let t = tests.to_str().expect("utf-8");
+    let commands: Vec<Vec<&str>> = vec![
+        vec!["check", "@"],
+        vec!["fmt", "@"],
+        vec!["import", "@"],
+        vec!["validate", "@"],
+        vec!["build", "@", "-o", &holo],
+        vec!["render", "@", "-o", &svg],
+        vec!["repair", "@", "-o", &holo],
+        vec!["export", "@", "-o", &glb],
+        vec!["view", "@", "-o", &html],
+        vec!["view", h, "--report", "@", "-o", &html],
+        vec!["diff", "@", h],
+        vec!["diff", h, "@"],
+        vec!["diff", h, h, "--report", "@", "--report", "@"],
+        vec!["assets", "search", "chair", "--catalog", "@"],
+        vec!["build", "examples/bedroom.holo", "-q", "-o", &holo, "--catalog", "@"],
+        vec!["batch", "-q", "@", "-o", o],
+        vec!["test", "--review", "--answers", "@", t],
+    ];
+    let zero = PathBuf::from("/dev/zero");
+    for hostile in [&fifo, &zero, &looped, &big] {
+        let p = hostile.to_str().expect("utf-8");
+        for args in &commands {
+            let args: Vec<&str> = args.iter().map(|a| if *a == "@" { p } else { a }).collect();
+            let mut cmd = holoc();
+            cmd.args(&args).env("NO_COLOR", "1");
+            let what = format!("holoc {}", args.join(" "));
+            let out = bounded(cmd, &what, 120);
+            no_abort(&out);
+            assert!(
+                matches!(out.status.code(), Some(1 | 2)),
+                "{what}: {:?}\n{}",
+                out.status,
+                stderr(&out)
+            );
+            assert!(!stderr(&out).is_empty(), "{what}: says nothing");
+        }
+    }
+}
+
+#[test]
+fn bless_writes_only_inside_the_folder_it_was_given() {
+    use std::os::unix::fs::symlink;
+    let dir = scratch("bless");
+    let tests = dir.join("tests");
+    std::fs::create_dir_all(&tests).expect("folder");
+    std::fs::copy("examples/bedroom.holo", tests.join("bedroom.holo")).expect("copy");
+    let precious = dir.join("bashrc");
+    std::fs::write(&precious, "precious\n").expect("write");
+    let golden = tests.join("bedroom.house.json");
+    let report = tests.join("bedroom.report.json");
+    let bless = |extra: &[&str]| {
+        let mut cmd = holoc();
+        cmd.args(["test", "--bless"]).args(extra).arg(&tests);
+        bounded(cmd, "holoc test --bless", 120)
+    };
+    // A golden that links outside, a dangling one, a report that links outside.
+    symlink(&precious, &golden).expect("link");
+    let out = bless(&[]);
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    assert!(stderr(&out).contains("error[E0009]"), "{}", stderr(&out));
+    assert_eq!(std::fs::read_to_string(&precious).expect("there"), "precious\n");
+    std::fs::remove_file(&golden).expect("unlink");
+    let created = dir.join("created.json");
+    symlink(&created, &golden).expect("link");
+    let out = bless(&[]);
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    assert!(!created.exists(), "a dangling link's target was created");
+    std::fs::remove_file(&golden).expect("unlink");
+    symlink(&precious, &report).expect("link");
+    let out = bless(&["--reports"]);
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    assert_eq!(std::fs::read_to_string(&precious).expect("there"), "precious\n");
+    std::fs::remove_file(&report).expect("unlink");
+    // A folder on the way that links outside.
+    let sub = tests.join("sub");
+    let elsewhere = dir.join("elsewhere");
+    std::fs::create_dir_all(&elsewhere).expect("folder");
+    std::fs::copy("examples/bedroom.holo", elsewhere.join("bedroom.holo")).expect("copy");
+    symlink(&elsewhere, &sub).expect("link");
+    // A scene that links outside, and two links to the folder itself.
+    symlink(elsewhere.join("bedroom.holo"), tests.join("linked.holo")).expect("link");
+    symlink(".", tests.join("a")).expect("link");
+    symlink(".", tests.join("b")).expect("link");
+    let out = bless(&[]);
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    let err = stderr(&out);
+    assert!(err.contains("not testing") && err.contains("linked.holo"), "{err}");
+    let text = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert!(text.contains("running 1 scene test"), "the folder is searched once: {text}");
+    assert!(golden.is_file() && !golden.is_symlink(), "the golden inside is written");
+    assert_eq!(std::fs::read_dir(&elsewhere).expect("there").count(), 1, "nothing written outside");
+    // `holoc.toml` whose goldens climb out or are absolute, or a goldens folder that is a link.
+    for goldens in ["../out", "/tmp/holoc-goldens", "g"] {
+        let project = scratch(&format!("bless-toml-{}", goldens.len()));
+        std::fs::copy("examples/bedroom.holo", project.join("bedroom.holo")).expect("copy");
+        std::fs::write(project.join("holoc.toml"), format!("[test]\ngoldens = \"{goldens}\"\n"))
+            .expect("write");
+        symlink(&elsewhere, project.join("g")).expect("link");
+        let mut cmd = holoc();
+        cmd.args(["test", "--bless"]).current_dir(&project);
+        let out = bounded(cmd, "holoc test --bless (holoc.toml)", 120);
+        assert_eq!(out.status.code(), Some(2), "{goldens}: {}", stderr(&out));
+        assert!(stderr(&out).contains("E0009"), "{goldens}: {}", stderr(&out));
+        assert!(!project.parent().expect("parent").join("out").exists());
+        assert!(!Path::new("/tmp/holoc-goldens").exists());
+        assert_eq!(std::fs::read_dir(&elsewhere).expect("there").count(), 1);
+    }
+}
+
+#[test]
+fn diff_and_test_escape_control_characters_and_diff_reads_stdin_once() {
+    let dir = scratch("diff-escape");
+    let house = dir.join("a.json");
+    let out = holoc().args(["build", "examples/bedroom.holo", "-q", "-o"]).arg(&house).output();
+    assert!(out.expect("runs").status.success());
+    let text = std::fs::read_to_string(&house).expect("house");
+    let value: serde_json::Value = serde_json::from_str(&text).expect("json");
+    let asset = value["objects"][0]["assetId"].as_str().expect("an asset").to_string();
+    let hostile = text.replacen(&format!("\"{asset}\""), "\"bed\\u001b]0;pwned\\u0007\"", 1);
+    assert_ne!(hostile, text);
+    std::fs::write(dir.join("b.json"), &hostile).expect("write");
+    let out = holoc().arg("diff").arg(&house).arg(dir.join("b.json")).output().expect("runs");
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    let shown = String::from_utf8_lossy(&out.stdout);
+    assert!(shown.contains("\\u{1b}]0;pwned"), "{shown}");
+    assert!(!shown.contains('\u{1b}') && !shown.contains('\u{7}'), "{shown:?}");
+    // Standard input on one side (a house or a scene), never on both.
+    let mut child = holoc()
+        .args(["diff", "-"])
+        .arg(dir.join("b.json"))
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .spawn()
+        .expect("runs");
+    child.stdin.take().expect("piped").write_all(text.as_bytes()).expect("write");
+    let out = child.wait_with_output().expect("ends");
+    assert_eq!(out.status.code(), Some(1));
+    let mut child = holoc()
+        .args(["diff", "examples/bedroom.holo", "-"])
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .spawn()
+        .expect("runs");
+    let scene = std::fs::read("examples/bedroom.holo").expect("scene");
+    child.stdin.take().expect("piped").write_all(&scene).expect("write");
+    let out = child.wait_with_output().expect("ends");
+    assert_eq!(out.status.code(), Some(0), "a scene against itself");
+    let out = holoc().args(["diff", "-", "-"]).stdin(Stdio::null()).output().expect("runs");
+    assert_eq!(out.status.code(), Some(2));
+    assert!(stderr(&out).contains("only one of the two sides"), "{}", stderr(&out));
+    // A coordinate `validate` refuses is refused by diff too, never printed as `NaN m²`.
+    let absurd = text.replacen("\"x\": 0.0", "\"x\": 1e308", 1);
+    assert_ne!(absurd, text, "the house has a zero x");
+    std::fs::write(dir.join("c.json"), &absurd).expect("write");
+    let out = holoc().arg("diff").arg(&house).arg(dir.join("c.json")).output().expect("runs");
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    assert!(stderr(&out).contains("largest holoc reads"), "{}", stderr(&out));
+    assert!(!String::from_utf8_lossy(&out.stdout).contains("NaN"));
+    // `holoc test`: a scene whose name holds an escape, and a golden that differs.
+    let tests = dir.join("tests");
+    std::fs::create_dir_all(&tests).expect("folder");
+    let name = "bed\u{1b}]0;pwned\u{7}";
+    std::fs::copy("examples/bedroom.holo", tests.join(format!("{name}.holo"))).expect("copy");
+    std::fs::write(tests.join(format!("{name}.house.json")), &hostile).expect("write");
+    let out = holoc().arg("test").arg(&tests).output().expect("runs");
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    let shown = String::from_utf8_lossy(&out.stdout);
+    assert!(!shown.contains('\u{1b}') && !shown.contains('\u{7}'), "{shown:?}");
+    let answers = dir.join("answers");
+    std::fs::write(&answers, "n\n").expect("write");
+    let out = holoc()
+        .args(["test", "--review", "--answers"])
+        .arg(&answers)
+        .arg(&tests)
+        .output()
+        .expect("runs");
+    let all = format!("{}{}", String::from_utf8_lossy(&out.stdout), stderr(&out));
+    assert!(!all.contains('\u{1b}') && !all.contains('\u{7}'), "{all:?}");
+}
+
+#[test]
+fn a_label_cannot_comment_out_or_close_the_viewer_script() {
+    let dir = scratch("viewer-label");
+    let house = dir.join("h.json");
+    let out = holoc().args(["build", "examples/bedroom.holo", "-q", "-o"]).arg(&house).output();
+    assert!(out.expect("runs").status.success());
+    // An object's id (a label of the page) that opens a comment and a script.
+    let mut value: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&house).expect("house")).expect("json");
+    value["objects"][0]["id"] = "bed <!--<script> </script> \u{2028}".into();
+    std::fs::write(&house, value.to_string()).expect("write");
+    let out = holoc().arg("view").arg(&house).arg("-o").arg(dir.join("v.html")).output();
+    assert!(out.expect("runs").status.success());
+    let page = std::fs::read_to_string(dir.join("v.html")).expect("page");
+    let start = page.find("<script id=\"holoc-data\" type=\"application/json\">").expect("data");
+    let body = &page[start + 48..];
+    let end = body.find("</script>").expect("closed");
+    let data = &body[..end];
+    for bad in ["<", ">", "&", "\u{2028}"] {
+        assert!(!data.contains(bad), "{bad:?} in the data block");
+    }
+    let value: serde_json::Value = serde_json::from_str(data).expect("the block is JSON");
+    assert!(value.to_string().contains("<!--<script>"), "the text reads back the same");
+    assert_eq!(page.matches("<script").count(), 3, "no element opened by the data");
+}
+
+#[test]
+fn a_killed_write_leaves_no_temporary_file_a_later_run_keeps() {
+    let dir = scratch("stale-tmp");
+    // Not in canonical form, so that `fmt --write` writes.
+    let text = std::fs::read_to_string("examples/bedroom.holo").expect("example");
+    std::fs::write(dir.join("s.holo"), format!("\n\n\n{text}")).expect("write");
+    // What `kill -9` during `fmt --write` leaves: a temporary file of a process that is gone
+    // (pid 0 never names a user process), beside one that is not holoc's.
+    let stale = dir.join(".holoc-0-abcdef.tmp");
+    let other = dir.join(".tmpabcdef");
+    std::fs::write(&stale, "half").expect("write");
+    std::fs::write(&other, "someone else's").expect("write");
+    let out = holoc().args(["fmt", "--write"]).arg(dir.join("s.holo")).output().expect("runs");
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(!stale.exists() || !cfg!(target_os = "linux"), "the stale temporary file is removed");
+    assert!(other.exists(), "a file holoc did not make is left alone");
+    let names: Vec<String> = std::fs::read_dir(&dir)
+        .expect("there")
+        .filter_map(|e| e.ok()?.file_name().into_string().ok())
+        .filter(|n| n.starts_with(".holoc-"))
+        .collect();
+    assert!(names.is_empty(), "{names:?}");
+}
+
+#[test]
+fn objathor_annotations_that_are_a_pipe_or_too_large_say_so() {
+    use holoc::resolve::objathor::fixture::{write_fixture, FixtureOptions};
+    let dir = scratch("objathor-files");
+    let root = write_fixture(&dir, FixtureOptions::default()).expect("the fixture");
+    let annotations = root.join("annotations.json.gz");
+    std::fs::remove_file(&annotations).expect("remove");
+    if !mkfifo(&annotations) {
+        common::skip("objathor_annotations_that_are_a_pipe_or_too_large_say_so", "no mkfifo");
+        return;
+    }
+    let mut cmd = holoc();
+    cmd.args(["check", "examples/bedroom.holo", "--objathor"]).arg(&root);
+    let out = bounded(cmd, "holoc check --objathor (FIFO annotations)", 60);
+    assert!(matches!(out.status.code(), Some(1 | 2)), "{}", stderr(&out));
+    assert!(stderr(&out).contains("it is a named pipe"), "{}", stderr(&out));
+    std::fs::remove_file(&annotations).expect("remove");
+    std::fs::File::create(&annotations)
+        .expect("create")
+        .set_len(513 * 1024 * 1024)
+        .expect("sparse");
+    let mut cmd = holoc();
+    cmd.args(["check", "examples/bedroom.holo", "--objathor"]).arg(&root);
+    let out = bounded(cmd, "holoc check --objathor (oversize annotations)", 120);
+    assert!(matches!(out.status.code(), Some(1 | 2)), "{}", stderr(&out));
+    let err = stderr(&out);
+    assert!(err.contains("larger than 512 MiB") && err.contains("--objathor"), "{err}");
+    assert!(!err.contains("--catalog"), "{err}");
+}

@@ -63,7 +63,7 @@ impl FileHashes {
     /// catalog costs no reading of it. A missing or damaged memo is an empty one.
     pub fn load(out: &Path) -> FileHashes {
         let mut known = HashMap::new();
-        let text = std::fs::read_to_string(memo_path(out)).unwrap_or_default();
+        let text = crate::source::read_text(&memo_path(out), 64 * 1024 * 1024).unwrap_or_default();
         for line in text.lines() {
             let mut f = line.splitn(4, '\t');
             let (Some(hash), Some(len), Some(time), Some(path)) =

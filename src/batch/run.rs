@@ -312,7 +312,7 @@ fn run_build_job(job: &Job, options: &RunOptions) -> Work {
 
 /// The answers a failed run of this job recorded, without those of the questions that failed.
 fn recorded_answers(partial: &Path) -> BTreeMap<(String, Option<String>, u32, String), String> {
-    let Some(transcript) = std::fs::read_to_string(partial)
+    let Some(transcript) = crate::source::read_text(partial, 32 * 1024 * 1024)
         .ok()
         .and_then(|t| serde_json::from_str::<crate::import::Transcript>(&t).ok())
     else {
@@ -743,7 +743,7 @@ pub fn run_job(job: &Job, options: &Arc<RunOptions>) -> JobResult {
         let _ = std::fs::remove_file(&tries);
     }
     let earlier: u32 =
-        std::fs::read_to_string(&tries).ok().and_then(|t| t.trim().parse().ok()).unwrap_or(0);
+        crate::source::read_text(&tries, 64).ok().and_then(|t| t.trim().parse().ok()).unwrap_or(0);
     result.tries = earlier + 1;
     try_once(job, options, &mut result);
     if options.retry_failed && result.status == Status::Failed && passing(&result) {

@@ -358,10 +358,13 @@ pub fn run(args: &BatchArgs) -> ExitCode {
         );
     }
     if !args.quiet {
-        let summary = std::fs::read_to_string(out.join(format!("summary{suffix}.json")))
-            .ok()
-            .and_then(|t| serde_json::from_str::<Summary>(&t).ok())
-            .unwrap_or_default();
+        let summary = crate::source::read_text(
+            &out.join(format!("summary{suffix}.json")),
+            common::MAX_INPUT_BYTES,
+        )
+        .ok()
+        .and_then(|t| serde_json::from_str::<Summary>(&t).ok())
+        .unwrap_or_default();
         print_table(&summary, started.elapsed().as_secs_f64());
     }
     if records.is_err() {
@@ -565,13 +568,14 @@ impl ResultLog {
         })();
         written.map_err(|e| {
             // What the failures file would have said, for stderr.
-            let mut failed: Vec<String> = std::fs::read_to_string(&self.failures_path)
-                .unwrap_or_default()
-                .lines()
-                .chain(self.pending.1.iter().map(String::as_str))
-                .filter_map(|l| serde_json::from_str::<JobResult>(l).ok())
-                .map(|r| format!("line {} ({})", r.line, r.id))
-                .collect();
+            let mut failed: Vec<String> =
+                crate::source::read_text(&self.failures_path, common::MAX_INPUT_BYTES)
+                    .unwrap_or_default()
+                    .lines()
+                    .chain(self.pending.1.iter().map(String::as_str))
+                    .filter_map(|l| serde_json::from_str::<JobResult>(l).ok())
+                    .map(|r| format!("line {} ({})", r.line, r.id))
+                    .collect();
             failed.dedup();
             (e, failed)
         })

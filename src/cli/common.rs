@@ -98,23 +98,7 @@ pub fn read_source(sources: &mut SourceMap, path: &Path) -> Result<FileId, Diagn
     // `source::STREAM_TIMEOUT`: `/dev/zero` or a runaway pipe ends with an error instead of
     // filling the memory or waiting for ever.
     // `-` is standard input (`cat a.holo | holoc check -`), read up to the same limit.
-    let read = if path.as_os_str() == "-" {
-        use std::io::Read as _;
-        let mut bytes = Vec::new();
-        match std::io::stdin()
-            .lock()
-            .take(MAX_INPUT_BYTES.saturating_add(1))
-            .read_to_end(&mut bytes)
-        {
-            Err(e) => Err(crate::source::ReadError::Io(e.to_string())),
-            Ok(_) if bytes.len() as u64 > MAX_INPUT_BYTES => {
-                Err(crate::source::ReadError::TooLarge(MAX_INPUT_BYTES))
-            }
-            Ok(_) => Ok(bytes),
-        }
-    } else {
-        crate::source::read_input(path, MAX_INPUT_BYTES)
-    };
+    let read = crate::source::read_input_or_stdin(path, MAX_INPUT_BYTES);
     let bytes =
         match read {
             Ok(bytes) => bytes,
@@ -153,6 +137,18 @@ pub fn read_source(sources: &mut SourceMap, path: &Path) -> Result<FileId, Diagn
     let name =
         if path.as_os_str() == "-" { "<stdin>".to_string() } else { path.display().to_string() };
     Ok(sources.add(name, text))
+}
+
+/// The text of a file that is not a source of diagnostics (`holoc.toml`, review answers, a
+/// report), read as [`read_source`] reads a scene: bounded, `-` for stdin, E0001 or E0003.
+#[allow(
+    clippy::result_large_err,
+    reason = "the error is printed at once; it is rare and never propagated far"
+)]
+pub fn read_text(path: &Path) -> Result<String, Diagnostic> {
+    let mut sources = SourceMap::new();
+    let file = read_source(&mut sources, path)?;
+    Ok(sources.get(file).text.to_string())
 }
 
 /// The largest input file holoc reads (a scene, an answer, a transcript, a house), bytes.
@@ -284,7 +280,13 @@ pub fn write_atomic(path: &Path, contents: &[u8]) -> Result<(), Diagnostic> {
     };
     // A missing folder is made, as `-o out/house.json` on a fresh clone expects.
     std::fs::create_dir_all(&dir).map_err(io)?;
-    let mut tmp = tempfile::NamedTempFile::new_in(&dir).map_err(io)?;
+    remove_stale_temporaries(&dir);
+    // `.holoc-<pid>-XXXXXX.tmp`: a later run knows it for one of holoc's, and whose.
+    let mut tmp = tempfile::Builder::new()
+        .prefix(&format!("{TEMP_PREFIX}{}-", std::process::id()))
+        .suffix(TEMP_SUFFIX)
+        .tempfile_in(&dir)
+        .map_err(io)?;
     tmp.write_all(contents).map_err(io)?;
     tmp.as_file().sync_all().map_err(io)?;
     // A temporary file is private (0600); an output gets the usual permissions of a new file,
@@ -297,6 +299,123 @@ pub fn write_atomic(path: &Path, contents: &[u8]) -> Result<(), Diagnostic> {
     }
     tmp.persist(&target).map_err(|e| io(e.error))?;
     Ok(())
+}
+
+/// The start of the name of an atomic write's temporary file (then the process id, `-`, six
+/// random characters and [`TEMP_SUFFIX`]).
+pub const TEMP_PREFIX: &str = ".holoc-";
+/// The end of the name of an atomic write's temporary file.
+pub const TEMP_SUFFIX: &str = ".tmp";
+
+/// Removes, once per folder and process, the temporary files of atomic writes that a holoc
+/// killed before its rename left in `dir` (`kill -9` during `fmt --write`): those whose
+/// process no longer runs. Only names of holoc's own form are touched, and only on Linux,
+/// where `/proc` says which processes run; elsewhere they stay.
+fn remove_stale_temporaries(dir: &Path) {
+    static DONE: std::sync::Mutex<std::collections::BTreeSet<std::path::PathBuf>> =
+        std::sync::Mutex::new(std::collections::BTreeSet::new());
+    if !cfg!(target_os = "linux") || !Path::new("/proc/self").exists() {
+        return;
+    }
+    let key = std::fs::canonicalize(dir).unwrap_or_else(|_| dir.to_path_buf());
+    if !DONE.lock().is_ok_and(|mut done| done.insert(key)) {
+        return;
+    }
+    let Ok(entries) = std::fs::read_dir(dir) else { return };
+    for entry in entries.flatten() {
+        let name = entry.file_name();
+        let Some(pid) = name
+            .to_str()
+            .and_then(|n| n.strip_prefix(TEMP_PREFIX))
+            .filter(|n| n.ends_with(TEMP_SUFFIX))
+            .and_then(|n| n.split_once('-'))
+            .and_then(|(pid, _)| pid.parse::<u32>().ok())
+        else {
+            continue;
+        };
+        let is_file = entry.file_type().is_ok_and(|t| t.is_file());
+        if is_file && pid != std::process::id() && !Path::new(&format!("/proc/{pid}")).exists() {
+            let _ = std::fs::remove_file(entry.path());
+        }
+    }
+}
+
+/// A path's components without `.`.
+fn words(p: &Path) -> Vec<std::path::Component<'_>> {
+    p.components().filter(|c| !matches!(c, std::path::Component::CurDir)).collect()
+}
+
+/// Writes `contents` to `path` atomically, only inside the folder `root`: `path` must lie
+/// under `root` by its words (no `..`), every folder between them that exists must be a real
+/// folder inside `root` once links are resolved (a missing one is made), and `path` itself must
+/// not be a link (a golden that links to `~/.bashrc` is refused, not written through). E0009.
+#[allow(
+    clippy::result_large_err,
+    reason = "the error is printed at once; it is rare and never propagated far"
+)]
+pub fn write_confined(root: &Path, path: &Path, contents: &[u8]) -> Result<(), Diagnostic> {
+    let outside = |why: &str| {
+        Diagnostic::new(
+            Code::E0009,
+            format!(
+                "not writing `{}`: {why}, outside the folder `{}`",
+                diag::visible(&path.display().to_string()),
+                diag::visible(&root.display().to_string())
+            ),
+        )
+        .with_help("remove the link, or give a folder that holds the file itself")
+    };
+    let io = |e: std::io::Error| {
+        Diagnostic::new(Code::E0001, format!("cannot write `{}`: {e}", path.display()))
+            .with_help("check that the folder exists and is writable")
+    };
+    std::fs::create_dir_all(root).map_err(io)?;
+    let root_real = std::fs::canonicalize(root).map_err(io)?;
+    // Both as absolute words without `.`: `./a.house.json` is under `.`.
+    let (root_abs, path_abs) = match (std::path::absolute(root), std::path::absolute(path)) {
+        (Ok(r), Ok(p)) => (r, p),
+        (Err(e), _) | (_, Err(e)) => return Err(io(e)),
+    };
+    let (root_words, path_words) = (words(&root_abs), words(&path_abs));
+    let Some(parts) = path_words.strip_prefix(&root_words[..]) else {
+        return Err(outside("it is not under that folder"));
+    };
+    if parts.is_empty() || !parts.iter().all(|c| matches!(c, std::path::Component::Normal(_))) {
+        return Err(outside("its path leaves that folder"));
+    }
+    let mut dir = root_abs.clone();
+    for part in &parts[..parts.len() - 1] {
+        dir.push(part);
+        match std::fs::symlink_metadata(&dir) {
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+                std::fs::create_dir(&dir).map_err(io)?;
+            }
+            Err(e) => return Err(io(e)),
+            Ok(_) => {
+                let real = std::fs::canonicalize(&dir).map_err(io)?;
+                if !real.starts_with(&root_real) {
+                    return Err(outside(&format!(
+                        "the folder `{}` is a link that leads",
+                        diag::visible(&dir.display().to_string())
+                    )));
+                }
+            }
+        }
+    }
+    match std::fs::symlink_metadata(path) {
+        Ok(m) if m.file_type().is_symlink() => {
+            return Err(outside("it is a symbolic link, which may lead"));
+        }
+        Ok(m) if !m.is_file() => {
+            return Err(Diagnostic::new(
+                Code::E0001,
+                format!("cannot write `{}`: it is not a regular file", path.display()),
+            )
+            .with_help("remove it, or write the golden somewhere else"));
+        }
+        _ => {}
+    }
+    write_atomic(path, contents)
 }
 
 /// Writes a product to `-o PATH` atomically, or to stdout when no path is given.

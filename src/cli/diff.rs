@@ -92,6 +92,15 @@ pub(crate) fn build_scene(
     catalog: &Catalog,
 ) -> Result<BuiltScene, Vec<Diagnostic>> {
     let file = common::read_source(sources, path).map_err(|d| vec![d])?;
+    build_file(sources, file, catalog)
+}
+
+/// Builds a scene already in `sources`, as [`build_scene`] does.
+fn build_file(
+    sources: &mut SourceMap,
+    file: crate::source::FileId,
+    catalog: &Catalog,
+) -> Result<BuiltScene, Vec<Diagnostic>> {
     let built = crate::compile::build(sources, file, &BuildOptions::new(catalog));
     let errors: Vec<Diagnostic> =
         built.diagnostics.into_iter().filter(Diagnostic::is_error).collect();
@@ -120,6 +129,12 @@ pub fn run(args: &DiffArgs) -> ExitCode {
     if args.report.len() > 2 {
         return usage("give `--report` at most twice: the first house's report, then the second's");
     }
+    let stdin = |p: &Path| p.as_os_str() == "-";
+    if stdin(&args.first) && stdin(&args.second) {
+        return usage(
+            "standard input (`-`) can be only one of the two sides; write the other to a file",
+        );
+    }
     let (a_dir, b_dir) = (args.first.is_dir(), args.second.is_dir());
     if a_dir != b_dir {
         return usage("compare a folder with a folder, or a house or scene with a house or scene");
@@ -134,8 +149,44 @@ pub fn run(args: &DiffArgs) -> ExitCode {
     }
     let mut sources = SourceMap::new();
     let mut catalog = None;
+    // Standard input is read once, here, and is a house when it begins with `{`, else a scene.
+    let mut piped = None;
+    for side in [&args.first, &args.second] {
+        if stdin(side) {
+            match common::read_source(&mut sources, side) {
+                Ok(file) => piped = Some(file),
+                Err(d) => {
+                    common::emit_plain(&d);
+                    return ExitCode::from(2);
+                }
+            }
+        }
+    }
+    let piped_house = piped.filter(|f| sources.get(*f).text.trim_start().starts_with('{'));
     let mut load = |path: &Path, report: Option<&PathBuf>| -> Result<HouseView, ExitCode> {
-        if is_scene(path) {
+        if let (true, Some(file)) = (stdin(path), piped_house) {
+            let view = serde_json::from_str::<serde_json::Value>(&sources.get(file).text)
+                .map_err(|e| format!("the input is not valid JSON: {e}"))
+                .and_then(|value| HouseView::read(&value));
+            let mut view = match view {
+                Ok(v) => v,
+                Err(why) => {
+                    common::emit_plain(
+                        &Diagnostic::new(Code::E0601, format!("`<stdin>` is not a house: {why}"))
+                            .with_help("pipe an AI2-THOR house JSON file or a `.holo` scene"),
+                    );
+                    return Err(ExitCode::from(2));
+                }
+            };
+            if let Some(r) = report {
+                if let Err(d) = folder::add_report(&mut view, r) {
+                    common::emit_plain(&d);
+                    return Err(ExitCode::from(2));
+                }
+            }
+            return Ok(view);
+        }
+        if is_scene(path) || (stdin(path) && piped.is_some()) {
             if catalog.is_none() {
                 let loaded = args.catalogs.load(&mut sources);
                 if loaded.has_errors() {
@@ -145,7 +196,11 @@ pub fn run(args: &DiffArgs) -> ExitCode {
                 catalog = Some(loaded.value);
             }
             let catalog = catalog.as_ref().unwrap_or_else(|| unreachable!("loaded just above"));
-            match build_scene(&mut sources, path, catalog) {
+            let built = match piped.filter(|_| stdin(path)) {
+                Some(file) => build_file(&mut sources, file, catalog),
+                None => build_scene(&mut sources, path, catalog),
+            };
+            match built {
                 Ok(mut built) => {
                     if let Some(r) = report {
                         // An explicit report replaces the scene's own.
@@ -186,13 +241,19 @@ pub fn run(args: &DiffArgs) -> ExitCode {
             text.push('\n');
             common::out(&text);
         }
-        DiffFormat::Human => common::out(&human(&d, args.stat, args.tolerance)),
+        DiffFormat::Human => say(&human(&d, args.stat, args.tolerance)),
     }
     if d.is_empty() {
         ExitCode::SUCCESS
     } else {
         ExitCode::from(1)
     }
+}
+
+/// Prints human text on stdout with its control characters escaped (`diag::visible`): ids,
+/// names and paths come from the houses and must not move the cursor or retitle the window.
+fn say(text: &str) {
+    common::out(&crate::diag::visible(text));
 }
 
 /// The text of one diff: the changes (unless `stat`) and the summary line.
@@ -269,16 +330,16 @@ fn run_folders(args: &DiffArgs, options: &Options) -> ExitCode {
             match &paired.outcome {
                 folder::Outcome::Same => {}
                 folder::Outcome::Changed(d) if args.stat => {
-                    common::out(&format!("{}: {}\n", paired.key, d.summary()));
+                    say(&format!("{}: {}\n", paired.key, d.summary()));
                 }
                 folder::Outcome::Changed(d) => {
-                    common::out(&format!("== {}\n{}", paired.key, human(d, false, args.tolerance)));
+                    say(&format!("== {}\n{}", paired.key, human(d, false, args.tolerance)));
                 }
                 folder::Outcome::OnlyFirst => {
-                    common::out(&format!("{}: only in {}\n", paired.key, args.first.display()));
+                    say(&format!("{}: only in {}\n", paired.key, args.first.display()));
                 }
                 folder::Outcome::OnlySecond => {
-                    common::out(&format!("{}: only in {}\n", paired.key, args.second.display()));
+                    say(&format!("{}: only in {}\n", paired.key, args.second.display()));
                 }
                 folder::Outcome::Error(e) => common::emit_plain(e),
             }

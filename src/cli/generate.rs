@@ -120,7 +120,11 @@ impl Progress for Bar {
         match event {
             ProgressEvent::StageStarted { .. } => {}
             ProgressEvent::Asking { stage, room, attempt } => {
-                let room = room.as_ref().map(|r| format!(" [{r}]")).unwrap_or_default();
+                // Room names come from the model: escaped like every name on a terminal.
+                let room = room
+                    .as_ref()
+                    .map(|r| format!(" [{}]", crate::diag::visible(r)))
+                    .unwrap_or_default();
                 let repair =
                     if *attempt > 0 { format!(" (repair {attempt})") } else { String::new() };
                 self.bar.set_message(format!("asking {}{room}{repair}", stage.as_str()));
@@ -128,6 +132,7 @@ impl Progress for Bar {
             ProgressEvent::Answered { stage, room, errors, .. } => {
                 self.bar.inc(1);
                 if let Some(room) = room {
+                    let room = crate::diag::visible(room);
                     if let Ok(mut done) = self.rooms_done.lock() {
                         *done.entry(stage.as_str().to_string()).or_default() += 1;
                     }

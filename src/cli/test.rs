@@ -126,9 +126,7 @@ fn read_config() -> Result<Option<(PathBuf, Config)>, Diagnostic> {
     let Some(path) = cwd.ancestors().map(|d| d.join("holoc.toml")).find(|p| p.is_file()) else {
         return Ok(None);
     };
-    let text = std::fs::read_to_string(&path).map_err(|e| {
-        Diagnostic::new(Code::E0001, format!("cannot read `{}`: {e}", path.display()))
-    })?;
+    let text = common::read_text(&path)?;
     let config: Config = toml::from_str(&text).map_err(|e| {
         Diagnostic::new(Code::E0004, format!("`{}` is not usable: {e}", path.display()))
             .with_help("see `holoc test` in the book for the `[test]` table")
@@ -142,6 +140,8 @@ fn read_config() -> Result<Option<(PathBuf, Config)>, Diagnostic> {
 struct Case {
     /// The scene, as shown.
     scene: PathBuf,
+    /// The folder its goldens must stay in (the folder given, or that of `holoc.toml`).
+    root: PathBuf,
     /// Its golden house.
     golden: PathBuf,
     /// Its golden report.
@@ -177,24 +177,72 @@ fn usage(d: &Diagnostic) -> ExitCode {
 }
 
 /// The `.holo` files under a path (the path itself for a file), sorted, skipping hidden
-/// folders and `target`.
-fn scenes_under(path: &Path, out: &mut Vec<PathBuf>) -> std::io::Result<()> {
+/// folders and `target`. Links are followed only to what lies inside the folder given, and a
+/// folder is searched once however many links lead to it (`a -> .` and `b -> .` end); a link
+/// to a scene outside is refused (E0009, in `refused`), a link to a folder outside is left.
+fn scenes_under(
+    path: &Path,
+    out: &mut Vec<PathBuf>,
+    refused: &mut Vec<Diagnostic>,
+) -> std::io::Result<()> {
     let meta = std::fs::metadata(path)?;
-    if meta.is_file() {
+    if !meta.is_dir() {
         out.push(path.to_path_buf());
         return Ok(());
     }
+    let root = std::fs::canonicalize(path)?;
+    let mut seen = std::collections::BTreeSet::from([root.clone()]);
+    walk_scenes(path, &root, &mut seen, out, refused)
+}
+
+fn walk_scenes(
+    dir: &Path,
+    root: &Path,
+    seen: &mut std::collections::BTreeSet<PathBuf>,
+    out: &mut Vec<PathBuf>,
+    refused: &mut Vec<Diagnostic>,
+) -> std::io::Result<()> {
     let mut entries: Vec<PathBuf> =
-        std::fs::read_dir(path)?.filter_map(|e| e.ok().map(|e| e.path())).collect();
+        std::fs::read_dir(dir)?.filter_map(|e| e.ok().map(|e| e.path())).collect();
     entries.sort();
     for p in entries {
         let name = p.file_name().and_then(|n| n.to_str()).unwrap_or_default();
         if name.starts_with('.') || name == "target" {
             continue;
         }
-        if p.is_dir() {
-            scenes_under(&p, out)?;
-        } else if p.extension().is_some_and(|e| e == "holo") {
+        let is_scene = p.extension().is_some_and(|e| e == "holo");
+        let Ok(meta) = std::fs::symlink_metadata(&p) else { continue };
+        let link = meta.file_type().is_symlink();
+        // A link that leads nowhere (dangling, or a loop) is kept when it names a scene: the
+        // read then says why it fails.
+        let Ok(real) = std::fs::canonicalize(&p) else {
+            if is_scene {
+                out.push(p);
+            }
+            continue;
+        };
+        if link && !real.starts_with(root) {
+            if is_scene {
+                refused.push(
+                    Diagnostic::new(
+                        Code::E0009,
+                        format!(
+                            "not testing `{}`: it is a link to `{}`, outside the folder `{}`",
+                            crate::diag::visible(&p.display().to_string()),
+                            crate::diag::visible(&real.display().to_string()),
+                            crate::diag::visible(&root.display().to_string())
+                        ),
+                    )
+                    .with_help("copy the scene into the folder, or test its own folder"),
+                );
+            }
+            continue;
+        }
+        if real.is_dir() {
+            if seen.insert(real) {
+                walk_scenes(&p, root, seen, out, refused)?;
+            }
+        } else if is_scene {
             out.push(p);
         }
     }
@@ -202,7 +250,7 @@ fn scenes_under(path: &Path, out: &mut Vec<PathBuf>) -> std::io::Result<()> {
 }
 
 /// Where a scene's goldens are: beside it, or under the golden folder.
-fn case_of(scene: &Path, goldens: Option<&(PathBuf, PathBuf)>) -> Case {
+fn case_of(scene: &Path, root: &Path, goldens: Option<&(PathBuf, PathBuf)>) -> Case {
     let stem = scene.file_stem().and_then(|s| s.to_str()).unwrap_or("scene").to_string();
     let base = match goldens {
         Some((root, folder)) => {
@@ -221,7 +269,16 @@ fn case_of(scene: &Path, goldens: Option<&(PathBuf, PathBuf)>) -> Case {
         name.push(suffix);
         base.with_file_name(name)
     };
-    Case { scene: scene.to_path_buf(), golden: with(".house.json"), report: with(".report.json") }
+    let root = match goldens {
+        Some((config_root, _)) => config_root.clone(),
+        None => root.to_path_buf(),
+    };
+    Case {
+        scene: scene.to_path_buf(),
+        root,
+        golden: with(".house.json"),
+        report: with(".report.json"),
+    }
 }
 
 /// Runs one scene's test.
@@ -238,13 +295,19 @@ fn run_case(case: Case, base: &SourceMap, catalog: &Catalog, options: &Options) 
             }
         }
     };
-    if !case.golden.is_file() {
-        return TestResult { case, status: Status::New, built: Some(built), blessed: false };
-    }
     let mut golden_sources = base.clone();
     let invalid = |sources: SourceMap, d: Vec<Diagnostic>, case: Case, built: BuiltScene| {
         TestResult { case, status: Status::Invalid(sources, d), built: Some(built), blessed: false }
     };
+    // A golden that is a link is read only when it leads to a file inside the folder.
+    let refused =
+        leads_out(&case.root, &case.golden).or_else(|| leads_out(&case.root, &case.report));
+    if let Some(d) = refused {
+        return invalid(golden_sources, vec![d], case, built);
+    }
+    if !case.golden.is_file() {
+        return TestResult { case, status: Status::New, built: Some(built), blessed: false };
+    }
     let file = match common::read_source(&mut golden_sources, &case.golden) {
         Ok(f) => f,
         Err(d) => return invalid(golden_sources, vec![d], case, built),
@@ -272,6 +335,29 @@ fn run_case(case: Case, base: &SourceMap, catalog: &Catalog, options: &Options) 
     TestResult { case, status, built: Some(built), blessed: false }
 }
 
+/// E0009 when `path` is a symbolic link that leads outside `root` (or nowhere inside it).
+fn leads_out(root: &Path, path: &Path) -> Option<Diagnostic> {
+    let link = std::fs::symlink_metadata(path).ok()?.file_type().is_symlink();
+    if !link {
+        return None;
+    }
+    let inside = match (std::fs::canonicalize(root), std::fs::canonicalize(path)) {
+        (Ok(root), Ok(real)) => real.starts_with(root),
+        _ => false,
+    };
+    (!inside).then(|| {
+        Diagnostic::new(
+            Code::E0009,
+            format!(
+                "the golden `{}` is a link that leads outside the folder `{}`",
+                crate::diag::visible(&path.display().to_string()),
+                crate::diag::visible(&root.display().to_string())
+            ),
+        )
+        .with_help("remove the link; `holoc test --bless` then writes the golden in its place")
+    })
+}
+
 /// Writes a scene's goldens: the house, and the report when it has one or `reports` asks.
 #[allow(
     clippy::result_large_err,
@@ -280,9 +366,13 @@ fn run_case(case: Case, base: &SourceMap, catalog: &Catalog, options: &Options) 
 fn bless(result: &mut TestResult, reports: bool) -> Result<(), Diagnostic> {
     let Some(built) = &result.built else { return Ok(()) };
     let has_report = result.case.report.is_file();
-    common::write_atomic(&result.case.golden, built.house_json.as_bytes())?;
+    common::write_confined(&result.case.root, &result.case.golden, built.house_json.as_bytes())?;
     if has_report || reports {
-        common::write_atomic(&result.case.report, built.report_json.as_bytes())?;
+        common::write_confined(
+            &result.case.root,
+            &result.case.report,
+            built.report_json.as_bytes(),
+        )?;
     }
     result.blessed = true;
     Ok(())
@@ -322,26 +412,63 @@ pub fn run(args: &TestArgs) -> ExitCode {
         options.tolerance = t;
     }
     options.ignore.extend(args.ignore.iter().copied());
-    let goldens = config.test.goldens.as_ref().map(|g| (root.clone(), root.join(g)));
-    let paths: Vec<PathBuf> = if !args.paths.is_empty() {
-        args.paths.clone()
-    } else if !config.test.scenes.is_empty() {
-        config.test.scenes.iter().map(|s| root.join(s)).collect()
-    } else {
-        vec![PathBuf::from(".")]
-    };
-    let mut scenes = Vec::new();
-    for p in &paths {
-        if let Err(e) = scenes_under(p, &mut scenes) {
-            return usage(&Diagnostic::new(
-                Code::E0001,
-                format!("cannot read `{}`: {e}", p.display()),
-            ));
+    if let Some(g) = &config.test.goldens {
+        if !g
+            .components()
+            .all(|c| matches!(c, std::path::Component::Normal(_) | std::path::Component::CurDir))
+        {
+            return usage(
+                &Diagnostic::new(
+                    Code::E0009,
+                    format!(
+                        "holoc.toml: [test] goldens `{}` leads outside the folder of `holoc.toml`",
+                        crate::diag::visible(&g.display().to_string())
+                    ),
+                )
+                .with_help("name a folder inside the project, e.g. `goldens = \"tests/golden\"`"),
+            );
         }
     }
-    let scenes: Vec<PathBuf> = scenes
+    let goldens = config.test.goldens.as_ref().map(|g| (root.clone(), root.join(g)));
+    // Each path to search with the folder its goldens stay in: a folder given is its own, a
+    // scene given its folder's, the `[test]` table's scenes the folder of `holoc.toml`.
+    let paths: Vec<(PathBuf, PathBuf)> = if !args.paths.is_empty() {
+        args.paths
+            .iter()
+            .map(|p| {
+                let folder = if p.is_dir() {
+                    p.clone()
+                } else {
+                    p.parent()
+                        .filter(|d| !d.as_os_str().is_empty())
+                        .map_or_else(|| PathBuf::from("."), Path::to_path_buf)
+                };
+                (p.clone(), folder)
+            })
+            .collect()
+    } else if !config.test.scenes.is_empty() {
+        config.test.scenes.iter().map(|s| (root.join(s), root.clone())).collect()
+    } else {
+        vec![(PathBuf::from("."), PathBuf::from("."))]
+    };
+    let mut scenes = Vec::new();
+    let mut refused = Vec::new();
+    for (p, folder) in &paths {
+        let mut found = Vec::new();
+        if let Err(e) = scenes_under(p, &mut found, &mut refused) {
+            return usage(&Diagnostic::new(
+                Code::E0001,
+                format!("cannot read `{}`: {e}", crate::diag::visible(&p.display().to_string())),
+            ));
+        }
+        scenes.extend(found.into_iter().map(|s| (s, folder.clone())));
+    }
+    for d in &refused {
+        common::emit_plain(d);
+    }
+    let scenes: Vec<(PathBuf, PathBuf)> = scenes
         .into_iter()
-        .map(|p| p.strip_prefix("./").map_or(p.clone(), Path::to_path_buf))
+        .map(|(p, folder)| (p.strip_prefix("./").map_or(p.clone(), Path::to_path_buf), folder))
         .collect();
     let mut base = SourceMap::new();
     let mut catalog_paths: Vec<PathBuf> = config.catalogs.iter().map(|c| root.join(c)).collect();
@@ -374,7 +501,8 @@ pub fn run(args: &TestArgs) -> ExitCode {
             return usage(&Diagnostic::new(Code::E0002, format!("cannot start threads: {e}")))
         }
     };
-    let cases: Vec<Case> = scenes.iter().map(|s| case_of(s, goldens.as_ref())).collect();
+    let cases: Vec<Case> =
+        scenes.iter().map(|(s, folder)| case_of(s, folder, goldens.as_ref())).collect();
     let mut results: Vec<TestResult> = pool.install(|| {
         cases.into_par_iter().map(|c| run_case(c, &base, &catalog, &options)).collect()
     });
@@ -398,11 +526,13 @@ pub fn run(args: &TestArgs) -> ExitCode {
         TestFormat::Junit => junit(&results, options.tolerance),
         TestFormat::Json => json(&results),
     };
-    common::out(&text);
+    // Scene paths, ids and names come from files: their control characters are escaped in
+    // the human text (JUnit drops them, JSON escapes them).
+    common::out(&crate::diag::visible(&text));
     if write_failed {
         return ExitCode::from(2);
     }
-    if results.iter().all(|r| r.blessed || matches!(r.status, Status::Ok)) {
+    if refused.is_empty() && results.iter().all(|r| r.blessed || matches!(r.status, Status::Ok)) {
         ExitCode::SUCCESS
     } else {
         ExitCode::from(1)
@@ -413,7 +543,7 @@ pub fn run(args: &TestArgs) -> ExitCode {
 /// new house as its golden; answers come from stdin or from `--answers`.
 fn review(results: &mut [TestResult], args: &TestArgs) -> Result<(), ExitCode> {
     let mut answers: Box<dyn Iterator<Item = String>> = match &args.answers {
-        Some(path) => match std::fs::read_to_string(path) {
+        Some(path) => match common::read_text(path) {
             Ok(t) => Box::new(
                 t.lines()
                     .map(str::trim)
@@ -422,12 +552,7 @@ fn review(results: &mut [TestResult], args: &TestArgs) -> Result<(), ExitCode> {
                     .collect::<Vec<_>>()
                     .into_iter(),
             ),
-            Err(e) => {
-                return Err(usage(&Diagnostic::new(
-                    Code::E0001,
-                    format!("cannot read `{}`: {e}", path.display()),
-                )))
-            }
+            Err(d) => return Err(usage(&d)),
         },
         None => Box::new(
             std::io::stdin().lock().lines().map_while(Result::ok).collect::<Vec<_>>().into_iter(),
@@ -444,7 +569,10 @@ fn review(results: &mut [TestResult], args: &TestArgs) -> Result<(), ExitCode> {
             }
             Status::Ok | Status::Broken(..) => continue,
         };
-        common::err(&format!("---- {} ----\n{shown}", r.case.scene.display()));
+        common::err(&crate::diag::visible(&format!(
+            "---- {} ----\n{shown}",
+            r.case.scene.display()
+        )));
         let accept = if all {
             true
         } else {

@@ -40,9 +40,7 @@ pub struct ViewArgs {
     reason = "the error is printed at once; it is rare and never propagated far"
 )]
 fn read_report(path: &std::path::Path) -> Result<serde_json::Value, Diagnostic> {
-    let text = std::fs::read_to_string(path).map_err(|e| {
-        Diagnostic::new(Code::E0001, format!("cannot read `{}`: {e}", path.display()))
-    })?;
+    let text = common::read_text(path)?;
     serde_json::from_str(&text).map_err(|e| {
         Diagnostic::new(Code::E0004, format!("`{}` is not a build report: {e}", path.display()))
             .with_help("write it with `holoc build --report FILE`")

@@ -59,6 +59,7 @@ codes! {
     E0006 "job-timed-out" "a batch job ran past its time limit and was stopped";
     E0007 "disk-full" "an output could not be written because the disk is full";
     E0008 "missing-shards" "`holoc batch merge` was given the summaries of only some shards";
+    E0009 "outside-folder" "a path leads outside the folder it must stay in";
 
     E0101 "syntax-error" "the text does not follow the grammar of a statement";
     E0102 "unknown-statement" "a line does not start like any statement of its block";

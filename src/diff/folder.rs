@@ -32,20 +32,13 @@ const MAX_BYTES: u64 = 32 * 1024 * 1024;
     reason = "the error is printed at once; it is rare and never propagated far"
 )]
 fn read_json(path: &Path, what: &str) -> Result<serde_json::Value, Diagnostic> {
-    use std::io::Read as _;
-    let io = |e: &dyn std::fmt::Display| {
-        Diagnostic::new(Code::E0001, format!("cannot read `{}`: {e}", path.display()))
-            .with_help("check the path and the file's permissions")
-    };
-    let file = std::fs::File::open(path).map_err(|e| io(&e))?;
-    if file.metadata().is_ok_and(|m| m.is_dir()) {
-        return Err(io(&"it is a folder"));
-    }
-    let mut bytes = Vec::new();
-    file.take(MAX_BYTES + 1).read_to_end(&mut bytes).map_err(|e| io(&e))?;
-    if bytes.len() as u64 > MAX_BYTES {
-        return Err(io(&format!("it is larger than {} MiB", MAX_BYTES / (1024 * 1024))));
-    }
+    let bytes = crate::source::read_input_or_stdin(path, MAX_BYTES).map_err(|e| {
+        Diagnostic::new(
+            Code::E0001,
+            format!("cannot read `{}`: {e}", crate::diag::visible(&path.display().to_string())),
+        )
+        .with_help("check the path and the file's permissions")
+    })?;
     serde_json::from_slice(&bytes).map_err(|e| {
         Diagnostic::new(
             Code::E0601,
@@ -94,7 +87,7 @@ pub fn entries(folder: &Path) -> std::io::Result<Vec<Entry>> {
     // A `holoc batch` output names each job's folder by its hash; its summary says which job
     // (manifest `id`) each hash is.
     let ids: std::collections::BTreeMap<String, String> =
-        std::fs::read_to_string(folder.join("summary.json"))
+        crate::source::read_text(&folder.join("summary.json"), MAX_BYTES)
             .ok()
             .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
             .and_then(|v| v.get("jobs").and_then(|j| j.as_array()).cloned())
@@ -118,7 +111,7 @@ pub fn entries(folder: &Path) -> std::io::Result<Vec<Entry>> {
             if !house.is_file() {
                 continue;
             }
-            let key = std::fs::read_to_string(path.join("job.json"))
+            let key = crate::source::read_text(&path.join("job.json"), MAX_BYTES)
                 .ok()
                 .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
                 .and_then(|v| v.get("id").and_then(|i| i.as_str()).map(str::to_string))

@@ -189,6 +189,14 @@ impl HouseView {
         if !top.get("rooms").is_some_and(Value::is_array) {
             return Err("it has no `rooms` list, so it is not a house".into());
         }
+        // A coordinate no house has (1e308) is refused as `holoc validate` refuses it: sums of
+        // such numbers are infinite and areas `NaN`.
+        if let Some((path, x)) = crate::lower::validate::absurd_numbers(house).first() {
+            return Err(format!(
+                "its coordinate at `{path}` is {x:e} m, beyond {:e} m, the largest holoc reads",
+                crate::lower::validate::MAX_COORDINATE_M
+            ));
+        }
         let rooms = list(house, "rooms")
             .iter()
             .map(|r| RoomView {

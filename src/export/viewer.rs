@@ -88,10 +88,25 @@ pub fn page_data(house: &House, glb: &[u8], report: Option<&Value>, title: &str)
     })
 }
 
-/// JSON for inside a `<script>` element: `</` (only in strings) is written `<\/`, so that it
-/// cannot close the element. (The scripts are checked by a test never to hold `</script`.)
+/// JSON for inside a `<script>` element: `<`, `>` and `&` (only ever in strings) are written
+/// as JSON escapes (`\u003c`, `\u003e`, `\u0026`), so that no text of the house can close
+/// the element (`</script>`) or open a comment that swallows it (`<!--<script>`, which leaves
+/// the page loading for ever); U+2028 and U+2029 are escaped too, for scripts that read the
+/// block as JavaScript. The JSON reads back the same. (The scripts are checked by a test never
+/// to hold `</script`.)
 fn script_safe(text: &str) -> String {
-    text.replace("</", "<\\/")
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        match c {
+            '<' => out.push_str("\\u003c"),
+            '>' => out.push_str("\\u003e"),
+            '&' => out.push_str("\\u0026"),
+            '\u{2028}' => out.push_str("\\u2028"),
+            '\u{2029}' => out.push_str("\\u2029"),
+            c => out.push(c),
+        }
+    }
+    out
 }
 
 fn html_escape(text: &str) -> String {
@@ -129,6 +144,12 @@ mod tests {
     #[test]
     fn scripts_cannot_close_their_element() {
         assert!(!script_safe("a</script>b").contains("</script"));
+        let hostile = json!({"id": "<!--<script>a</script>&\u{2028}\u{2029}</SCRIPT >"});
+        let safe = script_safe(&hostile.to_string());
+        for bad in ['<', '>', '&', '\u{2028}', '\u{2029}'] {
+            assert!(!safe.contains(bad), "{safe}");
+        }
+        assert_eq!(serde_json::from_str::<Value>(&safe).expect("still JSON"), hostile);
         assert!(!THREE_BUNDLE.contains("</script"));
         assert!(!APP_JS.contains("</script"));
     }

@@ -357,23 +357,31 @@ impl HttpLlm {
 /// The text with every occurrence of `key` replaced by `[redacted]`, whatever the form each of
 /// its characters is written in: as itself, as a JSON escape (`\u0073`, any case, `\/`), as
 /// percent-encoding of its UTF-8 bytes (`%73`, any case), or as an HTML character reference
-/// (`&#115;`, `&#x73;`). Forms may be mixed within one occurrence. Linear in the text times the
+/// (`&#115;`, `&#x73;`). Forms may be mixed within one occurrence. The key may be split by line
+/// breaks (`\n`, `\r\n`, or their JSON escapes, each followed by any spaces or tabs), and it
+/// may be base64-encoded, standard or URL-safe, at any of the three byte alignments inside a
+/// longer encoded text (a `Basic` authorisation, say): the characters that only the key's bytes
+/// decide are redacted, themselves in any of the forms above. Linear in the text times the
 /// key's length.
 pub fn redact_key(text: &str, key: &str) -> String {
     if key.is_empty() {
         return text.to_owned();
     }
-    let first = key.chars().next().unwrap_or_default();
+    let mut patterns = vec![key.to_owned()];
+    patterns.extend(base64_cores(key.as_bytes()));
+    let firsts: Vec<char> = patterns.iter().filter_map(|p| p.chars().next()).collect();
     let mut out = String::with_capacity(text.len());
     let mut i = 0;
-    while i < text.len() {
+    'text: while i < text.len() {
         let c = text[i..].chars().next().unwrap_or_default();
-        let may_start = c == first || matches!(c, '\\' | '%' | '&');
+        let may_start = firsts.contains(&c) || matches!(c, '\\' | '%' | '&');
         if may_start {
-            if let Some(end) = key_at(text, i, key) {
-                out.push_str("[redacted]");
-                i = end;
-                continue;
+            for pattern in &patterns {
+                if let Some(end) = key_at(text, i, pattern) {
+                    out.push_str("[redacted]");
+                    i = end;
+                    continue 'text;
+                }
             }
         }
         out.push(c);
@@ -382,14 +390,68 @@ pub fn redact_key(text: &str, key: &str) -> String {
     out
 }
 
+/// The shortest base64 run [`redact_key`] looks for: shorter runs of a short key's encoding
+/// would match ordinary text.
+const MIN_BASE64_RUN: usize = 8;
+
+/// The base64 characters that encode only bytes of `key`, for each of the three alignments of
+/// the key in an encoded stream, in the standard and the URL-safe alphabet (no padding: the
+/// last characters also depend on what follows the key).
+fn base64_cores(key: &[u8]) -> Vec<String> {
+    use base64::Engine as _;
+    let mut out: Vec<String> = Vec::new();
+    for engine in [
+        base64::engine::general_purpose::STANDARD_NO_PAD,
+        base64::engine::general_purpose::URL_SAFE_NO_PAD,
+    ] {
+        for offset in 0..3 {
+            let mut bytes = vec![0u8; offset];
+            bytes.extend_from_slice(key);
+            let encoded = engine.encode(&bytes);
+            // Character k holds bits 6k..6k+6; the key's bits are 8·offset..8·(offset+len).
+            let start = (8 * offset).div_ceil(6);
+            let end = (8 * (offset + key.len()) / 6).min(encoded.len());
+            if let Some(core) = encoded.get(start..end).filter(|c| c.len() >= MIN_BASE64_RUN) {
+                if !out.iter().any(|o| o == core) {
+                    out.push(core.to_owned());
+                }
+            }
+        }
+    }
+    out
+}
+
 /// Where an occurrence of `key` (in any of [`redact_key`]'s forms) starting at byte `at` ends.
 fn key_at(text: &str, at: usize, key: &str) -> Option<usize> {
     let bytes = text.as_bytes();
     let mut i = at;
-    for c in key.chars() {
+    for (n, c) in key.chars().enumerate() {
+        if n > 0 {
+            i = past_line_break(bytes, i);
+        }
         i = char_at(text, bytes, i, c)?;
     }
     Some(i)
+}
+
+/// Past a line break at byte `i` (`\n`, `\r\n`, `\r`, or the JSON escapes `\\n` and `\\r`,
+/// one or more, then spaces and tabs); `i` itself when there is none.
+fn past_line_break(bytes: &[u8], mut i: usize) -> usize {
+    let start = i;
+    loop {
+        match bytes.get(i..) {
+            Some([b'\n' | b'\r', ..]) => i += 1,
+            Some([b'\\', b'n' | b'r', ..]) => i += 2,
+            _ => break,
+        }
+    }
+    if i == start {
+        return i;
+    }
+    while matches!(bytes.get(i), Some(b' ' | b'\t')) {
+        i += 1;
+    }
+    i
 }
 
 /// Where the character `c`, written in one of [`redact_key`]'s forms at byte `i`, ends.
@@ -797,6 +859,49 @@ mod tests {
         }
         assert_eq!(drop_key_prefix("error: sk-ab", key), "error: [redacted]");
         assert_eq!(drop_key_prefix("error: sk", key), "error: sk");
+    }
+
+    #[test]
+    fn keys_split_by_line_breaks_are_redacted() {
+        let key = "sk-abc/123";
+        for text in ["x sk-ab\nc/123 y", "x sk-abc/\r\n   123 y", "x sk-\\nabc\\r\\n/123 y"] {
+            assert_eq!(redact_key(text, key), "x [redacted] y", "{text:?}");
+        }
+        // A break before or after the key is not part of it.
+        assert_eq!(redact_key("\nsk-abc/123\n", key), "\n[redacted]\n");
+    }
+
+    #[test]
+    fn base64_keys_are_redacted_at_every_alignment() {
+        use base64::Engine as _;
+        let key = "sk-live-0123456789abcdef?>~";
+        let engines = [
+            base64::engine::general_purpose::STANDARD,
+            base64::engine::general_purpose::URL_SAFE,
+            base64::engine::general_purpose::URL_SAFE_NO_PAD,
+        ];
+        for engine in engines {
+            for prefix in ["", "u", "us", "user:"] {
+                let encoded = engine.encode(format!("{prefix}{key}"));
+                // Whole, split over two lines as MIME does, and JSON-escaped (`\/`).
+                let split = format!("{}\n{}", &encoded[..10], &encoded[10..]);
+                let escaped = encoded.replace('/', "\\/");
+                for text in [&encoded, &split, &escaped] {
+                    let redacted = redact_key(&format!("Basic {text} end"), key);
+                    assert!(redacted.contains("[redacted]"), "{text} -> {redacted}");
+                    // What is left of the encoding: the prefix's characters and the one
+                    // each end shares with the bytes around the key, never a run of its own.
+                    let longest = redacted
+                        .split(|c: char| !(c.is_ascii_alphanumeric() || "+/-_=".contains(c)))
+                        .map(str::len)
+                        .max()
+                        .unwrap_or(0);
+                    assert!(longest <= 9, "{text} -> {redacted}");
+                }
+            }
+        }
+        // Ordinary text is left alone.
+        assert_eq!(redact_key("a plain answer\nwith lines", key), "a plain answer\nwith lines");
     }
 
     #[test]

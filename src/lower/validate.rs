@@ -209,7 +209,7 @@ pub const MAX_COORDINATE_M: f64 = 1e5;
 
 /// The places (JSON pointers) of the coordinates beyond [`MAX_COORDINATE_M`], at most 20, in
 /// document order. Walks the value without recursion.
-fn absurd_numbers(value: &Value) -> Vec<(String, f64)> {
+pub(crate) fn absurd_numbers(value: &Value) -> Vec<(String, f64)> {
     let mut found = Vec::new();
     let mut pending: Vec<(String, &Value)> = vec![(String::new(), value)];
     while let Some((path, v)) = pending.pop() {

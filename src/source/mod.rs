@@ -7,7 +7,7 @@
 
 mod read;
 
-pub use read::{read_input, ReadError, STREAM_TIMEOUT};
+pub use read::{read_input, read_input_or_stdin, read_text, ReadError, STREAM_TIMEOUT};
 use std::fmt;
 
 /// Identifies one file in a [`SourceMap`].

@@ -100,6 +100,37 @@ pub fn read_input(path: &Path, limit: u64) -> Result<Vec<u8>, ReadError> {
     rx.recv_timeout(STREAM_TIMEOUT).unwrap_or(Err(ReadError::Timeout))
 }
 
+/// Like [`read_input`], with `-` standing for standard input (read up to the same limit).
+///
+/// # Errors
+/// As [`read_input`]; standard input has no time limit (a person may be typing into it).
+pub fn read_input_or_stdin(path: &Path, limit: u64) -> Result<Vec<u8>, ReadError> {
+    if path.as_os_str() != "-" {
+        return read_input(path, limit);
+    }
+    let mut bytes = Vec::new();
+    std::io::stdin()
+        .lock()
+        .take(limit.saturating_add(1))
+        .read_to_end(&mut bytes)
+        .map_err(|e| ReadError::Io(e.to_string()))?;
+    if bytes.len() as u64 > limit {
+        return Err(ReadError::TooLarge(limit));
+    }
+    Ok(bytes)
+}
+
+/// The text of a file holoc wrote itself (a summary, a memo, a count of tries), read as
+/// [`read_input`] reads any input: a named pipe or a device put in its place cannot hang the
+/// command or fill the memory. Text that is not UTF-8 is an [`ReadError::Io`].
+///
+/// # Errors
+/// As [`read_input`], and text that is not UTF-8.
+pub fn read_text(path: &Path, limit: u64) -> Result<String, ReadError> {
+    String::from_utf8(read_input(path, limit)?)
+        .map_err(|e| ReadError::Io(format!("it is not UTF-8 text: {}", e.utf8_error())))
+}
+
 /// Reads at most `limit` bytes of `file`; one more is [`ReadError::TooLarge`].
 fn read_limited(file: std::fs::File, limit: u64) -> Result<Vec<u8>, ReadError> {
     let mut bytes = Vec::new();

@@ -85,10 +85,24 @@ impl F16Rows {
         if dim == 0 || views == 0 {
             return Err(format!("its shape {:?} has an empty side", array.shape));
         }
+        // Every lookup indexes `start + (row · views + view) · 2 · dim`: the rows must hold
+        // exactly the bytes present, counted without overflow (`Pickle::f16_array` checks the
+        // same; this keeps the rows sound whatever array they are given).
+        let present = pickle.array_bytes(&array.bytes).len();
+        let needed = super::pickle::element_bytes(&[rows, views, dim], 2);
+        if needed != Some(present) {
+            return Err(format!(
+                "its shape {:?} does not match the {present} bytes it holds",
+                array.shape
+            ));
+        }
         let (bytes, start) = match &array.bytes {
             ArrayBytes::InFile(r) => (Arc::clone(file), r.start),
             ArrayBytes::Owned(_) => (Arc::new(pickle.array_bytes(&array.bytes).to_vec()), 0),
         };
+        if bytes.get(start..start + present).is_none() {
+            return Err(format!("its bytes lie outside the file ({present} from byte {start})"));
+        }
         Ok(F16Rows { bytes, start, rows, views, dim, big_endian: array.big_endian })
     }
 
@@ -129,6 +143,9 @@ impl F16Rows {
     /// may run the eight at once; it never reorders a sum).
     pub fn cosine(&self, q: &[f32], row: usize, view: usize) -> f32 {
         let bytes = self.vector_bytes(row, view);
+        // A query shorter than a row (never from `rank`, which sizes it by the rows) counts
+        // only the elements it has.
+        let bytes = &bytes[..bytes.len().min(2 * q.len())];
         let big = self.big_endian;
         let bits = |c: &[u8]| {
             let b = [c[0], c[1]];

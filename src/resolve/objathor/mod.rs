@@ -262,7 +262,13 @@ fn folder_error(dir: &Path, message: String, help: &str) -> Box<Diagnostic> {
 }
 
 fn annotations_in(dir: &Path) -> Option<PathBuf> {
-    ["annotations.json.gz", "annotations.json"].iter().map(|n| dir.join(n)).find(|p| p.is_file())
+    ["annotations.json.gz", "annotations.json"].iter().map(|n| dir.join(n)).find(|p| present(p))
+}
+
+/// Whether something that is not a folder stands at `path` (a named pipe or a device counts:
+/// reading it then says what it is, instead of calling it missing).
+fn present(path: &Path) -> bool {
+    std::fs::symlink_metadata(path).is_ok_and(|m| !m.is_dir())
 }
 
 /// The version folder `options` names: `dir` itself when it holds the annotations (or its
@@ -353,6 +359,12 @@ struct FeatureFile {
 /// Reads a pickled feature file (gzip allowed) with the arrays `keys` (the first required).
 fn read_features(path: &Path, keys: &[&str]) -> Result<FeatureFile, String> {
     let bytes = crate::source::read_input(path, MAX_FEATURES_BYTES).map_err(|e| e.to_string())?;
+    features_of_bytes(bytes, keys)
+}
+
+/// Reads the bytes of a pickled feature file (gzip allowed) with the arrays `keys` (the first
+/// required): every shape checked against the bytes present before any row is looked at.
+fn features_of_bytes(bytes: Vec<u8>, keys: &[&str]) -> Result<FeatureFile, String> {
     let sha256 = super::sha256_hex(&bytes);
     let bytes = if bytes.starts_with(&[0x1f, 0x8b]) {
         use std::io::Read as _;
@@ -390,7 +402,7 @@ fn feature_path(root: &Path, name: &str) -> Option<PathBuf> {
     [format!("{name}.pkl"), format!("{name}.pkl.gz")]
         .iter()
         .map(|n| root.join("features").join(n))
-        .find(|p| p.is_file())
+        .find(|p| present(p))
 }
 
 /// Loads the version folder `options` names into `catalog` (after every other catalog),
@@ -428,7 +440,10 @@ pub fn load(
     let (text, sha256) = match annotations {
         Ok(found) => found,
         Err(message) => {
-            diags.push(super::catalog::unreadable(&name, &message));
+            diags.push(super::catalog::unreadable(&name, &message).with_help(
+                "check the annotations of the folder given to `--objathor` (download them again \
+                 with objathor's script if they are damaged)",
+            ));
             return diags;
         }
     };
@@ -579,6 +594,46 @@ fn parse(
         }
     }
     out
+}
+
+/// Reads an annotations file's bytes (gzip allowed) as [`load`] does, without a folder: the
+/// number of assets read and the diagnostics. For the fuzz harness and tools.
+pub fn read_annotations(bytes: &[u8], sources: &mut SourceMap) -> (usize, Vec<Diagnostic>) {
+    let text = match super::catalog::catalog_text(bytes) {
+        Ok(text) => text,
+        Err(message) => return (0, vec![super::catalog::unreadable("annotations", &message)]),
+    };
+    let file = sources.add("annotations.json", text);
+    let mut diags = Vec::new();
+    let n = parse(&sources.get(file).text, file, 0, &mut diags).len();
+    (n, diags)
+}
+
+/// Reads a feature file's bytes (gzip allowed) as [`load`] does (the CLIP keys, then the SBERT
+/// key when the CLIP ones are absent) and decodes every vector of every array it keeps,
+/// measuring each against a unit query: the number of vectors. For the fuzz harness.
+///
+/// # Errors
+/// Why the file is not used (what [`load`] reports as W0405).
+pub fn read_feature_bytes(bytes: Vec<u8>) -> Result<usize, String> {
+    let file = features_of_bytes(bytes.clone(), &["img_features", "text_features"])
+        .or_else(|_| features_of_bytes(bytes, &["text_features"]))?;
+    let mut n = 0;
+    for (_, rows) in &file.arrays {
+        let mut q = vec![0f32; rows.dim];
+        q[0] = 1.0;
+        let mut v = vec![0f32; rows.dim];
+        for row in 0..rows.len() {
+            for view in 0..rows.views {
+                rows.decode(row, view, &mut v);
+                let _ = rows.cosine(&q, row, view);
+                n += 1;
+            }
+            let mut sum = vec![0f32; rows.dim];
+            rows.add_unit_mean(row, &mut sum);
+        }
+    }
+    Ok(n)
 }
 
 /// The parts of a `features` score: `clip + sbert − 10 × size`.

@@ -496,13 +496,20 @@ impl<'a> Pickle<'a> {
         if (kind, width) != ('f', 2) {
             return Err(format!("`{key}` is an array of `{kind}{width}`, not of float16 (`f2`)"));
         }
-        let n: usize = array.shape.iter().product();
         let len = self.array_bytes(&array.bytes).len();
-        if n.checked_mul(2) != Some(len) {
+        // The shape's size with overflow checked: a shape whose product wraps (to zero, say)
+        // would otherwise pass for an array of the bytes present.
+        let Some(needed) = element_bytes(&array.shape, 2) else {
             return Err(format!(
-                "`{key}`: its shape {:?} needs {} bytes, the pickle holds {len}",
-                array.shape,
-                n.saturating_mul(2)
+                "`{key}`: its shape {:?} holds more elements than any file can, the pickle holds \
+                 {len} bytes",
+                array.shape
+            ));
+        };
+        if needed != len {
+            return Err(format!(
+                "`{key}`: its shape {:?} needs {needed} bytes, the pickle holds {len}",
+                array.shape
             ));
         }
         let bytes = if array.fortran && array.shape.len() > 1 {
@@ -673,7 +680,14 @@ struct RawArray {
     bytes: ArrayBytes,
 }
 
-/// The elements of a Fortran-order array in C order.
+/// The bytes of an array of `shape` with elements of `item` bytes, or `None` when the product
+/// overflows.
+pub(crate) fn element_bytes(shape: &[usize], item: usize) -> Option<usize> {
+    shape.iter().try_fold(item, |n, d| n.checked_mul(*d))
+}
+
+/// The elements of a Fortran-order array in C order (`bytes` holds exactly the elements of
+/// `shape`, which [`Pickle::f16_array`] checks first).
 fn fortran_to_c(bytes: &[u8], shape: &[usize], item: usize) -> Vec<u8> {
     let n: usize = shape.iter().product();
     let mut out = vec![0u8; n * item];
@@ -936,12 +950,16 @@ impl Writer {
     fn shape(&mut self, shape: &[usize]) {
         self.out.push(b'(');
         for d in shape {
-            match u8::try_from(*d) {
-                Ok(b) => self.out.extend([b'K', b]),
-                Err(_) => {
-                    self.out.push(b'J');
-                    self.out.extend((*d as i32).to_le_bytes());
-                }
+            if let Ok(b) = u8::try_from(*d) {
+                self.out.extend([b'K', b]);
+            } else if let Ok(v) = i32::try_from(*d) {
+                self.out.push(b'J');
+                self.out.extend(v.to_le_bytes());
+            } else {
+                // `LONG1`: eight bytes, little-endian, two's complement (a size past 2^63 reads
+                // back as a negative number, which the reader refuses).
+                self.out.extend([0x8a, 8]);
+                self.out.extend((*d as u64).to_le_bytes());
             }
         }
         self.out.push(b't');
