@@ -230,13 +230,25 @@ impl Look {
             .filter(|w| !w.is_empty())
             .map(str::to_lowercase)
             .collect();
-        let colour = colors::find(text).filter(|c| !is_material_name(&c.words));
-        let second = colour.as_ref().and_then(|c| {
-            // The text after the first colour's phrase.
-            let lower = text.to_lowercase();
-            let at = lower.find(&c.phrase)? + c.phrase.len();
-            colors::find(&lower[at..]).filter(|s| !is_material_name(&s.words))
-        });
+        // The colours named, in order, leaving out names that are materials here (`linen`,
+        // `walnut`, `gold`): the first tints the main part, the second the accents.
+        // Searched in the words joined by single spaces, as colour phrases are written
+        // (`off-white` is the name `off white`).
+        let lower = format!(" {} ", words.join(" "));
+        let mut found = Vec::new();
+        let mut at = 0;
+        while let Some(c) = colors::find(&lower[at..]) {
+            let Some(start) = lower[at..].find(&format!(" {} ", c.phrase)) else { break };
+            at += start + c.phrase.len() + 1;
+            if !is_material_name(&c.words) {
+                found.push(c);
+            }
+            if found.len() == 2 || at >= lower.len() {
+                break;
+            }
+        }
+        let mut found = found.into_iter();
+        let (colour, second) = (found.next(), found.next());
         let find = |table: &[(&str, [f64; 3])]| {
             words.iter().find_map(|w| table.iter().find(|(n, _)| n == w).map(|(_, c)| *c))
         };
