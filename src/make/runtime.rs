@@ -83,29 +83,67 @@ fn jpeg(width: u16, height: u16, rgb: &[u8]) -> Vec<u8> {
     out
 }
 
-/// Rounds to 4 decimals (0.1 mm, and normals to 1e-4), so that files stay small and stable.
-fn r5(v: f64) -> Value {
+/// Rounds to 4 decimals (0.1 mm, and normals to 1e-4), so that files stay small and stable;
+/// no negative zero.
+fn round4(v: f64) -> f64 {
     let r = (v * 10_000.0).round() / 10_000.0;
-    let r = if r == 0.0 { 0.0 } else { r };
-    serde_json::Number::from_f64(r).map_or(Value::Null, Value::Number)
+    if r == 0.0 || !r.is_finite() {
+        0.0
+    } else {
+        r
+    }
 }
 
-fn xyz(p: [f64; 3]) -> Value {
-    json!({"x": r5(p[0]), "y": r5(p[1]), "z": r5(p[2])})
+/// Writes a number as JSON (Rust's shortest form of the rounded value: `0.1234`, `1`).
+fn num(out: &mut String, v: f64) {
+    use std::fmt::Write as _;
+    let _ = write!(out, "{}", round4(v));
+}
+
+/// `"key":[{"x":…,"y":…,"z":…},…]` (or `x`, `y` for two axes).
+fn points<const N: usize>(out: &mut String, key: &str, list: impl Iterator<Item = [f64; N]>) {
+    const AXES: [&str; 3] = ["x", "y", "z"];
+    out.push('"');
+    out.push_str(key);
+    out.push_str("\":[");
+    for (i, p) in list.enumerate() {
+        if i > 0 {
+            out.push(',');
+        }
+        out.push('{');
+        for (k, v) in p.iter().enumerate() {
+            if k > 0 {
+                out.push(',');
+            }
+            out.push('"');
+            out.push_str(AXES[k]);
+            out.push_str("\":");
+            num(out, *v);
+        }
+        out.push('}');
+    }
+    out.push(']');
+}
+
+/// `"key":[i,j,…]`.
+fn indices(out: &mut String, key: &str, list: &[u32]) {
+    use std::fmt::Write as _;
+    out.push('"');
+    out.push_str(key);
+    out.push_str("\":[");
+    for (i, t) in list.iter().enumerate() {
+        if i > 0 {
+            out.push(',');
+        }
+        let _ = write!(out, "{t}");
+    }
+    out.push(']');
 }
 
 /// The 8 corners and 12 triangles of a collider box, outward.
-fn box_piece(min: [f64; 3], max: [f64; 3]) -> Value {
-    let c = |i: usize| {
-        [
-            if i & 1 == 0 { min[0] } else { max[0] },
-            if i & 2 == 0 { min[1] } else { max[1] },
-            if i & 4 == 0 { min[2] } else { max[2] },
-        ]
-    };
-    let vertices: Vec<Value> = (0..8).map(|i| xyz(c(i))).collect();
+fn box_piece(out: &mut String, min: [f64; 3], max: [f64; 3]) {
     // Faces -x, +x, -y, +y, -z, +z as two triangles each, counter-clockwise seen from outside.
-    let triangles: [u32; 36] = [
+    const TRIANGLES: [u32; 36] = [
         0, 4, 6, 0, 6, 2, // -x
         1, 3, 7, 1, 7, 5, // +x
         0, 1, 5, 0, 5, 4, // -y
@@ -113,42 +151,67 @@ fn box_piece(min: [f64; 3], max: [f64; 3]) -> Value {
         0, 2, 3, 0, 3, 1, // -z
         4, 5, 7, 4, 7, 6, // +z
     ];
-    json!({"vertices": vertices, "triangles": triangles.to_vec()})
+    let c = |i: usize| {
+        [
+            if i & 1 == 0 { min[0] } else { max[0] },
+            if i & 2 == 0 { min[1] } else { max[1] },
+            if i & 4 == 0 { min[2] } else { max[2] },
+        ]
+    };
+    out.push('{');
+    points(out, "vertices", (0..8).map(c));
+    out.push(',');
+    indices(out, "triangles", &TRIANGLES);
+    out.push('}');
 }
 
-/// The mesh dict of `<uid>.json`.
-pub fn asset_json(asset: &MadeAsset) -> Value {
+/// The mesh dict of `<uid>.json`, written directly (the mesh is most of the file: a tree of
+/// JSON values for it would cost more than making the asset).
+pub fn asset_json(asset: &MadeAsset) -> String {
+    use std::fmt::Write as _;
     let m = &asset.mesh;
     let [w, h, d] = m.size;
-    // Where an agent checks that it sees the asset: the box's corners and the centre of its top.
+    let mut out = String::with_capacity(64 * m.vertices.len() + 1024);
+    out.push('{');
+    let _ = write!(
+        out,
+        "\"name\":{},\"receptacleCandidate\":{},\"albedoTexturePath\":\"{ALBEDO}\",\"normalTexturePath\":\"{NORMAL}\",",
+        serde_json::Value::from(asset.uid.as_str()),
+        asset.receptacle(),
+    );
+    points(&mut out, "vertices", m.vertices.iter().copied());
+    out.push(',');
+    indices(&mut out, "triangles", &m.triangles);
+    out.push(',');
+    points(&mut out, "normals", m.normals.iter().copied());
+    out.push(',');
+    points(&mut out, "uvs", m.uvs.iter().copied());
+    out.push(',');
+    // Where an agent checks that it sees the asset: the box's top corners, the centre of its
+    // top and the middle of its front.
     let mut visibility = Vec::new();
     for x in [-w / 2.0, w / 2.0] {
         for z in [-d / 2.0, d / 2.0] {
-            visibility.push(xyz([x, h / 2.0, z]));
+            visibility.push([x, h / 2.0, z]);
         }
     }
-    visibility.push(xyz([0.0, h / 2.0, 0.0]));
-    visibility.push(xyz([0.0, 0.0, d / 2.0]));
-    json!({
-        "name": asset.uid,
-        "receptacleCandidate": asset.receptacle(),
-        "albedoTexturePath": ALBEDO,
-        "normalTexturePath": NORMAL,
-        "vertices": m.vertices.iter().map(|p| xyz(*p)).collect::<Vec<_>>(),
-        "triangles": m.triangles,
-        "normals": m.normals.iter().map(|p| xyz(*p)).collect::<Vec<_>>(),
-        "uvs": m.uvs.iter().map(|p| json!({"x": r5(p[0]), "y": r5(p[1])})).collect::<Vec<_>>(),
-        "visibilityPoints": visibility,
-        "colliders": m.colliders.iter().map(|(a, b)| box_piece(*a, *b)).collect::<Vec<_>>(),
-        "physicalProperties": {
-            "mass": asset.mass_kg,
-            "drag": 0.0,
-            "angularDrag": 0.05,
-            "useGravity": true,
-            "isKinematic": asset.thor != super::Thor::Pickup,
-        },
-        "yRotOffset": 0,
-    })
+    visibility.push([0.0, h / 2.0, 0.0]);
+    visibility.push([0.0, 0.0, d / 2.0]);
+    points(&mut out, "visibilityPoints", visibility.into_iter());
+    out.push_str(",\"colliders\":[");
+    for (i, (a, b)) in m.colliders.iter().enumerate() {
+        if i > 0 {
+            out.push(',');
+        }
+        box_piece(&mut out, *a, *b);
+    }
+    let _ = write!(
+        out,
+        "],\"physicalProperties\":{{\"mass\":{},\"drag\":0,\"angularDrag\":0.05,\"useGravity\":true,\"isKinematic\":{}}},\"yRotOffset\":0}}",
+        round4(asset.mass_kg),
+        asset.thor != super::Thor::Pickup,
+    );
+    out
 }
 
 /// `thor_metadata.json`.
@@ -163,7 +226,7 @@ pub fn thor_metadata(asset: &MadeAsset) -> Value {
 pub fn files(asset: &MadeAsset) -> Vec<(String, Vec<u8>)> {
     let (w, h, px) = albedo_pixels(&asset.palette);
     let normal: Vec<u8> = [128u8, 128, 255].repeat((CELL_PX * CELL_PX) as usize);
-    let mut json = serde_json::to_vec(&asset_json(asset)).unwrap_or_default();
+    let mut json = asset_json(asset).into_bytes();
     json.push(b'\n');
     let mut meta = serde_json::to_vec_pretty(&thor_metadata(asset)).unwrap_or_default();
     meta.push(b'\n');
