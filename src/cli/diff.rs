@@ -82,6 +82,8 @@ pub(crate) struct BuiltScene {
     pub house_json: String,
     pub report_json: String,
     pub view: HouseView,
+    /// The assets holoc made for it.
+    pub made: Vec<std::sync::Arc<crate::make::MadeAsset>>,
 }
 
 /// Builds a `.holo` scene with its own seed. On failure, the diagnostics (printed by the
@@ -116,7 +118,11 @@ fn build_file(
     })?;
     let mut view = HouseView::read(&value).map_err(|e| vec![Diagnostic::new(Code::E0002, e)])?;
     view.add_report(&report).map_err(|e| vec![Diagnostic::new(Code::E0002, e)])?;
-    Ok(BuiltScene { house_json, report_json, view })
+    let made = crate::make::used_in(
+        &product.resolved,
+        product.objects.iter().map(|o| o.asset_id.as_str()),
+    );
+    Ok(BuiltScene { house_json, report_json, view, made })
 }
 
 fn is_scene(path: &Path) -> bool {

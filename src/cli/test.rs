@@ -312,11 +312,16 @@ fn run_case(case: Case, base: &SourceMap, catalog: &Catalog, options: &Options) 
         Ok(f) => f,
         Err(d) => return invalid(golden_sources, vec![d], case, built),
     };
+    // The made assets the golden names: those beside it (`<golden stem>.assets/`, written by
+    // `--bless`) and those this build made.
+    let (mut made, _) = crate::make::read_folder(&crate::make::folder_beside(&case.golden));
+    made.extend(crate::make::catalog_assets(&built.made));
+    let with_made = catalog.with_made(made);
     let checked = crate::lower::validate::validate(
         &golden_sources,
         file,
         StructureCatalog::builtin(),
-        catalog,
+        &with_made,
     );
     let errors: Vec<Diagnostic> =
         checked.diagnostics.into_iter().filter(Diagnostic::is_error).collect();
@@ -366,6 +371,14 @@ fn leads_out(root: &Path, path: &Path) -> Option<Diagnostic> {
 fn bless(result: &mut TestResult, reports: bool) -> Result<(), Diagnostic> {
     let Some(built) = &result.built else { return Ok(()) };
     let has_report = result.case.report.is_file();
+    // The made assets first, beside the golden (`<golden stem>.assets/<uid>/`), inside the
+    // folder as the golden is.
+    let folder = crate::make::folder_beside(&result.case.golden);
+    for made in &built.made {
+        for (name, bytes) in crate::make::runtime::files(made) {
+            common::write_confined(&result.case.root, &folder.join(&made.uid).join(name), &bytes)?;
+        }
+    }
     common::write_confined(&result.case.root, &result.case.golden, built.house_json.as_bytes())?;
     if has_report || reports {
         common::write_confined(
