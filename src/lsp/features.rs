@@ -19,22 +19,51 @@ use std::collections::HashMap;
 use std::fmt::Write as _;
 
 /// The document's diagnostics as LSP diagnostics: every stage before the solver, and the
-/// background solve's when it ran on this version.
-pub fn diagnostics(analysis: &Analysis, solved: Option<&Solved>) -> Vec<lsp_types::Diagnostic> {
-    let mut all: Vec<Diagnostic> = analysis.analysed.diagnostics.clone();
-    if let Some(solved) = solved {
-        all.extend(solved.diagnostics.iter().cloned());
-    }
-    crate::diag::sort(&mut all);
-    let mut out: Vec<lsp_types::Diagnostic> = to_lsp(analysis, &all)
-        .into_iter()
-        .filter(|(file, _)| *file == analysis.source().name)
-        .map(|(_, d)| d)
+/// background solve's when it ran on this version, sorted as `holoc check` sorts them, then
+/// the hints on relations that do not hold; at most `max`, closed by one that counts the rest
+/// ([`capped`]). Only those shown are made in full: a keystroke in a scene with thousands of
+/// warnings does not copy and convert them all.
+pub fn diagnostics(
+    analysis: &Analysis,
+    solved: Option<&Solved>,
+    max: usize,
+) -> Vec<lsp_types::Diagnostic> {
+    let name = analysis.source().name.as_str();
+    let here = |d: &&Diagnostic| {
+        d.primary.as_ref().is_some_and(|l| {
+            l.span.file == analysis.file
+                || analysis.sources.try_get(l.span.file).is_some_and(|f| f.name == name)
+        })
+    };
+    let mut mine: Vec<&Diagnostic> = analysis
+        .analysed
+        .diagnostics
+        .iter()
+        .chain(solved.into_iter().flat_map(|s| s.diagnostics.iter()))
+        .filter(here)
         .collect();
+    // As `crate::diag::sort` (a stable sort on the same key).
+    mine.sort_by_key(|d| d.primary.as_ref().map(|l| (l.span.file, l.span.start, l.span.end)));
+    let shown: Vec<Diagnostic> = mine.iter().take(max).map(|&d| d.clone()).collect();
+    let mut out: Vec<lsp_types::Diagnostic> =
+        to_lsp(analysis, &shown).into_iter().map(|(_, d)| d).collect();
+    // Those left out: `capped` reads only their severities and the first one's place.
+    out.extend(mine.iter().skip(max).enumerate().map(|(k, d)| lsp_types::Diagnostic {
+        range: match d.primary.as_ref() {
+            Some(l) if k == 0 => analysis.range(l.span),
+            _ => Range::default(),
+        },
+        severity: Some(match d.severity {
+            crate::diag::Severity::Error => lsp_types::DiagnosticSeverity::ERROR,
+            crate::diag::Severity::Warning => lsp_types::DiagnosticSeverity::WARNING,
+            crate::diag::Severity::Note => lsp_types::DiagnosticSeverity::INFORMATION,
+        }),
+        ..Default::default()
+    }));
     if let Some(solved) = solved {
         out.extend(relation_hints(analysis, solved));
     }
-    out
+    capped(out, max)
 }
 
 /// The first `max` of a document's diagnostics and, when there are more, one closing
@@ -599,7 +628,7 @@ pub fn code_actions(
 ) -> Vec<CodeActionOrCommand> {
     let start = analysis.offset(range.start);
     let end = analysis.offset(range.end);
-    let lsp = diagnostics(analysis, None);
+    let lsp = diagnostics(analysis, None, usize::MAX);
     let mut all: Vec<&Diagnostic> = analysis.analysed.diagnostics.iter().collect();
     if let Some(solved) = solved {
         all.extend(&solved.diagnostics);

@@ -657,6 +657,8 @@ struct RoomRun {
 #[derive(Debug)]
 struct ResolveMemo {
     made_for: std::sync::Arc<String>,
+    /// The number of the tree whose scene it was made for.
+    tree: Option<u64>,
     seed: u64,
     rooms: Vec<(String, RoomRun)>,
     /// The rooms' results put together (`None` while an analysis holds them).
@@ -677,6 +679,10 @@ pub struct Memo {
     resolve: Option<ResolveMemo>,
     /// The last check, room by room.
     check: Option<CheckMemo>,
+    /// When the last check was made in place from the tree before it: that tree's number, the
+    /// new tree's, and for each room whether its check was kept (the room's scene value is the
+    /// one before, its spans moved and its objects numbered again).
+    kept_checks: Option<(u64, u64, Vec<bool>)>,
     /// How often each stage ran and was reused (for the tests and the benchmark).
     pub counts: Counts,
 }
@@ -839,9 +845,14 @@ fn check(ast: &crate::ast::File, memo: &mut Memo) -> crate::diag::Outcome<Scene>
         }
         _ => None,
     };
+    let from = splice.map(|s| s.from);
     let (mut scene, head, rooms, kept_tail) = match in_place {
-        Some(found) => found,
+        Some((scene, head, rooms, tail, kept)) => {
+            memo.kept_checks = from.zip(memo.cache.parse.tree_number()).map(|(a, b)| (a, b, kept));
+            (scene, head, rooms, tail)
+        }
         None => {
+            memo.kept_checks = None;
             let parts = crate::check::check_parts(ast);
             memo.counts.rooms_checked += parts.rooms.len() as u64;
             (parts.scene, parts.head, parts.rooms, None)
@@ -932,6 +943,7 @@ fn check_in_place(
         return None;
     }
     let mut diagnostics = std::mem::take(&mut last.rooms);
+    let mut kept_checks = Vec::with_capacity(rooms.len());
     let wall_height_m = scene.wall_height_m;
     // Where the room's objects start in the scene's list now, and where they started.
     let (mut first, mut old_first) = (0usize, 0usize);
@@ -947,6 +959,7 @@ fn check_in_place(
             diagnostics[r] = own;
             first += count;
             counts.rooms_checked += 1;
+            kept_checks.push(false);
         } else {
             let kept = &mut scene.rooms[r];
             let objects = &mut scene.objects[first..first + old_count];
@@ -965,6 +978,7 @@ fn check_in_place(
             }
             first += old_count;
             counts.rooms_check_reused += 1;
+            kept_checks.push(true);
         }
         old_first += old_count;
     }
@@ -978,13 +992,24 @@ fn check_in_place(
         && shift.move_in_place(&mut tail)
         && scene.doors.iter_mut().all(|d| shift.move_in_place(d)))
     .then_some(tail);
-    Some((scene, head, diagnostics, tail))
+    Some((scene, head, diagnostics, tail, kept_checks))
 }
 
-/// What [`check_in_place`] gives: the scene, the head's and each room's diagnostics, and the
-/// doors' diagnostics when the doors were kept (`None`: they are to be checked again).
-type CheckedInPlace =
-    (Scene, Vec<Diagnostic>, Vec<crate::check::RoomDiagnostics>, Option<Vec<Diagnostic>>);
+/// What [`check_in_place`] gives: the scene, the head's and each room's diagnostics, the
+/// doors' diagnostics when the doors were kept (`None`: they are to be checked again), and for
+/// each room whether its check was kept.
+type CheckedInPlace = (
+    Scene,
+    Vec<Diagnostic>,
+    Vec<crate::check::RoomDiagnostics>,
+    Option<Vec<Diagnostic>>,
+    Vec<bool>,
+);
+
+/// The most asset rankings the open of a document keeps that no room holds (about 12 KB
+/// each): a scene that repeats its descriptions asks fewer questions than that, and one whose
+/// every object group has a description of its own is held to about this many.
+const MAX_RANKINGS: usize = 2048;
 
 /// Resolves the scene's assets room by room, reusing each room's last resolution when its
 /// input, moved by the edit, is the same and the rooms before it use the assets it asked about
@@ -995,11 +1020,22 @@ fn resolve_rooms(
     catalog: &Catalog,
     memo: &mut Memo,
 ) -> crate::diag::Outcome<Resolved> {
-    let (shift, old, last_resolved) = match memo.resolve.take() {
+    let (shift, old, last_resolved, last_tree) = match memo.resolve.take() {
         Some(last) if last.seed == scene.seed => {
-            (Some(Shift::between(&last.made_for, text)), last.rooms, last.resolved)
+            (Some(Shift::between(&last.made_for, text)), last.rooms, last.resolved, last.tree)
         }
-        _ => (None, Vec::new(), None),
+        _ => (None, Vec::new(), None, None),
+    };
+    // The rooms whose check the last check kept, when it was made from the tree this
+    // resolution's memo was made for: their input is the one before, moved, and is not
+    // compared again.
+    let kept_checks: &[bool] = match &memo.kept_checks {
+        Some((from, to, kept))
+            if last_tree == Some(*from) && memo.cache.parse.tree_number() == Some(*to) =>
+        {
+            kept
+        }
+        _ => &[],
     };
     let same_rooms = old.len() == scene.rooms.len();
     // The runs kept hold no resolutions of their own (they are in the last result, moved out
@@ -1034,18 +1070,21 @@ fn resolve_rooms(
         // away).
         let reusable = match (&mut run, shift) {
             (Some(run), Some(shift)) => {
+                let check_kept = place == Some(k) && kept_checks.get(k) == Some(&true);
                 (in_step || {
                     used_up_to(&mut resolver, &runs, &mut counted);
                     resolver.reads_hold(&run.output)
                 }) && shift.move_in_place(&mut run.input)
-                    && run.input.is_of(scene, room)
+                    && (check_kept || run.input.is_of(scene, room))
                     && shift.move_in_place(&mut run.output.diagnostics)
             }
             _ => false,
         };
         let run = match run {
-            Some(run) if reusable => {
+            Some(mut run) if reusable => {
                 memo.counts.rooms_reused += 1;
+                // A room not being edited holds no rankings (see below).
+                run.output.release_rankings();
                 debug_assert!(
                     run.input == RoomInput::of(scene, room),
                     "an input compared in place"
@@ -1082,7 +1121,16 @@ fn resolve_rooms(
                         resolver.room_again(scene, room, ok.get().then_some(&mut last.output))
                     }
                     (Some(_), None) => resolver.room_again(scene, room, None),
-                    (None, _) => resolver.room(scene, room),
+                    (None, _) => {
+                        // The open: the rooms share rankings while they are resolved, and
+                        // then hold none, so that the cache keeps only the rankings of the
+                        // rooms being edited (one ranking per object group with a description
+                        // of its own was most of the memory of a large scene).
+                        let mut output = resolver.room(scene, room);
+                        output.release_rankings();
+                        resolver.bound_rankings(MAX_RANKINGS);
+                        output
+                    }
                 };
                 if let Some(run) = &run {
                     gone.push(run.ids.clone());
@@ -1107,6 +1155,7 @@ fn resolve_rooms(
     };
     memo.resolve = Some(ResolveMemo {
         made_for: std::sync::Arc::clone(text),
+        tree: memo.cache.parse.tree_number(),
         seed: scene.seed,
         rooms: runs,
         resolved: None,

@@ -530,8 +530,9 @@ impl Server {
             let Some(analysis) = doc.analysis.as_ref() else { continue };
             // An editor shows a bounded list, as `holoc check` prints one, closed by a
             // diagnostic that counts the rest.
-            let diagnostics = features::capped(
-                features::diagnostics(analysis, doc.solved.as_ref()),
+            let diagnostics = features::diagnostics(
+                analysis,
+                doc.solved.as_ref(),
                 crate::diag::MAX_SHOWN_PER_FILE,
             );
             // The version published never goes back, whatever the client sent.

@@ -503,6 +503,14 @@ struct GroupRun {
 }
 
 impl RoomResolution {
+    /// Lets go of the rankings the room asked for, so that the [`RankCache`] no longer keeps
+    /// them for it (an editor keeps them only for the rooms being edited: with a description of
+    /// its own per object group, every room's rankings held were most of its memory). The
+    /// resolution itself does not change.
+    pub fn release_rankings(&mut self) {
+        self.ranks = Vec::new();
+    }
+
     /// Calls `f` on every span the room's resolution holds (its diagnostics' and those its
     /// object groups' choices are kept by), so that an editor can move them with the text.
     /// (`diagnostic` is called on each diagnostic kept, to move its spans.)
@@ -602,6 +610,18 @@ impl<'a> Resolver<'a> {
     /// Counts the assets of `room` as used by the rooms before the next one.
     pub fn used_before(&mut self, room: &RoomResolution) {
         self.state.used.extend(room.writes.iter().cloned());
+    }
+
+    /// Forgets the rankings computed so far that no room's resolution holds, once there are
+    /// more than `max` of them: the rankings a scene's rooms share while they are resolved stay
+    /// (a scene that repeats its descriptions asks fewer questions than that), and a scene
+    /// whose every object group has a description of its own keeps at most about `max`
+    /// rankings at a time instead of one per group. Choices do not change: a ranking forgotten
+    /// is worked out again when it is asked again.
+    pub fn bound_rankings(&mut self, max: usize) {
+        if self.state.cache.len() > max {
+            self.state.cache.retain(|_, list| std::rc::Rc::strong_count(list) > 1);
+        }
     }
 
     /// How many object groups' choices [`Resolver::room_again`] took again so far.
