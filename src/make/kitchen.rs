@@ -245,6 +245,33 @@ fn range(ctx: &mut Ctx<'_>) -> Build {
     b
 }
 
+/// A tall cabinet standing on the floor (a kitchen high cabinet, a pantry, a storage
+/// cupboard): the wall cabinet's carcass, shelf, doors and handles at full height. A dresser
+/// is no kitchen high cabinet.
+pub const TALL_CABINET: Kind = Kind {
+    name: "tall_cabinet",
+    family: "kitchen",
+    phrases: &[
+        "tall cabinet",
+        "high cabinet",
+        "kitchen high cabinet",
+        "pantry",
+        "pantry cabinet",
+        "storage cabinet",
+        "kitchen cabinet",
+        "cupboard",
+        "linen cupboard",
+        "broom cupboard",
+        "utility cabinet",
+    ],
+    places: FLOOR,
+    typical_m: [0.8, 2.0, 0.6],
+    object_type: "Cabinet",
+    thor: Thor::StaticReceptacle,
+    mass_kg: 60.0,
+    generator: super::wall::wall_cabinet,
+};
+
 /// A kitchen island: a cabinet body with doors, a stone top with an overhang, a sink and a
 /// faucet.
 pub const KITCHEN_ISLAND: Kind = Kind {

@@ -175,6 +175,7 @@ pub const KINDS: &[Kind] = &[
     kitchen::COASTERS,
     kitchen::RANGE,
     kitchen::KITCHEN_ISLAND,
+    kitchen::TALL_CABINET,
     desk::PHOTO_FRAME,
     desk::PEN_HOLDER,
 ];
@@ -266,7 +267,6 @@ const BUILTIN_TYPES: &[(&str, &[&str])] = &[
     ("pet_bowl", &["Bowl"]),
     ("kitchen_island", &["CounterTop"]),
     ("wall_shelf", &["ShelvingUnit"]),
-    ("blinds", &["Blinds"]),
     ("curtains", &["ShowerCurtain"]),
     ("picture_frame", &["Painting"]),
     ("towel_hooks", &["TowelHolder", "HandTowelHolder"]),

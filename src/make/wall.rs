@@ -89,7 +89,7 @@ pub const WALL_CABINET: Kind = Kind {
     generator: wall_cabinet,
 };
 
-fn wall_cabinet(ctx: &mut Ctx<'_>) -> Build {
+pub(super) fn wall_cabinet(ctx: &mut Ctx<'_>) -> Build {
     let (w, h, d) = ctx.whd();
     let body = ctx.main(Material::Painted);
     let metal = ctx.fixed(Material::Metal, [0.7, 0.71, 0.72]);
