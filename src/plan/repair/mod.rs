@@ -380,7 +380,7 @@ fn work_bound_reached(scene: &Scene, work: &Work) -> Diagnostic {
         "what the repair found so far is kept when it is better than the plan as written; \
          redraw the rooms the plan stage still reports, with fewer corners",
     )
-    .with_note("the bound keeps every repair to about a second, whatever the plan");
+    .with_note("the bound keeps every repair under about a second, whatever the plan");
     if let Some(room) = scene.rooms.first() {
         d = d.with_primary(room.name_span, "the plan starts here");
     }
