@@ -1759,13 +1759,17 @@ fn keep_acyclic(
                 ),
             );
         }
-        d.push(
-            diag.with_help(format!(
+        let help = if path.len() == 1 {
+            format!(
                 "objects are placed one after another; to keep it, remove the relation of \
                  `{target}` that names `{me}`"
-            ))
-            .with_note("kept as a `// raw` comment"),
-        );
+            )
+        } else {
+            "objects are placed one after another; to keep it, remove one of the relations \
+             labelled"
+                .to_string()
+        };
+        d.push(diag.with_help(help).with_note("kept as a `// raw` comment"));
     }
     let dropped: Vec<usize> = dropped.into_iter().map(|(k, _)| k).collect();
     for (k, p) in pending.into_iter().enumerate() {

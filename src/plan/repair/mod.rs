@@ -116,25 +116,46 @@ const GAP_GRID_MARGIN_M: f64 = 1e-3;
 /// the plan stage judges costs its number of corners (a judged plan `JUDGE_COST` times
 /// over). A repair that reaches it stops where it is (W0309): the work of a repair is bounded
 /// whatever the plan, about a second on the slowest plans measured.
-pub const MAX_REPAIR_WORK: u64 = 4_000_000;
+pub const MAX_REPAIR_WORK: u64 = 2_500_000;
 /// How many times its corners a plan the plan stage judges counts in [`MAX_REPAIR_WORK`].
 const JUDGE_COST: u64 = 20;
 /// The most candidate moves of one room along one axis (the nearest first): rooms with many
 /// walls (a staircase) would otherwise give candidates in the square of their walls.
 const MAX_AXIS_CANDIDATES: usize = 24;
 
+/// A room with more corners than this (not a rectangle, an L or a T) gets at most
+/// [`MANY_CORNERS_OPTIONS`] options per axis in a repair step.
+const MANY_CORNERS: usize = 16;
+/// See [`MANY_CORNERS`].
+const MANY_CORNERS_OPTIONS: usize = 6;
+/// The share of [`MAX_REPAIR_WORK`] that moving one room back whole or redrawing it onto the
+/// lines may spend, so that the repair steps after them keep the rest.
+const ONE_ROOM_SHARE: u64 = 2;
+
 /// The work a repair has done, against [`MAX_REPAIR_WORK`].
 #[derive(Debug)]
 struct Work {
     spent: u64,
     limit: u64,
+    /// The bound of the current phase (at most `limit`).
+    phase: u64,
 }
 
 impl Work {
-    /// Counts `units` of work; whether the repair may go on.
+    /// Counts `units` of work; whether the repair (and its phase) may go on.
     fn spend(&mut self, units: usize) -> bool {
         self.spent = self.spent.saturating_add(units as u64);
-        self.spent <= self.limit
+        self.spent <= self.limit.min(self.phase)
+    }
+
+    /// Starts a phase that may spend at most `share` more.
+    fn start_phase(&mut self, share: u64) {
+        self.phase = self.spent.saturating_add(share);
+    }
+
+    /// Ends the current phase: the whole bound applies again.
+    fn end_phase(&mut self) {
+        self.phase = u64::MAX;
     }
 
     /// Counts a plan judged by the plan stage; whether the repair may go on.
@@ -186,7 +207,7 @@ pub fn repair(scene: &Scene, catalog: &StructureCatalog) -> Outcome<Repair> {
     if before.is_clean() {
         return Outcome::new(unchanged, Vec::new());
     }
-    let mut work = Work { spent: 0, limit: MAX_REPAIR_WORK };
+    let mut work = Work { spent: 0, limit: MAX_REPAIR_WORK, phase: u64::MAX };
     let mut state = State {
         rooms: original.clone(),
         // For each repaired corner, the index of the corner as written it comes from.
@@ -227,9 +248,12 @@ pub fn repair(scene: &Scene, catalog: &StructureCatalog) -> Outcome<Repair> {
         // A room none of whose walls is on the plan's lines may be drawn too large or too
         // small rather than shifted: of the two, the plan with fewer walls off the lines wins
         // (the move back whole on a tie).
+        work.start_phase(MAX_REPAIR_WORK / ONE_ROOM_SHARE / 2);
         let back =
             move_one_room_back(scene, &state.rooms, catalog, &mut work).map(|rooms| (rooms, None));
+        work.start_phase(MAX_REPAIR_WORK / ONE_ROOM_SHARE / 2);
         let fit = fit_one_room_to_lines(scene, &state.rooms, catalog, &mut work);
+        work.end_phase();
         let chosen = match (back, fit) {
             (Some(back), Some(fit)) => {
                 Some(if walls_off_lines(&fit.0) < walls_off_lines(&back.0) { fit } else { back })
@@ -356,7 +380,7 @@ fn work_bound_reached(scene: &Scene, work: &Work) -> Diagnostic {
         "what the repair found so far is kept when it is better than the plan as written; \
          redraw the rooms the plan stage still reports, with fewer corners",
     )
-    .with_note("the bound keeps every repair to about a second, whatever the plan");
+    .with_note("the bound keeps every repair under about a second, whatever the plan");
     if let Some(room) = scene.rooms.first() {
         d = d.with_primary(room.name_span, "the plan starts here");
     }
@@ -1260,6 +1284,13 @@ fn single_room_candidates(
             if d.abs() > SAME_M {
                 options.push(AxisMove::Shift(d));
             }
+        }
+    }
+    // A room of many corners keeps the first options of each axis (keep, then its nearest
+    // snaps): each of its candidates is weighed against its neighbours corner by corner.
+    if corners.len() > MANY_CORNERS {
+        for options in &mut per_axis {
+            options.truncate(MANY_CORNERS_OPTIONS);
         }
     }
     let mut out = Vec::new();
