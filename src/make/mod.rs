@@ -10,8 +10,8 @@
 //! Objaverse assets, and [`runtime`] writes the folder AI2-THOR's run-time asset hook loads
 //! (`<uid>/<uid>.json`, its textures and `thor_metadata.json`).
 //!
-//! Each family of generators is a file: [`pets`], [`wall`], [`windows`], [`bath`],
-//! [`textiles`], [`tech`], [`kitchen`], [`desk`]. The table of kinds ([`KINDS`]) says for each
+//! Each family of generators is a file: `pets`, `wall`, `windows`, `bath`, `textiles`,
+//! `tech`, `kitchen`, `desk`. The table of kinds ([`KINDS`]) says for each
 //! the words that name it, where it may stand, its typical size, its AI2-THOR object type and
 //! properties, and its generator.
 //!
@@ -272,7 +272,9 @@ const BUILTIN_TYPES: &[(&str, &[&str])] = &[
     ("towel_hooks", &["TowelHolder", "HandTowelHolder"]),
 ];
 
-/// Whether a built-in asset of `object_type` is this kind of thing ([`BUILTIN_TYPES`]).
+/// Whether a built-in asset of `object_type` is this kind of thing (the table `BUILTIN_TYPES`:
+/// a dog bed for a cat bed, a counter top for a kitchen island, a painting for a picture frame,
+/// a towel holder for towel hooks, a bowl for a pet bowl, a shelving unit for a wall shelf).
 pub fn builtin_is(kind: &Kind, object_type: &str) -> bool {
     BUILTIN_TYPES
         .iter()
