@@ -296,6 +296,25 @@ mod tests {
     }
 
     #[test]
+    fn the_book_lists_every_modifier() {
+        let page = include_str!("../../book/src/design/catalog-matching.md");
+        for (m, modifier) in MODIFIERS {
+            let blue = Color {
+                phrase: String::new(),
+                words: Vec::new(),
+                rgb: modifier.apply([0.0, 0.0, 1.0]),
+            };
+            let row = format!(
+                "| {m} | {} | {} | {} |",
+                modifier.lightness.describe(),
+                modifier.saturation.describe(),
+                blue.hex()
+            );
+            assert!(page.contains(&row), "the book lacks the modifier row `{row}`");
+        }
+    }
+
+    #[test]
     fn hsl_round_trips_every_named_colour() {
         for (name, rgb) in table::all() {
             assert!(close(from_hsl(to_hsl(*rgb)), *rgb), "{name}");
