@@ -873,7 +873,7 @@ mod tests {
             assert_eq!(tint, None, "{design}");
         }
         // A colour the design names still chooses a material of that colour.
-        assert_eq!(chosen("red brick", Surface::Wall).0.to_lowercase().contains("red"), true);
+        assert!(chosen("red brick", Surface::Wall).0.to_lowercase().contains("red"));
         let (m, tint) = chosen("moody blue drywall, textured", Surface::Wall);
         assert!(m.contains("White"), "{m}");
         assert_eq!(tint.as_deref(), Some("moody blue #333399"));
