@@ -46,38 +46,130 @@ impl Color {
 }
 
 /// How a modifier in front of a colour name changes it, when the whole phrase is no name of
-/// the table: `light` and `pale` mix it with white (half, and two thirds), `dark` and `deep`
-/// darken it (to 60 % and 50 %), `soft`, `muted` and `dusty` mix it a third with mid grey,
-/// `pastel` mixes it 60 % with white; `bright` and `vivid` keep it.
+/// the table. Each modifier acts on the colour's lightness and saturation (HSL, 0…1; the hue
+/// stays): `light` and `pale` lighten it towards white, `dark` and `deep` darken it, `soft`,
+/// `muted`, `dusty` and `dull` take saturation away, `moody` makes it dark and muted
+/// (lightness at most 0.4, saturation at most 0.5: a moody blue is a dark greyish blue),
+/// `rich` makes it deep and saturated, `bright` and `vivid` saturate it. The book's table
+/// (`design/catalog-matching.md`) is this one.
 pub const MODIFIERS: &[(&str, Modifier)] = &[
-    ("light", Modifier::Mix(1.0, 0.5)),
-    ("pale", Modifier::Mix(1.0, 0.65)),
-    ("pastel", Modifier::Mix(1.0, 0.6)),
-    ("dark", Modifier::Scale(0.6)),
-    ("deep", Modifier::Scale(0.5)),
-    ("soft", Modifier::Mix(0.5, 0.33)),
-    ("muted", Modifier::Mix(0.5, 0.33)),
-    ("dusty", Modifier::Mix(0.5, 0.33)),
-    ("bright", Modifier::Scale(1.0)),
-    ("vivid", Modifier::Scale(1.0)),
+    ("light", Modifier { lightness: Shift::Toward(1.0, 0.5), saturation: Shift::Keep }),
+    ("pale", Modifier { lightness: Shift::Toward(1.0, 0.65), saturation: Shift::AtMost(0.6) }),
+    ("pastel", Modifier { lightness: Shift::AtLeast(0.8), saturation: Shift::AtMost(0.7) }),
+    ("dark", Modifier { lightness: Shift::Times(0.6), saturation: Shift::Keep }),
+    ("deep", Modifier { lightness: Shift::Times(0.5), saturation: Shift::Keep }),
+    ("soft", Modifier { lightness: Shift::Toward(1.0, 0.2), saturation: Shift::Times(0.6) }),
+    ("muted", Modifier { lightness: Shift::Keep, saturation: Shift::AtMost(0.4) }),
+    ("dusty", Modifier { lightness: Shift::Toward(0.6, 0.3), saturation: Shift::AtMost(0.35) }),
+    ("dull", Modifier { lightness: Shift::Keep, saturation: Shift::AtMost(0.25) }),
+    ("moody", Modifier { lightness: Shift::AtMost(0.4), saturation: Shift::AtMost(0.5) }),
+    ("rich", Modifier { lightness: Shift::AtMost(0.4), saturation: Shift::AtLeast(0.7) }),
+    ("bright", Modifier { lightness: Shift::Keep, saturation: Shift::AtLeast(0.8) }),
+    ("vivid", Modifier { lightness: Shift::Keep, saturation: Shift::AtLeast(0.9) }),
 ];
 
-/// One modifier's change.
+/// One modifier's change of a colour's lightness and saturation (HSL).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Modifier {
-    /// Mix with the grey level `.0` (1 = white) by the share `.1`.
-    Mix(f64, f64),
-    /// Multiply every channel.
-    Scale(f64),
+pub struct Modifier {
+    /// The change of the lightness (0 black, 0.5 the pure hue, 1 white).
+    pub lightness: Shift,
+    /// The change of the saturation (0 grey, 1 the pure hue).
+    pub saturation: Shift,
+}
+
+/// A change of one HSL component (0…1).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Shift {
+    /// Left as it is.
+    Keep,
+    /// Multiplied.
+    Times(f64),
+    /// Moved towards the level `.0` by the share `.1`.
+    Toward(f64, f64),
+    /// Lowered to at most the value.
+    AtMost(f64),
+    /// Raised to at least the value.
+    AtLeast(f64),
+}
+
+impl Shift {
+    fn apply(self, x: f64) -> f64 {
+        let y = match self {
+            Shift::Keep => x,
+            Shift::Times(k) => x * k,
+            Shift::Toward(level, share) => x + (level - x) * share,
+            Shift::AtMost(cap) => x.min(cap),
+            Shift::AtLeast(floor) => x.max(floor),
+        };
+        y.clamp(0.0, 1.0)
+    }
+
+    /// The change as the book writes it (`× 0.6`, `≤ 0.4`, `→ 1 by 0.5`).
+    pub fn describe(self) -> String {
+        match self {
+            Shift::Keep => "kept".to_owned(),
+            Shift::Times(k) => format!("× {k}"),
+            Shift::Toward(level, share) => format!("{share} of the way to {level}"),
+            Shift::AtMost(cap) => format!("≤ {cap}"),
+            Shift::AtLeast(floor) => format!("≥ {floor}"),
+        }
+    }
 }
 
 impl Modifier {
     fn apply(self, rgb: [f64; 3]) -> [f64; 3] {
-        match self {
-            Modifier::Mix(level, share) => rgb.map(|c| c + (level - c) * share),
-            Modifier::Scale(k) => rgb.map(|c| c * k),
-        }
+        let [h, s, l] = to_hsl(rgb);
+        // A grey has no hue to saturate: `bright grey` stays a grey.
+        let s = if s <= f64::EPSILON { s } else { self.saturation.apply(s) };
+        from_hsl([h, s, self.lightness.apply(l)])
     }
+}
+
+/// Hue (0…1 of the circle), saturation and lightness of a colour (the HSL of CSS Color 4).
+pub fn to_hsl([r, g, b]: [f64; 3]) -> [f64; 3] {
+    let max = r.max(g).max(b);
+    let min = r.min(g).min(b);
+    let l = f64::midpoint(max, min);
+    let d = max - min;
+    if d <= f64::EPSILON {
+        return [0.0, 0.0, l];
+    }
+    let s = d / (1.0 - (2.0 * l - 1.0).abs());
+    let h = if max == r {
+        ((g - b) / d).rem_euclid(6.0)
+    } else if max == g {
+        (b - r) / d + 2.0
+    } else {
+        (r - g) / d + 4.0
+    };
+    [h / 6.0, s.clamp(0.0, 1.0), l]
+}
+
+/// The colour of a hue, saturation and lightness ([`to_hsl`] undone).
+pub fn from_hsl([h, s, l]: [f64; 3]) -> [f64; 3] {
+    let c = (1.0 - (2.0 * l - 1.0).abs()) * s;
+    let h6 = h.rem_euclid(1.0) * 6.0;
+    let x = c * (1.0 - (h6.rem_euclid(2.0) - 1.0).abs());
+    let m = l - c / 2.0;
+    let (r, g, b) = match h6 as u8 {
+        0 => (c, x, 0.0),
+        1 => (x, c, 0.0),
+        2 => (0.0, c, x),
+        3 => (0.0, x, c),
+        4 => (x, 0.0, c),
+        _ => (c, 0.0, x),
+    };
+    [r + m, g + m, b + m].map(|v| v.clamp(0.0, 1.0))
+}
+
+/// Whether a word names a colour with a hue (saturation at least 0.3, lightness between 0.15
+/// and 0.9): `pink`, `red`, `blue`; not `grey`, `white`, `black` or `beige`, which a stone or
+/// a concrete may be without a word of it.
+pub fn is_hue_word(word: &str) -> bool {
+    named(word).is_some_and(|rgb| {
+        let [_, s, l] = to_hsl(rgb);
+        s >= 0.3 && (0.15..=0.9).contains(&l)
+    })
 }
 
 /// The number of names (for the book and the tests).
@@ -172,6 +264,71 @@ mod tests {
         let c = find("pale sage walls").expect("a colour");
         assert_eq!(c.phrase, "pale sage");
         assert!(len() > 200);
+    }
+
+    #[test]
+    fn modifiers_act_on_lightness_and_saturation() {
+        // The case: a moody blue is dark and muted, its hue kept.
+        let c = find("moody blue drywall, textured").expect("a colour");
+        assert_eq!(c.phrase, "moody blue");
+        let [h, s, l] = to_hsl(c.rgb);
+        assert!(l <= 0.4 + 1e-9 && s <= 0.5 + 1e-9, "{}", c.hex());
+        assert!((h - 2.0 / 3.0).abs() < 1e-9, "{}", c.hex());
+        assert_eq!(c.hex(), "#333399");
+        // Each modifier moves its component the way the table says.
+        let blue = [0.0, 0.0, 1.0];
+        let hsl = |m: &str| {
+            let (_, modifier) = MODIFIERS.iter().find(|(w, _)| *w == m).expect("a modifier");
+            to_hsl(modifier.apply(blue))
+        };
+        assert!(hsl("dark")[2] < 0.5 && hsl("deep")[2] < hsl("dark")[2]);
+        assert!(hsl("light")[2] > 0.5 && hsl("pale")[2] > hsl("light")[2]);
+        for m in ["muted", "dusty", "dull", "soft", "pastel", "pale"] {
+            assert!(hsl(m)[1] < 0.75, "{m}");
+        }
+        assert!(hsl("rich")[1] >= 0.7 && hsl("rich")[2] <= 0.4 + 1e-9);
+        assert!(close(from_hsl(hsl("bright")), blue));
+        // A grey stays grey: no modifier invents a hue.
+        for (m, modifier) in MODIFIERS {
+            let [r, g, b] = modifier.apply([0.5, 0.5, 0.5]);
+            assert!((r - g).abs() < 1e-9 && (g - b).abs() < 1e-9, "{m}");
+        }
+    }
+
+    #[test]
+    fn the_book_lists_every_modifier() {
+        let page = include_str!("../../book/src/design/catalog-matching.md");
+        for (m, modifier) in MODIFIERS {
+            let blue = Color {
+                phrase: String::new(),
+                words: Vec::new(),
+                rgb: modifier.apply([0.0, 0.0, 1.0]),
+            };
+            let row = format!(
+                "| {m} | {} | {} | {} |",
+                modifier.lightness.describe(),
+                modifier.saturation.describe(),
+                blue.hex()
+            );
+            assert!(page.contains(&row), "the book lacks the modifier row `{row}`");
+        }
+    }
+
+    #[test]
+    fn hsl_round_trips_every_named_colour() {
+        for (name, rgb) in table::all() {
+            assert!(close(from_hsl(to_hsl(*rgb)), *rgb), "{name}");
+        }
+    }
+
+    #[test]
+    fn hue_words() {
+        for w in ["pink", "red", "blue", "green", "yellow", "orange", "purple"] {
+            assert!(is_hue_word(w), "{w}");
+        }
+        for w in ["grey", "white", "black", "beige", "concrete", "smooth", "ivory"] {
+            assert!(!is_hue_word(w), "{w}");
+        }
     }
 
     #[test]

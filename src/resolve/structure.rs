@@ -504,6 +504,7 @@ impl StructureCatalog {
     /// [`StructureCatalog::rank_materials`] worked out, as indices into `materials`.
     fn work_out_ranking(&self, design: &str, surface: Surface) -> Vec<(usize, f64)> {
         let query = text_words(design);
+        let all_words = query.clone();
         let lower = design.to_lowercase();
         // The material is named before the first comma (`walnut parquet, satin finish`);
         // what follows is its finish or colour, so its kind words only count alone.
@@ -559,6 +560,11 @@ impl StructureCatalog {
                     (Some(a), Some(b)) if a != b => -1.0,
                     _ => 0.0,
                 };
+                // A material whose name carries a colour (`PinkConcrete_Smooth`) the design
+                // does not ask for is a wrong colour: `polished concrete` is a grey concrete.
+                let other_hue =
+                    m.words().any(|w| colors::is_hue_word(w) && !all_words.iter().any(|q| q == w));
+                let hue = if other_hue { -1.0 } else { 0.0 };
                 let words = overlap_score(&query, m.words()) + shade;
                 // A wall of paint is a near-white paint (kind paint or none), `PureWhite` most:
                 // then the colour asked is always written. Elsewhere a near-white material of
@@ -573,6 +579,7 @@ impl StructureCatalog {
                 let score = words
                     + kind
                     + tint
+                    + hue
                     + if suits && words == 0.0 { 0.25 } else { 0.0 }
                     + 0.1 * sim;
                 (f.index, score)
@@ -855,6 +862,21 @@ mod tests {
         let (m, tint) = chosen("navy blue carpet", Surface::Floor);
         assert!(m.starts_with("CarpetWhite"), "{m}");
         assert_eq!(tint.as_deref(), Some("navy blue #000080"));
+    }
+
+    #[test]
+    fn no_colour_asked_is_no_coloured_material() {
+        // The case: a polished concrete is a grey concrete, not `PinkConcrete_Smooth`.
+        for design in ["polished concrete, matte", "polished concrete", "concrete floor"] {
+            let (m, tint) = chosen(design, Surface::Floor);
+            assert!(m.starts_with("Concrete"), "{design}: {m}");
+            assert_eq!(tint, None, "{design}");
+        }
+        // A colour the design names still chooses a material of that colour.
+        assert!(chosen("red brick", Surface::Wall).0.to_lowercase().contains("red"));
+        let (m, tint) = chosen("moody blue drywall, textured", Surface::Wall);
+        assert!(m.contains("White"), "{m}");
+        assert_eq!(tint.as_deref(), Some("moody blue #333399"));
     }
 
     #[test]
