@@ -5,7 +5,8 @@
 //! Floor, wall and ceiling objects are kinematic (they stay where the layout put them, as
 //! ProcTHOR's furniture does); items on a floor receptacle are not (ProcTHOR leaves them to
 //! physics, so an agent can pick them up); items on a wall object (a towel on its holder, a
-//! plant on a wall shelf) are, so that they stay where they hang.
+//! plant on a wall shelf) are, so that they stay where they hang, and so are items that break
+//! (objathor's `CanBreak`), as the original keeps them.
 
 use super::LoweredObject;
 use crate::check::scene::Scene;
@@ -117,8 +118,10 @@ pub fn objects(
                 rotation_deg: [0.0, placed.rotation_deg, 0.0],
                 // As ProcTHOR: what stands on a floor receptacle is left to physics; what hangs
                 // on or stands on a wall object stays put (physics would drop a towel off its
-                // bar).
-                kinematic: matches!(placed.on, Some(crate::solve::Holder::Wall(_))),
+                // bar); so does one that breaks (an objathor asset with `CanBreak`, as the
+                // original keeps it).
+                kinematic: matches!(placed.on, Some(crate::solve::Holder::Wall(_)))
+                    || choice.breakable,
                 object_name: name,
                 parent: Some(format!("{receptacle_name} ({label})")),
             });

@@ -247,11 +247,12 @@ pub struct Candidate {
 
 impl Candidate {
     /// Whether the candidate is good enough to resolve an object: its relevance, or for a
-    /// candidate scored by features, its CLIP part against the original's threshold.
+    /// candidate scored by features in CLIP's text space, its CLIP part against the original's
+    /// threshold (an image-to-image CLIP part means nothing against it: then the relevance).
     pub fn is_good_enough(&self) -> bool {
         match &self.features {
-            Some(f) => f.clip > f.threshold,
-            None => self.relevance >= RELEVANCE_THRESHOLD,
+            Some(f) if f.text_space => f.clip > f.threshold,
+            _ => self.relevance >= RELEVANCE_THRESHOLD,
         }
     }
 }
@@ -428,6 +429,43 @@ fn rank_with(
             }
         })
         .collect()
+}
+
+/// The candidate of document `doc` of `index` (the catalog's asset `offset + doc`) that shares
+/// no word with the query: no relevance, its size term only; `None` when the query's placement
+/// rules the asset out. For assets found by their features rather than their words.
+pub(crate) fn wordless_candidate(
+    catalog: &Catalog,
+    index: &TextIndex,
+    offset: usize,
+    doc: usize,
+    query: &Query,
+    seed: u64,
+) -> Option<Candidate> {
+    if let Some(k) = query.kind {
+        let bit = 1u8 << PlacementKind::ALL.iter().position(|x| *x == k)?;
+        if index.allowed.get(doc)? & bit == 0 {
+            return None;
+        }
+    }
+    let asset = catalog.assets().get(offset + doc)?;
+    let size_diff_m = query.size_m.map(sorted3).map(|want| {
+        let b = sorted3(asset.bbox_m);
+        ((want[0] - b[0]).abs() + (want[1] - b[1]).abs() + (want[2] - b[2]).abs()) / 3.0
+    });
+    Some(Candidate {
+        asset_id: asset.id.to_string(),
+        object_type: asset.object_type.to_string(),
+        bbox_m: asset.bbox_m,
+        head_match: false,
+        text: 0.0,
+        relevance: 0.0,
+        size_diff_m,
+        score: -SIZE_WEIGHT * size_diff_m.unwrap_or(0.0),
+        features: None,
+        idx: offset + doc,
+        tie: splitmix64(seed ^ *index.id_hash.get(doc)?),
+    })
 }
 
 /// Whether the query and an asset with the same head name different kinds of it: both say

@@ -87,7 +87,11 @@ fn resolution(res: &Resolution, catalog: &Catalog, mut head: Map<String, Value>)
                     if let (Some(f), Some(map)) = (&p.features, parts.as_object_mut()) {
                         map.insert("clip".into(), r4(f.clip));
                         map.insert("sbert".into(), f.sbert.map_or(Value::Null, r4));
-                        map.insert("clipThreshold".into(), r4(f.threshold));
+                        // An image-to-image CLIP part is not held against a threshold.
+                        map.insert(
+                            "clipThreshold".into(),
+                            if f.text_space { r4(f.threshold) } else { Value::Null },
+                        );
                         map.insert("lexicalScore".into(), r4(f.lexical_score));
                     }
                     parts

@@ -106,6 +106,10 @@ pub struct Choice {
     /// When no catalog has the thing and holoc made it (`crate::make`): the made asset, whose
     /// uid is `asset_id`.
     pub made: Option<std::sync::Arc<crate::make::MadeAsset>>,
+    /// Whether the asset breaks (an objathor asset whose secondary properties hold
+    /// `CanBreak`): the original keeps such a small object kinematic, so physics does not
+    /// break it when the house loads.
+    pub breakable: bool,
 }
 
 impl Choice {
@@ -125,6 +129,7 @@ impl Choice {
             placed_as: None,
             size_ratio: None,
             made: None,
+            breakable: false,
         }
     }
 
@@ -144,6 +149,7 @@ impl Choice {
             placed_as: None,
             size_ratio: None,
             made: Some(made),
+            breakable: false,
         }
     }
 }
@@ -855,6 +861,22 @@ fn resolve_room(
     done.reads = reads;
     done.writes = std::mem::take(&mut state.writes);
     done.ranks = std::mem::take(&mut state.asked);
+    if let Some(obj) = state.catalog.objathor() {
+        let breaks = |res: &mut Resolution| {
+            if let Resolution::Chosen(c) = res {
+                c.breakable = state
+                    .catalog
+                    .index_of(&c.asset_id)
+                    .and_then(|i| obj.entry(i))
+                    .is_some_and(|e| e.can_break);
+            }
+        };
+        done.objects.iter_mut().for_each(breaks);
+        done.small.iter_mut().flat_map(|(_, list)| list.iter_mut()).for_each(breaks);
+        if let Some(c) = done.ceiling.as_mut() {
+            breaks(c);
+        }
+    }
     done
 }
 

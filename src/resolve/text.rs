@@ -124,6 +124,11 @@ const SYNONYMS: &[(&str, &str)] = &[
     ("vacuum cleaner cleaner", "vacuum cleaner"),
     ("pet bed", "dog bed"),
     ("cat bed", "dog bed"),
+    // One thing under WordNet's `cat_tree.n.01` and the names shops give it.
+    ("cat tower", "cat tree"),
+    ("cat condo", "cat tree"),
+    ("kitty tower", "cat tree"),
+    ("cat climbing tree", "cat tree"),
     ("magazine", "newspaper"),
     ("gray", "grey"),
     ("chandelier", "chandelier light"),

@@ -66,6 +66,12 @@ pub struct Entry {
     pub license: Option<License>,
     /// The shape the bounding box was written in.
     pub box_shape: Option<BoxShape>,
+    /// How alike the asset is in Blender and in AI2-THOR (`blender_thor_similarity`; the
+    /// original leaves out assets below 0.6, and takes a missing one as 1.0).
+    pub blender_thor_similarity: Option<f64>,
+    /// Whether its secondary properties hold `CanBreak` (a small object that breaks is kept
+    /// kinematic, as the original does).
+    pub can_break: bool,
 }
 
 fn string(v: &Value, key: &str) -> Option<String> {
@@ -112,10 +118,12 @@ pub fn read_entry(uid: &str, entry: &Value, source: usize) -> Result<(Asset, Ent
     let description = string(ann, "description");
     let description_auto = string(ann, "description_auto");
     let words = description.clone().or_else(|| description_auto.clone()).unwrap_or_default();
-    let secondary_receptacle = meta
-        .get("secondaryProperties")
-        .and_then(Value::as_array)
-        .is_some_and(|l| l.iter().any(|p| p.as_str() == Some("Receptacle")));
+    let secondary = |name: &str| {
+        meta.get("secondaryProperties")
+            .and_then(Value::as_array)
+            .is_some_and(|l| l.iter().any(|p| p.as_str() == Some(name)))
+    };
+    let secondary_receptacle = secondary("Receptacle");
     let license = ann.get("license_info").filter(|l| l.is_object()).map(|l| License {
         license: string(l, "license"),
         uri: string(l, "uri"),
@@ -151,6 +159,10 @@ pub fn read_entry(uid: &str, entry: &Value, source: usize) -> Result<(Asset, Ent
         z_axis_scale: ann.get("z_axis_scale").and_then(Value::as_bool),
         license,
         box_shape: Some(box_shape),
+        // The original reads it from the entry's top level; some exports nest it.
+        blender_thor_similarity: number(entry, "blender_thor_similarity")
+            .or_else(|| number(ann, "blender_thor_similarity")),
+        can_break: secondary("CanBreak"),
     };
     let asset = Asset {
         id: uid.to_string().into(),

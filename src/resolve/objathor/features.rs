@@ -1,6 +1,6 @@
 //! The objathor feature files: CLIP image features (`img_features`, assets × views × 768),
 //! CLIP text features of the descriptions (`text_features`, assets × 768, later versions) and
-//! SBERT features (assets × 768), all float16, each with the `uids` that order its rows.
+//! SBERT features (assets × 768), float16 as objathor writes them (float32 read as well), each with the `uids` that order its rows.
 //!
 //! The files' bytes are kept as read and rows are decoded when a query looks at them: 50,000
 //! assets take 230 MB of image features as float16 and twice that as float32.
@@ -9,12 +9,14 @@ use std::sync::Arc;
 
 use super::pickle::{f16_to_f32, ArrayBytes, Pickle};
 
-/// A matrix of float16 rows inside a file's bytes.
+/// A matrix of float16 or float32 rows inside a file's bytes.
 #[derive(Clone)]
-pub struct F16Rows {
+pub struct FeatureRows {
     bytes: Arc<Vec<u8>>,
     start: usize,
     rows: usize,
+    /// Bytes per element: 2 (float16) or 4 (float32).
+    item: usize,
     /// Vectors per row (views of an image row; 1 for text rows).
     pub views: usize,
     /// Length of one vector.
@@ -22,9 +24,10 @@ pub struct F16Rows {
     big_endian: bool,
 }
 
-impl std::fmt::Debug for F16Rows {
+impl std::fmt::Debug for FeatureRows {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "F16Rows({} × {} × {})", self.rows, self.views, self.dim)
+        let kind = if self.item == 4 { "f4" } else { "f2" };
+        write!(f, "FeatureRows({} × {} × {} {kind})", self.rows, self.views, self.dim)
     }
 }
 
@@ -59,24 +62,38 @@ mod tests {
     fn cosines_are_those_of_the_decoded_vectors() {
         let v: Vec<f32> = (0..19).map(|i| (i as f32 - 7.0) / 8.0).collect();
         let bits: Vec<u16> = v.iter().map(|x| super::super::pickle::f32_to_f16(*x)).collect();
-        let rows = F16Rows::from_bits(&bits, 1, 1, 19);
+        let rows = FeatureRows::from_bits(&bits, 1, 1, 19);
         let mut q = vec![0f32; 19];
         q[3] = 1.0;
         let norm = v.iter().map(|x| x * x).sum::<f32>().sqrt();
         assert!((rows.cosine(&q, 0, 0) - v[3] / norm).abs() < 1e-6);
         let mut inf = bits.clone();
         inf[0] = 0x7c00;
-        assert!(F16Rows::from_bits(&inf, 1, 1, 19).cosine(&q, 0, 0).is_nan());
+        assert!(FeatureRows::from_bits(&inf, 1, 1, 19).cosine(&q, 0, 0).is_nan());
+    }
+
+    #[test]
+    fn float32_rows_give_the_cosines_of_their_values() {
+        let v: Vec<f32> = (0..19).map(|i| (i as f32 - 7.0) / 8.0 + 1e-4).collect();
+        let rows = FeatureRows::from_f32(&v, 1, 1, 19);
+        assert!(rows.is_f32());
+        let mut q = vec![0f32; 19];
+        q[3] = 1.0;
+        let norm = v.iter().map(|x| x * x).sum::<f32>().sqrt();
+        assert!((rows.cosine(&q, 0, 0) - v[3] / norm).abs() < 1e-6);
+        let mut out = vec![0f32; 19];
+        rows.decode(0, 0, &mut out);
+        assert_eq!(out, v);
     }
 }
 
-impl F16Rows {
+impl FeatureRows {
     /// The rows of an array read from a pickle whose bytes are `file`.
     pub(crate) fn new(
         file: &Arc<Vec<u8>>,
         pickle: &Pickle<'_>,
         array: super::pickle::F16Array,
-    ) -> Result<F16Rows, String> {
+    ) -> Result<FeatureRows, String> {
         let (rows, views, dim) = match array.shape[..] {
             [n, v, d] => (n, v, d),
             [n, d] => (n, 1, d),
@@ -89,7 +106,11 @@ impl F16Rows {
         // exactly the bytes present, counted without overflow (`Pickle::f16_array` checks the
         // same; this keeps the rows sound whatever array they are given).
         let present = pickle.array_bytes(&array.bytes).len();
-        let needed = super::pickle::element_bytes(&[rows, views, dim], 2);
+        let item = array.item;
+        if !matches!(item, 2 | 4) {
+            return Err(format!("its elements have {item} bytes, neither float16 nor float32"));
+        }
+        let needed = super::pickle::element_bytes(&[rows, views, dim], item);
         if needed != Some(present) {
             return Err(format!(
                 "its shape {:?} does not match the {present} bytes it holds",
@@ -103,13 +124,24 @@ impl F16Rows {
         if bytes.get(start..start + present).is_none() {
             return Err(format!("its bytes lie outside the file ({present} from byte {start})"));
         }
-        Ok(F16Rows { bytes, start, rows, views, dim, big_endian: array.big_endian })
+        Ok(FeatureRows { bytes, start, rows, item, views, dim, big_endian: array.big_endian })
     }
 
     /// Rows made from float16 bits (tests).
-    pub fn from_bits(bits: &[u16], rows: usize, views: usize, dim: usize) -> F16Rows {
+    pub fn from_bits(bits: &[u16], rows: usize, views: usize, dim: usize) -> FeatureRows {
         let bytes: Vec<u8> = bits.iter().flat_map(|b| b.to_le_bytes()).collect();
-        F16Rows { bytes: Arc::new(bytes), start: 0, rows, views, dim, big_endian: false }
+        FeatureRows { bytes: Arc::new(bytes), start: 0, rows, item: 2, views, dim, big_endian: false }
+    }
+
+    /// Rows made from float32 values (tests).
+    pub fn from_f32(values: &[f32], rows: usize, views: usize, dim: usize) -> FeatureRows {
+        let bytes: Vec<u8> = values.iter().flat_map(|b| b.to_le_bytes()).collect();
+        FeatureRows { bytes: Arc::new(bytes), start: 0, rows, item: 4, views, dim, big_endian: false }
+    }
+
+    /// Whether the rows are float32 (else float16).
+    pub fn is_f32(&self) -> bool {
+        self.item == 4
     }
 
     /// Number of rows.
@@ -123,15 +155,22 @@ impl F16Rows {
     }
 
     fn vector_bytes(&self, row: usize, view: usize) -> &[u8] {
-        let n = 2 * self.dim;
+        let n = self.item * self.dim;
         let at = self.start + (row * self.views + view) * n;
         &self.bytes[at..at + n]
     }
 
     /// Decodes one vector into `out` (of length `dim`).
     pub fn decode(&self, row: usize, view: usize, out: &mut [f32]) {
-        let t = table();
         let big = self.big_endian;
+        if self.item == 4 {
+            for (o, c) in out.iter_mut().zip(self.vector_bytes(row, view).chunks_exact(4)) {
+                let b = [c[0], c[1], c[2], c[3]];
+                *o = if big { f32::from_be_bytes(b) } else { f32::from_le_bytes(b) };
+            }
+            return;
+        }
+        let t = table();
         for (o, c) in out.iter_mut().zip(self.vector_bytes(row, view).chunks_exact(2)) {
             let b = [c[0], c[1]];
             *o = t[usize::from(if big { u16::from_be_bytes(b) } else { u16::from_le_bytes(b) })];
@@ -142,6 +181,9 @@ impl F16Rows {
     /// Eight running sums in a fixed order: the same result on every machine (the compiler
     /// may run the eight at once; it never reorders a sum).
     pub fn cosine(&self, q: &[f32], row: usize, view: usize) -> f32 {
+        if self.item == 4 {
+            return self.cosine_f32(q, row, view);
+        }
         let bytes = self.vector_bytes(row, view);
         // A query shorter than a row (never from `rank`, which sizes it by the rows) counts
         // only the elements it has.
@@ -194,6 +236,28 @@ impl F16Rows {
         }
     }
 
+    /// [`FeatureRows::cosine`] of float32 rows: the same eight lanes.
+    fn cosine_f32(&self, q: &[f32], row: usize, view: usize) -> f32 {
+        let bytes = self.vector_bytes(row, view);
+        let bytes = &bytes[..bytes.len().min(4 * q.len())];
+        let big = self.big_endian;
+        let mut dot = [0f32; 8];
+        let mut sq = [0f32; 8];
+        for (k, (c, qv)) in bytes.chunks_exact(4).zip(q).enumerate() {
+            let b = [c[0], c[1], c[2], c[3]];
+            let v = if big { f32::from_be_bytes(b) } else { f32::from_le_bytes(b) };
+            dot[k % 8] += v * qv;
+            sq[k % 8] += v * v;
+        }
+        let dot: f32 = dot.iter().sum();
+        let sq: f32 = sq.iter().sum();
+        if sq > 0.0 {
+            dot / sq.sqrt()
+        } else {
+            0.0
+        }
+    }
+
     /// The largest cosine over a row's views.
     pub fn max_cosine(&self, q: &[f32], row: usize) -> f32 {
         (0..self.views).map(|v| self.cosine(q, row, v)).fold(f32::NEG_INFINITY, f32::max)
@@ -226,11 +290,11 @@ pub fn normalize(v: &mut [f32]) {
 #[derive(Clone, Debug, Default)]
 pub struct Features {
     /// CLIP image features (views × dim per row).
-    pub img: Option<F16Rows>,
+    pub img: Option<FeatureRows>,
     /// CLIP text features of the descriptions.
-    pub text: Option<F16Rows>,
+    pub text: Option<FeatureRows>,
     /// SBERT features of the descriptions.
-    pub sbert: Option<F16Rows>,
+    pub sbert: Option<FeatureRows>,
     /// Per objathor asset (by its place in the folder's range): its CLIP row, or `u32::MAX`.
     pub clip_row: Vec<u32>,
     /// Per objathor asset: its SBERT row, or `u32::MAX`.

@@ -34,7 +34,10 @@ pub struct FixtureAsset {
     pub views: [f32; 3],
 }
 
-/// The fixture's assets. `whiteboard`'s folder is missing from `assets/`.
+/// The fixture's assets. `whiteboard`'s folder is missing from `assets/`; `blurry_painting`
+/// has a `blender_thor_similarity` of 0.2 (the original never takes it); `photo_frame` can
+/// break (its glass); `looking_glass` is a mirror that shares no word with `mirror` (only its features
+/// find it).
 pub const FIXTURE_ASSETS: &[FixtureAsset] = &[
     FixtureAsset {
         name: "cat_tower",
@@ -125,6 +128,18 @@ pub const FIXTURE_ASSETS: &[FixtureAsset] = &[
         uid: "e4e5f9a1b3c44d8e0f6a0b5c7d9e1f3e",
         axis: 6,
         views: [2.5, 2.75, 2.75],
+    },
+    FixtureAsset {
+        name: "looking_glass",
+        uid: "a6a7b1c3d5e64f0a2b8c2d7e9f1a3b5a",
+        axis: 1,
+        views: [3.0, 3.0, 3.0],
+    },
+    FixtureAsset {
+        name: "blurry_painting",
+        uid: "f5f6a0b2c4d54e9f1a7b1c6d8e0f2a4f",
+        axis: 6,
+        views: [2.5, 2.5, 2.5],
     },
 ];
 
@@ -229,6 +244,18 @@ fn annotation(name: &str, uid: &str) -> Value {
             [false, true, false, false],
             xyz(0.9, 0.7, 0.04),
         ),
+        "looking_glass" => (
+            "looking glass",
+            "an ornate gilded looking glass",
+            [false, true, false, false],
+            xyz(0.6, 0.9, 0.03),
+        ),
+        "blurry_painting" => (
+            "painting",
+            "an abstract painting with a blurry texture",
+            [false, true, false, false],
+            xyz(0.9, 0.7, 0.04),
+        ),
         _ => (
             "projector",
             "a ceiling projector on a long pole",
@@ -253,7 +280,12 @@ fn annotation(name: &str, uid: &str) -> Value {
         "pose_z_rot_angle": 1.25, "scale": 1.5, "z_axis_scale": true,
         "license_info": license(&format!("maker_{name}")),
     });
-    let meta = json!({"assetMetadata": {"boundingBox": bbox, "secondaryProperties": []}});
+    let secondary: Vec<&str> = if name == "photo_frame" { vec!["CanBreak"] } else { Vec::new() };
+    let meta = json!({"assetMetadata": {"boundingBox": bbox, "secondaryProperties": secondary}});
+    if name == "blurry_painting" {
+        // At the entry's top level, where the original reads it.
+        return json!({"annotations": ann, "thor_metadata": meta, "blender_thor_similarity": 0.2});
+    }
     if name == "cat_bed" || name == "projector" {
         // The fields at the top, as some exports write them.
         let mut flat = ann;
@@ -277,13 +309,35 @@ pub struct FixtureOptions {
     pub features: bool,
     /// Whether `assets/` is written (every asset but `whiteboard`).
     pub assets: bool,
+    /// Whether the feature arrays are float32 (else float16, as objathor writes them).
+    pub float32: bool,
+    /// Whether `clip_features.pkl` holds CLIP text rows (`text_features`; 2023_09_23 as
+    /// Holodeck main downloads it has image rows only).
+    pub text_rows: bool,
+    /// Whether the folder is of the web-fetched generation: version `2024_08_16` with an empty
+    /// `assets/` (then `assets` is ignored).
+    pub web: bool,
+    /// Assets left out of the folder, by name.
+    pub without: &'static [&'static str],
 }
 
 impl Default for FixtureOptions {
     fn default() -> Self {
-        FixtureOptions { protocol: 4, modules: NumpyModules::Core, features: true, assets: true }
+        FixtureOptions {
+            protocol: 4,
+            modules: NumpyModules::Core,
+            features: true,
+            assets: true,
+            float32: false,
+            text_rows: true,
+            web: false,
+            without: &[],
+        }
     }
 }
+
+/// The version of the web-fetched fixture folder.
+pub const WEB_FIXTURE_VERSION: &str = "2024_08_16";
 
 fn write_gz(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     let mut gz = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::default());
@@ -291,60 +345,71 @@ fn write_gz(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     std::fs::write(path, gz.finish()?)
 }
 
-/// Writes the fixture version folder `<dir>/2023_09_23` and returns its path.
+/// Writes the fixture version folder `<dir>/2023_09_23` (`<dir>/2024_08_16` for a web folder)
+/// and returns its path.
 pub fn write_fixture(dir: &Path, options: FixtureOptions) -> std::io::Result<PathBuf> {
-    let root = dir.join(FIXTURE_VERSION);
+    let root = dir.join(if options.web { WEB_FIXTURE_VERSION } else { FIXTURE_VERSION });
     std::fs::create_dir_all(&root)?;
+    let assets: Vec<&FixtureAsset> =
+        FIXTURE_ASSETS.iter().filter(|a| !options.without.contains(&a.name)).collect();
     let mut map = serde_json::Map::new();
-    for a in FIXTURE_ASSETS {
+    for a in &assets {
         map.insert(a.uid.to_string(), annotation(a.name, a.uid));
     }
     write_gz(&root.join("annotations.json.gz"), Value::Object(map).to_string().as_bytes())?;
     if options.features {
         std::fs::create_dir_all(root.join("features"))?;
-        let uids: Vec<String> = FIXTURE_ASSETS.iter().map(|a| a.uid.to_string()).collect();
+        let uids: Vec<String> = assets.iter().map(|a| a.uid.to_string()).collect();
         let mut img = Vec::new();
         let mut text = Vec::new();
         let mut sbert = Vec::new();
-        for a in FIXTURE_ASSETS {
+        for a in &assets {
             for b in a.views {
                 let mut v = [0f32; FIXTURE_DIM];
                 v[a.axis] = 1.0;
                 v[7] = b;
-                img.extend(v.iter().map(|x| f32_to_f16(*x)));
+                img.extend(v);
             }
             let mut t = [0f32; FIXTURE_DIM];
             t[a.axis] = 1.0;
-            text.extend(t.iter().map(|x| f32_to_f16(*x)));
+            text.extend(t);
             // SBERT rows: the kind's axis and a little of the rest.
             let mut s = [0f32; FIXTURE_DIM];
             s[a.axis] = 1.0;
             s[7] = 0.5;
-            sbert.extend(s.iter().map(|x| f32_to_f16(*x)));
+            sbert.extend(s);
         }
-        let n = FIXTURE_ASSETS.len();
-        let clip = write(
-            &[
-                ("uids", PickleValue::Strings(uids.clone())),
-                ("img_features", PickleValue::F16 { shape: vec![n, 3, FIXTURE_DIM], bits: img }),
-                ("text_features", PickleValue::F16 { shape: vec![n, FIXTURE_DIM], bits: text }),
-            ],
-            options.protocol,
-            options.modules,
-        );
+        let n = assets.len();
+        let array = |shape: Vec<usize>, values: Vec<f32>| {
+            if options.float32 {
+                PickleValue::F32 { shape, values }
+            } else {
+                PickleValue::F16 { shape, bits: values.iter().map(|x| f32_to_f16(*x)).collect() }
+            }
+        };
+        let mut clip_items = vec![
+            ("uids", PickleValue::Strings(uids.clone())),
+            ("img_features", array(vec![n, 3, FIXTURE_DIM], img)),
+        ];
+        if options.text_rows {
+            clip_items.push(("text_features", array(vec![n, FIXTURE_DIM], text)));
+        }
+        let clip = write(&clip_items, options.protocol, options.modules);
         std::fs::write(root.join("features").join("clip_features.pkl"), clip)?;
         let sbert = write(
             &[
                 ("uids", PickleValue::Strings(uids)),
-                ("text_features", PickleValue::F16 { shape: vec![n, FIXTURE_DIM], bits: sbert }),
+                ("text_features", array(vec![n, FIXTURE_DIM], sbert)),
             ],
             options.protocol,
             options.modules,
         );
         std::fs::write(root.join("features").join("sbert_features.pkl"), sbert)?;
     }
-    if options.assets {
-        for a in FIXTURE_ASSETS.iter().filter(|a| a.name != "whiteboard") {
+    if options.web {
+        std::fs::create_dir_all(root.join("assets"))?;
+    } else if options.assets {
+        for a in assets.iter().filter(|a| a.name != "whiteboard") {
             write_asset_folder(&root.join("assets"), a.uid)?;
         }
     }
@@ -356,7 +421,7 @@ pub fn write_asset_folder(assets: &Path, uid: &str) -> std::io::Result<()> {
     let folder = assets.join(uid);
     std::fs::create_dir_all(&folder)?;
     write_gz(&folder.join(format!("{uid}.pkl.gz")), b"stub")?;
-    for t in super::TEXTURES {
+    for t in super::TEXTURES.iter().chain(&super::OPTIONAL_TEXTURES) {
         std::fs::write(folder.join(t), b"stub")?;
     }
     Ok(())

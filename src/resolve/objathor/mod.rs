@@ -23,7 +23,7 @@ use super::index::{Candidate, Query, TextIndex, SIZE_WEIGHT};
 use crate::diag::{Code, Diagnostic};
 use crate::source::{FileId, SourceMap, Span};
 use annotations::{Entry, License};
-use features::{F16Rows, Features};
+use features::{FeatureRows, Features};
 
 /// The largest feature file holoc reads, bytes.
 pub const MAX_FEATURES_BYTES: u64 = 4 * 1024 * 1024 * 1024;
@@ -215,6 +215,11 @@ pub struct Objathor {
     pub features: Option<Arc<Features>>,
     /// The `assets/` folder, when there is one.
     pub assets_dir: Option<PathBuf>,
+    /// Whether the folder is of the web-fetched generation (Holodeck `v2`, `2024_08_16` and
+    /// later, or an `assets/` folder that is empty): its assets are fetched one at a time by
+    /// `WebProceduralAssetHookRunner` when the house loads, so an asset missing from `assets/`
+    /// is expected, not an error.
+    pub fetched: bool,
     /// The scoring mode in force.
     pub scoring: Scoring,
     /// The scoring mode asked (`None`: chosen from what the folder holds).
@@ -352,7 +357,7 @@ fn features_warning(path: &Path, why: &str) -> Diagnostic {
 /// A feature file read: the arrays it holds and the SHA-256 of its bytes.
 struct FeatureFile {
     uids: Vec<String>,
-    arrays: Vec<(String, F16Rows)>,
+    arrays: Vec<(String, FeatureRows)>,
     sha256: String,
 }
 
@@ -385,7 +390,7 @@ fn features_of_bytes(bytes: Vec<u8>, keys: &[&str]) -> Result<FeatureFile, Strin
         match pickle.f16_array(key)? {
             Some(array) => {
                 let rows =
-                    F16Rows::new(&bytes, &pickle, array).map_err(|e| format!("`{key}`: {e}"))?;
+                    FeatureRows::new(&bytes, &pickle, array).map_err(|e| format!("`{key}`: {e}"))?;
                 if rows.len() != uids.len() {
                     return Err(format!("`{key}` has {} rows for {} uids", rows.len(), uids.len()));
                 }
@@ -549,6 +554,10 @@ pub fn load(
         None => Scoring::Lexical,
     };
     let assets_dir = Some(root.join("assets")).filter(|p| p.is_dir());
+    let fetched = is_web_version(&version)
+        || assets_dir
+            .as_ref()
+            .is_some_and(|d| std::fs::read_dir(d).map_or(true, |mut e| e.next().is_none()));
     let index = TextIndex::build(&catalog.assets()[start..end]);
     catalog.set_objathor(Objathor {
         root,
@@ -559,6 +568,7 @@ pub fn load(
         entries,
         features: has_clip.then(|| Arc::new(features)),
         assets_dir,
+        fetched,
         scoring,
         scoring_asked: options.scoring,
         mix: options.mix,
@@ -586,15 +596,39 @@ fn parse(
     };
     let mut cursor = 0usize;
     let mut out = Vec::with_capacity(object.0.len());
+    // Past the first few, unusable entries are counted by reason in one warning.
+    let mut more: std::collections::BTreeMap<String, (usize, String)> = Default::default();
+    let mut shown = 0;
     for (uid, value) in &object.0 {
         let span = super::catalog::key_span(text, file, uid, &mut cursor);
         match annotations::read_entry(uid, value, source) {
             Ok(pair) => out.push(pair),
-            Err(why) => diags.push(super::catalog::bad_entry(file, span, uid, &why)),
+            Err(why) if shown < MAX_ENTRY_WARNINGS => {
+                shown += 1;
+                diags.push(super::catalog::bad_entry(file, span, uid, &why));
+            }
+            Err(why) => more.entry(why).or_insert((0, uid.clone())).0 += 1,
         }
+    }
+    if !more.is_empty() {
+        let n: usize = more.values().map(|(k, _)| k).sum();
+        let mut d = Diagnostic::new(
+            Code::W0402,
+            format!(
+                "{n} more objathor entr{} skipped (after the {MAX_ENTRY_WARNINGS} above)",
+                if n == 1 { "y is" } else { "ies are" }
+            ),
+        );
+        for (why, (k, first)) in &more {
+            d = d.with_note(format!("{k} × {why} (the first: `{first}`)"));
+        }
+        diags.push(d.with_help("the rest of the folder is loaded; download the annotations again if they are damaged"));
     }
     out
 }
+
+/// How many unusable annotation entries get a warning of their own; the rest are counted in one.
+pub const MAX_ENTRY_WARNINGS: usize = 10;
 
 /// Reads an annotations file's bytes (gzip allowed) as [`load`] does, without a folder: the
 /// number of assets read and the diagnostics. For the fuzz harness and tools.
@@ -636,6 +670,21 @@ pub fn read_feature_bytes(bytes: Vec<u8>) -> Result<usize, String> {
     Ok(n)
 }
 
+/// The least `blender_thor_similarity` an asset may have (the original's
+/// `blender_thor_similarity_threshold`): below it the asset looks different in AI2-THOR than in
+/// the renders its features come from, and is never a candidate. A missing value counts as 1.
+pub const MIN_BLENDER_THOR_SIMILARITY: f64 = 0.6;
+
+/// Whether the folder's asset at catalog index `idx` looks in AI2-THOR as in its renders.
+fn looks_alike(obj: &Objathor, idx: usize) -> bool {
+    obj.entry(idx).and_then(|e| e.blender_thor_similarity).unwrap_or(1.0)
+        >= MIN_BLENDER_THOR_SIMILARITY
+}
+
+/// How many of the folder's assets, by the cosine of their CLIP text row with the
+/// pseudo-query, are scored by their image rows besides the lexical candidates.
+pub const TEXT_PREFILTER: usize = 256;
+
 /// The parts of a `features` score: `clip + sbert − 10 × size`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct FeatureScore {
@@ -643,88 +692,173 @@ pub struct FeatureScore {
     pub clip: f64,
     /// `cos(SBERT pseudo-query, SBERT row)`, when the folder has SBERT features.
     pub sbert: Option<f64>,
-    /// The threshold the CLIP part must pass.
+    /// The threshold the CLIP part must pass (only when `text_space`).
     pub threshold: f64,
     /// The candidate's lexical score (what `--objathor-mix score` compares).
     pub lexical_score: f64,
+    /// Whether the pseudo-query is in CLIP's text space (made of the folder's text rows), so
+    /// that the CLIP part is comparable with the original's thresholds. Without text rows it is
+    /// an image-to-image cosine (74–100 for anything alike): it only orders candidates, and
+    /// whether one is good enough is decided by its words.
+    pub text_space: bool,
 }
 
-/// Ranks the folder's assets for `query`: lexically (the best `RANK_LIMIT` (128) by words
-/// and size), then, in the `features` mode, re-scored by their CLIP rows against the
-/// pseudo-query of the best [`SEED_MATCHES`] lexical matches. Best first; ties by the seed.
+/// The unit mean of the vectors `rows` gives for `picks`, skipping `skip`; `None` when nothing
+/// is left.
+fn unit_mean(
+    rows: &features::FeatureRows,
+    picks: &[(usize, usize)],
+    skip: Option<usize>,
+) -> Option<Vec<f32>> {
+    let mut q = vec![0f32; rows.dim];
+    let mut v = vec![0f32; rows.dim];
+    let mut any = false;
+    for &(k, row) in picks {
+        if Some(k) == skip {
+            continue;
+        }
+        rows.decode(row, 0, &mut v);
+        features::normalize(&mut v);
+        for (s, x) in q.iter_mut().zip(&v) {
+            *s += x;
+        }
+        any = true;
+    }
+    features::normalize(&mut q);
+    any.then_some(q)
+}
+
+/// Ranks the folder's assets for `query`. Lexically (the best `limit` by words and size), then,
+/// in the `features` mode, by their CLIP rows against a pseudo-query made of the best
+/// [`SEED_MATCHES`] lexical matches:
+/// - with CLIP text rows, the pseudo-query is their unit mean (CLIP's text space, where the
+///   original's query lives); besides the lexical candidates, the [`TEXT_PREFILTER`] assets of
+///   the whole folder whose text rows are nearest it are scored too (a `cat tree` for a `cat
+///   tower`, a wardrobe for an `armoire`), and the CLIP part must pass the original's threshold;
+/// - with image rows only, the pseudo-query is the seeds' view-averaged image rows: the CLIP part
+///   orders the lexical candidates but is never held against a threshold (see
+///   [`FeatureScore::text_space`]).
+///
+/// The SBERT part of a seed is taken against the other seeds' rows (a seed would otherwise
+/// score 1.0 against itself); a lone seed gets the best SBERT part of the other candidates.
+/// Assets whose `blender_thor_similarity` is below [`MIN_BLENDER_THOR_SIMILARITY`] are never
+/// candidates. Best first; ties by the seed.
 pub fn rank(catalog: &Catalog, query: &Query, seed: u64, limit: usize) -> Vec<Candidate> {
     let Some(obj) = catalog.objathor() else { return Vec::new() };
-    let lexical = super::index::rank_in(catalog, &obj.index, obj.start, query, seed, limit);
+    let mut lexical = super::index::rank_in(catalog, &obj.index, obj.start, query, seed, limit);
+    lexical.retain(|c| looks_alike(obj, c.idx));
     let (Some(features), Scoring::Features) = (&obj.features, obj.scoring) else {
         return lexical;
     };
     let Some(img) = &features.img else { return lexical };
-    let dim = img.dim;
-    // The pseudo-query: the mean of the best good matches' unit rows.
-    let seeds: Vec<usize> = lexical
+    // The seeds: the best good matches with a CLIP row, as (asset of the folder, row).
+    let seeds: Vec<(usize, usize)> = lexical
         .iter()
         .filter(|c| c.is_good_enough())
-        .filter_map(|c| features.clip_row_of(c.idx - obj.start))
+        .filter_map(|c| features.clip_row_of(c.idx - obj.start).map(|r| (c.idx - obj.start, r)))
         .take(SEED_MATCHES)
         .collect();
     if seeds.is_empty() {
         // Nothing the words name well enough: nothing is good enough.
         return lexical;
     }
-    let mut q = vec![0f32; dim];
-    let mut v = vec![0f32; dim];
-    for &row in &seeds {
-        match &features.text {
-            Some(text) => {
-                text.decode(row, 0, &mut v);
-                features::normalize(&mut v);
-                for (s, x) in q.iter_mut().zip(&v) {
-                    *s += x;
-                }
+    let text_space = features.text.is_some();
+    let q = match &features.text {
+        Some(text) => unit_mean(text, &seeds, None),
+        None => {
+            let mut q = vec![0f32; img.dim];
+            for &(_, row) in &seeds {
+                img.add_unit_mean(row, &mut q);
             }
-            None => img.add_unit_mean(row, &mut q),
+            features::normalize(&mut q);
+            Some(q)
+        }
+    };
+    let Some(q) = q else { return lexical };
+
+    let mut pool = lexical;
+    // Assets found by their text rows alone: kept only when their CLIP part passes.
+    let mut wordless = std::collections::HashSet::new();
+    if let Some(text) = &features.text {
+        let taken: std::collections::HashSet<usize> = pool.iter().map(|c| c.idx).collect();
+        let mut near: Vec<(f32, usize)> = (0..obj.end - obj.start)
+            .filter(|k| !taken.contains(&(obj.start + k)) && looks_alike(obj, obj.start + k))
+            .filter_map(|k| {
+                let cos = text.cosine(&q, features.clip_row_of(k)?, 0);
+                (!cos.is_nan()).then_some((cos, k))
+            })
+            .collect();
+        let order = |a: &(f32, usize), b: &(f32, usize)| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1));
+        if near.len() > TEXT_PREFILTER {
+            near.select_nth_unstable_by(TEXT_PREFILTER, order);
+            near.truncate(TEXT_PREFILTER);
+        }
+        near.sort_by(order);
+        for (_, k) in near {
+            if let Some(c) =
+                super::index::wordless_candidate(catalog, &obj.index, obj.start, k, query, seed)
+            {
+                wordless.insert(c.idx);
+                pool.push(c);
+            }
         }
     }
-    features::normalize(&mut q);
-    let sbert_q = features.sbert.as_ref().and_then(|sbert| {
-        let rows: Vec<usize> = lexical
-            .iter()
-            .filter(|c| c.is_good_enough())
-            .filter_map(|c| features.sbert_row_of(c.idx - obj.start))
-            .take(SEED_MATCHES)
-            .collect();
-        if rows.is_empty() {
-            return None;
-        }
-        let mut sq = vec![0f32; sbert.dim];
-        let mut sv = vec![0f32; sbert.dim];
-        for row in rows {
-            sbert.decode(row, 0, &mut sv);
-            features::normalize(&mut sv);
-            for (s, x) in sq.iter_mut().zip(&sv) {
-                *s += x;
-            }
-        }
-        features::normalize(&mut sq);
-        Some((sbert, sq))
-    });
+
+    // SBERT pseudo-queries: all seeds, and each seed without itself.
+    let sbert_seeds: Vec<(usize, usize)> = features
+        .sbert
+        .as_ref()
+        .map(|_| {
+            seeds.iter().filter_map(|&(k, _)| features.sbert_row_of(k).map(|r| (k, r))).collect()
+        })
+        .unwrap_or_default();
+    let sbert_all = features.sbert.as_ref().and_then(|rows| unit_mean(rows, &sbert_seeds, None));
+    let sbert_part = |k: usize| -> Option<Option<f64>> {
+        let rows = features.sbert.as_ref()?;
+        let row = features.sbert_row_of(k)?;
+        let is_seed = sbert_seeds.iter().any(|s| s.0 == k);
+        let q = if is_seed { unit_mean(rows, &sbert_seeds, Some(k)) } else { sbert_all.clone() };
+        // `Some(None)`: a lone seed, given the others' best below.
+        Some(q.map(|q| f64::from(rows.cosine(&q, row, 0))))
+    };
     let threshold = clip_threshold(query.kind.unwrap_or(PlacementKind::Floor));
-    let mut out: Vec<Candidate> = lexical
+    let mut scored: Vec<(Candidate, f64, Option<Option<f64>>)> = pool
         .into_iter()
         .filter_map(|c| {
             let k = c.idx - obj.start;
             let row = features.clip_row_of(k)?;
             let clip = 100.0 * f64::from(img.max_cosine(&q, row));
-            let sbert = sbert_q.as_ref().and_then(|(rows, sq)| {
-                features.sbert_row_of(k).map(|r| f64::from(rows.cosine(sq, r, 0)))
-            });
+            let sbert = sbert_part(k);
+            Some((c, clip, sbert))
+        })
+        .collect();
+    let best_other = scored
+        .iter()
+        .filter_map(|(_, _, s)| s.flatten())
+        .filter(|x| !x.is_nan())
+        .fold(None, |m: Option<f64>, x| Some(m.map_or(x, |m| m.max(x))));
+    let mut out: Vec<Candidate> = scored
+        .drain(..)
+        .map(|(c, clip, sbert)| {
+            let sbert = match sbert {
+                Some(Some(x)) => Some(x),
+                Some(None) => best_other,
+                None => None,
+            };
             let score = clip + sbert.unwrap_or(0.0) - SIZE_WEIGHT * c.size_diff_m.unwrap_or(0.0);
-            Some(Candidate {
-                features: Some(FeatureScore { clip, sbert, threshold, lexical_score: c.score }),
+            Candidate {
+                features: Some(FeatureScore {
+                    clip,
+                    sbert,
+                    threshold,
+                    lexical_score: c.score,
+                    text_space,
+                }),
                 score,
                 ..c
-            })
+            }
         })
+        .filter(|c: &Candidate| !wordless.contains(&c.idx) || c.is_good_enough())
         .collect();
     out.sort_by(|a, b| {
         b.score
@@ -817,11 +951,15 @@ fn fnv1a(text: &str) -> u64 {
     h
 }
 
-/// The names an asset's model file may have in its folder (the hook runner reads any).
-pub const MODEL_FILES: [&str; 6] = ["pkl.gz", "pkl", "json.gz", "json", "msgpack.gz", "msgpack"];
+/// The names an asset's model file may have in its folder, in the order the hook runner
+/// tries them. A plain `.pkl` is not among them: the loader never reads one.
+pub const MODEL_FILES: [&str; 5] = ["json", "json.gz", "msgpack", "msgpack.gz", "pkl.gz"];
 
-/// The textures every asset folder holds.
-pub const TEXTURES: [&str; 3] = ["albedo.jpg", "normal.jpg", "emission.jpg"];
+/// The textures every asset folder must hold.
+pub const TEXTURES: [&str; 2] = ["albedo.jpg", "normal.jpg"];
+
+/// The texture the loader uses when present (`emissionTexturePath` is optional).
+pub const OPTIONAL_TEXTURES: [&str; 1] = ["emission.jpg"];
 
 /// What is missing of one asset's folder, in words; `None` when it is complete.
 pub fn missing_on_disk(assets_dir: &Path, uid: &str) -> Option<String> {
@@ -830,6 +968,13 @@ pub fn missing_on_disk(assets_dir: &Path, uid: &str) -> Option<String> {
         return Some(format!("there is no folder `{}`", folder.display()));
     }
     if !MODEL_FILES.iter().any(|ext| folder.join(format!("{uid}.{ext}")).is_file()) {
+        if folder.join(format!("{uid}.pkl")).is_file() {
+            return Some(format!(
+                "`{}` has only `{uid}.pkl`, which the hook runner never reads (it reads \
+                 `.pkl.gz`, `.json`, `.msgpack`): gzip it to `{uid}.pkl.gz`",
+                folder.display()
+            ));
+        }
         return Some(format!(
             "`{}` has no `{uid}.pkl.gz` (nor `.json`, `.msgpack`)",
             folder.display()
@@ -842,6 +987,25 @@ pub fn missing_on_disk(assets_dir: &Path, uid: &str) -> Option<String> {
     } else {
         Some(format!("`{}` lacks {}", folder.display(), missing.join(", ")))
     }
+}
+
+/// The AI2-THOR commit Holodeck's `v2` branch (the web loader) runs.
+pub const WEB_THOR_COMMIT: &str = "455cf72a1c8e0759a452422f2128fbc93a3cb06b";
+
+/// The first version of the web-fetched generation (Holodeck's `v2` branch).
+pub const FIRST_WEB_VERSION: &str = "2024_08_16";
+
+/// Whether a version folder's name (a date, `YYYY_MM_DD`) is of the web-fetched generation.
+pub fn is_web_version(version: &str) -> bool {
+    let is_date = version.len() == 10
+        && version.bytes().enumerate().all(|(i, b)| {
+            if i == 4 || i == 7 {
+                b == b'_'
+            } else {
+                b.is_ascii_digit()
+            }
+        });
+    is_date && version >= FIRST_WEB_VERSION
 }
 
 /// Checks that every objathor asset of `asset_ids` is on disk where the hook runner looks:
@@ -863,21 +1027,73 @@ pub fn check_on_disk<'a>(
     if uids.is_empty() {
         return Vec::new();
     }
-    let Some(dir) = &obj.assets_dir else {
-        return vec![Diagnostic::new(
+    let mut out = on_disk(obj, &uids, span_of);
+    let unlicensed: Vec<&str> = uids
+        .iter()
+        .copied()
+        .filter(|u| catalog.index_of(u).and_then(|i| obj.license(i)).is_none())
+        .collect();
+    if let Some(first) = unlicensed.first() {
+        let n = unlicensed.len();
+        out.push(
+            Diagnostic::new(
+                Code::W0406,
+                format!(
+                    "{n} objathor asset{} of the house {} no licence information: {} attribution{} \
+                     {} empty",
+                    if n == 1 { "" } else { "s" },
+                    if n == 1 { "has" } else { "have" },
+                    if n == 1 { "its" } else { "their" },
+                    if n == 1 { "" } else { "s" },
+                    if n == 1 { "is" } else { "are" },
+                ),
+            )
+            .with_note(format!("for example `{first}`"))
+            .with_help(format!(
+                "download the folder's annotations again (`python -m \
+                 objathor.dataset.download_annotations --version {}`), or pin assets whose \
+                 licence you know",
+                obj.version
+            )),
+        );
+    }
+    out
+}
+
+/// [`check_on_disk`] of the chosen assets `uids` (sorted, each once) of the folder.
+fn on_disk(obj: &Objathor, uids: &[&str], span_of: &dyn Fn(&str) -> Option<Span>) -> Vec<Diagnostic> {
+    let fetch_note = |n: usize, why: &str| {
+        Diagnostic::new(
             Code::W0614,
             format!(
-                "{} objathor asset{} will be fetched when the house loads: `{}` has no `assets` folder",
-                uids.len(),
-                if uids.len() == 1 { "" } else { "s" },
-                obj.root.display()
+                "{n} objathor asset{} will be fetched when the house loads: {why}",
+                if n == 1 { "" } else { "s" },
             ),
         )
-        .with_note(format!("for example `{}`", uids[0]))
-        .with_help(
-            "load the house with objathor's web hook runner (version 2024_08_16), or download the \
-             assets and give that folder",
-        )];
+    };
+    let Some(dir) = obj.assets_dir.as_ref().filter(|_| !obj.fetched) else {
+        let absent: Vec<&str> = match &obj.assets_dir {
+            Some(dir) => uids.iter().copied().filter(|u| missing_on_disk(dir, u).is_some()).collect(),
+            None => uids.to_vec(),
+        };
+        let Some(first) = absent.first() else { return Vec::new() };
+        let why = match (&obj.assets_dir, obj.fetched) {
+            (Some(_), true) => format!(
+                "`{}` is a web-fetched folder (version {}), whose `assets` folder fills as houses load",
+                obj.root.display(),
+                obj.version
+            ),
+            _ => format!("`{}` has no `assets` folder", obj.root.display()),
+        };
+        return vec![fetch_note(absent.len(), &why)
+            .with_note(format!("for example `{first}`"))
+            .with_help(format!(
+                "load the house with `WebProceduralAssetHookRunner(asset_directory=…, \
+                 target_dir=…)` (ai2thor commit {WEB_THOR_COMMIT}, Holodeck `v2`), or download \
+                 the assets (`python -m objathor.dataset.download_assets --version {}`) and give \
+                 that folder",
+                obj.version
+            ))];
     };
     uids.iter()
         .filter_map(|uid| {
@@ -886,8 +1102,10 @@ pub fn check_on_disk<'a>(
                 Diagnostic::new(Code::E0615, format!("the objathor asset `{uid}` is not on disk"))
                     .with_note(why)
                     .with_help(format!(
-                "download it (objathor's `download_assets`), or pin another asset than `{uid}`"
-            ));
+                        "download the folder's assets (`python -m objathor.dataset.download_assets \
+                         --version {}`), or pin another asset than `{uid}`",
+                        obj.version
+                    ));
             if let Some(span) = span_of(uid) {
                 d = d.with_primary(span, "chosen here");
             }

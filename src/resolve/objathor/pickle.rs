@@ -66,15 +66,18 @@ pub struct Pickle<'a> {
     root: usize,
 }
 
-/// The elements of a numpy float16 array as they stand in the file (or decoded beside it).
+/// The elements of a numpy float16 or float32 array as they stand in the file (or decoded
+/// beside it).
 #[derive(Clone, Debug, PartialEq)]
 pub struct F16Array {
     /// The array's shape.
     pub shape: Vec<usize>,
     /// Where the elements are: in the file, by byte range, or decoded.
     pub bytes: ArrayBytes,
-    /// Whether the elements are big-endian (`>f2`).
+    /// Whether the elements are big-endian (`>f2`, `>f4`).
     pub big_endian: bool,
+    /// Bytes per element: 2 (float16) or 4 (float32).
+    pub item: usize,
 }
 
 /// Where an array's bytes are.
@@ -488,18 +491,21 @@ impl<'a> Pickle<'a> {
         }
     }
 
-    /// The float16 array under `key` of the top-level dict; `Ok(None)` when there is no such key.
+    /// The float16 or float32 array under `key` of the top-level dict; `Ok(None)` when there is
+    /// no such key.
     pub fn f16_array(&self, key: &str) -> Result<Option<F16Array>, String> {
         let Some(id) = self.get(key) else { return Ok(None) };
         let array = self.array(id).map_err(|e| format!("`{key}`: {e}"))?;
         let (kind, width, big_endian) = array.dtype;
-        if (kind, width) != ('f', 2) {
-            return Err(format!("`{key}` is an array of `{kind}{width}`, not of float16 (`f2`)"));
+        if kind != 'f' || !matches!(width, 2 | 4) {
+            return Err(format!(
+                "`{key}` is an array of `{kind}{width}`, not of float16 (`f2`) or float32 (`f4`)"
+            ));
         }
         let len = self.array_bytes(&array.bytes).len();
         // The shape's size with overflow checked: a shape whose product wraps (to zero, say)
         // would otherwise pass for an array of the bytes present.
-        let Some(needed) = element_bytes(&array.shape, 2) else {
+        let Some(needed) = element_bytes(&array.shape, width) else {
             return Err(format!(
                 "`{key}`: its shape {:?} holds more elements than any file can, the pickle holds \
                  {len} bytes",
@@ -513,11 +519,11 @@ impl<'a> Pickle<'a> {
             ));
         }
         let bytes = if array.fortran && array.shape.len() > 1 {
-            ArrayBytes::Owned(fortran_to_c(self.array_bytes(&array.bytes), &array.shape, 2))
+            ArrayBytes::Owned(fortran_to_c(self.array_bytes(&array.bytes), &array.shape, width))
         } else {
             array.bytes
         };
-        Ok(Some(F16Array { shape: array.shape, bytes, big_endian }))
+        Ok(Some(F16Array { shape: array.shape, bytes, big_endian, item: width }))
     }
 
     /// The bytes an array's elements are in.
@@ -595,7 +601,7 @@ impl<'a> Pickle<'a> {
         let mut chars = name.chars();
         let kind = chars.next().ok_or("the numpy dtype has an empty name")?;
         let width: usize = chars.as_str().parse().map_err(|_| {
-            format!("the numpy dtype `{name}` is not one holoc reads (float16 `f2`, strings `U`)")
+            format!("the numpy dtype `{name}` is not one holoc reads (float16 `f2`, float32 `f4`, strings `U`)")
         })?;
         Ok((kind, width, big))
     }
@@ -786,6 +792,13 @@ pub enum Value {
         /// The elements.
         bits: Vec<u16>,
     },
+    /// A float32 array: its shape and its elements, C order.
+    F32 {
+        /// The shape.
+        shape: Vec<usize>,
+        /// The elements.
+        values: Vec<f32>,
+    },
 }
 
 /// Writes a dict of string lists and float16 arrays as numpy and Python's pickle do, with
@@ -813,49 +826,57 @@ pub fn write(items: &[(&str, Value)], protocol: u8, modules: NumpyModules) -> Ve
                 w.out.push(b'e');
             }
             Value::F16 { shape, bits } => {
-                let mut data = Vec::with_capacity(bits.len() * 2);
-                for b in bits {
-                    data.extend(b.to_le_bytes());
-                }
-                if protocol >= 5 {
-                    w.global(&format!("{core}.numeric"), "_frombuffer");
-                    w.out.push(b'(');
-                    w.out.push(0x96);
-                    w.out.extend((data.len() as u64).to_le_bytes());
-                    w.out.extend(&data);
-                    w.memoize();
-                    w.dtype();
-                    w.shape(shape);
-                    w.str("C");
-                    w.out.push(b't');
-                    w.memoize();
-                    w.out.push(b'R');
-                    w.memoize();
-                } else {
-                    w.global(&format!("{core}.multiarray"), "_reconstruct");
-                    w.global("numpy", "ndarray");
-                    w.out.extend([b'K', 0, 0x85]);
-                    w.memoize();
-                    w.bytes(b"b");
-                    w.out.push(0x87);
-                    w.memoize();
-                    w.out.push(b'R');
-                    w.memoize();
-                    w.out.extend([b'(', b'K', 1]);
-                    w.shape(shape);
-                    w.dtype();
-                    w.out.push(0x89);
-                    w.bytes(&data);
-                    w.out.push(b't');
-                    w.memoize();
-                    w.out.push(b'b');
-                }
+                let data: Vec<u8> = bits.iter().flat_map(|b| b.to_le_bytes()).collect();
+                w.array(core, shape, &data, "f2");
+            }
+            Value::F32 { shape, values } => {
+                let data: Vec<u8> = values.iter().flat_map(|v| v.to_le_bytes()).collect();
+                w.array(core, shape, &data, "f4");
             }
         }
     }
     w.out.push(b'u');
     w.out.push(b'.');
     w.out
+}
+
+impl Writer {
+    /// A numpy array of `shape` with the little-endian elements `data` of type `dtype`.
+    fn array(&mut self, core: &str, shape: &[usize], data: &[u8], dtype: &str) {
+        if self.protocol >= 5 {
+            self.global(&format!("{core}.numeric"), "_frombuffer");
+            self.out.push(b'(');
+            self.out.push(0x96);
+            self.out.extend((data.len() as u64).to_le_bytes());
+            self.out.extend(data);
+            self.memoize();
+            self.dtype(dtype);
+            self.shape(shape);
+            self.str("C");
+            self.out.push(b't');
+            self.memoize();
+            self.out.push(b'R');
+            self.memoize();
+        } else {
+            self.global(&format!("{core}.multiarray"), "_reconstruct");
+            self.global("numpy", "ndarray");
+            self.out.extend([b'K', 0, 0x85]);
+            self.memoize();
+            self.bytes(b"b");
+            self.out.push(0x87);
+            self.memoize();
+            self.out.push(b'R');
+            self.memoize();
+            self.out.extend([b'(', b'K', 1]);
+            self.shape(shape);
+            self.dtype(dtype);
+            self.out.push(0x89);
+            self.bytes(data);
+            self.out.push(b't');
+            self.memoize();
+            self.out.push(b'b');
+        }
+    }
 }
 
 struct Writer {
@@ -928,9 +949,9 @@ impl Writer {
         self.memoize();
     }
 
-    fn dtype(&mut self) {
+    fn dtype(&mut self, name: &str) {
         self.global("numpy", "dtype");
-        self.str("f2");
+        self.str(name);
         self.out.extend([0x89, 0x88, 0x87]);
         self.memoize();
         self.out.push(b'R');
