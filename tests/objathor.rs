@@ -673,7 +673,12 @@ fn image_only_folders_never_hold_image_scores_against_text_thresholds() {
             let f = c.features.as_ref().expect("scored by features");
             assert!(!f.text_space);
             // Image-to-image cosines of anything alike are far above 31: they decide nothing.
-            assert_eq!(c.is_good_enough(), c.relevance >= 0.5, "{category}: {}", name_of(&c.asset_id));
+            assert_eq!(
+                c.is_good_enough(),
+                c.relevance >= 0.5,
+                "{category}: {}",
+                name_of(&c.asset_id)
+            );
         }
         let good: Vec<&str> =
             list.iter().filter(|c| c.is_good_enough()).map(|c| name_of(&c.asset_id)).collect();
@@ -725,9 +730,9 @@ fn features_find_what_shares_no_word_with_the_request() {
     let (_dir, root) = fixture(FixtureOptions::default());
     let (catalog, _) = load(&options(&root));
     let got = ranked(&catalog, &query("mirror", "", PlacementKind::Wall));
-    // The looking glass shares no word with `mirror`: its text row is the mirrors' (axis 1) and
-    // its best view 31.62 passes the wall threshold, as CLIP would find it (after the round
-    // mirror's 34.17).
+    // The looking glass shares no word with `mirror`, but the annotations put it under the
+    // mirrors' synset (`mirror.n.01`): its best view against the mirrors' text rows, 31.62,
+    // passes the wall threshold, as CLIP would find it (after the round mirror's 34.17).
     let glass = got.iter().find(|g| g.0 == "looking_glass").expect("found by its features");
     assert!(near(glass.1, 31.623) && glass.2, "{got:?}");
     // Lexically it is never a candidate.
@@ -786,10 +791,8 @@ fn a_breakable_small_object_stays_kinematic() {
         items.iter().filter(|o| o["assetId"] == fixture_uid("photo_frame")).collect();
     assert!(!frames.is_empty(), "{house}");
     assert!(frames.iter().all(|f| f["kinematic"] == true), "{frames:?}");
-    let books: Vec<_> = items
-        .iter()
-        .filter(|o| o["id"].as_str().is_some_and(|i| i.starts_with("book")))
-        .collect();
+    let books: Vec<_> =
+        items.iter().filter(|o| o["id"].as_str().is_some_and(|i| i.starts_with("book"))).collect();
     assert!(!books.is_empty() && books.iter().all(|b| b["kinematic"] == false), "{books:?}");
 }
 
@@ -802,7 +805,12 @@ fn web_folders_fetch_their_assets_and_bad_entries_are_summed_up() {
     assert!(obj.fetched && obj.version == "2024_08_16");
     let uids = [fixture_uid("round_mirror"), fixture_uid("whiteboard")];
     let diags = resolve::objathor::check_on_disk(&catalog, uids, &|_| None);
-    assert_eq!(codes(&diags), vec!["W0614"], "{:?}", diags.iter().map(|d| &d.message).collect::<Vec<_>>());
+    assert_eq!(
+        codes(&diags),
+        vec!["W0614"],
+        "{:?}",
+        diags.iter().map(|d| &d.message).collect::<Vec<_>>()
+    );
     assert!(diags[0].message.contains("2 objathor assets") && diags[0].message.contains("web"));
     let help = diags[0].help.as_deref().unwrap_or_default();
     assert!(help.contains("WebProceduralAssetHookRunner"), "{help}");
@@ -825,6 +833,7 @@ fn web_folders_fetch_their_assets_and_bad_entries_are_summed_up() {
     assert_eq!(w0402, 11, "{:?}", codes(&diags));
     let last = diags.iter().rfind(|d| d.code.as_str() == "W0402").expect("the sum");
     assert!(last.message.starts_with("990 more"), "{}", last.message);
-    let diags = resolve::objathor::check_on_disk(&catalog, [fixture_uid("round_mirror")], &|_| None);
+    let diags =
+        resolve::objathor::check_on_disk(&catalog, [fixture_uid("round_mirror")], &|_| None);
     assert_eq!(codes(&diags), vec!["W0406"]);
 }

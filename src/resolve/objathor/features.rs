@@ -130,13 +130,29 @@ impl FeatureRows {
     /// Rows made from float16 bits (tests).
     pub fn from_bits(bits: &[u16], rows: usize, views: usize, dim: usize) -> FeatureRows {
         let bytes: Vec<u8> = bits.iter().flat_map(|b| b.to_le_bytes()).collect();
-        FeatureRows { bytes: Arc::new(bytes), start: 0, rows, item: 2, views, dim, big_endian: false }
+        FeatureRows {
+            bytes: Arc::new(bytes),
+            start: 0,
+            rows,
+            item: 2,
+            views,
+            dim,
+            big_endian: false,
+        }
     }
 
     /// Rows made from float32 values (tests).
     pub fn from_f32(values: &[f32], rows: usize, views: usize, dim: usize) -> FeatureRows {
         let bytes: Vec<u8> = values.iter().flat_map(|b| b.to_le_bytes()).collect();
-        FeatureRows { bytes: Arc::new(bytes), start: 0, rows, item: 4, views, dim, big_endian: false }
+        FeatureRows {
+            bytes: Arc::new(bytes),
+            start: 0,
+            rows,
+            item: 4,
+            views,
+            dim,
+            big_endian: false,
+        }
     }
 
     /// Whether the rows are float32 (else float16).

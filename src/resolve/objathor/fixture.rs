@@ -36,8 +36,8 @@ pub struct FixtureAsset {
 
 /// The fixture's assets. `whiteboard`'s folder is missing from `assets/`; `blurry_painting`
 /// has a `blender_thor_similarity` of 0.2 (the original never takes it); `photo_frame` can
-/// break (its glass); `looking_glass` is a mirror that shares no word with `mirror` (only its features
-/// find it).
+/// break (its glass); `looking_glass` is a mirror (WordNet's `mirror.n.01`) that shares no word
+/// with `mirror`.
 pub const FIXTURE_ASSETS: &[FixtureAsset] = &[
     FixtureAsset {
         name: "cat_tower",
@@ -268,7 +268,12 @@ fn annotation(name: &str, uid: &str) -> Value {
         "category": category,
         "description": description,
         "description_auto": format!("A 3D model of a {category}."),
-        "synset": format!("{}.n.01", category.replace(' ', "_")),
+        // The looking glass is a mirror to WordNet.
+        "synset": if name == "looking_glass" {
+            "mirror.n.01".to_string()
+        } else {
+            format!("{}.n.01", category.replace(' ', "_"))
+        },
         "wn_version": "oewn:2022",
         "near_synsets": {format!("{}.n.02", category.replace(' ', "_")): 0.5},
         "width": 100.0, "depth": 50.0, "height": 80.0,

@@ -231,6 +231,9 @@ pub struct Objathor {
     /// The files read, with their SHA-256: what the catalog lock records.
     pub files: Vec<(String, String)>,
     pub(crate) index: TextIndex,
+    /// The folder's assets (by their place in its range) under each WordNet synset of the
+    /// annotations (`synset`).
+    pub(crate) synset_members: HashMap<String, Vec<usize>>,
 }
 
 impl Objathor {
@@ -389,8 +392,8 @@ fn features_of_bytes(bytes: Vec<u8>, keys: &[&str]) -> Result<FeatureFile, Strin
     for (i, key) in keys.iter().enumerate() {
         match pickle.f16_array(key)? {
             Some(array) => {
-                let rows =
-                    FeatureRows::new(&bytes, &pickle, array).map_err(|e| format!("`{key}`: {e}"))?;
+                let rows = FeatureRows::new(&bytes, &pickle, array)
+                    .map_err(|e| format!("`{key}`: {e}"))?;
                 if rows.len() != uids.len() {
                     return Err(format!("`{key}` has {} rows for {} uids", rows.len(), uids.len()));
                 }
@@ -559,6 +562,12 @@ pub fn load(
             .as_ref()
             .is_some_and(|d| std::fs::read_dir(d).map_or(true, |mut e| e.next().is_none()));
     let index = TextIndex::build(&catalog.assets()[start..end]);
+    let mut synset_members: HashMap<String, Vec<usize>> = HashMap::new();
+    for (k, e) in entries.iter().enumerate() {
+        if let Some(synset) = &e.synset {
+            synset_members.entry(synset.clone()).or_default().push(k);
+        }
+    }
     catalog.set_objathor(Objathor {
         root,
         version,
@@ -575,6 +584,7 @@ pub fn load(
         pick: options.pick,
         files,
         index,
+        synset_members,
     });
     diags
 }
@@ -597,7 +607,7 @@ fn parse(
     let mut cursor = 0usize;
     let mut out = Vec::with_capacity(object.0.len());
     // Past the first few, unusable entries are counted by reason in one warning.
-    let mut more: std::collections::BTreeMap<String, (usize, String)> = Default::default();
+    let mut more = std::collections::BTreeMap::<String, (usize, String)>::new();
     let mut shown = 0;
     for (uid, value) in &object.0 {
         let span = super::catalog::key_span(text, file, uid, &mut cursor);
@@ -622,7 +632,9 @@ fn parse(
         for (why, (k, first)) in &more {
             d = d.with_note(format!("{k} × {why} (the first: `{first}`)"));
         }
-        diags.push(d.with_help("the rest of the folder is loaded; download the annotations again if they are damaged"));
+        diags.push(d.with_help(
+            "the rest of the folder is loaded; download the annotations again if they are damaged",
+        ));
     }
     out
 }
@@ -681,9 +693,9 @@ fn looks_alike(obj: &Objathor, idx: usize) -> bool {
         >= MIN_BLENDER_THOR_SIMILARITY
 }
 
-/// How many of the folder's assets, by the cosine of their CLIP text row with the
-/// pseudo-query, are scored by their image rows besides the lexical candidates.
-pub const TEXT_PREFILTER: usize = 256;
+/// At most how many assets that share a WordNet synset with the seeds (and no word with the
+/// request) are scored besides the lexical candidates.
+pub const SYNSET_POOL: usize = 512;
 
 /// The parts of a `features` score: `clip + sbert − 10 × size`.
 #[derive(Clone, Debug, PartialEq)]
@@ -732,9 +744,10 @@ fn unit_mean(
 /// in the `features` mode, by their CLIP rows against a pseudo-query made of the best
 /// [`SEED_MATCHES`] lexical matches:
 /// - with CLIP text rows, the pseudo-query is their unit mean (CLIP's text space, where the
-///   original's query lives); besides the lexical candidates, the [`TEXT_PREFILTER`] assets of
-///   the whole folder whose text rows are nearest it are scored too (a `cat tree` for a `cat
-///   tower`, a wardrobe for an `armoire`), and the CLIP part must pass the original's threshold;
+///   original's query lives); besides the lexical candidates, the assets the annotations put
+///   under a seed's WordNet synset or its near synsets are scored too (at most
+///   [`SYNSET_POOL`]: a `looking glass` under `mirror.n.01` for a `mirror`), and the CLIP part
+///   must pass the original's threshold (an asset found by its synset alone is kept only then);
 /// - with image rows only, the pseudo-query is the seeds' view-averaged image rows: the CLIP part
 ///   orders the lexical candidates but is never held against a threshold (see
 ///   [`FeatureScore::text_space`]).
@@ -777,24 +790,24 @@ pub fn rank(catalog: &Catalog, query: &Query, seed: u64, limit: usize) -> Vec<Ca
     let Some(q) = q else { return lexical };
 
     let mut pool = lexical;
-    // Assets found by their text rows alone: kept only when their CLIP part passes.
+    // Assets found by their WordNet synset alone: kept only when their CLIP part passes.
     let mut wordless = std::collections::HashSet::new();
-    if let Some(text) = &features.text {
+    if text_space {
         let taken: std::collections::HashSet<usize> = pool.iter().map(|c| c.idx).collect();
-        let mut near: Vec<(f32, usize)> = (0..obj.end - obj.start)
-            .filter(|k| !taken.contains(&(obj.start + k)) && looks_alike(obj, obj.start + k))
-            .filter_map(|k| {
-                let cos = text.cosine(&q, features.clip_row_of(k)?, 0);
-                (!cos.is_nan()).then_some((cos, k))
-            })
-            .collect();
-        let order = |a: &(f32, usize), b: &(f32, usize)| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1));
-        if near.len() > TEXT_PREFILTER {
-            near.select_nth_unstable_by(TEXT_PREFILTER, order);
-            near.truncate(TEXT_PREFILTER);
+        let mut mates: Vec<usize> = Vec::new();
+        for &(k, _) in &seeds {
+            let Some(entry) = obj.entries.get(k) else { continue };
+            let synsets = entry.synset.iter().chain(entry.near_synsets.iter().map(|(s, _)| s));
+            for synset in synsets {
+                mates.extend(obj.synset_members.get(synset.as_str()).into_iter().flatten());
+            }
         }
-        near.sort_by(order);
-        for (_, k) in near {
+        mates.sort_unstable();
+        mates.dedup();
+        for k in mates.into_iter().take(SYNSET_POOL) {
+            if taken.contains(&(obj.start + k)) || !looks_alike(obj, obj.start + k) {
+                continue;
+            }
             if let Some(c) =
                 super::index::wordless_candidate(catalog, &obj.index, obj.start, k, query, seed)
             {
@@ -1061,7 +1074,11 @@ pub fn check_on_disk<'a>(
 }
 
 /// [`check_on_disk`] of the chosen assets `uids` (sorted, each once) of the folder.
-fn on_disk(obj: &Objathor, uids: &[&str], span_of: &dyn Fn(&str) -> Option<Span>) -> Vec<Diagnostic> {
+fn on_disk(
+    obj: &Objathor,
+    uids: &[&str],
+    span_of: &dyn Fn(&str) -> Option<Span>,
+) -> Vec<Diagnostic> {
     let fetch_note = |n: usize, why: &str| {
         Diagnostic::new(
             Code::W0614,
@@ -1073,7 +1090,9 @@ fn on_disk(obj: &Objathor, uids: &[&str], span_of: &dyn Fn(&str) -> Option<Span>
     };
     let Some(dir) = obj.assets_dir.as_ref().filter(|_| !obj.fetched) else {
         let absent: Vec<&str> = match &obj.assets_dir {
-            Some(dir) => uids.iter().copied().filter(|u| missing_on_disk(dir, u).is_some()).collect(),
+            Some(dir) => {
+                uids.iter().copied().filter(|u| missing_on_disk(dir, u).is_some()).collect()
+            }
             None => uids.to_vec(),
         };
         let Some(first) = absent.first() else { return Vec::new() };
