@@ -247,6 +247,10 @@ pub struct JobResult {
     /// were asked again after a pause.
     #[serde(default, skip_serializing_if = "is_zero")]
     pub model_retries: u32,
+    /// The failure may pass if the job is run again later without any change (the model
+    /// server out past `--model-patience`, a full disk): the run exits with status 75.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub transient: bool,
     /// Wall-clock seconds (not part of any output of the job).
     pub seconds: f64,
 }
@@ -264,6 +268,7 @@ impl JobResult {
             message: None,
             tries: 1,
             model_retries: 0,
+            transient: false,
             seconds: 0.0,
         }
     }
@@ -272,6 +277,7 @@ impl JobResult {
     #[must_use]
     pub fn fail(mut self, stage: &str, code: Code, message: String) -> JobResult {
         self.status = Status::Failed;
+        self.transient = false;
         self.stage = Some(stage.to_string());
         self.codes = vec![code.as_str().to_string()];
         self.message = Some(message);
@@ -564,6 +570,7 @@ pub fn manifest_failure(e: &ManifestError) -> JobResult {
         message: Some(e.message.clone()),
         tries: 1,
         model_retries: 0,
+        transient: false,
         seconds: 0.0,
     }
 }

@@ -169,6 +169,8 @@ struct ReusingLlm<'a> {
     hash: &'a str,
     /// The answer log, appended to as answers come.
     log: Mutex<Option<std::fs::File>>,
+    /// Set when a request gave up on an error that may pass (past the patience).
+    gave_up_transient: std::sync::atomic::AtomicBool,
 }
 
 /// The default of `--model-patience`: how long one model request may keep failing for a
@@ -292,6 +294,7 @@ impl Llm for ReusingLlm<'_> {
                 _ => None,
             };
             if waited >= patience {
+                self.gave_up_transient.store(true, Ordering::Relaxed);
                 return Err(with_tries(error, n));
             }
             let wait =
@@ -330,10 +333,18 @@ struct Work {
     diagnostics: Vec<Diagnostic>,
     failed_stage: Option<&'static str>,
     model_retries: u32,
+    /// The failure may pass (the model server out past the patience).
+    transient: bool,
 }
 
 fn failed(stage: &'static str, diagnostics: Vec<Diagnostic>) -> Work {
-    Work { files: Vec::new(), diagnostics, failed_stage: Some(stage), model_retries: 0 }
+    Work {
+        files: Vec::new(),
+        diagnostics,
+        failed_stage: Some(stage),
+        model_retries: 0,
+        transient: false,
+    }
 }
 
 fn solver_of(job: &Job) -> Solver {
@@ -408,7 +419,7 @@ fn build_text(name: &str, text: String, job: &Job, options: &RunOptions, files: 
     let mut files = files;
     files.push(("house.json", product.house.to_json_string()));
     files.push(("report.json", report));
-    Work { files, diagnostics, failed_stage: None, model_retries: 0 }
+    Work { files, diagnostics, failed_stage: None, model_retries: 0, transient: false }
 }
 
 /// The stage a build error comes from, by its code's band.
@@ -527,6 +538,7 @@ fn run_generate_job(job: &Job, options: &RunOptions, token: &Token) -> Work {
         retries: &retries,
         hash: &job.hash,
         log: Mutex::new(None),
+        gave_up_transient: std::sync::atomic::AtomicBool::new(false),
     };
     let request = Request { text, seed };
     let options_g = GenerateOptions {
@@ -551,6 +563,7 @@ fn run_generate_job(job: &Job, options: &RunOptions, token: &Token) -> Work {
         }
         let mut work = failed("generate", outcome.diagnostics);
         work.model_retries = model_retries;
+        work.transient = llm.gave_up_transient.load(Ordering::Relaxed);
         return work;
     }
     let mut transcript =
@@ -880,6 +893,7 @@ fn try_once(job: &Job, options: &Arc<RunOptions>, result: &mut JobResult) {
                 result.codes = codes(&work.diagnostics, true);
                 result.message =
                     work.diagnostics.iter().find(|d| d.is_error()).map(|d| d.message.clone());
+                result.transient = work.transient;
                 return;
             }
             result.status = Status::Done;
@@ -893,6 +907,7 @@ fn try_once(job: &Job, options: &Arc<RunOptions>, result: &mut JobResult) {
                     (Code::E0001, format!("cannot write the job's folder: {e}"))
                 };
                 *result = result.clone().fail("write", code, message);
+                result.transient = code == Code::E0007;
             }
         }
     }
@@ -920,7 +935,9 @@ pub fn run_job(job: &Job, options: &Arc<RunOptions>) -> JobResult {
         }
         Err(e) => {
             let code = if is_disk_full(&e) { Code::E0007 } else { Code::E0001 };
-            return result.fail("write", code, format!("cannot take the job's lock: {e}"));
+            let mut result = result.fail("write", code, format!("cannot take the job's lock: {e}"));
+            result.transient = code == Code::E0007;
+            return result;
         }
     };
     // Another run may have finished the job while this one waited for the lock.
@@ -978,7 +995,7 @@ fn recorded_warnings(out: &Path, hash: &str) -> Vec<String> {
 
 /// A build line that names generation-only fields: W0802 in its record (not in its folder,
 /// which depends on the job alone, and the job is the same without them).
-fn note_ignored_fields(job: &Job, result: &mut JobResult) {
+pub fn note_ignored_fields(job: &Job, result: &mut JobResult) {
     let fields = job.spec.generation_only_fields();
     if fields.is_empty() || result.status == Status::Failed {
         return;
@@ -1001,10 +1018,7 @@ fn note_ignored_fields(job: &Job, result: &mut JobResult) {
 /// was unreachable, timed out or failed with 429/5xx past the patience, or the disk was full.
 /// A run with such a failure exits with status 75 (`EX_TEMPFAIL`) so a scheduler requeues it.
 pub fn is_transient(result: &JobResult) -> bool {
-    result.status == Status::Failed
-        && result.codes.iter().any(|c| {
-            [Code::E0805, Code::E0806, Code::E0807, Code::E0007].iter().any(|t| t.as_str() == c)
-        })
+    result.status == Status::Failed && result.transient
 }
 
 #[cfg(test)]

@@ -140,6 +140,17 @@ pub struct MergeArgs {
     pub quiet: bool,
 }
 
+/// Prints a diagnostic without a source to stderr with its notes (each unfinished job, each
+/// line not done), which [`common::emit_plain`] leaves out.
+fn emit(d: &Diagnostic) {
+    let mut plain = d.clone();
+    plain.notes.clear();
+    common::emit_plain(&plain);
+    for note in &d.notes {
+        common::emit_status(&format!("  = note: {note}"));
+    }
+}
+
 fn usage(message: &str) -> ExitCode {
     common::emit_plain(
         &Diagnostic::new(Code::E0004, message.to_string()).with_help("see `holoc batch --help`"),
@@ -149,7 +160,7 @@ fn usage(message: &str) -> ExitCode {
 
 fn io_failure(what: &str, e: &std::io::Error) -> ExitCode {
     let code = if batch::run::is_disk_full(e) { Code::E0007 } else { Code::E0001 };
-    common::emit_plain(
+    emit(
         &Diagnostic::new(code, format!("{what}: {e}"))
             .with_note("no job was run: every job of the manifest is unfinished"),
     );
@@ -323,7 +334,9 @@ pub fn run(args: &BatchArgs) -> ExitCode {
                         Item::Run(job) => (batch::run_job(&job, &options), None),
                         Item::NotAJob(e) => (batch::manifest_failure(&e), None),
                         Item::Same { job, first } => {
-                            (JobResult::of(&job, Status::Skipped), Some(first))
+                            let mut r = JobResult::of(&job, Status::Skipped);
+                            batch::run::note_ignored_fields(&job, &mut r);
+                            (r, Some(first))
                         }
                     };
                     if results_tx.send((seq, result, same)).is_err() {
@@ -388,7 +401,7 @@ pub fn run(args: &BatchArgs) -> ExitCode {
                     failure.unfinished.join("; ")
                 ));
             }
-            common::emit_plain(
+            emit(
                 &d.with_help(
                     "free space and run the same command again: finished jobs are skipped",
                 ),
@@ -464,6 +477,15 @@ fn same_as(owner: &JobResult, this: &JobResult, first: usize) -> JobResult {
     }
     let said = r.message.take().map_or(String::new(), |m| format!(": {m}"));
     r.message = Some(format!("the same job as line {first}{said}"));
+    // This line's own warning (generation-only fields on a build line).
+    let ignored = Code::W0802.as_str();
+    if this.codes.iter().any(|c| c == ignored) && !r.codes.iter().any(|c| c == ignored) {
+        r.codes.push(ignored.to_string());
+        r.codes.sort();
+        if let Some(m) = &this.message {
+            r.message = Some(format!("{}; {m}", r.message.unwrap_or_default()));
+        }
+    }
     r
 }
 
@@ -910,7 +932,7 @@ fn run_merge(args: &MergeArgs) -> ExitCode {
                 "the manifest is unknown (give `--manifest`): lines in no summary cannot be named",
             );
         }
-        common::emit_plain(&d.with_help(if args.partial {
+        emit(&d.with_help(if args.partial {
             "merged anyway (`--partial`): the lines are listed under `incomplete`"
         } else {
             "re-run the shards named (`--shard I/N`), or give `--partial` to merge what there is"
