@@ -1013,7 +1013,7 @@ fn an_outage_of_the_model_is_waited_out_with_retry_after_honoured() {
     let dir = scratch("outage");
     let times: Arc<std::sync::Mutex<Vec<std::time::Instant>>> = Arc::default();
     let log = times.clone();
-    // Down for the first five requests: 503, 502, 429 with Retry-After: 1, 500, 503.
+    // Down for the first five requests: 503, 502, 429 with Retry-After: 1, 500, 504.
     let server = Server::start(Arc::new(move |a: &Asked, n| {
         log.lock().expect("log").push(std::time::Instant::now());
         match n {
@@ -1021,7 +1021,7 @@ fn an_outage_of_the_model_is_waited_out_with_retry_after_honoured() {
             1 => Reply::status(502, "{}"),
             2 => Reply { retry_after: Some("1"), ..Reply::status(429, "{}") },
             3 => Reply::status(500, "{}"),
-            4 => Reply::status(503, "{}"),
+            4 => Reply::status(504, "{}"),
             _ => clean_answer(a),
         }
     }));

@@ -122,6 +122,7 @@ impl JobSpec {
     }
 
     /// The spec as it enters the identity: a build's generation-only fields left out.
+    #[must_use]
     pub fn for_identity(&self) -> JobSpec {
         let mut spec = self.clone();
         if spec.generate.is_none() {

@@ -297,8 +297,8 @@ impl Llm for ReusingLlm<'_> {
                 self.gave_up_transient.store(true, Ordering::Relaxed);
                 return Err(with_tries(error, n));
             }
-            let wait =
-                pause(self.options.model_backoff, n, &seed, retry_after).min(patience - waited);
+            let wait = pause(self.options.model_backoff, n, &seed, retry_after)
+                .min(patience.saturating_sub(waited));
             self.retries.fetch_add(1, Ordering::Relaxed);
             self.sleep(wait);
             waited += wait;
