@@ -77,7 +77,7 @@ fn mix(mut z: u64) -> u64 {
 /// 64 bits of a job's identity: its hash read as hex (the first 16 digits), or, for a text that
 /// is not hex, an FNV-1a of its bytes.
 fn key_of(hash: &str) -> u64 {
-    let digits = &hash[..hash.len().min(16)];
+    let digits = hash.get(..hash.len().min(16)).unwrap_or("");
     if !digits.is_empty() && digits.bytes().all(|b| b.is_ascii_hexdigit()) {
         if let Ok(k) = u64::from_str_radix(digits, 16) {
             return k;
