@@ -483,7 +483,7 @@ fn shards_are_balanced_and_ignore_comments_and_order() {
     }
     let plain = shard_hashes(&out, 3);
     let sizes: Vec<usize> = plain.iter().map(std::collections::BTreeSet::len).collect();
-    assert!(sizes.iter().max().unwrap_or(&0) - sizes.iter().min().unwrap_or(&0) <= 1, "{sizes:?}");
+    assert_eq!(sizes.iter().sum::<usize>(), 10, "{sizes:?}");
     // A comment above every job, and the lines in reverse order: the same shards.
     let text = std::fs::read_to_string(&manifest).expect("manifest");
     let mut lines: Vec<String> = text.lines().map(|l| format!("# a comment\n{l}")).collect();
@@ -622,6 +622,9 @@ fn two_runs_on_one_folder_share_the_work() {
     assert_eq!(folders(&out), folders(&dir.join("reference")));
     let s = summary(&out.join("summary.json"));
     assert_eq!(s["failed"], 0, "{s}");
+    // One summary of both runs: the jobs the other run did are not left `busy`.
+    assert_eq!(s["busy"], 0, "{s}");
+    assert_eq!(s["done"].as_u64().unwrap_or(0) + s["skipped"].as_u64().unwrap_or(0), 16, "{s}");
     assert!(!out.join(".tmp").exists(), "the scratch is gone");
 }
 
@@ -666,7 +669,9 @@ fn a_full_disk_fails_jobs_cleanly_and_the_records_are_written() {
         .env("HOLOC_BATCH_DISK_FULL_AFTER", "6")
         .output()
         .expect("runs");
-    assert_eq!(run.status.code(), Some(1), "{}", String::from_utf8_lossy(&run.stderr));
+    // A full disk may pass: exit 75, for a scheduler to requeue.
+    assert_eq!(run.status.code(), Some(75), "{}", String::from_utf8_lossy(&run.stderr));
+    assert!(!out.join(".records.reserve").exists(), "the reserve is given back");
     let failures = failures_of(&out, "");
     assert_eq!(failures.len(), 3, "{failures:?}");
     for f in &failures {
@@ -870,4 +875,367 @@ fn file_hashes_are_kept_for_the_next_run() {
         .expect("change");
     assert_eq!(batch(&[], &manifest, &out).status.code(), Some(0));
     assert_eq!(summary(&out.join("summary.json"))["done"], 1);
+}
+
+/// The shard of every job line, from the shards' summaries (line → shard index).
+fn shard_of_lines(out: &Path, count: usize) -> BTreeMap<u64, usize> {
+    let mut lines = BTreeMap::new();
+    for i in 0..count {
+        let s = summary(&out.join(format!("summary.shard-{i}-of-{count}.json")));
+        for job in s["jobs"].as_array().expect("jobs") {
+            lines.insert(job["line"].as_u64().expect("line"), i);
+        }
+    }
+    lines
+}
+
+fn run_shards(manifest: &Path, out: &Path, count: usize) {
+    for i in 0..count {
+        let run = batch(&["--shard", &format!("{i}/{count}")], manifest, out);
+        assert!(
+            matches!(run.status.code(), Some(0 | 1)),
+            "{}",
+            String::from_utf8_lossy(&run.stderr)
+        );
+    }
+}
+
+/// A job's shard is a function of its own identity: editing one line (a new seed) moves at
+/// most that line, and adding a line above every other one moves none of them.
+#[test]
+fn a_one_line_edit_moves_only_that_line() {
+    let dir = scratch("stable-shards");
+    let manifest = builds(&dir, 24);
+    let count = 6;
+    run_shards(&manifest, &dir.join("before"), count);
+    let before = shard_of_lines(&dir.join("before"), count);
+    assert_eq!(before.len(), 24, "every line is in one shard");
+    let text = std::fs::read_to_string(&manifest).expect("manifest");
+    let edited = text.replace(r#""seed": 5}"#, r#""seed": 500}"#);
+    assert_ne!(edited, text);
+    // A line added at the top too: every other line's number grows by one.
+    std::fs::write(&manifest, format!("{{\"build\": \"bedroom.holo\", \"seed\": 77}}\n{edited}"))
+        .expect("write");
+    run_shards(&manifest, &dir.join("after"), count);
+    let after = shard_of_lines(&dir.join("after"), count);
+    let moved: Vec<u64> = before
+        .iter()
+        .filter(|(line, shard)| **line != 5 && after.get(&(**line + 1)) != Some(*shard))
+        .map(|(line, _)| *line)
+        .collect();
+    assert!(moved.is_empty(), "lines moved by an edit elsewhere: {moved:?}");
+}
+
+/// The issue's case: a line fails, is fixed, the failed index is re-run; if the fixed job now
+/// belongs to another shard, merge refuses and names the line and that shard, and merges once
+/// it has run. `--partial` accepts a partial run.
+#[test]
+fn merge_refuses_a_line_that_is_not_done_and_names_its_shard() {
+    let dir = scratch("merge-lines");
+    std::fs::copy("examples/bedroom.holo", dir.join("bedroom.holo")).expect("copy");
+    std::fs::write(
+        dir.join("fixme.holo"),
+        "room a \"a\" {\n  object c \"chair\" { near sofa-0 }\n}\n",
+    )
+    .expect("write");
+    let manifest = dir.join("m.jsonl");
+    let mut lines: Vec<String> =
+        (1..=8).map(|s| format!(r#"{{"build": "bedroom.holo", "seed": {s}}}"#)).collect();
+    lines.insert(2, r#"{"build": "fixme.holo", "id": "fixme"}"#.to_string());
+    std::fs::write(&manifest, lines.join("\n") + "\n").expect("write");
+    let out = dir.join("out");
+    let count = 4;
+    run_shards(&manifest, &out, count);
+    let merge = |extra: &[&str]| {
+        holoc()
+            .args(["batch", "merge", "-q", "-o"])
+            .arg(dir.join("merged.json"))
+            .args(extra)
+            .arg(&out)
+            .output()
+            .expect("runs")
+    };
+    let refused = merge(&[]);
+    assert_eq!(refused.status.code(), Some(1));
+    let stderr = String::from_utf8_lossy(&refused.stderr);
+    assert!(stderr.contains("E0811") && stderr.contains("line 3 (fixme)"), "{stderr}");
+    assert!(!dir.join("merged.json").exists(), "nothing is written");
+    let failed_shard = shard_of_lines(&out, count)[&3];
+    // The fix: the scene is mended; only the failed index is re-run.
+    std::fs::copy("examples/bedroom.holo", dir.join("fixme.holo")).expect("fix");
+    let run = batch(&["--shard", &format!("{failed_shard}/{count}")], &manifest, &out);
+    assert!(matches!(run.status.code(), Some(0 | 1)));
+    let merged = merge(&[]);
+    if merged.status.code() != Some(0) {
+        // The fixed job moved: merge names it and the shard to re-run, and nothing else.
+        let stderr = String::from_utf8_lossy(&merged.stderr);
+        assert_eq!(merged.status.code(), Some(1), "{stderr}");
+        assert!(stderr.contains("1 line of the manifest is not done"), "{stderr}");
+        let shard = stderr
+            .split("(shard ")
+            .nth(1)
+            .and_then(|r| r.split(" runs it now").next())
+            .expect("the shard is named")
+            .to_string();
+        assert!(stderr.contains("line 3 (fixme): in no summary"), "{stderr}");
+        // `--partial` accepts it, listing the line.
+        let partial = merge(&["--partial"]);
+        assert_eq!(partial.status.code(), Some(0));
+        let m = summary(&dir.join("merged.json"));
+        assert_eq!(m["incomplete"][0]["line"], 3, "{m}");
+        std::fs::remove_file(dir.join("merged.json")).expect("remove");
+        let run = batch(&["--shard", &shard], &manifest, &out);
+        assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+        let merged = merge(&[]);
+        assert_eq!(merged.status.code(), Some(0), "{}", String::from_utf8_lossy(&merged.stderr));
+    }
+    let m = summary(&dir.join("merged.json"));
+    assert_eq!(m["failed"], 0, "{m}");
+    assert_eq!(m["jobs"].as_array().map(Vec::len), Some(9));
+    assert!(m["jobs"].as_array().expect("jobs").iter().all(|j| j["status"] != "failed"));
+}
+
+/// A manifest of one generate job for `--base-url` (the job names no server).
+fn generate_for_run(dir: &Path, seeds: &[u64]) -> PathBuf {
+    let manifest = dir.join("m.jsonl");
+    let lines: Vec<String> = seeds
+        .iter()
+        .map(|seed| format!(
+            "{{\"generate\": \"a 1b1b apartment of a researcher who has a cat\", \"seed\": {seed}, \"model\": \"test-model\"}}"
+        ))
+        .collect();
+    std::fs::write(&manifest, lines.join("\n") + "\n").expect("write");
+    manifest
+}
+
+#[test]
+fn an_outage_of_the_model_is_waited_out_with_retry_after_honoured() {
+    let dir = scratch("outage");
+    let times: Arc<std::sync::Mutex<Vec<std::time::Instant>>> = Arc::default();
+    let log = times.clone();
+    // Down for the first five requests: 503, 502, 429 with Retry-After: 1, 500, 504.
+    let server = Server::start(Arc::new(move |a: &Asked, n| {
+        log.lock().expect("log").push(std::time::Instant::now());
+        match n {
+            0 => Reply::status(503, "{}"),
+            1 => Reply::status(502, "{}"),
+            2 => Reply { retry_after: Some("1"), ..Reply::status(429, "{}") },
+            3 => Reply::status(500, "{}"),
+            4 => Reply::status(504, "{}"),
+            _ => clean_answer(a),
+        }
+    }));
+    let manifest = generate_for_run(&dir, &[2]);
+    let out = dir.join("out");
+    let run = batch(
+        &["--base-url", &server.base_url, "--model-backoff", "20ms", "--model-patience", "30s"],
+        &manifest,
+        &out,
+    );
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    let record = &summary(&out.join("summary.json"))["jobs"][0];
+    assert_eq!(record["model_retries"], 5, "{record}");
+    let t = times.lock().expect("log").clone();
+    assert!(t[3] - t[2] >= std::time::Duration::from_millis(990), "Retry-After is honoured");
+}
+
+#[test]
+fn an_unreachable_server_fails_as_transient_with_exit_75_after_the_patience() {
+    let dir = scratch("unreachable");
+    // A port nobody listens on.
+    let port = std::net::TcpListener::bind("127.0.0.1:0")
+        .and_then(|l| l.local_addr())
+        .map(|a| a.port())
+        .expect("a free port");
+    let manifest = generate_for_run(&dir, &[1]);
+    let mut text = std::fs::read_to_string(&manifest).expect("manifest");
+    text.push_str("not a job\n");
+    std::fs::write(&manifest, text).expect("write");
+    let out = dir.join("out");
+    let started = std::time::Instant::now();
+    let run = batch(
+        &[
+            "--base-url",
+            &format!("http://127.0.0.1:{port}/v1"),
+            "--model-backoff",
+            "20ms",
+            "--model-patience",
+            "300ms",
+            "--allow-failures",
+        ],
+        &manifest,
+        &out,
+    );
+    assert_eq!(run.status.code(), Some(75), "{}", String::from_utf8_lossy(&run.stderr));
+    assert!(started.elapsed() >= std::time::Duration::from_millis(300), "it waited");
+    let failures = failures_of(&out, "");
+    assert_eq!(failures[0]["codes"], serde_json::json!(["E0805"]), "{failures:?}");
+    assert!(failures[0]["model_retries"].as_u64().unwrap_or(0) >= 2, "{failures:?}");
+    // Bad input alone is exit 1 (0 with --allow-failures), not 75.
+    std::fs::write(&manifest, "not a job\n").expect("write");
+    assert_eq!(batch(&[], &manifest, &dir.join("bad")).status.code(), Some(1));
+    assert_eq!(batch(&["--allow-failures"], &manifest, &dir.join("bad2")).status.code(), Some(0));
+}
+
+/// A generate job killed while it waits for an answer keeps every answer it had: the run after
+/// it asks only the questions that had no answer.
+#[test]
+fn a_killed_generate_job_resumes_without_asking_again() {
+    let dir = scratch("killed-generate");
+    let answered: Arc<std::sync::Mutex<Vec<String>>> = Arc::default();
+    let asked_windows = Arc::new(AtomicBool::new(false));
+    let (log, windows) = (answered.clone(), asked_windows.clone());
+    let server = Server::start(Arc::new(move |a: &Asked, _| {
+        if a.stage == "windows" && !windows.swap(true, Ordering::SeqCst) {
+            // The first windows question hangs: the job is killed meanwhile.
+            return Reply { delay_ms: 3000, ..Reply::status(503, "{}") };
+        }
+        log.lock().expect("log").push(format!("{}/{:?}/{}", a.stage, a.room, a.repair));
+        clean_answer(a)
+    }));
+    let manifest = generate_for_run(&dir, &[4]);
+    let out = dir.join("out");
+    let mut child = holoc()
+        .arg("batch")
+        .arg(&manifest)
+        .arg("-o")
+        .arg(&out)
+        .args(["-q", "--base-url", &server.base_url])
+        .spawn()
+        .expect("starts");
+    let started = std::time::Instant::now();
+    while !asked_windows.load(Ordering::SeqCst)
+        && started.elapsed() < std::time::Duration::from_secs(60)
+    {
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    let _ = child.kill();
+    let _ = child.wait();
+    let before = answered.lock().expect("log").len();
+    assert!(before >= 3, "floor plan, wall height, doorways were answered");
+    let again = batch(&["--base-url", &server.base_url], &manifest, &out);
+    assert!(again.status.success(), "{}", String::from_utf8_lossy(&again.stderr));
+    let all = answered.lock().expect("log").clone();
+    let mut distinct = all.clone();
+    distinct.sort();
+    distinct.dedup();
+    assert_eq!(distinct.len(), all.len(), "no answered question is asked twice: {all:?}");
+    assert!(all.len() > before);
+}
+
+/// The run's server and every generation parameter are the job's identity and in its
+/// `job.json`; a build ignores the generation-only fields (W0802); an empty scene fails (E0812).
+#[test]
+fn identity_holds_the_server_and_ignores_generation_fields_of_builds() {
+    let dir = scratch("identity-server");
+    let server = Server::start(Arc::new(|a: &Asked, _| clean_answer(a)));
+    let manifest = generate_for_run(&dir, &[6]);
+    let out = dir.join("out");
+    let run = batch(&["--base-url", &server.base_url], &manifest, &out);
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    let jobs = folders(&out);
+    let job: serde_json::Value =
+        serde_json::from_slice(&jobs.values().next().expect("a job")["job.json"]).expect("json");
+    assert_eq!(job["model"]["base_url"], server.base_url.as_str(), "{job}");
+    assert_eq!(job["model"]["model"], "test-model");
+    assert_eq!(job["model"]["parameters"]["temperature"], 0.0);
+    // Another server: another job, made there (not skipped).
+    let other = Server::start(Arc::new(|a: &Asked, _| clean_answer(a)));
+    let run = batch(&["--base-url", &other.base_url], &manifest, &out);
+    assert!(run.status.success());
+    assert_eq!(summary(&out.join("summary.json"))["done"], 1);
+    assert!(other.calls() > 0);
+    // Builds: the same job with or without generation fields, with a warning.
+    std::fs::copy("examples/bedroom.holo", dir.join("bedroom.holo")).expect("copy");
+    std::fs::write(dir.join("empty.holo"), "// nothing here\n").expect("write");
+    let builds = dir.join("b.jsonl");
+    std::fs::write(
+        &builds,
+        "{\"build\": \"bedroom.holo\", \"seed\": 2}\n{\"build\": \"bedroom.holo\", \"seed\": 2, \"temperature\": 0.9, \"model\": \"m\"}\n{\"build\": \"empty.holo\"}\n",
+    )
+    .expect("write");
+    let out = dir.join("builds");
+    let run = batch(&[], &builds, &out);
+    assert_eq!(run.status.code(), Some(1), "{}", String::from_utf8_lossy(&run.stderr));
+    let s = summary(&out.join("summary.json"));
+    assert_eq!(s["jobs"][0]["hash"], s["jobs"][1]["hash"], "{s}");
+    assert_eq!(s["done"], 1);
+    assert!(s["jobs"][1]["codes"].as_array().expect("codes").contains(&"W0802".into()), "{s}");
+    assert_eq!(s["jobs"][2]["codes"], serde_json::json!(["E0812"]), "{s}");
+    assert_eq!(s["jobs"][2]["stage"], "input");
+    assert_eq!(folders(&out).len(), 1);
+}
+
+#[test]
+fn a_resumed_run_keeps_the_warnings() {
+    let dir = scratch("warnings");
+    let manifest = builds_of(&dir, "classroom", 2);
+    let out = dir.join("out");
+    assert!(batch(&[], &manifest, &out).status.success());
+    let first = summary(&out.join("summary.json"));
+    assert!(batch(&[], &manifest, &out).status.success());
+    let second = summary(&out.join("summary.json"));
+    assert_eq!(second["skipped"], 2);
+    for k in 0..2 {
+        assert_eq!(first["jobs"][k]["codes"], second["jobs"][k]["codes"], "{first} {second}");
+    }
+}
+
+/// When the disk fills up during a run, the records are written from the room reserved when
+/// it started; without that room, the unfinished jobs are named on stderr with exit 74.
+#[test]
+fn a_full_disk_without_room_for_the_records_names_the_unfinished_jobs() {
+    let dir = scratch("disk-full-records");
+    let manifest = builds(&dir, 4);
+    let out = dir.join("out");
+    let run = holoc()
+        .arg("batch")
+        .arg(&manifest)
+        .arg("-o")
+        .arg(&out)
+        .args(["-q", "--jobs", "1"])
+        .env("HOLOC_BATCH_DISK_FULL_AFTER", "6")
+        .env("HOLOC_BATCH_RESERVE", "0")
+        .output()
+        .expect("runs");
+    assert_eq!(run.status.code(), Some(74), "{}", String::from_utf8_lossy(&run.stderr));
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    for line in ["line 2 (line-2)", "line 3 (line-3)", "line 4 (line-4)"] {
+        assert!(stderr.contains(line), "{stderr}");
+    }
+    assert!(stderr.contains("3 unfinished jobs"), "{stderr}");
+}
+
+/// The book's Kubernetes Job passes strict schema validation for every version the book names,
+/// with `kubernetes-validate` (pip) when it is installed.
+#[test]
+fn the_books_kubernetes_job_passes_strict_schema_validation() {
+    let yaml = book_block("kind: Job");
+    assert!(yaml.contains("status: \"True\""), "{yaml}");
+    let dir = scratch("k8s-schema");
+    let file = dir.join("holoc-job.yaml");
+    std::fs::write(&file, &yaml).expect("write");
+    for minor in 29..=34 {
+        let run = Command::new("kubernetes-validate")
+            .args(["--strict", "-k", &format!("1.{minor}.0")])
+            .arg(&file)
+            .output();
+        let Ok(run) = run else {
+            common::skip(
+                "the_books_kubernetes_job_passes_strict_schema_validation",
+                "kubernetes-validate is absent (pip install kubernetes-validate)",
+            );
+            return;
+        };
+        assert!(
+            run.status.success(),
+            "1.{minor}: {}{}",
+            String::from_utf8_lossy(&run.stdout),
+            String::from_utf8_lossy(&run.stderr)
+        );
+    }
+    // The exit codes the policy names are those holoc uses.
+    for code in ["values: [2]", "values: [75]", "values: [74]"] {
+        assert!(yaml.contains(code), "{code}");
+    }
 }

@@ -202,6 +202,18 @@ impl FileLock {
         Ok(Some(FileLock { _file: file, path: path.to_path_buf() }))
     }
 
+    /// Takes the lock of `path` (made if missing), waiting for another process to let it go.
+    pub fn take(path: &Path) -> std::io::Result<FileLock> {
+        if let Some(parent) = path.parent() {
+            std::fs::create_dir_all(parent)?;
+        }
+        let file =
+            std::fs::OpenOptions::new().create(true).truncate(false).write(true).open(path)?;
+        #[cfg(unix)]
+        rustix::fs::flock(&file, rustix::fs::FlockOperation::LockExclusive)?;
+        Ok(FileLock { _file: file, path: path.to_path_buf() })
+    }
+
     /// Removes the lock's file and lets the lock go. Only for a job whose folder is complete:
     /// a run that opened the old file and takes its lock afterwards finds the folder complete.
     pub fn remove(self) {

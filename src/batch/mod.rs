@@ -20,7 +20,7 @@ pub mod shard;
 
 pub use files::{CatalogCache, FileHashes, Scratch};
 pub use run::{run_job, Permits, RunOptions};
-pub use shard::{assign, Planned, Shard};
+pub use shard::{assign, line_identity, shard_of, Planned, Shard};
 
 use crate::diag::Code;
 use serde::{Deserialize, Serialize};
@@ -96,13 +96,63 @@ impl JobSpec {
             .unwrap_or_else(|| crate::generate::client::DEFAULT_MODEL.to_string())
     }
 
-    /// The API a generate job asks: its own, else `HOLOC_BASE_URL`, else holoc's default.
-    pub fn resolved_base_url(&self) -> String {
-        self.base_url
-            .clone()
-            .or_else(|| std::env::var("HOLOC_BASE_URL").ok().filter(|m| !m.trim().is_empty()))
-            .unwrap_or_else(|| crate::generate::client::DEFAULT_BASE_URL.to_string())
+    /// The API a generate job asks: its own, else the run's (`--base-url`, else
+    /// `HOLOC_BASE_URL`, else holoc's default).
+    pub fn resolved_base_url(&self, run: &str) -> String {
+        self.base_url.clone().unwrap_or_else(|| run.to_string())
     }
+
+    /// The fields of the line that only a generate job uses, when the line is a build: they
+    /// are left out of its identity (W0802).
+    pub fn generation_only_fields(&self) -> Vec<&'static str> {
+        if self.generate.is_some() {
+            return Vec::new();
+        }
+        let mut fields = Vec::new();
+        if self.model.is_some() {
+            fields.push("model");
+        }
+        if self.base_url.is_some() {
+            fields.push("base_url");
+        }
+        if self.temperature.is_some() {
+            fields.push("temperature");
+        }
+        fields
+    }
+
+    /// The spec as it enters the identity: a build's generation-only fields left out.
+    #[must_use]
+    pub fn for_identity(&self) -> JobSpec {
+        let mut spec = self.clone();
+        if spec.generate.is_none() {
+            spec.model = None;
+            spec.base_url = None;
+            spec.temperature = None;
+        }
+        spec
+    }
+}
+
+/// How many repair rounds a generate job of `holoc batch` allows each answer.
+pub const REPAIR_ROUNDS: u32 = 2;
+
+/// What a generate job asks of the model, all of it part of its identity and of `job.json`:
+/// the server (`base_url`, the job's own or the run's), the model and every parameter of the
+/// requests and of the generation. `None` for a build.
+pub fn generation_identity(spec: &JobSpec, run_base_url: &str) -> Option<serde_json::Value> {
+    spec.generate.as_ref().map(|_| {
+        serde_json::json!({
+            "model": spec.resolved_model(),
+            "base_url": spec.resolved_base_url(run_base_url),
+            "parameters": {
+                "temperature": spec.temperature.unwrap_or(0.0),
+                "seed": spec.seed.unwrap_or(1),
+                "max_tokens": serde_json::Value::Null,
+                "repair_rounds": REPAIR_ROUNDS,
+            },
+        })
+    })
 }
 
 /// A job of the manifest, ready to run.
@@ -122,6 +172,15 @@ pub struct Job {
     pub catalogs: Vec<PathBuf>,
     /// The objathor folder and how it is used.
     pub objathor: Option<crate::resolve::objathor::ObjathorOptions>,
+}
+
+/// How good a result is, for merging: a finished job beats a failed one beats a busy one.
+pub fn rank(status: Status) -> u8 {
+    match status {
+        Status::Done | Status::Skipped => 3,
+        Status::Failed => 2,
+        Status::Busy => 1,
+    }
 }
 
 /// A manifest line that is not a job.
@@ -189,6 +248,10 @@ pub struct JobResult {
     /// were asked again after a pause.
     #[serde(default, skip_serializing_if = "is_zero")]
     pub model_retries: u32,
+    /// The failure may pass if the job is run again later without any change (the model
+    /// server out past `--model-patience`, a full disk): the run exits with status 75.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub transient: bool,
     /// Wall-clock seconds (not part of any output of the job).
     pub seconds: f64,
 }
@@ -206,6 +269,7 @@ impl JobResult {
             message: None,
             tries: 1,
             model_retries: 0,
+            transient: false,
             seconds: 0.0,
         }
     }
@@ -214,6 +278,7 @@ impl JobResult {
     #[must_use]
     pub fn fail(mut self, stage: &str, code: Code, message: String) -> JobResult {
         self.status = Status::Failed;
+        self.transient = false;
         self.stage = Some(stage.to_string());
         self.codes = vec![code.as_str().to_string()];
         self.message = Some(message);
@@ -239,6 +304,44 @@ pub struct Summary {
     pub failed: usize,
     /// Every job of the run, by manifest line.
     pub jobs: Vec<JobResult>,
+    /// The manifest the run read (its full path), for `holoc batch merge`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub manifest: Option<String>,
+    /// The run's model server (`--base-url`, without any user name or password), part of the
+    /// identity of its generate jobs, for `holoc batch merge`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub base_url: Option<String>,
+    /// The lines of the manifest a merge accepted as not done (`--partial`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub incomplete: Vec<Incomplete>,
+}
+
+/// A manifest line that is not done, as `holoc batch merge` finds it.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct Incomplete {
+    /// The line (1-based).
+    pub line: usize,
+    /// The job's name.
+    pub id: String,
+    /// The job's identity now (empty for a line that is not a job).
+    pub hash: String,
+    /// The shard that runs it now, as `I/N` (when the run was sharded).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shard: Option<String>,
+    /// Why it is not done.
+    pub why: String,
+}
+
+/// A server address as a summary records it: without user name and password.
+pub fn public_url(url: &str) -> String {
+    match url::Url::parse(url) {
+        Ok(mut u) => {
+            let _ = u.set_username("");
+            let _ = u.set_password(None);
+            u.to_string().trim_end_matches('/').to_string()
+        }
+        Err(_) => url.to_string(),
+    }
 }
 
 impl Summary {
@@ -254,22 +357,48 @@ impl Summary {
             busy: count(Status::Busy),
             failed: count(Status::Failed),
             jobs,
+            manifest: None,
+            base_url: None,
+            incomplete: Vec::new(),
         }
     }
 
-    /// The shards' summaries as one (a job listed twice keeps its last result).
+    /// The shards' summaries as one, by line: a line listed more than once keeps its best
+    /// result (done or skipped before failed before busy; the later one on a tie).
     pub fn merge(parts: Vec<Summary>) -> Summary {
         let mut by_line: BTreeMap<usize, JobResult> = BTreeMap::new();
         let mut shards = Vec::new();
+        let manifest = Self::agreed(&parts, |p| p.manifest.clone());
+        let base_url = Self::agreed(&parts, |p| p.base_url.clone());
         for part in parts {
             shards.extend(part.shards);
             for job in part.jobs {
-                by_line.insert(job.line, job);
+                match by_line.get(&job.line) {
+                    Some(old) if rank(old.status) > rank(job.status) => {}
+                    _ => {
+                        by_line.insert(job.line, job);
+                    }
+                }
             }
         }
         shards.sort_by_key(|s| Shard::parse(s).map(|s| (s.count, s.index)).unwrap_or_default());
         shards.dedup();
-        Summary::of(by_line.into_values().collect(), shards)
+        let mut merged = Summary::of(by_line.into_values().collect(), shards);
+        merged.manifest = manifest;
+        merged.base_url = base_url;
+        merged
+    }
+
+    /// The value every part that has one agrees on, if they agree.
+    pub fn agreed(parts: &[Summary], get: impl Fn(&Summary) -> Option<String>) -> Option<String> {
+        let mut values: Vec<String> = parts.iter().filter_map(get).collect();
+        values.sort();
+        values.dedup();
+        if values.len() == 1 {
+            values.pop()
+        } else {
+            None
+        }
     }
 
     /// What keeps these summaries from being merged into the summary of a whole run: shards of
@@ -442,26 +571,23 @@ pub fn manifest_failure(e: &ManifestError) -> JobResult {
         message: Some(e.message.clone()),
         tries: 1,
         model_retries: 0,
+        transient: false,
         seconds: 0.0,
     }
 }
 
-/// The job's identity, hashed: its settings, the bytes of its input and catalogs, for a
-/// generate job the model and API it asks (after `HOLOC_MODEL` and `HOLOC_BASE_URL`), and the
-/// build identity of holoc (version, commit, hashes of the embedded data and the source). An
-/// input or catalog that cannot be read hashes as its path (the job then fails at that stage
-/// and is tried again by the next run). Files are read through `files`, so each is read and
-/// hashed once per run while it does not change.
-pub fn job_hash(job: &Job, files: &FileHashes) -> String {
-    let model = job.spec.generate.as_ref().map(|_| {
-        serde_json::json!({
-            "model": job.spec.resolved_model(),
-            "base_url": job.spec.resolved_base_url(),
-        })
-    });
+/// The job's identity, hashed: its settings (a build's without the fields only generate jobs
+/// use), the bytes of its input and catalogs, for a generate job the server, model and
+/// parameters it asks with ([`generation_identity`]; `run_base_url` is the run's server), and
+/// the build identity of holoc (version, commit, hashes of the embedded data and the source).
+/// An input or catalog that cannot be read hashes as its path (the job then fails at that
+/// stage and is tried again by the next run). Files are read through `files`, so each is read
+/// and hashed once per run while it does not change.
+pub fn job_hash(job: &Job, files: &FileHashes, run_base_url: &str) -> String {
+    let model = generation_identity(&job.spec, run_base_url);
     let key = serde_json::json!({
         "holoc": crate::build_info::LONG_VERSION,
-        "spec": job.spec,
+        "spec": job.spec.for_identity(),
         "input": job.input.as_deref().map(|p| files.hash(p)),
         "catalogs": job.catalogs.iter().map(|p| files.hash(p)).collect::<Vec<_>>(),
         "model": model,

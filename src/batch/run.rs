@@ -54,8 +54,11 @@ pub struct RunOptions {
     /// The hashes of the files read so far.
     pub files: FileHashes,
     /// The first pause before a model request that failed for a passing reason is sent again
-    /// (it doubles each time, up to 30 s).
+    /// (it doubles each time, up to [`MAX_MODEL_PAUSE`], with jitter).
     pub model_backoff: Duration,
+    /// How long one model request may keep failing for a passing reason before its job fails
+    /// (`--model-patience`, default [`DEFAULT_MODEL_PATIENCE`]).
+    pub model_patience: Duration,
     /// The manifest's folder: a job reads only files below it unless `allow_outside`.
     pub manifest_dir: PathBuf,
     /// Jobs may read inputs and catalogs outside the manifest's folder (`--allow-outside`).
@@ -94,6 +97,7 @@ impl RunOptions {
             catalogs: CatalogCache::default(),
             files: FileHashes::default(),
             model_backoff: Duration::from_secs(1),
+            model_patience: DEFAULT_MODEL_PATIENCE,
             counter: AtomicU64::new(0),
         }
     }
@@ -143,24 +147,107 @@ impl Permits {
     }
 }
 
+/// The recorded answers of a job, by question: (stage, room, attempt, SHA-256 of the prompt).
+type Recorded = BTreeMap<(String, Option<String>, u32, String), String>;
+
 /// A model that answers from what an earlier run of the job recorded, when the question is
 /// exactly the same (stage, room, attempt and prompt), and asks the live model otherwise, each
-/// live request holding one model permit. A request that fails for a passing reason (429, 5xx,
-/// a timeout) is sent again after a pause without the permit, up to [`MODEL_TRIES`] times. A
-/// cancelled job gets no more answers.
+/// live request holding one model permit. Every answer received is appended at once to the
+/// job's answer log (`.partial/<hash>.answers.jsonl`), so a job cancelled or killed part way
+/// keeps it. A request that fails for a passing reason ([`LlmError::is_transient`]: the server
+/// unreachable or dropping the connection, a timeout, 429, 5xx) is sent again after a pause
+/// without the permit ([`pause`]: exponential, with jitter drawn from the job's hash, at least
+/// the server's `Retry-After`), until the pauses add up to the run's patience
+/// (`--model-patience`). A cancelled job gets no more answers.
 struct ReusingLlm<'a> {
-    recorded: BTreeMap<(String, Option<String>, u32, String), String>,
+    recorded: Recorded,
     live: &'a dyn Llm,
     options: &'a RunOptions,
     token: &'a Token,
     retries: &'a AtomicU32,
+    /// The job's hash (the jitter's seed).
+    hash: &'a str,
+    /// The answer log, appended to as answers come.
+    log: Mutex<Option<std::fs::File>>,
+    /// Set when a request gave up on an error that may pass (past the patience).
+    gave_up_transient: std::sync::atomic::AtomicBool,
 }
 
-/// How many times one model request is sent at most.
-pub const MODEL_TRIES: u32 = 4;
+/// The default of `--model-patience`: how long one model request may keep failing for a
+/// passing reason (the sum of the pauses between its tries, a try that timed out counting its
+/// time limit) before its job fails as transient (exit status 75).
+pub const DEFAULT_MODEL_PATIENCE: Duration = Duration::from_secs(15 * 60);
+
+/// The longest pause between two tries of a request (a `Retry-After` may ask for more, up to
+/// the patience left).
+pub const MAX_MODEL_PAUSE: Duration = Duration::from_secs(60);
 
 fn prompt_key(prompt: &str) -> String {
     crate::resolve::sha256_hex(prompt.as_bytes())
+}
+
+/// The pause before try `n + 1` (`n` ≥ 1 tries failed) of a request: `first · 2^(n-1)`, capped
+/// at [`MAX_MODEL_PAUSE`], times a jitter in [0.5, 1) drawn from the job's hash, the question
+/// and `n` (so two jobs that failed together do not come back together, and the same job
+/// waits the same each time: no clock or random source), and at least `retry_after`.
+pub fn pause(first: Duration, n: u32, seed: &str, retry_after: Option<Duration>) -> Duration {
+    let doubled = first.saturating_mul(1u32 << (n.saturating_sub(1)).min(20)).min(MAX_MODEL_PAUSE);
+    let draw = crate::resolve::sha256_hex(format!("{seed}/{n}").as_bytes());
+    let unit = u64::from_str_radix(&draw[..8], 16).unwrap_or(0) as f64 / f64::from(u32::MAX);
+    let jittered = doubled.mul_f64(0.5 + 0.5 * unit.clamp(0.0, 1.0));
+    retry_after.map_or(jittered, |after| after.max(jittered))
+}
+
+/// One line of a job's answer log.
+#[derive(serde::Serialize, serde::Deserialize)]
+struct LoggedAnswer {
+    stage: String,
+    room: Option<String>,
+    attempt: u32,
+    prompt_sha256: String,
+    answer: String,
+}
+
+impl ReusingLlm<'_> {
+    /// Appends an answer to the job's log (a failure to write only costs the next run a
+    /// request).
+    fn keep(&self, key: &(String, Option<String>, u32, String), answer: &str) {
+        use std::io::Write as _;
+        let mut log = self.log.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+        if log.is_none() {
+            let path = answer_log(&self.options.out, self.hash);
+            if let Some(parent) = path.parent() {
+                let _ = std::fs::create_dir_all(parent);
+            }
+            *log = std::fs::OpenOptions::new().create(true).append(true).open(&path).ok();
+        }
+        let Some(file) = log.as_mut() else { return };
+        let line = LoggedAnswer {
+            stage: key.0.clone(),
+            room: key.1.clone(),
+            attempt: key.2,
+            prompt_sha256: key.3.clone(),
+            answer: answer.to_string(),
+        };
+        if let Ok(mut text) = serde_json::to_string(&line) {
+            text.push('\n');
+            // One write per line: a kill leaves at most the last line cut short (skipped
+            // when read).
+            let _ = file.write_all(text.as_bytes());
+        }
+    }
+
+    /// Sleeps `d` in short slices, stopping early when the job is cancelled.
+    fn sleep(&self, d: Duration) {
+        let until = Instant::now() + d;
+        while !self.token.is_cancelled() {
+            let now = Instant::now();
+            if now >= until {
+                return;
+            }
+            std::thread::sleep((until - now).min(Duration::from_millis(50)));
+        }
+    }
 }
 
 impl Llm for ReusingLlm<'_> {
@@ -174,8 +261,12 @@ impl Llm for ReusingLlm<'_> {
         if let Some(text) = self.recorded.get(&key) {
             return Ok(LlmAnswer { text: text.clone(), usage: generate::Usage::default() });
         }
-        let mut pause = self.options.model_backoff;
-        for n in 1..=MODEL_TRIES {
+        let seed = format!("{}/{}/{:?}/{}", self.hash, key.0, key.1, key.2);
+        let patience = self.options.model_patience;
+        let mut waited = Duration::ZERO;
+        let mut n = 0u32;
+        loop {
+            n += 1;
             if self.token.is_cancelled() {
                 return Err(LlmError::Timeout {
                     seconds: self.options.job_timeout.as_secs_f64(),
@@ -186,22 +277,50 @@ impl Llm for ReusingLlm<'_> {
                 let _permit = self.options.llm.acquire();
                 self.live.complete(request)
             };
-            let passing = matches!(
-                &answer,
-                Err(LlmError::Timeout { .. } | LlmError::Server { status: 429 | 500..=599, .. })
-            );
-            if !passing || n == MODEL_TRIES {
-                return answer;
+            let error = match answer {
+                Ok(answer) => {
+                    self.keep(&key, &answer.text);
+                    return Ok(answer);
+                }
+                Err(e) if e.is_transient() => e,
+                Err(e) => return Err(e),
+            };
+            // A try that timed out used up its time limit of the patience.
+            if let LlmError::Timeout { seconds, .. } = &error {
+                waited += Duration::from_secs_f64(seconds.clamp(0.0, 1e6));
             }
+            let retry_after = match &error {
+                LlmError::Server { retry_after, .. } => *retry_after,
+                _ => None,
+            };
+            if waited >= patience {
+                self.gave_up_transient.store(true, Ordering::Relaxed);
+                return Err(with_tries(error, n));
+            }
+            let wait = pause(self.options.model_backoff, n, &seed, retry_after)
+                .min(patience.saturating_sub(waited));
             self.retries.fetch_add(1, Ordering::Relaxed);
-            std::thread::sleep(pause);
-            pause = (pause * 2).min(Duration::from_secs(30));
+            self.sleep(wait);
+            waited += wait;
         }
-        Err(LlmError::Server { status: 0, tries: MODEL_TRIES, body: String::new() })
     }
 
     fn info(&self) -> ModelInfo {
         self.live.info()
+    }
+}
+
+/// The error of the last of `tries` tries, saying how many there were.
+fn with_tries(error: LlmError, tries: u32) -> LlmError {
+    match error {
+        LlmError::Timeout { seconds, .. } => LlmError::Timeout { seconds, tries },
+        LlmError::Server { status, body, retry_after, .. } => {
+            LlmError::Server { status, tries, body, retry_after }
+        }
+        LlmError::Unreachable { base_url, reason } => {
+            LlmError::Unreachable { base_url, reason: format!("{reason} ({tries} tries)") }
+        }
+        other => other,
     }
 }
 
@@ -214,10 +333,18 @@ struct Work {
     diagnostics: Vec<Diagnostic>,
     failed_stage: Option<&'static str>,
     model_retries: u32,
+    /// The failure may pass (the model server out past the patience).
+    transient: bool,
 }
 
 fn failed(stage: &'static str, diagnostics: Vec<Diagnostic>) -> Work {
-    Work { files: Vec::new(), diagnostics, failed_stage: Some(stage), model_retries: 0 }
+    Work {
+        files: Vec::new(),
+        diagnostics,
+        failed_stage: Some(stage),
+        model_retries: 0,
+        transient: false,
+    }
 }
 
 fn solver_of(job: &Job) -> Solver {
@@ -265,6 +392,17 @@ fn build_text(name: &str, text: String, job: &Job, options: &RunOptions, files: 
         let stage = diagnostics.iter().find(|d| d.is_error()).map_or("build", |d| stage_of(d.code));
         return failed(stage, diagnostics);
     };
+    if product.house.house.rooms.is_empty() {
+        // An empty scene (or one of comments only) builds a house of no rooms: not a house.
+        diagnostics.push(
+            Diagnostic::new(
+                Code::E0812,
+                format!("`{name}` declares no room: a house of no rooms is not a job's output"),
+            )
+            .with_help("give the scene at least one `room`, or remove the line from the manifest"),
+        );
+        return failed("input", diagnostics);
+    }
     crate::cancel::stage("write");
     let mut report = crate::report::report(&product, catalog);
     // The report names the catalogs as the manifest does (relative to its folder), not as
@@ -281,7 +419,7 @@ fn build_text(name: &str, text: String, job: &Job, options: &RunOptions, files: 
     let mut files = files;
     files.push(("house.json", product.house.to_json_string()));
     files.push(("report.json", report));
-    Work { files, diagnostics, failed_stage: None, model_retries: 0 }
+    Work { files, diagnostics, failed_stage: None, model_retries: 0, transient: false }
 }
 
 /// The stage a build error comes from, by its code's band.
@@ -310,19 +448,49 @@ fn run_build_job(job: &Job, options: &RunOptions) -> Work {
     build_text(&name, text, job, options, Vec::new())
 }
 
-/// The answers a failed run of this job recorded, without those of the questions that failed.
-fn recorded_answers(partial: &Path) -> BTreeMap<(String, Option<String>, u32, String), String> {
-    let Some(transcript) = crate::source::read_text(partial, 32 * 1024 * 1024)
-        .ok()
-        .and_then(|t| serde_json::from_str::<crate::import::Transcript>(&t).ok())
-    else {
-        return BTreeMap::new();
-    };
-    transcript
-        .exchanges
-        .into_iter()
-        .map(|e| ((e.stage, e.room, e.attempt, prompt_key(&e.prompt)), e.answer))
-        .collect()
+/// The answers earlier runs of this job recorded: the transcript a failed run kept (without
+/// the questions that failed) and the answer log, answer by answer as they came (a line cut
+/// short by a kill is skipped).
+fn recorded_answers(out: &Path, hash: &str) -> Recorded {
+    let mut recorded = Recorded::new();
+    if let Some(transcript) =
+        crate::source::read_text(&partial_transcript(out, hash), 32 * 1024 * 1024)
+            .ok()
+            .and_then(|t| serde_json::from_str::<crate::import::Transcript>(&t).ok())
+    {
+        recorded.extend(
+            transcript
+                .exchanges
+                .into_iter()
+                .map(|e| ((e.stage, e.room, e.attempt, prompt_key(&e.prompt)), e.answer)),
+        );
+    }
+    let log =
+        crate::source::read_text(&answer_log(out, hash), 64 * 1024 * 1024).unwrap_or_default();
+    for line in log.lines() {
+        if let Ok(a) = serde_json::from_str::<LoggedAnswer>(line) {
+            recorded.insert((a.stage, a.room, a.attempt, a.prompt_sha256), a.answer);
+        }
+    }
+    recorded
+}
+
+/// Rewrites the answer log without the answers to `gave_up` questions (so that the next run
+/// asks them again).
+fn forget_answers(options: &RunOptions, hash: &str, gave_up: &BTreeSet<(String, Option<String>)>) {
+    let path = answer_log(&options.out, hash);
+    let Ok(log) = crate::source::read_text(&path, 64 * 1024 * 1024) else { return };
+    let mut kept = String::new();
+    for line in log.lines() {
+        match serde_json::from_str::<LoggedAnswer>(line) {
+            Ok(a) if !gave_up.contains(&(a.stage.clone(), a.room.clone())) => {
+                kept.push_str(line);
+                kept.push('\n');
+            }
+            _ => {}
+        }
+    }
+    let _ = write_atomically(&path, &kept, &options.scratch, options);
 }
 
 fn run_generate_job(job: &Job, options: &RunOptions, token: &Token) -> Work {
@@ -359,11 +527,25 @@ fn run_generate_job(job: &Job, options: &RunOptions, token: &Token) -> Work {
     }
     let live = HttpLlm::new(http);
     let partial = partial_transcript(&options.out, &job.hash);
-    let recorded = if options.force { BTreeMap::new() } else { recorded_answers(&partial) };
+    let recorded =
+        if options.force { Recorded::new() } else { recorded_answers(&options.out, &job.hash) };
     let retries = AtomicU32::new(0);
-    let llm = ReusingLlm { recorded, live: &live, options, token, retries: &retries };
+    let llm = ReusingLlm {
+        recorded,
+        live: &live,
+        options,
+        token,
+        retries: &retries,
+        hash: &job.hash,
+        log: Mutex::new(None),
+        gave_up_transient: std::sync::atomic::AtomicBool::new(false),
+    };
     let request = Request { text, seed };
-    let options_g = GenerateOptions { jobs: 1, repair_rounds: 2, ..GenerateOptions::default() };
+    let options_g = GenerateOptions {
+        jobs: 1,
+        repair_rounds: super::REPAIR_ROUNDS,
+        ..GenerateOptions::default()
+    };
     let outcome: Outcome<generate::Generated> = generate::generate(&request, &llm, &options_g);
     let model_retries = retries.load(Ordering::Relaxed);
     if outcome.has_errors() {
@@ -377,9 +559,11 @@ fn run_generate_job(job: &Job, options: &RunOptions, token: &Token) -> Work {
         text.push('\n');
         if !token.is_cancelled() {
             let _ = write_atomically(&partial, &text, &options.scratch, options);
+            forget_answers(options, &job.hash, &gave_up);
         }
         let mut work = failed("generate", outcome.diagnostics);
         work.model_retries = model_retries;
+        work.transient = llm.gave_up_transient.load(Ordering::Relaxed);
         return work;
     }
     let mut transcript =
@@ -398,6 +582,11 @@ fn run_generate_job(job: &Job, options: &RunOptions, token: &Token) -> Work {
 /// Where a generate job that failed keeps its transcript for the next run.
 fn partial_transcript(out: &Path, hash: &str) -> PathBuf {
     out.join(".partial").join(format!("{hash}.transcript.json"))
+}
+
+/// Where a generate job appends every answer it receives, as it receives it.
+fn answer_log(out: &Path, hash: &str) -> PathBuf {
+    out.join(".partial").join(format!("{hash}.answers.jsonl"))
 }
 
 /// Where a job that failed keeps how many times it was tried.
@@ -431,6 +620,22 @@ fn disk_full_after() -> Option<usize> {
 }
 
 static FILES_WRITTEN: AtomicUsize = AtomicUsize::new(0);
+
+/// Whether the run has let go of its records reserve (the test hook's disk then has room for
+/// the records again).
+static RESERVE_RELEASED: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// Says that the run removed its records reserve, freeing its space.
+pub fn release_reserve() {
+    RESERVE_RELEASED.store(true, Ordering::SeqCst);
+}
+
+/// Whether the disk-full test hook has fired and no reserve was let go since: the records
+/// cannot be written then, as on a real full disk.
+pub fn records_blocked() -> bool {
+    disk_full_after().is_some_and(|after| FILES_WRITTEN.load(Ordering::SeqCst) >= after)
+        && !RESERVE_RELEASED.load(Ordering::SeqCst)
+}
 
 /// Writes one file of a job (through the disk-full test hook).
 fn write_file(path: &Path, text: &str) -> std::io::Result<()> {
@@ -484,13 +689,11 @@ fn write_job(
         for (name, text) in files {
             write_file(&tmp.join(name), text)?;
         }
-        let model = job.spec.generate.as_ref().map(|_| {
-            serde_json::json!({"model": job.spec.resolved_model(), "base_url": job.spec.resolved_base_url()})
-        });
+        let model = super::generation_identity(&job.spec, &options.base_url);
         let mut job_json = serde_json::to_string_pretty(&serde_json::json!({
             "hash": job.hash,
             "holoc": crate::build_info::LONG_VERSION,
-            "spec": job.spec,
+            "spec": job.spec.for_identity(),
             "model": model,
             "warnings": codes(diagnostics, false),
         }))
@@ -690,6 +893,7 @@ fn try_once(job: &Job, options: &Arc<RunOptions>, result: &mut JobResult) {
                 result.codes = codes(&work.diagnostics, true);
                 result.message =
                     work.diagnostics.iter().find(|d| d.is_error()).map(|d| d.message.clone());
+                result.transient = work.transient;
                 return;
             }
             result.status = Status::Done;
@@ -703,6 +907,7 @@ fn try_once(job: &Job, options: &Arc<RunOptions>, result: &mut JobResult) {
                     (Code::E0001, format!("cannot write the job's folder: {e}"))
                 };
                 *result = result.clone().fail("write", code, message);
+                result.transient = code == Code::E0007;
             }
         }
     }
@@ -717,6 +922,8 @@ pub fn run_job(job: &Job, options: &Arc<RunOptions>) -> JobResult {
     let done = || options.out.join(&job.hash).join(DONE_MARKER).exists();
     if !options.force && done() {
         result.status = Status::Skipped;
+        result.codes = recorded_warnings(&options.out, &job.hash);
+        note_ignored_fields(job, &mut result);
         return result;
     }
     let lock = match FileLock::try_take(&lock_file(&options.out, &job.hash)) {
@@ -728,18 +935,23 @@ pub fn run_job(job: &Job, options: &Arc<RunOptions>) -> JobResult {
         }
         Err(e) => {
             let code = if is_disk_full(&e) { Code::E0007 } else { Code::E0001 };
-            return result.fail("write", code, format!("cannot take the job's lock: {e}"));
+            let mut result = result.fail("write", code, format!("cannot take the job's lock: {e}"));
+            result.transient = code == Code::E0007;
+            return result;
         }
     };
     // Another run may have finished the job while this one waited for the lock.
     if !options.force && done() {
         result.status = Status::Skipped;
+        result.codes = recorded_warnings(&options.out, &job.hash);
+        note_ignored_fields(job, &mut result);
         lock.remove();
         return result;
     }
     let tries = tries_file(&options.out, &job.hash);
     if options.force {
         let _ = std::fs::remove_file(partial_transcript(&options.out, &job.hash));
+        let _ = std::fs::remove_file(answer_log(&options.out, &job.hash));
         let _ = std::fs::remove_file(&tries);
     }
     let earlier: u32 =
@@ -759,10 +971,54 @@ pub fn run_job(job: &Job, options: &Arc<RunOptions>) -> JobResult {
     } else {
         let _ = std::fs::remove_file(&tries);
         let _ = std::fs::remove_file(partial_transcript(&options.out, &job.hash));
+        let _ = std::fs::remove_file(answer_log(&options.out, &job.hash));
         lock.remove();
     }
+    note_ignored_fields(job, &mut result);
     result.seconds = started.elapsed().as_secs_f64();
     result
+}
+
+/// The warnings' codes a finished job recorded in its `job.json`, so that a skipped job's
+/// record says what its build said.
+fn recorded_warnings(out: &Path, hash: &str) -> Vec<String> {
+    crate::source::read_text(&out.join(hash).join("job.json"), 1024 * 1024)
+        .ok()
+        .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
+        .and_then(|v| {
+            v.get("warnings").and_then(serde_json::Value::as_array).map(|w| {
+                w.iter().filter_map(serde_json::Value::as_str).map(str::to_string).collect()
+            })
+        })
+        .unwrap_or_default()
+}
+
+/// A build line that names generation-only fields: W0802 in its record (not in its folder,
+/// which depends on the job alone, and the job is the same without them).
+pub fn note_ignored_fields(job: &Job, result: &mut JobResult) {
+    let fields = job.spec.generation_only_fields();
+    if fields.is_empty() || result.status == Status::Failed {
+        return;
+    }
+    let code = Code::W0802.as_str().to_string();
+    if !result.codes.contains(&code) {
+        result.codes.push(code);
+        result.codes.sort();
+    }
+    let listed: Vec<String> = fields.iter().map(|f| format!("`{f}`")).collect();
+    result.message = Some(format!(
+        "{} {} only for generate jobs and {} ignored for a build (not part of its identity)",
+        listed.join(", "),
+        if fields.len() == 1 { "is" } else { "are" },
+        if fields.len() == 1 { "is" } else { "are" },
+    ));
+}
+
+/// Whether a failed job may succeed if run again later without any change: the model server
+/// was unreachable, timed out or failed with 429/5xx past the patience, or the disk was full.
+/// A run with such a failure exits with status 75 (`EX_TEMPFAIL`) so a scheduler requeues it.
+pub fn is_transient(result: &JobResult) -> bool {
+    result.status == Status::Failed && result.transient
 }
 
 #[cfg(test)]

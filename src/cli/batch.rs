@@ -8,7 +8,7 @@
 //! scratch file from which the summary is made at the end.
 
 use super::common;
-use crate::batch::{self, Job, JobResult, Planned, RunOptions, Scratch, Shard, Status, Summary};
+use crate::batch::{self, Job, JobResult, RunOptions, Scratch, Shard, Status, Summary};
 use crate::diag::{Code, Diagnostic};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::collections::{BTreeMap, HashMap, HashSet};
@@ -71,6 +71,16 @@ pub struct BatchArgs {
     /// run's server. Without this flag such a job fails.
     #[arg(long)]
     pub allow_job_base_url: bool,
+    /// How long one model request may keep failing for a passing reason (unreachable, a
+    /// dropped connection, a timeout, 429, 5xx) before its job fails (`90s`, `30m`, `2h`;
+    /// default 15m): the pauses between its tries add up to this. A run with such a failure
+    /// exits with status 75.
+    #[arg(long, value_parser = parse_duration)]
+    pub model_patience: Option<Duration>,
+    /// The first pause before a model request that failed for a passing reason is sent again
+    /// (default 1s); it doubles each time, up to 60 s, with jitter.
+    #[arg(long, value_parser = parse_duration)]
+    pub model_backoff: Option<Duration>,
     /// Seconds between progress lines when stderr is not a terminal (a log).
     #[arg(long, default_value_t = 60.0)]
     pub progress_every: f64,
@@ -114,12 +124,31 @@ pub struct MergeArgs {
     /// Where to write the merged summary (default: stdout).
     #[arg(short, long)]
     pub output: Option<PathBuf>,
-    /// Merge even when some shards are missing (still exits with status 2 then).
+    /// Accept a partial run: merge even when some shards are missing or some lines of the
+    /// manifest are not done (they are listed under `incomplete`), and exit 0.
     #[arg(long)]
     pub partial: bool,
+    /// The manifest to check the summaries against (default: the one the summaries name).
+    #[arg(long)]
+    pub manifest: Option<PathBuf>,
+    /// The run's model server, part of generate jobs' identities (default: the one the
+    /// summaries name, else `HOLOC_BASE_URL`, else holoc's default).
+    #[arg(long)]
+    pub base_url: Option<String>,
     /// No table.
     #[arg(short, long)]
     pub quiet: bool,
+}
+
+/// Prints a diagnostic without a source to stderr with its notes (each unfinished job, each
+/// line not done), which [`common::emit_plain`] leaves out.
+fn emit(d: &Diagnostic) {
+    let mut plain = d.clone();
+    plain.notes.clear();
+    common::emit_plain(&plain);
+    for note in &d.notes {
+        common::emit_status(&format!("  = note: {note}"));
+    }
 }
 
 fn usage(message: &str) -> ExitCode {
@@ -131,8 +160,11 @@ fn usage(message: &str) -> ExitCode {
 
 fn io_failure(what: &str, e: &std::io::Error) -> ExitCode {
     let code = if batch::run::is_disk_full(e) { Code::E0007 } else { Code::E0001 };
-    common::emit_plain(&Diagnostic::new(code, format!("{what}: {e}")));
-    ExitCode::from(2)
+    emit(
+        &Diagnostic::new(code, format!("{what}: {e}"))
+            .with_note("no job was run: every job of the manifest is unfinished"),
+    );
+    ExitCode::from(EXIT_RECORDS)
 }
 
 /// What the run does with one line of its shard.
@@ -190,36 +222,33 @@ pub fn run(args: &BatchArgs) -> ExitCode {
     if let Some(t) = args.job_timeout {
         options.job_timeout = t;
     }
+    if let Some(p) = args.model_patience {
+        options.model_patience = p;
+    }
+    if let Some(b) = args.model_backoff {
+        options.model_backoff = b;
+    }
     options.api_key = ["HOLOC_API_KEY", "OPENAI_API_KEY"]
         .iter()
         .find_map(|name| std::env::var(name).ok().filter(|k| !k.trim().is_empty()));
     let options = Arc::new(options);
 
-    // First pass: every job's identity, for the shards and the duplicates.
-    let mut planned: Vec<(usize, Planned)> = Vec::new();
+    // First pass: every job's identity, for the shards and the duplicates. A job's shard is
+    // a function of its identity alone (`batch::shard`).
+    let mut planned: Vec<(usize, String)> = Vec::new();
     let mut generates = false;
     for (line, raw) in batch::manifest_lines(text) {
-        if let Some(Ok(mut job)) = batch::read_line(line, raw, base) {
-            job.hash = batch::job_hash(&job, &options.files);
+        if let Some(Ok(job)) = batch::read_line(line, raw, base) {
             generates |= job.spec.generate.is_some();
-            let weight = batch::job_weight(&job, &options.files);
-            planned.push((line, Planned { hash: job.hash, weight }));
+            planned.push((line, batch::job_hash(&job, &options.files, &options.base_url)));
         }
     }
-    let shard_of = shard.map(|s| {
-        let jobs: Vec<Planned> = planned.iter().map(|(_, p)| p.clone()).collect();
-        batch::assign(&jobs, s.count)
-    });
     let mut first_line: HashMap<&str, usize> = HashMap::new();
     let mut hash_of: HashMap<usize, &str> = HashMap::new();
-    for (line, p) in &planned {
-        let takes = match (&shard, &shard_of) {
-            (Some(s), Some(map)) => map.get(&p.hash) == Some(&s.index),
-            _ => true,
-        };
-        if takes {
-            first_line.entry(p.hash.as_str()).or_insert(*line);
-            hash_of.insert(*line, p.hash.as_str());
+    for (line, hash) in &planned {
+        if shard.is_none_or(|s| s.takes(hash)) {
+            first_line.entry(hash.as_str()).or_insert(*line);
+            hash_of.insert(*line, hash.as_str());
         }
     }
     let job_lines: HashSet<usize> = planned.iter().map(|(l, _)| *l).collect();
@@ -228,7 +257,7 @@ pub fn run(args: &BatchArgs) -> ExitCode {
             .filter(|(line, raw)| {
                 !batch::is_comment(raw)
                     && !job_lines.contains(line)
-                    && shard.is_none_or(|s| s.takes_line(*line))
+                    && shard.is_none_or(|s| s.takes_line(raw))
             })
             .count();
     // Hashes listed more than once: their first line's result stands for the others.
@@ -236,9 +265,9 @@ pub fn run(args: &BatchArgs) -> ExitCode {
     {
         let mut seen: HashSet<&str> = HashSet::new();
         // In line order (`planned` is), so that the set does not depend on a hash map's order.
-        for (line, p) in &planned {
-            if hash_of.contains_key(line) && !seen.insert(p.hash.as_str()) {
-                seen_twice.insert(p.hash.as_str());
+        for (line, hash) in &planned {
+            if hash_of.contains_key(line) && !seen.insert(hash.as_str()) {
+                seen_twice.insert(hash.as_str());
             }
         }
     }
@@ -248,6 +277,16 @@ pub fn run(args: &BatchArgs) -> ExitCode {
     let mut log = match ResultLog::create(out, &scratch.dir, &suffix) {
         Ok(log) => log,
         Err(e) => return io_failure(&format!("cannot write into `{}`", out.display()), &e),
+    };
+    // Room for the records, taken now and given back just before they are written: a disk
+    // that fills up during the run still has room for the summary and the failures.
+    let reserve = out.join(format!(".records{suffix}.reserve"));
+    let reserved = std::env::var("HOLOC_BATCH_RESERVE").map_or(true, |v| v.trim() != "0")
+        && reserve_space(&reserve, records_room(total)).is_ok();
+    let header = Header {
+        shards: shards.clone(),
+        manifest: std::fs::canonicalize(manifest).ok().map(|p| p.display().to_string()),
+        base_url: generates.then(|| batch::public_url(&options.base_url)),
     };
     let started = Instant::now();
     let workers = threads + if generates { args.llm_concurrency.max(1) } else { 0 };
@@ -265,7 +304,7 @@ pub fn run(args: &BatchArgs) -> ExitCode {
                 let item = match batch::read_line(line, raw, base) {
                     None => continue,
                     Some(Err(e)) => {
-                        if !shard.is_none_or(|s| s.takes_line(line)) {
+                        if !shard.is_none_or(|s| s.takes_line(raw)) {
                             continue;
                         }
                         Item::NotAJob(e)
@@ -295,7 +334,9 @@ pub fn run(args: &BatchArgs) -> ExitCode {
                         Item::Run(job) => (batch::run_job(&job, &options), None),
                         Item::NotAJob(e) => (batch::manifest_failure(&e), None),
                         Item::Same { job, first } => {
-                            (JobResult::of(&job, Status::Skipped), Some(first))
+                            let mut r = JobResult::of(&job, Status::Skipped);
+                            batch::run::note_ignored_fields(&job, &mut r);
+                            (r, Some(first))
                         }
                     };
                     if results_tx.send((seq, result, same)).is_err() {
@@ -337,26 +378,37 @@ pub fn run(args: &BatchArgs) -> ExitCode {
         }
     });
     progress.finish(started);
-    let counts = log.counts;
-    let records = log.finish(&shards, out, &suffix);
+    if reserved {
+        let _ = std::fs::remove_file(&reserve);
+        batch::run::release_reserve();
+    }
+    let records = log.finish(&header, out, &suffix);
     // The hashes for the next run (a failure to write them only costs that run a read).
     let _ = options.files.save(out, &scratch.dir);
     scratch.finish();
-    if let Err((e, unwritten)) = &records {
-        let mut d = Diagnostic::new(
-            if batch::run::is_disk_full(e) { Code::E0007 } else { Code::E0001 },
-            format!("cannot write the summary into `{}`: {e}", out.display()),
-        );
-        if !unwritten.is_empty() {
-            d = d.with_note(format!(
-                "the failed jobs were: {}",
-                unwritten.iter().take(50).cloned().collect::<Vec<_>>().join("; ")
-            ));
+    let counts = match &records {
+        Ok(counts) => *counts,
+        Err(failure) => {
+            let mut d = Diagnostic::new(
+                if batch::run::is_disk_full(&failure.error) { Code::E0007 } else { Code::E0001 },
+                format!("cannot write the summary into `{}`: {}", out.display(), failure.error),
+            );
+            if !failure.unfinished.is_empty() {
+                d = d.with_note(format!(
+                    "{} unfinished job{}: {}",
+                    failure.unfinished.len(),
+                    if failure.unfinished.len() == 1 { "" } else { "s" },
+                    failure.unfinished.join("; ")
+                ));
+            }
+            emit(
+                &d.with_help(
+                    "free space and run the same command again: finished jobs are skipped",
+                ),
+            );
+            return ExitCode::from(EXIT_RECORDS);
         }
-        common::emit_plain(
-            &d.with_help("free space and run the same command again: finished jobs are skipped"),
-        );
-    }
+    };
     if !args.quiet {
         let summary = crate::source::read_text(
             &out.join(format!("summary{suffix}.json")),
@@ -367,13 +419,51 @@ pub fn run(args: &BatchArgs) -> ExitCode {
         .unwrap_or_default();
         print_table(&summary, started.elapsed().as_secs_f64());
     }
-    if records.is_err() {
-        ExitCode::from(2)
-    } else if counts[3] > 0 && !args.allow_failures {
+    if log_transient(&counts) {
+        ExitCode::from(EXIT_TRANSIENT)
+    } else if counts.failed > 0 && !args.allow_failures {
         ExitCode::from(1)
     } else {
         ExitCode::SUCCESS
     }
+}
+
+/// The exit status of a run some of whose jobs failed for a reason that may pass (the model
+/// server out past the patience, a full disk): `EX_TEMPFAIL`, so that a scheduler requeues the
+/// task (`--allow-failures` does not hide it).
+pub const EXIT_TRANSIENT: u8 = 75;
+
+/// The exit status of a run whose records (summary, failures) could not be written:
+/// `EX_IOERR`. The unfinished jobs are named on stderr.
+pub const EXIT_RECORDS: u8 = 74;
+
+fn log_transient(counts: &Counts) -> bool {
+    counts.transient > 0
+}
+
+/// Room for the records of `lines` lines: half a kilobyte a line and 64 KiB, at most 256 MiB.
+fn records_room(lines: usize) -> u64 {
+    (lines as u64).saturating_mul(512).saturating_add(64 * 1024).min(256 * 1024 * 1024)
+}
+
+/// Writes `bytes` zeros to `path` (a reserve the run gives back before writing its records).
+fn reserve_space(path: &Path, bytes: u64) -> std::io::Result<()> {
+    use std::io::Write as _;
+    let written = (|| {
+        let mut file = std::fs::File::create(path)?;
+        let chunk = vec![0u8; 64 * 1024];
+        let mut left = bytes;
+        while left > 0 {
+            let n = left.min(chunk.len() as u64) as usize;
+            file.write_all(&chunk[..n])?;
+            left -= n as u64;
+        }
+        Ok(())
+    })();
+    if written.is_err() {
+        let _ = std::fs::remove_file(path);
+    }
+    written
 }
 
 /// The record of a line that repeats the job of line `first`.
@@ -387,6 +477,15 @@ fn same_as(owner: &JobResult, this: &JobResult, first: usize) -> JobResult {
     }
     let said = r.message.take().map_or(String::new(), |m| format!(": {m}"));
     r.message = Some(format!("the same job as line {first}{said}"));
+    // This line's own warning (generation-only fields on a build line).
+    let ignored = Code::W0802.as_str();
+    if this.codes.iter().any(|c| c == ignored) && !r.codes.iter().any(|c| c == ignored) {
+        r.codes.push(ignored.to_string());
+        r.codes.sort();
+        if let Some(m) = &this.message {
+            r.message = Some(format!("{}; {m}", r.message.unwrap_or_default()));
+        }
+    }
     r
 }
 
@@ -470,6 +569,51 @@ fn slot(status: Status) -> usize {
     }
 }
 
+/// What a summary's header says besides the counts.
+struct Header {
+    shards: Vec<String>,
+    manifest: Option<String>,
+    base_url: Option<String>,
+}
+
+/// The counts of a run's records.
+#[derive(Clone, Copy, Debug, Default)]
+struct Counts {
+    done: usize,
+    skipped: usize,
+    busy: usize,
+    failed: usize,
+    /// Failed for a reason that may pass ([`batch::run::is_transient`]).
+    transient: usize,
+}
+
+impl Counts {
+    fn add(&mut self, r: &JobResult) {
+        match r.status {
+            Status::Done => self.done += 1,
+            Status::Skipped => self.skipped += 1,
+            Status::Busy => self.busy += 1,
+            Status::Failed => self.failed += 1,
+        }
+        if batch::run::is_transient(r) {
+            self.transient += 1;
+        }
+    }
+}
+
+/// Why the records could not be written, and the jobs they would have named unfinished.
+struct RecordsFailure {
+    error: std::io::Error,
+    unfinished: Vec<String>,
+}
+
+fn blocked() -> std::io::Result<()> {
+    if batch::run::records_blocked() {
+        return Err(std::io::Error::from(std::io::ErrorKind::StorageFull));
+    }
+    Ok(())
+}
+
 /// The results of a run as they come: job lines in a scratch file, failures in their file,
 /// and the counts. When the disk is full the lines wait in memory and are written later.
 struct ResultLog {
@@ -479,8 +623,10 @@ struct ResultLog {
     failures: std::io::BufWriter<std::fs::File>,
     /// Lines not written yet (job lines, failure lines).
     pending: (Vec<String>, Vec<String>),
-    /// Done, skipped, busy, failed.
-    counts: [usize; 4],
+    counts: Counts,
+    /// The jobs not done (failed or busy) so far, as `line N (id)`, for stderr when the
+    /// records cannot be written.
+    unfinished: Vec<String>,
 }
 
 impl ResultLog {
@@ -495,14 +641,18 @@ impl ResultLog {
             jobs_path,
             failures_path,
             pending: (Vec::new(), Vec::new()),
-            counts: [0; 4],
+            counts: Counts::default(),
+            unfinished: Vec::new(),
         })
     }
 
     fn append(&mut self, results: &[JobResult]) {
         for r in results {
             let line = serde_json::to_string(r).unwrap_or_default();
-            self.counts[slot(r.status)] += 1;
+            self.counts.add(r);
+            if matches!(r.status, Status::Failed | Status::Busy) {
+                self.unfinished.push(format!("line {} ({})", r.line, r.id));
+            }
             if r.status == Status::Failed {
                 self.pending.1.push(line.clone());
             }
@@ -513,6 +663,7 @@ impl ResultLog {
 
     fn flush_pending(&mut self) -> std::io::Result<()> {
         use std::io::Write as _;
+        blocked()?;
         let write = |w: &mut std::io::BufWriter<std::fs::File>, lines: &mut Vec<String>| {
             let mut written = 0;
             let result = lines.iter().try_for_each(|line| {
@@ -528,20 +679,62 @@ impl ResultLog {
     }
 
     /// Writes `summary<suffix>.json` (streamed from the scratch file) and
-    /// `failures<suffix>.jsonl`, each by a rename. On failure: the error and the failed jobs
-    /// (line and id) that are written nowhere.
+    /// `failures<suffix>.jsonl`, each by a rename, under the folder's summary lock. When this
+    /// run found jobs `busy` (another run on the folder was doing them) and that run's summary
+    /// is there, its results for those jobs replace `busy`, so the last run to finish leaves
+    /// one summary of both. On failure: the error and the jobs that are not done.
     fn finish(
         mut self,
-        shards: &[String],
+        header: &Header,
         out: &Path,
         suffix: &str,
-    ) -> Result<(), (std::io::Error, Vec<String>)> {
+    ) -> Result<Counts, RecordsFailure> {
         use std::io::{BufRead as _, Write as _};
+        let summary_path = out.join(format!("summary{suffix}.json"));
+        let failures_out = out.join(format!("failures{suffix}.jsonl"));
         let written = (|| {
             self.flush_pending()?;
             self.jobs.flush()?;
             self.failures.flush()?;
+            blocked()?;
+            let _lock = batch::files::FileLock::take(
+                &out.join(".locks").join(format!("summary{suffix}.lock")),
+            )?;
+            let others = if self.counts.busy > 0 { other_results(&summary_path) } else { None };
             let summary_tmp = self.jobs_path.with_extension("summary");
+            let mut counts = self.counts;
+            // With another run's results: the job lines again, `busy` replaced, and the
+            // failures written anew from them.
+            let lines: Option<Vec<String>> = match &others {
+                Some(others) => {
+                    let reader = std::io::BufReader::new(std::fs::File::open(&self.jobs_path)?);
+                    let mut lines = Vec::new();
+                    let mut failures = String::new();
+                    counts = Counts::default();
+                    for line in reader.lines() {
+                        let line = line?;
+                        let Ok(mut r) = serde_json::from_str::<JobResult>(&line) else { continue };
+                        if r.status == Status::Busy {
+                            if let Some(theirs) = others.get(&(r.line, r.hash.clone())) {
+                                let (line_no, id) = (r.line, r.id.clone());
+                                r = theirs.clone();
+                                r.line = line_no;
+                                r.id = id;
+                            }
+                        }
+                        counts.add(&r);
+                        let text = serde_json::to_string(&r).unwrap_or_default();
+                        if r.status == Status::Failed {
+                            failures.push_str(&text);
+                            failures.push('\n');
+                        }
+                        lines.push(text);
+                    }
+                    std::fs::write(&self.failures_path, failures)?;
+                    Some(lines)
+                }
+                None => None,
+            };
             {
                 let mut w = std::io::BufWriter::new(std::fs::File::create(&summary_tmp)?);
                 writeln!(w, "{{")?;
@@ -550,36 +743,61 @@ impl ResultLog {
                     "  \"holoc\": {},",
                     serde_json::json!(crate::build_info::LONG_VERSION)
                 )?;
-                writeln!(w, "  \"shards\": {},", serde_json::json!(shards))?;
-                writeln!(w, "  \"done\": {},", self.counts[0])?;
-                writeln!(w, "  \"skipped\": {},", self.counts[1])?;
-                writeln!(w, "  \"busy\": {},", self.counts[2])?;
-                writeln!(w, "  \"failed\": {},", self.counts[3])?;
+                writeln!(w, "  \"shards\": {},", serde_json::json!(header.shards))?;
+                if let Some(m) = &header.manifest {
+                    writeln!(w, "  \"manifest\": {},", serde_json::json!(m))?;
+                }
+                if let Some(u) = &header.base_url {
+                    writeln!(w, "  \"base_url\": {},", serde_json::json!(u))?;
+                }
+                writeln!(w, "  \"done\": {},", counts.done)?;
+                writeln!(w, "  \"skipped\": {},", counts.skipped)?;
+                writeln!(w, "  \"busy\": {},", counts.busy)?;
+                writeln!(w, "  \"failed\": {},", counts.failed)?;
                 write!(w, "  \"jobs\": [")?;
-                let reader = std::io::BufReader::new(std::fs::File::open(&self.jobs_path)?);
-                for (k, line) in reader.lines().enumerate() {
-                    write!(w, "{}\n    {}", if k == 0 { "" } else { "," }, line?)?;
+                let mut k = 0;
+                let mut put = |w: &mut std::io::BufWriter<std::fs::File>, line: &str| {
+                    let r = write!(w, "{}\n    {}", if k == 0 { "" } else { "," }, line);
+                    k += 1;
+                    r
+                };
+                match &lines {
+                    Some(lines) => {
+                        for line in lines {
+                            put(&mut w, line)?;
+                        }
+                    }
+                    None => {
+                        let reader = std::io::BufReader::new(std::fs::File::open(&self.jobs_path)?);
+                        for line in reader.lines() {
+                            put(&mut w, &line?)?;
+                        }
+                    }
                 }
                 writeln!(w, "\n  ]\n}}")?;
                 w.flush()?;
             }
-            std::fs::rename(&self.failures_path, out.join(format!("failures{suffix}.jsonl")))?;
-            std::fs::rename(&summary_tmp, out.join(format!("summary{suffix}.json")))
+            std::fs::rename(&self.failures_path, &failures_out)?;
+            std::fs::rename(&summary_tmp, &summary_path)?;
+            Ok(counts)
         })();
-        written.map_err(|e| {
-            // What the failures file would have said, for stderr.
-            let mut failed: Vec<String> =
-                crate::source::read_text(&self.failures_path, common::MAX_INPUT_BYTES)
-                    .unwrap_or_default()
-                    .lines()
-                    .chain(self.pending.1.iter().map(String::as_str))
-                    .filter_map(|l| serde_json::from_str::<JobResult>(l).ok())
-                    .map(|r| format!("line {} ({})", r.line, r.id))
-                    .collect();
-            failed.dedup();
-            (e, failed)
-        })
+        written.map_err(|error| RecordsFailure { error, unfinished: self.unfinished })
     }
+}
+
+/// The results, by line and job, of the run whose summary is at `path` (another run on the
+/// same folder), without its `busy` ones.
+fn other_results(path: &Path) -> Option<HashMap<(usize, String), JobResult>> {
+    let text = crate::source::read_text(path, common::MAX_INPUT_BYTES).ok()?;
+    let summary: Summary = serde_json::from_str(&text).ok()?;
+    Some(
+        summary
+            .jobs
+            .into_iter()
+            .filter(|j| j.status != Status::Busy)
+            .map(|j| ((j.line, j.hash.clone()), j))
+            .collect(),
+    )
 }
 
 fn print_table(summary: &Summary, seconds: f64) {
@@ -661,23 +879,193 @@ fn run_merge(args: &MergeArgs) -> ExitCode {
             return ExitCode::from(2);
         }
     }
-    let merged = Summary::merge(parts);
+    let count =
+        parts.iter().flat_map(|p| &p.shards).find_map(|s| Shard::parse(s).ok()).map(|s| s.count);
+    let manifest = args.manifest.clone().or_else(|| {
+        Summary::agreed(&parts, |p| p.manifest.clone()).map(PathBuf::from).filter(|p| p.is_file())
+    });
+    let base_url = args
+        .base_url
+        .clone()
+        .or_else(|| Summary::agreed(&parts, |p| p.base_url.clone()))
+        .unwrap_or_else(|| RunOptions::new(PathBuf::new(), PathBuf::new(), 1, 1).base_url);
+    let folders: Vec<PathBuf> = args.summaries.iter().filter(|p| p.is_dir()).cloned().collect();
+    let (merged, incomplete) = match &manifest {
+        Some(path) => match against_manifest(path, &parts, count, &base_url, &folders) {
+            Ok(found) => found,
+            Err(code) => return code,
+        },
+        None => {
+            let merged = Summary::merge(parts);
+            let incomplete = merged
+                .jobs
+                .iter()
+                .filter(|j| matches!(j.status, Status::Failed | Status::Busy))
+                .map(|j| batch::Incomplete {
+                    line: j.line,
+                    id: j.id.clone(),
+                    hash: j.hash.clone(),
+                    shard: None,
+                    why: why_not_done(j),
+                })
+                .collect();
+            (merged, incomplete)
+        }
+    };
+    if !incomplete.is_empty() {
+        let n = incomplete.len();
+        let mut d = Diagnostic::new(
+            Code::E0811,
+            format!(
+                "{n} line{} of the manifest {} not done: the merged summary would not cover the manifest",
+                if n == 1 { "" } else { "s" },
+                if n == 1 { "is" } else { "are" }
+            ),
+        );
+        for i in &incomplete {
+            let shard =
+                i.shard.as_ref().map_or(String::new(), |s| format!(" (shard {s} runs it now)"));
+            d = d.with_note(format!("line {} ({}): {}{shard}", i.line, i.id, i.why));
+        }
+        if manifest.is_none() {
+            d = d.with_note(
+                "the manifest is unknown (give `--manifest`): lines in no summary cannot be named",
+            );
+        }
+        emit(&d.with_help(if args.partial {
+            "merged anyway (`--partial`): the lines are listed under `incomplete`"
+        } else {
+            "re-run the shards named (`--shard I/N`), or give `--partial` to merge what there is"
+        }));
+        if !args.partial {
+            return ExitCode::from(1);
+        }
+    }
+    let mut merged = merged;
+    merged.incomplete = incomplete;
     let mut json = serde_json::to_string_pretty(&merged).unwrap_or_default();
     json.push('\n');
     if let Err(d) = common::write_output(args.output.as_deref(), &json) {
         common::emit_plain(&d);
-        return ExitCode::from(2);
+        return ExitCode::from(EXIT_RECORDS);
     }
     if !args.quiet {
         print_table(&merged, merged.jobs.iter().map(|j| j.seconds).sum());
     }
-    if missing.is_some() {
-        ExitCode::from(2)
-    } else if merged.failed > 0 {
-        ExitCode::from(1)
-    } else {
-        ExitCode::SUCCESS
+    ExitCode::SUCCESS
+}
+
+/// Why a recorded job is not done, in words.
+fn why_not_done(j: &JobResult) -> String {
+    match j.status {
+        Status::Busy => "busy (another run was doing it)".to_string(),
+        _ => format!(
+            "failed at stage `{}` ({}){}",
+            j.stage.as_deref().unwrap_or("?"),
+            j.codes.join(" "),
+            j.message.as_ref().map_or(String::new(), |m| format!(": {m}"))
+        ),
     }
+}
+
+/// The summaries checked against the manifest as it is now: every line's job by its current
+/// identity, found done in some summary (or its folder complete in one of `folders`), else
+/// incomplete, with the shard (of `count`) that runs it now. Results are matched by identity,
+/// not line, so lines that moved (a line added above) are still found.
+fn against_manifest(
+    path: &Path,
+    parts: &[Summary],
+    count: Option<usize>,
+    base_url: &str,
+    folders: &[PathBuf],
+) -> Result<(Summary, Vec<batch::Incomplete>), ExitCode> {
+    let mut sources = crate::source::SourceMap::new();
+    let file = match common::read_source(&mut sources, path) {
+        Ok(f) => f,
+        Err(d) => {
+            common::emit_plain(&d);
+            return Err(ExitCode::from(2));
+        }
+    };
+    let text = &sources.get(file).text;
+    let base = path.parent().unwrap_or(Path::new("."));
+    let mut best: HashMap<&str, &JobResult> = HashMap::new();
+    for j in parts.iter().flat_map(|p| &p.jobs).filter(|j| !j.hash.is_empty()) {
+        match best.get(j.hash.as_str()) {
+            Some(old) if batch::rank(old.status) >= batch::rank(j.status) => {}
+            _ => {
+                best.insert(j.hash.as_str(), j);
+            }
+        }
+    }
+    let files = batch::FileHashes::default();
+    let shard_name = |hash: &str| count.map(|n| format!("{}/{n}", batch::shard_of(hash, n)));
+    let mut jobs = Vec::new();
+    let mut incomplete = Vec::new();
+    for (line, raw) in batch::manifest_lines(text) {
+        match batch::read_line(line, raw, base) {
+            None => {}
+            Some(Err(e)) => {
+                let hash = batch::line_identity(raw);
+                incomplete.push(batch::Incomplete {
+                    line,
+                    id: e.id.clone().unwrap_or_else(|| format!("line-{line}")),
+                    shard: shard_name(&hash),
+                    hash: String::new(),
+                    why: e.message.clone(),
+                });
+                jobs.push(batch::manifest_failure(&e));
+            }
+            Some(Ok(job)) => {
+                let hash = batch::job_hash(&job, &files, base_url);
+                let complete = |dir: &PathBuf| dir.join(&hash).join(batch::DONE_MARKER).is_file();
+                match best.get(hash.as_str()) {
+                    Some(r) if batch::rank(r.status) == 3 => {
+                        let mut r = (*r).clone();
+                        r.line = line;
+                        r.id.clone_from(&job.id);
+                        jobs.push(r);
+                    }
+                    found => {
+                        if folders.iter().any(complete) {
+                            let mut r = JobResult::of(&job, Status::Skipped);
+                            r.hash.clone_from(&hash);
+                            r.message = Some("its folder is complete".into());
+                            jobs.push(r);
+                            continue;
+                        }
+                        let why = match found {
+                            Some(r) => why_not_done(r),
+                            None => "in no summary".to_string(),
+                        };
+                        if let Some(r) = found {
+                            let mut r = (*r).clone();
+                            r.line = line;
+                            r.id.clone_from(&job.id);
+                            jobs.push(r);
+                        }
+                        incomplete.push(batch::Incomplete {
+                            line,
+                            id: job.id.clone(),
+                            shard: shard_name(&hash),
+                            hash,
+                            why,
+                        });
+                    }
+                }
+            }
+        }
+    }
+    let mut shards: Vec<String> = parts.iter().flat_map(|p| p.shards.clone()).collect();
+    shards.sort_by_key(|s| Shard::parse(s).map(|s| (s.count, s.index)).unwrap_or_default());
+    shards.dedup();
+    let mut merged = Summary::of(jobs, shards);
+    merged.manifest = Some(
+        std::fs::canonicalize(path)
+            .map_or_else(|_| path.display().to_string(), |p| p.display().to_string()),
+    );
+    merged.base_url = Summary::agreed(parts, |p| p.base_url.clone());
+    Ok((merged, incomplete))
 }
 
 #[cfg(test)]

@@ -189,6 +189,9 @@ codes! {
     E0809 "unrepaired-answer" "an answer still has errors after every repair round";
     E0810 "replay-answer-missing" "the replayed transcript has no answer for a question";
     W0801 "answer-repaired" "an answer had errors and a repair round fixed it";
+    E0811 "batch-incomplete" "a manifest line is in no shard's summary, or is not done, so the merged summary would not cover the manifest";
+    E0812 "empty-scene" "a batch job's scene declares no room";
+    W0802 "generation-field-ignored" "a build line of a batch manifest names a field only generate jobs use, and it is ignored";
 }
 
 impl Code {

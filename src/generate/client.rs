@@ -96,6 +96,8 @@ pub enum LlmError {
         tries: u32,
         /// The start of the last body (key removed).
         body: String,
+        /// The server's `Retry-After`, when it sent one.
+        retry_after: Option<Duration>,
     },
     /// A 200 whose body is not a chat completion.
     InvalidResponse {
@@ -114,6 +116,18 @@ pub enum LlmError {
 }
 
 impl LlmError {
+    /// Whether the error may pass if the same request is sent again later: the server could
+    /// not be reached or dropped the connection, did not answer in time, or answered 429 or
+    /// 5xx. (A holoc built without its HTTP client is not that.)
+    pub fn is_transient(&self) -> bool {
+        match self {
+            LlmError::Unreachable { reason, .. } => !reason.contains(NO_CLIENT),
+            LlmError::Timeout { .. } => true,
+            LlmError::Server { status, .. } => *status == 429 || (500..=599).contains(status),
+            _ => false,
+        }
+    }
+
     /// The diagnostic for this error.
     pub fn to_diagnostic(&self) -> Diagnostic {
         match self {
@@ -140,7 +154,7 @@ impl LlmError {
                 format!("the model server did not answer within {seconds} s ({tries} {})", plural(*tries, "try", "tries")),
             )
             .with_help("raise `--timeout`, or use a faster model"),
-            LlmError::Server { status, tries, body } => Diagnostic::new(
+            LlmError::Server { status, tries, body, .. } => Diagnostic::new(
                 Code::E0807,
                 format!("the model server kept failing: HTTP {status} after {tries} {}", plural(*tries, "try", "tries")),
             )
@@ -302,9 +316,10 @@ impl HttpLlm {
             .build()
             .map_err(|e| e.to_string());
         #[cfg(not(feature = "generate"))]
-        let client = Err("this holoc was built without its `generate` feature (the HTTP client); \
-                          install it with the default features to ask a model"
-            .to_owned());
+        let client = Err(format!(
+            "this holoc was built {NO_CLIENT} (the HTTP client); install it with the default \
+             features to ask a model"
+        ));
         HttpLlm { options, client }
     }
 
@@ -537,6 +552,9 @@ fn retry_after(response: &reqwest::blocking::Response) -> Option<Duration> {
     (seconds.is_finite() && seconds >= 0.0).then(|| Duration::from_secs_f64(seconds.min(3600.0)))
 }
 
+/// How a holoc without its HTTP client says so (an error that retrying cannot fix).
+const NO_CLIENT: &str = "without its `generate` feature";
+
 /// The server used when neither `--base-url` nor `HOLOC_BASE_URL` is given.
 pub const DEFAULT_BASE_URL: &str = "https://api.openai.com/v1";
 /// The model used when neither `--model` nor `HOLOC_MODEL` is given.
@@ -629,10 +647,14 @@ impl HttpLlm {
                             std::thread::sleep(self.options.backoff(n, None));
                             continue;
                         }
+                        // The connection broke while the answer came (reset, closed): as
+                        // passing as a server that could not be reached.
                         Err(error) => {
-                            return Err(LlmError::InvalidResponse {
-                                reason: self
-                                    .scrub(&format!("the body could not be read ({error})")),
+                            return Err(LlmError::Unreachable {
+                                base_url: self.options.base_url.clone(),
+                                reason: self.scrub(&format!(
+                                    "the connection broke while the answer came ({error})"
+                                )),
                             })
                         }
                     };
@@ -664,6 +686,7 @@ impl HttpLlm {
                                 status,
                                 tries: n + 1,
                                 body: self.scrub(&text),
+                                retry_after: after,
                             });
                             self.options.backoff(n, after)
                         }
@@ -672,6 +695,7 @@ impl HttpLlm {
                                 status,
                                 tries: n + 1,
                                 body: self.scrub(&text),
+                                retry_after: None,
                             })
                         }
                     }
@@ -681,7 +705,12 @@ impl HttpLlm {
                 std::thread::sleep(wait);
             }
         }
-        Err(last.unwrap_or(LlmError::Server { status: 0, tries, body: String::new() }))
+        Err(last.unwrap_or(LlmError::Server {
+            status: 0,
+            tries,
+            body: String::new(),
+            retry_after: None,
+        }))
     }
 
     /// The model and settings this client asks with.
