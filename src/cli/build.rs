@@ -180,7 +180,9 @@ pub fn run(args: &BuildArgs) -> ExitCode {
         }
         Emit::Plan => product.plan.dump(&product.scene).into_bytes(),
         Emit::Resolved => product.resolved.dump(&product.scene, &catalog).into_bytes(),
-        Emit::Layout => product.layout.dump(&product.scene).into_bytes(),
+        Emit::Layout => {
+            crate::report::pins::layout_pins(&product.layout, &product.scene).into_bytes()
+        }
         Emit::House | Emit::Ast | Emit::Scene => product.house.to_json_string().into_bytes(),
     };
     if let Some(path) = &args.report {
