@@ -1,7 +1,7 @@
 //! Pins round-trip: the poses `holoc build --emit layout` prints, pinned back into the scene,
 //! rebuild with no error into the very same house, for every example.
 
-use holoc::ast::{Item, RoomStmt};
+use holoc::ast::{Item, ObjectStmt, RoomStmt};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -61,7 +61,21 @@ fn pins_of(layout: &str) -> BTreeMap<(String, String), Vec<String>> {
     out
 }
 
-/// The scene with an `instance` block of pins for every placed instance.
+/// The pin keywords a block already holds (`at`, `facing`, `height`): those are pinned by the
+/// scene already, and a second one is an error.
+fn pinned(body: &[ObjectStmt]) -> Vec<&'static str> {
+    body.iter()
+        .filter_map(|s| match s {
+            ObjectStmt::At(..) => Some("at"),
+            ObjectStmt::Facing(..) => Some("facing"),
+            ObjectStmt::Height(..) => Some("height"),
+            _ => None,
+        })
+        .collect()
+}
+
+/// The scene with the pins of every placed instance: in its `instance` block when it has one,
+/// else in a new one.
 fn pinned_source(text: &str, pins: &BTreeMap<(String, String), Vec<String>>) -> String {
     let file = holoc::parse::parse_str(text).value;
     let mut edits: Vec<(usize, String)> = Vec::new();
@@ -69,17 +83,42 @@ fn pinned_source(text: &str, pins: &BTreeMap<(String, String), Vec<String>>) -> 
         let Item::Room(room) = item else { continue };
         for stmt in &room.body {
             let (RoomStmt::Object(o) | RoomStmt::WallObject(o)) = stmt else { continue };
+            let group_pins = pinned(&o.body);
             let mut blocks = String::new();
             for ((r, id), statements) in pins {
                 let group = id.rsplit_once('-').map_or(id.as_str(), |(g, _)| g);
                 if *r != room.id.name || group != o.id.name {
                     continue;
                 }
-                blocks.push_str(&format!("\n    instance {id} {{\n"));
-                for s in statements {
-                    blocks.push_str(&format!("      {s}\n"));
+                let existing = o.body.iter().find_map(|s| match s {
+                    ObjectStmt::Instance(inst) if inst.id.name == *id => Some(inst),
+                    _ => None,
+                });
+                let mut already = group_pins.clone();
+                if let Some(inst) = existing {
+                    already.extend(pinned(&inst.body));
                 }
-                blocks.push_str("    }\n");
+                let lines: Vec<String> = statements
+                    .iter()
+                    .filter(|s| !already.iter().any(|k| s.split(' ').next() == Some(*k)))
+                    .map(|s| format!("      {s}\n"))
+                    .collect();
+                if lines.is_empty() {
+                    continue;
+                }
+                match existing {
+                    Some(inst) => {
+                        let end = inst.span.end as usize;
+                        assert_eq!(&text[end - 1..end], "}", "a block ends with its brace");
+                        edits.push((end - 1, format!("\n{}    ", lines.concat())));
+                    }
+                    None => {
+                        blocks.push_str(&format!(
+                            "\n    instance {id} {{\n{}    }}\n",
+                            lines.concat()
+                        ));
+                    }
+                }
             }
             if blocks.is_empty() {
                 continue;
@@ -119,12 +158,12 @@ fn every_example_pinned_from_its_layout_rebuilds_into_the_same_house() {
         for line in layout.lines().filter(|l| l.contains(" at ") || l.contains(" height ")) {
             // A unit on every number.
             let statements = line.split("//").next().unwrap_or_default();
-            for word in statements.split([' ', ',', ';']).filter(|w| !w.is_empty()) {
-                if word.parse::<f64>().is_ok() {
-                    let after =
-                        statements[statements.find(word).unwrap_or(0) + word.len()..].trim_start();
+            let words: Vec<&str> = statements.split_whitespace().collect();
+            for (i, word) in words.iter().enumerate() {
+                if word.trim_end_matches([',', ';']).parse::<f64>().is_ok() {
+                    let unit = words.get(i + 1).copied().unwrap_or_default();
                     assert!(
-                        after.starts_with("m") || after.starts_with("deg"),
+                        unit.starts_with('m') || unit.starts_with("deg"),
                         "{}: `{word}` has no unit in `{line}`",
                         path.display()
                     );
