@@ -512,7 +512,7 @@ fn a_renamed_object_is_one_change_and_types_come_from_the_catalog() {
 fn a_catalog_version_change_is_said_as_such() {
     let a = base();
     let mut b = a.clone();
-    let catalogs = b.1["catalogs"].as_array_mut().expect("the catalog lock");
+    let catalogs = b.1["assets"]["catalogs"].as_array_mut().expect("the catalog lock");
     catalogs[0]["version"] = json!("9.9.9");
     let (status, text) = run("catalog_version", &a, &b, &[]);
     assert_eq!(status, 1, "{text}");

@@ -188,6 +188,13 @@ pub fn run(args: &BuildArgs) -> ExitCode {
     if let Some(path) = &args.report {
         let mut report = crate::report::report(&product, &catalog);
         crate::report::add_made_folder(&mut report, made_folder.as_deref());
+        // Catalog paths relative to the project (the folder of `holoc.toml`, else the current
+        // folder): a report kept as a golden holds no absolute path.
+        let base = super::assets::project_file()
+            .and_then(|p| p.parent().map(std::path::Path::to_path_buf))
+            .or_else(|| std::env::current_dir().ok())
+            .unwrap_or_default();
+        crate::report::portable_catalog_paths(&mut report, &base);
         let mut json = serde_json::to_string_pretty(&report).unwrap_or_default();
         json.push('\n');
         if let Err(d) = common::write_atomic(path, json.as_bytes()) {

@@ -349,7 +349,8 @@ impl HouseView {
         }
         // Each catalog of the lock by its name: a new version (or the same version with other
         // bytes) is one `catalog …` setting changed, said as such.
-        for c in list(report, "catalogs") {
+        let lock = report.get("assets").filter(|a| a.get("catalogs").is_some()).unwrap_or(report);
+        for c in list(lock, "catalogs") {
             let name = text(c, "name");
             if name.is_empty() {
                 continue;
