@@ -93,10 +93,10 @@ impl CatalogArgs {
         if out.objathor.is_none() {
             if let Some(o) = &config.objathor {
                 out.objathor = Some(dir.join(o));
-                out.objathor_version = config.objathor_version.clone();
-                out.objathor_scoring = config.objathor_scoring.clone();
-                out.objathor_mix = config.objathor_mix.clone();
-                out.objathor_pick = config.objathor_pick.clone();
+                out.objathor_version.clone_from(&config.objathor_version);
+                out.objathor_scoring.clone_from(&config.objathor_scoring);
+                out.objathor_mix.clone_from(&config.objathor_mix);
+                out.objathor_pick.clone_from(&config.objathor_pick);
             }
         }
         Ok(out)

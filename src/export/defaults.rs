@@ -197,7 +197,7 @@ fn hole_centre(hole: &Map<String, Value>) -> Value {
         let (lo, hi) = points
             .iter()
             .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| (lo.min(p[i]), hi.max(p[i])));
-        (lo + hi) / 2.0
+        f64::midpoint(lo, hi)
     };
     json!({"x": mid(0), "y": mid(1), "z": mid(2)})
 }

@@ -121,7 +121,7 @@ mod tests {
 
     #[test]
     fn numbers_read_back_as_the_same_f64() {
-        for v in [0.45525, 4.248, 0.1 + 0.2, 1.0 / 3.0, 90.0, 2.5e-7, 12345.678_901_234, -0.0] {
+        for v in [0.45525, 4.248, 0.1 + 0.2, 1.0 / 3.0, 90.0, 2.5e-7, 12_345.678_901_234, -0.0] {
             let text = exact_number(v);
             assert_eq!(text.parse::<f64>().expect("a number"), v, "{text}");
             assert!(!text.contains('e'), "{text}");
