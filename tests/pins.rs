@@ -3,6 +3,7 @@
 
 use holoc::ast::{Item, ObjectStmt, RoomStmt};
 use std::collections::BTreeMap;
+use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -113,10 +114,8 @@ fn pinned_source(text: &str, pins: &BTreeMap<(String, String), Vec<String>>) -> 
                         edits.push((end - 1, format!("\n{}    ", lines.concat())));
                     }
                     None => {
-                        blocks.push_str(&format!(
-                            "\n    instance {id} {{\n{}    }}\n",
-                            lines.concat()
-                        ));
+                        let _ =
+                            write!(blocks, "\n    instance {id} {{\n{}    }}\n", lines.concat());
                     }
                 }
             }
