@@ -482,3 +482,40 @@ fn the_diff_the_other_way_is_the_mirror_image() {
         assert_eq!(mirrored, back_sorted, "forth:\n{}back:\n{}", forth.render(), back.render());
     }
 }
+
+#[test]
+fn a_renamed_object_is_one_change_and_types_come_from_the_catalog() {
+    // Renamed (another name, so another category), same asset, same place: one line.
+    let (status, text) = case("renamed_object", &[], |house, _| {
+        let chair = object(house, "chair-0 (study)");
+        chair["id"] = json!("seat-0 (study)");
+        chair["object_name"] = json!("seat-0");
+    });
+    assert_eq!(status, 1);
+    assert!(text.contains("~ seat-0 (study) renamed (was chair-0 (study)"), "{text}");
+    assert!(text.contains("1 object renamed") && !text.contains("added"), "{text}");
+    // Two Dressers whose ids begin differently: an asset change, not a type change; a Dresser
+    // becoming a Shelving Unit is a type change named by the catalog's types.
+    let (_, text) = case("types_from_the_catalog", &[], |house, _| {
+        object(house, "shelf-0 (study)")["assetId"] = json!("RoboTHOR_dresser_hemnes");
+    });
+    let mut a = base();
+    object(&mut a.0, "shelf-0 (study)")["assetId"] = json!("Dresser_205_1");
+    let mut b = a.clone();
+    object(&mut b.0, "shelf-0 (study)")["assetId"] = json!("RoboTHOR_dresser_hemnes");
+    let (_, same_type) = run("dresser_to_dresser", &a, &b, &[]);
+    assert!(same_type.contains("1 asset changed") && !same_type.contains("type"), "{same_type}");
+    assert!(text.contains("type ShelvingUnit → Dresser"), "{text}");
+}
+
+#[test]
+fn a_catalog_version_change_is_said_as_such() {
+    let a = base();
+    let mut b = a.clone();
+    let catalogs = b.1["assets"]["catalogs"].as_array_mut().expect("the catalog lock");
+    catalogs[0]["version"] = json!("9.9.9");
+    let (status, text) = run("catalog_version", &a, &b, &[]);
+    assert_eq!(status, 1, "{text}");
+    assert!(text.contains("catalog ") && text.contains("→ version 9.9.9"), "{text}");
+    assert!(text.contains("1 setting changed"), "{text}");
+}

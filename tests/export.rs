@@ -486,3 +486,182 @@ fn the_commands_write_what_they_say_and_refuse_what_they_cannot_draw() {
     let html = std::fs::read_to_string(&rendered).expect("written");
     assert!(html.contains("\"hasReport\":true"));
 }
+
+/// Every house of `../shared/data/real-scenes/` that `holoc validate` accepts (ProcTHOR's, with
+/// no agent, no layers, doors without `openable`…) is exported and viewed: what it leaves out is
+/// filled with AI2-THOR's defaults.
+#[test]
+fn every_real_house_validate_accepts_is_exported_and_viewed() {
+    let test = "every_real_house_validate_accepts_is_exported_and_viewed";
+    let Some(folder) = common::shared("data/real-scenes", test) else { return };
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("export-real");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("a scratch folder");
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&folder)
+        .expect("readable")
+        .flatten()
+        .map(|e| e.path())
+        .filter(|p| p.extension().is_some_and(|e| e == "json"))
+        .collect();
+    files.sort();
+    let mut accepted = 0;
+    for file in &files {
+        let validated = holoc().arg("validate").arg(file).output().expect("runs");
+        if !validated.status.success() {
+            continue;
+        }
+        accepted += 1;
+        let glb = dir.join("house.glb");
+        let out = holoc().arg("export").arg(file).arg("-o").arg(&glb).output().expect("runs");
+        assert!(
+            out.status.success() && glb.exists(),
+            "{}: export refuses a house validate accepts:\n{}",
+            file.display(),
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let page = dir.join("house.html");
+        let out = holoc().arg("view").arg(file).arg("-o").arg(&page).output().expect("runs");
+        assert!(
+            out.status.success(),
+            "{}: view refuses a house validate accepts:\n{}",
+            file.display(),
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let house: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(file).expect("readable")).expect("json");
+        let objects = house["objects"].as_array().map_or(0, Vec::len);
+        let html = std::fs::read_to_string(&page).expect("written");
+        assert!(html.contains("HOLOC3D"), "{}", file.display());
+        assert!(objects > 0, "{}", file.display());
+        let _ = std::fs::remove_file(&glb);
+    }
+    assert!(accepted >= 4, "only {accepted} real houses pass validate");
+
+    // A house without what no default stands in for (a room's floor material): E0616.
+    let mut house: serde_json::Value =
+        serde_json::to_value(&example("bedroom").house).expect("json");
+    if let Some(room) = house["rooms"][0].as_object_mut() {
+        room.remove("floorMaterial");
+    }
+    let broken = dir.join("no-floor-material.json");
+    std::fs::write(&broken, house.to_string()).expect("written");
+    let validated = holoc().arg("validate").arg(&broken).output().expect("runs");
+    if validated.status.success() {
+        let out = holoc()
+            .args(["export", "--format", "short"])
+            .arg(&broken)
+            .arg("-o")
+            .arg(dir.join("x.glb"))
+            .output()
+            .expect("runs");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{err}");
+        assert!(err.contains("E0616") && err.contains("floorMaterial"), "{err}");
+    }
+}
+
+/// A click on an object in headless Chromium (`#click=NAME`: the camera looks at it, then a
+/// click at its middle) shows its id, asset, size and every relation of the build report, kept
+/// or not, for a room whose id (`living_room`) differs from its label (`living room`); and
+/// `holoc view BEFORE AFTER` marks a moved, an added and a removed object.
+#[test]
+fn a_click_shows_relations_and_two_houses_show_what_changed() {
+    let test = "export::a_click_shows_relations_and_two_houses_show_what_changed";
+    let Some(browser) = chromium() else {
+        common::skip(test, "chromium is missing (.ci/run installs Debian's chromium)");
+        return;
+    };
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("viewer-click");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("a scratch folder");
+    let ex = example("apartment_1b1b");
+    let house = dir.join("apartment.json");
+    let report = dir.join("apartment.report.json");
+    std::fs::write(&house, serde_json::to_string_pretty(&ex.house).expect("json"))
+        .expect("written");
+    std::fs::write(&report, serde_json::to_string_pretty(&ex.report).expect("json"))
+        .expect("written");
+    let page = dir.join("apartment.html");
+    let out = holoc()
+        .arg("view")
+        .arg(&house)
+        .arg("--report")
+        .arg(&report)
+        .arg("-o")
+        .arg(&page)
+        .output()
+        .expect("runs");
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let url = format!("file://{}#click=sofa-0", page.display());
+    let out = run_chromium(
+        browser,
+        &dir.join("p1"),
+        &["--window-size=1200,800".into(), "--dump-dom".into(), url],
+    );
+    let dom = String::from_utf8_lossy(&out.stdout);
+    let panel = dom
+        .split("id=\"panel\"")
+        .nth(1)
+        .and_then(|p| p.split("</div>").next())
+        .unwrap_or_default()
+        .to_string();
+    assert!(panel.contains("data-picked=\"sofa-0\""), "the click picked another thing: {panel}");
+    assert!(panel.contains("sofa-0 (living room)"), "no id: {panel}");
+    let sofa = ex.house.objects.iter().find(|o| o.object_name == "sofa-0").expect("a sofa");
+    assert!(panel.contains(&sofa.asset_id), "no asset: {panel}");
+    assert!(panel.contains("<dt>size</dt>") && panel.contains(" cm"), "no size: {panel}");
+    let relations: Vec<&serde_json::Value> = ex.report["layout"]
+        .as_array()
+        .expect("layout")
+        .iter()
+        .filter(|r| r["room"] == "living_room")
+        .flat_map(|r| r["floor_objects"].as_array().expect("objects"))
+        .filter(|o| o["object"] == "sofa-0")
+        .flat_map(|o| o["constraints"].as_array().expect("constraints"))
+        .collect();
+    assert!(!relations.is_empty());
+    for r in &relations {
+        let text = r["constraint"].as_str().expect("a constraint");
+        let class = if r["satisfied"] == true { "kept" } else { "broken" };
+        assert!(
+            panel.contains(&format!("class=\"{class}\"")) && panel.contains(text),
+            "relation `{text}` not shown as {class}: {panel}"
+        );
+    }
+    assert!(panel.contains("living room · living_room"), "the room by label and id: {panel}");
+
+    // Before and after: the sofa moved, the armchair removed, a plant added.
+    let mut after = ex.house.clone();
+    let sofa = after.objects.iter_mut().find(|o| o.object_name == "sofa-0").expect("a sofa");
+    sofa.position.z -= 0.5;
+    let armchair = after.objects.iter().position(|o| o.object_name == "armchair-0").expect("one");
+    let mut plant = after.objects.remove(armchair);
+    plant.id = "plant-0 (living room)".into();
+    plant.object_name = "plant-0".into();
+    plant.asset_id = "Houseplant_1".into();
+    plant.position.x += 0.2;
+    after.objects.push(plant);
+    let after_path = dir.join("after.json");
+    std::fs::write(&after_path, serde_json::to_string_pretty(&after).expect("json"))
+        .expect("written");
+    let compare = dir.join("compare.html");
+    let out = holoc()
+        .arg("view")
+        .arg(&house)
+        .arg(&after_path)
+        .arg("-o")
+        .arg(&compare)
+        .output()
+        .expect("runs");
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let out = run_chromium(
+        browser,
+        &dir.join("p2"),
+        &["--dump-dom".into(), format!("file://{}", compare.display())],
+    );
+    let dom = String::from_utf8_lossy(&out.stdout);
+    let legend = dom.split("id=\"compare\"").nth(1).unwrap_or_default();
+    for (what, n) in [("moved", 1), ("added", 1), ("removed", 1)] {
+        assert!(legend.contains(&format!("data-{what}=\"{n}\"")), "{what}: {legend:.400}");
+    }
+}

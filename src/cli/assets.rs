@@ -37,11 +37,69 @@ pub struct CatalogArgs {
     pub objathor_pick: Option<String>,
 }
 
+/// The catalog settings of a project's `holoc.toml` (its other tables are read by the commands
+/// that use them): the one source of catalogs of every command.
+#[derive(Debug, Default, serde::Deserialize)]
+struct ProjectCatalogs {
+    #[serde(default)]
+    catalogs: Vec<PathBuf>,
+    objathor: Option<PathBuf>,
+    objathor_version: Option<String>,
+    objathor_scoring: Option<String>,
+    objathor_mix: Option<String>,
+    objathor_pick: Option<String>,
+}
+
+/// The nearest `holoc.toml` in the current folder or above it.
+pub(crate) fn project_file() -> Option<PathBuf> {
+    let cwd = std::env::current_dir().ok()?;
+    cwd.ancestors().map(|d| d.join("holoc.toml")).find(|p| p.is_file())
+}
+
 impl CatalogArgs {
-    /// Loads the embedded catalog and the files, then the objathor folder, adding the files'
-    /// text to `sources`.
+    /// Loads the embedded catalog, the catalogs of the nearest `holoc.toml` (relative to its
+    /// folder) and the files given, then the objathor folder (the one given, else the one of
+    /// `holoc.toml`), adding the files' text to `sources`. `build`, `check`, `render`,
+    /// `export`, `view`, `diff` and `generate` load their catalogs here, and `holoc test` and
+    /// the language server read the same `holoc.toml` keys, so one scene builds into one house
+    /// whichever command builds it.
     pub fn load(&self, sources: &mut SourceMap) -> Outcome<Catalog> {
-        Catalog::load_with(&self.catalogs, self.objathor_options().as_ref(), sources)
+        match self.with_project(project_file().as_deref()) {
+            Ok(args) => {
+                Catalog::load_with(&args.catalogs, args.objathor_options().as_ref(), sources)
+            }
+            Err(d) => Outcome::new(Catalog::embedded(), vec![*d]),
+        }
+    }
+
+    /// These options with the catalogs of `holoc.toml` at `project` (when there is one) before
+    /// the files given, and its objathor folder when none is given.
+    pub(crate) fn with_project(
+        &self,
+        project: Option<&std::path::Path>,
+    ) -> Result<CatalogArgs, Box<Diagnostic>> {
+        let Some(path) = project else { return Ok(self.clone()) };
+        let text = common::read_text(path).map_err(Box::new)?;
+        let config: ProjectCatalogs = toml::from_str(&text).map_err(|e| {
+            Box::new(
+                Diagnostic::new(Code::E0004, format!("`{}` is not usable: {e}", path.display()))
+                    .with_help("see `holoc test` in the book for the keys of `holoc.toml`"),
+            )
+        })?;
+        let dir = path.parent().unwrap_or_else(|| std::path::Path::new("."));
+        let mut out = self.clone();
+        out.catalogs = config.catalogs.iter().map(|c| dir.join(c)).collect();
+        out.catalogs.extend(self.catalogs.iter().cloned());
+        if out.objathor.is_none() {
+            if let Some(o) = &config.objathor {
+                out.objathor = Some(dir.join(o));
+                out.objathor_version.clone_from(&config.objathor_version);
+                out.objathor_scoring.clone_from(&config.objathor_scoring);
+                out.objathor_mix.clone_from(&config.objathor_mix);
+                out.objathor_pick.clone_from(&config.objathor_pick);
+            }
+        }
+        Ok(out)
     }
 
     /// What `--objathor` and its companions ask (`None` without `--objathor`).

@@ -180,12 +180,21 @@ pub fn run(args: &BuildArgs) -> ExitCode {
         }
         Emit::Plan => product.plan.dump(&product.scene).into_bytes(),
         Emit::Resolved => product.resolved.dump(&product.scene, &catalog).into_bytes(),
-        Emit::Layout => product.layout.dump(&product.scene).into_bytes(),
+        Emit::Layout => {
+            crate::report::pins::layout_pins(&product.layout, &product.scene).into_bytes()
+        }
         Emit::House | Emit::Ast | Emit::Scene => product.house.to_json_string().into_bytes(),
     };
     if let Some(path) = &args.report {
         let mut report = crate::report::report(&product, &catalog);
         crate::report::add_made_folder(&mut report, made_folder.as_deref());
+        // Catalog paths relative to the project (the folder of `holoc.toml`, else the current
+        // folder): a report kept as a golden holds no absolute path.
+        let base = super::assets::project_file()
+            .and_then(|p| p.parent().map(std::path::Path::to_path_buf))
+            .or_else(|| std::env::current_dir().ok())
+            .unwrap_or_default();
+        crate::report::portable_catalog_paths(&mut report, &base);
         let mut json = serde_json::to_string_pretty(&report).unwrap_or_default();
         json.push('\n');
         if let Err(d) = common::write_atomic(path, json.as_bytes()) {

@@ -110,7 +110,14 @@ fn build_file(
         return Err(errors);
     };
     let house_json = product.house.to_json_string();
-    let report = crate::report::report(&product, catalog);
+    let mut report = crate::report::report(&product, catalog);
+    // No absolute path in a golden report: paths relative to the project (the folder of
+    // `holoc.toml`, else the current folder).
+    let base = super::assets::project_file()
+        .and_then(|p| p.parent().map(Path::to_path_buf))
+        .or_else(|| std::env::current_dir().ok())
+        .unwrap_or_default();
+    crate::report::portable_paths(&mut report, &base);
     let mut report_json = serde_json::to_string_pretty(&report).unwrap_or_default();
     report_json.push('\n');
     let value: serde_json::Value = serde_json::from_str(&house_json).map_err(|e| {

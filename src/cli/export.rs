@@ -110,15 +110,30 @@ pub(crate) fn load_house(
     let house = if diagnostics.iter().any(Diagnostic::is_error) {
         None
     } else {
-        match serde_json::from_str::<House>(&sources.get(file).text) {
+        // What AI2-THOR fills with its defaults (a ProcTHOR house's missing agent, layers,
+        // openable doors…) is filled the same way before the house is read.
+        let read = serde_json::from_str::<serde_json::Value>(&sources.get(file).text)
+            .map(|mut value| {
+                crate::export::defaults::fill(&mut value);
+                value
+            })
+            .and_then(serde_json::from_value::<House>);
+        match read {
             Ok(h) => Some(h),
             Err(e) => {
                 diagnostics.push(
                     Diagnostic::new(
-                        Code::E0601,
-                        format!("`{}` is not a house holoc can draw: {e}", path.display()),
+                        Code::E0616,
+                        format!("`{}` lacks what a house needs to be drawn: {e}", path.display()),
                     )
-                    .with_help("write it with `holoc build`, or check it with `holoc validate`"),
+                    .with_primary(
+                        crate::source::Span::new(file, 0, 0),
+                        "no default can stand in for it",
+                    )
+                    .with_help(
+                        "give the member it names (AI2-THOR has no default for it), or write \
+                         the house with `holoc build`",
+                    ),
                 );
                 None
             }

@@ -169,6 +169,8 @@ struct TestResult {
     built: Option<BuiltScene>,
     /// Whether its goldens were written by this run.
     blessed: bool,
+    /// Whether a review rejected its new house (no pending golden is kept).
+    rejected: bool,
 }
 
 fn usage(d: &Diagnostic) -> ExitCode {
@@ -292,13 +294,19 @@ fn run_case(case: Case, base: &SourceMap, catalog: &Catalog, options: &Options) 
                 status: Status::Broken(sources, diagnostics),
                 built: None,
                 blessed: false,
+                rejected: false,
             }
         }
     };
     let mut golden_sources = base.clone();
-    let invalid = |sources: SourceMap, d: Vec<Diagnostic>, case: Case, built: BuiltScene| {
-        TestResult { case, status: Status::Invalid(sources, d), built: Some(built), blessed: false }
-    };
+    let invalid =
+        |sources: SourceMap, d: Vec<Diagnostic>, case: Case, built: BuiltScene| TestResult {
+            case,
+            status: Status::Invalid(sources, d),
+            built: Some(built),
+            blessed: false,
+            rejected: false,
+        };
     // A golden that is a link is read only when it leads to a file inside the folder.
     let refused =
         leads_out(&case.root, &case.golden).or_else(|| leads_out(&case.root, &case.report));
@@ -306,7 +314,13 @@ fn run_case(case: Case, base: &SourceMap, catalog: &Catalog, options: &Options) 
         return invalid(golden_sources, vec![d], case, built);
     }
     if !case.golden.is_file() {
-        return TestResult { case, status: Status::New, built: Some(built), blessed: false };
+        return TestResult {
+            case,
+            status: Status::New,
+            built: Some(built),
+            blessed: false,
+            rejected: false,
+        };
     }
     let file = match common::read_source(&mut golden_sources, &case.golden) {
         Ok(f) => f,
@@ -337,7 +351,7 @@ fn run_case(case: Case, base: &SourceMap, catalog: &Catalog, options: &Options) 
     };
     let d = diff::diff(&golden, &built.view, options);
     let status = if d.is_empty() { Status::Ok } else { Status::Failed(d) };
-    TestResult { case, status, built: Some(built), blessed: false }
+    TestResult { case, status, built: Some(built), blessed: false, rejected: false }
 }
 
 /// E0009 when `path` is a symbolic link that leads outside `root` (or nowhere inside it).
@@ -534,6 +548,10 @@ pub fn run(args: &TestArgs) -> ExitCode {
             return code;
         }
     }
+    if let Err(d) = write_pending(&results) {
+        common::emit_plain(&d);
+        write_failed = true;
+    }
     let text = match args.format {
         TestFormat::Human => human(&results, options.tolerance),
         TestFormat::Junit => junit(&results, options.tolerance),
@@ -552,12 +570,106 @@ pub fn run(args: &TestArgs) -> ExitCode {
     }
 }
 
+/// Where the answers of `--review` come from.
+enum Answers {
+    /// `--answers FILE`: one answer a line (`#` comments and empty lines skipped).
+    File(std::vec::IntoIter<String>),
+    /// A terminal: one key a scene, read as it is pressed.
+    Keys(console::Term),
+    /// Piped standard input: one answer a line, read as each scene is shown (not all first).
+    Lines(std::io::StdinLock<'static>),
+}
+
+/// One answer of a review.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Answer {
+    /// Write the new house as the golden.
+    Accept,
+    /// This one and every one after it.
+    All,
+    /// Keep the old golden; no pending `.new` golden.
+    Reject,
+    /// Keep the old golden and leave the new house pending (`.new`) for later.
+    Skip,
+    /// Stop; the scenes not reviewed are left pending.
+    Quit,
+}
+
+impl Answer {
+    /// A typed answer (`y`, `yes`, `accept`, `n`, `no`, `reject`, `s`, `skip`, `a`, `all`, `q`,
+    /// `quit`); anything else rejects, as an answer that is not a yes always did.
+    fn of_word(word: &str) -> Answer {
+        match word.trim().to_lowercase().as_str() {
+            "y" | "yes" | "accept" => Answer::Accept,
+            "a" | "all" => Answer::All,
+            "s" | "skip" => Answer::Skip,
+            "q" | "quit" => Answer::Quit,
+            _ => Answer::Reject,
+        }
+    }
+
+    /// A key pressed at a terminal: `a`/`y` accept, `r`/`n` reject, `s` skip, `q`/Esc quit,
+    /// `A` accept this and every one after; `None` for another key (asked again).
+    fn of_key(key: &console::Key) -> Option<Answer> {
+        match key {
+            console::Key::Char('a' | 'y' | 'Y') => Some(Answer::Accept),
+            console::Key::Char('A') => Some(Answer::All),
+            console::Key::Char('r' | 'n' | 'R' | 'N') => Some(Answer::Reject),
+            console::Key::Char('s' | 'S') => Some(Answer::Skip),
+            console::Key::Char('q' | 'Q') | console::Key::Escape => Some(Answer::Quit),
+            _ => None,
+        }
+    }
+}
+
+impl Answers {
+    /// The answer for the scene just shown; `Reject` when the answers run out (as an empty
+    /// answer).
+    fn next(&mut self) -> Answer {
+        match self {
+            Answers::File(lines) => lines.next().map_or(Answer::Reject, |l| Answer::of_word(&l)),
+            Answers::Lines(stdin) => {
+                let mut line = String::new();
+                match stdin.read_line(&mut line) {
+                    Ok(0) | Err(_) => Answer::Reject,
+                    Ok(_) => Answer::of_word(&line),
+                }
+            }
+            Answers::Keys(term) => {
+                common::err("[a]ccept  [r]eject  [s]kip  [q]uit  (A: accept all) ");
+                loop {
+                    match term.read_key() {
+                        Ok(key) => {
+                            if let Some(answer) = Answer::of_key(&key) {
+                                let word = match answer {
+                                    Answer::Accept => "accept",
+                                    Answer::All => "accept all",
+                                    Answer::Reject => "reject",
+                                    Answer::Skip => "skip",
+                                    Answer::Quit => "quit",
+                                };
+                                common::err(&format!("{word}\n"));
+                                return answer;
+                            }
+                        }
+                        Err(_) => return Answer::Quit,
+                    }
+                }
+            }
+        }
+    }
+}
+
 /// Asks, for each scene that differs, is new or has an invalid golden, whether to accept the
-/// new house as its golden; answers come from stdin or from `--answers`.
+/// new house as its golden: key by key at a terminal (standard input and error both
+/// terminals), else a line at a time from standard input or from `--answers`. A scene rejected
+/// keeps its old golden and leaves no pending golden; one skipped, or not reached after a
+/// quit, keeps its pending `.new` golden for a later review.
 fn review(results: &mut [TestResult], args: &TestArgs) -> Result<(), ExitCode> {
-    let mut answers: Box<dyn Iterator<Item = String>> = match &args.answers {
+    use std::io::IsTerminal as _;
+    let mut answers = match &args.answers {
         Some(path) => match common::read_text(path) {
-            Ok(t) => Box::new(
+            Ok(t) => Answers::File(
                 t.lines()
                     .map(str::trim)
                     .filter(|l| !l.is_empty() && !l.starts_with('#'))
@@ -567,12 +679,17 @@ fn review(results: &mut [TestResult], args: &TestArgs) -> Result<(), ExitCode> {
             ),
             Err(d) => return Err(usage(&d)),
         },
-        None => Box::new(
-            std::io::stdin().lock().lines().map_while(Result::ok).collect::<Vec<_>>().into_iter(),
-        ),
+        None if std::io::stdin().is_terminal() && std::io::stderr().is_terminal() => {
+            Answers::Keys(console::Term::stderr())
+        }
+        None => Answers::Lines(std::io::stdin().lock()),
     };
-    let interactive = args.answers.is_none();
+    let to_review = results
+        .iter()
+        .filter(|r| matches!(r.status, Status::Failed(_) | Status::New | Status::Invalid(..)))
+        .count();
     let mut all = false;
+    let mut n = 0;
     for r in results.iter_mut() {
         let shown = match &r.status {
             Status::Failed(d) => format!("{}{}\n", d.render(), d.summary()),
@@ -582,31 +699,64 @@ fn review(results: &mut [TestResult], args: &TestArgs) -> Result<(), ExitCode> {
             }
             Status::Ok | Status::Broken(..) => continue,
         };
+        n += 1;
         common::err(&crate::diag::visible(&format!(
-            "---- {} ----\n{shown}",
+            "---- {} ---- ({n} of {to_review})\n{shown}",
             r.case.scene.display()
         )));
-        let accept = if all {
-            true
-        } else {
-            if interactive {
-                common::err("accept the new golden? [y]es, [n]o, [a]ll, [q]uit: ");
+        let answer = if all { Answer::Accept } else { answers.next() };
+        match answer {
+            Answer::All => all = true,
+            Answer::Quit => {
+                common::err("stopped; the scenes not reviewed keep their pending `.new` goldens\n");
+                break;
             }
-            let answer = answers.next().unwrap_or_default().to_lowercase();
-            match answer.as_str() {
-                "y" | "yes" => true,
-                "a" | "all" => {
-                    all = true;
-                    true
-                }
-                "q" | "quit" => break,
-                _ => false,
-            }
-        };
-        common::err(if accept { "accepted\n\n" } else { "kept the old golden\n\n" });
+            Answer::Accept | Answer::Reject | Answer::Skip => {}
+        }
+        let accept = matches!(answer, Answer::Accept | Answer::All);
+        common::err(match answer {
+            Answer::Skip => "skipped: the new house waits as a `.new` golden\n\n",
+            Answer::Reject => "kept the old golden\n\n",
+            _ => "accepted\n\n",
+        });
+        r.rejected = answer == Answer::Reject;
         if accept {
             if let Err(d) = bless(r, args.reports) {
                 return Err(usage(&d));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Where a scene's pending golden goes: the golden's name with `.new` after it
+/// (`bedroom.house.json.new`), as insta keeps `.snap.new` beside a snapshot.
+fn pending_path(golden: &Path) -> PathBuf {
+    let mut name = golden.as_os_str().to_os_string();
+    name.push(".new");
+    PathBuf::from(name)
+}
+
+/// Writes the pending golden of every scene that failed, is new or has an invalid golden and
+/// was neither accepted nor rejected, and removes the pending golden of every other scene.
+#[allow(
+    clippy::result_large_err,
+    reason = "the error is printed at once; it is rare and never propagated far"
+)]
+fn write_pending(results: &[TestResult]) -> Result<(), Diagnostic> {
+    for r in results {
+        let pending = pending_path(&r.case.golden);
+        let waits = !r.blessed
+            && !r.rejected
+            && matches!(r.status, Status::Failed(_) | Status::New | Status::Invalid(..));
+        match (&r.built, waits) {
+            (Some(built), true) => {
+                common::write_confined(&r.case.root, &pending, built.house_json.as_bytes())?;
+            }
+            _ => {
+                if std::fs::symlink_metadata(&pending).is_ok_and(|m| m.is_file()) {
+                    let _ = std::fs::remove_file(&pending);
+                }
             }
         }
     }
@@ -749,12 +899,22 @@ fn junit(results: &[TestResult], tolerance: Tolerance) -> String {
     let _ = passed + blessed;
     let (failures, errors) = (failed + new, invalid + broken);
     let mut out = String::from("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n");
+    // The strict Ant schema wants `time`, `timestamp`, `hostname`, `package` and `id` on the
+    // suite, `properties`, `system-out` and `system-err` in it and no attribute on the root;
+    // the report stays the same on every run (times 0, the time of `SOURCE_DATE_EPOCH` or
+    // 1970-01-01T00:00:00, host `localhost`).
     let head = format!(
         "name=\"holoc test\" tests=\"{}\" failures=\"{failures}\" errors=\"{errors}\"",
         results.len()
     );
-    let _ = writeln!(out, "<testsuites {head}>");
-    let _ = writeln!(out, "  <testsuite {head} skipped=\"0\">");
+    let _ = writeln!(out, "<testsuites>");
+    let _ = writeln!(
+        out,
+        "  <testsuite {head} skipped=\"0\" time=\"0\" timestamp=\"{}\" hostname=\"localhost\" \
+         package=\"holoc\" id=\"0\">",
+        junit_timestamp(std::env::var("SOURCE_DATE_EPOCH").ok().as_deref())
+    );
+    out.push_str("    <properties/>\n");
     for r in results {
         let name = xml(&r.case.scene.display().to_string());
         let class = xml(&format!(
@@ -766,7 +926,7 @@ fn junit(results: &[TestResult], tolerance: Tolerance) -> String {
                 .filter(|p| !p.is_empty())
                 .unwrap_or_else(|| ".".into())
         ));
-        let open = format!("    <testcase name=\"{name}\" classname=\"{class}\"");
+        let open = format!("    <testcase name=\"{name}\" classname=\"{class}\" time=\"0\"");
         let body = |tag: &str, kind: &str, message: &str| {
             format!(
                 "{open}>\n      <{tag} type=\"{kind}\" message=\"{}\">{}</{tag}>\n    </testcase>\n",
@@ -785,8 +945,32 @@ fn junit(results: &[TestResult], tolerance: Tolerance) -> String {
         };
         out.push_str(&case);
     }
-    out.push_str("  </testsuite>\n</testsuites>\n");
+    out.push_str("    <system-out/>\n    <system-err/>\n  </testsuite>\n</testsuites>\n");
     out
+}
+
+/// The suite's `timestamp` (ISO 8601 without a zone, as the Ant schema wants it): the time of
+/// `SOURCE_DATE_EPOCH` (seconds since 1970, the reproducible-builds convention) when it is a
+/// number, else 1970-01-01T00:00:00, so that the report never depends on the clock.
+fn junit_timestamp(epoch: Option<&str>) -> String {
+    let secs = epoch.and_then(|e| e.trim().parse::<i64>().ok()).unwrap_or(0).max(0);
+    let (days, rest) = (secs / 86_400, secs % 86_400);
+    // Civil date from days since 1970-01-01 (Howard Hinnant's algorithm).
+    let z = days + 719_468;
+    let era = z / 146_097;
+    let doe = z - era * 146_097;
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let day = doy - (153 * mp + 2) / 5 + 1;
+    let month = if mp < 10 { mp + 3 } else { mp - 9 };
+    let year = yoe + era * 400 + i64::from(month <= 2);
+    format!(
+        "{year:04}-{month:02}-{day:02}T{:02}:{:02}:{:02}",
+        rest / 3600,
+        rest % 3600 / 60,
+        rest % 60
+    )
 }
 
 fn json(results: &[TestResult]) -> String {
@@ -832,4 +1016,17 @@ fn json(results: &[TestResult]) -> String {
     .unwrap_or_default();
     text.push('\n');
     text
+}
+
+#[cfg(test)]
+mod tests {
+    use super::junit_timestamp;
+
+    #[test]
+    fn the_junit_timestamp_is_the_civil_time_of_source_date_epoch() {
+        assert_eq!(junit_timestamp(None), "1970-01-01T00:00:00");
+        assert_eq!(junit_timestamp(Some("not a number")), "1970-01-01T00:00:00");
+        assert_eq!(junit_timestamp(Some("951782400")), "2000-02-29T00:00:00");
+        assert_eq!(junit_timestamp(Some("1796651573")), "2026-12-07T13:52:53");
+    }
 }

@@ -9,8 +9,11 @@ use std::process::ExitCode;
 /// Arguments of `holoc view`.
 #[derive(Debug, clap::Args)]
 pub struct ViewArgs {
-    /// The house JSON file (as `holoc build` writes it).
+    /// The house JSON file (as `holoc build` writes it); with a second house, the house before.
     pub file: PathBuf,
+    /// A second house: the page shows it (the house after) with what changed since the first
+    /// (moved objects with an arrow from where they stood, added ones green, removed ones red).
+    pub after: Option<PathBuf>,
     /// Where to write the HTML page; written atomically.
     #[arg(short, long)]
     pub output: PathBuf,
@@ -56,8 +59,9 @@ pub fn run(args: &ViewArgs) -> ExitCode {
             return ExitCode::from(2);
         }
     };
+    let shown = args.after.as_deref().unwrap_or(&args.file);
     let loaded = match super::export::load_house(
-        &args.file,
+        shown,
         &args.catalogs,
         args.draw.assets_dir.as_deref(),
         args.format,
@@ -66,15 +70,37 @@ pub fn run(args: &ViewArgs) -> ExitCode {
         Ok(l) => l,
         Err(code) => return code,
     };
+    let compare = match &args.after {
+        None => None,
+        Some(_) => {
+            let before = match super::export::load_house(
+                &args.file,
+                &args.catalogs,
+                None,
+                args.format,
+                args.color,
+            ) {
+                Ok(l) => l,
+                Err(code) => return code,
+            };
+            let name = args.file.display().to_string();
+            Some(changes(&before.house, &loaded.house, &loaded.catalog, &name))
+        }
+    };
     let mut options = args.draw.options(args.ceiling);
     options.made = std::sync::Arc::new(loaded.made.clone());
     let exported = match super::export::export_or_report(&loaded.house, &loaded.catalog, &options) {
         Ok(e) => e,
         Err(code) => return code,
     };
-    let title = args.file.file_stem().map_or_else(|| "house".into(), |s| s.to_string_lossy());
-    let html =
-        crate::export::viewer::page(&loaded.house, &exported.to_glb(), report.as_ref(), &title);
+    let title = shown.file_stem().map_or_else(|| "house".into(), |s| s.to_string_lossy());
+    let html = crate::export::viewer::page_with(
+        &loaded.house,
+        &exported.to_glb(),
+        report.as_ref(),
+        &title,
+        compare.as_ref(),
+    );
     if let Err(d) = common::write_atomic(&args.output, html.as_bytes()) {
         common::emit_plain(&d);
         return ExitCode::from(2);
@@ -86,4 +112,46 @@ pub fn run(args: &ViewArgs) -> ExitCode {
         html.len()
     ));
     common::exit_for(&loaded.diagnostics)
+}
+
+/// What changed from `before` to `after`, for the before/after page: the objects `holoc diff`
+/// finds moved (from and to their centres), added (their ids in `after`) and removed (their
+/// centre, size from the catalog, and turn in `before`).
+fn changes(
+    before: &crate::lower::thor::House,
+    after: &crate::lower::thor::House,
+    catalog: &crate::resolve::Catalog,
+    name: &str,
+) -> serde_json::Value {
+    use crate::diff::{self, HouseView, Kind};
+    use serde_json::json;
+    let view = |h: &crate::lower::thor::House| {
+        serde_json::to_value(h).ok().and_then(|v| HouseView::read(&v).ok())
+    };
+    let (Some(a), Some(b)) = (view(before), view(after)) else {
+        return json!({"before": name, "moved": [], "added": [], "removed": []});
+    };
+    let found = diff::diff(&a, &b, &diff::Options::default());
+    let find = |v: &HouseView, id: &str| v.objects.iter().find(|o| o.id == id).cloned();
+    let (mut moved, mut added, mut removed) = (Vec::new(), Vec::new(), Vec::new());
+    for c in &found.changes {
+        match c.kind {
+            Kind::ObjectMoved => {
+                let was = c.was.as_deref().unwrap_or(&c.subject);
+                if let (Some(x), Some(y)) = (find(&a, was), find(&b, &c.subject)) {
+                    moved.push(json!({"id": c.subject, "from": x.position, "to": y.position}));
+                }
+            }
+            Kind::ObjectAdded => added.push(json!(c.subject)),
+            Kind::ObjectRemoved => {
+                if let Some(x) = find(&a, &c.subject) {
+                    let size = catalog.get(&x.asset).map_or([0.3, 0.3, 0.3], |s| s.bbox_m);
+                    removed.push(json!({"id": c.subject, "at": x.position, "size": size,
+                        "rotation": x.rotation_deg}));
+                }
+            }
+            _ => {}
+        }
+    }
+    json!({"before": name, "moved": moved, "added": added, "removed": removed})
 }

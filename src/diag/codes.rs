@@ -139,6 +139,7 @@ codes! {
     W0612 "item-not-resting" "an item nested on a receptacle does not rest on its top";
     W0613 "agent-in-furniture" "the agent starts inside or against a floor object";
     E0615 "objathor-asset-missing" "a chosen objathor asset is not in the folder's `assets/`";
+    E0616 "house-not-drawable" "a house lacks a member that `export` and `view` need and AI2-THOR has no default for";
     W0614 "objathor-assets-fetched" "the objathor folder has no `assets/`: the assets are fetched when the house loads";
     W0608 "objects-overlap" "the footprints of two floor objects overlap";
     W0609 "object-crosses-wall" "a floor object's footprint reaches through a wall of its room";

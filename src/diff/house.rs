@@ -70,6 +70,18 @@ pub struct ObjectView {
     pub rotation_deg: f64,
     /// The id of the receptacle it stands on, for an item on top.
     pub parent: Option<String>,
+    /// Its AI2-THOR object type from the catalog (`Dresser`), when the catalog knows its asset.
+    pub thor_type: Option<String>,
+}
+
+impl ObjectView {
+    /// Its type: the catalog's AI2-THOR object type, else the asset id's prefix (`None` for an
+    /// id without `_`, an Objaverse hash, which names no type).
+    pub fn type_name(&self) -> Option<&str> {
+        self.thor_type
+            .as_deref()
+            .or_else(|| self.asset.contains('_').then(|| asset_type(&self.asset)))
+    }
 }
 
 /// A light.
@@ -181,6 +193,14 @@ fn category(object: &Value, asset: &str) -> String {
 }
 
 impl HouseView {
+    /// Gives every object its AI2-THOR type from `catalog` (the embedded catalog and the user
+    /// catalogs of `holoc.toml` or `--catalog`); an asset the catalog lacks keeps none.
+    pub fn set_types(&mut self, catalog: &crate::resolve::Catalog) {
+        for o in &mut self.objects {
+            o.thor_type = catalog.get(&o.asset).map(|a| a.object_type.to_string());
+        }
+    }
+
     /// Reads a house. `Err` says why the value is not a house (not an object, no `rooms`).
     pub fn read(house: &Value) -> Result<HouseView, String> {
         let Some(top) = house.as_object() else {
@@ -238,11 +258,13 @@ impl HouseView {
         };
         let doors = list(house, "doors").iter().map(|d| hole(d, true)).collect();
         let windows = list(house, "windows").iter().map(|w| hole(w, false)).collect();
+        let embedded = crate::resolve::Catalog::embedded();
         let mut objects = Vec::new();
         let mut pending: Vec<(&Value, Option<String>, String)> =
             list(house, "objects").iter().rev().map(|o| (o, None, String::new())).collect();
         while let Some((o, parent, parent_room)) = pending.pop() {
             let asset = text(o, "assetId");
+            let asset_id = asset.clone();
             let mut room = text(o, "roomId");
             if room.is_empty() {
                 room = parent_room;
@@ -256,6 +278,7 @@ impl HouseView {
                 position: xyz(o.get("position")),
                 rotation_deg: o.get("rotation").map_or(0.0, |r| num(r, "y")),
                 parent,
+                thor_type: embedded.get(&asset_id).map(|a| a.object_type.to_string()),
             });
             pending.extend(
                 list(o, "children").iter().rev().map(|c| (c, Some(id.clone()), room.clone())),
@@ -323,6 +346,29 @@ impl HouseView {
         }
         if let Some(seed) = report.get("seed").filter(|s| !s.is_null()) {
             self.metadata.push(("seed".into(), seed.to_string()));
+        }
+        // Each catalog of the lock by its name: a new version (or the same version with other
+        // bytes) is one `catalog …` setting changed, said as such.
+        let lock = report.get("assets").filter(|a| a.get("catalogs").is_some()).unwrap_or(report);
+        for c in list(lock, "catalogs") {
+            let name = text(c, "name");
+            if name.is_empty() {
+                continue;
+            }
+            let version = c.get("version").map_or_else(String::new, |v| match v.as_str() {
+                Some(s) => s.to_string(),
+                None if v.is_null() => String::new(),
+                None => v.to_string(),
+            });
+            let sha = text(c, "sha256");
+            let short = sha.get(..12).unwrap_or(&sha);
+            let value = match (version.is_empty(), short.is_empty()) {
+                (false, false) => format!("version {version} (sha256 {short}…)"),
+                (false, true) => format!("version {version}"),
+                (true, false) => format!("sha256 {short}…"),
+                (true, true) => continue,
+            };
+            self.metadata.push((format!("catalog {name}"), value));
         }
         Ok(())
     }

@@ -19,7 +19,7 @@ pub mod house;
 
 pub use house::HouseView;
 
-use house::{asset_type, HoleView, ObjectView};
+use house::{HoleView, ObjectView};
 use serde::Serialize;
 use std::collections::{BTreeMap, HashMap};
 use std::fmt::Write as _;
@@ -149,6 +149,8 @@ pub enum Kind {
     ObjectRemoved,
     /// An object became an object of another type.
     TypeChanged,
+    /// An object has another id, with the same asset at the same place.
+    ObjectRenamed,
     /// An item stands on another receptacle (or on the floor).
     ReceptacleChanged,
     /// An object moved or turned.
@@ -210,6 +212,7 @@ impl Kind {
             Kind::ObjectAdded => ("object added", "objects added"),
             Kind::ObjectRemoved => ("object removed", "objects removed"),
             Kind::TypeChanged => ("type changed", "types changed"),
+            Kind::ObjectRenamed => ("object renamed", "objects renamed"),
             Kind::ReceptacleChanged => ("receptacle changed", "receptacles changed"),
             Kind::ObjectMoved => ("object moved", "objects moved"),
             Kind::RelationBroken => ("relation no longer kept", "relations no longer kept"),
@@ -242,6 +245,9 @@ pub struct Change {
     /// The first house's id of a paired object, door or window whose id changed.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub was: Option<String>,
+    /// The two types of a type change (the catalog's AI2-THOR types), `before → after`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub types: Option<(String, String)>,
     /// The value in the first house (an asset, material, type, receptacle, area…).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub before: Option<String>,
@@ -267,6 +273,7 @@ impl Change {
             from_room: None,
             subject: subject.to_string(),
             was: None,
+            types: None,
             before: None,
             after: None,
             distance_m: None,
@@ -288,6 +295,7 @@ impl Change {
         let mut m = self.clone();
         m.kind = self.kind.mirror();
         std::mem::swap(&mut m.before, &mut m.after);
+        m.types = self.types.clone().map(|(x, y)| (y, x));
         if let Some(from) = &self.from_room {
             m.room.clone_from(from);
             m.from_room = Some(self.room.clone());
@@ -358,8 +366,13 @@ impl Change {
                 }
             }
             Kind::TypeChanged => {
-                format!("{s}{was} type {} → {} (asset {b} → {a})", asset_type(b), asset_type(a))
+                let (tb, ta) = self.types.clone().unwrap_or_default();
+                format!("{s}{was} type {tb} → {ta} (asset {b} → {a})")
             }
+            Kind::ObjectRenamed => format!(
+                "{s} renamed (was {}; same asset and place)",
+                self.was.as_deref().unwrap_or("")
+            ),
             Kind::ReceptacleChanged => format!("{s}{was} stands on {a} (was on {b})"),
             Kind::ObjectMoved | Kind::AgentMoved => {
                 let what = if self.kind == Kind::AgentMoved { "agent start" } else { s.as_str() };
@@ -785,13 +798,16 @@ fn objects(a: &HouseView, b: &HouseView, options: &Options, out: &mut Vec<Change
     let keep = |o: &&ObjectView| items || o.parent.is_none();
     let xs: Vec<&ObjectView> = a.objects.iter().filter(keep).collect();
     let ys: Vec<&ObjectView> = b.objects.iter().filter(keep).collect();
-    let (pairs, left_a, left_b) = pair(
+    let (mut pairs, left_a, left_b) = pair(
         &xs,
         &ys,
         |o| o.id.as_str(),
         |o| format!("{}|{}", o.category, u8::from(o.parent.is_some())),
         |x, y| dist(x.position, y.position),
     );
+    // A renamed object (another name, so another category): the same asset at the same place,
+    // paired one to one, nearest first.
+    let (left_a, left_b) = renames(&xs, &ys, left_a, left_b, tol, &mut pairs);
     // The second house's id of each paired object of the first, for receptacles.
     let renamed: HashMap<&str, &str> =
         pairs.iter().map(|&(i, j)| (xs[i].id.as_str(), ys[j].id.as_str())).collect();
@@ -814,6 +830,7 @@ fn objects(a: &HouseView, b: &HouseView, options: &Options, out: &mut Vec<Change
     }
     for (i, j) in pairs {
         let (x, y) = (xs[i], ys[j]);
+        let before = out.len();
         let was = (x.id != y.id).then(|| x.id.clone());
         let from_room = (x.room != y.room).then(|| x.room.clone());
         let d = dist(x.position, y.position);
@@ -835,22 +852,80 @@ fn objects(a: &HouseView, b: &HouseView, options: &Options, out: &mut Vec<Change
             out.push(c);
         }
         if x.asset != y.asset && !options.ignores(Group::Assets) {
-            // An id without `_` (an Objaverse hash) names no type: only its asset changed.
-            let typed = |a: &str| a.contains('_');
-            let kind = if !typed(&x.asset)
-                || !typed(&y.asset)
-                || asset_type(&x.asset) == asset_type(&y.asset)
-            {
-                Kind::AssetChanged
-            } else {
-                Kind::TypeChanged
+            // The types are the catalog's (a Dresser is a Dresser whatever its asset's id
+            // begins with); an asset no catalog knows and whose id names no type (an
+            // Objaverse hash) only changed its asset.
+            let kind = match (x.type_name(), y.type_name()) {
+                (Some(p), Some(q)) if p != q => Kind::TypeChanged,
+                _ => Kind::AssetChanged,
             };
             let mut c = Change::new(kind, &y.room, &y.id).values(&x.asset, &y.asset);
-            c.was = was;
-            c.from_room = from_room;
+            if kind == Kind::TypeChanged {
+                c.types = Some((
+                    x.type_name().unwrap_or_default().to_string(),
+                    y.type_name().unwrap_or_default().to_string(),
+                ));
+            }
+            c.was.clone_from(&was);
+            c.from_room.clone_from(&from_room);
             out.push(c);
         }
+        // A rename with nothing else changed is one line of its own.
+        if out.len() == before {
+            if let Some(was) = was {
+                let mut c = Change::new(Kind::ObjectRenamed, &y.room, &y.id);
+                c.was = Some(was);
+                out.push(c);
+            }
+        }
     }
+}
+
+/// Pairs the objects the ids and categories left unpaired that have the same asset and stand
+/// at the same place within the tolerances (nearest first, ties by the ids); returns those
+/// still unpaired.
+fn renames(
+    xs: &[&ObjectView],
+    ys: &[&ObjectView],
+    left_a: Vec<usize>,
+    left_b: Vec<usize>,
+    tol: Tolerance,
+    pairs: &mut Vec<(usize, usize)>,
+) -> (Vec<usize>, Vec<usize>) {
+    let mut candidates: Vec<(f64, &str, &str, usize, usize)> = Vec::new();
+    let mut by_asset: HashMap<&str, Vec<usize>> = HashMap::new();
+    for &j in &left_b {
+        by_asset.entry(ys[j].asset.as_str()).or_default().push(j);
+    }
+    for &i in &left_a {
+        for &j in by_asset.get(xs[i].asset.as_str()).into_iter().flatten() {
+            let (x, y) = (xs[i], ys[j]);
+            let d = dist(x.position, y.position);
+            if d <= tol.metres
+                && turn(x.rotation_deg, y.rotation_deg).abs() <= tol.degrees
+                && x.parent.is_some() == y.parent.is_some()
+            {
+                // Ties broken the same way whichever house comes first.
+                let (lo, hi) = if x.id <= y.id { (&x.id, &y.id) } else { (&y.id, &x.id) };
+                candidates.push((d, lo.as_str(), hi.as_str(), i, j));
+            }
+        }
+    }
+    candidates
+        .sort_by(|p, q| p.0.total_cmp(&q.0).then_with(|| p.1.cmp(q.1)).then_with(|| p.2.cmp(q.2)));
+    let mut taken_a = vec![false; xs.len()];
+    let mut taken_b = vec![false; ys.len()];
+    for (_, _, _, i, j) in candidates {
+        if !taken_a[i] && !taken_b[j] {
+            taken_a[i] = true;
+            taken_b[j] = true;
+            pairs.push((i, j));
+        }
+    }
+    (
+        left_a.into_iter().filter(|&i| !taken_a[i]).collect(),
+        left_b.into_iter().filter(|&j| !taken_b[j]).collect(),
+    )
 }
 
 fn lights(a: &HouseView, b: &HouseView, tol: Tolerance, out: &mut Vec<Change>) {

@@ -20,6 +20,7 @@
 //! Colours come from `materials.rs`. Nothing here reads the clock or iterates a hash map, so the
 //! same house gives the same bytes.
 
+pub mod defaults;
 pub mod materials;
 pub mod mesh;
 pub mod viewer;

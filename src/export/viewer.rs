@@ -26,14 +26,19 @@ const STYLE: &str = "html,body{margin:0;height:100%;overflow:hidden;font:14px sy
 #panel h2{font-size:15px;margin:4px 0}#panel h3{font-size:13px;margin:8px 0 2px}\
 #panel dl{display:grid;grid-template-columns:auto 1fr;gap:2px 8px;margin:0}#panel dt{color:#666}#panel dd{margin:0}\
 #panel ul{margin:0;padding-left:16px}.kept{color:#185}.broken{color:#b22}.hint{color:#777}\
-body.top #help,body.top #status,body.top #panel{display:none}";
+#compare{position:absolute;left:8px;top:32px;padding:4px 8px;background:rgba(255,255,255,.9);border-radius:4px}\
+.moved{color:#c60}.added{color:#185}.removed{color:#b22}\
+body.top #help,body.top #status,body.top #panel,body.top #compare{display:none}";
 
 /// The relations of each object in a build report (`holoc build --report`), keyed by the
-/// house's `roomId` and `object_name`: each `{constraint, satisfied}`.
+/// house's `roomId` and `object_name`: each `{constraint, satisfied}`. A house's `roomId` is
+/// the room's label (`living room`) where the report names the room by its id (`living_room`)
+/// too, so each object is keyed by both.
 fn relations(report: &Value) -> std::collections::BTreeMap<(String, String), Vec<Value>> {
     let mut out = std::collections::BTreeMap::new();
     for room in report.get("layout").and_then(Value::as_array).into_iter().flatten() {
         let Some(name) = room.get("room").and_then(Value::as_str) else { continue };
+        let label = room.get("label").and_then(Value::as_str).unwrap_or(name);
         for o in room.get("floor_objects").and_then(Value::as_array).into_iter().flatten() {
             let Some(id) = o.get("object").and_then(Value::as_str) else { continue };
             let list: Vec<Value> = o
@@ -45,8 +50,22 @@ fn relations(report: &Value) -> std::collections::BTreeMap<(String, String), Vec
                     |c| json!({"constraint": c.get("constraint"), "satisfied": c.get("satisfied")}),
                 )
                 .collect();
+            out.insert((label.to_string(), id.to_string()), list.clone());
             out.insert((name.to_string(), id.to_string()), list);
         }
+    }
+    out
+}
+
+/// The label and scene id of each room of a build report, keyed by the house's room id (the
+/// label).
+fn room_names(report: &Value) -> std::collections::BTreeMap<String, (String, String)> {
+    let mut out = std::collections::BTreeMap::new();
+    for room in report.get("layout").and_then(Value::as_array).into_iter().flatten() {
+        let Some(id) = room.get("room").and_then(Value::as_str) else { continue };
+        let label = room.get("label").and_then(Value::as_str).unwrap_or(id);
+        out.insert(label.to_string(), (label.to_string(), id.to_string()));
+        out.entry(id.to_string()).or_insert_with(|| (label.to_string(), id.to_string()));
     }
     out
 }
@@ -60,13 +79,28 @@ fn collect<'h>(o: &'h Object, out: &mut Vec<&'h Object>) {
 
 /// The page's data block.
 pub fn page_data(house: &House, glb: &[u8], report: Option<&Value>, title: &str) -> Value {
+    page_data_with(house, glb, report, title, None)
+}
+
+/// The page's data block, with the changes of a before/after view (see [`page_with`]).
+pub fn page_data_with(
+    house: &House,
+    glb: &[u8],
+    report: Option<&Value>,
+    title: &str,
+    compare: Option<&Value>,
+) -> Value {
+    let names = report.map(room_names).unwrap_or_default();
     let rooms: Vec<Value> = house
         .rooms
         .iter()
         .map(|r| {
             let outline: Vec<geo::Point> = r.floor_polygon.iter().map(|p| [p.x, p.z]).collect();
             let c = geo::area_centroid(&outline);
-            json!({"id": r.id, "type": r.room_type, "centre": [geo::round6(c[0]), geo::round6(c[1])]})
+            let (label, scene_id) =
+                names.get(&r.id).cloned().unwrap_or_else(|| (r.id.clone(), r.id.clone()));
+            json!({"id": r.id, "label": label, "sceneId": scene_id, "type": r.room_type,
+                "centre": [geo::round6(c[0]), geo::round6(c[1])]})
         })
         .collect();
     let by_name = report.map(relations).unwrap_or_default();
@@ -77,15 +111,22 @@ pub fn page_data(house: &House, glb: &[u8], report: Option<&Value>, title: &str)
     let mut objects = serde_json::Map::new();
     for o in all {
         let rel = by_name.get(&(o.room_id.clone(), o.object_name.clone())).cloned();
-        objects.insert(o.id.clone(), json!({"relations": rel.unwrap_or_default()}));
+        objects.insert(
+            o.id.clone(),
+            json!({"roomId": o.room_id, "objectName": o.object_name, "relations": rel.unwrap_or_default()}),
+        );
     }
-    json!({
+    let mut data = json!({
         "title": title,
         "glb": base64::engine::general_purpose::STANDARD.encode(glb),
         "rooms": rooms,
         "objects": objects,
         "hasReport": report.is_some(),
-    })
+    });
+    if let (Some(c), Some(map)) = (compare, data.as_object_mut()) {
+        map.insert("compare".into(), c.clone());
+    }
+    data
 }
 
 /// JSON for inside a `<script>` element: `<`, `>` and `&` (only ever in strings) are written
@@ -115,7 +156,22 @@ fn html_escape(text: &str) -> String {
 
 /// The whole page.
 pub fn page(house: &House, glb: &[u8], report: Option<&Value>, title: &str) -> String {
-    let data = page_data(house, glb, report, title);
+    page_with(house, glb, report, title, None)
+}
+
+/// The whole page; with `compare`, a before/after view: `house` is the house after, and
+/// `compare` is `{"before": name, "moved": [{"id", "from", "to"}], "added": [id],
+/// "removed": [{"id", "at", "size", "rotation"}]}` (positions and sizes in metres, AI2-THOR's
+/// frame): moved objects get an arrow from where they stood, added ones are green, removed
+/// ones a red box where they stood.
+pub fn page_with(
+    house: &House,
+    glb: &[u8],
+    report: Option<&Value>,
+    title: &str,
+    compare: Option<&Value>,
+) -> String {
+    let data = page_data_with(house, glb, report, title, compare);
     let mut out = String::with_capacity(THREE_BUNDLE.len() + glb.len() * 4 / 3 + 8192);
     out.push_str("<!doctype html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n");
     out.push_str("<meta name=\"viewport\" content=\"width=device-width,initial-scale=1\">\n");
@@ -126,7 +182,7 @@ pub fn page(house: &House, glb: &[u8], report: Option<&Value>, title: &str) -> S
     out.push_str("</style>\n</head>\n<body>\n");
     out.push_str("<div id=\"app\"></div>\n");
     out.push_str("<div id=\"help\">drag to turn · right-drag to move · wheel to zoom · click an object</div>\n");
-    out.push_str("<div id=\"panel\" hidden></div>\n<div id=\"status\">loading…</div>\n");
+    out.push_str("<div id=\"panel\" hidden></div>\n<div id=\"compare\" hidden></div>\n<div id=\"status\">loading…</div>\n");
     out.push_str("<script id=\"holoc-data\" type=\"application/json\">");
     out.push_str(&script_safe(&data.to_string()));
     out.push_str("</script>\n<script>\n");

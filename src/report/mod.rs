@@ -6,6 +6,8 @@
 //! internal types are not `Serialize`. Object order is the scene's; numbers are rounded to
 //! 1e-4 so that the report is stable.
 
+pub mod pins;
+
 use crate::compile::Built;
 use crate::resolve::Catalog;
 use serde_json::{json, Value};
@@ -253,5 +255,82 @@ impl std::fmt::Display for Summary {
             1 => write!(f, ", 1 ceiling light as its room's light"),
             n => write!(f, ", {n} ceiling lights as their rooms' lights"),
         }
+    }
+}
+
+/// Makes the paths a report holds portable (a golden report is committed and compared on other
+/// machines): every catalog's `path` and `folder`, an objathor folder's `files`, and each made
+/// asset's `folder` become relative to `base` (the folder of `holoc.toml`, else the current
+/// folder) when they are inside it, else their last component.
+pub fn portable_paths(report: &mut Value, base: &std::path::Path) {
+    portable_catalog_paths(report, base);
+    if let Some(list) = report.get_mut("madeAssets").and_then(Value::as_array_mut) {
+        for m in list {
+            if let Some(v) = m.get_mut("folder") {
+                portable(v, base);
+            }
+        }
+    }
+}
+
+/// The catalog paths of [`portable_paths`] alone (what `holoc build --report` writes: the made
+/// assets' folder stays where the house's assets are).
+pub fn portable_catalog_paths(report: &mut Value, base: &std::path::Path) {
+    let lock = match report.get("assets").and_then(|a| a.get("catalogs")) {
+        Some(_) => report.get_mut("assets").and_then(|a| a.get_mut("catalogs")),
+        None => report.get_mut("catalogs"),
+    };
+    for c in lock.and_then(Value::as_array_mut).into_iter().flatten() {
+        for key in ["path", "folder"] {
+            if let Some(v) = c.get_mut(key) {
+                portable(v, base);
+            }
+        }
+        for f in c.get_mut("files").and_then(Value::as_array_mut).into_iter().flatten() {
+            if let Some(v) = f.get_mut("path") {
+                portable(v, base);
+            }
+        }
+    }
+}
+
+/// `v` (a path, or not a string) relative to `base` when inside it, else its last component.
+fn portable(v: &mut Value, base: &std::path::Path) {
+    let Some(text) = v.as_str() else { return };
+    let path = std::path::Path::new(text);
+    let rel = if path.is_absolute() {
+        match path.strip_prefix(base) {
+            Ok(rel) => rel.to_path_buf(),
+            Err(_) => path.file_name().map(std::path::PathBuf::from).unwrap_or_default(),
+        }
+    } else {
+        path.strip_prefix(".").unwrap_or(path).to_path_buf()
+    };
+    *v = json!(rel.display().to_string().replace('\\', "/"));
+}
+
+#[cfg(test)]
+mod portable_tests {
+    use super::portable_paths;
+    use serde_json::json;
+
+    #[test]
+    fn paths_inside_the_project_become_relative_and_others_their_file_name() {
+        let mut report = json!({"assets": {
+            "catalogs": [
+                {"name": "holoc", "path": null},
+                {"name": "mine", "path": "/home/me/project/catalogs/mine.json"},
+                {"name": "theirs", "path": "/opt/shared/theirs.json.gz"},
+                {"name": "local", "path": "./here.json"}
+            ]},
+            "madeAssets": [{"uid": "a", "folder": "/home/me/project/out/house.assets/a"}]
+        });
+        portable_paths(&mut report, std::path::Path::new("/home/me/project"));
+        let lock = &report["assets"]["catalogs"];
+        assert_eq!(lock[0]["path"], json!(null));
+        assert_eq!(lock[1]["path"], "catalogs/mine.json");
+        assert_eq!(lock[2]["path"], "theirs.json.gz");
+        assert_eq!(lock[3]["path"], "here.json");
+        assert_eq!(report["madeAssets"][0]["folder"], "out/house.assets/a");
     }
 }
