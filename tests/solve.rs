@@ -115,8 +115,7 @@ fn check_use_clearances(problem: &RoomProblem, layout: &RoomLayout, beds: bool) 
             room.contains_rect(z)
                 && layout.floor.iter().all(|q| {
                     q.index == p.index
-                        || (related(p.index, q.index)
-                            && o.role.lets_in(problem.objects[q.index].role))
+                        || o.role.lets_in(problem.objects[q.index].role, related(p.index, q.index))
                         || !q.footprint.overlaps(z)
                 })
         };
@@ -210,7 +209,13 @@ fn doors_are_never_boxed_in() {
             constraints: if k == 0 {
                 Vec::new()
             } else {
-                vec![ProblemConstraint { kind: RelationKind::Near, target: k - 1, span: None }]
+                vec![ProblemConstraint {
+                    kind: RelationKind::Near,
+                    written: RelationKind::Near,
+                    implied: false,
+                    target: k - 1,
+                    span: None,
+                }]
             },
             pin: None,
             thor_type: None,
@@ -254,7 +259,13 @@ fn random_problem(sizes: Vec<(f64, f64, bool)>, w: f64, d: f64) -> RoomProblem {
             constraints: if k == 0 {
                 Vec::new()
             } else {
-                vec![ProblemConstraint { kind: RelationKind::Near, target: k - 1, span: None }]
+                vec![ProblemConstraint {
+                    kind: RelationKind::Near,
+                    written: RelationKind::Near,
+                    implied: false,
+                    target: k - 1,
+                    span: None,
+                }]
             },
             pin: None,
             thor_type: None,
@@ -708,7 +719,9 @@ fn a_room_of_eighty_puts_every_wall_piece_on_a_wall() {
     assert!(out.floor.windows(2).all(|w| w[0].index < w[1].index), "plan order");
     // Found by the greedy pass: a shelf no longer goes where the only piece of wall left for
     // its plant lies in the legroom of the sofa beside it (the search then walked 318 nodes).
-    assert_eq!(out.nodes, 80, "found at node {} of {}", out.found_at, out.nodes);
+    // Since issue 48 (seats keep their 0.45 m front strip, storage its doors' swing) the
+    // search walks 331 nodes to its layout (it was 80).
+    assert_eq!(out.nodes, 331, "found at node {} of {}", out.found_at, out.nodes);
 }
 
 /// An L-shaped living room whose TV stand wants a wall `in front of` the sofa and faces it:
@@ -805,7 +818,13 @@ fn a_desk_keeps_its_pull_out_space_for_its_chair_alone() {
         thor_type: None,
         span: None,
     };
-    let rel = |kind, target| ProblemConstraint { kind, target, span: None };
+    let rel = |kind, target| ProblemConstraint {
+        kind,
+        written: kind,
+        implied: false,
+        target,
+        span: None,
+    };
     let problem = RoomProblem {
         name: "study".into(),
         outline: vec![[0.0, 0.0], [0.0, 4.0], [4.0, 4.0], [4.0, 0.0]],
@@ -979,4 +998,95 @@ fn a_desk_used_from_behind_keeps_its_pull_out_space_behind() {
     let seat = out.floor.iter().find(|p| p.index == chair).expect("the teacher's chair stands");
     let (zones, _) = solve::use_zones_of(&rows, teacher, &desk.pose);
     assert!(zones.iter().any(|z| z.overlaps(&seat.footprint)), "the teacher sits at the desk");
+}
+
+/// A classroom planned as the original system's plans write it: ten student desks facing the
+/// teacher's desk, each chair only `near` its desk. A chair `near` a desk is drawn up to it
+/// (issue 48): every chair stands within 0.6 m of its own desk, facing the way its desk faces
+/// (at its back, towards the teacher), and every desk faces the teacher's desk.
+#[test]
+fn a_chair_near_its_desk_is_drawn_up_to_it() {
+    let mut text = String::from(
+        "scene \"a classroom\" {\n  wall height 3 m\n  seed 3\n}\n\nroom classroom \"classroom\" {\n  corners in m (0, 0) (0, 8) (7, 8) (7, 0)\n\n  object teacher_desk \"teacher desk\" {\n    size 140 cm x 70 cm x 76 cm\n    edge\n  }\n  object student_desk \"student desk\" {\n    size 70 cm x 50 cm x 72 cm\n    count 10 same\n    middle\n    face to teacher_desk-0\n  }\n  object student_chair \"student chair\" {\n    size 45 cm x 45 cm x 80 cm\n    count 10 same\n    middle\n",
+    );
+    for i in 0..10 {
+        let _ = write!(
+            text,
+            "    instance student_chair-{i} {{\n      near student_desk-{i}\n    }}\n"
+        );
+    }
+    text.push_str("  }\n}\n\ndoor exterior -- classroom : doorway single \"door\"\n");
+    let mut sources = holoc::source::SourceMap::new();
+    let id = sources.add("classroom_near.holo", text);
+    let checked = holoc::compile::check_file(&sources, id);
+    let Some(scene) = checked.value else { panic!("checks: {:?}", checked.diagnostics) };
+    let room = scene.rooms[0].id;
+    let problem = solve::room_problem(&scene, room, &solve::WrittenSizes, Vec::new(), Vec::new());
+    let out = solve::solve_room(&problem, &SolveOptions::default()).value;
+    check_hard_rules(&problem, &out);
+    assert_eq!(out.floor.len(), problem.objects.len(), "{:?}", out.unplaced);
+    let placed = |id: &str| {
+        let p = out.floor.iter().find(|p| problem.objects[p.index].id == id);
+        p.unwrap_or_else(|| panic!("{id} placed"))
+    };
+    let teacher = placed("teacher_desk-0");
+    let mut facing = 0;
+    for i in 0..10 {
+        let desk = placed(&format!("student_desk-{i}"));
+        let chair = placed(&format!("student_chair-{i}"));
+        // Turned towards the teacher's desk (rows wider than it: within 45° of its centre).
+        let angle = solve::constraints::angle_to(&desk.pose, teacher.footprint.center());
+        facing += usize::from(angle <= 45.0);
+        let gap = chair.footprint.gap(&desk.footprint);
+        assert!(gap <= 0.6 + 1e-6, "student_chair-{i} is {gap:.2} m from its desk");
+        assert!(
+            solve::constraints::faces(&chair.pose, &desk.footprint),
+            "student_chair-{i} does not face its desk"
+        );
+        assert_eq!(chair.pose.rot, desk.pose.rot, "student_chair-{i} sits the way its desk faces");
+        for c in &chair.constraints {
+            assert!(c.measure.satisfied, "student_chair-{i}: {} not kept", c.text);
+        }
+    }
+    // The desks' own `face to` is soft and the search keeps it for 5 of the 10 (issue 48 asks
+    // for all: an open point); this holds the figure from falling.
+    assert!(facing >= 5, "{facing} of 10 desks turned towards the teacher's desk");
+    // The report prints the relation as written.
+    let chair = placed("student_chair-0");
+    assert_eq!(chair.constraints[1].text, "near student_desk-0");
+}
+
+/// A living room whose plan relates nothing (every piece `edge`, as the real requests' replay
+/// writes it) is still a seating group: the TV stand faces the sofa from 1.5–4.5 m, each
+/// within 30° of facing the other.
+#[test]
+fn a_tv_in_a_room_with_a_sofa_faces_it_at_a_viewing_distance() {
+    let text = "scene \"a living room\" {\n  wall height 2.7 m\n  seed 0\n}\n\nroom living_room \"living room\" {\n  corners in m (0, 0) (0, 5) (6.5, 5) (6.5, 0)\n\n  object tv_stand \"tv stand\" {\n    size 180 cm x 45 cm x 55 cm\n    edge\n  }\n  object bookcase \"bookcase\" {\n    size 90 cm x 35 cm x 180 cm\n    edge\n  }\n  object sofa \"sofa\" {\n    size 220 cm x 95 cm x 85 cm\n    edge\n  }\n  object armchair \"armchair\" {\n    size 80 cm x 80 cm x 90 cm\n    edge\n  }\n}\n\ndoor exterior -- living_room : doorway single \"door\"\n";
+    let mut sources = holoc::source::SourceMap::new();
+    let id = sources.add("living.holo", text.to_string());
+    let checked = holoc::compile::check_file(&sources, id);
+    let Some(scene) = checked.value else { panic!("checks: {:?}", checked.diagnostics) };
+    let problem = solve::room_problem(
+        &scene,
+        scene.rooms[0].id,
+        &solve::WrittenSizes,
+        Vec::new(),
+        Vec::new(),
+    );
+    let out = solve::solve_room(&problem, &SolveOptions::default()).value;
+    check_hard_rules(&problem, &out);
+    let placed = |id: &str| {
+        let p = out.floor.iter().find(|p| problem.objects[p.index].id == id);
+        p.unwrap_or_else(|| panic!("{id} placed"))
+    };
+    let (tv, sofa) = (placed("tv_stand-0"), placed("sofa-0"));
+    let gap = tv.footprint.gap(&sofa.footprint);
+    assert!((1.5 - 1e-6..=4.5 + 1e-6).contains(&gap), "the TV is {gap:.2} m from the sofa");
+    let a = solve::constraints::angle_to(&tv.pose, sofa.footprint.center());
+    let b = solve::constraints::angle_to(&sofa.pose, tv.footprint.center());
+    assert!(a <= 30.0 + 1e-6 && b <= 30.0 + 1e-6, "angles {a:.0}° and {b:.0}°");
+    // Every piece against a wall, the armchair's front strip clear.
+    for p in &out.floor {
+        assert!(p.constraints[0].measure.satisfied, "{} off the wall", problem.objects[p.index].id);
+    }
 }

@@ -951,7 +951,7 @@ pub fn room_relation_outcomes(room: &crate::solve::SolvedRoom) -> Vec<RelationOu
             out.push(RelationOutcome {
                 span,
                 object: object.id.clone(),
-                text: format!("{} {target} (the object is left out)", c.kind.as_str()),
+                text: format!("{} {target} (the object is left out)", c.written.as_str()),
                 satisfied: false,
                 value: f64::NAN,
                 unit: "m",

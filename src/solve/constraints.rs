@@ -508,8 +508,15 @@ pub enum Role {
     Screen,
     /// A fridge.
     Fridge,
-    /// A dresser, wardrobe or chest of drawers.
+    /// A dresser, wardrobe, chest of drawers, cabinet, pantry or a kitchen appliance with a
+    /// door (oven, dishwasher): something opened from its front, whose drawers or doors swing
+    /// out.
     Storage,
+    /// Open storage stood against a wall: a bookcase, shelf or shelving unit.
+    Shelf,
+    /// An ottoman, footstool or pouf: the one thing besides a table that may stand in a seat's
+    /// front strip.
+    Ottoman,
     /// Anything else.
     #[default]
     Other,
@@ -545,10 +552,18 @@ impl Role {
                 "sofa" | "couch" | "loveseat" | "sectional" | "settee" | "futon" => Role::Sofa,
                 "bed" | "bunk" | "crib" => Role::Bed,
                 "table" | "counter" | "countertop" | "island" => Role::Table,
-                "desk" | "workbench" | "workstation" => Role::Desk,
+                // A piano is sat at from its front, as a desk is.
+                "desk" | "workbench" | "workstation" | "piano" | "organ" => Role::Desk,
                 "nightstand" => Role::SideTable,
                 "fridge" | "refrigerator" | "freezer" => Role::Fridge,
-                "dresser" | "wardrobe" | "chest" | "drawer" | "armoire" | "closet" => Role::Storage,
+                "dresser" | "wardrobe" | "chest" | "drawer" | "armoire" | "closet" | "cabinet"
+                | "cupboard" | "pantry" | "sideboard" | "credenza" | "oven" | "dishwasher"
+                | "hutch" => Role::Storage,
+                "bookcase" | "bookshelf" | "shelf" | "shelve" | "shelving" | "bookshelve"
+                | "etagere" => Role::Shelf,
+                "ottoman" | "footstool" | "pouf" | "pouffe" | "footrest" | "hassock" => {
+                    Role::Ottoman
+                }
                 _ => continue,
             };
             return role;
@@ -565,17 +580,34 @@ impl Role {
         self == Role::Seat
     }
 
+    /// Storage (a bookcase, shelf, wardrobe, dresser, cabinet, pantry): asked `edge`, it stands
+    /// against a wall or not at all.
+    pub fn wants_wall(self) -> bool {
+        matches!(self, Role::Storage | Role::Shelf)
+    }
+
     /// A table or desk that chairs are drawn up to (not a coffee table).
     pub fn sat_at(self) -> bool {
         matches!(self, Role::Table | Role::Desk)
     }
 
-    /// Whether an object of role `other` that has a relation with an object of this role may
-    /// stand in this one's use-clearance: any related object (a coffee table before its sofa,
-    /// a nightstand by its bed), except in a desk's pull-out space, which only a seat enters
-    /// (the desk's chair; a student desk `in front of` the teacher's desk keeps out of it).
-    pub fn lets_in(self, other: Role) -> bool {
-        self != Role::Desk || other.seats()
+    /// Whether an object of role `other` (`related` when it has a relation with this one) may
+    /// stand in this one's use-clearance: a seat's or sofa's front strip takes only a table,
+    /// desk, coffee table or ottoman, related or not (nobody sits facing a chair's back or a
+    /// chaise's end); a desk's pull-out space only a related seat (the desk's chair; a student
+    /// desk `in front of` the teacher's desk keeps out of it); the swing of a fridge's,
+    /// cabinet's, pantry's, oven's or wardrobe's doors and a dresser's drawers nothing; any
+    /// other clearance any related object (a coffee table before its sofa, a nightstand by its
+    /// bed, a stool at its counter).
+    pub fn lets_in(self, other: Role, related: bool) -> bool {
+        match self {
+            Role::Seat | Role::Sofa => {
+                matches!(other, Role::Table | Role::Desk | Role::LowTable | Role::Ottoman)
+            }
+            Role::Desk => related && other.seats(),
+            Role::Fridge | Role::Storage => false,
+            _ => related,
+        }
     }
 
     /// The depth (metres) in front of the object that its use needs free: legroom before a
@@ -583,7 +615,7 @@ impl Role {
     /// door, the drawers of a dresser (see the book's layout semantics for the sources).
     pub fn front_clearance(self, height_m: f64) -> f64 {
         match self {
-            Role::Sofa => SOFA_CLEARANCE_M,
+            Role::Sofa | Role::Seat => SEAT_FRONT_M,
             Role::Desk => DESK_CLEARANCE_M,
             Role::Table if height_m >= COUNTER_HEIGHT_M => COUNTER_CLEARANCE_M,
             Role::Fridge => FRIDGE_CLEARANCE_M,
@@ -595,6 +627,15 @@ impl Role {
 
 /// Legroom kept free in front of a sofa (a coffee table stands 0.3–0.6 m away).
 pub const SOFA_CLEARANCE_M: f64 = 0.3;
+/// The strip in front of a seat or sofa kept free of anything but a table, desk, coffee table
+/// or ottoman: where the sitter's legs and feet go (furniture planning: 45 cm of knee space).
+pub const SEAT_FRONT_M: f64 = 0.45;
+/// The way between the backs of two chairs drawn up to different tables or desks (furniture
+/// planning: 40 cm to pull a chair out and pass), metres.
+pub const CHAIRS_APART_M: f64 = 0.4;
+/// The widest angle between a screen's facing and the way to its seat, and between the seat's
+/// facing and the way to the screen, for the pair to watch (furniture planning's 30° cone).
+pub const VIEWING_ANGLE_DEG: f64 = 30.0;
 /// The space kept free in front of a desk for its chair to pull out and its user to sit
 /// (furniture practice: at least 75 cm from the desk's edge).
 pub const DESK_CLEARANCE_M: f64 = 0.75;
@@ -625,9 +666,9 @@ pub const SIGHT_LINE_M: f64 = 0.6;
 /// A screen (a TV, or the stand that carries one) counts as at least this tall for the window
 /// rule: a TV on a low stand still stands in front of the window, metres.
 pub const SCREEN_TOP_M: f64 = 1.3;
-/// A screen faces its seats across the room: this range of gaps (about 1.2 m to 4.5 m for
-/// the screen sizes of AI2-THOR's televisions).
-pub const VIEWING_GAP_M: (f64, f64) = (1.2, 4.5);
+/// A screen faces its seats across the room: this range of gaps (1.5 m to 4.5 m, about 1.5–3
+/// screen diagonals for the screen sizes of AI2-THOR's televisions).
+pub const VIEWING_GAP_M: (f64, f64) = (1.5, 4.5);
 
 /// What a relation between two objects means in numbers: the range of the gap between their
 /// footprints and whether the object must face its target.
@@ -642,6 +683,10 @@ pub struct Meaning {
     /// For a seat `around` a table: the seats of the table its group shares (the relation is
     /// kept at one of them).
     pub ring: Option<SeatRing>,
+    /// A screen and a seat of a seating group (`face to` or `in front of` between them): the
+    /// viewing rule, each within [`VIEWING_ANGLE_DEG`] of facing the other, at a viewing gap,
+    /// with a clear line of sight.
+    pub view: bool,
 }
 
 /// The seats round a table that a group of chairs `around` it shares: how many and how large
@@ -766,56 +811,55 @@ impl Meaning {
     /// `side of` its target). Written once here and shared by both solvers, the report, the
     /// SVG and the book's table.
     pub fn of(kind: RelationKind, me: Role, target: Role, contact: bool) -> Meaning {
-        let any = Meaning { min_gap: 0.0, max_gap: f64::INFINITY, face: false, ring: None };
+        let any =
+            Meaning { min_gap: 0.0, max_gap: f64::INFINITY, face: false, ring: None, view: false };
         let table_like = |r: Role| matches!(r, Role::Table | Role::Desk | Role::LowTable);
+        let viewing = Meaning {
+            min_gap: VIEWING_GAP_M.0,
+            max_gap: VIEWING_GAP_M.1,
+            face: true,
+            ring: None,
+            view: true,
+        };
+        let drawn_up = Meaning { min_gap: 0.0, max_gap: REACH_MAX_M, face: true, ..any };
         match kind {
             RelationKind::Near => Meaning {
                 min_gap: if contact { 0.0 } else { NEAR_MIN_M },
                 max_gap: NEAR_MAX_M,
-                face: false,
-                ring: None,
+                ..any
             },
             RelationKind::Far => Meaning { min_gap: FAR_MIN_M, ..any },
             RelationKind::InFrontOf => {
                 if me.seats() && table_like(target) {
-                    Meaning { min_gap: 0.0, max_gap: REACH_MAX_M, face: true, ring: None }
+                    drawn_up
                 } else if me == Role::LowTable && (target.seats() || target == Role::Bed) {
                     Meaning { min_gap: LOW_TABLE_GAP_M.0, max_gap: LOW_TABLE_GAP_M.1, ..any }
-                } else if (me == Role::Screen && (target.seats() || target == Role::Bed))
-                    || ((me.seats() || me == Role::Bed) && target == Role::Screen)
-                {
-                    Meaning { min_gap: VIEWING_GAP_M.0, max_gap: VIEWING_GAP_M.1, ..any }
+                } else if views(me, target) {
+                    viewing
                 } else {
                     Meaning { max_gap: SIDE_MAX_M, ..any }
                 }
             }
             // A seat behind a desk or table (a student's chair) is at it, within reach.
-            RelationKind::Behind if me.seats() && table_like(target) => {
-                Meaning { min_gap: 0.0, max_gap: REACH_MAX_M, face: true, ring: None }
-            }
+            RelationKind::Behind if me.seats() && table_like(target) => drawn_up,
             RelationKind::Behind
             | RelationKind::LeftOf
             | RelationKind::RightOf
             | RelationKind::SideOf => Meaning { max_gap: SIDE_MAX_M, ..any },
-            RelationKind::Around => {
-                Meaning { min_gap: 0.0, max_gap: AROUND_MAX_M, face: true, ring: None }
-            }
+            RelationKind::Around => Meaning { max_gap: AROUND_MAX_M, face: true, ..any },
             // A screen facing its seats, or a seat facing its screen: across from each other
             // at a viewing distance.
-            RelationKind::FaceTo
-                if (me == Role::Screen && (target.seats() || target == Role::Bed))
-                    || ((me.seats() || me == Role::Bed) && target == Role::Screen) =>
-            {
-                Meaning {
-                    min_gap: VIEWING_GAP_M.0,
-                    max_gap: VIEWING_GAP_M.1,
-                    face: true,
-                    ring: None,
-                }
-            }
+            RelationKind::FaceTo if views(me, target) => viewing,
             _ => any,
         }
     }
+}
+
+/// Whether a pair of roles is a screen and what one watches it from (a seat, a sofa or a bed),
+/// either way round: their `face to` and `in front of` are the viewing rule.
+pub fn views(me: Role, target: Role) -> bool {
+    let watcher = |r: Role| r.seats() || r == Role::Bed;
+    (me == Role::Screen && watcher(target)) || (watcher(me) && target == Role::Screen)
 }
 
 /// Whether two roles touch by nature when one is `near` the other.
@@ -999,6 +1043,18 @@ pub fn for_each_side_zone(
 /// The most zones [`side_zones`] lists on one side.
 const MAX_SIDE_ZONES: usize = 64;
 
+/// The viewing rule's facing for a screen and a seat (`me` at `mf`, `target` at `tf`): whether
+/// both hold, whether `me` faces the target (its facing ray meets the target's footprint and
+/// points within [`VIEWING_ANGLE_DEG`] of the target's centre), whether the target faces `me`
+/// the same way.
+pub fn watch(me: &Pose, mf: &Rect, target: &Pose, tf: &Rect) -> (bool, bool, bool) {
+    let sees =
+        |a: &Pose, b: &Rect| faces(a, b) && angle_to(a, b.center()) <= VIEWING_ANGLE_DEG + 1e-6;
+    let mine = sees(me, tf);
+    let theirs = sees(target, mf);
+    (mine && theirs, mine, theirs)
+}
+
 /// Whether the ray from the pose's centre along its facing direction meets the rectangle.
 pub fn faces(pose: &Pose, target: &Rect) -> bool {
     let [fx, fz] = pose.rot.front();
@@ -1132,7 +1188,11 @@ fn measure_relation_with<const VALUE: bool>(
                 _ => right,
             };
             let (sep, within) = side_measure(&mf, &tf, axis);
-            let facing = !meaning.face || faces(me, &tf);
+            let facing = if meaning.view {
+                watch(me, &mf, target, &tf).0
+            } else {
+                !meaning.face || faces(me, &tf)
+            };
             let in_range = sep >= meaning.min_gap - EPS && sep <= meaning.max_gap + EPS;
             let ok = sep >= -EPS && within && in_range && facing;
             let score = if ok && meaning.face {
@@ -1185,22 +1245,21 @@ fn measure_relation_with<const VALUE: bool>(
             let d = (me.x - target.x).abs().min((me.z - target.z).abs());
             Measure::yes_no(d <= ALIGN_TOLERANCE_M + EPS, d, "m")
         }
-        RelationKind::FaceTo if meaning.max_gap.is_finite() => {
-            // A screen and its seats: across from each other (each faces the other) at a
-            // viewing distance.
-            let angle = if VALUE { angle_to(me, [target.x, target.z]) } else { 0.0 };
+        RelationKind::FaceTo if meaning.view => {
+            // A screen and its seats: across from each other (each within the viewing angle
+            // of facing the other) at a viewing distance.
+            let (both, mine, theirs) = watch(me, &mf, target, &tf);
             let gap = gap();
-            let facing = faces(me, &tf);
-            let across = faces(target, &mf);
             let in_range = gap >= meaning.min_gap - EPS && gap <= meaning.max_gap + EPS;
-            let ok = facing && across && in_range;
+            let ok = both && in_range;
             let score = if ok {
                 1.0
             } else {
-                0.4 * f64::from(u8::from(facing))
-                    + 0.3 * f64::from(u8::from(across))
+                0.4 * f64::from(u8::from(mine))
+                    + 0.3 * f64::from(u8::from(theirs))
                     + 0.2 * gap_score(gap, meaning)
             };
+            let angle = if VALUE { angle_to(me, [target.x, target.z]) } else { 0.0 };
             Measure { satisfied: ok, score, value: angle, unit: "deg" }
         }
         RelationKind::FaceTo => {

@@ -328,12 +328,19 @@ fn kept_out_of(prep: &Prepared<'_>, k: usize, target: usize) -> Option<f64> {
     let (obj, t) = (prep.problem.objects.get(k)?, prep.problem.objects.get(target)?);
     let depth = t.role.front_clearance(t.height);
     let in_front = !prep.from_behind[target];
-    (in_front && depth > constraints::EPS && !t.role.lets_in(obj.role)).then_some(depth)
+    (in_front && depth > constraints::EPS && !t.role.lets_in(obj.role, true)).then_some(depth)
 }
 
 /// The most stand-off gaps [`target_gaps`] gives (the smallest ones), besides the one that
 /// leaves a chair and its aisle.
 const MAX_TARGET_GAPS: usize = 3;
+
+/// Whether an `edge` object with no wall pose left may stand elsewhere (`edge` is soft): not
+/// storage (a bookcase, shelf, wardrobe, dresser or cabinet stands against a wall or is left
+/// out, never a free-standing divider).
+fn stands_elsewhere(obj: &super::FloorObject) -> bool {
+    obj.global == GlobalKind::Edge && !obj.role.wants_wall()
+}
 
 /// Whether relation `c` of object `j` is a `near` between two objects against the walls
 /// with no side relation beside it to the same target: the later object stands along the wall
@@ -1025,6 +1032,9 @@ struct Clearances<'s> {
     keep_free: FootprintGrid,
     /// The lists of zones of which one must stay free (a bed's open sides).
     one_free: Vec<Vec<Rect>>,
+    /// Per placed footprint, in the grid's order: a chair of another table, which the way
+    /// behind the object (a chair drawn up to its table) keeps out.
+    back: Vec<bool>,
 }
 
 /// Up to how many zones a node's use-clearances are looked through one by one rather than
@@ -1303,7 +1313,7 @@ impl Search<'_, '_> {
         }
         let mut found = self.candidates(k, st);
         if let NodeCandidates::Whole(cands, _) = &found {
-            if cands.is_empty() && self.prep.problem.objects[k].global == GlobalKind::Edge {
+            if cands.is_empty() && stands_elsewhere(&self.prep.problem.objects[k]) {
                 // `edge` is soft: with no wall pose left, the object stands elsewhere now, so
                 // that what relates to it is placed after it, not left without it.
                 let elsewhere = self.anywhere_at_node(k, st);
@@ -1758,7 +1768,7 @@ impl Search<'_, '_> {
             let mut cands = self.statics[k].cands.clone();
             cands.extend(derived_candidates(prep, k, &st.poses));
             let mut why = self.place_best(k, st, &cands);
-            if why.is_some() && obj.global == GlobalKind::Edge {
+            if why.is_some() && stands_elsewhere(obj) {
                 let anywhere = self.anywhere(k);
                 why = self.place_best(k, st, &anywhere).or(why);
             }
@@ -1852,8 +1862,9 @@ impl Search<'_, '_> {
                 || objects[b].constraints.iter().any(|x| x.target == a)
         };
         let related_to_k =
-            objs.iter().map(|&i| related(i, k) && objects[k].role.lets_in(objects[i].role));
+            objs.iter().map(|&i| objects[k].role.lets_in(objects[i].role, related(i, k)));
         let related_to_k = related_to_k.collect();
+        let back = objs.iter().map(|&i| super::back_to_back(self.prep.problem, i, k)).collect();
         let mut keep_free = Vec::new();
         let mut one_free = Vec::new();
         for (i, o) in objects.iter().enumerate() {
@@ -1861,9 +1872,12 @@ impl Search<'_, '_> {
             if i == k {
                 continue;
             }
+            if super::back_to_back(self.prep.problem, i, k) {
+                keep_free.push(super::back_zone(&p, o.size));
+            }
             let rel = related(i, k);
             let (z, all) = self.prep.use_zones(i, &p);
-            if z.is_empty() || (rel && o.role.lets_in(objects[k].role)) {
+            if z.is_empty() || o.role.lets_in(objects[k].role, rel) {
                 continue;
             }
             // For a bed, the sides still open with the other placed furniture.
@@ -1899,6 +1913,7 @@ impl Search<'_, '_> {
                 FootprintGrid::new(bounds, keep_free)
             },
             one_free,
+            back,
         }
     }
 
@@ -1913,7 +1928,12 @@ impl Search<'_, '_> {
         };
         let own_ok = zones.is_empty()
             || if all { zones.iter().all(own_free) } else { zones.iter().any(own_free) };
+        let back_ok = !ctx.back.iter().any(|&b| b) || {
+            let z = super::back_zone(&c.pose, self.prep.problem.objects[k].size);
+            !ctx.placed.any_overlap_where(&z, |i| ctx.back[i])
+        };
         own_ok
+            && back_ok
             && !ctx.keep_free.any_overlap(&c.fp)
             && ctx.one_free.iter().all(|z| z.is_empty() || z.iter().any(|r| !r.overlaps(&c.fp)))
     }
@@ -2601,7 +2621,13 @@ mod tests {
             role,
             constraints: relations
                 .iter()
-                .map(|&(kind, target)| ProblemConstraint { kind, target, span: None })
+                .map(|&(kind, target)| ProblemConstraint {
+                    kind,
+                    written: kind,
+                    implied: false,
+                    target,
+                    span: None,
+                })
                 .collect(),
             pin: None,
             thor_type: None,

@@ -373,7 +373,7 @@ fn clearance_obstacles(
         }
         let rel = related(i, k);
         let ofp = footprint(&p, o.size);
-        if own_all && !(rel && obj.role.lets_in(o.role)) && own.iter().any(|z| z.overlaps(&ofp)) {
+        if own_all && !obj.role.lets_in(o.role, rel) && own.iter().any(|z| z.overlaps(&ofp)) {
             out.push(Rect {
                 min_x: ofp.min_x - if f[0] > 0.0 { depth } else { 0.0 },
                 max_x: ofp.max_x + if f[0] < 0.0 { depth } else { 0.0 },
@@ -381,8 +381,25 @@ fn clearance_obstacles(
                 max_z: ofp.max_z + if f[1] < 0.0 { depth } else { 0.0 },
             });
         }
+        if super::back_to_back(prep.problem, i, k) {
+            // The way behind each of two chairs of different tables: the other keeps out.
+            let theirs = super::back_zone(&p, o.size);
+            if theirs.overlaps(&fp) {
+                out.push(theirs);
+            }
+            if super::back_zone(pose, obj.size).overlaps(&ofp) {
+                let b = [-f[0], -f[1]];
+                let d = constraints::CHAIRS_APART_M;
+                out.push(Rect {
+                    min_x: ofp.min_x - if b[0] > 0.0 { d } else { 0.0 },
+                    max_x: ofp.max_x + if b[0] < 0.0 { d } else { 0.0 },
+                    min_z: ofp.min_z - if b[1] > 0.0 { d } else { 0.0 },
+                    max_z: ofp.max_z + if b[1] < 0.0 { d } else { 0.0 },
+                });
+            }
+        }
         let (theirs, all) = prep.use_zones(i, &p);
-        if all && !(rel && o.role.lets_in(obj.role)) {
+        if all && !o.role.lets_in(obj.role, rel) {
             out.extend(theirs.into_iter().filter(|z| z.overlaps(&fp)));
         }
     }

@@ -129,8 +129,14 @@ pub struct WallSegment {
 /// A relation of a floor object to an earlier floor object of the same problem.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ProblemConstraint {
-    /// The relation.
+    /// The relation as the layout means it: a chair `near` (or `face to`) a desk or table is
+    /// drawn up to it (`in front of`/`behind` a desk, `around` a table; [`draw_up_seats`]).
     pub kind: RelationKind,
+    /// The relation as the scene writes it (what the report prints).
+    pub written: RelationKind,
+    /// Whether the layout adds it, unwritten: a screen facing the main seat of its room's
+    /// seating group ([`seating_groups`]).
+    pub implied: bool,
     /// Index of the target in [`RoomProblem::objects`] (must be earlier).
     pub target: usize,
     /// Where the constraint is written.
@@ -516,11 +522,12 @@ pub fn measure_object(
         vec![ConstraintReport { kind: None, text: gname.to_string(), measure: g, range: None }];
     let mut score = 0.0;
     for c in &obj.constraints {
-        let text = format!(
-            "{} {}",
-            c.kind.as_str(),
-            problem.objects.get(c.target).map_or("?", |t| t.id.as_str())
-        );
+        let target_id = problem.objects.get(c.target).map_or("?", |t| t.id.as_str());
+        let text = if c.implied {
+            format!("{} {target_id} (seating group)", c.written.as_str())
+        } else {
+            format!("{} {target_id}", c.written.as_str())
+        };
         let target = poses.get(c.target).copied().flatten().zip(problem.objects.get(c.target));
         let meaning = meaning_of(problem, index, c);
         let mut measure = match target {
@@ -531,7 +538,7 @@ pub fn measure_object(
         };
         // A screen and a seat across from each other see each other only over what is lower
         // than the line of sight.
-        if c.kind == RelationKind::FaceTo && meaning.max_gap.is_finite() && measure.satisfied {
+        if meaning.view && measure.satisfied {
             let line = ([pose.x, pose.z], target.map_or([pose.x, pose.z], |(tp, _)| [tp.x, tp.z]));
             let blocked = poses.iter().enumerate().any(|(j, p)| {
                 let (Some(p), Some(o)) = (p, problem.objects.get(j)) else { return false };
@@ -602,6 +609,37 @@ pub(crate) fn used_from_behind(problem: &RoomProblem, k: usize) -> bool {
         })
 }
 
+/// The table or desk that seat `k` is drawn up to (`in front of`, `behind` or `around` it).
+pub(crate) fn drawn_to(problem: &RoomProblem, k: usize) -> Option<usize> {
+    let o = problem.objects.get(k)?;
+    if !o.role.is_seat() {
+        return None;
+    }
+    o.constraints
+        .iter()
+        .find(|c| {
+            matches!(c.kind, RelationKind::InFrontOf | RelationKind::Behind | RelationKind::Around)
+                && problem.objects.get(c.target).is_some_and(|t| t.role.sat_at())
+        })
+        .map(|c| c.target)
+}
+
+/// Whether objects `a` and `b` are chairs drawn up to two different tables or desks: each
+/// keeps [`constraints::CHAIRS_APART_M`] behind it free of the other ([`back_zone`]).
+pub(crate) fn back_to_back(problem: &RoomProblem, a: usize, b: usize) -> bool {
+    match (drawn_to(problem, a), drawn_to(problem, b)) {
+        (Some(x), Some(y)) => x != y,
+        _ => false,
+    }
+}
+
+/// The way behind a chair at `pose` (footprint `size` at rotation 0) that the chairs of another
+/// table keep out of: [`constraints::CHAIRS_APART_M`] deep, as wide as the chair.
+pub(crate) fn back_zone(pose: &Pose, size: [f64; 2]) -> Rect {
+    let back = Pose { rot: Rot::from_deg(pose.rot.deg() + 180.0), ..*pose };
+    constraints::front_zone(&back, size, constraints::CHAIRS_APART_M)
+}
+
 /// The pose whose front is the side an object is used from: turned round when it is used
 /// from behind.
 pub(crate) fn use_pose(pose: &Pose, from_behind: bool) -> Pose {
@@ -645,8 +683,9 @@ pub fn use_clearances_kept(problem: &RoomProblem, layout: &RoomLayout) -> (usize
                     .iter()
                     .filter(|q| {
                         q.index != p.index
-                            && !(related(p.index, q.index)
-                                && o.role.lets_in(problem.objects[q.index].role))
+                            && !o
+                                .role
+                                .lets_in(problem.objects[q.index].role, related(p.index, q.index))
                     })
                     .all(|q| !q.footprint.overlaps(z))
         };
@@ -671,4 +710,115 @@ pub fn largest_pocket_m2(problem: &RoomProblem, layout: &RoomLayout, radius: f64
 /// The best score an object can reach: the sum of its relation weights.
 pub fn max_score(obj: &FloorObject) -> f64 {
     obj.constraints.iter().map(|c| constraints::weight(c.kind)).sum()
+}
+
+/// What the layout reads into a room's floor objects before it places them, the same for the
+/// build, the report, the benchmarks and `holoc check`'s outcomes: chairs drawn up to their
+/// desks and tables whatever word the plan used ([`draw_up_seats`]) and the screen of a
+/// seating group facing its main seat ([`seating_groups`]).
+pub fn read_meanings(objects: &mut [FloorObject]) {
+    draw_up_seats(objects);
+    seating_groups(objects);
+}
+
+/// A chair (a seat, not a sofa) that relates to a desk or table only by `near` or `face to` is
+/// drawn up to it, as a person reads the plan: its first such relation means `around` a table
+/// (one of the chairs that share its seats), `in front of` a desk, or `behind` a desk that
+/// faces elsewhere (`face to` something, or `face same as` such a desk: a student desk facing
+/// the teacher, its chair behind it facing the same way). A chair already `in front of`,
+/// `behind` or `around` its desk or table keeps its relations as they are. The report prints
+/// the relation as written ([`ProblemConstraint::written`]).
+pub fn draw_up_seats(objects: &mut [FloorObject]) {
+    for k in 0..objects.len() {
+        if !objects[k].role.is_seat() {
+            continue;
+        }
+        let mut targets: Vec<usize> = objects[k].constraints.iter().map(|c| c.target).collect();
+        targets.sort_unstable();
+        targets.dedup();
+        for t in targets {
+            let Some(target) = objects.get(t) else { continue };
+            if t == k || !target.role.sat_at() {
+                continue;
+            }
+            let mine = &objects[k].constraints;
+            let drawn = mine.iter().any(|c| {
+                c.target == t
+                    && matches!(
+                        c.kind,
+                        RelationKind::InFrontOf | RelationKind::Behind | RelationKind::Around
+                    )
+            });
+            if drawn {
+                continue;
+            }
+            let Some(ci) = mine.iter().position(|c| {
+                c.target == t && matches!(c.kind, RelationKind::Near | RelationKind::FaceTo)
+            }) else {
+                continue;
+            };
+            let kind = if target.role == Role::Table {
+                RelationKind::Around
+            } else if faces_elsewhere(objects, t, 0) {
+                RelationKind::Behind
+            } else {
+                RelationKind::InFrontOf
+            };
+            objects[k].constraints[ci].kind = kind;
+        }
+    }
+}
+
+/// Whether desk `t` faces something other than its chair: it is `face to` something, or `face
+/// same as` a desk that does (a row of student desks facing the teacher).
+fn faces_elsewhere(objects: &[FloorObject], t: usize, depth: usize) -> bool {
+    let Some(desk) = objects.get(t) else { return false };
+    depth < 64
+        && desk.constraints.iter().any(|c| match c.kind {
+            RelationKind::FaceTo => !objects.get(c.target).is_some_and(|o| o.role.is_seat()),
+            RelationKind::FaceSameAs => {
+                c.target != t
+                    && objects.get(c.target).is_some_and(|o| o.role == Role::Desk)
+                    && faces_elsewhere(objects, c.target, depth + 1)
+            }
+            _ => false,
+        })
+}
+
+/// A room with a screen (a TV or its stand) and a sofa is a seating group even when its plan
+/// relates none of them: a screen no seat, sofa or bed relates to (and that relates to none)
+/// faces the room's main seat (its largest sofa) by the viewing rule, as an implied `face to`
+/// ([`ProblemConstraint::implied`]) on whichever of the two is placed later in plan order.
+pub fn seating_groups(objects: &mut [FloorObject]) {
+    let watcher = |r: Role| matches!(r, Role::Seat | Role::Sofa | Role::Bed);
+    let area = |o: &FloorObject| o.size[0] * o.size[1];
+    let Some(main) = (0..objects.len())
+        .filter(|&i| objects[i].role == Role::Sofa)
+        .max_by(|&a, &b| area(&objects[a]).total_cmp(&area(&objects[b])).then(b.cmp(&a)))
+    else {
+        return;
+    };
+    for s in 0..objects.len() {
+        if objects[s].role != Role::Screen {
+            continue;
+        }
+        let related = objects[s]
+            .constraints
+            .iter()
+            .any(|c| objects.get(c.target).is_some_and(|t| watcher(t.role)))
+            || objects
+                .iter()
+                .any(|o| watcher(o.role) && o.constraints.iter().any(|c| c.target == s));
+        if related {
+            continue;
+        }
+        let (from, to) = if main < s { (s, main) } else { (main, s) };
+        objects[from].constraints.push(ProblemConstraint {
+            kind: RelationKind::FaceTo,
+            written: RelationKind::FaceTo,
+            implied: true,
+            target: to,
+            span: None,
+        });
+    }
 }

@@ -86,6 +86,8 @@ pub fn room_problem(
                         .filter_map(|c| {
                             index_of(c.target).map(|target| ProblemConstraint {
                                 kind: c.kind,
+                                written: c.kind,
+                                implied: false,
                                 target,
                                 span: Some(c.span),
                             })
@@ -113,6 +115,7 @@ pub fn room_problem(
             }
         }
     }
+    super::read_meanings(&mut objects);
     RoomProblem {
         name: r.name.clone(),
         outline: r.corners.clone(),

@@ -108,7 +108,7 @@ pub fn load(path: &Path) -> RoomProblem {
             window: h.window,
         });
     }
-    let objects = r
+    let mut objects: Vec<FloorObject> = r
         .objects
         .iter()
         .map(|o| FloorObject {
@@ -120,10 +120,15 @@ pub fn load(path: &Path) -> RoomProblem {
             constraints: o
                 .rel
                 .iter()
-                .map(|[k, t]| ProblemConstraint {
-                    kind: RelationKind::from_words(k).expect("known relation"),
-                    target: index(t),
-                    span: None,
+                .map(|[k, t]| {
+                    let kind = RelationKind::from_words(k).expect("known relation");
+                    ProblemConstraint {
+                        kind,
+                        written: kind,
+                        implied: false,
+                        target: index(t),
+                        span: None,
+                    }
                 })
                 .collect(),
             pin: None,
@@ -131,6 +136,7 @@ pub fn load(path: &Path) -> RoomProblem {
             span: None,
         })
         .collect();
+    holoc::solve::read_meanings(&mut objects);
     RoomProblem {
         name: r.name.clone(),
         outline: r.outline.clone(),
