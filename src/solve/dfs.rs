@@ -1035,6 +1035,9 @@ struct Clearances<'s> {
     /// Per placed footprint, in the grid's order: a chair of another table, which the way
     /// behind the object (a chair drawn up to its table) keeps out.
     back: Vec<bool>,
+    /// The lines of sight of the placed seating groups (screen and seat centres) that the
+    /// object, taller than [`constraints::SIGHT_LINE_M`], keeps off.
+    sight: Vec<([f64; 2], [f64; 2])>,
 }
 
 /// Up to how many zones a node's use-clearances are looked through one by one rather than
@@ -1865,6 +1868,20 @@ impl Search<'_, '_> {
             objs.iter().map(|&i| objects[k].role.lets_in(objects[i].role, related(i, k)));
         let related_to_k = related_to_k.collect();
         let back = objs.iter().map(|&i| super::back_to_back(self.prep.problem, i, k)).collect();
+        let mut sight = Vec::new();
+        if objects[k].height > constraints::SIGHT_LINE_M {
+            for (i, o) in objects.iter().enumerate() {
+                let Some(p) = poses[i] else { continue };
+                for (ci, c) in o.constraints.iter().enumerate() {
+                    if i == k || c.target == k || !self.prep.meaning(i, ci).view {
+                        continue;
+                    }
+                    if let Some(Some(t)) = poses.get(c.target) {
+                        sight.push(([p.x, p.z], [t.x, t.z]));
+                    }
+                }
+            }
+        }
         let mut keep_free = Vec::new();
         let mut one_free = Vec::new();
         for (i, o) in objects.iter().enumerate() {
@@ -1914,6 +1931,7 @@ impl Search<'_, '_> {
             },
             one_free,
             back,
+            sight,
         }
     }
 
@@ -1934,6 +1952,7 @@ impl Search<'_, '_> {
         };
         own_ok
             && back_ok
+            && !ctx.sight.iter().any(|(a, b)| c.fp.meets_segment(*a, *b))
             && !ctx.keep_free.any_overlap(&c.fp)
             && ctx.one_free.iter().all(|z| z.is_empty() || z.iter().any(|r| !r.overlaps(&c.fp)))
     }
