@@ -59,6 +59,8 @@ pub fn objects(
                     kinematic: true,
                     object_name: name.clone(),
                     parent: None,
+                    source: super::Source::Object(id),
+                    layout_id: placed.id.clone(),
                 });
             }
         }
@@ -83,7 +85,8 @@ pub fn objects(
                 continue;
             };
             let small = &solved.problem.small_objects[index];
-            let (receptacle, line, copy) = solved.small_keys[index];
+            let (declared, line, copy) = solved.small_keys[index];
+            let receptacle = declared;
             let Some(choice) = resolved
                 .small
                 .get(&(receptacle, line))
@@ -121,6 +124,8 @@ pub fn objects(
                 kinematic: matches!(placed.on, Some(crate::solve::Holder::Wall(_))),
                 object_name: name,
                 parent: Some(format!("{receptacle_name} ({label})")),
+                source: super::Source::Item(declared, line, copy),
+                layout_id: placed.id.clone(),
             });
         }
         if let (Some(placed), Some(choice)) = (
@@ -136,6 +141,8 @@ pub fn objects(
                 kinematic: true,
                 object_name: "ceiling".to_string(),
                 parent: None,
+                source: super::Source::Ceiling(solved.room),
+                layout_id: placed.id.clone(),
             });
         }
     }
