@@ -221,12 +221,12 @@ pub(crate) fn removed_reason<'a>(
     // use-clearances, then overlap), as a pose is held to them in that order.
     let rule =
         removed.iter().max_by_key(|(_, n)| *n).map_or(HardRule::NoOverlap, |(rule, _)| *rule);
-    let mut reason =
-        format!("of {tried} poses free of the room's fixed rules, {}", parts.join("; "));
-    if !fixed.is_empty() {
-        reason.push_str(&format!(" (the fixed rules removed: {})", fixed.join(", ")));
-    }
-    (rule, reason)
+    let before = if fixed.is_empty() {
+        String::new()
+    } else {
+        format!(" (the fixed rules removed: {})", fixed.join(", "))
+    };
+    (rule, format!("of {tried} poses free of the room's fixed rules, {}{before}", parts.join("; ")))
 }
 
 /// W0501: an object was left out.
