@@ -116,6 +116,8 @@ fn items_on_a_receptacle_are_its_children() {
         kinematic: false,
         object_name: "laptop-0".into(),
         parent: Some("desk-0 (office-2)".into()),
+        source: holoc::lower::Source::Item(holoc::check::scene::ObjectId(0), 0, 0),
+        layout_id: "laptop-0|desk-0".into(),
     };
     let house = lower(&scene, &planned.value, &[desk, laptop]);
     assert_eq!(house.house.objects.len(), 1, "only the desk is at the top level");
@@ -216,6 +218,8 @@ fn hallway_with_a_desk(
         kinematic: true,
         object_name: "desk-0".into(),
         parent: None,
+        source: holoc::lower::Source::Object(holoc::check::scene::ObjectId(0)),
+        layout_id: "desk-0".into(),
     };
     (scene, planned, desk)
 }

@@ -233,7 +233,7 @@ fn user_catalog_fills_the_gaps() {
     let scene = scene.expect("checks");
     let outcome = resolve::resolve(&scene, &catalog, scene.seed);
     assert!(outcome.diagnostics.is_empty(), "{:?}", outcome.diagnostics);
-    let report = resolve::report(&scene, &catalog, &outcome.value);
+    let report = resolve::report(&scene, &catalog, &outcome.value, &|_| serde_json::Map::new());
     let text = serde_json::to_string_pretty(&report).expect("json");
     settings().bind(|| insta::assert_snapshot!("report__no_match_with_user_catalog", text));
 }
@@ -250,8 +250,14 @@ fn same_input_and_seed_give_identical_results() {
         let a = resolve::resolve(&scene, &catalog, 11);
         let b = resolve::resolve(&scene, &catalog, 11);
         assert_eq!(a.value, b.value);
-        let ra = serde_json::to_string(&resolve::report(&scene, &catalog, &a.value)).expect("json");
-        let rb = serde_json::to_string(&resolve::report(&scene, &catalog, &b.value)).expect("json");
+        let ra = serde_json::to_string(&resolve::report(&scene, &catalog, &a.value, &|_| {
+            serde_json::Map::new()
+        }))
+        .expect("json");
+        let rb = serde_json::to_string(&resolve::report(&scene, &catalog, &b.value, &|_| {
+            serde_json::Map::new()
+        }))
+        .expect("json");
         assert_eq!(ra, rb);
         // Another seed still resolves everything the first did.
         let c = resolve::resolve(&scene, &catalog, 12);

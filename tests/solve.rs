@@ -448,6 +448,8 @@ fn flat_things_that_do_not_fit_side_by_side_are_piled() {
         on: holoc::solve::Holder::Floor(0),
         elsewhere: None,
         absent: None,
+        anchor: Vec::new(),
+        thor_type: None,
         span: None,
     };
     let mut small_objects: Vec<SmallObject> =
@@ -521,6 +523,8 @@ fn a_moved_thing_goes_to_the_next_receptacle_when_the_nearest_is_full() {
             on: holoc::solve::Holder::Floor(on),
             elsewhere: elsewhere.map(|v| v.into_iter().map(holoc::solve::Holder::Floor).collect()),
             absent: None,
+            anchor: Vec::new(),
+            thor_type: None,
             span: None,
         }
     };

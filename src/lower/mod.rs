@@ -16,7 +16,7 @@ pub use objects::objects;
 
 use std::collections::BTreeMap;
 
-use crate::check::scene::{RoomId, Scene};
+use crate::check::scene::{ObjectId, RoomId, Scene};
 use crate::plan::FloorPlan;
 use crate::resolve::structure::EXTERIOR_WALL_MATERIAL;
 use thor::{Light, Rgb, Shadow, Vec3};
@@ -45,6 +45,22 @@ pub struct LoweredObject {
     pub object_name: String,
     /// The id of the receptacle it stands on (it is written among that object's `children`).
     pub parent: Option<String>,
+    /// What of the scene it is (the build report finds its id in the house by this).
+    pub source: Source,
+    /// Its id in the layout (the report's `layout` section): `sofa-0`, `book-0|wall_shelf-0`
+    /// (the receptacle declared, which a moved thing keeps there).
+    pub layout_id: String,
+}
+
+/// What of the scene a house object is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum Source {
+    /// A floor or wall object.
+    Object(ObjectId),
+    /// A copy of a thing on top: the receptacle it is declared on, its `on top` line, the copy.
+    Item(ObjectId, usize, u32),
+    /// A room's ceiling object.
+    Ceiling(RoomId),
 }
 
 /// The lowered house, ready to print.

@@ -60,6 +60,8 @@ pub fn objects(
                     kinematic: true,
                     object_name: name.clone(),
                     parent: None,
+                    source: super::Source::Object(id),
+                    layout_id: placed.id.clone(),
                 });
             }
         }
@@ -84,7 +86,8 @@ pub fn objects(
                 continue;
             };
             let small = &solved.problem.small_objects[index];
-            let (receptacle, line, copy) = solved.small_keys[index];
+            let (declared, line, copy) = solved.small_keys[index];
+            let receptacle = declared;
             let Some(choice) = resolved
                 .small
                 .get(&(receptacle, line))
@@ -124,6 +127,8 @@ pub fn objects(
                     || choice.breakable,
                 object_name: name,
                 parent: Some(format!("{receptacle_name} ({label})")),
+                source: super::Source::Item(declared, line, copy),
+                layout_id: placed.id.clone(),
             });
         }
         if let (Some(placed), Some(choice)) = (
@@ -139,6 +144,8 @@ pub fn objects(
                 kinematic: true,
                 object_name: "ceiling".to_string(),
                 parent: None,
+                source: super::Source::Ceiling(solved.room),
+                layout_id: placed.id.clone(),
             });
         }
     }

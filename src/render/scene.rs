@@ -188,13 +188,22 @@ pub fn drawing(built: &Built) -> Drawing {
                     continue;
                 }
                 let target = solved.layout.floor.iter().find(|p| p.index == c.target);
+                // A relation to an object left out has nothing to measure: say so, never
+                // "NaN m".
+                let measured = match (target, report.measure.value.is_finite()) {
+                    (Some(_), true) => {
+                        format!("{:.2} {}", report.measure.value, report.measure.unit)
+                    }
+                    (None, _) => format!(
+                        "`{}` is left out",
+                        problem.objects.get(c.target).map_or("its target", |t| t.id.as_str())
+                    ),
+                    (Some(_), false) => "not measured".to_string(),
+                };
                 d.violations.push(DrawViolation {
                     from: [placed.pose.x, placed.pose.z],
                     to: target.map(|t| [t.pose.x, t.pose.z]),
-                    text: format!(
-                        "{}: {} ({:.2} {})",
-                        o.id, report.text, report.measure.value, report.measure.unit
-                    ),
+                    text: format!("{}: {} ({measured})", o.id, report.text),
                 });
             }
         }

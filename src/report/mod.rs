@@ -9,11 +9,13 @@
 pub mod pins;
 
 use crate::compile::Built;
+use crate::lower::{LoweredObject, Source};
 use crate::resolve::Catalog;
-use serde_json::{json, Value};
+use serde_json::{json, Map, Value};
+use std::collections::{BTreeMap, VecDeque};
 
 /// The version of the report's format; raised on any change to it.
-pub const REPORT_VERSION: u32 = 2;
+pub const REPORT_VERSION: u32 = 3;
 
 fn r4(v: f64) -> f64 {
     let r = (v * 10_000.0).round() / 10_000.0;
@@ -26,10 +28,70 @@ fn r4(v: f64) -> f64 {
 
 /// Builds the report of a build.
 pub fn report(built: &Built, catalog: &Catalog) -> Value {
-    let assets = crate::resolve::report(&built.scene, catalog, &built.resolved);
+    // Every object of the house by what of the scene it is, and by its id in the layout (in
+    // the layout's order: two things of one id in one room are met in the same order).
+    let house_of: BTreeMap<Source, &LoweredObject> =
+        built.objects.iter().map(|o| (o.source, o)).collect();
+    let mut by_layout_id: BTreeMap<
+        (crate::check::scene::RoomId, String),
+        VecDeque<&LoweredObject>,
+    > = BTreeMap::new();
+    for o in &built.objects {
+        by_layout_id.entry((o.room, o.layout_id.clone())).or_default().push_back(o);
+    }
+    // Every thing moved to another receptacle (W0506): where from, where to, the `p` of the
+    // pair.
+    let mut moved: BTreeMap<Source, Value> = BTreeMap::new();
+    for solved in &built.layout.rooms {
+        let p = &solved.problem;
+        for m in &solved.layout.moved {
+            let Some(&(declared, line, copy)) = solved.small_keys.get(m.small) else { continue };
+            let source = Source::Item(declared, line, copy);
+            let from = m.absent.clone().unwrap_or_else(|| p.holder_name(m.from).to_string());
+            moved.insert(
+                source,
+                json!({
+                    "from": from,
+                    "to": p.holder_name(m.to),
+                    "toHouseId": house_of.get(&source).and_then(|o| o.parent.clone()),
+                    "p": m.p.map(r4),
+                    "code": crate::diag::Code::W0506.as_str(),
+                }),
+            );
+        }
+    }
+    // The fields the layout adds to an entry of the assets: its id in the house and in the
+    // layout, and for a thing on top the receptacle it is on and, when moved, the move.
+    let placed = |source: Source| -> Map<String, Value> {
+        let mut m = Map::new();
+        let house = house_of.get(&source);
+        m.insert("houseId".into(), json!(house.map(|o| o.id.clone())));
+        let layout_id = match (house, source) {
+            (Some(o), _) => Some(o.layout_id.clone()),
+            (None, Source::Item(id, line, copy)) => crate::solve::item_ids(built.scene.object(id))
+                .into_iter()
+                .find(|(_, l, c)| *l == line && *c == copy)
+                .map(|(name, ..)| name),
+            (None, Source::Object(id)) => Some(built.scene.object(id).name.clone()),
+            (None, Source::Ceiling(_)) => None,
+        };
+        m.insert("layoutId".into(), json!(layout_id));
+        if let Source::Item(..) = source {
+            m.insert("placedOn".into(), json!(house.and_then(|o| o.parent.clone())));
+            m.insert("moved".into(), moved.get(&source).cloned().unwrap_or(Value::Null));
+        }
+        m
+    };
+    let assets = crate::resolve::report(&built.scene, catalog, &built.resolved, &placed);
     let mut rooms = Vec::new();
     for solved in &built.layout.rooms {
         let room = built.scene.room(solved.room);
+        // The id in the house of an object of the layout, met in the layout's order.
+        let mut house_id = |layout_id: &str| -> Option<&LoweredObject> {
+            by_layout_id
+                .get_mut(&(solved.room, layout_id.to_string()))
+                .and_then(VecDeque::pop_front)
+        };
         let mut floor = Vec::new();
         for placed in &solved.layout.floor {
             let object = &solved.problem.objects[placed.index];
@@ -49,6 +111,7 @@ pub fn report(built: &Built, catalog: &Catalog) -> Value {
                 .collect();
             floor.push(json!({
                 "object": object.id,
+                "house_id": house_id(&object.id).map(|o| o.id.clone()),
                 "position": {"x": r4(placed.pose.x), "z": r4(placed.pose.z)},
                 "rotation": placed.pose.rot.deg(),
                 "footprint": {
@@ -60,14 +123,26 @@ pub fn report(built: &Built, catalog: &Catalog) -> Value {
                 "constraints": constraints,
             }));
         }
-        let others = |list: &[crate::solve::PlacedObject]| -> Vec<Value> {
+        let mut others = |list: &[crate::solve::PlacedObject]| -> Vec<Value> {
             list.iter()
                 .map(|p| {
-                    json!({
+                    let house = house_id(&p.id);
+                    let mut entry = json!({
                         "object": p.id,
+                        "house_id": house.map(|o| o.id.clone()),
                         "position": {"x": r4(p.position_m[0]), "y": r4(p.position_m[1]), "z": r4(p.position_m[2])},
                         "rotation": r4(p.rotation_deg),
-                    })
+                    });
+                    if let (Some(o), Some(map)) = (house, entry.as_object_mut()) {
+                        if o.parent.is_some() {
+                            map.insert("on".into(), json!(o.parent));
+                            map.insert(
+                                "moved".into(),
+                                moved.get(&o.source).cloned().unwrap_or(Value::Null),
+                            );
+                        }
+                    }
+                    entry
                 })
                 .collect()
         };
@@ -85,6 +160,9 @@ pub fn report(built: &Built, catalog: &Catalog) -> Value {
                 })
             })
             .collect();
+        let wall_objects = others(&solved.layout.wall);
+        let small_objects = others(&solved.layout.small);
+        let ceiling = solved.layout.ceiling.as_ref().map(|c| others(std::slice::from_ref(c)));
         let (satisfied, total) = solved.layout.constraint_tally(&solved.problem);
         let planned = built.plan.room(solved.room);
         let structure = crate::resolve::structure::StructureCatalog::builtin();
@@ -104,9 +182,9 @@ pub fn report(built: &Built, catalog: &Catalog) -> Value {
                 "walls": material(&room.wall_material, &room.wall_design, &planned.wall_material),
             },
             "floor_objects": floor,
-            "wall_objects": others(&solved.layout.wall),
-            "small_objects": others(&solved.layout.small),
-            "ceiling": solved.layout.ceiling.as_ref().map(|c| others(std::slice::from_ref(c))),
+            "wall_objects": wall_objects,
+            "small_objects": small_objects,
+            "ceiling": ceiling,
             "not_placed": unplaced,
             "relations_given_up": solved.given_up.iter().map(|g| json!({
                 "object": g.object,

@@ -116,8 +116,15 @@ fn resolution(res: &Resolution, catalog: &Catalog, mut head: Map<String, Value>)
 
 /// The resolve fragment of the build report: the catalog lock (name, version, sha256 of every
 /// catalog), then per object, small object and ceiling object the chosen asset with its score
-/// parts and runner-up, or why it is unresolved; and the list of everything left out.
-pub fn report(scene: &Scene, catalog: &Catalog, resolved: &Resolved) -> Value {
+/// parts and runner-up, or why it is unresolved; and the list of everything left out. `placed`
+/// gives the fields the layout adds to an entry (its id in the house, where a moved thing went).
+pub fn report(
+    scene: &Scene,
+    catalog: &Catalog,
+    resolved: &Resolved,
+    placed: &dyn Fn(crate::lower::Source) -> Map<String, Value>,
+) -> Value {
+    use crate::lower::Source;
     let objathor = catalog.objathor();
     let catalogs: Vec<Value> = catalog
         .sources()
@@ -172,6 +179,7 @@ pub fn report(scene: &Scene, catalog: &Catalog, resolved: &Resolved) -> Value {
                 "description".into(),
                 json!(obj.description.as_deref().unwrap_or(&obj.category)),
             );
+            head.extend(placed(Source::Object(id)));
             if let Some(res) = resolved.objects.get(id.0) {
                 let v = resolution(res, catalog, head);
                 if matches!(res, Resolution::Unresolved(_)) {
@@ -187,6 +195,7 @@ pub fn report(scene: &Scene, catalog: &Catalog, resolved: &Resolved) -> Value {
                     head.insert("room".into(), json!(room.name));
                     head.insert("kind".into(), json!("on-object"));
                     head.insert("description".into(), json!(item.item));
+                    head.extend(placed(Source::Item(id, k, i as u32)));
                     let v = resolution(res, catalog, head);
                     if matches!(res, Resolution::Unresolved(_)) {
                         unresolved.push(v.clone());
@@ -201,6 +210,7 @@ pub fn report(scene: &Scene, catalog: &Catalog, resolved: &Resolved) -> Value {
             head.insert("room".into(), json!(room.name));
             head.insert("kind".into(), json!("ceiling"));
             head.insert("description".into(), json!(ceiling.description));
+            head.extend(placed(Source::Ceiling(room.id)));
             let v = resolution(res, catalog, head);
             if matches!(res, Resolution::Unresolved(_)) {
                 unresolved.push(v.clone());

@@ -1197,20 +1197,19 @@ impl Search<'_, '_> {
             let fp = footprint(&pin, obj.size);
             // Every hard rule, as a candidate is held to: the static ones, no overlap, the
             // use-clearances and reachability (a pinned lamp that cuts a bookcase off).
+            // Every rule it breaks is listed (the first fixed rule of the room, then each of
+            // the others), not only the first.
             let cand = Cand { pose: pin, fp };
-            let rule = self
-                .prep
-                .static_rule(k, &pin)
-                .or_else(|| st.fps.iter().any(|f| f.overlaps(&fp)).then_some(HardRule::NoOverlap))
-                .or_else(|| {
-                    let ctx = self.clearance_context(k, st);
-                    (!self.clearances_kept(k, &cand, &ctx)).then_some(HardRule::UseClearance)
-                })
-                .or_else(|| self.boxed(&cand, st).then_some(HardRule::Reachable));
-            if let Some(rule) = rule {
-                if !self.pin_breaks.iter().any(|(i, _)| *i == k) {
-                    self.pin_breaks.push((k, rule));
-                }
+            let ctx = self.clearance_context(k, st);
+            let cleared = self.clearances_kept(k, &cand, &ctx);
+            let rules = [
+                self.prep.static_rule(k, &pin),
+                st.fps.iter().any(|f| f.overlaps(&fp)).then_some(HardRule::NoOverlap),
+                (!cleared).then_some(HardRule::UseClearance),
+                self.boxed(&cand, st).then_some(HardRule::Reachable),
+            ];
+            if !self.pin_breaks.iter().any(|(i, _)| *i == k) {
+                self.pin_breaks.extend(rules.into_iter().flatten().map(|rule| (k, rule)));
             }
             let s = fast_score(self.prep, k, &pin, &st.poses, self.sat_value);
             self.place(k, pin, fp, self.placed_value + s, "pin", st);
@@ -1825,23 +1824,15 @@ impl Search<'_, '_> {
         if cands.is_empty() {
             return Some(static_reason(&self.static_fails[k]));
         }
-        if boxed >= overlapping.max(cleared_out) {
-            return Some((
-                HardRule::Reachable,
-                "every free pose would leave a placed object (or itself) unreachable from the door"
-                    .to_string(),
-            ));
-        }
-        if cleared_out > overlapping {
-            return Some((
-                HardRule::UseClearance,
-                "every free pose stands in the space another object needs for its use (or blocks \
-                 its own)"
-                    .to_string(),
-            ));
-        }
+        // Every rule that removed poses, with how many (the fixed rules of the room first
+        // counted over the grid of poses, then those of the finished layout).
         let names = blockers.iter().map(|(&i, &n)| (n, prep.problem.objects[i].id.as_str()));
-        Some(overlap_reason(names))
+        let removed = [
+            (HardRule::NoOverlap, overlapping),
+            (HardRule::UseClearance, cleared_out),
+            (HardRule::Reachable, boxed),
+        ];
+        Some(super::errors::removed_reason(&self.static_fails[k], &removed, names))
     }
 
     /// What the use-clearance rule needs at a node for object `k`: the placed footprints, the

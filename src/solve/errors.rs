@@ -127,11 +127,17 @@ pub(crate) fn moved(problem: &RoomProblem, m: &super::Moved) -> Diagnostic {
     let name = s.id.split('|').next().unwrap_or(&s.id);
     let full: Vec<String> =
         m.full.iter().map(|&h| format!("`{}`", holder_name(problem, h))).collect();
+    let pair = match (&s.thor_type, m.p) {
+        (Some(t), Some(p)) => {
+            format!("; p = {p:.2} for a `{t}` on it in ProcTHOR's receptacle pairs")
+        }
+        _ => String::new(),
+    };
     if let Some(absent) = &m.absent {
         let note = format!(
-            "its receptacle `{absent}` is left out: no asset matches it (W0401); `{}` is the first receptacle of the room, in the order declared, that takes it and has room for it{}",
+            "its receptacle `{absent}` is left out: no asset matches it (W0401); `{}` is the nearest receptacle of the room that is a home for it with room for it{}{pair}",
             holder_name(problem, to),
-            if full.is_empty() { String::new() } else { format!(" ({} before it, full)", full.join(", ")) }
+            if full.is_empty() { String::new() } else { format!(" ({} nearer, full or carrying three moved things)", full.join(", ")) }
         );
         let d = Diagnostic::new(
             Code::W0506,
@@ -154,13 +160,13 @@ pub(crate) fn moved(problem: &RoomProblem, m: &super::Moved) -> Diagnostic {
     )
     .with_note(if m.full.is_empty() {
         format!(
-            "people do not put such a thing on `{}` (the pairs of ProcTHOR's receptacles); `{}` is the nearest receptacle of the room that takes it",
+            "people do not put such a thing on `{}` (the pairs of ProcTHOR's receptacles); `{}` is the nearest receptacle of the room that is a home for it{pair}",
             holder_name(problem, from),
             holder_name(problem, to)
         )
     } else {
         format!(
-            "people do not put such a thing on `{}` (the pairs of ProcTHOR's receptacles); `{}` is the nearest receptacle of the room that takes it and has room for it ({} nearer, full)",
+            "people do not put such a thing on `{}` (the pairs of ProcTHOR's receptacles); `{}` is the nearest receptacle of the room that is a home for it with room for it ({} nearer, full or carrying three moved things){pair}",
             holder_name(problem, from),
             holder_name(problem, to),
             full.join(", ")
@@ -173,6 +179,56 @@ pub(crate) fn moved(problem: &RoomProblem, m: &super::Moved) -> Diagnostic {
     }
 }
 
+/// Why no pose is left for a floor object, naming every rule that removed poses with how many
+/// it removed: the room's fixed rules over the grid of poses (`fixed`: inside the room, the
+/// global constraint, door keep-out zones, front clearance, windows), then the rules of the
+/// finished layout over the poses those left (`removed`: no overlap, with the objects most in
+/// the way, use-clearances, reachability). The rule is the one of the finished layout that
+/// removed the most poses.
+pub(crate) fn removed_reason<'a>(
+    fixed: &std::collections::BTreeMap<HardRule, usize>,
+    removed: &[(HardRule, usize)],
+    blockers: impl Iterator<Item = (usize, &'a str)>,
+) -> (HardRule, String) {
+    let mut names: Vec<(usize, &str)> = blockers.collect();
+    names.sort_by(|a, b| b.0.cmp(&a.0).then(a.1.cmp(b.1)));
+    let list: Vec<String> = names.iter().take(3).map(|(_, n)| format!("`{n}`")).collect();
+    let tried: usize = removed.iter().map(|(_, n)| n).sum();
+    let mut parts: Vec<String> = Vec::new();
+    for &(rule, n) in removed.iter().filter(|(_, n)| *n > 0) {
+        parts.push(match rule {
+            HardRule::NoOverlap if !list.is_empty() => {
+                format!("{n} overlap an object already placed ({})", list.join(", "))
+            }
+            HardRule::NoOverlap => format!("{n} overlap an object already placed"),
+            HardRule::UseClearance => {
+                format!(
+                    "{n} stand in the space another object needs for its use (or block its own)"
+                )
+            }
+            HardRule::Reachable => {
+                format!("{n} would leave a placed object (or itself) unreachable from the door")
+            }
+            other => format!("{n} break {}", other.describe()),
+        });
+    }
+    let fixed: Vec<String> = fixed
+        .iter()
+        .filter(|(_, n)| **n > 0)
+        .map(|(rule, n)| format!("{} {n}", rule.describe()))
+        .collect();
+    // The rule that removed the most; ties to the later rule of the list (reachability, then
+    // use-clearances, then overlap), as a pose is held to them in that order.
+    let rule =
+        removed.iter().max_by_key(|(_, n)| *n).map_or(HardRule::NoOverlap, |(rule, _)| *rule);
+    let before = if fixed.is_empty() {
+        String::new()
+    } else {
+        format!(" (the fixed rules removed: {})", fixed.join(", "))
+    };
+    (rule, format!("of {tried} poses free of the room's fixed rules, {}{before}", parts.join("; ")))
+}
+
 /// W0501: an object was left out.
 pub(crate) fn unplaced(problem: &RoomProblem, u: &Unplaced) -> Diagnostic {
     let span = match u.kind {
@@ -181,6 +237,21 @@ pub(crate) fn unplaced(problem: &RoomProblem, u: &Unplaced) -> Diagnostic {
         "small" => problem.small_objects.iter().find(|o| o.id == u.id).and_then(|o| o.span),
         _ => problem.ceiling.as_ref().and_then(|c| c.span),
     };
+    if u.code == Code::W0506 {
+        // A thing that had to be moved (its receptacle left out or not taking it) and that no
+        // receptacle of the room is a home for, or has room for.
+        let name = u.id.split('|').next().unwrap_or(&u.id);
+        let d = Diagnostic::new(
+            Code::W0506,
+            format!("`{name}` is left out: no receptacle of room `{}` takes it", problem.name),
+        )
+        .with_note(u.reason.clone())
+        .with_help("put it on top of a receptacle that is a home for it (a table, a shelf, a dresser, a counter), or give its receptacle an asset (`--catalog`, `--objathor`)");
+        return match span {
+            Some(s) => d.with_primary(s, "left out of the layout"),
+            None => d,
+        };
+    }
     let mut d = Diagnostic::new(
         Code::W0501,
         format!("cannot place {} object `{}` in room `{}`", u.kind, u.id, problem.name),
@@ -217,9 +288,9 @@ pub(crate) fn unplaced(problem: &RoomProblem, u: &Unplaced) -> Diagnostic {
 /// W0502: a pinned pose breaks a hard rule; it is kept as pinned. A pin that puts the object
 /// (partly) outside its room is E0502 instead: the house would not validate (E0607, W0609),
 /// and build never writes a house validate rejects.
-pub(crate) fn pin_breaks(problem: &RoomProblem, index: usize, rule: HardRule) -> Diagnostic {
+pub(crate) fn pin_breaks(problem: &RoomProblem, index: usize, rules: &[HardRule]) -> Diagnostic {
     let o = &problem.objects[index];
-    if rule == HardRule::InsideRoom {
+    if rules.contains(&HardRule::InsideRoom) {
         let d = Diagnostic::new(
             Code::E0502,
             format!("the pinned pose of `{}` puts it outside room `{}`", o.id, problem.name),
@@ -230,9 +301,13 @@ pub(crate) fn pin_breaks(problem: &RoomProblem, index: usize, rule: HardRule) ->
             None => d,
         };
     }
+    let names: Vec<String> = rules.iter().map(|r| format!("`{}`", r.describe())).collect();
     let d = Diagnostic::new(
         Code::W0502,
-        format!("the pinned pose of `{}` breaks the rule `{}`", o.id, rule.describe()),
+        match names.len() {
+            1 => format!("the pinned pose of `{}` breaks the rule {}", o.id, names[0]),
+            _ => format!("the pinned pose of `{}` breaks the rules {}", o.id, names.join(", ")),
+        },
     )
     .with_help("move the pin (`at`, `facing`) or remove it to let the solver choose");
     match o.span {

@@ -524,17 +524,15 @@ pub(crate) fn solve(prep: &Prepared<'_>, options: &SolveOptions) -> RoomLayout {
             // The rules the MILP models (a bed's open side excepted), then reachability.
             let mut with = fps.clone();
             with.push(fp);
-            if let Some(rule) = prep
-                .static_rule(k, &pin)
-                .or_else(|| fps.iter().any(|f| f.overlaps(&fp)).then_some(HardRule::NoOverlap))
-                .or_else(|| {
-                    (!clearance_obstacles(prep, k, &pin, &poses).is_empty())
-                        .then_some(HardRule::UseClearance)
-                })
-                .or_else(|| (!prep.reach.ok(&with)).then_some(HardRule::Reachable))
-            {
-                layout.pinned_breaks.push((k, rule));
-            }
+            // Every rule it breaks (the first fixed rule of the room, then each of the others).
+            let rules = [
+                prep.static_rule(k, &pin),
+                fps.iter().any(|f| f.overlaps(&fp)).then_some(HardRule::NoOverlap),
+                (!clearance_obstacles(prep, k, &pin, &poses).is_empty())
+                    .then_some(HardRule::UseClearance),
+                (!prep.reach.ok(&with)).then_some(HardRule::Reachable),
+            ];
+            layout.pinned_breaks.extend(rules.into_iter().flatten().map(|rule| (k, rule)));
             poses[k] = Some(pin);
             fps.push(fp);
             by[k] = "pin";

@@ -26,6 +26,7 @@ use crate::source::Span;
 pub use constraints::{HardRule, Meaning, Measure, Pose, Rect, Role, RoomShape, Rot};
 pub use others::{PILE_MAX_M, SMALL_GAP_M};
 pub use pipeline::{solve, solve_by_room, GivenUp, Layout, RoomDone, SolvedRoom};
+pub(crate) use scene::item_ids;
 pub use scene::{room_problem, Sizes, WrittenSizes};
 
 /// Which floor solver to run.
@@ -217,6 +218,13 @@ pub struct SmallObject {
     /// When the receptacle it is declared on is left out before the layout (no asset): that
     /// receptacle's name. `on` is then the first of `elsewhere`, which is never `None`.
     pub absent: Option<String>,
+    /// When its receptacle is left out (`absent`): the floor and wall objects that receptacle
+    /// was asked to stand by (its relations' targets, the object it hangs above); the moved
+    /// thing goes to the receptacle nearest to them (to the room's centre when there are none).
+    pub anchor: Vec<Holder>,
+    /// The AI2-THOR type of its asset, when known (which receptacles it may be moved to, and
+    /// the `p` of the pair: `resolve::receptacles::move_to`).
+    pub thor_type: Option<String>,
     /// Where it is declared.
     pub span: Option<Span>,
 }
@@ -257,6 +265,21 @@ pub struct RoomProblem {
     pub ceiling: Option<CeilingObject>,
     /// The room's declaration.
     pub span: Option<Span>,
+}
+
+impl RoomProblem {
+    /// The name of a receptacle of the room (a floor or wall object), `?` when it has none.
+    pub fn holder_name(&self, h: Holder) -> &str {
+        errors::holder_name(self, h)
+    }
+
+    /// The AI2-THOR type of a receptacle of the room, when known.
+    pub fn holder_type(&self, h: Holder) -> Option<&str> {
+        match h {
+            Holder::Floor(i) => self.objects.get(i)?.thor_type.as_deref(),
+            Holder::Wall(i) => self.wall_objects.get(i)?.thor_type.as_deref(),
+        }
+    }
 }
 
 /// One constraint in the report.
@@ -345,7 +368,8 @@ pub struct RoomLayout {
     /// Search nodes walked when the layout returned was found (the rest of the walk found
     /// nothing better).
     pub found_at: u64,
-    /// Pinned floor objects (index) whose pose breaks a hard rule; they stay as pinned.
+    /// Pinned floor objects (index) whose pose breaks a hard rule, one entry per rule broken;
+    /// they stay as pinned.
     pub pinned_breaks: Vec<(usize, HardRule)>,
     /// Small objects put on another receptacle than the one declared, because that one may not
     /// carry them.
@@ -367,6 +391,9 @@ pub struct Moved {
     /// The receptacle declared when it is left out for want of an asset (then `from` is the
     /// first receptacle tried).
     pub absent: Option<String>,
+    /// The `p` of the pair (its AI2-THOR type on the receptacle used) in ProcTHOR's receptacle
+    /// table; `None` for a pair holoc added or a thing the table cannot judge.
+    pub p: Option<f64>,
 }
 
 impl RoomLayout {
@@ -483,8 +510,14 @@ pub fn solve_room(problem: &RoomProblem, options: &SolveOptions) -> Outcome<Room
         Solver::Milp => milp::solve(&prep, options),
     };
     others::finish(&prep, &mut layout);
+    // One diagnostic per pinned object, naming every rule its pose breaks.
+    let mut breaks: std::collections::BTreeMap<usize, Vec<HardRule>> =
+        std::collections::BTreeMap::new();
     for &(k, rule) in &layout.pinned_breaks {
-        diags.push(errors::pin_breaks(problem, k, rule));
+        breaks.entry(k).or_default().push(rule);
+    }
+    for (k, rules) in breaks {
+        diags.push(errors::pin_breaks(problem, k, &rules));
     }
     for u in &layout.unplaced {
         diags.push(errors::unplaced(problem, u));

@@ -4,6 +4,7 @@ use super::constraints::{Rect, RoomShape, Rot, WindowZone, WINDOW_ZONE_M};
 use super::surfaces::{carrier, Carrier, Surface};
 use super::{Holder, PlacedObject, Prepared, RoomLayout, RoomProblem, Unplaced, WallSegment};
 use crate::diag::Code;
+use crate::resolve::receptacles::MAX_MOVED_PER_RECEPTACLE;
 use std::collections::BTreeMap;
 
 /// Height of a wall object's bottom when none is given, metres.
@@ -503,10 +504,21 @@ fn place_small(prep: &Prepared<'_>, layout: &mut RoomLayout) {
             choices.push(vec![s.on]);
             continue;
         };
-        // Nearest to where it was declared; in the order declared when that receptacle is
-        // left out.
+        // Nearest to where it was declared; when that receptacle is left out, to the objects
+        // it was asked to stand by (their mean), else to the room's centre.
         let from = if s.absent.is_some() {
-            None
+            let centres: Vec<[f64; 2]> = (s.anchor.iter())
+                .filter_map(|&h| Receptacle::of(prep, layout, h).ok().map(|r| r.centre))
+                .collect();
+            if centres.is_empty() {
+                Some(prep.room.centroid())
+            } else {
+                let n = centres.len() as f64;
+                Some([
+                    centres.iter().map(|c| c[0]).sum::<f64>() / n,
+                    centres.iter().map(|c| c[1]).sum::<f64>() / n,
+                ])
+            }
         } else {
             Receptacle::of(prep, layout, s.on).ok().map(|r| r.centre)
         };
@@ -520,27 +532,39 @@ fn place_small(prep: &Prepared<'_>, layout: &mut RoomLayout) {
             .collect();
         near.sort_by(|a, b| a.2.total_cmp(&b.2).then(a.0.cmp(&b.0)));
         if near.is_empty() {
-            reasons[i] = Some((
-                format!(
-                    "{}, and no receptacle of the room that takes it is placed",
-                    why_elsewhere(problem, s)
-                ),
-                Code::W0506,
-            ));
+            let why = if elsewhere.is_empty() {
+                no_home(problem, s)
+            } else {
+                "no receptacle of the room that is a home for it is placed".to_string()
+            };
+            reasons[i] = Some((format!("{}, and {why}", why_elsewhere(problem, s)), Code::W0506));
         }
         choices.push(near.into_iter().map(|(_, h, _)| h).collect());
     }
-    // A moved thing goes to the nearest receptacle that takes it; when that one is full, to the
-    // next. Each round sets every receptacle's things again (those meant for it first, then the
-    // moved ones, each in declaration order), so the outcome does not depend on the order in
-    // which receptacles fill; it ends because each round moves some thing one choice on.
+    // A moved thing goes to the nearest receptacle that is a home for it; when that one is
+    // full, or already carries `MAX_MOVED_PER_RECEPTACLE` moved things, to the next. Each round
+    // sets every receptacle's things again (those meant for it first, then the moved ones, each
+    // in declaration order), so the outcome does not depend on the order in which receptacles
+    // fill; it ends because each round moves some thing one choice on.
     let mut pick = vec![0usize; n];
+    // Per moved thing, why each receptacle it was moved on from did not take it.
+    let mut passed: Vec<Vec<String>> = vec![Vec::new(); n];
     loop {
         let mut by_holder: BTreeMap<Holder, Vec<usize>> = BTreeMap::new();
+        let mut moved_on: BTreeMap<Holder, usize> = BTreeMap::new();
+        let mut capped: Vec<(usize, Holder)> = Vec::new();
         for moved in [false, true] {
             for (i, s) in problem.small_objects.iter().enumerate() {
                 if s.elsewhere.is_some() == moved {
                     if let Some(&h) = choices[i].get(pick[i]) {
+                        if moved {
+                            let count = moved_on.entry(h).or_default();
+                            if *count >= MAX_MOVED_PER_RECEPTACLE {
+                                capped.push((i, h));
+                                continue;
+                            }
+                            *count += 1;
+                        }
                         by_holder.entry(h).or_default().push(i);
                     }
                 }
@@ -551,6 +575,15 @@ fn place_small(prep: &Prepared<'_>, layout: &mut RoomLayout) {
             if !choices[i].is_empty() {
                 reasons[i] = None;
             }
+        }
+        for &(i, h) in &capped {
+            reasons[i] = Some((
+                format!(
+                    "`{}` already carries {MAX_MOVED_PER_RECEPTACLE} moved things",
+                    super::errors::holder_name(problem, h)
+                ),
+                Code::W0506,
+            ));
         }
         for (&on, items) in &by_holder {
             let rec = match Receptacle::of(prep, layout, on) {
@@ -574,6 +607,13 @@ fn place_small(prep: &Prepared<'_>, layout: &mut RoomLayout) {
         let mut next = false;
         for (i, s) in problem.small_objects.iter().enumerate() {
             if s.elsewhere.is_some() && results[i].is_none() && pick[i] + 1 < choices[i].len() {
+                let h = super::errors::holder_name(problem, choices[i][pick[i]]);
+                passed[i].push(match &reasons[i] {
+                    Some((_, Code::W0506)) => {
+                        format!("`{h}` already carries {MAX_MOVED_PER_RECEPTACLE} moved things")
+                    }
+                    _ => format!("`{h}` is full"),
+                });
                 pick[i] += 1;
                 next = true;
             }
@@ -588,26 +628,40 @@ fn place_small(prep: &Prepared<'_>, layout: &mut RoomLayout) {
         }
         if results[i].is_some() {
             let full = choices[i][..pick[i]].to_vec();
+            let to = choices[i][pick[i]];
             layout.moved.push(super::Moved {
                 small: i,
                 from: s.on,
-                to: choices[i][pick[i]],
+                to,
                 full,
                 absent: s.absent.clone(),
+                p: pair_p(problem, s, to),
             });
-        } else if matches!(&reasons[i], Some((_, Code::W0501))) {
-            let tried: Vec<String> = choices[i]
-                .iter()
-                .map(|&h| format!("`{}`", super::errors::holder_name(problem, h)))
-                .collect();
-            reasons[i] = Some((
-                format!(
-                    "{}, and every receptacle of the room that takes it has no room for it ({})",
-                    why_elsewhere(problem, s),
-                    tried.join(", ")
-                ),
-                Code::W0501,
-            ));
+        } else if let Some((last, code)) = &reasons[i] {
+            if matches!(code, Code::W0501 | Code::W0506) {
+                // Every receptacle that is a home for it was tried: say why each did not take
+                // it. Only full ones: W0501, as for a thing on its own receptacle.
+                let h = super::errors::holder_name(problem, choices[i][pick[i]]);
+                let mut why = passed[i].clone();
+                why.push(match code {
+                    Code::W0506 => last.clone(),
+                    _ => format!("`{h}` is full"),
+                });
+                let code = if *code == Code::W0501 && passed[i].iter().all(|p| p.ends_with("full"))
+                {
+                    Code::W0501
+                } else {
+                    Code::W0506
+                };
+                reasons[i] = Some((
+                    format!(
+                        "{}, and no receptacle of the room that is a home for it takes it ({})",
+                        why_elsewhere(problem, s),
+                        why.join("; ")
+                    ),
+                    code,
+                ));
+            }
         }
     }
     for (i, res) in results.into_iter().enumerate() {
@@ -626,6 +680,44 @@ fn place_small(prep: &Prepared<'_>, layout: &mut RoomLayout) {
             }
         }
     }
+}
+
+/// The `p` of the pair a moved thing makes with the receptacle it was moved to
+/// (`resolve::receptacles::move_to`).
+fn pair_p(problem: &RoomProblem, s: &super::SmallObject, to: Holder) -> Option<f64> {
+    let t = holder_type(problem, to)?;
+    crate::resolve::receptacles::move_to(s.thor_type.as_deref()?, &s.item, t).ok().flatten()
+}
+
+/// The AI2-THOR type of a receptacle of the problem, when known.
+fn holder_type(problem: &RoomProblem, h: Holder) -> Option<&str> {
+    problem.holder_type(h)
+}
+
+/// Why no receptacle of the room is a home for a thing that must be moved: each receptacle
+/// with the rule that refuses it (at most six named).
+fn no_home(problem: &RoomProblem, s: &super::SmallObject) -> String {
+    let holders = (0..problem.objects.len())
+        .map(Holder::Floor)
+        .chain((0..problem.wall_objects.len()).map(Holder::Wall));
+    let item_type = s.thor_type.as_deref().unwrap_or("");
+    let refused: Vec<String> = holders
+        .filter(|&h| s.absent.is_some() || h != s.on)
+        .filter_map(|h| {
+            let t = holder_type(problem, h).filter(|t| crate::resolve::is_receptacle_type(t))?;
+            let why = crate::resolve::receptacles::move_to(item_type, &s.item, t).err()?;
+            Some(format!("`{}`: {why}", super::errors::holder_name(problem, h)))
+        })
+        .collect();
+    if refused.is_empty() {
+        return "the room has no other receptacle".to_string();
+    }
+    let shown = refused.len().min(6);
+    let more = match refused.len() - shown {
+        0 => String::new(),
+        n => format!("; and {n} more"),
+    };
+    format!("no receptacle of the room is a home for it ({}{more})", refused[..shown].join("; "))
 }
 
 /// Why a small thing is not on the receptacle it is declared on.

@@ -344,9 +344,25 @@ pub fn solve_by_room(
             let type_of = |h: super::Holder| {
                 holders.iter().find(|(x, _)| *x == h).and_then(|(_, t)| t.clone())
             };
+            // The receptacles of the room a thing may be moved to (`receptacles::move_to`: a
+            // home for it, a pair ProcTHOR's houses hold at least one time in twenty), in the
+            // order declared; the layout takes the nearest with room for it.
+            let homes_for = |object_type: &str, item: &str, except: Option<super::Holder>| {
+                holders
+                    .iter()
+                    .filter(|(h, t)| {
+                        Some(*h) != except
+                            && t.as_deref().is_some_and(|t| {
+                                crate::resolve::receptacles::move_to(object_type, item, t).is_ok()
+                            })
+                    })
+                    .map(|(h, _)| *h)
+                    .collect::<Vec<_>>()
+            };
             for (small, key) in problem.small_objects.iter_mut().zip(&small_keys) {
                 if let Some(c) = choice(key) {
                     small.size = bbox_to_size(c.bbox_m);
+                    small.thor_type = Some(c.object_type.clone());
                     let here = type_of(small.on);
                     let refused = here.as_deref().is_some_and(|t| {
                         crate::resolve::is_receptacle_type(t)
@@ -354,50 +370,46 @@ pub fn solve_by_room(
                             && !crate::resolve::allowed_on(&c.object_type, t)
                     });
                     if refused && !c.pinned {
-                        small.elsewhere = Some(
-                            holders
-                                .iter()
-                                .filter(|(h, t)| {
-                                    *h != small.on
-                                        && t.as_deref().is_some_and(|t| {
-                                            crate::resolve::allowed_on(&c.object_type, t)
-                                        })
-                                })
-                                .map(|(h, _)| *h)
-                                .collect(),
-                        );
+                        small.elsewhere =
+                            Some(homes_for(&c.object_type, &small.item, Some(small.on)));
                     }
                 }
             }
             // The things on a receptacle left out for want of an asset (a floating wall shelf
-            // AI2-THOR has no asset for) go to the room's receptacles that take them, in the order
-            // they are declared, when one has room (W0506 says where); else they are left out.
+            // AI2-THOR has no asset for) go to the room's receptacles that are a home for them
+            // (`receptacles::move_to`), the nearest to where that receptacle was asked to stand
+            // with room for it and fewer than three moved things (W0506 says where); else they
+            // are left out with the reason (W0506).
             let mut rehomed: std::collections::BTreeSet<String> = std::collections::BTreeSet::new();
+            let index_of = |target: ObjectId| {
+                let name = &scene.object(target).name;
+                problem.objects.iter().position(|p| &p.id == name).map(super::Holder::Floor)
+            };
             for &(_, id) in no_asset.iter().filter(|(r, _)| *r == room.id) {
                 let o = scene.object(id);
+                let anchor: Vec<super::Holder> = match &o.placement {
+                    crate::check::Placement::Floor { constraints, .. } => {
+                        constraints.iter().filter_map(|c| index_of(c.target)).collect()
+                    }
+                    crate::check::Placement::Wall { above, .. } => {
+                        above.iter().filter_map(|(t, _)| index_of(*t)).collect()
+                    }
+                };
                 for (item_id, line, copy) in item_ids(o) {
                     let key = (id, line, copy);
                     let Some(c) = choice(&key) else { continue };
-                    let takes: Vec<super::Holder> = holders
-                        .iter()
-                        .filter(|(_, t)| {
-                            t.as_deref().is_some_and(|t| {
-                                crate::resolve::is_receptacle_type(t)
-                                    && (!crate::resolve::receptacles::judges(&c.object_type)
-                                        || crate::resolve::allowed_on(&c.object_type, t))
-                            })
-                        })
-                        .map(|(h, _)| *h)
-                        .collect();
-                    let Some(&first) = takes.first() else { continue };
                     let item = &o.on_top[line];
+                    let takes = homes_for(&c.object_type, &item.item, None);
+                    let Some(&first) = holders.first().map(|(h, _)| h) else { continue };
                     problem.small_objects.push(super::SmallObject {
                         id: item_id.clone(),
                         item: item.item.clone(),
                         size: bbox_to_size(c.bbox_m),
-                        on: first,
+                        on: takes.first().copied().unwrap_or(first),
                         elsewhere: Some(takes),
                         absent: Some(o.name.clone()),
+                        anchor: anchor.clone(),
+                        thor_type: Some(c.object_type.clone()),
                         span: Some(item.span),
                     });
                     small_keys.push(key);

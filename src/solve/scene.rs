@@ -165,6 +165,8 @@ fn items_on(o: &Object, on: Holder, sizes: &dyn Sizes) -> Vec<SmallObject> {
                 on,
                 elsewhere: None,
                 absent: None,
+                anchor: Vec::new(),
+                thor_type: None,
                 span: Some(item.span),
             }
         })

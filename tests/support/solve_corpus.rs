@@ -177,6 +177,8 @@ pub fn load(path: &Path) -> RoomProblem {
                 on: holoc::solve::Holder::Floor(index(&s.on)),
                 elsewhere: None,
                 absent: None,
+                anchor: Vec::new(),
+                thor_type: None,
                 span: None,
             })
             .collect(),
