@@ -566,8 +566,12 @@ fn real_holodeck_scenes_keep_what_has_an_asset() {
         with_asset_all += asked - no_asset;
     }
     let share = placed_all as f64 / with_asset_all.max(1) as f64;
+    // 0.80 before issue 48: an item whose receptacle is full or lacks an asset is now moved only
+    // to a home for it (p ≥ 0.05, at most 3 moved things each) and reported otherwise, where it
+    // used to land anywhere (clocks on sofas); the real requests pile 10–14 things on each wall
+    // shelf.
     assert!(
-        share >= 0.80,
+        share >= 0.75,
         "{placed_all} of {with_asset_all} objects with an asset placed ({:.1}%):\n{}",
         100.0 * share,
         lines.join("\n")
