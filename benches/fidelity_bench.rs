@@ -325,28 +325,12 @@ fn rooms_that_work(catalog: &Catalog) {
         let out = solve::solve_room(&problem, &SolveOptions::default()).value;
         println!("| corpus | {name} {}", room_figures(&problem, &out));
     }
-    let real = std::path::Path::new("../shared/data/real-scenes");
-    let mut paths: Vec<PathBuf> = std::fs::read_dir(real)
-        .map(|d| d.flatten().map(|e| e.path()).collect())
-        .unwrap_or_default();
-    paths.retain(|p| {
-        p.extension().is_some_and(|e| e == "json")
-            && !p.file_name().is_some_and(|n| n.to_string_lossy().starts_with("procthor-"))
-    });
-    paths.sort();
-    if paths.is_empty() {
+    let real = real_requests();
+    if real.is_empty() {
         println!("(../shared/data/real-scenes is absent: the real requests are not measured)");
     }
-    for path in &paths {
-        let Ok(text) = std::fs::read_to_string(path) else { continue };
-        let Ok(value) = serde_json::from_str::<serde_json::Value>(&text) else { continue };
-        let out = holoc::import::import_holodeck_scene(
-            &value,
-            &mut SourceMap::new(),
-            &holoc::import::ImportOptions::default(),
-        );
-        let name = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
-        built_rows("real", &name, holoc::fmt::print(&out.value));
+    for (name, text) in real {
+        built_rows("real", &name, text);
     }
 }
 
