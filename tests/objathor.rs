@@ -243,7 +243,7 @@ fn the_original_filters_hold() {
     assert_eq!(name_of(&chosen(&resolved, &scene, "mirror-0")), "round_mirror");
     // The 2.4 m curtains score higher but are taller than 0.8 of the 2.5 m wall.
     assert_eq!(name_of(&chosen(&resolved, &scene, "curtains-0")), "linen_curtains");
-    // Built-in first: the sofa is AI2-THOR's.
+    // The folder's only sofa is too large for the room: the sofa is AI2-THOR's.
     assert!(chosen(&resolved, &scene, "sofa-0").starts_with("Sofa_"));
     assert_eq!(name_of(&chosen(&resolved, &scene, "cat_tower-0")), "cat_tower");
     let room = [5.0, 4.0, 2.5];
@@ -275,11 +275,23 @@ fn the_original_filters_hold() {
 fn mixing_by_score_and_the_seeded_pick() {
     let (_dir, root) = fixture(FixtureOptions::default());
     let q = query("painting", "an abstract painting in a black frame", PlacementKind::Wall);
-    // Built-in first: AI2-THOR has paintings.
+    // Objathor first (the default, as the original): the folder's painting.
     let (catalog, _) = load(&options(&root));
     let first = resolve::resolve_query(&catalog, &q, 0, &resolve::ResolveOptions::default()).value;
     let first = first.choice().expect("chosen").asset_id.clone();
+    assert_eq!(name_of(&first), "abstract_painting");
+    assert!(catalog.objathor().expect("loaded").holds(catalog.index_of(&first).expect("known")));
+    // Built-in first: AI2-THOR has paintings.
+    let (catalog, _) = load(&ObjathorOptions { mix: Mix::BuiltinFirst, ..options(&root) });
+    let first = resolve::resolve_query(&catalog, &q, 0, &resolve::ResolveOptions::default()).value;
+    let first = first.choice().expect("chosen").asset_id.clone();
     assert!(!catalog.objathor().expect("loaded").holds(catalog.index_of(&first).expect("known")));
+    // A thing the folder lacks comes from AI2-THOR's assets in every mix.
+    let fridge = query("fridge", "a tall white fridge", PlacementKind::Floor);
+    let (catalog, _) = load(&options(&root));
+    let got = resolve::resolve_query(&catalog, &fridge, 0, &resolve::ResolveOptions::default());
+    let got = got.value.choice().expect("chosen").asset_id.clone();
+    assert!(!catalog.objathor().expect("loaded").holds(catalog.index_of(&got).expect("known")));
     // By score: the objathor painting's words match better.
     let (catalog, _) = load(&ObjathorOptions { mix: Mix::Score, ..options(&root) });
     let mixed = resolve::resolve_query(&catalog, &q, 0, &resolve::ResolveOptions::default()).value;
@@ -836,4 +848,224 @@ fn web_folders_fetch_their_assets_and_bad_entries_are_summed_up() {
     let diags =
         resolve::objathor::check_on_disk(&catalog, [fixture_uid("round_mirror")], &|_| None);
     assert_eq!(codes(&diags), vec!["W0406"]);
+}
+
+/// The annotations of a fixture folder (gzipped JSON).
+fn annotations_of(path: &Path) -> serde_json::Value {
+    let bytes = std::fs::read(path).expect("read");
+    serde_json::from_reader(flate2::read::GzDecoder::new(&bytes[..])).expect("gzipped JSON")
+}
+
+/// Sets the modification time of the folder's files an hour back: an index written now can
+/// vouch for them (a file changed within two seconds of its index is read again).
+fn age(root: &Path) {
+    let back = std::time::SystemTime::now() - std::time::Duration::from_secs(3600);
+    let mut files = vec![root.join("annotations.json.gz")];
+    if let Ok(entries) = std::fs::read_dir(root.join("features")) {
+        files.extend(entries.flatten().map(|e| e.path()));
+    }
+    for f in files.iter().filter(|f| f.is_file()) {
+        let file = std::fs::File::options().write(true).open(f).expect("opened");
+        file.set_modified(back).expect("aged");
+    }
+}
+
+/// What a load gives that a build can see: every asset and entry of the folder, the files the
+/// lock records, the diagnostics, and the rankings of a few requests.
+fn seen(catalog: &Catalog, diags: &[holoc::diag::Diagnostic]) -> String {
+    use std::fmt::Write as _;
+    let obj = catalog.objathor().expect("loaded");
+    let mut out = format!("{:?}\n{:?}\n{:?}\n", obj.files, obj.entries, obj.scoring);
+    for asset in &catalog.assets()[obj.start..obj.end] {
+        let _ = writeln!(out, "{asset:?}");
+    }
+    for d in diags {
+        let _ = writeln!(out, "{d:?}");
+    }
+    for (category, kind) in [
+        ("cat tower", PlacementKind::Floor),
+        ("mirror", PlacementKind::Wall),
+        ("curtains", PlacementKind::Wall),
+        ("painting", PlacementKind::Wall),
+        ("pendant lamp", PlacementKind::Ceiling),
+    ] {
+        let _ = writeln!(out, "{:?}", ranked(catalog, &query(category, "", kind)));
+    }
+    out
+}
+
+#[test]
+fn the_folder_is_read_once_and_then_from_its_index() {
+    for fixture_options in [
+        FixtureOptions::default(),
+        FixtureOptions { float32: true, ..FixtureOptions::default() },
+        FixtureOptions { text_rows: false, ..FixtureOptions::default() },
+        FixtureOptions { features: false, ..FixtureOptions::default() },
+    ] {
+        let (_dir, root) = fixture(fixture_options);
+        age(&root);
+        let (first, diags) = load(&options(&root));
+        let index = root.join(".holoc-index").join("objathor.idx");
+        let obj = first.objathor().expect("loaded");
+        assert!(
+            !obj.from_index && obj.index_file.as_deref() == Some(&*index),
+            "{:?}",
+            obj.index_file
+        );
+        assert!(index.is_file());
+        let (second, diags_again) = load(&options(&root));
+        assert!(second.objathor().expect("loaded").from_index, "read from its index");
+        assert_eq!(seen(&first, &diags), seen(&second, &diags_again));
+        // Without the index: the same again, and nothing written.
+        let (third, diags_third) = load(&ObjathorOptions { no_index: true, ..options(&root) });
+        let obj = third.objathor().expect("loaded");
+        assert!(!obj.from_index && obj.index_file.is_none());
+        assert_eq!(seen(&first, &diags), seen(&third, &diags_third));
+    }
+}
+
+#[test]
+fn an_index_is_read_again_when_its_folder_changes_or_it_is_damaged() {
+    let (_dir, root) = fixture(FixtureOptions::default());
+    // Files changed just before the index was written: it cannot vouch for them.
+    let _ = load(&options(&root));
+    assert!(!load(&options(&root)).0.objathor().expect("loaded").from_index);
+    age(&root);
+    let _ = load(&options(&root));
+    assert!(load(&options(&root)).0.objathor().expect("loaded").from_index);
+    // The annotations replaced (without the whiteboard): read again, the whiteboard gone.
+    let ann = root.join("annotations.json.gz");
+    let mut value = annotations_of(&ann);
+    value.as_object_mut().expect("object").remove(fixture_uid("whiteboard"));
+    std::fs::write(&ann, value.to_string()).expect("written");
+    let (catalog, _) = load(&options(&root));
+    assert!(!catalog.objathor().expect("loaded").from_index);
+    assert!(catalog.index_of(fixture_uid("whiteboard")).is_none());
+    age(&root);
+    let _ = load(&options(&root));
+    let (catalog, _) = load(&options(&root));
+    assert!(catalog.objathor().expect("loaded").from_index);
+    assert!(catalog.index_of(fixture_uid("whiteboard")).is_none());
+    // A feature file added where there was none.
+    let (_dir, root) = fixture(FixtureOptions::default());
+    let sbert = root.join("features").join("sbert_features.pkl");
+    let kept = std::fs::read(&sbert).expect("read");
+    std::fs::remove_file(&sbert).expect("removed");
+    age(&root);
+    let (without, _) = load(&options(&root));
+    assert!(without
+        .objathor()
+        .expect("loaded")
+        .features
+        .as_ref()
+        .is_some_and(|f| f.sbert.is_none()));
+    std::fs::write(&sbert, kept).expect("written");
+    age(&root);
+    let (with, _) = load(&options(&root));
+    let obj = with.objathor().expect("loaded");
+    assert!(!obj.from_index && obj.features.as_ref().is_some_and(|f| f.sbert.is_some()));
+    // A damaged index, cut short or overwritten: the folder is read, the index written again.
+    let index = root.join(".holoc-index").join("objathor.idx");
+    let whole = std::fs::read(&index).expect("the index");
+    let (good, good_diags) = load(&options(&root));
+    for damaged in [
+        whole[..whole.len() / 2].to_vec(),
+        whole[..100].to_vec(),
+        vec![0u8; whole.len()],
+        whole.iter().enumerate().map(|(i, b)| if i % 97 == 5 { !b } else { *b }).collect(),
+        [&whole[..64], &vec![0xff; whole.len() - 64][..]].concat(),
+    ] {
+        std::fs::write(&index, &damaged).expect("damaged");
+        let (catalog, diags) = load(&options(&root));
+        let obj = catalog.objathor().expect("loaded");
+        assert_eq!(seen(&good, &good_diags), seen(&catalog, &diags));
+        if !obj.from_index {
+            assert!(load(&options(&root)).0.objathor().expect("loaded").from_index);
+        }
+    }
+}
+
+#[test]
+fn unusable_entries_warn_alike_from_the_index() {
+    let (_dir, root) = fixture(FixtureOptions::default());
+    let ann = root.join("annotations.json.gz");
+    let mut value = annotations_of(&ann);
+    let map = value.as_object_mut().expect("object");
+    for i in 0..25 {
+        map.insert(format!("{i:032x}"), serde_json::json!({"annotations": {"category": "x", "onFloor": true}, "thor_metadata": {}}));
+    }
+    map.insert("bad".into(), serde_json::json!(7));
+    std::fs::write(&ann, value.to_string()).expect("written");
+    age(&root);
+    let render = |diags: &[holoc::diag::Diagnostic], sources: &SourceMap| -> String {
+        holoc::diag::lsp::render_lsp(sources, diags)
+    };
+    let mut sources = SourceMap::new();
+    let cold = Catalog::load_with(&[] as &[PathBuf], Some(&options(&root)), &mut sources);
+    let cold_text = render(&cold.diagnostics, &sources);
+    let mut sources = SourceMap::new();
+    let warm = Catalog::load_with(&[] as &[PathBuf], Some(&options(&root)), &mut sources);
+    assert!(warm.value.objathor().expect("loaded").from_index);
+    assert_eq!(cold_text, render(&warm.diagnostics, &sources));
+    assert_eq!(codes(&warm.diagnostics).iter().filter(|c| **c == "W0402").count(), 11);
+    let sum = format!("{:?}", warm.diagnostics.last().expect("the sum"));
+    assert!(sum.contains("1 × it is not a JSON object (the first: `bad`)"), "{sum}");
+}
+
+#[test]
+fn a_house_is_the_same_built_from_the_folder_or_its_index() {
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let root = write_fixture(dir.path(), FixtureOptions::default()).expect("written");
+    age(&root);
+    let out = dir.path().join("out");
+    let root_s = root.to_str().expect("utf-8");
+    let build = |name: &str, extra: &[&str], cache: &Path| {
+        let house = out.join(format!("{name}.json"));
+        let report = out.join(format!("{name}.report.json"));
+        let mut args = vec![
+            "build",
+            CAT_ROOM,
+            "--objathor",
+            root_s,
+            "-o",
+            house.to_str().expect("utf-8"),
+            "--report",
+            report.to_str().expect("utf-8"),
+        ];
+        args.extend(extra);
+        let got = Command::new(env!("CARGO_BIN_EXE_holoc"))
+            .args(&args)
+            .env("NO_COLOR", "1")
+            .env("HOLOC_CACHE_DIR", cache)
+            .output()
+            .expect("holoc runs");
+        let stderr = String::from_utf8_lossy(&got.stderr).into_owned();
+        assert_eq!(got.status.code(), Some(0), "{stderr}");
+        let text = |p: PathBuf| std::fs::read_to_string(p).expect("written");
+        (text(house), text(report), stderr)
+    };
+    let cache = dir.path().join("cache");
+    let plain = build("plain", &["--objathor-no-index"], &cache);
+    assert!(!root.join(".holoc-index").exists() && !cache.exists(), "nothing written");
+    let first = build("first", &[], &cache);
+    assert!(root.join(".holoc-index").join("objathor.idx").is_file());
+    let second = build("second", &[], &cache);
+    assert!(plain.0 == first.0 && first.0 == second.0, "the same house");
+    assert!(plain.1 == first.1 && first.1 == second.1, "the same report");
+    // A folder that cannot take its index: the cache folder does.
+    std::fs::remove_dir_all(root.join(".holoc-index")).expect("removed");
+    std::fs::write(root.join(".holoc-index"), "in the way").expect("written");
+    let cached = build("cached", &[], &cache);
+    assert!(plain.0 == cached.0);
+    let files: Vec<_> =
+        std::fs::read_dir(cache.join("objathor")).expect("the cache").flatten().collect();
+    assert_eq!(files.len(), 1, "{files:?}");
+    assert!(files[0].file_name().to_string_lossy().starts_with("2023_09_23-"));
+    assert!(plain.0 == build("cached_again", &[], &cache).0);
+    // Neither: one warning, the same house.
+    let blocked = dir.path().join("blocked");
+    std::fs::write(&blocked, "a file, not a folder").expect("written");
+    let (house, _, stderr) = build("blocked", &[], &blocked);
+    assert!(plain.0 == house);
+    assert!(stderr.contains("W0407"), "{stderr}");
 }

@@ -70,7 +70,7 @@ pub struct JobSpec {
     /// `lexical`, `features` or `clip`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub objathor_scoring: Option<String>,
-    /// `builtin-first` or `score`.
+    /// `objathor-first` (the default), `builtin-first` or `score`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub objathor_mix: Option<String>,
     /// `argmax` or `seeded`.

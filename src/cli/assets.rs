@@ -27,14 +27,19 @@ pub struct CatalogArgs {
     /// rows; the default when the folder has them) or `clip` (not available in this build).
     #[arg(long, value_name = "MODE", value_parser = ["lexical", "features", "clip"])]
     pub objathor_scoring: Option<String>,
-    /// `builtin-first` (default: objathor assets only for what the other catalogs lack) or
-    /// `score` (both, merged by score).
-    #[arg(long, value_name = "HOW", value_parser = ["builtin-first", "score"])]
+    /// `objathor-first` (default, as the original: objathor's good assets first, the other
+    /// catalogs for what it lacks), `builtin-first` (objathor assets only for what the other
+    /// catalogs lack) or `score` (both, merged by score).
+    #[arg(long, value_name = "HOW", value_parser = ["objathor-first", "builtin-first", "score"])]
     pub objathor_mix: Option<String>,
     /// `argmax` (default: the best objathor asset) or `seeded` (a draw from the softmax of the
     /// best 10, 5 for small objects, from the scene's seed).
     #[arg(long, value_name = "HOW", value_parser = ["argmax", "seeded"])]
     pub objathor_pick: Option<String>,
+    /// Read the objathor folder's files on every build instead of its index (which is then
+    /// neither used nor written).
+    #[arg(long)]
+    pub objathor_no_index: bool,
 }
 
 /// The catalog settings of a project's `holoc.toml` (its other tables are read by the commands
@@ -112,6 +117,7 @@ impl CatalogArgs {
             scoring: self.objathor_scoring.as_deref().and_then(Scoring::parse),
             mix: self.objathor_mix.as_deref().and_then(Mix::parse).unwrap_or_default(),
             pick: self.objathor_pick.as_deref().and_then(Pick::parse).unwrap_or_default(),
+            no_index: self.objathor_no_index,
         })
     }
 }

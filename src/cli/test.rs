@@ -90,7 +90,7 @@ struct Config {
     objathor_version: Option<String>,
     /// `lexical`, `features` or `clip`.
     objathor_scoring: Option<String>,
-    /// `builtin-first` or `score`.
+    /// `objathor-first` (the default), `builtin-first` or `score`.
     objathor_mix: Option<String>,
     /// `argmax` or `seeded`.
     objathor_pick: Option<String>,

@@ -154,6 +154,7 @@ codes! {
     E0405 "scoring-mode-unavailable" "the objathor scoring mode asked cannot run with this folder or build";
     W0405 "unusable-features" "an objathor feature file is missing or cannot be read, and is not used";
     W0406 "unlicensed-asset" "an objathor asset chosen for the house has no licence information";
+    W0407 "objathor-index-unwritten" "the index of the objathor folder could not be written, so every build reads the folder again";
     E0701 "unreadable-line" "a line of an answer does not have the shape its stage expects";
     E0702 "invalid-value" "a field of an answer holds a value that cannot be used";
     E0703 "unknown-answer-room" "an answer names a room the floor plan does not have";

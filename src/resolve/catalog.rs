@@ -35,7 +35,7 @@ mod embedded {
 
 /// One asset of a catalog. Its texts are borrowed from the binary for the embedded catalog's
 /// assets and owned for those read at run time.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Asset {
     /// The asset id (`Sofa_1`, an Objaverse uid, …).
     pub id: Cow<'static, str>,
@@ -48,11 +48,37 @@ pub struct Asset {
     /// Bounding box size in metres: x width, y height, z depth.
     pub bbox_m: [f64; 3],
     /// Where it can be placed.
+    #[serde(with = "placement_bits")]
     pub placements: Placements,
     /// Whether other objects can be put on it.
     pub receptacle: bool,
     /// Index of the catalog it came from in [`Catalog::sources`].
     pub source: usize,
+}
+
+/// [`Placements`] stored as four bits (floor, wall, object, ceiling) in the objathor index
+/// (`placement.rs` is shared with `build.rs`, which has no serde).
+mod placement_bits {
+    use super::Placements;
+
+    #[allow(clippy::trivially_copy_pass_by_ref, reason = "serde's `with` passes a reference")]
+    pub fn serialize<S: serde::Serializer>(p: &Placements, s: S) -> Result<S::Ok, S::Error> {
+        let bits = u8::from(p.on_floor)
+            | u8::from(p.on_wall) << 1
+            | u8::from(p.on_object) << 2
+            | u8::from(p.on_ceiling) << 3;
+        s.serialize_u8(bits)
+    }
+
+    pub fn deserialize<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Placements, D::Error> {
+        let bits = <u8 as serde::Deserialize>::deserialize(d)?;
+        Ok(Placements {
+            on_floor: bits & 1 != 0,
+            on_wall: bits & 2 != 0,
+            on_object: bits & 4 != 0,
+            on_ceiling: bits & 8 != 0,
+        })
+    }
 }
 
 impl Asset {
@@ -213,22 +239,24 @@ impl Catalog {
         &mut self,
         parsed: Vec<(Asset, super::objathor::annotations::Entry)>,
         mut source: CatalogSource,
-    ) -> (usize, usize, Vec<super::objathor::annotations::Entry>) {
+    ) -> (usize, usize, Vec<super::objathor::annotations::Entry>, Vec<usize>) {
         let start = self.assets.len();
         let mut entries = Vec::with_capacity(parsed.len());
+        let mut kept = Vec::with_capacity(parsed.len());
         let assets = Arc::make_mut(&mut self.assets).to_mut();
         let by_id = Arc::make_mut(&mut self.by_id).to_mut();
-        for (asset, entry) in parsed {
+        for (i, (asset, entry)) in parsed.into_iter().enumerate() {
             if by_id.contains_key(&*asset.id) {
                 continue;
             }
             by_id.insert(asset.id.to_string(), assets.len());
             assets.push(asset);
             entries.push(entry);
+            kept.push(i);
         }
         source.n_assets = entries.len();
         self.sources.push(source);
-        (start, self.assets.len(), entries)
+        (start, self.assets.len(), entries, kept)
     }
 
     /// This catalog with assets holoc made (`crate::make`) appended under a source of their

@@ -1197,6 +1197,11 @@ impl<'a> State<'a> {
                 extra = order.into_iter().map(|i| extra[i]).collect();
             }
             match mix {
+                objathor::Mix::ObjathorFirst => {
+                    if !extra.is_empty() {
+                        good = extra;
+                    }
+                }
                 objathor::Mix::BuiltinFirst => {
                     // The built-in set first, unless its best is not the kind of thing the
                     // words name and holoc would make it (objathor's assets come before a

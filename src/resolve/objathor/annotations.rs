@@ -6,7 +6,7 @@ use super::super::catalog::{bbox_of, flags_of, Asset};
 use super::super::text::camel_words;
 
 /// The licence of an Objaverse asset (`license_info`).
-#[derive(Clone, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct License {
     /// The licence's short name (`by`, `by-sa`, `cc0`, …).
     pub license: Option<String>,
@@ -21,7 +21,7 @@ pub struct License {
 }
 
 /// Which of the three shapes the bounding box was written in.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum BoxShape {
     /// `{x, y, z}`.
     Xyz,
@@ -32,7 +32,7 @@ pub enum BoxShape {
 }
 
 /// Every field of one annotation entry that holoc reads (what the asset itself does not hold).
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Entry {
     /// The written description (`description`).
     pub description: Option<String>,

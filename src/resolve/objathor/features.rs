@@ -2,17 +2,38 @@
 //! CLIP text features of the descriptions (`text_features`, assets × 768, later versions) and
 //! SBERT features (assets × 768), float16 as objathor writes them (float32 read as well), each with the `uids` that order its rows.
 //!
-//! The files' bytes are kept as read and rows are decoded when a query looks at them: 50,000
-//! assets take 230 MB of image features as float16 and twice that as float32.
+//! The files' bytes are kept as read, or memory-mapped from the folder's index
+//! (`super::stored`), and rows are decoded when a query looks at them: 50,000 assets take
+//! 230 MB of image features as float16 and twice that as float32.
 
 use std::sync::Arc;
 
 use super::pickle::{f16_to_f32, ArrayBytes, Pickle};
 
+/// The bytes a matrix of rows lies in: a file read into memory, or the folder's index mapped.
+#[derive(Clone)]
+pub(crate) enum Backing {
+    /// Bytes read (a feature file, or rows made by a test).
+    Read(Arc<Vec<u8>>),
+    /// The index file, memory-mapped (`super::stored`).
+    Mapped(Arc<memmap2::Mmap>),
+}
+
+impl std::ops::Deref for Backing {
+    type Target = [u8];
+
+    fn deref(&self) -> &[u8] {
+        match self {
+            Backing::Read(bytes) => bytes,
+            Backing::Mapped(map) => map,
+        }
+    }
+}
+
 /// A matrix of float16 or float32 rows inside a file's bytes.
 #[derive(Clone)]
 pub struct FeatureRows {
-    bytes: Arc<Vec<u8>>,
+    bytes: Backing,
     start: usize,
     rows: usize,
     /// Bytes per element: 2 (float16) or 4 (float32).
@@ -118,20 +139,55 @@ impl FeatureRows {
             ));
         }
         let (bytes, start) = match &array.bytes {
-            ArrayBytes::InFile(r) => (Arc::clone(file), r.start),
-            ArrayBytes::Owned(_) => (Arc::new(pickle.array_bytes(&array.bytes).to_vec()), 0),
+            ArrayBytes::InFile(r) => (Backing::Read(Arc::clone(file)), r.start),
+            ArrayBytes::Owned(_) => {
+                (Backing::Read(Arc::new(pickle.array_bytes(&array.bytes).to_vec())), 0)
+            }
         };
-        if bytes.get(start..start + present).is_none() {
+        FeatureRows::within(bytes, start, [rows, views, dim], item, array.big_endian)
+    }
+
+    /// The rows of `shape` (rows, views, dim) whose elements of `item` bytes start at byte
+    /// `start` of `bytes`: refused unless they lie wholly inside, counted without overflow.
+    pub(crate) fn within(
+        bytes: Backing,
+        start: usize,
+        shape: [usize; 3],
+        item: usize,
+        big_endian: bool,
+    ) -> Result<FeatureRows, String> {
+        let [rows, views, dim] = shape;
+        if dim == 0 || views == 0 {
+            return Err(format!("its shape {shape:?} has an empty side"));
+        }
+        if !matches!(item, 2 | 4) {
+            return Err(format!("its elements have {item} bytes, neither float16 nor float32"));
+        }
+        let present = super::pickle::element_bytes(&shape, item)
+            .ok_or_else(|| format!("its shape {shape:?} is too large"))?;
+        if start.checked_add(present).is_none_or(|end| end > bytes.len()) {
             return Err(format!("its bytes lie outside the file ({present} from byte {start})"));
         }
-        Ok(FeatureRows { bytes, start, rows, item, views, dim, big_endian: array.big_endian })
+        Ok(FeatureRows { bytes, start, rows, item, views, dim, big_endian })
+    }
+
+    /// Where the rows lie: their bytes, the first byte's place, the shape (rows, views, dim),
+    /// the bytes per element and whether they are big-endian (what the index writes).
+    pub(crate) fn raw(&self) -> (&[u8], [usize; 3], usize, bool) {
+        let n = self.rows * self.views * self.dim * self.item;
+        (
+            &self.bytes[self.start..self.start + n],
+            [self.rows, self.views, self.dim],
+            self.item,
+            self.big_endian,
+        )
     }
 
     /// Rows made from float16 bits (tests).
     pub fn from_bits(bits: &[u16], rows: usize, views: usize, dim: usize) -> FeatureRows {
         let bytes: Vec<u8> = bits.iter().flat_map(|b| b.to_le_bytes()).collect();
         FeatureRows {
-            bytes: Arc::new(bytes),
+            bytes: Backing::Read(Arc::new(bytes)),
             start: 0,
             rows,
             item: 2,
@@ -145,7 +201,7 @@ impl FeatureRows {
     pub fn from_f32(values: &[f32], rows: usize, views: usize, dim: usize) -> FeatureRows {
         let bytes: Vec<u8> = values.iter().flat_map(|b| b.to_le_bytes()).collect();
         FeatureRows {
-            bytes: Arc::new(bytes),
+            bytes: Backing::Read(Arc::new(bytes)),
             start: 0,
             rows,
             item: 4,

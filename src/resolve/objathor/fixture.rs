@@ -385,13 +385,7 @@ pub fn write_fixture(dir: &Path, options: FixtureOptions) -> std::io::Result<Pat
             sbert.extend(s);
         }
         let n = assets.len();
-        let array = |shape: Vec<usize>, values: Vec<f32>| {
-            if options.float32 {
-                PickleValue::F32 { shape, values }
-            } else {
-                PickleValue::F16 { shape, bits: values.iter().map(|x| f32_to_f16(*x)).collect() }
-            }
-        };
+        let array = |shape, values| feature_array(options.float32, shape, values);
         let mut clip_items = vec![
             ("uids", PickleValue::Strings(uids.clone())),
             ("img_features", array(vec![n, 3, FIXTURE_DIM], img)),
@@ -479,17 +473,38 @@ const ADJECTIVES: &[&str] = &[
     "leather", "velvet", "glass", "small", "large", "round", "square", "tall", "low", "rustic",
 ];
 
-/// Writes a synthetic version folder `<dir>/synthetic` with `n` annotations and float16
-/// features (`n × views × dim` image rows, `n × dim` text and SBERT rows) from `seed`; no
+/// A feature array of `values`, float32 or float16 (as objathor writes them).
+fn feature_array(float32: bool, shape: Vec<usize>, values: Vec<f32>) -> PickleValue {
+    if float32 {
+        PickleValue::F32 { shape, values }
+    } else {
+        PickleValue::F16 { shape, bits: values.iter().map(|x| f32_to_f16(*x)).collect() }
+    }
+}
+
+/// The shape of a synthetic version folder ([`write_synthetic`]).
+#[derive(Clone, Copy, Debug)]
+pub struct Synthetic {
+    /// How many assets.
+    pub n: usize,
+    /// Image views per asset.
+    pub views: usize,
+    /// Length of a feature vector.
+    pub dim: usize,
+    /// The random seed of names, sizes and features.
+    pub seed: u64,
+    /// Whether the features are float32 (else float16).
+    pub float32: bool,
+    /// Whether `clip_features.pkl` holds CLIP text rows.
+    pub text_rows: bool,
+}
+
+/// Writes a synthetic version folder `<dir>/synthetic` with `n` annotations and features
+/// (`n × views × dim` image rows, `n × dim` text rows when asked, `n × dim` SBERT rows); no
 /// `assets/` folder. For the benchmark.
-pub fn write_synthetic(
-    dir: &Path,
-    n: usize,
-    views: usize,
-    dim: usize,
-    seed: u64,
-) -> std::io::Result<PathBuf> {
+pub fn write_synthetic(dir: &Path, shape: Synthetic) -> std::io::Result<PathBuf> {
     use rand::{Rng as _, SeedableRng as _};
+    let Synthetic { n, views, dim, seed, float32, text_rows } = shape;
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
     let root = dir.join("synthetic");
     std::fs::create_dir_all(root.join("features"))?;
@@ -518,27 +533,24 @@ pub fn write_synthetic(
         uids.push(uid);
     }
     write_gz(&root.join("annotations.json.gz"), Value::Object(map).to_string().as_bytes())?;
-    let mut random_rows = |rows: usize| -> Vec<u16> {
-        (0..rows * dim).map(|_| f32_to_f16(rng.gen_range(-0.06f32..0.06))).collect()
+    let mut random_rows = |rows: usize| -> Vec<f32> {
+        (0..rows * dim).map(|_| rng.gen_range(-0.06f32..0.06)).collect()
     };
     let img = random_rows(n * views);
     let text = random_rows(n);
     let sbert = random_rows(n);
-    let clip = write(
-        &[
-            ("uids", PickleValue::Strings(uids.clone())),
-            ("img_features", PickleValue::F16 { shape: vec![n, views, dim], bits: img }),
-            ("text_features", PickleValue::F16 { shape: vec![n, dim], bits: text }),
-        ],
-        4,
-        NumpyModules::Core,
-    );
+    let array = |shape, values| feature_array(float32, shape, values);
+    let mut clip = vec![
+        ("uids", PickleValue::Strings(uids.clone())),
+        ("img_features", array(vec![n, views, dim], img)),
+    ];
+    if text_rows {
+        clip.push(("text_features", array(vec![n, dim], text)));
+    }
+    let clip = write(&clip, 4, NumpyModules::Core);
     std::fs::write(root.join("features").join("clip_features.pkl"), clip)?;
     let sbert = write(
-        &[
-            ("uids", PickleValue::Strings(uids)),
-            ("text_features", PickleValue::F16 { shape: vec![n, dim], bits: sbert }),
-        ],
+        &[("uids", PickleValue::Strings(uids)), ("text_features", array(vec![n, dim], sbert))],
         4,
         NumpyModules::Core,
     );

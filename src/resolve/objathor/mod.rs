@@ -13,6 +13,7 @@ pub mod annotations;
 pub mod features;
 pub mod fixture;
 pub mod pickle;
+pub mod stored;
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -87,8 +88,11 @@ impl Scoring {
 /// How objathor assets and the other catalogs' assets are combined.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum Mix {
-    /// The other catalogs first; objathor assets only for what they have nothing good for.
+    /// Objathor's good assets first, as the original takes them (its retrieval scores only its
+    /// own database); the other catalogs for what the folder has nothing good for.
     #[default]
+    ObjathorFirst,
+    /// The other catalogs first; objathor assets only for what they have nothing good for.
     BuiltinFirst,
     /// Both, merged by their lexical score.
     Score,
@@ -98,6 +102,7 @@ impl Mix {
     /// The word used on the command line and in the report.
     pub fn as_str(self) -> &'static str {
         match self {
+            Mix::ObjathorFirst => "objathor-first",
             Mix::BuiltinFirst => "builtin-first",
             Mix::Score => "score",
         }
@@ -106,6 +111,7 @@ impl Mix {
     /// Parses [`Mix::as_str`].
     pub fn parse(text: &str) -> Option<Mix> {
         match text.trim() {
+            "objathor-first" => Some(Mix::ObjathorFirst),
             "builtin-first" => Some(Mix::BuiltinFirst),
             "score" => Some(Mix::Score),
             _ => None,
@@ -155,6 +161,8 @@ pub struct ObjathorOptions {
     pub mix: Mix,
     /// How one asset is taken from the good ones.
     pub pick: Pick,
+    /// Read the folder's files every time, never its index ([`stored`]), and write none.
+    pub no_index: bool,
 }
 
 impl ObjathorOptions {
@@ -177,8 +185,9 @@ impl ObjathorOptions {
             None => None,
         };
         let mix = match mix {
-            Some(s) => Mix::parse(s)
-                .ok_or_else(|| format!("unknown objathor mix `{s}` (builtin-first or score)"))?,
+            Some(s) => Mix::parse(s).ok_or_else(|| {
+                format!("unknown objathor mix `{s}` (objathor-first, builtin-first or score)")
+            })?,
             None => Mix::default(),
         };
         let pick = match pick {
@@ -192,6 +201,7 @@ impl ObjathorOptions {
             scoring,
             mix,
             pick,
+            no_index: false,
         }))
     }
 }
@@ -234,6 +244,10 @@ pub struct Objathor {
     /// The folder's assets (by their place in its range) under each WordNet synset of the
     /// annotations (`synset`).
     pub(crate) synset_members: HashMap<String, Vec<usize>>,
+    /// The index the folder was read from or written to ([`stored`]), when there is one.
+    pub index_file: Option<PathBuf>,
+    /// Whether the folder was read from that index (else from its files).
+    pub from_index: bool,
 }
 
 impl Objathor {
@@ -413,114 +427,202 @@ fn feature_path(root: &Path, name: &str) -> Option<PathBuf> {
         .find(|p| present(p))
 }
 
-/// Loads the version folder `options` names into `catalog` (after every other catalog),
-/// adding the annotations' text to `sources`. Returns the diagnostics: E0404 for a folder that
-/// cannot be used, E0403/W0402 for the annotations as for any catalog, W0405 for feature files
-/// that cannot be used, E0405 for a scoring mode that cannot run.
-pub fn load(
-    options: &ObjathorOptions,
-    catalog: &mut Catalog,
-    sources: &mut SourceMap,
-) -> Vec<Diagnostic> {
-    let mut diags = Vec::new();
-    let (root, annotations_path) = match version_folder(options) {
-        Ok(found) => found,
-        Err(d) => return vec![*d],
-    };
-    let clip_path = feature_path(&root, "clip_features");
-    let sbert_path = feature_path(&root, "sbert_features");
-    // The annotations, the CLIP features and the SBERT features are read and hashed at once.
+/// Why a folder's annotations cannot be used.
+enum Unusable {
+    /// They cannot be read (E0403).
+    Unreadable(Box<Diagnostic>),
+    /// Their text is not JSON (E0403, pointing into the text).
+    NotJson(String, serde_json::Error),
+}
+
+/// Reads the folder's files: the annotations parsed, the feature files decoded.
+fn read_folder(files: &stored::FolderFiles, source: usize) -> Result<stored::FolderRead, Unusable> {
+    let name = files.annotations.display().to_string();
+    // The annotations first (the feature files give each parsed asset its rows), the two
+    // feature files' bytes read and hashed meanwhile.
     let (annotations, (clip, sbert)) = rayon::join(
         || {
-            let bytes = crate::source::read_input(&annotations_path, super::MAX_CATALOG_BYTES)
+            let bytes = crate::source::read_input(&files.annotations, super::MAX_CATALOG_BYTES)
                 .map_err(|e| e.to_string())?;
             let sha = super::sha256_hex(&bytes);
             super::catalog::catalog_text(&bytes).map(|text| (text, sha))
         },
         || {
             rayon::join(
-                || clip_path.as_ref().map(|p| read_features(p, &["img_features", "text_features"])),
-                || sbert_path.as_ref().map(|p| read_features(p, &["text_features"])),
+                || {
+                    files
+                        .clip
+                        .as_ref()
+                        .map(|p| read_features(p, &["img_features", "text_features"]))
+                },
+                || files.sbert.as_ref().map(|p| read_features(p, &["text_features"])),
             )
         },
     );
-    let name = annotations_path.display().to_string();
-    let (text, sha256) = match annotations {
+    let (text, annotations_sha256) = annotations.map_err(|message| {
+        Unusable::Unreadable(Box::new(super::catalog::unreadable(&name, &message).with_help(
+            "check the annotations of the folder given to `--objathor` (download them again \
+             with objathor's script if they are damaged)",
+        )))
+    })?;
+    let (parsed, problems) = match parse(&text, source) {
         Ok(found) => found,
-        Err(message) => {
-            diags.push(super::catalog::unreadable(&name, &message).with_help(
-                "check the annotations of the folder given to `--objathor` (download them again \
-                 with objathor's script if they are damaged)",
-            ));
-            return diags;
-        }
+        Err(e) => return Err(Unusable::NotJson(text, e)),
+    };
+    let rows = |file: Option<Result<FeatureFile, String>>| {
+        file.map(|found| {
+            found.map(|file| {
+                let mut row_of: HashMap<&str, u32> = HashMap::with_capacity(file.uids.len());
+                for (r, uid) in file.uids.iter().enumerate() {
+                    row_of.insert(uid.as_str(), u32::try_from(r).unwrap_or(u32::MAX));
+                }
+                let rows_of = parsed
+                    .iter()
+                    .map(|(a, _)| row_of.get(&*a.id).copied().unwrap_or(u32::MAX))
+                    .collect();
+                stored::ReadFeatures { sha256: file.sha256, rows_of, arrays: file.arrays }
+            })
+        })
+    };
+    let (clip, sbert) = (rows(clip), rows(sbert));
+    Ok(stored::FolderRead { annotations_sha256, text: Some(text), parsed, problems, clip, sbert })
+}
+
+/// Loads the version folder `options` names into `catalog` (after every other catalog),
+/// adding the annotations' text to `sources` where a diagnostic points into it. The folder is
+/// read from its index ([`stored`]) when one holds for its files, else read and indexed.
+/// Returns the diagnostics: E0404 for a folder that cannot be used, E0403/W0402 for the
+/// annotations as for any catalog, W0405 for feature files that cannot be used, E0405 for a
+/// scoring mode that cannot run, W0407 for an index that could not be written.
+pub fn load(
+    options: &ObjathorOptions,
+    catalog: &mut Catalog,
+    sources: &mut SourceMap,
+) -> Vec<Diagnostic> {
+    let (root, annotations_path) = match version_folder(options) {
+        Ok(found) => found,
+        Err(d) => return vec![*d],
     };
     let version =
         root.file_name().map_or_else(|| "unknown".into(), |n| n.to_string_lossy().into_owned());
-    let file = sources.add(name.clone(), text);
+    let files = stored::FolderFiles {
+        annotations: annotations_path,
+        clip: feature_path(&root, "clip_features"),
+        sbert: feature_path(&root, "sbert_features"),
+    };
     let source = catalog.sources().len();
-    let parsed = parse(&sources.get(file).text, file, source, &mut diags);
-    let mut files = vec![(name.clone(), sha256.clone())];
-    let (start, end, entries) = catalog.append_objathor(
+    let mut late = Vec::new();
+    let mut index = None;
+    let mut from_index = false;
+    let found = if options.no_index { None } else { stored::open(&root, &version, &files) };
+    let read = match found {
+        Some((mut read, path)) => {
+            for (asset, _) in &mut read.parsed {
+                asset.source = source;
+            }
+            index = Some(path);
+            from_index = true;
+            read
+        }
+        None => {
+            let read = match read_folder(&files, source) {
+                Ok(read) => read,
+                Err(Unusable::Unreadable(d)) => return vec![*d],
+                Err(Unusable::NotJson(text, e)) => {
+                    let file = sources.add(files.annotations.display().to_string(), text);
+                    return vec![super::catalog::json_error(&sources.get(file).text, file, &e)];
+                }
+            };
+            if !options.no_index {
+                match stored::write(&root, &version, &files, &read) {
+                    Ok(path) => index = Some(path),
+                    Err(why) => late.push(
+                        Diagnostic::new(
+                            Code::W0407,
+                            "the objathor folder's index could not be written; every build reads the folder again",
+                        )
+                        .with_note(why)
+                        .with_help(
+                            "make the folder writable, or set `HOLOC_CACHE_DIR` to a folder holoc may write",
+                        ),
+                    ),
+                }
+            }
+            read
+        }
+    };
+    let mut diags =
+        install(read, (root, version, index, from_index), &files, options, catalog, sources);
+    diags.extend(late);
+    diags
+}
+
+/// Puts what was read of the folder `root` (its version, the index it came from or went to)
+/// into `catalog`: its assets after all others, their entries and feature rows, the scoring
+/// mode in force.
+fn install(
+    read: stored::FolderRead,
+    (root, version, index_file, from_index): (PathBuf, String, Option<PathBuf>, bool),
+    files: &stored::FolderFiles,
+    options: &ObjathorOptions,
+    catalog: &mut Catalog,
+    sources: &mut SourceMap,
+) -> Vec<Diagnostic> {
+    let mut diags = Vec::new();
+    let name = files.annotations.display().to_string();
+    let source = catalog.sources().len();
+    let stored::FolderRead { annotations_sha256, text, parsed, problems, clip, sbert } = read;
+    if let Some(text) = text.filter(|_| !problems.is_empty()) {
+        let file = sources.add(name.clone(), text);
+        diags.extend(problem_diagnostics(&problems, file));
+    }
+    let mut files_read = vec![(name.clone(), annotations_sha256.clone())];
+    let (start, end, entries, kept) = catalog.append_objathor(
         parsed,
         CatalogSource {
             name: "objathor".into(),
             version: Some(version.clone()),
-            sha256,
+            sha256: annotations_sha256,
             path: Some(name),
             n_assets: 0,
         },
     );
-
-    // Feature rows by asset.
-    let uid_to_k: HashMap<&str, usize> =
-        (start..end).map(|i| (&*catalog.asset_at(i).id, i - start)).collect();
-    let mut features = Features::default();
-    let rows_of = |uids: &[String]| -> Vec<u32> {
-        let mut rows = vec![u32::MAX; end - start];
-        for (r, uid) in uids.iter().enumerate() {
-            if let Some(&k) = uid_to_k.get(uid.as_str()) {
-                rows[k] = r as u32;
-            }
-        }
-        rows
+    let rows_of = |rows: &[u32]| -> Vec<u32> {
+        kept.iter().map(|&i| rows.get(i).copied().unwrap_or(u32::MAX)).collect()
     };
-    if let (Some(path), Some(result)) = (&clip_path, clip) {
-        match result {
-            Ok(file) => {
-                features.clip_row = rows_of(&file.uids);
-                for (key, rows) in file.arrays {
-                    if key == "img_features" {
-                        features.img = Some(rows);
-                    } else {
-                        features.text = Some(rows);
-                    }
+    let mut features = Features::default();
+    match (&files.clip, clip) {
+        (Some(path), Some(Ok(file))) => {
+            features.clip_row = rows_of(&file.rows_of);
+            for (key, rows) in file.arrays {
+                if key == "img_features" {
+                    features.img = Some(rows);
+                } else {
+                    features.text = Some(rows);
                 }
-                files.push((path.display().to_string(), file.sha256));
             }
-            Err(why) => diags.push(features_warning(path, &why)),
+            files_read.push((path.display().to_string(), file.sha256));
         }
-    } else {
-        diags.push(features_warning(
+        (Some(path), Some(Err(why))) => diags.push(features_warning(path, &why)),
+        _ => diags.push(features_warning(
             &root.join("features").join("clip_features.pkl"),
             "there is no such file",
-        ));
+        )),
     }
-    if let (Some(path), Some(result)) = (&sbert_path, sbert) {
-        match result {
-            Ok(file) => {
-                features.sbert_row = rows_of(&file.uids);
-                features.sbert = file.arrays.into_iter().next().map(|(_, rows)| rows);
-                files.push((path.display().to_string(), file.sha256));
-            }
-            Err(why) => diags.push(features_warning(path, &why)),
+    match (&files.sbert, sbert) {
+        (Some(path), Some(Ok(file))) => {
+            features.sbert_row = rows_of(&file.rows_of);
+            features.sbert = file.arrays.into_iter().next().map(|(_, rows)| rows);
+            files_read.push((path.display().to_string(), file.sha256));
         }
+        (Some(path), Some(Err(why))) => diags.push(features_warning(path, &why)),
+        _ => {}
     }
     let dims: Vec<usize> =
         [&features.img, &features.text].iter().filter_map(|r| r.as_ref().map(|r| r.dim)).collect();
     if dims.windows(2).any(|w| w[0] != w[1]) {
         diags.push(features_warning(
-            clip_path.as_deref().unwrap_or(&root),
+            files.clip.as_deref().unwrap_or(&root),
             "its image and text features have different lengths",
         ));
         features.img = None;
@@ -582,46 +684,51 @@ pub fn load(
         scoring_asked: options.scoring,
         mix: options.mix,
         pick: options.pick,
-        files,
+        files: files_read,
         index,
         synset_members,
+        index_file,
+        from_index,
     });
     diags
 }
 
-/// The assets and entries of an annotations text (an object keyed by uid), with a warning for
-/// each unusable entry.
+/// The assets and entries of an annotations text (an object keyed by uid) and its unusable
+/// entries; the JSON error when it is not an object of entries.
 fn parse(
     text: &str,
-    file: FileId,
     source: usize,
-    diags: &mut Vec<Diagnostic>,
-) -> Vec<(Asset, Entry)> {
-    let object: super::catalog::OrderedObject = match serde_json::from_str(text) {
-        Ok(v) => v,
-        Err(e) => {
-            diags.push(super::catalog::json_error(text, file, &e));
-            return Vec::new();
-        }
-    };
+) -> Result<(Vec<(Asset, Entry)>, stored::Problems), serde_json::Error> {
+    let object: super::catalog::OrderedObject = serde_json::from_str(text)?;
     let mut cursor = 0usize;
     let mut out = Vec::with_capacity(object.0.len());
-    // Past the first few, unusable entries are counted by reason in one warning.
-    let mut more = std::collections::BTreeMap::<String, (usize, String)>::new();
-    let mut shown = 0;
+    let mut problems = stored::Problems::default();
     for (uid, value) in &object.0 {
-        let span = super::catalog::key_span(text, file, uid, &mut cursor);
+        let span = super::catalog::key_span(text, FileId(0), uid, &mut cursor);
         match annotations::read_entry(uid, value, source) {
             Ok(pair) => out.push(pair),
-            Err(why) if shown < MAX_ENTRY_WARNINGS => {
-                shown += 1;
-                diags.push(super::catalog::bad_entry(file, span, uid, &why));
+            // Past the first few, unusable entries are counted by reason in one warning.
+            Err(why) if problems.shown.len() < MAX_ENTRY_WARNINGS => {
+                let range = span.range();
+                problems.shown.push((uid.clone(), why, (range.start, range.end)));
             }
-            Err(why) => more.entry(why).or_insert((0, uid.clone())).0 += 1,
+            Err(why) => problems.more.entry(why).or_insert((0, uid.clone())).0 += 1,
         }
     }
-    if !more.is_empty() {
-        let n: usize = more.values().map(|(k, _)| k).sum();
+    Ok((out, problems))
+}
+
+/// The warnings of the unusable entries, pointing into the annotations `file`.
+fn problem_diagnostics(problems: &stored::Problems, file: FileId) -> Vec<Diagnostic> {
+    let mut diags: Vec<Diagnostic> = problems
+        .shown
+        .iter()
+        .map(|(uid, why, (a, b))| {
+            super::catalog::bad_entry(file, Span::new(file, *a, *b), uid, why)
+        })
+        .collect();
+    if !problems.more.is_empty() {
+        let n: usize = problems.more.values().map(|(k, _)| k).sum();
         let mut d = Diagnostic::new(
             Code::W0402,
             format!(
@@ -629,14 +736,14 @@ fn parse(
                 if n == 1 { "y is" } else { "ies are" }
             ),
         );
-        for (why, (k, first)) in &more {
+        for (why, (k, first)) in &problems.more {
             d = d.with_note(format!("{k} × {why} (the first: `{first}`)"));
         }
         diags.push(d.with_help(
             "the rest of the folder is loaded; download the annotations again if they are damaged",
         ));
     }
-    out
+    diags
 }
 
 /// How many unusable annotation entries get a warning of their own; the rest are counted in one.
@@ -649,10 +756,16 @@ pub fn read_annotations(bytes: &[u8], sources: &mut SourceMap) -> (usize, Vec<Di
         Ok(text) => text,
         Err(message) => return (0, vec![super::catalog::unreadable("annotations", &message)]),
     };
-    let file = sources.add("annotations.json", text);
-    let mut diags = Vec::new();
-    let n = parse(&sources.get(file).text, file, 0, &mut diags).len();
-    (n, diags)
+    match parse(&text, 0) {
+        Ok((parsed, problems)) => {
+            let file = sources.add("annotations.json", text);
+            (parsed.len(), problem_diagnostics(&problems, file))
+        }
+        Err(e) => {
+            let file = sources.add("annotations.json", text);
+            (0, vec![super::catalog::json_error(&sources.get(file).text, file, &e)])
+        }
+    }
 }
 
 /// Reads a feature file's bytes (gzip allowed) as [`load`] does (the CLIP keys, then the SBERT
