@@ -163,6 +163,42 @@ fn run_features(bytes: &[u8]) {
     let _ = holoc::resolve::objathor::read_feature_bytes(bytes.to_vec());
 }
 
+fn run_index(bytes: &[u8]) {
+    let _ = holoc::resolve::objathor::stored::read_index_bytes(bytes.to_vec());
+}
+
+/// The indexes holoc writes for fixture folders (float16, float32, image rows only, and one
+/// with unusable entries, whose index keeps the annotations' text).
+fn index_seeds() -> Vec<Vec<u8>> {
+    use holoc::resolve::objathor::fixture::{write_fixture, FixtureOptions};
+    use holoc::resolve::objathor::ObjathorOptions;
+    let mut out = Vec::new();
+    let Ok(dir) = tempfile::tempdir() else { return out };
+    for (i, options) in [
+        FixtureOptions { assets: false, ..FixtureOptions::default() },
+        FixtureOptions { assets: false, float32: true, ..FixtureOptions::default() },
+        FixtureOptions { assets: false, text_rows: false, ..FixtureOptions::default() },
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let Ok(root) = write_fixture(&dir.path().join(i.to_string()), options) else { continue };
+        if i == 2 {
+            // An entry that is not an object: the index keeps the text its warning points into.
+            let _ =
+                std::fs::write(root.join("annotations.json.gz"), gzip(b"{\"a\": 1, \"b\": {}}"));
+        }
+        let options = ObjathorOptions { dir: root.clone(), ..ObjathorOptions::default() };
+        let _ = holoc::resolve::Catalog::load_with(
+            &[] as &[PathBuf],
+            Some(&options),
+            &mut SourceMap::new(),
+        );
+        out.extend(std::fs::read(root.join(".holoc-index").join("objathor.idx")));
+    }
+    out
+}
+
 /// A house through what `diff`, `export` and `view` do with it: the diff's view (against
 /// itself and against the first seed house, rendered both ways), and, for a house `validate`
 /// accepts, the glTF export and the viewer page.
@@ -254,6 +290,20 @@ fn objathor_seeds() -> (Vec<Vec<u8>>, Vec<Vec<u8>>) {
     }
     (annotations, pickles)
 }
+
+/// Tokens of the objathor index: its magic, sizes as varints and little-endian words.
+const INDEX_WORDS: &[&str] = &[
+    "HOLOCOBJ",
+    "\u{1}\u{0}\u{0}\u{0}",
+    "\u{ff}\u{ff}\u{ff}\u{ff}\u{f}",
+    "\u{80}\u{80}\u{80}\u{80}\u{1}",
+    "\u{0}\u{0}\u{0}\u{0}\u{0}\u{0}\u{0}\u{0}",
+    "\u{ff}\u{ff}\u{ff}\u{ff}\u{ff}\u{ff}\u{ff}\u{7f}",
+    "\u{2}",
+    "\u{4}",
+    "img_features",
+    "text_features",
+];
 
 /// Tokens of numpy's pickles: opcodes, module names, dtype names, sizes.
 const PICKLE_WORDS: &[&str] = &[
@@ -542,6 +592,7 @@ fn targets() -> Vec<Target> {
         t("completion", completions, JSON_WORDS, run_completion),
         t("objathor-annotations", annotations, JSON_WORDS, run_annotations),
         t("feature-pickle", pickles, PICKLE_WORDS, run_features),
+        t("objathor-index", index_seeds(), INDEX_WORDS, run_index),
         t("house-readers", house_seeds(), JSON_WORDS, run_house_readers),
     ]
 }
