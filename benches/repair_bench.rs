@@ -26,7 +26,8 @@
 //! of the plan meant is from the repaired plan (*deviation from meant*; target at most 1 m),
 //! and the CPU per plan; then plans of up to 64 KB (rows of rooms of 199 corners each drawn
 //! into the next) with their time and whether the bound on work (W0309) was reached (target:
-//! no repair over 1 s). `REPAIR_BENCH_ONLY=large` prints that last table alone, and
+//! no repair over 1 s). `REPAIR_BENCH_ONLY=large` prints that last table alone,
+//! `REPAIR_BENCH_KINDS=jitter,corner only` measures those kinds of break alone, and
 //! `REPAIR_BENCH_NO_GENERATE=1` leaves out the `holoc generate` figures.
 //!
 //! The target (issue 15): at least 95% of the `shift` and `scale` plans (overlaps and gaps of up
@@ -558,8 +559,15 @@ fn main() {
             staircases.into_iter().map(|(meant, broken)| (meant, vec![("staircase", 1, broken)])),
         )
         .collect();
+    // `REPAIR_BENCH_KINDS=jitter,corner only` measures those kinds alone.
+    let only: Option<Vec<String>> = std::env::var("REPAIR_BENCH_KINDS")
+        .ok()
+        .map(|v| v.split(',').map(|k| k.trim().to_string()).collect());
     for (base, broken_plans) in &all {
         for (kind, broken_room, broken) in broken_plans.iter().cloned() {
+            if only.as_ref().is_some_and(|o| !o.iter().any(|k| k == kind)) {
+                continue;
+            }
             let text = broken.to_holo();
             let Some(errors) = plan_errors(&text) else { continue };
             let row = &mut rows[kinds.iter().position(|k| *k == kind).unwrap_or(0)];
@@ -581,6 +589,23 @@ fn main() {
             if out.changed && out.valid {
                 if sharing_pairs(&out.corners) == sharing_pairs_of(base) {
                     row.pairs_kept += 1;
+                } else if let Some(dir) = std::env::var_os("REPAIR_BENCH_DUMP") {
+                    // The plans whose wall-sharing pairs changed, with both lists.
+                    let path = std::path::Path::new(&dir).join(format!(
+                        "pairs-{}-{}.holo",
+                        kind.replace(' ', "_"),
+                        row.repaired - row.pairs_kept
+                    ));
+                    let mut dump = text.clone();
+                    let _ = writeln!(dump, "// pairs meant: {:?}", sharing_pairs_of(base));
+                    let _ = writeln!(dump, "// pairs after: {:?}", sharing_pairs(&out.corners));
+                    for l in base.to_holo().lines() {
+                        let _ = writeln!(dump, "// meant: {l}");
+                    }
+                    for l in out.text.lines() {
+                        let _ = writeln!(dump, "// repaired: {l}");
+                    }
+                    let _ = std::fs::write(path, dump);
                 }
                 row.deviation = row.deviation.max(deviation_from_meant(base, &out.corners));
             }
