@@ -644,6 +644,27 @@ fn a_jittered_t_junction_keeps_its_step() {
     assert!(!again.changed, "{}", repaired.text);
 }
 
+/// Issue 50: a room meeting the room it has a door to only at a corner slides along that
+/// room's wall by the least distance that gives the door its wall: the widest single doorway
+/// of the catalog (1.08 m) and 0.15 m at each end, rounded up to 5 cm, 1.4 m (the slide was
+/// 1.5 m). The bedroom alone moves, whole (its area unchanged), the kitchen and bedroom then
+/// share 1.4 m of wall, and a second repair changes nothing.
+#[test]
+fn a_room_meeting_its_neighbour_at_a_corner_slides_the_least_distance() {
+    let text = std::fs::read_to_string("tests/corpus/repair/corner_only.holo").expect("fixture");
+    let repaired = repair_text("corner_only.holo", &text);
+    assert_eq!(plan_errors(&repaired.text), Vec::<&str>::new(), "{}", repaired.text);
+    assert!((repaired.max_move_m - 1.4).abs() < 1e-9, "{}\n{}", repaired.max_move_m, repaired.text);
+    assert!(repaired.area_change < 1e-9, "{}", repaired.area_change);
+    assert_eq!(other_room_lines(&repaired.text, "bedroom"), other_room_lines(&text, "bedroom"));
+    let got = outlines(&repaired.text);
+    let room = |name: &str| got.iter().find(|(n, _)| n == name).expect("room").1.clone();
+    let shared = shared_wall_m(&room("kitchen"), &room("bedroom"));
+    assert!((shared - 1.4).abs() < 1e-9, "{shared} m\n{}", repaired.text);
+    let again = repair_text("repaired.holo", &repaired.text);
+    assert!(!again.changed, "{}", repaired.text);
+}
+
 /// A room whose north-east side is a staircase of `steps` steps (`2 * steps + 3` corners) from
 /// (0, 6) down to (6, 1), and a room south of it drawn `overlap` metres into it, with a door
 /// between them and one to the outside.
