@@ -25,8 +25,9 @@
 //! plan meant (*pairs kept*; target 99% for `jitter` and `corner only`), the farthest a corner
 //! of the plan meant is from the repaired plan (*deviation from meant*; target at most 1 m),
 //! and the CPU per plan; then plans of up to 64 KB (rows of rooms of 199 corners each drawn
-//! into the next) with their time and whether the bound on work (W0309) was reached (target:
-//! no repair over 1 s). `REPAIR_BENCH_ONLY=large` prints that last table alone,
+//! into the next, and grids of up to 576 small rooms, jittered or with one room drawn into its
+//! neighbour) with their time and whether the bound on work (W0309) was reached (target: no
+//! repair over 1 s). `REPAIR_BENCH_ONLY=large` prints those two tables alone,
 //! `REPAIR_BENCH_KINDS=jitter,corner only` measures those kinds of break alone, and
 //! `REPAIR_BENCH_NO_GENERATE=1` leaves out the `holoc generate` figures.
 //!
@@ -519,6 +520,7 @@ fn main() {
     // table of large plans alone.
     if std::env::var("REPAIR_BENCH_ONLY").is_ok_and(|v| v == "large") {
         large_plans();
+        grid_plans();
         return;
     }
     let mut valid_plans = real_plans();
@@ -710,6 +712,7 @@ fn main() {
         println!("not repaired: {f}");
     }
     large_plans();
+    grid_plans();
     issue_cases();
     if std::env::var_os("REPAIR_BENCH_NO_GENERATE").is_none() {
         generate_figures(&bases);
@@ -854,6 +857,67 @@ fn large_plans() {
             out.time.as_secs_f64() * 1000.0,
             out.bounded
         );
+    }
+}
+
+/// Plans of up to 64 KB of many small rooms: a grid of `side` × `side` rooms of 3 m × 3 m
+/// (doors between neighbours in a row and down the first column), every corner jittered by
+/// up to 17 cm, or one room drawn 30 cm into its neighbour. The time of one repair, whether
+/// the plan came out valid and whether it reached the bound on work (W0309).
+fn grid_plans() {
+    println!("\n| grid plan | rooms | corners | KB | repaired | ms | W0309 |");
+    println!("|---|---|---|---|---|---|---|");
+    for side in [5, 10, 17, 24] {
+        for jitter in [true, false] {
+            let mut rng = Rng(0x6772_6964 ^ side as u64);
+            let mut plan = Plan {
+                name: format!("grid of {side}x{side}{}", if jitter { ", jittered" } else { "" }),
+                rooms: Vec::new(),
+                doors: vec![(None, 0)],
+            };
+            for i in 0..side {
+                for j in 0..side {
+                    let (x0, z0) = (i as f64 * 3.0, j as f64 * 3.0);
+                    let mut corners =
+                        vec![[x0, z0], [x0, z0 + 3.0], [x0 + 3.0, z0 + 3.0], [x0 + 3.0, z0]];
+                    if jitter {
+                        for c in &mut corners {
+                            c[0] += rng.range(-0.17, 0.17);
+                            c[1] += rng.range(-0.17, 0.17);
+                        }
+                    } else if i == side / 2 && j == side / 2 {
+                        for c in &mut corners {
+                            c[0] -= 0.3;
+                        }
+                    }
+                    let r = plan.rooms.len();
+                    plan.rooms.push((format!("g{i}_{j}"), corners));
+                    if j > 0 {
+                        plan.doors.push((Some(r - 1), r));
+                    } else if i > 0 {
+                        plan.doors.push((Some(r - side), r));
+                    }
+                }
+            }
+            let text = plan.to_holo();
+            let corners: usize = plan.rooms.iter().map(|r| r.1.len()).sum();
+            let kb = text.len() as f64 / 1024.0;
+            match repair_plan(&text) {
+                Some(out) => println!(
+                    "| {} | {} | {corners} | {kb:.1} | {} | {:.1} | {} |",
+                    plan.name,
+                    plan.rooms.len(),
+                    out.valid && out.changed,
+                    out.time.as_secs_f64() * 1000.0,
+                    out.bounded
+                ),
+                None => println!(
+                    "| {} | {} | {corners} | {kb:.1} | (not checked) | | |",
+                    plan.name,
+                    plan.rooms.len()
+                ),
+            }
+        }
     }
 }
 
