@@ -25,8 +25,10 @@
 //! plan meant (*pairs kept*; target 99% for `jitter` and `corner only`), the farthest a corner
 //! of the plan meant is from the repaired plan (*deviation from meant*; target at most 1 m),
 //! and the CPU per plan; then plans of up to 64 KB (rows of rooms of 199 corners each drawn
-//! into the next) with their time and whether the bound on work (W0309) was reached (target:
-//! no repair over 1 s). `REPAIR_BENCH_ONLY=large` prints that last table alone, and
+//! into the next, and grids of up to 576 small rooms, jittered or with one room drawn into its
+//! neighbour) with their time and whether the bound on work (W0309) was reached (target: no
+//! repair over 1 s). `REPAIR_BENCH_ONLY=large` prints those two tables alone,
+//! `REPAIR_BENCH_KINDS=jitter,corner only` measures those kinds of break alone, and
 //! `REPAIR_BENCH_NO_GENERATE=1` leaves out the `holoc generate` figures.
 //!
 //! The target (issue 15): at least 95% of the `shift` and `scale` plans (overlaps and gaps of up
@@ -518,6 +520,7 @@ fn main() {
     // table of large plans alone.
     if std::env::var("REPAIR_BENCH_ONLY").is_ok_and(|v| v == "large") {
         large_plans();
+        grid_plans();
         return;
     }
     let mut valid_plans = real_plans();
@@ -558,8 +561,15 @@ fn main() {
             staircases.into_iter().map(|(meant, broken)| (meant, vec![("staircase", 1, broken)])),
         )
         .collect();
+    // `REPAIR_BENCH_KINDS=jitter,corner only` measures those kinds alone.
+    let only: Option<Vec<String>> = std::env::var("REPAIR_BENCH_KINDS")
+        .ok()
+        .map(|v| v.split(',').map(|k| k.trim().to_string()).collect());
     for (base, broken_plans) in &all {
         for (kind, broken_room, broken) in broken_plans.iter().cloned() {
+            if only.as_ref().is_some_and(|o| !o.iter().any(|k| k == kind)) {
+                continue;
+            }
             let text = broken.to_holo();
             let Some(errors) = plan_errors(&text) else { continue };
             let row = &mut rows[kinds.iter().position(|k| *k == kind).unwrap_or(0)];
@@ -581,6 +591,23 @@ fn main() {
             if out.changed && out.valid {
                 if sharing_pairs(&out.corners) == sharing_pairs_of(base) {
                     row.pairs_kept += 1;
+                } else if let Some(dir) = std::env::var_os("REPAIR_BENCH_DUMP") {
+                    // The plans whose wall-sharing pairs changed, with both lists.
+                    let path = std::path::Path::new(&dir).join(format!(
+                        "pairs-{}-{}.holo",
+                        kind.replace(' ', "_"),
+                        row.repaired - row.pairs_kept
+                    ));
+                    let mut dump = text.clone();
+                    let _ = writeln!(dump, "// pairs meant: {:?}", sharing_pairs_of(base));
+                    let _ = writeln!(dump, "// pairs after: {:?}", sharing_pairs(&out.corners));
+                    for l in base.to_holo().lines() {
+                        let _ = writeln!(dump, "// meant: {l}");
+                    }
+                    for l in out.text.lines() {
+                        let _ = writeln!(dump, "// repaired: {l}");
+                    }
+                    let _ = std::fs::write(path, dump);
                 }
                 row.deviation = row.deviation.max(deviation_from_meant(base, &out.corners));
             }
@@ -685,6 +712,7 @@ fn main() {
         println!("not repaired: {f}");
     }
     large_plans();
+    grid_plans();
     issue_cases();
     if std::env::var_os("REPAIR_BENCH_NO_GENERATE").is_none() {
         generate_figures(&bases);
@@ -829,6 +857,67 @@ fn large_plans() {
             out.time.as_secs_f64() * 1000.0,
             out.bounded
         );
+    }
+}
+
+/// Plans of up to 64 KB of many small rooms: a grid of `side` × `side` rooms of 3 m × 3 m
+/// (doors between neighbours in a row and down the first column), every corner jittered by
+/// up to 17 cm, or one room drawn 30 cm into its neighbour. The time of one repair, whether
+/// the plan came out valid and whether it reached the bound on work (W0309).
+fn grid_plans() {
+    println!("\n| grid plan | rooms | corners | KB | repaired | ms | W0309 |");
+    println!("|---|---|---|---|---|---|---|");
+    for side in [5, 10, 17, 24] {
+        for jitter in [true, false] {
+            let mut rng = Rng(0x6772_6964 ^ side as u64);
+            let mut plan = Plan {
+                name: format!("grid of {side}x{side}{}", if jitter { ", jittered" } else { "" }),
+                rooms: Vec::new(),
+                doors: vec![(None, 0)],
+            };
+            for i in 0..side {
+                for j in 0..side {
+                    let (x0, z0) = (i as f64 * 3.0, j as f64 * 3.0);
+                    let mut corners =
+                        vec![[x0, z0], [x0, z0 + 3.0], [x0 + 3.0, z0 + 3.0], [x0 + 3.0, z0]];
+                    if jitter {
+                        for c in &mut corners {
+                            c[0] += rng.range(-0.17, 0.17);
+                            c[1] += rng.range(-0.17, 0.17);
+                        }
+                    } else if i == side / 2 && j == side / 2 {
+                        for c in &mut corners {
+                            c[0] -= 0.3;
+                        }
+                    }
+                    let r = plan.rooms.len();
+                    plan.rooms.push((format!("g{i}_{j}"), corners));
+                    if j > 0 {
+                        plan.doors.push((Some(r - 1), r));
+                    } else if i > 0 {
+                        plan.doors.push((Some(r - side), r));
+                    }
+                }
+            }
+            let text = plan.to_holo();
+            let corners: usize = plan.rooms.iter().map(|r| r.1.len()).sum();
+            let kb = text.len() as f64 / 1024.0;
+            match repair_plan(&text) {
+                Some(out) => println!(
+                    "| {} | {} | {corners} | {kb:.1} | {} | {:.1} | {} |",
+                    plan.name,
+                    plan.rooms.len(),
+                    out.valid && out.changed,
+                    out.time.as_secs_f64() * 1000.0,
+                    out.bounded
+                ),
+                None => println!(
+                    "| {} | {} | {corners} | {kb:.1} | (not checked) | | |",
+                    plan.name,
+                    plan.rooms.len()
+                ),
+            }
+        }
     }
 }
 

@@ -609,6 +609,62 @@ proptest! {
     }
 }
 
+/// Issue 50: two shared walls a step of 30 cm apart (a T-junction: the east rooms split at
+/// z = 2.4, the west ones at z = 2.7), every corner jittered by up to 17 cm. The two lines
+/// continue one another but stay two (merged, the east room north of the step would lose the
+/// 30 cm of wall it shares with the west room south of it), and rooms meant to meet only at a
+/// corner, overlapping by jitter, do not come to share a wall.
+#[test]
+fn a_jittered_t_junction_keeps_its_step() {
+    let meant = "scene \"t\" { seed 1 }\n\
+        room room0 \"room0\" { corners in m (3.8, 0) (3.8, 2.4) (7.9, 2.4) (7.9, 0) }\n\
+        room room1 \"room1\" { corners in m (3.8, 2.4) (3.8, 6.7) (7.9, 6.7) (7.9, 2.4) }\n\
+        room room2 \"room2\" { corners in m (0, 0) (0, 2.7) (3.8, 2.7) (3.8, 0) }\n\
+        room room3 \"room3\" { corners in m (0, 2.7) (0, 6.7) (3.8, 6.7) (3.8, 2.7) }\n";
+    let doors = "door exterior -- room0 : doorway single\n\
+        door room0 -- room1 : doorway single\n\
+        door room0 -- room2 : doorway single\n\
+        door room1 -- room3 : doorway single\n\
+        door room2 -- room3 : doorway single\n";
+    let text = format!(
+        "scene \"t\" {{ seed 1 }}\n\
+        room room0 \"room0\" {{ corners in m (3.8883, -0.1556) (3.7503, 2.2689) (7.8096, 2.4589) (7.9526, -0.0311) }}\n\
+        room room1 \"room1\" {{ corners in m (3.9651, 2.5513) (3.8375, 6.7318) (7.7347, 6.8194) (7.8725, 2.2438) }}\n\
+        room room2 \"room2\" {{ corners in m (-0.0953, 0.0126) (-0.0538, 2.6648) (3.9323, 2.5815) (3.8229, 0.1570) }}\n\
+        room room3 \"room3\" {{ corners in m (-0.0711, 2.6685) (0.0663, 6.8550) (3.7923, 6.6614) (3.8763, 2.8519) }}\n\
+        {doors}"
+    );
+    let repaired = repair_text("t.holo", &text);
+    assert_eq!(plan_errors(&repaired.text), Vec::<&str>::new(), "{}", repaired.text);
+    let meant = outlines(&format!("{meant}{doors}"));
+    let got = outlines(&repaired.text);
+    assert_eq!(sharing_pairs(&got), sharing_pairs(&meant), "{}", repaired.text);
+    assert!(deviation_from_meant(&meant, &got) <= 0.25, "{}", repaired.text);
+    let again = repair_text("repaired.holo", &repaired.text);
+    assert!(!again.changed, "{}", repaired.text);
+}
+
+/// Issue 50: a room meeting the room it has a door to only at a corner slides along that
+/// room's wall by the least distance that gives the door its wall: the widest single doorway
+/// of the catalog (1.08 m) and 0.15 m at each end, rounded up to 5 cm, 1.4 m (the slide was
+/// 1.5 m). The bedroom alone moves, whole (its area unchanged), the kitchen and bedroom then
+/// share 1.4 m of wall, and a second repair changes nothing.
+#[test]
+fn a_room_meeting_its_neighbour_at_a_corner_slides_the_least_distance() {
+    let text = std::fs::read_to_string("tests/corpus/repair/corner_only.holo").expect("fixture");
+    let repaired = repair_text("corner_only.holo", &text);
+    assert_eq!(plan_errors(&repaired.text), Vec::<&str>::new(), "{}", repaired.text);
+    assert!((repaired.max_move_m - 1.4).abs() < 1e-9, "{}\n{}", repaired.max_move_m, repaired.text);
+    assert!(repaired.area_change < 1e-9, "{}", repaired.area_change);
+    assert_eq!(other_room_lines(&repaired.text, "bedroom"), other_room_lines(&text, "bedroom"));
+    let got = outlines(&repaired.text);
+    let room = |name: &str| got.iter().find(|(n, _)| n == name).expect("room").1.clone();
+    let shared = shared_wall_m(&room("kitchen"), &room("bedroom"));
+    assert!((shared - 1.4).abs() < 1e-9, "{shared} m\n{}", repaired.text);
+    let again = repair_text("repaired.holo", &repaired.text);
+    assert!(!again.changed, "{}", repaired.text);
+}
+
 /// A room whose north-east side is a staircase of `steps` steps (`2 * steps + 3` corners) from
 /// (0, 6) down to (6, 1), and a room south of it drawn `overlap` metres into it, with a door
 /// between them and one to the outside.

@@ -13,6 +13,16 @@ use super::{extent, inside, roundness, SAME_M};
 /// corners meant to be on one line are at most twice this apart.
 pub const MAX_JITTER_M: f64 = 0.2;
 
+/// Two groups of walls continuing one another (a façade, or two shared walls in line) are one
+/// line when their length-weighted means are at most this apart, metres: jitter of up to 17 cm
+/// puts a group's mean within about 0.05 m of its line (four corners), while two lines meant a
+/// step apart (a T-junction) stay two. Lines meant closer than this become one.
+const MAX_CONTINUE_M: f64 = 0.15;
+
+/// Facing walls of two rooms are one wall when their lengths overlap by more than this, metres:
+/// two rooms meant to meet at a corner overlap by up to twice the jitter once it is drawn.
+const MIN_FACING_M: f64 = 2.0 * MAX_JITTER_M;
+
 /// Facing or continuing walls whose lengths overlap (or, for walls that continue one another,
 /// come) within this of each other are one wall, metres.
 const MIN_FACE_M: f64 = 0.1;
@@ -98,7 +108,7 @@ pub(super) fn snap(rooms: &[Vec<[f64; 2]>]) -> Vec<Vec<[f64; 2]>> {
         // Facing walls of two rooms, and walls of two rooms that continue one another, nearest
         // first; never two walls of one room together, never a group wider than twice the
         // jitter.
-        let mut pairs: Vec<(f64, usize, usize)> = Vec::new();
+        let mut pairs: Vec<(bool, f64, usize, usize)> = Vec::new();
         for (i, a) in walls.iter().enumerate() {
             for (j, b) in walls.iter().enumerate().skip(i + 1) {
                 if a.room == b.room || a.outward == 0.0 || b.outward == 0.0 {
@@ -112,12 +122,13 @@ pub(super) fn snap(rooms: &[Vec<[f64; 2]>]) -> Vec<Vec<[f64; 2]>> {
                     continue;
                 }
                 let (lo, hi) = (a.from.max(b.from), a.to.min(b.to));
-                let joins = if a.outward * b.outward < 0.0 {
+                let facing = a.outward * b.outward < 0.0;
+                let joins = if facing {
                     // Facing: they overlap along their length, with no third room between.
                     let mut mid = [0.0; 2];
                     mid[axis] = f64::midpoint(a.at, b.at);
                     mid[other] = f64::midpoint(lo, hi);
-                    hi - lo > MIN_FACE_M
+                    hi - lo > MIN_FACING_M
                         && !rooms
                             .iter()
                             .enumerate()
@@ -127,16 +138,28 @@ pub(super) fn snap(rooms: &[Vec<[f64; 2]>]) -> Vec<Vec<[f64; 2]>> {
                     hi - lo > -2.0 * MAX_JITTER_M && hi - lo < MIN_FACE_M
                 };
                 if joins {
-                    pairs.push((d, i, j));
+                    pairs.push((!facing, d, i, j));
                 }
             }
         }
-        pairs.sort_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)).then(x.2.cmp(&y.2)));
+        // Facing walls first (two rooms sharing a wall), then walls continuing one another.
+        pairs.sort_by(|x, y| {
+            x.0.cmp(&y.0).then(x.1.total_cmp(&y.1)).then(x.2.cmp(&y.2)).then(x.3.cmp(&y.3))
+        });
         let mut members: Vec<Vec<usize>> = (0..walls.len()).map(|i| vec![i]).collect();
         let mut group: Vec<usize> = (0..walls.len()).collect();
-        for (_, i, j) in pairs {
+        for (continuing, _, i, j) in pairs {
             let (gi, gj) = (find(&mut group, i), find(&mut group, j));
             if gi == gj {
+                continue;
+            }
+            // Two lines continuing one another are one line only when their walls, each
+            // group's weighted together, are about as far apart as jitter puts one line's
+            // corners: two shared walls a step apart (a T, not a crossing) stay two.
+            if continuing
+                && (mean_at(&walls, &members[gi]) - mean_at(&walls, &members[gj])).abs()
+                    > MAX_CONTINUE_M
+            {
                 continue;
             }
             let joined: Vec<usize> = members[gi].iter().chain(&members[gj]).copied().collect();
@@ -169,12 +192,7 @@ pub(super) fn snap(rooms: &[Vec<[f64; 2]>]) -> Vec<Vec<[f64; 2]>> {
             let (lo, hi) = nodes.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &x| {
                 (lo.min(value(x)), hi.max(value(x)))
             });
-            let weight: f64 = ws.iter().map(|&w| (walls[w].to - walls[w].from).max(1e-3)).sum();
-            let mean = ws
-                .iter()
-                .map(|&w| walls[w].at * (walls[w].to - walls[w].from).max(1e-3))
-                .sum::<f64>()
-                / weight;
+            let mean = mean_at(&walls, ws);
             let line = line_between(lo, hi, mean);
             for x in nodes {
                 line_of_node[x] = Some(line);
@@ -189,6 +207,13 @@ pub(super) fn snap(rooms: &[Vec<[f64; 2]>]) -> Vec<Vec<[f64; 2]>> {
         }
     }
     out
+}
+
+/// The mean coordinate of a group of walls, weighted by their length.
+fn mean_at(walls: &[Wall], members: &[usize]) -> f64 {
+    let weight: f64 = members.iter().map(|&w| (walls[w].to - walls[w].from).max(1e-3)).sum();
+    members.iter().map(|&w| walls[w].at * (walls[w].to - walls[w].from).max(1e-3)).sum::<f64>()
+        / weight
 }
 
 /// The walls of the rooms on one axis: the groups of corners joined by nearly straight edges.

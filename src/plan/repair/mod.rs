@@ -52,7 +52,8 @@
 //!      facing wall of another room at most [`MAX_MOVE_M`] away (one or two per axis), or the
 //!      whole room moved by the distance that makes one of its walls meet a facing wall, by
 //!      the gap to a room it has a door to (at most [`MAX_TRANSLATION_M`]), or slid along the
-//!      wall of a room it has a door to but meets only at a corner (at most [`MAX_SLIDE_M`]);
+//!      wall of a room it has a door to but meets only at a corner (0.5 m, 1 m, the least
+//!      distance that gives its doors the wall they need, or [`MAX_SLIDE_M`]);
 //!    - *every room at once*: facing walls of different rooms within the bound joined, each
 //!      group at the coordinate that moves the least length of wall, then detached rooms moved
 //!      onto the room they have a door to.
@@ -498,9 +499,10 @@ fn best_step(
 ) -> Option<(State, Badness)> {
     let mut candidates: Vec<(Cost, State)> = Vec::new();
     let links = door_links(scene, state.rooms.len());
+    let needs = door_needs(scene, catalog, &links);
     for r in 0..state.rooms.len() {
         let each = candidate_work(&state.rooms, r);
-        for rooms in single_room_candidates(&state.rooms, r, &links) {
+        for rooms in single_room_candidates(&state.rooms, r, &links, &needs) {
             if !work.spend(each) {
                 return None;
             }
@@ -1050,6 +1052,45 @@ fn door_links(scene: &Scene, n: usize) -> Vec<Vec<usize>> {
     links
 }
 
+/// Per room, aligned with its [`door_links`]: the length of shared wall its doors to that room
+/// need (the widest door of the catalog of the door's kind and size, and a margin at each
+/// end, rounded up to 5 cm; 1 m for an open connection), at most [`MAX_SLIDE_M`].
+fn door_needs(scene: &Scene, catalog: &StructureCatalog, links: &[Vec<usize>]) -> Vec<Vec<f64>> {
+    links
+        .iter()
+        .enumerate()
+        .map(|(a, others)| {
+            others
+                .iter()
+                .map(|&b| {
+                    let need = scene
+                        .doors
+                        .iter()
+                        .filter(|d| match (&d.from, &d.to) {
+                            (DoorSide::Room(x), DoorSide::Room(y)) => {
+                                (x.0, y.0) == (a, b) || (x.0, y.0) == (b, a)
+                            }
+                            _ => false,
+                        })
+                        .map(|d| {
+                            let widest = d.size.and_then(|size| {
+                                catalog
+                                    .doors
+                                    .iter()
+                                    .filter(|c| c.kind == d.kind && c.size == size)
+                                    .map(|c| c.bbox_m[0])
+                                    .reduce(f64::max)
+                            });
+                            widest.map_or(1.0, |w| w + 2.0 * super::DOOR_CORNER_MARGIN_M)
+                        })
+                        .fold(0.0, f64::max);
+                    ((need * 20.0 - 1e-6).ceil() / 20.0).min(MAX_SLIDE_M)
+                })
+                .collect()
+        })
+        .collect()
+}
+
 /// How many pairs of rooms overlap.
 fn overlap_count(rooms: &[Vec<[f64; 2]>]) -> usize {
     let mut n = 0;
@@ -1220,6 +1261,7 @@ fn single_room_candidates(
     rooms: &[Vec<[f64; 2]>],
     r: usize,
     links: &[Vec<usize>],
+    needs: &[Vec<f64>],
 ) -> Vec<Vec<Vec<[f64; 2]>>> {
     // Per axis: maps from old coordinate to new (`None`: the whole room moves by a delta).
     let mut per_axis: [Vec<AxisMove>; 2] = [vec![AxisMove::Keep], vec![AxisMove::Keep]];
@@ -1257,7 +1299,7 @@ fn single_room_candidates(
         // The whole room moved so that one wall meets a facing wall.
         let mut deltas: Vec<f64> = snaps.iter().map(|&(f, t)| t - f).collect();
         // …or onto a room it has a door to and does not touch.
-        for &o in &links[r] {
+        for (k, &o) in links[r].iter().enumerate() {
             if touch(corners, &rooms[o]) {
                 continue;
             }
@@ -1266,13 +1308,15 @@ fn single_room_candidates(
                     deltas.push(t - w.at);
                 }
             }
-            // Rooms that meet only at a corner: slide along the other's wall.
+            // Rooms that meet only at a corner: slide along the other's wall, the least
+            // distance that gives their doors the wall they need (issue 50), or further.
             let g = box_gap(corners, &rooms[o]);
             if g[0].abs() <= SAME_M && g[1].abs() <= SAME_M {
                 let (lr, _) = extent(corners, axis);
                 let (lo, _) = extent(&rooms[o], axis);
                 let toward = if lr > lo { -1.0 } else { 1.0 };
-                for step in [0.5, 1.0, MAX_SLIDE_M] {
+                let need = needs.get(r).and_then(|n| n.get(k)).copied().unwrap_or(MAX_SLIDE_M);
+                for step in [0.5, 1.0, need, MAX_SLIDE_M] {
                     deltas.push(toward * step);
                 }
             }
