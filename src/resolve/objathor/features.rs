@@ -2,32 +2,66 @@
 //! CLIP text features of the descriptions (`text_features`, assets × 768, later versions) and
 //! SBERT features (assets × 768), float16 as objathor writes them (float32 read as well), each with the `uids` that order its rows.
 //!
-//! The files' bytes are kept as read, or memory-mapped from the folder's index
-//! (`super::stored`), and rows are decoded when a query looks at them: 50,000 assets take
+//! The files' bytes are kept as read, or rows are read from the folder's index
+//! (`super::stored`) when a query looks at them, and decoded then: 50,000 assets take
 //! 230 MB of image features as float16 and twice that as float32.
 
 use std::sync::Arc;
 
 use super::pickle::{f16_to_f32, ArrayBytes, Pickle};
 
-/// The bytes a matrix of rows lies in: a file read into memory, or the folder's index mapped.
+/// The bytes a matrix of rows lies in: a file read into memory, or the folder's index, read a
+/// row at a time where it lies on disk (only the rows a build looks at are read; the rest stay
+/// on disk, or in the system's page cache, outside the build's memory).
 #[derive(Clone)]
 pub(crate) enum Backing {
     /// Bytes read (a feature file, or rows made by a test).
     Read(Arc<Vec<u8>>),
-    /// The index file, memory-mapped (`super::stored`).
-    Mapped(Arc<memmap2::Mmap>),
+    /// The index file (`super::stored`) and its length when it was opened.
+    Stored(Arc<std::fs::File>, usize),
 }
 
-impl std::ops::Deref for Backing {
-    type Target = [u8];
-
-    fn deref(&self) -> &[u8] {
+impl Backing {
+    /// How many bytes there are.
+    pub(crate) fn len(&self) -> usize {
         match self {
-            Backing::Read(bytes) => bytes,
-            Backing::Mapped(map) => map,
+            Backing::Read(bytes) => bytes.len(),
+            Backing::Stored(_, len) => *len,
         }
     }
+
+    /// The `n` bytes from byte `at`; `None` past the end, or when the file cannot be read.
+    pub(crate) fn get(&self, at: usize, n: usize) -> Option<std::borrow::Cow<'_, [u8]>> {
+        let end = at.checked_add(n).filter(|end| *end <= self.len())?;
+        match self {
+            Backing::Read(bytes) => bytes.get(at..end).map(std::borrow::Cow::Borrowed),
+            Backing::Stored(file, _) => {
+                let mut buf = vec![0u8; n];
+                read_at(file, &mut buf, at as u64).ok()?;
+                Some(std::borrow::Cow::Owned(buf))
+            }
+        }
+    }
+}
+
+/// Reads `buf.len()` bytes of `file` from byte `at`.
+#[cfg(unix)]
+fn read_at(file: &std::fs::File, buf: &mut [u8], at: u64) -> std::io::Result<()> {
+    std::os::unix::fs::FileExt::read_exact_at(file, buf, at)
+}
+
+/// Reads `buf.len()` bytes of `file` from byte `at`.
+#[cfg(windows)]
+fn read_at(file: &std::fs::File, mut buf: &mut [u8], mut at: u64) -> std::io::Result<()> {
+    while !buf.is_empty() {
+        let n = std::os::windows::fs::FileExt::seek_read(file, buf, at)?;
+        if n == 0 {
+            return Err(std::io::ErrorKind::UnexpectedEof.into());
+        }
+        buf = &mut buf[n..];
+        at += n as u64;
+    }
+    Ok(())
 }
 
 /// A matrix of float16 or float32 rows inside a file's bytes.
@@ -171,16 +205,13 @@ impl FeatureRows {
         Ok(FeatureRows { bytes, start, rows, item, views, dim, big_endian })
     }
 
-    /// Where the rows lie: their bytes, the first byte's place, the shape (rows, views, dim),
-    /// the bytes per element and whether they are big-endian (what the index writes).
-    pub(crate) fn raw(&self) -> (&[u8], [usize; 3], usize, bool) {
+    /// The rows as they lie: their bytes (`None` when they cannot be read), the shape (rows,
+    /// views, dim), the bytes per element and whether they are big-endian (what the index
+    /// writes).
+    pub(crate) fn raw(&self) -> (Option<std::borrow::Cow<'_, [u8]>>, [usize; 3], usize, bool) {
         let n = self.rows * self.views * self.dim * self.item;
-        (
-            &self.bytes[self.start..self.start + n],
-            [self.rows, self.views, self.dim],
-            self.item,
-            self.big_endian,
-        )
+        let shape = [self.rows, self.views, self.dim];
+        (self.bytes.get(self.start, n), shape, self.item, self.big_endian)
     }
 
     /// Rows made from float16 bits (tests).
@@ -226,10 +257,16 @@ impl FeatureRows {
         self.rows == 0
     }
 
-    fn vector_bytes(&self, row: usize, view: usize) -> &[u8] {
+    /// One vector's bytes. A vector of an index that cannot be read (the file cut short
+    /// under a running build, a disk error) reads as NaNs, which no score passes.
+    fn vector_bytes(&self, row: usize, view: usize) -> std::borrow::Cow<'_, [u8]> {
         let n = self.item * self.dim;
         let at = self.start + (row * self.views + view) * n;
-        &self.bytes[at..at + n]
+        self.bytes.get(at, n).unwrap_or_else(|| {
+            let nan: &[u8] = if self.item == 4 { &[0, 0, 0xc0, 0x7f] } else { &[0, 0x7e] };
+            let nan: Vec<u8> = if self.big_endian { nan.iter().rev().copied().collect() } else { nan.to_vec() };
+            std::borrow::Cow::Owned(nan.repeat(self.dim))
+        })
     }
 
     /// Decodes one vector into `out` (of length `dim`).

@@ -5,8 +5,10 @@
 //! hashing and decoding 400 MB of feature pickles: about a second of CPU and 700 MB each build.
 //! The index holds the result: the annotations' assets and entries already parsed (a `postcard`
 //! encoding of them, with the unusable entries' reasons), each asset's feature rows, the files'
-//! SHA-256 for the catalog lock, and the feature arrays as plain rows that are memory-mapped, so
-//! a build touches only the rows its queries look at.
+//! SHA-256 for the catalog lock, and the feature arrays as plain rows, read one row at a time
+//! where they lie in the file: a build reads only the rows its queries look at. (A memory map
+//! was tried first: the kernel maps the pages around each one touched, so a build's few
+//! thousand rows brought the whole 400 MB into its resident memory.)
 //!
 //! **Where**: `<folder>/.holoc-index/objathor.idx`, or, when the folder cannot be written, under
 //! the user's cache folder (`$HOLOC_CACHE_DIR`, else `$XDG_CACHE_HOME/holoc`, else
@@ -22,8 +24,8 @@
 //! sections (feature rows as they were in the pickles, float16 or float32 in their byte order,
 //! each at a multiple of 64 bytes; the annotations' text when an entry was unusable, so its
 //! warnings point into it as on the first build), then the header. The file is written to a
-//! temporary file, synced and renamed: a reader sees the old index or the whole new one, and a
-//! file mapped by a running build is never changed under it.
+//! temporary file, synced and renamed: a reader sees the old index or the whole new one, and
+//! the file a running build reads is never changed under it.
 
 use std::io::{Seek as _, SeekFrom, Write as _};
 use std::path::{Path, PathBuf};
@@ -222,13 +224,9 @@ fn open_at(path: &Path, now: &[Stamp]) -> Result<FolderRead, String> {
     if !file.metadata().map_err(|e| e.to_string())?.is_file() {
         return Err("not a regular file".into());
     }
-    // SAFETY: the map is read-only and holoc never writes an index in place: a new index is
-    // written to a temporary file and renamed over the old one, so the file mapped keeps its
-    // bytes while this build runs. (Another program truncating the file under a running build
-    // would stop it with SIGBUS, as for any memory-mapped file.)
-    #[allow(unsafe_code, reason = "memory-mapping the index; see the SAFETY note")]
-    let map = unsafe { memmap2::Mmap::map(&file) }.map_err(|e| e.to_string())?;
-    decode(&Backing::Mapped(Arc::new(map)), Some(now))
+    let len = usize::try_from(file.metadata().map_err(|e| e.to_string())?.len())
+        .map_err(|e| e.to_string())?;
+    decode(&Backing::Stored(Arc::new(file), len), Some(now))
 }
 
 /// Reads an index's bytes as a build does, without a folder to compare its stamps with, and
@@ -254,8 +252,8 @@ pub fn read_index_bytes(bytes: Vec<u8>) -> Result<usize, String> {
 /// The index in `bytes`; with `now`, only when its stamps are those and the holoc that wrote
 /// it is this one. Every section is checked to lie inside the bytes.
 fn decode(backing: &Backing, now: Option<&[Stamp]>) -> Result<FolderRead, String> {
-    let bytes: &[u8] = backing;
-    if bytes.len() < PRELUDE as usize || &bytes[..8] != MAGIC {
+    let bytes = backing.get(0, PRELUDE as usize).ok_or("not a holoc objathor index")?;
+    if &bytes[..8] != MAGIC {
         return Err("not a holoc objathor index".into());
     }
     let word = |at: usize| -> u64 {
@@ -271,9 +269,9 @@ fn decode(backing: &Backing, now: Option<&[Stamp]>) -> Result<FolderRead, String
     let header_bytes = usize::try_from(at)
         .ok()
         .zip(usize::try_from(len).ok())
-        .and_then(|(a, l)| bytes.get(a..a.checked_add(l)?))
+        .and_then(|(a, l)| backing.get(a, l))
         .ok_or("its header lies outside the file")?;
-    let header: Header = postcard::from_bytes(header_bytes).map_err(|e| e.to_string())?;
+    let header: Header = postcard::from_bytes(&header_bytes).map_err(|e| e.to_string())?;
     if let Some(now) = now {
         if header.holoc != release() {
             return Err(format!("written by holoc {}", header.holoc));
@@ -323,7 +321,7 @@ fn decode(backing: &Backing, now: Option<&[Stamp]>) -> Result<FolderRead, String
             let slice = usize::try_from(a)
                 .ok()
                 .zip(usize::try_from(l).ok())
-                .and_then(|(a, l)| bytes.get(a..a.checked_add(l)?))
+                .and_then(|(a, l)| backing.get(a, l))
                 .ok_or("its text lies outside the file")?;
             Some(String::from_utf8(slice.to_vec()).map_err(|e| e.to_string())?)
         }
@@ -394,7 +392,8 @@ impl Out {
         let mut arrays = Vec::new();
         for (key, rows) in &f.arrays {
             let (bytes, shape, item, big_endian) = rows.raw();
-            let offset = self.put(bytes)?;
+            let bytes = bytes.ok_or_else(|| std::io::Error::other("the rows cannot be read"))?;
+            let offset = self.put(&bytes)?;
             let section =
                 Section { offset, shape: shape.map(|x| x as u64), item: item as u8, big_endian };
             arrays.push((key.clone(), section));
@@ -459,6 +458,9 @@ fn write_at(
     prelude[24..32].copy_from_slice(&(encoded.len() as u64).to_le_bytes());
     tmp.seek(SeekFrom::Start(0))?;
     tmp.write_all(&prelude)?;
+    // Readable by whoever may read the folder (a temporary file is private).
+    #[cfg(unix)]
+    std::fs::set_permissions(tmp.path(), std::os::unix::fs::PermissionsExt::from_mode(0o644))?;
     tmp.as_file().sync_all()?;
     tmp.persist(path).map_err(|e| e.error)?;
     Ok(())
