@@ -696,7 +696,11 @@ fn write_job(
     let target = options.out.join(&job.hash);
     // The folder, if there, must be a real one inside the run's folder (not a link to one
     // elsewhere, which the rename would not follow but the removal before it would empty).
-    confine_io(&options.out, &target.join(DONE_MARKER))?;
+    if std::fs::symlink_metadata(&target).is_ok() {
+        confine_io(&options.out, &target.join(DONE_MARKER))?;
+    } else {
+        confine_io(&options.out, &target)?;
+    }
     let n = options.counter.fetch_add(1, Ordering::Relaxed);
     let tmp = options.scratch.join(format!("{}-{n}", job.hash));
     let written = (|| {

@@ -402,18 +402,22 @@ pub fn confine(root: &Path, path: &Path) -> Result<(), Diagnostic> {
         dir.push(part);
         match std::fs::symlink_metadata(&dir) {
             Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
-                std::fs::create_dir(&dir).map_err(io)?;
-            }
-            Err(e) => return Err(io(e)),
-            Ok(_) => {
-                let real = std::fs::canonicalize(&dir).map_err(io)?;
-                if !real.starts_with(&root_real) {
-                    return Err(outside(&format!(
-                        "the folder `{}` is a link that leads",
-                        diag::visible(&dir.display().to_string())
-                    )));
+                match std::fs::create_dir(&dir) {
+                    Ok(()) => continue,
+                    // Made meanwhile (by another thread or run): checked as one that was there.
+                    Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {}
+                    Err(e) => return Err(io(e)),
                 }
             }
+            Err(e) => return Err(io(e)),
+            Ok(_) => {}
+        }
+        let real = std::fs::canonicalize(&dir).map_err(io)?;
+        if !real.starts_with(&root_real) {
+            return Err(outside(&format!(
+                "the folder `{}` is a link that leads",
+                diag::visible(&dir.display().to_string())
+            )));
         }
     }
     match std::fs::symlink_metadata(path) {
