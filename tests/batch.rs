@@ -1269,6 +1269,10 @@ fn listing(dir: &Path) -> BTreeMap<PathBuf, Option<Vec<u8>>> {
     all
 }
 
+/// A way out of the output folder: its name and what makes it in a fresh folder.
+#[cfg(unix)]
+type Way<'a> = (&'a str, Box<dyn Fn(&Path) + 'a>);
+
 #[cfg(unix)]
 fn link(target: &Path, at: &Path) {
     std::os::unix::fs::symlink(target, at).expect("symlink");
@@ -1308,7 +1312,7 @@ fn batch_writes_only_inside_its_output_folder() {
     let before = listing(&outside);
     let missing = dir.join("created-through-a-link");
 
-    let ways: Vec<(&str, Box<dyn Fn(&Path)>)> = vec![
+    let ways: Vec<Way> = vec![
         (
             "job folder -> folder outside",
             Box::new(|out: &Path| link(&outside.join("job"), &out.join(&hash))),

@@ -255,13 +255,16 @@ fn a_column_of_rooms_is_not_compared_pair_by_pair() {
     assert!(!stderr(&out).contains("E0305"), "{}", &stderr(&out)[..2000.min(stderr(&out).len())]);
 }
 
+/// A shape of scene: its name, the text before the items, one item (numbered), the text after.
+type Shape = (&'static str, &'static str, fn(usize) -> String, &'static str);
+
 /// A file of more than a million tokens (32 MiB of rooms drawn over each other, of objects, of
 /// doors, of corners) is refused before the grammar runs, by every command that reads a scene:
 /// E0010, exit 1, at once and in little memory (the rooms took 4.7 GB).
 #[test]
 fn a_file_of_more_than_a_million_tokens_is_refused_before_it_is_parsed() {
     let dir = scratch("tokens");
-    let shapes: [(&str, &str, fn(usize) -> String, &str); 3] = [
+    let shapes: [Shape; 3] = [
         (
             "rooms",
             "",
