@@ -1,6 +1,9 @@
 //! Time and peak memory of `holoc check`, `build`, `validate` and `lsp` on inputs 10× and 100×
 //! the largest example and on the hostile shapes of `tests/hostile.rs` (deep nesting, rooms that
-//! all overlap, a crowded house, a very long name, the largest input holoc reads).
+//! all overlap, a crowded house, a very long name, the largest input holoc reads); and of
+//! `check`, `build`, `repair` and `fmt --check` on every shape that repeats one thing (rooms on
+//! one square, in a row, in a column; objects, windows, corners of one room; doors), each at
+//! 32 MiB and at the most holoc reads (`parse::MAX_TOKENS`), with their CPU seconds.
 //!
 //! Run by hand with `cargo bench --bench hostile_bench`; it prints a table (seconds and peak
 //! resident memory of each run, from `/usr/bin/time` when it is there) that
