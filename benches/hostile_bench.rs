@@ -1,6 +1,9 @@
 //! Time and peak memory of `holoc check`, `build`, `validate` and `lsp` on inputs 10× and 100×
 //! the largest example and on the hostile shapes of `tests/hostile.rs` (deep nesting, rooms that
-//! all overlap, a crowded house, a very long name, the largest input holoc reads).
+//! all overlap, a crowded house, a very long name, the largest input holoc reads); and of
+//! `check`, `build`, `repair` and `fmt --check` on every shape that repeats one thing (rooms on
+//! one square, in a row, in a column; objects, windows, corners of one room; doors), each at
+//! 32 MiB and at the most holoc reads (`parse::MAX_TOKENS`), with their CPU seconds.
 //!
 //! Run by hand with `cargo bench --bench hostile_bench`; it prints a table (seconds and peak
 //! resident memory of each run, from `/usr/bin/time` when it is there) that
@@ -54,18 +57,94 @@ fn overlapping(n: usize) -> String {
     text
 }
 
-/// Rooms on the same square, as many as fit in `bytes`: the largest input of overlapping rooms.
-fn overlapping_bytes(bytes: usize) -> String {
-    let door = "door exterior -- r0 : doorway single\n";
-    let mut text = String::new();
+/// A shape of input: the text before the items, one item (numbered), the text after them.
+type Shape = (&'static str, &'static str, fn(usize) -> String, &'static str);
+
+/// The shapes that repeat one thing until the file is as large as holoc reads: rooms on one
+/// square, in a row along x, in a column along z; objects, windows or corners in one room;
+/// doors between two rooms.
+fn shapes() -> Vec<Shape> {
+    const SQUARE: &str = "room a \"a\" {\n  corners in m (0, 0) (0, 4) (4, 4) (4, 0)\n";
+    vec![
+        (
+            "overlapping rooms",
+            "",
+            |i| format!("room r{i} \"r\" {{\n  corners in m (0, 0) (0, 4) (4, 4) (4, 0)\n}}\n"),
+            "door exterior -- r0 : doorway single\n",
+        ),
+        (
+            "rooms in a row",
+            "",
+            |i| {
+                let (a, b) = (4 * i, 4 * i + 4);
+                format!("room r{i} \"r\" {{\n  corners in m ({a}, 0) ({a}, 4) ({b}, 4) ({b}, 0)\n}}\n")
+            },
+            "door exterior -- r0 : doorway single\n",
+        ),
+        (
+            "rooms in a column",
+            "",
+            |i| {
+                let (a, b) = (4 * i, 4 * i + 4);
+                format!("room r{i} \"r\" {{\n  corners in m (0, {a}) (0, {b}) (4, {b}) (4, {a})\n}}\n")
+            },
+            "door exterior -- r0 : doorway single\n",
+        ),
+        (
+            "objects in one room",
+            SQUARE,
+            |i| format!("  object o{i} \"chair\" {{\n    size 40 cm x 40 cm x 80 cm\n  }}\n"),
+            "}\ndoor exterior -- a : doorway single\n",
+        ),
+        (
+            "windows in one room",
+            SQUARE,
+            |_| "  window east fixed 10 cm x 10 cm, count 1, sill 50 cm\n".to_owned(),
+            "}\ndoor exterior -- a : doorway single\n",
+        ),
+        (
+            "doors between two rooms",
+            "room a \"a\" {\n  corners in m (0, 0) (0, 4) (4, 4) (4, 0)\n}\nroom b \"b\" {\n  corners in m (4, 0) (4, 4) (8, 4) (8, 0)\n}\ndoor exterior -- a : doorway single\n",
+            |_| "door a -- b : doorway single\n".to_owned(),
+            "",
+        ),
+        ("corners of one room", "room a \"a\" {\n  corners in m ", |_| "(0, 0) ".to_owned(), "\n}\n"),
+    ]
+}
+
+/// The shape's items, as many as fit in `bytes`.
+fn fill(shape: &Shape, bytes: usize) -> String {
+    let (_, head, item, tail) = shape;
+    let mut text = String::from(*head);
     for i in 0.. {
-        let room = format!("room r{i} \"r\" {{\n  corners in m (0, 0) (0, 4) (4, 4) (4, 0)\n}}\n");
-        if text.len() + room.len() + door.len() > bytes {
+        let next = item(i);
+        if text.len() + next.len() + tail.len() > bytes {
             break;
         }
-        text.push_str(&room);
+        text.push_str(&next);
     }
-    text.push_str(door);
+    text.push_str(tail);
+    text
+}
+
+/// The shape's items, as many as holoc reads (at most `parse::MAX_TOKENS` tokens in all).
+fn largest_read(shape: &Shape) -> String {
+    let (_, head, item, tail) = shape;
+    let budget = holoc::parse::MAX_TOKENS
+        - holoc::parse::count_tokens(head)
+        - holoc::parse::count_tokens(tail);
+    let mut text = String::from(*head);
+    let mut used = 0;
+    for i in 0.. {
+        let next = item(i);
+        let tokens = holoc::parse::count_tokens(&next);
+        if used + tokens > budget {
+            break;
+        }
+        used += tokens;
+        text.push_str(&next);
+    }
+    text.push_str(tail);
     text
 }
 
@@ -118,22 +197,32 @@ fn crowded_house(holoc: &Path, dir: &Path, n: usize) -> String {
     serde_json::to_string(&house).expect("prints")
 }
 
-/// Seconds and peak resident memory (MB, when `/usr/bin/time` is there) of one command.
-fn measure(args: &[&std::ffi::OsStr], holoc: &Path) -> (f64, Option<f64>, Option<i32>) {
+/// Seconds, CPU seconds (user and system) and peak resident memory (MB) of one command, the
+/// last two when `/usr/bin/time` is there.
+fn measure(
+    args: &[&std::ffi::OsStr],
+    holoc: &Path,
+) -> (f64, Option<f64>, Option<f64>, Option<i32>) {
     let time = Path::new("/usr/bin/time");
     let started = Instant::now();
     let out = if time.exists() {
-        Command::new(time).args(["-f", "%M"]).arg(holoc).args(args).output()
+        Command::new(time).args(["-f", "%U %S %M"]).arg(holoc).args(args).output()
     } else {
         Command::new(holoc).args(args).output()
     }
     .expect("runs");
     let seconds = started.elapsed().as_secs_f64();
-    let peak = time.exists().then(|| {
-        let err = String::from_utf8_lossy(&out.stderr);
-        err.lines().last().and_then(|l| l.trim().parse::<f64>().ok()).map_or(0.0, |kb| kb / 1024.0)
-    });
-    (seconds, peak, out.status.code())
+    let err = String::from_utf8_lossy(&out.stderr);
+    let figures: Vec<f64> = err
+        .lines()
+        .last()
+        .map(|l| l.split_whitespace().filter_map(|w| w.parse().ok()).collect())
+        .unwrap_or_default();
+    let (cpu, peak) = match figures[..] {
+        [user, system, kb] if time.exists() => (Some(user + system), Some(kb / 1024.0)),
+        _ => (None, None),
+    };
+    (seconds, cpu, peak, out.status.code())
 }
 
 /// Seconds from opening `text` in `holoc lsp` to its first diagnostics, and the peak memory
@@ -224,25 +313,30 @@ fn main() {
         ("16,000-character name", long_name(16_000), false),
         ("1,000,000-character name", long_name(1_000_000), false),
         ("32 MiB (classroom + comments)", padded(32 * 1024 * 1024 - 1024), true),
-        ("32 MiB of overlapping rooms", overlapping_bytes(32 * 1024 * 1024 - 1024), false),
     ];
-    println!("| input | bytes | command | seconds | peak MB | exit |");
-    println!("|---|---:|---|---:|---:|---:|");
-    let row =
-        |name: &str, bytes: usize, command: &str, s: f64, peak: Option<f64>, code: Option<i32>| {
-            let peak = peak.map_or("–".to_string(), |p| format!("{p:.0}"));
-            let code = code.map_or("signal".to_string(), |c| c.to_string());
-            println!("| {name} | {bytes} | {command} | {s:.2} | {peak} | {code} |");
-        };
+    println!("| input | bytes | command | seconds | CPU seconds | peak MB | exit |");
+    println!("|---|---:|---|---:|---:|---:|---:|");
+    let row = |name: &str,
+               bytes: usize,
+               command: &str,
+               s: f64,
+               cpu: Option<f64>,
+               peak: Option<f64>,
+               code: Option<i32>| {
+        let cpu = cpu.map_or("–".to_string(), |c| format!("{c:.2}"));
+        let peak = peak.map_or("–".to_string(), |p| format!("{p:.0}"));
+        let code = code.map_or("signal".to_string(), |c| c.to_string());
+        println!("| {name} | {bytes} | {command} | {s:.2} | {cpu} | {peak} | {code} |");
+    };
     for (name, text, build) in &cases {
         let file = dir.join("scene.holo");
         std::fs::write(&file, text).expect("write");
-        let (s, peak, code) = measure(
+        let (s, cpu, peak, code) = measure(
             &["check".as_ref(), "--format".as_ref(), "short".as_ref(), file.as_os_str()],
             &holoc,
         );
         let _ = code;
-        row(name, text.len(), "check", s, peak, code);
+        row(name, text.len(), "check", s, cpu, peak, code);
         if *build {
             let house = dir.join("house.json");
             let args = [
@@ -252,11 +346,11 @@ fn main() {
                 house.as_os_str(),
                 file.as_os_str(),
             ];
-            let (s, peak, code) = measure(&args, &holoc);
-            row(name, text.len(), "build", s, peak, code);
+            let (s, cpu, peak, code) = measure(&args, &holoc);
+            row(name, text.len(), "build", s, cpu, peak, code);
             if house.exists() {
                 let bytes = std::fs::metadata(&house).map_or(0, |m| m.len() as usize);
-                let (s, peak, code) = measure(
+                let (s, cpu, peak, code) = measure(
                     &[
                         "validate".as_ref(),
                         "--format".as_ref(),
@@ -265,22 +359,54 @@ fn main() {
                     ],
                     &holoc,
                 );
-                row(&format!("{name}: its house"), bytes, "validate", s, peak, code);
+                row(&format!("{name}: its house"), bytes, "validate", s, cpu, peak, code);
                 let _ = std::fs::remove_file(&house);
             }
         }
         let (s, peak) = lsp(&holoc, text);
-        row(name, text.len(), "lsp open → diagnostics", s, peak, Some(0));
+        row(name, text.len(), "lsp open → diagnostics", s, None, peak, Some(0));
+    }
+    // Every shape at 32 MiB (refused before it is parsed: more than a million tokens) and at the
+    // most holoc reads, through every command that reads a scene.
+    for shape in shapes() {
+        for (size, text) in [
+            ("32 MiB", fill(&shape, 32 * 1024 * 1024 - 1024)),
+            ("the most read", largest_read(&shape)),
+        ] {
+            let file = dir.join("shape.holo");
+            std::fs::write(&file, &text).expect("write");
+            let house = dir.join("shape.json");
+            for (command, args) in [
+                ("check", vec!["check".as_ref(), "--format".as_ref(), "short".as_ref()]),
+                ("build", vec!["build".as_ref(), "-q".as_ref(), "-o".as_ref(), house.as_os_str()]),
+                ("repair", vec!["repair".as_ref()]),
+                ("fmt --check", vec!["fmt".as_ref(), "--check".as_ref()]),
+            ] {
+                let mut args: Vec<&std::ffi::OsStr> = args;
+                args.push(file.as_os_str());
+                let (s, cpu, peak, code) = measure(&args, &holoc);
+                row(&format!("{} ({size})", shape.0), text.len(), command, s, cpu, peak, code);
+            }
+            let _ = std::fs::remove_file(&house);
+        }
     }
     for n in [200, 2000] {
         let house = dir.join("crowded.json");
         let text = crowded_house(&holoc, &dir, n);
         std::fs::write(&house, &text).expect("write");
-        let (s, peak, code) = measure(
+        let (s, cpu, peak, code) = measure(
             &["validate".as_ref(), "--format".as_ref(), "short".as_ref(), house.as_os_str()],
             &holoc,
         );
-        row(&format!("house with {n} beds on one spot"), text.len(), "validate", s, peak, code);
+        row(
+            &format!("house with {n} beds on one spot"),
+            text.len(),
+            "validate",
+            s,
+            cpu,
+            peak,
+            code,
+        );
     }
     // The readers of `diff` and `view` on the largest house they read (just under 32 MiB of
     // beds on one spot), and on that house against one bed fewer.
@@ -305,8 +431,8 @@ fn main() {
             vec!["validate".as_ref(), "--format".as_ref(), "short".as_ref(), house.as_os_str()],
         ),
     ] {
-        let (s, peak, code) = measure(&args, &holoc);
-        row(&name, text.len(), command, s, peak, code);
+        let (s, cpu, peak, code) = measure(&args, &holoc);
+        row(&name, text.len(), command, s, cpu, peak, code);
     }
     let _ = std::fs::remove_dir_all(&dir);
 }

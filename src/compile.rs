@@ -59,7 +59,10 @@ pub struct Analysed {
 /// before it produced no error, and keeps every product: what an editor reads for hover,
 /// go-to-definition and diagnostics.
 pub fn analyse(sources: &SourceMap, file: FileId, catalog: &Catalog, last: CheckStage) -> Analysed {
-    analyse_cached(sources, file, catalog, last, &mut AnalysisCache::default())
+    // Parsed without a cache to fill: a second copy of every item would live as long as the
+    // analysis (twice the memory of the tree on a 32 MiB file).
+    let parsed = crate::parse::parse(sources, file);
+    analyse_parsed(parsed, catalog, last, &mut crate::resolve::RankCache::default())
 }
 
 /// What an editor keeps between two analyses of one document: the parsed top-level items and
@@ -82,6 +85,16 @@ pub fn analyse_cached(
     cache: &mut AnalysisCache,
 ) -> Analysed {
     let parsed = crate::parse::parse_cached(sources, file, &mut cache.parse);
+    analyse_parsed(parsed, catalog, last, &mut cache.ranks)
+}
+
+/// The stages after the parse of [`analyse_cached`].
+fn analyse_parsed(
+    parsed: Outcome<crate::ast::File>,
+    catalog: &Catalog,
+    last: CheckStage,
+    ranks: &mut crate::resolve::RankCache,
+) -> Analysed {
     let mut analysed = Analysed {
         ast: parsed.value,
         scene: None,
@@ -117,7 +130,7 @@ pub fn analyse_cached(
         catalog,
         scene.seed,
         &crate::resolve::ResolveOptions::default(),
-        &mut cache.ranks,
+        ranks,
     );
     analysed.diagnostics.extend(resolved.diagnostics);
     analysed.resolved = Some(resolved.value);

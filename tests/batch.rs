@@ -1239,3 +1239,126 @@ fn the_books_kubernetes_job_passes_strict_schema_validation() {
         assert!(yaml.contains(code), "{code}");
     }
 }
+
+/// Every file and folder under `dir` (links not followed), with the bytes of the files.
+fn listing(dir: &Path) -> BTreeMap<PathBuf, Option<Vec<u8>>> {
+    let mut all = BTreeMap::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for entry in std::fs::read_dir(&d).into_iter().flatten().filter_map(Result::ok) {
+            let path = entry.path();
+            let kind = entry.file_type().expect("type");
+            if kind.is_dir() {
+                stack.push(path.clone());
+                all.insert(path, None);
+            } else if kind.is_symlink() {
+                all.insert(
+                    path.clone(),
+                    Some(
+                        std::fs::read_link(&path)
+                            .expect("link")
+                            .into_os_string()
+                            .into_encoded_bytes(),
+                    ),
+                );
+            } else {
+                all.insert(path.clone(), Some(std::fs::read(&path).expect("file")));
+            }
+        }
+    }
+    all
+}
+
+/// A way out of the output folder: its name and what makes it in a fresh folder.
+#[cfg(unix)]
+type Way<'a> = (&'a str, Box<dyn Fn(&Path) + 'a>);
+
+#[cfg(unix)]
+fn link(target: &Path, at: &Path) {
+    std::os::unix::fs::symlink(target, at).expect("symlink");
+}
+
+/// `holoc batch` writes only inside its output folder: a job's folder, `.partial`, `.locks`,
+/// `.tmp`, `.cache`, the records reserve, the summary and the failures file made links to a
+/// file or folder outside (or to nothing) are refused (E0009) or left alone, never written
+/// through; nothing outside the folder changes, and a dangling link's target is not created.
+/// Job names with `..` name no path: job folders are named by hash.
+#[cfg(unix)]
+#[test]
+fn batch_writes_only_inside_its_output_folder() {
+    let dir = scratch("confined");
+    let manifest = builds(&dir, 1);
+    // One job that fails (its tries go to `.partial`), with a name that climbs out.
+    let mut text = std::fs::read_to_string(&manifest).expect("read");
+    text.push_str("{\"id\": \"../../escape\", \"build\": \"missing.holo\"}\n");
+    std::fs::write(&manifest, &text).expect("write");
+    // The job's folder name, from a run into a fresh folder.
+    let fresh = dir.join("fresh");
+    let run = batch(&["--allow-failures"], &manifest, &fresh);
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    let hash = folders(&fresh).keys().next().expect("a job folder").clone();
+    assert!(!dir.join("escape").exists() && !fresh.join("escape").exists());
+
+    let outside = dir.join("outside");
+    std::fs::create_dir_all(&outside).expect("mkdir");
+    std::fs::write(outside.join("victim.txt"), "keep me\n").expect("write");
+    // A folder that looks like a dead run's scratch: `.tmp` cleaning must not reach it.
+    std::fs::create_dir_all(outside.join("run-1-000000001")).expect("mkdir");
+    // A finished job's folder elsewhere: a link to it is not this run's finished job.
+    std::fs::create_dir_all(outside.join("job")).expect("mkdir");
+    for (name, bytes) in &folders(&fresh)[&hash] {
+        std::fs::write(outside.join("job").join(name), bytes).expect("write");
+    }
+    let before = listing(&outside);
+    let missing = dir.join("created-through-a-link");
+
+    let ways: Vec<Way> = vec![
+        (
+            "job folder -> folder outside",
+            Box::new(|out: &Path| link(&outside.join("job"), &out.join(&hash))),
+        ),
+        (
+            ".partial -> folder outside",
+            Box::new(|out: &Path| link(&outside, &out.join(".partial"))),
+        ),
+        (".locks -> folder outside", Box::new(|out: &Path| link(&outside, &out.join(".locks")))),
+        (".tmp -> folder outside", Box::new(|out: &Path| link(&outside, &out.join(".tmp")))),
+        (".cache -> dangling", Box::new(|out: &Path| link(&missing, &out.join(".cache")))),
+        (
+            "reserve -> file outside",
+            Box::new(|out: &Path| link(&outside.join("victim.txt"), &out.join(".records.reserve"))),
+        ),
+        (
+            "reserve -> dangling",
+            Box::new(|out: &Path| link(&missing, &out.join(".records.reserve"))),
+        ),
+        (
+            "summary -> file outside",
+            Box::new(|out: &Path| link(&outside.join("victim.txt"), &out.join("summary.json"))),
+        ),
+        ("summary -> dangling", Box::new(|out: &Path| link(&missing, &out.join("summary.json")))),
+        (
+            "failures -> file outside",
+            Box::new(|out: &Path| link(&outside.join("victim.txt"), &out.join("failures.jsonl"))),
+        ),
+    ];
+    for (k, (what, make)) in ways.iter().enumerate() {
+        let out = dir.join(format!("out-{k}"));
+        std::fs::create_dir_all(&out).expect("mkdir");
+        make(&out);
+        let run = batch(&["--allow-failures"], &manifest, &out);
+        let err = String::from_utf8_lossy(&run.stderr).to_string();
+        assert!(run.status.code().is_some(), "{what}: ended by a signal");
+        assert_eq!(listing(&outside), before, "{what}: something outside changed\n{err}");
+        assert!(!missing.exists(), "{what}: a dangling link's target was made\n{err}");
+        assert!(!dir.join("escape").exists(), "{what}");
+        // Where the run wrote its records, the refused job says why.
+        if let Ok(summary) = std::fs::read_to_string(out.join("summary.json")) {
+            if what.starts_with("job folder") || what.starts_with(".locks") {
+                assert!(summary.contains("E0009"), "{what}: {summary}");
+            }
+        } else {
+            assert!(err.contains("E0009") || err.contains("E0001"), "{what}: {err}");
+        }
+    }
+}

@@ -108,9 +108,7 @@ impl FileHashes {
         }
         drop(known);
         let path = memo_path(out);
-        if let Some(parent) = path.parent() {
-            std::fs::create_dir_all(parent)?;
-        }
+        crate::cli::common::confine_io(out, &path)?;
         let tmp = scratch.join("file-hashes.tsv");
         std::fs::write(&tmp, text)?;
         std::fs::rename(&tmp, &path)
@@ -235,12 +233,14 @@ impl Scratch {
     /// Cleans `out/.tmp/` of dead runs' leftovers and makes this run's folder.
     pub fn create(out: &Path) -> std::io::Result<Scratch> {
         let root = out.join(".tmp");
-        std::fs::create_dir_all(&root)?;
-        Self::clean(&root);
         let nanos = SystemTime::now()
             .duration_since(SystemTime::UNIX_EPOCH)
             .map_or(0, |d| d.subsec_nanos());
         let name = format!("run-{}-{nanos:09}", std::process::id());
+        // `.tmp` must be a real folder of `out` before anything in it is removed or made: a
+        // link to a folder elsewhere would have its files cleaned away.
+        crate::cli::common::confine_io(out, &root.join(format!("{name}.lock")))?;
+        Self::clean(&root);
         let lock = FileLock::try_take(&root.join(format!("{name}.lock")))?;
         let dir = root.join(name);
         std::fs::create_dir_all(&dir)?;

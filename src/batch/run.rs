@@ -14,6 +14,7 @@
 use super::files::{CatalogCache, FileHashes, FileLock};
 use super::{Job, JobResult, Status, DONE_MARKER};
 use crate::cancel::Token;
+use crate::cli::common::confine_io;
 use crate::compile::{build, BuildOptions};
 use crate::diag::{Code, Diagnostic, Outcome};
 use crate::generate::{
@@ -216,10 +217,10 @@ impl ReusingLlm<'_> {
         let mut log = self.log.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
         if log.is_none() {
             let path = answer_log(&self.options.out, self.hash);
-            if let Some(parent) = path.parent() {
-                let _ = std::fs::create_dir_all(parent);
+            // Appended to only inside the run's folder: never through a link.
+            if confine_io(&self.options.out, &path).is_ok() {
+                *log = std::fs::OpenOptions::new().create(true).append(true).open(&path).ok();
             }
-            *log = std::fs::OpenOptions::new().create(true).append(true).open(&path).ok();
         }
         let Some(file) = log.as_mut() else { return };
         let line = LoggedAnswer {
@@ -654,6 +655,19 @@ pub fn is_disk_full(e: &std::io::Error) -> bool {
     e.kind() == std::io::ErrorKind::StorageFull || matches!(e.raw_os_error(), Some(28 | 122))
 }
 
+/// Removes `path`, a file of the run's folder, unless it leads outside the folder.
+fn remove_inside(out: &Path, path: &Path) {
+    if confine_io(out, path).is_ok() {
+        let _ = std::fs::remove_file(path);
+    }
+}
+
+/// The message of an error of [`confine_io`] that refused a path outside the folder (E0009).
+pub fn outside(e: &std::io::Error) -> Option<String> {
+    let text = e.to_string();
+    text.strip_prefix("[E0009] ").map(str::to_owned)
+}
+
 /// Writes `text` to `path` through a scratch file and a rename.
 fn write_atomically(
     path: &Path,
@@ -661,9 +675,7 @@ fn write_atomically(
     scratch: &Path,
     options: &RunOptions,
 ) -> std::io::Result<()> {
-    if let Some(parent) = path.parent() {
-        std::fs::create_dir_all(parent)?;
-    }
+    confine_io(&options.out, path)?;
     let n = options.counter.fetch_add(1, Ordering::Relaxed);
     let tmp = scratch.join(format!("file-{n}"));
     if let Err(e) = write_file(&tmp, text) {
@@ -682,6 +694,13 @@ fn write_job(
     options: &RunOptions,
 ) -> std::io::Result<()> {
     let target = options.out.join(&job.hash);
+    // The folder, if there, must be a real one inside the run's folder (not a link to one
+    // elsewhere, which the rename would not follow but the removal before it would empty).
+    if std::fs::symlink_metadata(&target).is_ok() {
+        confine_io(&options.out, &target.join(DONE_MARKER))?;
+    } else {
+        confine_io(&options.out, &target)?;
+    }
     let n = options.counter.fetch_add(1, Ordering::Relaxed);
     let tmp = options.scratch.join(format!("{}-{n}", job.hash));
     let written = (|| {
@@ -903,6 +922,8 @@ fn try_once(job: &Job, options: &Arc<RunOptions>, result: &mut JobResult) {
             if let Err(e) = write_job(job, &work.files, &work.diagnostics, options) {
                 let (code, message) = if is_disk_full(&e) {
                     (Code::E0007, format!("the disk is full: {e}"))
+                } else if let Some(why) = outside(&e) {
+                    (Code::E0009, why)
                 } else {
                     (Code::E0001, format!("cannot write the job's folder: {e}"))
                 };
@@ -919,14 +940,21 @@ fn try_once(job: &Job, options: &Arc<RunOptions>, result: &mut JobResult) {
 pub fn run_job(job: &Job, options: &Arc<RunOptions>) -> JobResult {
     let started = Instant::now();
     let mut result = JobResult::of(job, Status::Done);
-    let done = || options.out.join(&job.hash).join(DONE_MARKER).exists();
+    // A job's folder that is a link (to a finished folder elsewhere, say) is not this run's.
+    let done = || {
+        let folder = options.out.join(&job.hash);
+        std::fs::symlink_metadata(&folder).is_ok_and(|m| m.is_dir())
+            && folder.join(DONE_MARKER).exists()
+    };
     if !options.force && done() {
         result.status = Status::Skipped;
         result.codes = recorded_warnings(&options.out, &job.hash);
         note_ignored_fields(job, &mut result);
         return result;
     }
-    let lock = match FileLock::try_take(&lock_file(&options.out, &job.hash)) {
+    let lock_path = lock_file(&options.out, &job.hash);
+    let taken = confine_io(&options.out, &lock_path).and_then(|()| FileLock::try_take(&lock_path));
+    let lock = match taken {
         Ok(Some(lock)) => lock,
         Ok(None) => {
             result.status = Status::Busy;
@@ -934,6 +962,9 @@ pub fn run_job(job: &Job, options: &Arc<RunOptions>) -> JobResult {
             return result;
         }
         Err(e) => {
+            if let Some(why) = outside(&e) {
+                return result.fail("write", Code::E0009, why);
+            }
             let code = if is_disk_full(&e) { Code::E0007 } else { Code::E0001 };
             let mut result = result.fail("write", code, format!("cannot take the job's lock: {e}"));
             result.transient = code == Code::E0007;
@@ -950,9 +981,9 @@ pub fn run_job(job: &Job, options: &Arc<RunOptions>) -> JobResult {
     }
     let tries = tries_file(&options.out, &job.hash);
     if options.force {
-        let _ = std::fs::remove_file(partial_transcript(&options.out, &job.hash));
-        let _ = std::fs::remove_file(answer_log(&options.out, &job.hash));
-        let _ = std::fs::remove_file(&tries);
+        remove_inside(&options.out, &partial_transcript(&options.out, &job.hash));
+        remove_inside(&options.out, &answer_log(&options.out, &job.hash));
+        remove_inside(&options.out, &tries);
     }
     let earlier: u32 =
         crate::source::read_text(&tries, 64).ok().and_then(|t| t.trim().parse().ok()).unwrap_or(0);
@@ -969,9 +1000,9 @@ pub fn run_job(job: &Job, options: &Arc<RunOptions>) -> JobResult {
         let _ = write_atomically(&tries, &format!("{}\n", result.tries), &options.scratch, options);
         drop(lock);
     } else {
-        let _ = std::fs::remove_file(&tries);
-        let _ = std::fs::remove_file(partial_transcript(&options.out, &job.hash));
-        let _ = std::fs::remove_file(answer_log(&options.out, &job.hash));
+        remove_inside(&options.out, &tries);
+        remove_inside(&options.out, &partial_transcript(&options.out, &job.hash));
+        remove_inside(&options.out, &answer_log(&options.out, &job.hash));
         lock.remove();
     }
     note_ignored_fields(job, &mut result);

@@ -159,12 +159,24 @@ fn usage(message: &str) -> ExitCode {
 }
 
 fn io_failure(what: &str, e: &std::io::Error) -> ExitCode {
-    let code = if batch::run::is_disk_full(e) { Code::E0007 } else { Code::E0001 };
+    let code = write_error_code(e);
     emit(
         &Diagnostic::new(code, format!("{what}: {e}"))
             .with_note("no job was run: every job of the manifest is unfinished"),
     );
     ExitCode::from(EXIT_RECORDS)
+}
+
+/// The code of a failed write into the output folder: E0007 (disk full), E0009 (a path that
+/// leads outside the folder) or E0001.
+fn write_error_code(e: &std::io::Error) -> Code {
+    if batch::run::is_disk_full(e) {
+        Code::E0007
+    } else if batch::run::outside(e).is_some() {
+        Code::E0009
+    } else {
+        Code::E0001
+    }
 }
 
 /// What the run does with one line of its shard.
@@ -282,6 +294,7 @@ pub fn run(args: &BatchArgs) -> ExitCode {
     // that fills up during the run still has room for the summary and the failures.
     let reserve = out.join(format!(".records{suffix}.reserve"));
     let reserved = std::env::var("HOLOC_BATCH_RESERVE").map_or(true, |v| v.trim() != "0")
+        && common::confine_io(out, &reserve).is_ok()
         && reserve_space(&reserve, records_room(total)).is_ok();
     let header = Header {
         shards: shards.clone(),
@@ -390,9 +403,19 @@ pub fn run(args: &BatchArgs) -> ExitCode {
         Ok(counts) => *counts,
         Err(failure) => {
             let mut d = Diagnostic::new(
-                if batch::run::is_disk_full(&failure.error) { Code::E0007 } else { Code::E0001 },
-                format!("cannot write the summary into `{}`: {}", out.display(), failure.error),
+                write_error_code(&failure.error),
+                format!(
+                    "cannot write the summary into `{}`: {}",
+                    out.display(),
+                    batch::run::outside(&failure.error)
+                        .unwrap_or_else(|| failure.error.to_string())
+                ),
             );
+            let help = if d.code == Code::E0009 {
+                "remove the link and run the same command again: finished jobs are skipped"
+            } else {
+                "free space and run the same command again: finished jobs are skipped"
+            };
             if !failure.unfinished.is_empty() {
                 d = d.with_note(format!(
                     "{} unfinished job{}: {}",
@@ -401,11 +424,7 @@ pub fn run(args: &BatchArgs) -> ExitCode {
                     failure.unfinished.join("; ")
                 ));
             }
-            emit(
-                &d.with_help(
-                    "free space and run the same command again: finished jobs are skipped",
-                ),
-            );
+            emit(&d.with_help(help));
             return ExitCode::from(EXIT_RECORDS);
         }
     };
@@ -697,9 +716,13 @@ impl ResultLog {
             self.jobs.flush()?;
             self.failures.flush()?;
             blocked()?;
-            let _lock = batch::files::FileLock::take(
-                &out.join(".locks").join(format!("summary{suffix}.lock")),
-            )?;
+            // Every file written into the folder stays inside it: none is a link, nor in a
+            // folder that is a link to elsewhere.
+            let lock_path = out.join(".locks").join(format!("summary{suffix}.lock"));
+            common::confine_io(out, &lock_path)?;
+            common::confine_io(out, &summary_path)?;
+            common::confine_io(out, &failures_out)?;
+            let _lock = batch::files::FileLock::take(&lock_path)?;
             let others = if self.counts.busy > 0 { other_results(&summary_path) } else { None };
             let summary_tmp = self.jobs_path.with_extension("summary");
             let mut counts = self.counts;

@@ -354,11 +354,25 @@ fn words(p: &Path) -> Vec<std::path::Component<'_>> {
     reason = "the error is printed at once; it is rare and never propagated far"
 )]
 pub fn write_confined(root: &Path, path: &Path, contents: &[u8]) -> Result<(), Diagnostic> {
+    confine(root, path)?;
+    write_atomic(path, contents)
+}
+
+/// The checks of [`write_confined`] without the write, for a command that writes `path` its
+/// own way (a rename from its scratch folder, an append, a lock): `path` lies under `root` by
+/// its words, every folder between them is a real folder inside `root` once links are resolved
+/// (missing ones are made), and `path` is not a link (nor a folder or device). E0009 (E0001
+/// for an I/O error or a path that is not a regular file).
+#[allow(
+    clippy::result_large_err,
+    reason = "the error is printed at once; it is rare and never propagated far"
+)]
+pub fn confine(root: &Path, path: &Path) -> Result<(), Diagnostic> {
     let outside = |why: &str| {
         Diagnostic::new(
             Code::E0009,
             format!(
-                "not writing `{}`: {why}, outside the folder `{}`",
+                "not writing `{}`: {why} outside the folder `{}`",
                 diag::visible(&path.display().to_string()),
                 diag::visible(&root.display().to_string())
             ),
@@ -378,28 +392,32 @@ pub fn write_confined(root: &Path, path: &Path, contents: &[u8]) -> Result<(), D
     };
     let (root_words, path_words) = (words(&root_abs), words(&path_abs));
     let Some(parts) = path_words.strip_prefix(&root_words[..]) else {
-        return Err(outside("it is not under that folder"));
+        return Err(outside("it lies"));
     };
     if parts.is_empty() || !parts.iter().all(|c| matches!(c, std::path::Component::Normal(_))) {
-        return Err(outside("its path leaves that folder"));
+        return Err(outside("its path climbs with `..`"));
     }
     let mut dir = root_abs.clone();
     for part in &parts[..parts.len() - 1] {
         dir.push(part);
         match std::fs::symlink_metadata(&dir) {
             Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
-                std::fs::create_dir(&dir).map_err(io)?;
-            }
-            Err(e) => return Err(io(e)),
-            Ok(_) => {
-                let real = std::fs::canonicalize(&dir).map_err(io)?;
-                if !real.starts_with(&root_real) {
-                    return Err(outside(&format!(
-                        "the folder `{}` is a link that leads",
-                        diag::visible(&dir.display().to_string())
-                    )));
+                match std::fs::create_dir(&dir) {
+                    Ok(()) => continue,
+                    // Made meanwhile (by another thread or run): checked as one that was there.
+                    Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {}
+                    Err(e) => return Err(io(e)),
                 }
             }
+            Err(e) => return Err(io(e)),
+            Ok(_) => {}
+        }
+        let real = std::fs::canonicalize(&dir).map_err(io)?;
+        if !real.starts_with(&root_real) {
+            return Err(outside(&format!(
+                "the folder `{}` is a link that leads",
+                diag::visible(&dir.display().to_string())
+            )));
         }
     }
     match std::fs::symlink_metadata(path) {
@@ -411,11 +429,24 @@ pub fn write_confined(root: &Path, path: &Path, contents: &[u8]) -> Result<(), D
                 Code::E0001,
                 format!("cannot write `{}`: it is not a regular file", path.display()),
             )
-            .with_help("remove it, or write the golden somewhere else"));
+            .with_help("remove it, or write the file somewhere else"));
         }
         _ => {}
     }
-    write_atomic(path, contents)
+    Ok(())
+}
+
+/// [`confine`] for the writers that speak `std::io::Error`: the diagnostic's message as an
+/// error of kind `PermissionDenied` (E0009) or `Other`.
+pub fn confine_io(root: &Path, path: &Path) -> std::io::Result<()> {
+    confine(root, path).map_err(|d| {
+        let kind = if d.code == Code::E0009 {
+            std::io::ErrorKind::PermissionDenied
+        } else {
+            std::io::ErrorKind::Other
+        };
+        std::io::Error::new(kind, format!("[{}] {}", d.code.as_str(), d.message))
+    })
 }
 
 /// Writes a product to `-o PATH` atomically, or to stdout when no path is given.

@@ -60,6 +60,7 @@ codes! {
     E0007 "disk-full" "an output could not be written because the disk is full";
     E0008 "missing-shards" "`holoc batch merge` was given the summaries of only some shards";
     E0009 "outside-folder" "a path leads outside the folder it must stay in";
+    E0010 "too-many-tokens" "a file holds more words, numbers and signs than holoc reads";
 
     E0101 "syntax-error" "the text does not follow the grammar of a statement";
     E0102 "unknown-statement" "a line does not start like any statement of its block";

@@ -34,8 +34,12 @@ pub(crate) enum Context {
 }
 
 /// Parses the file `file` of `sources`.
+///
+/// Nothing is kept for a next parse: each piece is moved into the tree, so the tree is the
+/// only copy of the items (keeping them, as [`parse_cached`] does for an editor, doubled the
+/// memory of a large file).
 pub fn parse(sources: &SourceMap, file: FileId) -> Outcome<ast::File> {
-    parse_cached(sources, file, &mut ParseCache::default())
+    parse_cut(sources, file, &mut ParseCache::default(), false)
 }
 
 /// Top-level items already parsed, by their text, with spans relative to their start: what the
@@ -171,6 +175,7 @@ fn parse_cut(
         rustc_hash::FxHashMap::default();
     let mut used_groups = GroupMap::default();
     let mut tree = CutTree::default();
+    tree.items.reserve_exact(starts.len());
     let mut pieces = Vec::with_capacity(starts.len());
     for (k, &start) in starts.iter().enumerate() {
         let end = starts.get(k + 1).copied().unwrap_or(text.len());
@@ -354,7 +359,7 @@ fn splice(
     let region_end = k1.map_or(text.len(), |k| pieces[k].start - old_end + new_end);
     let old_region_end = k1.map_or(old_len, |k| pieces[k].start);
     let k1 = k1.unwrap_or(pieces.len());
-    if first_too_deep(&text[s0..region_end]).is_some() {
+    if first_too_deep(&text[s0..region_end]).is_some() || first_token_past_limit(text).is_some() {
         return None;
     }
     // Parse the new pieces before anything is changed (a room edited inside its body, in
@@ -1056,23 +1061,99 @@ pub(crate) fn first_too_deep(text: &str) -> Option<usize> {
     None
 }
 
-/// For a text nested deeper than [`MAX_NESTING`]: the whole text as one unreadable item and
-/// E0107 at the first brace too deep. The grammar is never run on such a text.
+/// For a text nested deeper than [`MAX_NESTING`] or holding more than [`MAX_TOKENS`] tokens:
+/// the whole text as one unreadable item and E0107 at the first brace too deep (or E0010 at
+/// the first token too many). The grammar is never run on such a text.
 fn too_deep(sources: &SourceMap, file: FileId) -> Option<Outcome<ast::File>> {
     let text = &sources.get(file).text;
-    let at = first_too_deep(text)?;
     let whole = Span::new(file, 0, text.len());
-    let d = Diagnostic::new(
-        Code::E0107,
-        format!("blocks are nested deeper than {MAX_NESTING} levels; the file is not read further"),
-    )
-    .with_primary(Span::new(file, at, at + 1), format!("level {}", MAX_NESTING + 1))
-    .with_help("remove the extra braces: a scene's blocks close within four levels");
+    let d = if let Some(at) = first_too_deep(text) {
+        Diagnostic::new(
+            Code::E0107,
+            format!(
+                "blocks are nested deeper than {MAX_NESTING} levels; the file is not read further"
+            ),
+        )
+        .with_primary(Span::new(file, at, at + 1), format!("level {}", MAX_NESTING + 1))
+        .with_help("remove the extra braces: a scene's blocks close within four levels")
+    } else {
+        let at = first_token_past_limit(text)?;
+        let end = text[at..].chars().next().map_or(at, |c| at + c.len_utf8());
+        Diagnostic::new(
+            Code::E0010,
+            format!("the file holds more than {MAX_TOKENS} tokens; it is not read further"),
+        )
+        .with_primary(Span::new(file, at, end), format!("token {}", MAX_TOKENS + 1))
+        .with_help(
+            "a house of a hundred rooms holds a twentieth of that: split the file, or remove what is repeated by mistake",
+        )
+    };
     let ast = ast::File {
         items: vec![ast::Item::Error(ast::ErrorNode { text: text.to_string(), span: whole })],
         span: whole,
     };
     Some(Outcome::new(ast, vec![d]))
+}
+
+/// The most tokens a file may hold: words and numbers (each run of letters, digits, `_`, `-`
+/// and `.`), strings, and every other character that is not blank, outside comments. The
+/// classroom example holds 500; a house of a hundred such rooms, 50,000. Past this a file is
+/// refused before it is parsed (E0010), so that its tree, scene and plan stay within a bounded
+/// size whatever the file repeats: 32 MiB of small rooms, objects, doors, windows or corners
+/// is 5 to 10 million tokens, several GB once parsed, checked and planned.
+pub const MAX_TOKENS: usize = 1_000_000;
+
+/// Where the token past [`MAX_TOKENS`] begins, if the text has one.
+pub(crate) fn first_token_past_limit(text: &str) -> Option<usize> {
+    scan_tokens(text, MAX_TOKENS).1
+}
+
+/// How many tokens the text holds, as [`MAX_TOKENS`] counts them.
+pub fn count_tokens(text: &str) -> usize {
+    scan_tokens(text, usize::MAX).0
+}
+
+/// The tokens of `text` up to `limit`, and where the one past it begins.
+fn scan_tokens(text: &str, limit: usize) -> (usize, Option<usize>) {
+    let bytes = text.as_bytes();
+    let word = |b: u8| b.is_ascii_alphanumeric() || matches!(b, b'_' | b'-' | b'.') || b >= 0x80;
+    let mut count = 0usize;
+    let mut i = 0;
+    while i < bytes.len() {
+        let start = i;
+        match bytes[i] {
+            b' ' | b'\t' | b'\n' | b'\r' => {
+                i += 1;
+                continue;
+            }
+            b'/' if bytes.get(i + 1) == Some(&b'/') => {
+                i = text[i..].find('\n').map_or(bytes.len(), |end| i + end);
+                continue;
+            }
+            b'/' if bytes.get(i + 1) == Some(&b'*') => {
+                i = text[i + 2..].find("*/").map_or(bytes.len(), |close| i + 2 + close + 2);
+                continue;
+            }
+            b'"' => {
+                i += 1;
+                while i < bytes.len() && !matches!(bytes[i], b'"' | b'\n' | b'\r') {
+                    i += if bytes[i] == b'\\' { 2 } else { 1 };
+                }
+                i += 1;
+            }
+            b if word(b) => {
+                while i < bytes.len() && word(bytes[i]) {
+                    i += 1;
+                }
+            }
+            _ => i += 1,
+        }
+        count += 1;
+        if count > limit {
+            return (count - 1, Some(start));
+        }
+    }
+    (count, None)
 }
 
 /// Parses a text that is not in a source map (tests, the importer's round-trip check).

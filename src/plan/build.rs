@@ -117,6 +117,35 @@ pub const DEFAULT_CEILING_MATERIAL: &str = "EggshellDrywall";
 /// The most overlaps counted for one room as the sweep meets them (see `relations`): past it
 /// the plan's counts are lower bounds and the work stays linear in the rooms.
 const OVERLAPS_COUNTED_PER_ROOM: usize = 64;
+/// Once the plan has an overlap, the most rooms whose bounds meet a room's that the sweep of
+/// `relations` intersects it with (before, it looks at all of them: it must find the first).
+const CANDIDATES_PER_ROOM: usize = 256;
+/// Past `PAIR_DETAIL_LIMIT` overlapping pairs, the rooms given a diagnostic of their own; the
+/// others get one together ("… and K more rooms overlap others").
+pub const OVERLAP_ROOMS_SHOWN: usize = 1000;
+
+/// A key that orders finite and infinite floats as `f64::total_cmp` does.
+fn sort_key(v: f64) -> u64 {
+    let bits = v.to_bits();
+    if bits >> 63 == 1 {
+        !bits
+    } else {
+        bits | (1 << 63)
+    }
+}
+
+/// Keeps in `list` (sorted, `usize::MAX` for none) the smallest of its numbers and `value`.
+fn keep_smallest(list: &mut [usize; 3], value: usize) {
+    if list.contains(&value) {
+        return;
+    }
+    let mut v = value;
+    for slot in list.iter_mut() {
+        if v < *slot {
+            std::mem::swap(slot, &mut v);
+        }
+    }
+}
 
 /// The side of the cells the plan finds nearby corners and walls by (`grid.rs`), metres.
 const GRID_CELL_M: f64 = 2.0;
@@ -203,6 +232,7 @@ impl Ctx<'_> {
         // Snap coordinates, axis by axis, to the first value written within SNAP_M.
         let mut anchors: [Anchors; 2] = [Anchors::default(), Anchors::default()];
         let mut snapped: Vec<Vec<Point>> = Vec::new();
+        self.rooms.reserve_exact(scene.rooms.len());
         for room in &scene.rooms {
             let mut corners = Vec::new();
             for (ci, &c) in room.corners.iter().enumerate() {
@@ -438,96 +468,145 @@ impl Ctx<'_> {
         let n = self.rooms.len();
         let mut ok = true;
         let mut adjacent = vec![Vec::new(); n];
-        // Pairs whose outlines' bounds meet, by a sweep along x: only they can overlap or share
-        // a wall (near-linear in the rooms unless many overlap), in the order of the rooms.
+        // Pairs whose outlines' bounds meet, by a sweep along x that keeps the rooms it has
+        // passed and that still reach the current x ordered by their lowest z: a room meets
+        // only those whose lowest z lies between its own bounds widened by the tallest room's
+        // depth. Near-linear in the rooms however they are laid out (a column of rooms along z
+        // cost the square of their number with a sweep along x alone).
         let boxes: Vec<Aabb> = self.rooms.iter().map(|r| Aabb::of(&r.corners)).collect();
+        let tallest = boxes.iter().map(Aabb::depth).fold(0.0, f64::max);
         let mut by_x: Vec<usize> = (0..n).collect();
         by_x.sort_by(|&i, &j| boxes[i].min[0].total_cmp(&boxes[j].min[0]).then(i.cmp(&j)));
+        let mut active: BTreeSet<(u64, usize)> = BTreeSet::new();
+        let mut ends: std::collections::BinaryHeap<std::cmp::Reverse<(u64, usize)>> =
+            std::collections::BinaryHeap::new();
         // A room's overlaps are counted up to `OVERLAPS_COUNTED_PER_ROOM` as the sweep meets
-        // them, so that thousands of rooms drawn over each other cost a bounded number of exact
-        // intersections each (the plan is an error either way; its counts then say "at least").
+        // them, and once the plan is known to be wrong at most `CANDIDATES_PER_ROOM` rooms are
+        // looked at for each, so that thousands of rooms drawn over each other cost a bounded
+        // number of exact intersections each (the plan is an error either way; its counts then
+        // say "at least"). Past `PAIR_DETAIL_LIMIT` pairs only each room's count and first
+        // partners are kept: memory linear in the rooms, not in the pairs.
         let mut overlaps: Vec<(usize, usize, f64)> = Vec::new();
+        let mut pairs = 0usize;
+        let mut counts = vec![0u32; n];
+        let mut partners = vec![[usize::MAX; 3]; n];
         let mut touching: Vec<(usize, usize)> = Vec::new();
         let mut capped = false;
-        for (k, &i) in by_x.iter().enumerate() {
-            let mut hits = 0usize;
-            for &j in &by_x[k + 1..] {
-                if boxes[j].min[0] > boxes[i].max[0] + EPS_M {
+        for &i in &by_x {
+            while let Some(&std::cmp::Reverse((end, j))) = ends.peek() {
+                if end >= sort_key(boxes[i].min[0] - EPS_M) {
                     break;
                 }
-                if boxes[j].min[1] > boxes[i].max[1] + EPS_M
-                    || boxes[i].min[1] > boxes[j].max[1] + EPS_M
-                {
+                ends.pop();
+                active.remove(&(sort_key(boxes[j].min[1]), j));
+            }
+            let low = sort_key(boxes[i].min[1] - tallest - 2.0 * EPS_M);
+            let high = sort_key(boxes[i].max[1] + EPS_M);
+            let (mut hits, mut looked) = (0usize, 0usize);
+            for &(_, j) in active.range((low, 0)..=(high, usize::MAX)) {
+                if boxes[i].min[1] > boxes[j].max[1] + EPS_M {
                     continue;
                 }
+                if !ok && looked >= CANDIDATES_PER_ROOM {
+                    capped = true;
+                    break;
+                }
+                looked += 1;
                 let (a, b) = (i.min(j), i.max(j));
                 let inter =
                     rectilinear_intersection_area(&self.rooms[a].corners, &self.rooms[b].corners);
                 if inter > 1e-4 {
                     ok = false;
-                    overlaps.push((a, b, inter));
+                    touching = Vec::new();
+                    pairs += 1;
+                    if overlaps.len() <= crate::diag::PAIR_DETAIL_LIMIT {
+                        overlaps.push((a, b, inter));
+                    }
+                    for (x, y) in [(a, b), (b, a)] {
+                        counts[x] = counts[x].saturating_add(1);
+                        keep_smallest(&mut partners[x], y);
+                    }
                     hits += 1;
                     if hits >= OVERLAPS_COUNTED_PER_ROOM {
                         capped = true;
                         break;
                     }
-                } else if self.shared_length(a, b) > EPS_M {
+                } else if ok && self.shared_length(a, b) > EPS_M {
                     touching.push((a, b));
                 }
             }
+            active.insert((sort_key(boxes[i].min[1]), i));
+            ends.push(std::cmp::Reverse((sort_key(boxes[i].max[0]), i)));
         }
+        drop((active, ends));
         overlaps.sort_unstable_by_key(|x| (x.0, x.1));
         touching.sort_unstable();
         for &(a, b) in &touching {
             adjacent[a].push(b);
             adjacent[b].push(a);
         }
-        if overlaps.len() <= crate::diag::PAIR_DETAIL_LIMIT {
+        if pairs <= crate::diag::PAIR_DETAIL_LIMIT {
             for &(a, b, inter) in &overlaps {
                 let d = self.overlap_diagnostic(a, b, inter);
                 self.diags.push(d);
             }
         } else {
-            // Many pairs: one diagnostic per room that overlaps others, with their number.
-            let mut others: Vec<Vec<usize>> = vec![Vec::new(); n];
-            for &(a, b, _) in &overlaps {
-                others[a].push(b);
-                others[b].push(a);
-            }
-            for (a, list) in others.iter().enumerate().filter(|(_, l)| !l.is_empty()) {
+            // Many pairs: one diagnostic per room that overlaps others, with their number, for
+            // the first `OVERLAP_ROOMS_SHOWN` such rooms; then one for all the others.
+            let note = if capped {
+                format!(
+                    "at least {pairs} pairs of rooms overlap; past {} they are counted per room, and the counts are lower bounds (each room is compared with at most {OVERLAPS_COUNTED_PER_ROOM} of the rooms before it that it overlaps)",
+                    crate::diag::PAIR_DETAIL_LIMIT
+                )
+            } else {
+                format!(
+                    "{pairs} pairs of rooms overlap; past {} they are counted per room",
+                    crate::diag::PAIR_DETAIL_LIMIT
+                )
+            };
+            let mut rooms = (0..n).filter(|&a| counts[a] > 0);
+            for a in rooms.by_ref().take(OVERLAP_ROOMS_SHOWN) {
                 let name = self.room_name(RoomId(a)).to_owned();
+                let count = counts[a];
                 let mut d = Diagnostic::new(
                     Code::E0305,
                     format!(
-                        "room `{name}` overlaps {}{} other room{}",
+                        "room `{name}` overlaps {}{count} other room{}",
                         if capped { "at least " } else { "" },
-                        list.len(),
-                        if list.len() == 1 { "" } else { "s" }
+                        if count == 1 { "" } else { "s" }
                     ),
                 )
                 .with_primary(self.rooms[a].name_span, "this room");
-                for &b in list.iter().take(3) {
+                for &b in partners[a].iter().filter(|&&b| b != usize::MAX) {
                     d = d.with_secondary(
                         self.rooms[b].name_span,
                         format!("overlaps `{}`", self.room_name(RoomId(b))),
                     );
                 }
                 d = d
-                    .with_note(if capped {
-                        format!(
-                            "at least {} pairs of rooms overlap; past {} they are counted per room, and each room's count stops at {OVERLAPS_COUNTED_PER_ROOM}",
-                            overlaps.len(),
-                            crate::diag::PAIR_DETAIL_LIMIT
-                        )
-                    } else {
-                        format!(
-                            "{} pairs of rooms overlap; past {} they are counted per room",
-                            overlaps.len(),
-                            crate::diag::PAIR_DETAIL_LIMIT
-                        )
-                    })
+                    .with_note(note.clone())
                     .with_help("move the corners so that the rooms only share walls");
                 self.diags.push(d);
+            }
+            if let Some(first) = rooms.next() {
+                let more = 1 + rooms.count();
+                let name = self.room_name(RoomId(first)).to_owned();
+                self.diags.push(
+                    Diagnostic::new(
+                        Code::E0305,
+                        format!(
+                            "… and {more} more room{} overlap{} others, from `{name}` on",
+                            if more == 1 { "" } else { "s" },
+                            if more == 1 { "s" } else { "" }
+                        ),
+                    )
+                    .with_primary(self.rooms[first].name_span, "the first of them")
+                    .with_note(note)
+                    .with_note(format!(
+                        "one diagnostic is given for each of the first {OVERLAP_ROOMS_SHOWN} rooms that overlap others"
+                    ))
+                    .with_help("move the corners so that the rooms only share walls"),
+                );
             }
         }
         if !ok || n < 2 {

@@ -78,7 +78,8 @@
 //! step 2 is clean, so it comes back unchanged). What it cannot fix is left for the plan stage
 //! to report.
 //!
-//! The whole repair is bounded by [`MAX_REPAIR_WORK`] (W0309 when reached), and a room's
+//! A plan of more than [`MAX_REPAIR_ROOMS`] rooms is left as written (W0309). The whole repair
+//! is bounded by [`MAX_REPAIR_WORK`] (W0309 when reached), and a room's
 //! candidate moves per axis by `MAX_AXIS_CANDIDATES`, the nearest first, so that a room with
 //! many walls gives candidates in proportion to its walls, not their square.
 
@@ -118,6 +119,8 @@ const GAP_GRID_MARGIN_M: f64 = 1e-3;
 /// over). A repair that reaches it stops where it is (W0309): the work of a repair is bounded
 /// whatever the plan, about a second on the slowest plans measured.
 pub const MAX_REPAIR_WORK: u64 = 2_500_000;
+/// The most rooms a plan may have for the repair to try it (W0309 otherwise): a house has tens.
+pub const MAX_REPAIR_ROOMS: usize = 500;
 /// How many times its corners a plan the plan stage judges counts in [`MAX_REPAIR_WORK`].
 const JUDGE_COST: u64 = 20;
 /// The most candidate moves of one room along one axis (the nearest first): rooms with many
@@ -207,6 +210,23 @@ pub fn repair(scene: &Scene, catalog: &StructureCatalog) -> Outcome<Repair> {
     let before = Badness::of(scene, &original, catalog);
     if before.is_clean() {
         return Outcome::new(unchanged, Vec::new());
+    }
+    // Several of the steps weigh every pair of rooms: a plan of thousands of rooms (no house
+    // has them; a runaway answer or a hostile file does) is left as written, at once.
+    if scene.rooms.len() > MAX_REPAIR_ROOMS {
+        let mut d = Diagnostic::new(
+            Code::W0309,
+            format!(
+                "the floor-plan repair does not try a plan of {} rooms (at most {MAX_REPAIR_ROOMS})",
+                scene.rooms.len()
+            ),
+        )
+        .with_help("the plan is left as written; the plan stage reports what is wrong with it")
+        .with_note("the bound keeps every repair under about a second, whatever the plan");
+        if let Some(room) = scene.rooms.first() {
+            d = d.with_primary(room.name_span, "the plan starts here");
+        }
+        return Outcome::new(unchanged, vec![d]);
     }
     let mut work = Work { spent: 0, limit: MAX_REPAIR_WORK, phase: u64::MAX };
     let mut state = State {
