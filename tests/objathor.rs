@@ -964,6 +964,14 @@ fn an_index_is_read_again_when_its_folder_changes_or_it_is_damaged() {
     let (with, _) = load(&options(&root));
     let obj = with.objathor().expect("loaded");
     assert!(!obj.from_index && obj.features.as_ref().is_some_and(|f| f.sbert.is_some()));
+    // What a run killed while writing the index left is removed by the next one that writes.
+    let (_other, other) = fixture(FixtureOptions::default());
+    std::fs::create_dir(other.join(".holoc-index")).expect("made");
+    let stale = other.join(".holoc-index").join(".holoc-999999999-x1y2z3.tmp");
+    std::fs::write(&stale, "half an index").expect("written");
+    let _ = load(&options(&other));
+    assert!(!stale.exists(), "the stale temporary file is removed");
+    assert!(other.join(".holoc-index").join("objathor.idx").is_file());
     // A damaged index, cut short or overwritten: the folder is read, the index written again.
     let index = root.join(".holoc-index").join("objathor.idx");
     let whole = std::fs::read(&index).expect("the index");

@@ -311,7 +311,7 @@ pub const TEMP_SUFFIX: &str = ".tmp";
 /// killed before its rename left in `dir` (`kill -9` during `fmt --write`): those whose
 /// process no longer runs. Only names of holoc's own form are touched, and only on Linux,
 /// where `/proc` says which processes run; elsewhere they stay.
-fn remove_stale_temporaries(dir: &Path) {
+pub(crate) fn remove_stale_temporaries(dir: &Path) {
     static DONE: std::sync::Mutex<std::collections::BTreeSet<std::path::PathBuf>> =
         std::sync::Mutex::new(std::collections::BTreeSet::new());
     if !cfg!(target_os = "linux") || !Path::new("/proc/self").exists() {

@@ -264,7 +264,8 @@ impl FeatureRows {
         let at = self.start + (row * self.views + view) * n;
         self.bytes.get(at, n).unwrap_or_else(|| {
             let nan: &[u8] = if self.item == 4 { &[0, 0, 0xc0, 0x7f] } else { &[0, 0x7e] };
-            let nan: Vec<u8> = if self.big_endian { nan.iter().rev().copied().collect() } else { nan.to_vec() };
+            let nan: Vec<u8> =
+                if self.big_endian { nan.iter().rev().copied().collect() } else { nan.to_vec() };
             std::borrow::Cow::Owned(nan.repeat(self.dim))
         })
     }

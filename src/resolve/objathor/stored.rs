@@ -427,7 +427,14 @@ fn write_at(
 ) -> std::io::Result<()> {
     let dir = path.parent().unwrap_or(Path::new("."));
     std::fs::create_dir_all(dir)?;
-    let tmp = tempfile::Builder::new().prefix(".objathor-").suffix(".tmp").tempfile_in(dir)?;
+    // `.holoc-<pid>-XXXXXX.tmp`, as every atomic write of holoc's: a run killed while writing
+    // leaves one, which a later run removes once its process has ended.
+    let (prefix, suffix) = (crate::cli::common::TEMP_PREFIX, crate::cli::common::TEMP_SUFFIX);
+    crate::cli::common::remove_stale_temporaries(dir);
+    let tmp = tempfile::Builder::new()
+        .prefix(&format!("{prefix}{}-", std::process::id()))
+        .suffix(suffix)
+        .tempfile_in(dir)?;
     let mut out = Out { file: std::io::BufWriter::new(tmp), at: PRELUDE };
     out.file.write_all(&[0u8; PRELUDE as usize])?;
     let clip = out.features(read.clip.as_ref())?;
