@@ -20,7 +20,7 @@ use rustc_hash::FxHashMap;
 use super::constraints::{
     self, footprint, half_extents, HardRule, Occupancy, Pose, ReachBase, Rect, Rot,
 };
-use super::grid::{CentreIndex, FootprintGrid};
+use super::grid::{CentreIndex, FootprintGrid, ZoneGrid};
 use super::{measure_object, PlacedFloor, Prepared, RoomLayout, SolveOptions, Unplaced};
 use crate::check::scene::{GlobalKind, RelationKind};
 
@@ -1019,17 +1019,15 @@ fn touching(fp: &Rect, blocked: impl Fn(&Rect) -> bool) -> u8 {
     nudged(fp).iter().enumerate().filter(|(_, m)| blocked(m)).fold(0, |acc, (i, _)| acc | (1 << i))
 }
 
-/// The use-clearances around a node: placed footprints (with whether the object being placed
-/// relates to each) and the zones placed objects keep free from it (all of a list, or one of
-/// a bed's open sides).
-struct Clearances<'s> {
-    /// The placed footprints (those `related` to the object being placed, and that it lets
-    /// into its use-clearance, are not in its way): the node's own grid.
-    placed: &'s FootprintGrid,
+/// The use-clearances around a node: whether the object being placed relates to each placed
+/// footprint (those it relates to, and that it lets into its use-clearance, are not in its
+/// way) and the zones placed objects keep free from it (all of a list, or one of a bed's open
+/// sides). The placed footprints themselves are the node's grid, passed beside it.
+struct Clearances {
     /// Per placed footprint, in the grid's order.
     related: Vec<bool>,
     /// The zones that must stay wholly free of the object (the `all` lists), bucketed.
-    keep_free: FootprintGrid,
+    keep_free: ZoneGrid,
     /// The lists of zones of which one must stay free (a bed's open sides).
     one_free: Vec<Vec<Rect>>,
     /// Per placed footprint, in the grid's order: a chair of another table, which the way
@@ -1039,10 +1037,6 @@ struct Clearances<'s> {
     /// object, taller than [`constraints::SIGHT_LINE_M`], keeps off.
     sight: Vec<([f64; 2], [f64; 2])>,
 }
-
-/// Up to how many zones a node's use-clearances are looked through one by one rather than
-/// bucketed ([`FootprintGrid::scan`]).
-const FEW_ZONES: usize = 16;
 
 /// Why an object has no pose: the rule and the words.
 type Reason = (HardRule, String);
@@ -1141,6 +1135,20 @@ struct NodeWalk {
     /// first, and those standing in a use-clearance.
     blockers: BTreeMap<usize, usize>,
     cleared_out: usize,
+    /// What the walk holds its candidates to at this node, worked out the first time the walk
+    /// meets a candidate and kept until it is done: a node's walk is taken further again and
+    /// again (once per candidate the search asks for), and these depend on the node alone.
+    rules: Option<Rc<NodeRules>>,
+}
+
+/// What the candidates of an object are held to and ordered by at one node: the
+/// use-clearances, the side relations and the seats that later objects still need, and the
+/// zones round the seats of the tables placed (for a table's own chairs).
+struct NodeRules {
+    clearances: Clearances,
+    promises: Vec<Promise>,
+    seat_promises: Vec<SeatPromise>,
+    reserved: Vec<Rect>,
 }
 
 /// A key of [`Search::touching`]: the object and the bits of a placed footprint.
@@ -1201,7 +1209,7 @@ impl Search<'_, '_> {
             // the others), not only the first.
             let cand = Cand { pose: pin, fp };
             let ctx = self.clearance_context(k, st);
-            let cleared = self.clearances_kept(k, &cand, &ctx);
+            let cleared = self.clearances_kept(k, &cand, &st.grid, &ctx);
             let rules = [
                 self.prep.static_rule(k, &pin),
                 st.fps.iter().any(|f| f.overlaps(&fp)).then_some(HardRule::NoOverlap),
@@ -1432,7 +1440,7 @@ impl Search<'_, '_> {
         k: usize,
         c: &Cand,
         placed: &FootprintGrid,
-        keep_free: &FootprintGrid,
+        keep_free: &ZoneGrid,
         reserved: &[Rect],
     ) -> (usize, usize) {
         let (kept, close) =
@@ -1743,7 +1751,9 @@ impl Search<'_, '_> {
         scored
             .into_iter()
             .map(|(s, i)| (anywhere[i], s))
-            .filter(|(c, _)| !placed.any_overlap(&c.fp) && self.clearances_kept(k, c, &clearances))
+            .filter(|(c, _)| {
+                !placed.any_overlap(&c.fp) && self.clearances_kept(k, c, placed, &clearances)
+            })
             .take(REACH_TRIES)
             .collect()
     }
@@ -1784,7 +1794,7 @@ impl Search<'_, '_> {
     /// layout `st` (no overlap, use-clearances, reachability), or says why none does.
     fn place_best(&self, k: usize, st: &mut State, cands: &[Cand]) -> Option<Reason> {
         let prep = self.prep;
-        let clearances = self.clearances_with(k, &st.poses, &st.grid, &st.objs);
+        let clearances = self.clearances_with(k, &st.poses, &st.objs);
         let mut best: Option<(f64, Cand)> = None;
         let (mut overlapping, mut cleared_out, mut boxed) = (0usize, 0usize, 0usize);
         let mut blockers: BTreeMap<usize, usize> = BTreeMap::new();
@@ -1796,7 +1806,7 @@ impl Search<'_, '_> {
                 *blockers.entry(i).or_insert(0) += 1;
                 continue;
             }
-            if !self.clearances_kept(k, c, &clearances) {
+            if !self.clearances_kept(k, c, &st.grid, &clearances) {
                 cleared_out += 1;
                 continue;
             }
@@ -1837,19 +1847,13 @@ impl Search<'_, '_> {
 
     /// What the use-clearance rule needs at a node for object `k`: the placed footprints, the
     /// placed objects' clearance zones, and which placed objects `k` relates to.
-    fn clearance_context<'s>(&self, k: usize, st: &'s State) -> Clearances<'s> {
-        self.clearances_with(k, &st.poses, &st.grid, &st.objs)
+    fn clearance_context(&self, k: usize, st: &State) -> Clearances {
+        self.clearances_with(k, &st.poses, &st.objs)
     }
 
     /// [`Search::clearance_context`] from the parts of a state it reads (so that the state's
     /// other parts may change while it is held).
-    fn clearances_with<'s>(
-        &self,
-        k: usize,
-        poses: &[Option<Pose>],
-        grid: &'s FootprintGrid,
-        objs: &[usize],
-    ) -> Clearances<'s> {
+    fn clearances_with(&self, k: usize, poses: &[Option<Pose>], objs: &[usize]) -> Clearances {
         let objects = &self.prep.problem.objects;
         let related = |a: usize, b: usize| {
             objects[a].constraints.iter().any(|x| x.target == b)
@@ -1913,13 +1917,8 @@ impl Search<'_, '_> {
         }
         let bounds = &self.prep.room.bounds;
         Clearances {
-            placed: grid,
             related: related_to_k,
-            keep_free: if keep_free.len() <= FEW_ZONES {
-                FootprintGrid::scan(keep_free)
-            } else {
-                FootprintGrid::new(bounds, keep_free)
-            },
+            keep_free: ZoneGrid::new(bounds, keep_free),
             one_free,
             back,
             sight,
@@ -1930,22 +1929,44 @@ impl Search<'_, '_> {
     /// and free of placed furniture it has no relation with) and those of the placed objects
     /// (it does not stand in them unless it relates to that object: a chair at its desk, a
     /// coffee table before its sofa, a nightstand by its bed).
-    fn clearances_kept(&self, k: usize, c: &Cand, ctx: &Clearances) -> bool {
+    fn clearances_kept(
+        &self,
+        k: usize,
+        c: &Cand,
+        placed: &FootprintGrid,
+        ctx: &Clearances,
+    ) -> bool {
         let (zones, all) = self.prep.use_zones(k, &c.pose);
         let own_free = |z: &Rect| {
-            self.prep.room.contains_rect(z) && !ctx.placed.any_overlap_where(z, |i| !ctx.related[i])
+            self.prep.room.contains_rect(z) && !placed.any_overlap_where(z, |i| !ctx.related[i])
         };
         let own_ok = zones.is_empty()
             || if all { zones.iter().all(own_free) } else { zones.iter().any(own_free) };
         let back_ok = !ctx.back.iter().any(|&b| b) || {
             let z = super::back_zone(&c.pose, self.prep.problem.objects[k].size);
-            !ctx.placed.any_overlap_where(&z, |i| ctx.back[i])
+            !placed.any_overlap_where(&z, |i| ctx.back[i])
         };
         own_ok
             && back_ok
             && !ctx.sight.iter().any(|(a, b)| c.fp.meets_segment(*a, *b))
             && !ctx.keep_free.any_overlap(&c.fp)
             && ctx.one_free.iter().all(|z| z.is_empty() || z.iter().any(|r| !r.overlaps(&c.fp)))
+    }
+
+    /// What object `k`'s candidates are held to at this node ([`NodeRules`]).
+    fn node_rules(&self, k: usize, st: &State) -> NodeRules {
+        let placed = &st.grid;
+        // The seats of the tables placed, a chair at them or not, with the room behind each to
+        // pull the chair out: this object's own chairs do not take them (two tables whose
+        // seats share that room leave their chairs back to back with no way between).
+        let reserved =
+            if self.rings[k].is_some() { self.placed_seat_zones(k, st) } else { Vec::new() };
+        NodeRules {
+            clearances: self.clearance_context(k, st),
+            promises: self.open_promises(k, placed, st),
+            seat_promises: self.open_seats(k, placed, st),
+            reserved,
+        }
     }
 
     /// Whether a zone is inside the room, outside the door zones and free of footprints.
@@ -2007,6 +2028,7 @@ impl Search<'_, '_> {
             done: false,
             blockers: BTreeMap::new(),
             cleared_out: 0,
+            rules: None,
         };
         self.walk_to(k, st, &mut walk, 1);
         if !walk.kept.is_empty() {
@@ -2091,14 +2113,8 @@ impl Search<'_, '_> {
         let prep = self.prep;
         // The placed footprints, bucketed: each question below looks only at those near it.
         let placed = &st.grid;
-        let clearances = self.clearance_context(k, st);
-        let promises = self.open_promises(k, placed, st);
-        let seat_promises = self.open_seats(k, placed, st);
-        // The seats of the tables placed, a chair at them or not, with the room behind each to
-        // pull the chair out: this object's own chairs do not take them (two tables whose
-        // seats share that room leave their chairs back to back with no way between).
-        let reserved: Vec<Rect> =
-            if self.rings[k].is_some() { self.placed_seat_zones(k, st) } else { Vec::new() };
+        let rules = Rc::clone(walk.rules.get_or_insert_with(|| Rc::new(self.node_rules(k, st))));
+        let NodeRules { clearances, promises, seat_promises, reserved } = &*rules;
         let order = |a: &(f64, usize, f64, Cand), b: &(f64, usize, f64, Cand)| {
             b.0.total_cmp(&a.0).then(a.1.cmp(&b.1))
         };
@@ -2122,6 +2138,8 @@ impl Search<'_, '_> {
         loop {
             let Some((step, touches)) = next_step(&context, walk, self, k) else {
                 walk.done = true;
+                // Nothing is met again at this node.
+                walk.rules = None;
                 break;
             };
             if stops(walk, &step) {
@@ -2139,7 +2157,7 @@ impl Search<'_, '_> {
                 *walk.blockers.entry(first).or_insert(0) += 1;
                 continue;
             }
-            if !self.clearances_kept(k, &c, &clearances) {
+            if !self.clearances_kept(k, &c, placed, clearances) {
                 walk.cleared_out += 1;
                 continue;
             }
@@ -2147,7 +2165,7 @@ impl Search<'_, '_> {
             // A touching candidate beyond reach is scored only now.
             let s = if step.score.is_nan() { context.scorer.score(&c) } else { step.score };
             let (kept, close) =
-                self.room_left_for_dependents(k, &c, placed, &clearances.keep_free, &reserved);
+                self.room_left_for_dependents(k, &c, placed, &clearances.keep_free, reserved);
             let covers = |zones: &[Rect]| zones.iter().all(|z| z.overlaps(&c.fp));
             let broken = promises.iter().filter(|p| covers(&p.zones)).count()
                 + seat_promises.iter().map(|p| p.broken_by(&c.fp)).sum::<usize>();
