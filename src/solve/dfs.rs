@@ -217,68 +217,82 @@ pub(crate) fn derived_candidates(
     k: usize,
     poses: &[Option<Pose>],
 ) -> Vec<Cand> {
+    let mut out = Vec::new();
+    for target in derived_targets(prep, k) {
+        if let Some(Some(tp)) = poses.get(target) {
+            out.extend(derived_for_target(prep, k, target, tp));
+        }
+    }
+    dedup_cands(&mut out);
+    out
+}
+
+/// The targets of object `k`'s relations, each once, in the order of the relations: those
+/// whose poses [`derived_candidates`] derives candidates from.
+fn derived_targets(prep: &Prepared<'_>, k: usize) -> Vec<usize> {
+    let mut targets = Vec::new();
+    for c in &prep.problem.objects[k].constraints {
+        if !targets.contains(&c.target) && prep.problem.objects.get(c.target).is_some() {
+            targets.push(c.target);
+        }
+    }
+    targets
+}
+
+/// The candidates of object `k` derived from one target at pose `tp`, before they are put
+/// together with those of its other targets and deduplicated ([`derived_candidates`]).
+fn derived_for_target(prep: &Prepared<'_>, k: usize, target: usize, tp: &Pose) -> Vec<Cand> {
     let obj = &prep.problem.objects[k];
     let mut out = Vec::new();
-    let mut seen_targets = Vec::new();
-    for c in &obj.constraints {
-        if seen_targets.contains(&c.target) {
-            continue;
-        }
-        seen_targets.push(c.target);
-        let (Some(Some(tp)), Some(t)) = (poses.get(c.target), prep.problem.objects.get(c.target))
-        else {
-            continue;
-        };
-        let tf = footprint(tp, t.size);
-        let mut gaps = target_gaps(prep, k, c.target);
-        // Right beyond the target's use-clearance that the object may not enter (a student
-        // desk in front of the teacher's, beyond its pull-out space).
-        if let Some(clear) = kept_out_of(prep, k, c.target) {
-            gaps.push(clear);
-        }
-        // The gaps the object's relations to this target mean (a coffee table 0.3–0.6 m in
-        // front of its sofa, `near` not touching): their ends and middle; and the seats of a
-        // table the object is one of the chairs around.
-        for (di, _) in obj.constraints.iter().enumerate().filter(|(_, d)| d.target == c.target) {
-            let m = prep.meaning(k, di);
-            if let Some(ring) = &m.ring {
-                for pose in constraints::seat_poses(tp, t.size, ring) {
-                    if prep.static_rule(k, &pose).is_none() {
-                        out.push(Cand { pose, fp: footprint(&pose, obj.size) });
-                    }
+    let Some(t) = prep.problem.objects.get(target) else { return out };
+    let tf = footprint(tp, t.size);
+    let mut gaps = target_gaps(prep, k, target);
+    // Right beyond the target's use-clearance that the object may not enter (a student
+    // desk in front of the teacher's, beyond its pull-out space).
+    if let Some(clear) = kept_out_of(prep, k, target) {
+        gaps.push(clear);
+    }
+    // The gaps the object's relations to this target mean (a coffee table 0.3–0.6 m in
+    // front of its sofa, `near` not touching): their ends and middle; and the seats of a
+    // table the object is one of the chairs around.
+    for (di, _) in obj.constraints.iter().enumerate().filter(|(_, d)| d.target == target) {
+        let m = prep.meaning(k, di);
+        if let Some(ring) = &m.ring {
+            for pose in constraints::seat_poses(tp, t.size, ring) {
+                if prep.static_rule(k, &pose).is_none() {
+                    out.push(Cand { pose, fp: footprint(&pose, obj.size) });
                 }
             }
-            gaps.push(m.min_gap);
-            if m.max_gap.is_finite() {
-                gaps.push(0.5 * (m.min_gap + m.max_gap.min(m.min_gap + 2.0)));
-            }
         }
-        dedup(&mut gaps);
-        for rot in Rot::ALL {
-            let h = half_extents(obj.size, rot);
-            let mut tx = vec![tp.x, tf.min_x + h[0], tf.max_x - h[0]];
-            let mut tz = vec![tp.z, tf.min_z + h[1], tf.max_z - h[1]];
-            for g in &gaps {
-                tx.extend([tf.min_x - h[0] - g, tf.max_x + h[0] + g]);
-                tz.extend([tf.min_z - h[1] - g, tf.max_z + h[1] + g]);
-            }
-            let (fx, fz) = flush_values(prep, h);
-            let xs: Vec<f64> = tx.iter().chain(fx.iter()).copied().collect();
-            let zs: Vec<f64> = tz.iter().chain(fz.iter()).copied().collect();
-            for (i, &x) in xs.iter().enumerate() {
-                for (j, &z) in zs.iter().enumerate() {
-                    if i >= tx.len() && j >= tz.len() {
-                        continue;
-                    }
-                    let pose = Pose { x, z, rot };
-                    if prep.static_rule(k, &pose).is_none() {
-                        out.push(Cand { pose, fp: footprint(&pose, obj.size) });
-                    }
+        gaps.push(m.min_gap);
+        if m.max_gap.is_finite() {
+            gaps.push(0.5 * (m.min_gap + m.max_gap.min(m.min_gap + 2.0)));
+        }
+    }
+    dedup(&mut gaps);
+    for rot in Rot::ALL {
+        let h = half_extents(obj.size, rot);
+        let mut tx = vec![tp.x, tf.min_x + h[0], tf.max_x - h[0]];
+        let mut tz = vec![tp.z, tf.min_z + h[1], tf.max_z - h[1]];
+        for g in &gaps {
+            tx.extend([tf.min_x - h[0] - g, tf.max_x + h[0] + g]);
+            tz.extend([tf.min_z - h[1] - g, tf.max_z + h[1] + g]);
+        }
+        let (fx, fz) = flush_values(prep, h);
+        let xs: Vec<f64> = tx.iter().chain(fx.iter()).copied().collect();
+        let zs: Vec<f64> = tz.iter().chain(fz.iter()).copied().collect();
+        for (i, &x) in xs.iter().enumerate() {
+            for (j, &z) in zs.iter().enumerate() {
+                if i >= tx.len() && j >= tz.len() {
+                    continue;
+                }
+                let pose = Pose { x, z, rot };
+                if prep.static_rule(k, &pose).is_none() {
+                    out.push(Cand { pose, fp: footprint(&pose, obj.size) });
                 }
             }
         }
     }
-    dedup_cands(&mut out);
     out
 }
 
@@ -1093,6 +1107,10 @@ struct Search<'p, 'a> {
     touch_answers: RefCell<FxHashMap<TouchKey, Rc<[u32]>>>,
     /// Target contexts by object and the bits of its targets' poses.
     contexts: RefCell<FxHashMap<ContextKey, Rc<TargetContext>>>,
+    /// The candidates derived from one target ([`derived_for_target`]) by the object, the
+    /// target and the bits of its pose: a target context is made again for every new pose of
+    /// any of its targets, most of which stand where they stood before.
+    derived_pieces: RefCell<FxHashMap<DerivedKey, Rc<[Cand]>>>,
     /// Reachability answers by the bits of the footprints (placed, then the candidate).
     reach_answers: FxHashMap<Vec<u64>, bool>,
     /// The candidates of nodes met, by the object and the bits of every object's pose.
@@ -1162,6 +1180,12 @@ const MAX_NODE_ANSWERS: usize = 4096;
 
 /// A target context's key: the object and the bits of its targets' poses.
 type ContextKey = (usize, Vec<u64>);
+
+/// A key of [`Search::derived_pieces`]: the object, the target and the bits of its pose.
+type DerivedKey = (usize, usize, [u64; 3]);
+
+/// The most pieces of derived candidates kept; the store is emptied when it is full.
+const MAX_DERIVED_PIECES: usize = 4096;
 
 /// The most reachability answers kept; the store is emptied when it is full.
 const MAX_REACH_ANSWERS: usize = 8192;
@@ -1549,6 +1573,29 @@ impl Search<'_, '_> {
         (s, ordering_key(s, self.sat_value, f64::from(kept), f64::from(close), 4.0))
     }
 
+    /// [`derived_candidates`] of object `k` with its targets posed as in `poses`, each
+    /// target's piece worked out once per pose.
+    fn derived(&self, k: usize, poses: &[Option<Pose>]) -> Vec<Cand> {
+        let mut out = Vec::new();
+        for target in derived_targets(self.prep, k) {
+            let Some(Some(tp)) = poses.get(target) else { continue };
+            let key = (k, target, [tp.x.to_bits(), tp.z.to_bits(), tp.rot as u64]);
+            if let Some(piece) = self.derived_pieces.borrow().get(&key) {
+                out.extend_from_slice(piece);
+                continue;
+            }
+            let piece: Rc<[Cand]> = derived_for_target(self.prep, k, target, tp).into();
+            out.extend_from_slice(&piece);
+            let mut pieces = self.derived_pieces.borrow_mut();
+            if pieces.len() >= MAX_DERIVED_PIECES {
+                pieces.clear();
+            }
+            pieces.insert(key, piece);
+        }
+        dedup_cands(&mut out);
+        out
+    }
+
     /// The target context of object `k` with the targets posed as in `poses`, worked out now
     /// or found again.
     fn target_context(&self, k: usize, poses: &[Option<Pose>]) -> Rc<TargetContext> {
@@ -1566,7 +1613,7 @@ impl Search<'_, '_> {
             return Rc::clone(found);
         }
         let set = &self.statics[k];
-        let derived = derived_candidates(prep, k, poses);
+        let derived = self.derived(k, poses);
         let n_static = set.cands.len();
         let n = n_static + derived.len();
         let scorer = Scorer::new(prep, k, poses, self.sat_value);
@@ -1778,7 +1825,7 @@ impl Search<'_, '_> {
                 continue;
             }
             let mut cands = self.statics[k].cands.clone();
-            cands.extend(derived_candidates(prep, k, &st.poses));
+            cands.extend(self.derived(k, &st.poses));
             let mut why = self.place_best(k, st, &cands);
             if why.is_some() && stands_elsewhere(obj) {
                 let anywhere = self.anywhere(k);
@@ -2538,6 +2585,7 @@ fn run(
         pin_breaks: Vec::new(),
         anywhere: RefCell::new(vec![None; n]),
         contexts: RefCell::new(FxHashMap::default()),
+        derived_pieces: RefCell::new(FxHashMap::default()),
         touch_answers: RefCell::new(FxHashMap::default()),
         reach_answers: FxHashMap::default(),
         node_answers: FxHashMap::default(),
