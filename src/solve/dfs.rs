@@ -9,7 +9,7 @@
 //! order), and the search descends into them best first.
 
 use std::cell::RefCell;
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BinaryHeap};
 use std::rc::Rc;
 
 use rand::seq::SliceRandom;
@@ -1140,13 +1140,13 @@ struct NodeWalk {
     /// The next step of the target context's walk to meet.
     next: usize,
     /// The static candidates that a placed footprint comes within [`CONTACT_M`] of
-    /// ([`StaticSet::touching`]), sorted: the context's walk bounds a static candidate with
-    /// the sides that touch a wall only, so these are met in a walk of their own, `touch`,
+    /// ([`StaticSet::touching`]), one bit each: the context's walk bounds a static candidate
+    /// with the sides that touch a wall only, so these are met in a walk of their own, `touch`,
     /// bounded with every side touching something.
-    touch_set: Vec<u32>,
-    /// The steps of `touch_set` in the order of their bounds, and the next to meet.
-    touch: Vec<Step>,
-    touch_next: usize,
+    touch_bits: Vec<u64>,
+    /// The steps of the touch set not met yet, the next (best bound, then first position) on
+    /// top: a node most often meets only its first few, so they are not sorted whole.
+    touch: BinaryHeap<TouchFirst>,
     /// Whether every step has been met.
     done: bool,
     /// For why nothing is left: the candidates blocked, by the placed footprint they overlap
@@ -1168,6 +1168,30 @@ struct NodeRules {
     seat_promises: Vec<SeatPromise>,
     reserved: Vec<Rect>,
 }
+
+/// A step of a node's touch walk, ordered so that the one met first is the greatest: the
+/// higher bound, then the earlier position (the order the walk meets steps in).
+struct TouchFirst(Step);
+
+impl Ord for TouchFirst {
+    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
+        self.0.bound.total_cmp(&other.0.bound).then(other.0.index.cmp(&self.0.index))
+    }
+}
+
+impl PartialOrd for TouchFirst {
+    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+impl PartialEq for TouchFirst {
+    fn eq(&self, other: &Self) -> bool {
+        self.cmp(other).is_eq()
+    }
+}
+
+impl Eq for TouchFirst {}
 
 /// A key of [`Search::touching`]: the object and the bits of a placed footprint.
 type TouchKey = (usize, [u64; 4]);
@@ -2055,23 +2079,30 @@ impl Search<'_, '_> {
         }
         // The static candidates a placed footprint can add a touching side to, but those on a
         // target (met apart, below): each met once, in the node's own walk.
-        let mut touch_set: Vec<u32> = Vec::new();
+        let mut touch_bits = vec![0u64; n_static.div_ceil(64)];
         for fp in st.grid.rects() {
-            touch_set.extend_from_slice(&self.touching(k, fp));
+            for &i in self.touching(k, fp).iter() {
+                touch_bits[i as usize / 64] |= 1 << (i % 64);
+            }
         }
-        touch_set.sort_unstable();
-        touch_set.dedup();
-        touch_set.retain(|&i| context.on_target_bits[i as usize / 64] & (1 << (i % 64)) == 0);
+        for (bits, on) in touch_bits.iter_mut().zip(&context.on_target_bits) {
+            *bits &= !on;
+        }
         let set = &self.statics[k];
-        let mut touch: Vec<Step> =
-            touch_set.iter().map(|&i| context.touch_step(i, set, self.sat_value)).collect();
-        touch.sort_unstable_by(|a, b| b.bound.total_cmp(&a.bound).then(a.index.cmp(&b.index)));
+        let mut touch = Vec::new();
+        for (word, &bits) in (0u32..).zip(&touch_bits) {
+            let mut rest = bits;
+            while rest != 0 {
+                let i = word * 64 + rest.trailing_zeros();
+                rest &= rest - 1;
+                touch.push(TouchFirst(context.touch_step(i, set, self.sat_value)));
+            }
+        }
         let mut walk = NodeWalk {
             kept: Vec::new(),
             next: 0,
-            touch_set,
-            touch,
-            touch_next: 0,
+            touch_bits,
+            touch: BinaryHeap::from(touch),
             done: false,
             blockers: BTreeMap::new(),
             cleared_out: 0,
@@ -2193,7 +2224,7 @@ impl Search<'_, '_> {
                 break;
             }
             if touches {
-                walk.touch_next += 1;
+                walk.touch.pop();
             } else {
                 walk.next += 1;
             }
@@ -2249,14 +2280,15 @@ fn next_step(
         match context.step(walk.next, search, k) {
             Some(step)
                 if (step.index as usize) < n_static
-                    && walk.touch_set.binary_search(&step.index).is_ok() =>
+                    && walk.touch_bits[step.index as usize / 64] & (1 << (step.index % 64))
+                        != 0 =>
             {
                 walk.next += 1;
             }
             other => break other,
         }
     };
-    let from_touch = walk.touch.get(walk.touch_next).copied();
+    let from_touch = walk.touch.peek().map(|t| t.0);
     match (from_context, from_touch) {
         (Some(a), Some(b)) => {
             let touch_first = b.bound > a.bound || (b.bound == a.bound && b.index < a.index);
