@@ -1154,8 +1154,9 @@ struct NodeWalk {
     blockers: BTreeMap<usize, usize>,
     cleared_out: usize,
     /// What the walk holds its candidates to at this node, worked out the first time the walk
-    /// meets a candidate and kept until it is done: a node's walk is taken further again and
-    /// again (once per candidate the search asks for), and these depend on the node alone.
+    /// meets a candidate and kept while the search is at the node: its walk is taken further
+    /// again and again (once per candidate the search asks for), and these depend on the node
+    /// alone.
     rules: Option<Rc<NodeRules>>,
 }
 
@@ -1325,6 +1326,12 @@ impl Search<'_, '_> {
                 self.visit(k + 1, disc, st);
                 self.unplace(k, v, st);
             }
+        }
+        // The node is left: its walk keeps how far it has come, but not its rules (worked out
+        // again if a later round takes the walk further), so that what is kept grows with
+        // the path and not with every node met.
+        if let NodeCandidates::Walk(walk) = &*found {
+            walk.borrow_mut().rules = None;
         }
         if tried == 0 && !pruned {
             st.fails[k] = Some((
