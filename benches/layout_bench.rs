@@ -97,8 +97,17 @@ fn table(rooms: &[(String, RoomProblem)]) {
             p.objects.len(),
         );
     }
+    let mut by_time: Vec<(Duration, &str)> =
+        rooms.iter().zip(&times).map(|((name, _), &t)| (t, name.as_str())).collect();
+    by_time.sort_by(|a, b| b.0.cmp(&a.0).then(a.1.cmp(b.1)));
     times.sort();
     println!();
+    let slowest5: Vec<String> = by_time
+        .iter()
+        .take(5)
+        .map(|(t, name)| format!("{name} {:.1} ms", t.as_secs_f64() * 1000.0))
+        .collect();
+    println!("slowest 5 rooms: {}", slowest5.join(", "));
     println!(
         "all rooms: {placed_all}/{objects_all} placed, {sat_all}/{total_all} constraints kept ({:.3}), median {:.1} ms, slowest {:.1} ms ({})",
         sat_all as f64 / total_all.max(1) as f64,

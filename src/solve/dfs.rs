@@ -9,7 +9,7 @@
 //! order), and the search descends into them best first.
 
 use std::cell::RefCell;
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BinaryHeap};
 use std::rc::Rc;
 
 use rand::seq::SliceRandom;
@@ -20,7 +20,7 @@ use rustc_hash::FxHashMap;
 use super::constraints::{
     self, footprint, half_extents, HardRule, Occupancy, Pose, ReachBase, Rect, Rot,
 };
-use super::grid::{CentreIndex, FootprintGrid};
+use super::grid::{CentreIndex, FootprintGrid, ZoneGrid};
 use super::{measure_object, PlacedFloor, Prepared, RoomLayout, SolveOptions, Unplaced};
 use crate::check::scene::{GlobalKind, RelationKind};
 
@@ -217,68 +217,82 @@ pub(crate) fn derived_candidates(
     k: usize,
     poses: &[Option<Pose>],
 ) -> Vec<Cand> {
+    let mut out = Vec::new();
+    for target in derived_targets(prep, k) {
+        if let Some(Some(tp)) = poses.get(target) {
+            out.extend(derived_for_target(prep, k, target, tp));
+        }
+    }
+    dedup_cands(&mut out);
+    out
+}
+
+/// The targets of object `k`'s relations, each once, in the order of the relations: those
+/// whose poses [`derived_candidates`] derives candidates from.
+fn derived_targets(prep: &Prepared<'_>, k: usize) -> Vec<usize> {
+    let mut targets = Vec::new();
+    for c in &prep.problem.objects[k].constraints {
+        if !targets.contains(&c.target) && prep.problem.objects.get(c.target).is_some() {
+            targets.push(c.target);
+        }
+    }
+    targets
+}
+
+/// The candidates of object `k` derived from one target at pose `tp`, before they are put
+/// together with those of its other targets and deduplicated ([`derived_candidates`]).
+fn derived_for_target(prep: &Prepared<'_>, k: usize, target: usize, tp: &Pose) -> Vec<Cand> {
     let obj = &prep.problem.objects[k];
     let mut out = Vec::new();
-    let mut seen_targets = Vec::new();
-    for c in &obj.constraints {
-        if seen_targets.contains(&c.target) {
-            continue;
-        }
-        seen_targets.push(c.target);
-        let (Some(Some(tp)), Some(t)) = (poses.get(c.target), prep.problem.objects.get(c.target))
-        else {
-            continue;
-        };
-        let tf = footprint(tp, t.size);
-        let mut gaps = target_gaps(prep, k, c.target);
-        // Right beyond the target's use-clearance that the object may not enter (a student
-        // desk in front of the teacher's, beyond its pull-out space).
-        if let Some(clear) = kept_out_of(prep, k, c.target) {
-            gaps.push(clear);
-        }
-        // The gaps the object's relations to this target mean (a coffee table 0.3–0.6 m in
-        // front of its sofa, `near` not touching): their ends and middle; and the seats of a
-        // table the object is one of the chairs around.
-        for (di, _) in obj.constraints.iter().enumerate().filter(|(_, d)| d.target == c.target) {
-            let m = prep.meaning(k, di);
-            if let Some(ring) = &m.ring {
-                for pose in constraints::seat_poses(tp, t.size, ring) {
-                    if prep.static_rule(k, &pose).is_none() {
-                        out.push(Cand { pose, fp: footprint(&pose, obj.size) });
-                    }
+    let Some(t) = prep.problem.objects.get(target) else { return out };
+    let tf = footprint(tp, t.size);
+    let mut gaps = target_gaps(prep, k, target);
+    // Right beyond the target's use-clearance that the object may not enter (a student
+    // desk in front of the teacher's, beyond its pull-out space).
+    if let Some(clear) = kept_out_of(prep, k, target) {
+        gaps.push(clear);
+    }
+    // The gaps the object's relations to this target mean (a coffee table 0.3–0.6 m in
+    // front of its sofa, `near` not touching): their ends and middle; and the seats of a
+    // table the object is one of the chairs around.
+    for (di, _) in obj.constraints.iter().enumerate().filter(|(_, d)| d.target == target) {
+        let m = prep.meaning(k, di);
+        if let Some(ring) = &m.ring {
+            for pose in constraints::seat_poses(tp, t.size, ring) {
+                if prep.static_rule(k, &pose).is_none() {
+                    out.push(Cand { pose, fp: footprint(&pose, obj.size) });
                 }
             }
-            gaps.push(m.min_gap);
-            if m.max_gap.is_finite() {
-                gaps.push(0.5 * (m.min_gap + m.max_gap.min(m.min_gap + 2.0)));
-            }
         }
-        dedup(&mut gaps);
-        for rot in Rot::ALL {
-            let h = half_extents(obj.size, rot);
-            let mut tx = vec![tp.x, tf.min_x + h[0], tf.max_x - h[0]];
-            let mut tz = vec![tp.z, tf.min_z + h[1], tf.max_z - h[1]];
-            for g in &gaps {
-                tx.extend([tf.min_x - h[0] - g, tf.max_x + h[0] + g]);
-                tz.extend([tf.min_z - h[1] - g, tf.max_z + h[1] + g]);
-            }
-            let (fx, fz) = flush_values(prep, h);
-            let xs: Vec<f64> = tx.iter().chain(fx.iter()).copied().collect();
-            let zs: Vec<f64> = tz.iter().chain(fz.iter()).copied().collect();
-            for (i, &x) in xs.iter().enumerate() {
-                for (j, &z) in zs.iter().enumerate() {
-                    if i >= tx.len() && j >= tz.len() {
-                        continue;
-                    }
-                    let pose = Pose { x, z, rot };
-                    if prep.static_rule(k, &pose).is_none() {
-                        out.push(Cand { pose, fp: footprint(&pose, obj.size) });
-                    }
+        gaps.push(m.min_gap);
+        if m.max_gap.is_finite() {
+            gaps.push(0.5 * (m.min_gap + m.max_gap.min(m.min_gap + 2.0)));
+        }
+    }
+    dedup(&mut gaps);
+    for rot in Rot::ALL {
+        let h = half_extents(obj.size, rot);
+        let mut tx = vec![tp.x, tf.min_x + h[0], tf.max_x - h[0]];
+        let mut tz = vec![tp.z, tf.min_z + h[1], tf.max_z - h[1]];
+        for g in &gaps {
+            tx.extend([tf.min_x - h[0] - g, tf.max_x + h[0] + g]);
+            tz.extend([tf.min_z - h[1] - g, tf.max_z + h[1] + g]);
+        }
+        let (fx, fz) = flush_values(prep, h);
+        let xs: Vec<f64> = tx.iter().chain(fx.iter()).copied().collect();
+        let zs: Vec<f64> = tz.iter().chain(fz.iter()).copied().collect();
+        for (i, &x) in xs.iter().enumerate() {
+            for (j, &z) in zs.iter().enumerate() {
+                if i >= tx.len() && j >= tz.len() {
+                    continue;
+                }
+                let pose = Pose { x, z, rot };
+                if prep.static_rule(k, &pose).is_none() {
+                    out.push(Cand { pose, fp: footprint(&pose, obj.size) });
                 }
             }
         }
     }
-    dedup_cands(&mut out);
     out
 }
 
@@ -1019,17 +1033,15 @@ fn touching(fp: &Rect, blocked: impl Fn(&Rect) -> bool) -> u8 {
     nudged(fp).iter().enumerate().filter(|(_, m)| blocked(m)).fold(0, |acc, (i, _)| acc | (1 << i))
 }
 
-/// The use-clearances around a node: placed footprints (with whether the object being placed
-/// relates to each) and the zones placed objects keep free from it (all of a list, or one of
-/// a bed's open sides).
-struct Clearances<'s> {
-    /// The placed footprints (those `related` to the object being placed, and that it lets
-    /// into its use-clearance, are not in its way): the node's own grid.
-    placed: &'s FootprintGrid,
+/// The use-clearances around a node: whether the object being placed relates to each placed
+/// footprint (those it relates to, and that it lets into its use-clearance, are not in its
+/// way) and the zones placed objects keep free from it (all of a list, or one of a bed's open
+/// sides). The placed footprints themselves are the node's grid, passed beside it.
+struct Clearances {
     /// Per placed footprint, in the grid's order.
     related: Vec<bool>,
     /// The zones that must stay wholly free of the object (the `all` lists), bucketed.
-    keep_free: FootprintGrid,
+    keep_free: ZoneGrid,
     /// The lists of zones of which one must stay free (a bed's open sides).
     one_free: Vec<Vec<Rect>>,
     /// Per placed footprint, in the grid's order: a chair of another table, which the way
@@ -1039,10 +1051,6 @@ struct Clearances<'s> {
     /// object, taller than [`constraints::SIGHT_LINE_M`], keeps off.
     sight: Vec<([f64; 2], [f64; 2])>,
 }
-
-/// Up to how many zones a node's use-clearances are looked through one by one rather than
-/// bucketed ([`FootprintGrid::scan`]).
-const FEW_ZONES: usize = 16;
 
 /// Why an object has no pose: the rule and the words.
 type Reason = (HardRule, String);
@@ -1099,6 +1107,10 @@ struct Search<'p, 'a> {
     touch_answers: RefCell<FxHashMap<TouchKey, Rc<[u32]>>>,
     /// Target contexts by object and the bits of its targets' poses.
     contexts: RefCell<FxHashMap<ContextKey, Rc<TargetContext>>>,
+    /// The candidates derived from one target ([`derived_for_target`]) by the object, the
+    /// target and the bits of its pose: a target context is made again for every new pose of
+    /// any of its targets, most of which stand where they stood before.
+    derived_pieces: RefCell<FxHashMap<DerivedKey, Rc<[Cand]>>>,
     /// Reachability answers by the bits of the footprints (placed, then the candidate).
     reach_answers: FxHashMap<Vec<u64>, bool>,
     /// The candidates of nodes met, by the object and the bits of every object's pose.
@@ -1128,20 +1140,59 @@ struct NodeWalk {
     /// The next step of the target context's walk to meet.
     next: usize,
     /// The static candidates that a placed footprint comes within [`CONTACT_M`] of
-    /// ([`StaticSet::touching`]), sorted: the context's walk bounds a static candidate with
-    /// the sides that touch a wall only, so these are met in a walk of their own, `touch`,
+    /// ([`StaticSet::touching`]), one bit each: the context's walk bounds a static candidate
+    /// with the sides that touch a wall only, so these are met in a walk of their own, `touch`,
     /// bounded with every side touching something.
-    touch_set: Vec<u32>,
-    /// The steps of `touch_set` in the order of their bounds, and the next to meet.
-    touch: Vec<Step>,
-    touch_next: usize,
+    touch_bits: Vec<u64>,
+    /// The steps of the touch set not met yet, the next (best bound, then first position) on
+    /// top: a node most often meets only its first few, so they are not sorted whole.
+    touch: BinaryHeap<TouchFirst>,
     /// Whether every step has been met.
     done: bool,
     /// For why nothing is left: the candidates blocked, by the placed footprint they overlap
     /// first, and those standing in a use-clearance.
     blockers: BTreeMap<usize, usize>,
     cleared_out: usize,
+    /// What the walk holds its candidates to at this node, worked out the first time the walk
+    /// meets a candidate and kept while the search is at the node: its walk is taken further
+    /// again and again (once per candidate the search asks for), and these depend on the node
+    /// alone.
+    rules: Option<Rc<NodeRules>>,
 }
+
+/// What the candidates of an object are held to and ordered by at one node: the
+/// use-clearances, the side relations and the seats that later objects still need, and the
+/// zones round the seats of the tables placed (for a table's own chairs).
+struct NodeRules {
+    clearances: Clearances,
+    promises: Vec<Promise>,
+    seat_promises: Vec<SeatPromise>,
+    reserved: Vec<Rect>,
+}
+
+/// A step of a node's touch walk, ordered so that the one met first is the greatest: the
+/// higher bound, then the earlier position (the order the walk meets steps in).
+struct TouchFirst(Step);
+
+impl Ord for TouchFirst {
+    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
+        self.0.bound.total_cmp(&other.0.bound).then(other.0.index.cmp(&self.0.index))
+    }
+}
+
+impl PartialOrd for TouchFirst {
+    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+impl PartialEq for TouchFirst {
+    fn eq(&self, other: &Self) -> bool {
+        self.cmp(other).is_eq()
+    }
+}
+
+impl Eq for TouchFirst {}
 
 /// A key of [`Search::touching`]: the object and the bits of a placed footprint.
 type TouchKey = (usize, [u64; 4]);
@@ -1154,6 +1205,12 @@ const MAX_NODE_ANSWERS: usize = 4096;
 
 /// A target context's key: the object and the bits of its targets' poses.
 type ContextKey = (usize, Vec<u64>);
+
+/// A key of [`Search::derived_pieces`]: the object, the target and the bits of its pose.
+type DerivedKey = (usize, usize, [u64; 3]);
+
+/// The most pieces of derived candidates kept; the store is emptied when it is full.
+const MAX_DERIVED_PIECES: usize = 4096;
 
 /// The most reachability answers kept; the store is emptied when it is full.
 const MAX_REACH_ANSWERS: usize = 8192;
@@ -1201,7 +1258,7 @@ impl Search<'_, '_> {
             // the others), not only the first.
             let cand = Cand { pose: pin, fp };
             let ctx = self.clearance_context(k, st);
-            let cleared = self.clearances_kept(k, &cand, &ctx);
+            let cleared = self.clearances_kept(k, &cand, &st.grid, &ctx);
             let rules = [
                 self.prep.static_rule(k, &pin),
                 st.fps.iter().any(|f| f.overlaps(&fp)).then_some(HardRule::NoOverlap),
@@ -1269,6 +1326,12 @@ impl Search<'_, '_> {
                 self.visit(k + 1, disc, st);
                 self.unplace(k, v, st);
             }
+        }
+        // The node is left: its walk keeps how far it has come, but not its rules (worked out
+        // again if a later round takes the walk further), so that what is kept grows with
+        // the path and not with every node met.
+        if let NodeCandidates::Walk(walk) = &*found {
+            walk.borrow_mut().rules = None;
         }
         if tried == 0 && !pruned {
             st.fails[k] = Some((
@@ -1432,7 +1495,7 @@ impl Search<'_, '_> {
         k: usize,
         c: &Cand,
         placed: &FootprintGrid,
-        keep_free: &FootprintGrid,
+        keep_free: &ZoneGrid,
         reserved: &[Rect],
     ) -> (usize, usize) {
         let (kept, close) =
@@ -1541,6 +1604,29 @@ impl Search<'_, '_> {
         (s, ordering_key(s, self.sat_value, f64::from(kept), f64::from(close), 4.0))
     }
 
+    /// [`derived_candidates`] of object `k` with its targets posed as in `poses`, each
+    /// target's piece worked out once per pose.
+    fn derived(&self, k: usize, poses: &[Option<Pose>]) -> Vec<Cand> {
+        let mut out = Vec::new();
+        for target in derived_targets(self.prep, k) {
+            let Some(Some(tp)) = poses.get(target) else { continue };
+            let key = (k, target, [tp.x.to_bits(), tp.z.to_bits(), tp.rot as u64]);
+            if let Some(piece) = self.derived_pieces.borrow().get(&key) {
+                out.extend_from_slice(piece);
+                continue;
+            }
+            let piece: Rc<[Cand]> = derived_for_target(self.prep, k, target, tp).into();
+            out.extend_from_slice(&piece);
+            let mut pieces = self.derived_pieces.borrow_mut();
+            if pieces.len() >= MAX_DERIVED_PIECES {
+                pieces.clear();
+            }
+            pieces.insert(key, piece);
+        }
+        dedup_cands(&mut out);
+        out
+    }
+
     /// The target context of object `k` with the targets posed as in `poses`, worked out now
     /// or found again.
     fn target_context(&self, k: usize, poses: &[Option<Pose>]) -> Rc<TargetContext> {
@@ -1558,7 +1644,7 @@ impl Search<'_, '_> {
             return Rc::clone(found);
         }
         let set = &self.statics[k];
-        let derived = derived_candidates(prep, k, poses);
+        let derived = self.derived(k, poses);
         let n_static = set.cands.len();
         let n = n_static + derived.len();
         let scorer = Scorer::new(prep, k, poses, self.sat_value);
@@ -1743,7 +1829,9 @@ impl Search<'_, '_> {
         scored
             .into_iter()
             .map(|(s, i)| (anywhere[i], s))
-            .filter(|(c, _)| !placed.any_overlap(&c.fp) && self.clearances_kept(k, c, &clearances))
+            .filter(|(c, _)| {
+                !placed.any_overlap(&c.fp) && self.clearances_kept(k, c, placed, &clearances)
+            })
             .take(REACH_TRIES)
             .collect()
     }
@@ -1768,7 +1856,7 @@ impl Search<'_, '_> {
                 continue;
             }
             let mut cands = self.statics[k].cands.clone();
-            cands.extend(derived_candidates(prep, k, &st.poses));
+            cands.extend(self.derived(k, &st.poses));
             let mut why = self.place_best(k, st, &cands);
             if why.is_some() && stands_elsewhere(obj) {
                 let anywhere = self.anywhere(k);
@@ -1784,7 +1872,7 @@ impl Search<'_, '_> {
     /// layout `st` (no overlap, use-clearances, reachability), or says why none does.
     fn place_best(&self, k: usize, st: &mut State, cands: &[Cand]) -> Option<Reason> {
         let prep = self.prep;
-        let clearances = self.clearances_with(k, &st.poses, &st.grid, &st.objs);
+        let clearances = self.clearances_with(k, &st.poses, &st.objs);
         let mut best: Option<(f64, Cand)> = None;
         let (mut overlapping, mut cleared_out, mut boxed) = (0usize, 0usize, 0usize);
         let mut blockers: BTreeMap<usize, usize> = BTreeMap::new();
@@ -1796,7 +1884,7 @@ impl Search<'_, '_> {
                 *blockers.entry(i).or_insert(0) += 1;
                 continue;
             }
-            if !self.clearances_kept(k, c, &clearances) {
+            if !self.clearances_kept(k, c, &st.grid, &clearances) {
                 cleared_out += 1;
                 continue;
             }
@@ -1837,19 +1925,13 @@ impl Search<'_, '_> {
 
     /// What the use-clearance rule needs at a node for object `k`: the placed footprints, the
     /// placed objects' clearance zones, and which placed objects `k` relates to.
-    fn clearance_context<'s>(&self, k: usize, st: &'s State) -> Clearances<'s> {
-        self.clearances_with(k, &st.poses, &st.grid, &st.objs)
+    fn clearance_context(&self, k: usize, st: &State) -> Clearances {
+        self.clearances_with(k, &st.poses, &st.objs)
     }
 
     /// [`Search::clearance_context`] from the parts of a state it reads (so that the state's
     /// other parts may change while it is held).
-    fn clearances_with<'s>(
-        &self,
-        k: usize,
-        poses: &[Option<Pose>],
-        grid: &'s FootprintGrid,
-        objs: &[usize],
-    ) -> Clearances<'s> {
+    fn clearances_with(&self, k: usize, poses: &[Option<Pose>], objs: &[usize]) -> Clearances {
         let objects = &self.prep.problem.objects;
         let related = |a: usize, b: usize| {
             objects[a].constraints.iter().any(|x| x.target == b)
@@ -1913,13 +1995,8 @@ impl Search<'_, '_> {
         }
         let bounds = &self.prep.room.bounds;
         Clearances {
-            placed: grid,
             related: related_to_k,
-            keep_free: if keep_free.len() <= FEW_ZONES {
-                FootprintGrid::scan(keep_free)
-            } else {
-                FootprintGrid::new(bounds, keep_free)
-            },
+            keep_free: ZoneGrid::new(bounds, keep_free),
             one_free,
             back,
             sight,
@@ -1930,22 +2007,44 @@ impl Search<'_, '_> {
     /// and free of placed furniture it has no relation with) and those of the placed objects
     /// (it does not stand in them unless it relates to that object: a chair at its desk, a
     /// coffee table before its sofa, a nightstand by its bed).
-    fn clearances_kept(&self, k: usize, c: &Cand, ctx: &Clearances) -> bool {
+    fn clearances_kept(
+        &self,
+        k: usize,
+        c: &Cand,
+        placed: &FootprintGrid,
+        ctx: &Clearances,
+    ) -> bool {
         let (zones, all) = self.prep.use_zones(k, &c.pose);
         let own_free = |z: &Rect| {
-            self.prep.room.contains_rect(z) && !ctx.placed.any_overlap_where(z, |i| !ctx.related[i])
+            self.prep.room.contains_rect(z) && !placed.any_overlap_where(z, |i| !ctx.related[i])
         };
         let own_ok = zones.is_empty()
             || if all { zones.iter().all(own_free) } else { zones.iter().any(own_free) };
         let back_ok = !ctx.back.iter().any(|&b| b) || {
             let z = super::back_zone(&c.pose, self.prep.problem.objects[k].size);
-            !ctx.placed.any_overlap_where(&z, |i| ctx.back[i])
+            !placed.any_overlap_where(&z, |i| ctx.back[i])
         };
         own_ok
             && back_ok
             && !ctx.sight.iter().any(|(a, b)| c.fp.meets_segment(*a, *b))
             && !ctx.keep_free.any_overlap(&c.fp)
             && ctx.one_free.iter().all(|z| z.is_empty() || z.iter().any(|r| !r.overlaps(&c.fp)))
+    }
+
+    /// What object `k`'s candidates are held to at this node ([`NodeRules`]).
+    fn node_rules(&self, k: usize, st: &State) -> NodeRules {
+        let placed = &st.grid;
+        // The seats of the tables placed, a chair at them or not, with the room behind each to
+        // pull the chair out: this object's own chairs do not take them (two tables whose
+        // seats share that room leave their chairs back to back with no way between).
+        let reserved =
+            if self.rings[k].is_some() { self.placed_seat_zones(k, st) } else { Vec::new() };
+        NodeRules {
+            clearances: self.clearance_context(k, st),
+            promises: self.open_promises(k, placed, st),
+            seat_promises: self.open_seats(k, placed, st),
+            reserved,
+        }
     }
 
     /// Whether a zone is inside the room, outside the door zones and free of footprints.
@@ -1987,26 +2086,34 @@ impl Search<'_, '_> {
         }
         // The static candidates a placed footprint can add a touching side to, but those on a
         // target (met apart, below): each met once, in the node's own walk.
-        let mut touch_set: Vec<u32> = Vec::new();
+        let mut touch_bits = vec![0u64; n_static.div_ceil(64)];
         for fp in st.grid.rects() {
-            touch_set.extend_from_slice(&self.touching(k, fp));
+            for &i in self.touching(k, fp).iter() {
+                touch_bits[i as usize / 64] |= 1 << (i % 64);
+            }
         }
-        touch_set.sort_unstable();
-        touch_set.dedup();
-        touch_set.retain(|&i| context.on_target_bits[i as usize / 64] & (1 << (i % 64)) == 0);
+        for (bits, on) in touch_bits.iter_mut().zip(&context.on_target_bits) {
+            *bits &= !on;
+        }
         let set = &self.statics[k];
-        let mut touch: Vec<Step> =
-            touch_set.iter().map(|&i| context.touch_step(i, set, self.sat_value)).collect();
-        touch.sort_unstable_by(|a, b| b.bound.total_cmp(&a.bound).then(a.index.cmp(&b.index)));
+        let mut touch = Vec::new();
+        for (word, &bits) in (0u32..).zip(&touch_bits) {
+            let mut rest = bits;
+            while rest != 0 {
+                let i = word * 64 + rest.trailing_zeros();
+                rest &= rest - 1;
+                touch.push(TouchFirst(context.touch_step(i, set, self.sat_value)));
+            }
+        }
         let mut walk = NodeWalk {
             kept: Vec::new(),
             next: 0,
-            touch_set,
-            touch,
-            touch_next: 0,
+            touch_bits,
+            touch: BinaryHeap::from(touch),
             done: false,
             blockers: BTreeMap::new(),
             cleared_out: 0,
+            rules: None,
         };
         self.walk_to(k, st, &mut walk, 1);
         if !walk.kept.is_empty() {
@@ -2091,14 +2198,8 @@ impl Search<'_, '_> {
         let prep = self.prep;
         // The placed footprints, bucketed: each question below looks only at those near it.
         let placed = &st.grid;
-        let clearances = self.clearance_context(k, st);
-        let promises = self.open_promises(k, placed, st);
-        let seat_promises = self.open_seats(k, placed, st);
-        // The seats of the tables placed, a chair at them or not, with the room behind each to
-        // pull the chair out: this object's own chairs do not take them (two tables whose
-        // seats share that room leave their chairs back to back with no way between).
-        let reserved: Vec<Rect> =
-            if self.rings[k].is_some() { self.placed_seat_zones(k, st) } else { Vec::new() };
+        let rules = Rc::clone(walk.rules.get_or_insert_with(|| Rc::new(self.node_rules(k, st))));
+        let NodeRules { clearances, promises, seat_promises, reserved } = &*rules;
         let order = |a: &(f64, usize, f64, Cand), b: &(f64, usize, f64, Cand)| {
             b.0.total_cmp(&a.0).then(a.1.cmp(&b.1))
         };
@@ -2122,13 +2223,15 @@ impl Search<'_, '_> {
         loop {
             let Some((step, touches)) = next_step(&context, walk, self, k) else {
                 walk.done = true;
+                // Nothing is met again at this node.
+                walk.rules = None;
                 break;
             };
             if stops(walk, &step) {
                 break;
             }
             if touches {
-                walk.touch_next += 1;
+                walk.touch.pop();
             } else {
                 walk.next += 1;
             }
@@ -2139,7 +2242,7 @@ impl Search<'_, '_> {
                 *walk.blockers.entry(first).or_insert(0) += 1;
                 continue;
             }
-            if !self.clearances_kept(k, &c, &clearances) {
+            if !self.clearances_kept(k, &c, placed, clearances) {
                 walk.cleared_out += 1;
                 continue;
             }
@@ -2147,7 +2250,7 @@ impl Search<'_, '_> {
             // A touching candidate beyond reach is scored only now.
             let s = if step.score.is_nan() { context.scorer.score(&c) } else { step.score };
             let (kept, close) =
-                self.room_left_for_dependents(k, &c, placed, &clearances.keep_free, &reserved);
+                self.room_left_for_dependents(k, &c, placed, &clearances.keep_free, reserved);
             let covers = |zones: &[Rect]| zones.iter().all(|z| z.overlaps(&c.fp));
             let broken = promises.iter().filter(|p| covers(&p.zones)).count()
                 + seat_promises.iter().map(|p| p.broken_by(&c.fp)).sum::<usize>();
@@ -2184,14 +2287,15 @@ fn next_step(
         match context.step(walk.next, search, k) {
             Some(step)
                 if (step.index as usize) < n_static
-                    && walk.touch_set.binary_search(&step.index).is_ok() =>
+                    && walk.touch_bits[step.index as usize / 64] & (1 << (step.index % 64))
+                        != 0 =>
             {
                 walk.next += 1;
             }
             other => break other,
         }
     };
-    let from_touch = walk.touch.get(walk.touch_next).copied();
+    let from_touch = walk.touch.peek().map(|t| t.0);
     match (from_context, from_touch) {
         (Some(a), Some(b)) => {
             let touch_first = b.bound > a.bound || (b.bound == a.bound && b.index < a.index);
@@ -2520,6 +2624,7 @@ fn run(
         pin_breaks: Vec::new(),
         anywhere: RefCell::new(vec![None; n]),
         contexts: RefCell::new(FxHashMap::default()),
+        derived_pieces: RefCell::new(FxHashMap::default()),
         touch_answers: RefCell::new(FxHashMap::default()),
         reach_answers: FxHashMap::default(),
         node_answers: FxHashMap::default(),

@@ -122,13 +122,6 @@ impl FootprintGrid {
         grid
     }
 
-    /// The footprints `rects` in one cell: every question looks at each of them. For a few
-    /// footprints asked about at one node only, cheaper than a grid to make and to drop.
-    pub(crate) fn scan(rects: Vec<Rect>) -> FootprintGrid {
-        let all = (0..u32::try_from(rects.len()).unwrap_or(u32::MAX)).collect();
-        FootprintGrid { rects, at: Cells::one(), cells: vec![all] }
-    }
-
     /// Adds a footprint after the others (its index is the number held before).
     pub(crate) fn push(&mut self, r: Rect) {
         // More than `u32::MAX` footprints cannot be indexed: such a one is held but never found.
@@ -228,6 +221,77 @@ impl FootprintGrid {
     }
 }
 
+/// Zones fixed for one node (the use-clearances an object keeps out of), bucketed once in
+/// compressed rows: a grid of [`CELL_M`] cells whose footprint lists lie side by side in one
+/// array, so that making it costs two passes over the zones and three allocations, where a
+/// [`FootprintGrid`] allocates a list per cell a zone covers. It answers only "does this
+/// rectangle overlap a zone", as [`FootprintGrid::any_overlap`] does (a few zones are looked
+/// through one by one).
+pub(crate) struct ZoneGrid {
+    rects: Vec<Rect>,
+    at: Cells,
+    /// Per cell, where its zones begin in `items` (one more entry than cells).
+    starts: Vec<u32>,
+    /// The zones' indices, cell after cell.
+    items: Vec<u32>,
+}
+
+impl ZoneGrid {
+    /// Up to how many zones are looked through one by one rather than bucketed.
+    const FEW: usize = 16;
+
+    /// The zones `rects` over `bounds` (the room's bounding box).
+    pub(crate) fn new(bounds: &Rect, rects: Vec<Rect>) -> ZoneGrid {
+        if rects.len() <= Self::FEW || u32::try_from(rects.len()).is_err() {
+            return ZoneGrid { rects, at: Cells::one(), starts: Vec::new(), items: Vec::new() };
+        }
+        let at = Cells::over(bounds);
+        let mut starts = vec![0u32; at.count() + 1];
+        for r in &rects {
+            let (xs, zs) = at.span(r);
+            for cz in zs.0..=zs.1 {
+                for cx in xs.0..=xs.1 {
+                    starts[cz * at.nx + cx + 1] += 1;
+                }
+            }
+        }
+        for c in 0..at.count() {
+            starts[c + 1] += starts[c];
+        }
+        let mut fill = starts.clone();
+        let mut items = vec![0u32; starts[at.count()] as usize];
+        for (i, r) in (0u32..).zip(&rects) {
+            let (xs, zs) = at.span(r);
+            for cz in zs.0..=zs.1 {
+                for cx in xs.0..=xs.1 {
+                    let cell = &mut fill[cz * at.nx + cx];
+                    items[*cell as usize] = i;
+                    *cell += 1;
+                }
+            }
+        }
+        ZoneGrid { rects, at, starts, items }
+    }
+
+    /// Whether `r` overlaps any zone.
+    pub(crate) fn any_overlap(&self, r: &Rect) -> bool {
+        if self.starts.is_empty() {
+            return self.rects.iter().any(|z| z.overlaps(r));
+        }
+        let (xs, zs) = self.at.span(r);
+        for cz in zs.0..=zs.1 {
+            for cx in xs.0..=xs.1 {
+                let c = cz * self.at.nx + cx;
+                let (a, b) = (self.starts[c] as usize, self.starts[c + 1] as usize);
+                if self.items[a..b].iter().any(|&i| self.rects[i as usize].overlaps(r)) {
+                    return true;
+                }
+            }
+        }
+        false
+    }
+}
+
 /// The candidate poses of one object bucketed by their centres: which of them can stand within
 /// a distance of a rectangle is looked up in the cells near it instead of going through all.
 ///
@@ -323,13 +387,15 @@ mod tests {
             let rects: Vec<Rect> =
                 (0..60).map(|_| random_rect(&mut rng, &room, 1.0, 2.0)).collect();
             let grid = FootprintGrid::new(&room, rects.clone());
-            let scan = FootprintGrid::scan(rects.clone());
+            let zones = ZoneGrid::new(&room, rects.clone());
+            let few = ZoneGrid::new(&room, rects[..10].to_vec());
             for _ in 0..2000 {
                 let q = random_rect(&mut rng, &room, 2.0, 3.0);
                 let first = rects.iter().position(|r| r.overlaps(&q));
                 assert_eq!(grid.first_overlap(&q), first);
-                assert_eq!(scan.first_overlap(&q), first);
                 assert_eq!(grid.any_overlap(&q), first.is_some());
+                assert_eq!(zones.any_overlap(&q), first.is_some());
+                assert_eq!(few.any_overlap(&q), rects[..10].iter().any(|r| r.overlaps(&q)));
                 let odd = rects.iter().enumerate().any(|(i, r)| i % 2 == 1 && r.overlaps(&q));
                 assert_eq!(grid.any_overlap_where(&q, |i| i % 2 == 1), odd);
                 let mut seen = vec![false; rects.len()];
