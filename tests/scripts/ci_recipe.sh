@@ -9,8 +9,9 @@
 # HOLOC_GIT set to a file:// URL of this checkout (cargo clones a local git repository as it
 # would a remote one: what is committed is what is installed), or, with --path, with the
 # line's `--git "$HOLOC_GIT"` replaced by `--path <this checkout>`. Then it runs the recipe's
-# test with the installed binary (HOLOC_CI_RECIPE_BIN). Offline when the dependencies are in
-# cargo's cache (CARGO_NET_OFFLINE=true); the checkout's target/ is reused for the
+# test with the installed binary (HOLOC_CI_RECIPE_BIN). Cargo refuses a git source, even a
+# file:// one, in offline mode, so CARGO_NET_OFFLINE is left as it is (with --path, set it to
+# true to install without a network); the checkout's target/ is reused for the
 # dependencies already compiled (CARGO_TARGET_DIR; set it to another folder to build afresh).
 set -eu
 checkout=$(cd "$(dirname "$0")/../.." && pwd)
@@ -24,7 +25,6 @@ root=$(mktemp -d "${TMPDIR:-/tmp}/holoc-install.XXXXXX")
 trap 'rm -rf "$root"' EXIT
 export CARGO_INSTALL_ROOT="$root"
 export HOLOC_GIT="file://$checkout"
-export CARGO_NET_OFFLINE="${CARGO_NET_OFFLINE:-true}"
 export CARGO_TARGET_DIR="${CARGO_TARGET_DIR:-$checkout/target}"
 echo "+ $line   (HOLOC_GIT=$HOLOC_GIT, CARGO_INSTALL_ROOT=$root)"
 sh -c "$line"
