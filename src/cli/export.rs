@@ -93,10 +93,10 @@ pub(crate) fn load_house(
     // The assets holoc made for it, from their folder: known to the checks by their boxes.
     let folder =
         assets_dir.map_or_else(|| crate::make::folder_beside(path), std::path::Path::to_path_buf);
-    let (made_assets, _) = crate::make::read_folder(&folder);
-    let made_ids: Vec<String> = made_assets.iter().map(|a| a.id.to_string()).collect();
+    // Read once: their boxes for the checks, their meshes for the drawing.
+    let (made_assets, _, reads) = crate::make::read_folder_assets(&folder);
     let catalog = loaded.value.with_made(made_assets);
-    let made = crate::export::MadeMeshes::read(&folder, made_ids.iter().map(String::as_str));
+    let made = crate::export::MadeMeshes::of_read(&reads);
     let file = match common::read_source(&mut sources, path) {
         Ok(id) => id,
         Err(d) => {

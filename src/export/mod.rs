@@ -140,23 +140,31 @@ impl MadeMeshes {
                 continue;
             }
             let Ok(read) = crate::make::runtime::read_asset(dir, id) else { continue };
-            let mut colours: BTreeMap<[u8; 3], Geometry> = BTreeMap::new();
-            for (t, tri) in read.triangles.chunks_exact(3).enumerate() {
-                let rgb = read.triangle_rgb.get(t).copied().unwrap_or([0.6; 3]);
-                let key = rgb.map(|c| (c * 255.0).round() as u8);
-                let [a, b, c] = [tri[0], tri[1], tri[2]].map(|i| read.vertices[i as usize]);
-                let n = face_normal(a, b, c);
-                colours.entry(key).or_default().push_triangle([(a, n), (b, n), (c, n)].into_iter());
-            }
-            let parts = colours
-                .into_iter()
-                .map(|(k, g)| {
-                    (g, materials::made(k.map(|c| f64::from(c) / 255.0), 0.6, 0.0, false))
-                })
-                .collect();
-            by_uid.insert(id.to_string(), parts);
+            by_uid.insert(id.to_string(), Self::parts_of(&read));
         }
         MadeMeshes { by_uid }
+    }
+
+    /// The meshes of made assets already read from their folders (`make::read_folder_assets`).
+    pub fn of_read(reads: &[(String, crate::make::runtime::ReadAsset)]) -> MadeMeshes {
+        let by_uid = reads.iter().map(|(uid, read)| (uid.clone(), Self::parts_of(read))).collect();
+        MadeMeshes { by_uid }
+    }
+
+    /// One part per colour of a read asset's albedo texture.
+    fn parts_of(read: &crate::make::runtime::ReadAsset) -> Vec<(Geometry, Pbr)> {
+        let mut colours: BTreeMap<[u8; 3], Geometry> = BTreeMap::new();
+        for (t, tri) in read.triangles.chunks_exact(3).enumerate() {
+            let rgb = read.triangle_rgb.get(t).copied().unwrap_or([0.6; 3]);
+            let key = rgb.map(|c| (c * 255.0).round() as u8);
+            let [a, b, c] = [tri[0], tri[1], tri[2]].map(|i| read.vertices[i as usize]);
+            let n = face_normal(a, b, c);
+            colours.entry(key).or_default().push_triangle([(a, n), (b, n), (c, n)].into_iter());
+        }
+        colours
+            .into_iter()
+            .map(|(k, g)| (g, materials::made(k.map(|c| f64::from(c) / 255.0), 0.6, 0.0, false)))
+            .collect()
     }
 
     /// Whether it holds no mesh.

@@ -26,13 +26,31 @@ use parry2d::shape::{Cuboid, Segment};
 /// default); without it, `validate` checks everything else and says so.
 pub const SCHEMA_CHECKED: bool = cfg!(feature = "schema");
 
-/// The first 20 places where `value` does not follow the house schema, as messages.
+/// The house schema, compiled once a process (compiling it, with the meta-schemas jsonschema
+/// checks it against, costs more than building a house).
+#[cfg(feature = "schema")]
+fn schema_validator() -> Result<&'static jsonschema::Validator, String> {
+    static VALIDATOR: std::sync::OnceLock<Result<jsonschema::Validator, String>> =
+        std::sync::OnceLock::new();
+    VALIDATOR
+        .get_or_init(|| {
+            let schema: Value = serde_json::from_str(HOUSE_SCHEMA)
+                .map_err(|e| format!("the embedded schema: {e}"))?;
+            jsonschema::validator_for(&schema).map_err(|e| e.to_string())
+        })
+        .as_ref()
+        .map_err(Clone::clone)
+}
+
+/// The first 20 places where `value` does not follow the house schema, as messages. A house
+/// in holoc's own form (see [`in_holocs_own_form`]) follows it by construction: the schema is
+/// not compiled for it.
 #[cfg(feature = "schema")]
 fn schema_errors(value: &Value) -> Result<Vec<String>, String> {
-    let schema: Value =
-        serde_json::from_str(HOUSE_SCHEMA).map_err(|e| format!("the embedded schema: {e}"))?;
-    let validator = jsonschema::validator_for(&schema).map_err(|e| e.to_string())?;
-    Ok(validator
+    if in_holocs_own_form(value) {
+        return Ok(Vec::new());
+    }
+    Ok(schema_validator()?
         .iter_errors(value)
         .map(|e| {
             let path = e.instance_path.to_string();
@@ -44,6 +62,50 @@ fn schema_errors(value: &Value) -> Result<Vec<String>, String> {
         })
         .take(20)
         .collect())
+}
+
+/// Whether `value` is a house exactly as holoc writes it: it reads into holoc's own house
+/// type and writes back to the same JSON, and keeps the few bounds of the schema a value of
+/// that type could break (colour channels in 0…1, a hole polygon of two corners, a wall
+/// polygon of four or more). Such a house follows the schema by construction, which is what
+/// lets `holoc export` of a built house skip compiling the schema (issue 54: export cost
+/// 3× a build). Anything else — another tool's house, an edited one, a number written as an
+/// integer — is checked against the schema. A unit test pins the schema's bounds, so a new one
+/// is added here too.
+#[cfg(feature = "schema")]
+pub(crate) fn in_holocs_own_form(value: &Value) -> bool {
+    fn bounds_kept(v: &Value, key: Option<&str>) -> bool {
+        match v {
+            Value::Object(map) => {
+                if key == Some("color") {
+                    let channel_ok = |c: &str| {
+                        map.get(c)
+                            .is_none_or(|x| x.as_f64().is_some_and(|x| (0.0..=1.0).contains(&x)))
+                    };
+                    if !["r", "g", "b", "a"].into_iter().all(channel_ok) {
+                        return false;
+                    }
+                }
+                map.iter().all(|(k, x)| bounds_kept(x, Some(k)))
+            }
+            Value::Array(items) => {
+                (key != Some("holePolygon") || items.len() == 2)
+                    && items.iter().all(|x| bounds_kept(x, None))
+            }
+            _ => true,
+        }
+    }
+    let walls_closed = value.get("walls").and_then(Value::as_array).is_none_or(|walls| {
+        walls
+            .iter()
+            .all(|w| w.get("polygon").and_then(Value::as_array).is_none_or(|p| p.len() >= 4))
+    });
+    walls_closed
+        && bounds_kept(value, None)
+        && serde_json::from_value::<crate::lower::thor::House>(value.clone())
+            .ok()
+            .and_then(|house| serde_json::to_value(&house).ok())
+            .is_some_and(|back| back == *value)
 }
 
 /// Without the `schema` feature there is no schema check (see [`SCHEMA_CHECKED`]).
@@ -999,4 +1061,149 @@ fn byte_offset(text: &str, line: usize, column: usize) -> usize {
         offset += l.len();
     }
     text.len()
+}
+
+#[cfg(all(test, feature = "schema"))]
+mod own_form_tests {
+    use super::*;
+
+    /// The house of every example, as `holoc build` writes it.
+    fn example_houses() -> Vec<(String, Value)> {
+        let catalog = Catalog::embedded();
+        let mut paths: Vec<_> = std::fs::read_dir("examples")
+            .expect("the examples")
+            .flatten()
+            .map(|e| e.path())
+            .filter(|p| p.extension().is_some_and(|e| e == "holo"))
+            .collect();
+        paths.sort();
+        assert!(paths.len() >= 10, "{paths:?}");
+        paths
+            .into_iter()
+            .map(|p| {
+                let mut sources = SourceMap::new();
+                let id = sources
+                    .add(p.display().to_string(), std::fs::read_to_string(&p).expect("readable"));
+                let built = crate::compile::build(
+                    &sources,
+                    id,
+                    &crate::compile::BuildOptions::new(&catalog),
+                );
+                let house = built.value.expect("every example builds").house;
+                let text = house.to_json_string();
+                (p.display().to_string(), serde_json::from_str(&text).expect("JSON"))
+            })
+            .collect()
+    }
+
+    fn schema_check(value: &Value) -> Vec<String> {
+        schema_validator()
+            .expect("the schema compiles")
+            .iter_errors(value)
+            .map(|e| e.to_string())
+            .collect()
+    }
+
+    #[test]
+    fn every_built_house_is_in_holocs_own_form_and_follows_the_schema() {
+        for (name, house) in example_houses() {
+            assert!(in_holocs_own_form(&house), "{name}");
+            assert_eq!(schema_check(&house), Vec::<String>::new(), "{name}");
+        }
+    }
+
+    #[test]
+    fn a_house_out_of_the_schemas_bounds_is_checked_against_it() {
+        let (_, house) = example_houses().swap_remove(0);
+        let mut breaks: Vec<(&str, Value)> = Vec::new();
+        let mut v = house.clone();
+        v["walls"][0]["polygon"].as_array_mut().expect("a polygon").truncate(3);
+        breaks.push(("a wall of three corners", v));
+        let mut v = house.clone();
+        v["rooms"][0]["floorMaterial"]["color"] = serde_json::json!({"r": 1.5, "g": 0, "b": 0});
+        breaks.push(("a colour channel above 1", v));
+        let door = house["doors"].as_array().and_then(|d| d.first()).cloned();
+        if let Some(mut door) = door {
+            let corner = door["holePolygon"][0].clone();
+            door["holePolygon"].as_array_mut().expect("a hole").push(corner);
+            let mut v = house.clone();
+            v["doors"][0] = door;
+            breaks.push(("a hole of three corners", v));
+        }
+        let mut v = house.clone();
+        v.as_object_mut().expect("an object").remove("metadata");
+        breaks.push(("no metadata", v));
+        assert_eq!(breaks.len(), 4, "the first example has a door");
+        for (what, v) in breaks {
+            assert!(!in_holocs_own_form(&v), "{what}");
+            assert!(!schema_check(&v).is_empty(), "{what}: the schema finds it");
+            let errors = schema_errors(&v).expect("checked");
+            assert!(!errors.is_empty(), "{what}");
+        }
+        // Written by another tool: an integer where holoc writes a float is read against the
+        // schema (and follows it).
+        let mut v = house;
+        v["walls"][0]["polygon"][0]["y"] = serde_json::json!(0);
+        assert!(!in_holocs_own_form(&v));
+        assert_eq!(schema_errors(&v).expect("checked"), Vec::<String>::new());
+    }
+
+    /// The bounds of the schema that a value of holoc's house type could break: each one is
+    /// checked by [`in_holocs_own_form`]. A new bound in the schema fails this test, so that
+    /// it is added there too.
+    #[test]
+    fn the_schemas_bounds_are_the_ones_the_own_form_check_keeps() {
+        fn walk(v: &Value, path: &str, out: &mut Vec<String>) {
+            const BOUNDS: [&str; 16] = [
+                "minimum",
+                "maximum",
+                "exclusiveMinimum",
+                "exclusiveMaximum",
+                "multipleOf",
+                "minItems",
+                "maxItems",
+                "uniqueItems",
+                "minLength",
+                "maxLength",
+                "pattern",
+                "enum",
+                "const",
+                "not",
+                "minProperties",
+                "if",
+            ];
+            match v {
+                Value::Object(map) => {
+                    for (k, x) in map {
+                        if BOUNDS.contains(&k.as_str()) {
+                            out.push(format!("{path}/{k}"));
+                        }
+                        walk(x, &format!("{path}/{k}"), out);
+                    }
+                }
+                Value::Array(items) => {
+                    for (i, x) in items.iter().enumerate() {
+                        walk(x, &format!("{path}/{i}"), out);
+                    }
+                }
+                _ => {}
+            }
+        }
+        let schema: Value = serde_json::from_str(HOUSE_SCHEMA).expect("the schema");
+        let mut bounds = Vec::new();
+        walk(&schema, "", &mut bounds);
+        bounds.sort();
+        let kept: Vec<String> = ["a", "b", "g", "r"]
+            .iter()
+            .flat_map(|c| {
+                ["maximum", "minimum"].map(|k| format!("/definitions/color/properties/{c}/{k}"))
+            })
+            .chain([
+                "/definitions/hole/anyOf/0/properties/holePolygon/maxItems".to_string(),
+                "/definitions/hole/anyOf/0/properties/holePolygon/minItems".to_string(),
+                "/properties/walls/items/properties/polygon/minItems".to_string(),
+            ])
+            .collect();
+        assert_eq!(bounds, kept, "a new bound of the schema: keep it in `in_holocs_own_form`");
+    }
 }

@@ -576,9 +576,21 @@ pub fn catalog_assets(made: &[Arc<MadeAsset>]) -> Vec<crate::resolve::Asset> {
 /// makes), as catalog assets, with the problems of the folders that could not be read
 /// (`(uid, why)`). A folder that does not exist holds none.
 pub fn read_folder(dir: &std::path::Path) -> (Vec<crate::resolve::Asset>, Vec<(String, String)>) {
+    let (assets, problems, _) = read_folder_assets(dir);
+    (assets, problems)
+}
+
+/// What the made assets of their folders read by [`read_folder`] are, each with what was
+/// read of it (its mesh and colours), so that `export` and `view` draw them without reading
+/// the folder again.
+#[allow(clippy::type_complexity)]
+pub fn read_folder_assets(
+    dir: &std::path::Path,
+) -> (Vec<crate::resolve::Asset>, Vec<(String, String)>, Vec<(String, runtime::ReadAsset)>) {
+    let mut reads = Vec::new();
     let mut assets = Vec::new();
     let mut problems = Vec::new();
-    let Ok(entries) = std::fs::read_dir(dir) else { return (assets, problems) };
+    let Ok(entries) = std::fs::read_dir(dir) else { return (assets, problems, reads) };
     let mut names: Vec<String> = entries
         .filter_map(Result::ok)
         .filter(|e| e.file_type().is_ok_and(|t| t.is_dir()))
@@ -594,11 +606,14 @@ pub fn read_folder(dir: &std::path::Path) -> (Vec<crate::resolve::Asset>, Vec<(S
             continue;
         };
         match runtime::read_asset(dir, &uid) {
-            Ok(read) => assets.push(catalog_asset(&uid, k, read.size, read.receptacle)),
+            Ok(read) => {
+                assets.push(catalog_asset(&uid, k, read.size, read.receptacle));
+                reads.push((uid, read));
+            }
             Err(e) => problems.push((uid, e.to_string())),
         }
     }
-    (assets, problems)
+    (assets, problems, reads)
 }
 
 /// The most asset folders [`read_folder`] reads from one folder.
