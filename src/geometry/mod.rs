@@ -612,7 +612,7 @@ impl Aabb {
 /// the grid of their coordinates: exact up to rounding.
 ///
 /// Each cell of the grid counts when its centre is inside both polygons by the even-odd rule
-/// of [`point_in_polygon_raw`]. The centres of one row are tested together: the row's edge
+/// of `point_in_polygon_raw`. The centres of one row are tested together: the row's edge
 /// crossings are found once and sorted, so the work is the grid's cells plus each row's
 /// crossings (about the square of the corners, not its cube: a room of 200 corners beside
 /// another is measured in well under a millisecond).
