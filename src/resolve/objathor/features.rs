@@ -337,13 +337,7 @@ impl FeatureRows {
             dot[k % 8] += v * qv;
             sq[k % 8] += v * v;
         }
-        let dot: f32 = dot.iter().sum();
-        let sq: f32 = sq.iter().sum();
-        if sq > 0.0 {
-            dot / sq.sqrt()
-        } else {
-            0.0
-        }
+        lanes_cosine(&dot, &sq)
     }
 
     /// [`FeatureRows::cosine`] of float32 rows: the same eight lanes.
@@ -359,13 +353,7 @@ impl FeatureRows {
             dot[k % 8] += v * qv;
             sq[k % 8] += v * v;
         }
-        let dot: f32 = dot.iter().sum();
-        let sq: f32 = sq.iter().sum();
-        if sq > 0.0 {
-            dot / sq.sqrt()
-        } else {
-            0.0
-        }
+        lanes_cosine(&dot, &sq)
     }
 
     /// The largest cosine over a row's views.
@@ -383,6 +371,18 @@ impl FeatureRows {
                 *s += x / self.views as f32;
             }
         }
+    }
+}
+
+/// The cosine of a unit query and a vector from their eight lanes of dot products and of the
+/// vector's squares, summed in a fixed order (0 for a zero vector).
+fn lanes_cosine(dot: &[f32; 8], sq: &[f32; 8]) -> f32 {
+    let dot: f32 = dot.iter().sum();
+    let sq: f32 = sq.iter().sum();
+    if sq > 0.0 {
+        dot / sq.sqrt()
+    } else {
+        0.0
     }
 }
 
