@@ -54,14 +54,17 @@
 //!      the gap to a room it has a door to (at most [`MAX_TRANSLATION_M`]), or slid along the
 //!      wall of a room it has a door to but meets only at a corner (0.5 m, 1 m, the least
 //!      distance that gives its doors the wall they need, or [`MAX_SLIDE_M`]);
+//!    - *two rooms at once*, for a room that meets the room it has a door to only at a corner
+//!      when their doors need more than [`MAX_TRANSLATION_M`] of wall: both slid half the way,
+//!      or one slid a metre and the other's facing wall moved the rest;
 //!    - *every room at once*: facing walls of different rooms within the bound joined, each
 //!      group at the coordinate that moves the least length of wall, then detached rooms moved
 //!      onto the room they have a door to.
 //!
 //!    A candidate counts only when it is *never worse*: each error after it was there before
 //!    (the same kinds, no more of each) and it has fewer errors, or as many and fewer gaps.
-//!    Among those, the least bad wins; among equally bad ones, the one that moves the fewest
-//!    rooms, then leaves the fewest near misses (wall coordinates of neighbouring rooms less
+//!    Among those, the least bad wins; among equally bad ones, the one that moves no corner
+//!    more than [`MAX_TRANSLATION_M`], then the one that moves the fewest rooms, then leaves the fewest near misses (wall coordinates of neighbouring rooms less
 //!    than the bound apart but not equal), then takes away the least wall rooms shared, then
 //!    moves the fewest corners, then sweeps the least floor; the last tie goes to the room
 //!    declared later (as W0308's fix: an answer is drawn room after room, each fitted to those
@@ -501,12 +504,15 @@ impl Badness {
     }
 }
 
-/// The order among candidates equally bad: rooms moved, near misses left, shared wall lost
-/// (in mm, so that float noise does not decide: a room that shares its walls with the plan
-/// stays), corners moved, floor swept (the area between each moved room's old and new
-/// outline, in mm², so that a shorter wall moves rather than a longer one), then the sequence
-/// number (the room declared last first, then every room at once).
-type Cost = (usize, usize, u64, usize, u64, usize);
+/// The order among candidates equally bad: whether a corner moves more than
+/// [`MAX_TRANSLATION_M`] (a plan's intent is kept within a metre where a candidate can: two
+/// rooms meeting at a corner slide half the way each rather than one the whole way), rooms
+/// moved, near misses left, shared wall lost (in mm, so that float noise does not decide: a
+/// room that shares its walls with the plan stays), corners moved, floor swept (the area
+/// between each moved room's old and new outline, in mm², so that a shorter wall moves rather
+/// than a longer one), then the sequence number (the room declared last first, then every
+/// room at once).
+type Cost = (bool, usize, usize, u64, usize, u64, usize);
 
 /// The best next step from `state` (see the module documentation), with its badness; `None`
 /// when no candidate improves the plan.
@@ -522,6 +528,9 @@ fn best_step(
     let needs = door_needs(scene, catalog, &links);
     for r in 0..state.rooms.len() {
         let each = candidate_work(&state.rooms, r);
+        // On a true tie the room declared later moves (as W0308's fix has it): an answer is
+        // drawn room after room, each fitted to those before.
+        let seq = state.rooms.len() - 1 - r;
         for rooms in single_room_candidates(&state.rooms, r, &links, &needs) {
             if !work.spend(each) {
                 return None;
@@ -531,9 +540,19 @@ fn best_step(
             let others = other_coordinates(&next.rooms, r);
             let walls = nearby_walls(&next.rooms, r);
             clean_outline(&mut next.rooms[r], &mut next.origins[r], &others, &walls);
-            // On a true tie the room declared later moves (as W0308's fix has it): an answer
-            // is drawn room after room, each fitted to those before.
-            let seq = state.rooms.len() - 1 - r;
+            candidates.push((cost(&state.rooms, &next.rooms, seq), next));
+        }
+        for (o, rooms) in pair_slide_candidates(&state.rooms, r, &links, &needs) {
+            if !work.spend(each + candidate_work(&state.rooms, o)) {
+                return None;
+            }
+            let mut next = state.clone();
+            next.rooms = rooms;
+            for moved in [r, o] {
+                let others = other_coordinates(&next.rooms, moved);
+                let walls = nearby_walls(&next.rooms, moved);
+                clean_outline(&mut next.rooms[moved], &mut next.origins[moved], &others, &walls);
+            }
             candidates.push((cost(&state.rooms, &next.rooms, seq), next));
         }
     }
@@ -1136,11 +1155,18 @@ fn cost(before: &[Vec<[f64; 2]>], after: &[Vec<[f64; 2]>], seq: usize) -> Cost {
     let mut corners = 0;
     let mut swept = 0.0;
     let mut lost = 0.0;
+    let mut far = false;
     for (r, (a, b)) in before.iter().zip(after).enumerate() {
         if same_outline(a, b) {
             continue;
         }
         rooms += 1;
+        // A corner that moved: the nearest corner of the old outline to each new one (a
+        // cleaned outline may have lost or merged corners).
+        far |= b.iter().any(|p| {
+            a.iter().map(|q| (p[0] - q[0]).hypot(p[1] - q[1])).fold(f64::INFINITY, f64::min)
+                > MAX_TRANSLATION_M + 1e-3
+        });
         // Corners of the new outline that are not corners of the old one.
         corners += b
             .iter()
@@ -1157,6 +1183,7 @@ fn cost(before: &[Vec<[f64; 2]>], after: &[Vec<[f64; 2]>], seq: usize) -> Cost {
         }
     }
     (
+        far,
         rooms,
         near_misses(after),
         (lost * 1e3).round() as u64,
@@ -1369,6 +1396,80 @@ fn single_room_candidates(
                 p[1] = mz.apply(p[1]);
             }
             out.push(next);
+        }
+    }
+    out
+}
+
+/// Two rooms with a door between them that meet only at a corner, moved towards each other
+/// along one axis (either axis) until they share the length of wall their doors need, as
+/// `(the other room, the plan)`: only when that length is more than [`MAX_TRANSLATION_M`],
+/// so that no corner moves more than a metre where one room alone would have to (issue 50).
+/// Three ways each: both slide half the way; one slides a metre and the other's wall facing
+/// it along the axis follows for the rest (the room grows a little, and keeps the walls it
+/// shares elsewhere); the same the other way round. A way that parts either room from a room
+/// it shares a wall with is left out. Each pair is given once, from its room declared first.
+fn pair_slide_candidates(
+    rooms: &[Vec<[f64; 2]>],
+    r: usize,
+    links: &[Vec<usize>],
+    needs: &[Vec<f64>],
+) -> Vec<(usize, Vec<Vec<[f64; 2]>>)> {
+    let mut out = Vec::new();
+    for (k, &o) in links[r].iter().enumerate() {
+        if o <= r {
+            continue;
+        }
+        let need = needs.get(r).and_then(|n| n.get(k)).copied().unwrap_or(MAX_SLIDE_M);
+        if need <= MAX_TRANSLATION_M + SAME_M {
+            continue;
+        }
+        let g = box_gap(&rooms[r], &rooms[o]);
+        if g[0].abs() > SAME_M || g[1].abs() > SAME_M || touch(&rooms[r], &rooms[o]) {
+            continue;
+        }
+        for axis in 0..2 {
+            let (lr, hr) = extent(&rooms[r], axis);
+            let (lo, ho) = extent(&rooms[o], axis);
+            // The direction `r` goes to meet `o`, and the wall of each that faces the other.
+            let toward = if lr > lo { -1.0 } else { 1.0 };
+            let (r_wall, o_wall) = if toward > 0.0 { (hr, lo) } else { (lr, ho) };
+            let rest = need - MAX_TRANSLATION_M;
+            let shift = |room: &mut Vec<[f64; 2]>, by: f64| {
+                for p in room.iter_mut() {
+                    p[axis] += by;
+                }
+            };
+            let stretch = |room: &mut Vec<[f64; 2]>, wall: f64, by: f64| {
+                for p in room.iter_mut() {
+                    if (p[axis] - wall).abs() <= SAME_M {
+                        p[axis] += by;
+                    }
+                }
+            };
+            let mut halves = rooms.to_vec();
+            shift(&mut halves[r], toward * need / 2.0);
+            shift(&mut halves[o], -toward * need / 2.0);
+            let mut r_slides = rooms.to_vec();
+            shift(&mut r_slides[r], toward * MAX_TRANSLATION_M);
+            stretch(&mut r_slides[o], o_wall, -toward * rest);
+            let mut o_slides = rooms.to_vec();
+            shift(&mut o_slides[o], -toward * MAX_TRANSLATION_M);
+            stretch(&mut o_slides[r], r_wall, toward * rest);
+            // A way that parts either room from a room it shares a wall with is no repair.
+            let keeps_walls = |next: &[Vec<[f64; 2]>]| {
+                [r, o].into_iter().all(|moved| {
+                    (0..rooms.len()).filter(|&x| x != moved).all(|x| {
+                        shared_length(&rooms[moved], &rooms[x]) <= SAME_M
+                            || shared_length(&next[moved], &next[x]) > SAME_M
+                    })
+                })
+            };
+            for next in [halves, r_slides, o_slides] {
+                if keeps_walls(&next) {
+                    out.push((o, next));
+                }
+            }
         }
     }
     out
