@@ -12,7 +12,11 @@
 //! - `folder`: the load reading the folder's files (`--objathor-no-index`), then the build;
 //! - `index`: the first load with the index (reading the folder and writing its index);
 //! - `mapped`: a load from the index, then the build — what every later build costs;
-//! - then, in the `folder` and `mapped` processes, 1,000 queries in the `features` mode.
+//! - then, in the `folder` and `mapped` processes, 1,000 queries in the `features` mode;
+//! - `clip` (built with `--features clip`): a load from the index with a tiny CLIP text tower of
+//!   768-long embeddings (`fixture::write_tiny_tower`, seeded random weights), then 1,000 queries
+//!   in the `clip` mode — each embedded by the tower and scored against all 50,000 × 3 image
+//!   rows, as the original does.
 //!
 //! Targets (issue 55): a build with `--objathor` from the index ≤ 0.3 s of CPU and ≤ 300 MB
 //! more than without; `book/src/objathor.md` records the figures.
@@ -80,6 +84,18 @@ fn folder(shape: &str, float32: bool, text_rows: bool) -> PathBuf {
     root
 }
 
+/// The tiny CLIP text tower of the `clip` figures (768-long embeddings, as objathor's rows), in
+/// `target/objathor-bench/clip-tiny`; without the feature, no folder.
+fn tiny_tower() -> PathBuf {
+    let dir = Path::new("target").join("objathor-bench").join("clip-tiny");
+    #[cfg(feature = "clip")]
+    if !dir.join("model.safetensors").is_file() {
+        let shape = fixture::TinyTower { projection: 768, ..fixture::TinyTower::default() };
+        fixture::write_tiny_tower(&dir, 34, shape).expect("the tiny tower is written");
+    }
+    dir
+}
+
 /// One measured process: `mode` on the folder `root`.
 fn child(mode: &str, root: &Path) {
     let cpu = cpu_s();
@@ -87,6 +103,7 @@ fn child(mode: &str, root: &Path) {
     let options = (mode != "none").then(|| ObjathorOptions {
         dir: root.to_path_buf(),
         no_index: mode == "folder",
+        clip: (mode == "clip").then(tiny_tower),
         ..ObjathorOptions::default()
     });
     if mode == "index" {
@@ -97,7 +114,11 @@ fn child(mode: &str, root: &Path) {
     let catalog = loaded.value;
     let load_cpu = cpu_s() - cpu;
     if let Some(obj) = catalog.objathor() {
-        assert_eq!(obj.from_index, mode == "mapped", "{mode}: read from the index or not");
+        assert_eq!(
+            obj.from_index,
+            matches!(mode, "mapped" | "clip"),
+            "{mode}: read from the index or not"
+        );
     }
     let text = std::fs::read_to_string(SCENE).expect("the example");
     let file = sources.add(SCENE, text);
@@ -106,7 +127,7 @@ fn child(mode: &str, root: &Path) {
     let build_cpu = cpu_s() - cpu;
     let rss = peak_rss_mb();
     print!("{load_cpu:.3} {build_cpu:.3} {rss:.0}");
-    if matches!(mode, "folder" | "mapped") {
+    if matches!(mode, "folder" | "mapped" | "clip") {
         let kinds = [
             PlacementKind::Floor,
             PlacementKind::Wall,
@@ -156,7 +177,12 @@ fn main() {
     println!("|---|---|---|---|---|---|---|");
     for (shape, float32, text_rows) in SHAPES {
         let root = folder(shape, *float32, *text_rows);
-        for mode in ["folder", "index", "mapped"] {
+        let modes: &[&str] = if cfg!(feature = "clip") {
+            &["folder", "index", "mapped", "clip"]
+        } else {
+            &["folder", "index", "mapped"]
+        };
+        for &mode in modes {
             let f = run(mode, &root);
             let peak: f64 = f[2].parse().unwrap_or(f64::NAN);
             let queries = f.get(3).map_or("-".to_string(), |q| format!("{q} s"));
