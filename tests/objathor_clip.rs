@@ -108,6 +108,15 @@ fn the_tower_makes_the_mode_clip() {
     assert_eq!(tower.config.projection, 64);
 }
 
+/// The assets a query for their own description ranks first. The tiny random tower's
+/// embeddings of the fixture's texts correlate 0.6–0.98 (they share `a 3D model of` and are
+/// spelt mostly byte by byte), so an asset whose twin has a sharper render loses to it, as with
+/// CLIP: the round mirror's own best view is at 34.17, the mirror box's at 37.14 × 0.95 = 35.3;
+/// the linen curtains lose to the tall ones (0.98), the looking glass (31.62) to them too, and
+/// the cat tree (31.62 on its own text; its sharper view looks like a cat tower) to the sofa.
+const OWN_FIRST: &[&str] =
+    &["cat_tower", "huge_sofa", "mirror_box", "tall_curtains", "whiteboard", "abstract_painting"];
+
 #[test]
 fn an_assets_own_description_ranks_it_first() {
     let (_dir, root, weights) = fixture();
@@ -120,11 +129,22 @@ fn an_assets_own_description_ranks_it_first() {
         let q = embed(&catalog, &fixture_text(name));
         let own = expected_clip(&catalog, name, &q);
         let ranked = rank(&catalog, &query);
+        // The first is the best by the formula, computed here, over every asset of the kind.
+        let best = FIXTURE_ASSETS
+            .iter()
+            .filter(|a| catalog.get(a.uid).expect("there").allows(kind))
+            .filter(|a| a.name != "blurry_painting")
+            .map(|a| (expected_clip(&catalog, a.name, &q), a.name))
+            .fold((f64::NEG_INFINITY, ""), |m, x| if x.0 > m.0 { x } else { m });
         if own > clip_threshold(kind) {
             let first = ranked.first().expect("a candidate");
-            assert_eq!(name_of(&first.asset_id), name, "{name}: {ranked:#?}");
-            let f = first.features.as_ref().expect("parts");
+            assert_eq!(name_of(&first.asset_id), best.1, "{name}: {ranked:#?}");
+            let mine = ranked.iter().find(|c| name_of(&c.asset_id) == name).expect("kept");
+            let f = mine.features.as_ref().expect("parts");
             assert!((f.clip - own).abs() < 1e-3, "{name}: {} vs {own}", f.clip);
+            if OWN_FIRST.contains(&name) {
+                assert_eq!(name_of(&first.asset_id), name, "{name}: {ranked:#?}");
+            }
         } else {
             // The cat bed's best view is at 29.41: below 31 even for its own description.
             assert_eq!(name, "cat_bed", "{name} at {own}");
