@@ -432,6 +432,7 @@ fn rank_with(
 }
 
 /// Whether the asset `doc` of `index` may be placed as `kind` (any kind when `None`).
+#[cfg(feature = "clip")]
 pub(crate) fn allows(index: &TextIndex, doc: usize, kind: Option<PlacementKind>) -> bool {
     let Some(k) = kind else { return true };
     let Some(bit) = PlacementKind::ALL.iter().position(|x| *x == k) else { return false };

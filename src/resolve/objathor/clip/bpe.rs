@@ -55,6 +55,7 @@ impl Bpe {
     /// A tokenizer from its vocabulary (token → id) and its merges in rank order. Checked so
     /// that encoding never meets a token outside the vocabulary: every byte's character, alone
     /// and with `</w>`, each merge's result, and the start and end tokens must be in it.
+    #[allow(clippy::implicit_hasher, reason = "the vocabulary is kept as given")]
     pub fn new(vocab: HashMap<String, u32>, merges: Vec<(String, String)>) -> Result<Bpe, String> {
         let byte_chars = bytes_to_unicode();
         for c in byte_chars {

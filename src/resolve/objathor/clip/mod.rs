@@ -134,7 +134,10 @@ pub struct TextTower {
 
 impl std::fmt::Debug for TextTower {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("TextTower").field("dir", &self.dir).field("config", &self.config).finish()
+        f.debug_struct("TextTower")
+            .field("dir", &self.dir)
+            .field("config", &self.config)
+            .finish_non_exhaustive()
     }
 }
 
@@ -247,6 +250,7 @@ pub fn read_safetensors(
 
 /// Writes `tensors` (float32) as a safetensors file: the fixture's and the benchmark's tiny
 /// towers.
+#[allow(clippy::implicit_hasher, reason = "candle's `save` takes the default hasher's map")]
 pub fn write_safetensors(tensors: &HashMap<String, Tensor>, path: &Path) -> Result<(), String> {
     candle_core::safetensors::save(tensors, path).map_err(|e| e.to_string())
 }
@@ -306,7 +310,7 @@ impl TextTower {
         else {
             return Err(bad("its embeddings or projection are not matrices".into()));
         };
-        let layers = (0..)
+        let layers = (0..t.len())
             .take_while(|i| {
                 t.contains_key(&format!("text_model.encoder.layers.{i}.layer_norm1.weight"))
             })
