@@ -18,6 +18,8 @@
 //!   in the `clip` mode — each embedded by the tower and scored against all 50,000 × 3 image
 //!   rows, as the original does.
 //!
+//! `OBJATHOR_BENCH_N=5000` runs the same on a folder of 5,000 assets (a quick run).
+//!
 //! Targets (issue 55): a build with `--objathor` from the index ≤ 0.3 s of CPU and ≤ 300 MB
 //! more than without; `book/src/objathor.md` records the figures.
 
@@ -32,6 +34,11 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 const N: usize = 50_000;
+
+/// The number of assets: [`N`], or `OBJATHOR_BENCH_N` for a quick run on a smaller folder.
+fn n_assets() -> usize {
+    std::env::var("OBJATHOR_BENCH_N").ok().and_then(|v| v.parse().ok()).unwrap_or(N)
+}
 const SCENE: &str = "examples/cat_studio.holo";
 
 const QUERIES: &[(&str, &str)] = &[
@@ -73,10 +80,15 @@ fn cpu_s() -> f64 {
 }
 
 fn folder(shape: &str, float32: bool, text_rows: bool) -> PathBuf {
-    let base = Path::new("target").join("objathor-bench").join(shape);
+    let n = n_assets();
+    let base = if n == N {
+        Path::new("target").join("objathor-bench").join(shape)
+    } else {
+        Path::new("target").join("objathor-bench").join(format!("{shape}-{n}"))
+    };
     let root = base.join("synthetic");
     if !root.join("annotations.json.gz").is_file() {
-        let synthetic = Synthetic { n: N, views: 3, dim: 768, seed: 34, float32, text_rows };
+        let synthetic = Synthetic { n, views: 3, dim: 768, seed: 34, float32, text_rows };
         fixture::write_synthetic(&base, synthetic).expect("the synthetic folder is written");
         // Files written more than two seconds before their index can be vouched for by it.
         std::thread::sleep(std::time::Duration::from_millis(2100));
