@@ -12,7 +12,13 @@
 //! - `folder`: the load reading the folder's files (`--objathor-no-index`), then the build;
 //! - `index`: the first load with the index (reading the folder and writing its index);
 //! - `mapped`: a load from the index, then the build — what every later build costs;
-//! - then, in the `folder` and `mapped` processes, 1,000 queries in the `features` mode.
+//! - then, in the `folder` and `mapped` processes, 1,000 queries in the `features` mode;
+//! - `clip` (built with `--features clip`): a load from the index with a tiny CLIP text tower of
+//!   768-long embeddings (`fixture::write_tiny_tower`, seeded random weights), then 1,000 queries
+//!   in the `clip` mode — each embedded by the tower and scored against all 50,000 × 3 image
+//!   rows, as the original does.
+//!
+//! `OBJATHOR_BENCH_N=5000` runs the same on a folder of 5,000 assets (a quick run).
 //!
 //! Targets (issue 55): a build with `--objathor` from the index ≤ 0.3 s of CPU and ≤ 300 MB
 //! more than without; `book/src/objathor.md` records the figures.
@@ -28,6 +34,11 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 const N: usize = 50_000;
+
+/// The number of assets: [`N`], or `OBJATHOR_BENCH_N` for a quick run on a smaller folder.
+fn n_assets() -> usize {
+    std::env::var("OBJATHOR_BENCH_N").ok().and_then(|v| v.parse().ok()).unwrap_or(N)
+}
 const SCENE: &str = "examples/cat_studio.holo";
 
 const QUERIES: &[(&str, &str)] = &[
@@ -69,15 +80,32 @@ fn cpu_s() -> f64 {
 }
 
 fn folder(shape: &str, float32: bool, text_rows: bool) -> PathBuf {
-    let base = Path::new("target").join("objathor-bench").join(shape);
+    let n = n_assets();
+    let base = if n == N {
+        Path::new("target").join("objathor-bench").join(shape)
+    } else {
+        Path::new("target").join("objathor-bench").join(format!("{shape}-{n}"))
+    };
     let root = base.join("synthetic");
     if !root.join("annotations.json.gz").is_file() {
-        let synthetic = Synthetic { n: N, views: 3, dim: 768, seed: 34, float32, text_rows };
+        let synthetic = Synthetic { n, views: 3, dim: 768, seed: 34, float32, text_rows };
         fixture::write_synthetic(&base, synthetic).expect("the synthetic folder is written");
         // Files written more than two seconds before their index can be vouched for by it.
         std::thread::sleep(std::time::Duration::from_millis(2100));
     }
     root
+}
+
+/// The tiny CLIP text tower of the `clip` figures (768-long embeddings, as objathor's rows), in
+/// `target/objathor-bench/clip-tiny`; without the feature, no folder.
+fn tiny_tower() -> PathBuf {
+    let dir = Path::new("target").join("objathor-bench").join("clip-tiny");
+    #[cfg(feature = "clip")]
+    if !dir.join("model.safetensors").is_file() {
+        let shape = fixture::TinyTower { projection: 768, ..fixture::TinyTower::default() };
+        fixture::write_tiny_tower(&dir, 34, shape).expect("the tiny tower is written");
+    }
+    dir
 }
 
 /// One measured process: `mode` on the folder `root`.
@@ -87,6 +115,7 @@ fn child(mode: &str, root: &Path) {
     let options = (mode != "none").then(|| ObjathorOptions {
         dir: root.to_path_buf(),
         no_index: mode == "folder",
+        clip: (mode == "clip").then(tiny_tower),
         ..ObjathorOptions::default()
     });
     if mode == "index" {
@@ -97,7 +126,11 @@ fn child(mode: &str, root: &Path) {
     let catalog = loaded.value;
     let load_cpu = cpu_s() - cpu;
     if let Some(obj) = catalog.objathor() {
-        assert_eq!(obj.from_index, mode == "mapped", "{mode}: read from the index or not");
+        assert_eq!(
+            obj.from_index,
+            matches!(mode, "mapped" | "clip"),
+            "{mode}: read from the index or not"
+        );
     }
     let text = std::fs::read_to_string(SCENE).expect("the example");
     let file = sources.add(SCENE, text);
@@ -106,7 +139,7 @@ fn child(mode: &str, root: &Path) {
     let build_cpu = cpu_s() - cpu;
     let rss = peak_rss_mb();
     print!("{load_cpu:.3} {build_cpu:.3} {rss:.0}");
-    if matches!(mode, "folder" | "mapped") {
+    if matches!(mode, "folder" | "mapped" | "clip") {
         let kinds = [
             PlacementKind::Floor,
             PlacementKind::Wall,
@@ -156,7 +189,12 @@ fn main() {
     println!("|---|---|---|---|---|---|---|");
     for (shape, float32, text_rows) in SHAPES {
         let root = folder(shape, *float32, *text_rows);
-        for mode in ["folder", "index", "mapped"] {
+        let modes: &[&str] = if cfg!(feature = "clip") {
+            &["folder", "index", "mapped", "clip"]
+        } else {
+            &["folder", "index", "mapped"]
+        };
+        for &mode in modes {
             let f = run(mode, &root);
             let peak: f64 = f[2].parse().unwrap_or(f64::NAN);
             let queries = f.get(3).map_or("-".to_string(), |q| format!("{q} s"));

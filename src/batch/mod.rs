@@ -76,6 +76,10 @@ pub struct JobSpec {
     /// `argmax` or `seeded`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub objathor_pick: Option<String>,
+    /// The CLIP text tower's weights folder of the `clip` mode, relative to the manifest's
+    /// folder.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub objathor_clip: Option<String>,
     /// The model of a generate job (default: `HOLOC_MODEL`, else holoc's default).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub model: Option<String>,
@@ -549,6 +553,7 @@ pub fn read_line(line: usize, raw: &str, base: &Path) -> Option<Result<Job, Mani
         spec.objathor_scoring.as_deref(),
         spec.objathor_mix.as_deref(),
         spec.objathor_pick.as_deref(),
+        spec.objathor_clip.as_deref().map(Path::new),
     ) {
         Ok(o) => o,
         Err(message) => return error(format!("is not a job: {message}")),

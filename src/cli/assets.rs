@@ -24,9 +24,16 @@ pub struct CatalogArgs {
     #[arg(long, value_name = "VERSION")]
     pub objathor_version: Option<String>,
     /// How objathor assets are ranked: `lexical` (words and size), `features` (the stored CLIP
-    /// rows; the default when the folder has them) or `clip` (not available in this build).
+    /// rows; the default when the folder has them) or `clip` (the original's retrieval with
+    /// CLIP's text tower: builds with the cargo feature `clip`, weights from `--objathor-clip`;
+    /// the default when they are given).
     #[arg(long, value_name = "MODE", value_parser = ["lexical", "features", "clip"])]
     pub objathor_scoring: Option<String>,
+    /// The CLIP text tower of `--objathor-scoring clip`: a folder with Hugging Face's
+    /// `model.safetensors`, `config.json`, `vocab.json` and `merges.txt` (or `tokenizer.json`)
+    /// of `laion/CLIP-ViT-L-14-laion2B-s32B-b82K`.
+    #[arg(long, value_name = "DIR")]
+    pub objathor_clip: Option<PathBuf>,
     /// `objathor-first` (default, as the original: objathor's good assets first, the other
     /// catalogs for what it lacks), `builtin-first` (objathor assets only for what the other
     /// catalogs lack) or `score` (both, merged by score).
@@ -53,6 +60,7 @@ struct ProjectCatalogs {
     objathor_scoring: Option<String>,
     objathor_mix: Option<String>,
     objathor_pick: Option<String>,
+    objathor_clip: Option<PathBuf>,
 }
 
 /// The nearest `holoc.toml` in the current folder or above it.
@@ -102,6 +110,7 @@ impl CatalogArgs {
                 out.objathor_scoring.clone_from(&config.objathor_scoring);
                 out.objathor_mix.clone_from(&config.objathor_mix);
                 out.objathor_pick.clone_from(&config.objathor_pick);
+                out.objathor_clip = config.objathor_clip.as_ref().map(|c| dir.join(c));
             }
         }
         Ok(out)
@@ -118,6 +127,7 @@ impl CatalogArgs {
             mix: self.objathor_mix.as_deref().and_then(Mix::parse).unwrap_or_default(),
             pick: self.objathor_pick.as_deref().and_then(Pick::parse).unwrap_or_default(),
             no_index: self.objathor_no_index,
+            clip: self.objathor_clip.clone(),
         })
     }
 }

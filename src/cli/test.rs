@@ -94,6 +94,8 @@ struct Config {
     objathor_mix: Option<String>,
     /// `argmax` or `seeded`.
     objathor_pick: Option<String>,
+    /// The CLIP text tower's weights folder of the `clip` mode.
+    objathor_clip: Option<PathBuf>,
     /// The `[test]` table.
     #[serde(default)]
     test: TestConfig,
@@ -509,6 +511,7 @@ pub fn run(args: &TestArgs) -> ExitCode {
             config.objathor_scoring.as_deref(),
             config.objathor_mix.as_deref(),
             config.objathor_pick.as_deref(),
+            config.objathor_clip.as_deref(),
         ) {
             Ok(o) => o,
             Err(message) => {

@@ -156,6 +156,11 @@ codes! {
     W0405 "unusable-features" "an objathor feature file is missing or cannot be read, and is not used";
     W0406 "unlicensed-asset" "an objathor asset chosen for the house has no licence information";
     W0407 "objathor-index-unwritten" "the index of the objathor folder could not be written, so every build reads the folder again";
+    E0406 "clip-weights-not-given" "the objathor scoring mode `clip` was asked without the CLIP text tower's weights";
+    E0407 "unusable-clip-weights" "the CLIP text tower's weights or config cannot be read or are not a CLIP text model";
+    E0408 "unusable-clip-tokenizer" "the CLIP tokenizer's files are missing, unreadable or not a CLIP vocabulary";
+    E0409 "clip-dimension-mismatch" "the CLIP text tower's embeddings are not of the length of the folder's CLIP rows";
+    W0408 "clip-tower-unused" "CLIP text tower weights were given but the scoring mode asked does not use them";
     E0701 "unreadable-line" "a line of an answer does not have the shape its stage expects";
     E0702 "invalid-value" "a field of an answer holds a value that cannot be used";
     E0703 "unknown-answer-room" "an answer names a room the floor plan does not have";

@@ -172,6 +172,7 @@ pub fn serve(connection: &Connection, options: ServerOptions) -> Result<Ending, 
             word("objathorScoring"),
             word("objathorMix"),
             word("objathorPick"),
+            word("objathorClip").map(Path::new),
         ) {
             objathor = found;
         }
@@ -1045,6 +1046,7 @@ fn read_config(path: &Path) -> Result<Config, String> {
         objathor_scoring: Option<String>,
         objathor_mix: Option<String>,
         objathor_pick: Option<String>,
+        objathor_clip: Option<PathBuf>,
         /// The `[test]` table of `holoc test`, not the language server's.
         #[serde(default, rename = "test")]
         _test: Option<toml::Value>,
@@ -1062,6 +1064,7 @@ fn read_config(path: &Path) -> Result<Config, String> {
         config.objathor_scoring.as_deref(),
         config.objathor_mix.as_deref(),
         config.objathor_pick.as_deref(),
+        config.objathor_clip.as_deref(),
     )
     .map_err(|e| format!("{}: {e}", path.display()))?;
     Ok((config.catalogs.into_iter().map(|p| dir.join(p)).collect(), objathor))

@@ -431,6 +431,14 @@ fn rank_with(
         .collect()
 }
 
+/// Whether the asset `doc` of `index` may be placed as `kind` (any kind when `None`).
+#[cfg(feature = "clip")]
+pub(crate) fn allows(index: &TextIndex, doc: usize, kind: Option<PlacementKind>) -> bool {
+    let Some(k) = kind else { return true };
+    let Some(bit) = PlacementKind::ALL.iter().position(|x| *x == k) else { return false };
+    index.allowed.get(doc).is_some_and(|a| a & (1u8 << bit) != 0)
+}
+
 /// The candidate of document `doc` of `index` (the catalog's asset `offset + doc`) that shares
 /// no word with the query: no relevance, its size term only; `None` when the query's placement
 /// rules the asset out. For assets found by their features rather than their words.

@@ -557,3 +557,216 @@ pub fn write_synthetic(dir: &Path, shape: Synthetic) -> std::io::Result<PathBuf>
     std::fs::write(root.join("features").join("sbert_features.pkl"), sbert)?;
     Ok(root)
 }
+
+/// The sizes of a tiny CLIP text tower ([`write_tiny_tower`]): CLIP's architecture, shrunk.
+#[cfg(feature = "clip")]
+#[derive(Clone, Copy, Debug)]
+pub struct TinyTower {
+    /// Width of the transformer.
+    pub hidden: usize,
+    /// Attention heads.
+    pub heads: usize,
+    /// Transformer blocks.
+    pub layers: usize,
+    /// Width of the MLP.
+    pub intermediate: usize,
+    /// Length of the output embedding (the folder's CLIP rows').
+    pub projection: usize,
+}
+
+#[cfg(feature = "clip")]
+impl Default for TinyTower {
+    fn default() -> Self {
+        TinyTower { hidden: 32, heads: 4, layers: 2, intermediate: 64, projection: 64 }
+    }
+}
+
+/// The tiny tower's merges: enough for the fixture's words to make whole tokens, the rest is
+/// spelt byte by byte.
+#[cfg(feature = "clip")]
+pub const TINY_MERGES: &[(&str, &str)] = &[
+    ("c", "a"),
+    ("ca", "t</w>"),
+    ("t", "o"),
+    ("to", "w"),
+    ("e", "r</w>"),
+    ("tow", "er</w>"),
+    ("m", "i"),
+    ("r", "r"),
+    ("mi", "rr"),
+    ("o", "r</w>"),
+    ("mirr", "or</w>"),
+    ("t", "r"),
+    ("e", "e</w>"),
+    ("tr", "ee</w>"),
+    ("3", "d</w>"),
+];
+
+/// Writes a CLIP text tower of CLIP's architecture with tiny sizes and seeded random values
+/// into `dir`, in Hugging Face's layout: `model.safetensors` (the `text_model.*` tensors and
+/// `text_projection.weight`), `config.json`, `vocab.json` and `merges.txt` (CLIP's 512 byte
+/// tokens, [`TINY_MERGES`], the start and end tokens). The same seed writes the same bytes.
+#[cfg(feature = "clip")]
+pub fn write_tiny_tower(dir: &Path, seed: u64, shape: TinyTower) -> std::io::Result<()> {
+    use candle_core::{Device, Tensor};
+    use rand::{Rng as _, SeedableRng as _};
+    let TinyTower { hidden: h, heads, layers, intermediate: m, projection } = shape;
+    std::fs::create_dir_all(dir)?;
+    let merges: Vec<(String, String)> =
+        TINY_MERGES.iter().map(|(a, b)| ((*a).to_string(), (*b).to_string())).collect();
+    let vocab = super::clip::bpe::vocab_for(&merges);
+    let n_vocab = vocab.len();
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+    let mut tensors = std::collections::HashMap::new();
+    let mut put = |name: String, shape: Vec<usize>, scale: f32, base: f32| {
+        let n: usize = shape.iter().product();
+        let values: Vec<f32> = (0..n).map(|_| base + rng.gen_range(-scale..scale)).collect();
+        let t = Tensor::from_vec(values, shape, &Device::Cpu).map_err(std::io::Error::other)?;
+        tensors.insert(name, t);
+        Ok::<_, std::io::Error>(())
+    };
+    let w = 1.0 / (h as f32).sqrt();
+    put("text_model.embeddings.token_embedding.weight".into(), vec![n_vocab, h], 1.0, 0.0)?;
+    put("text_model.embeddings.position_embedding.weight".into(), vec![77, h], 0.1, 0.0)?;
+    for i in 0..layers {
+        let p = format!("text_model.encoder.layers.{i}");
+        for ln in ["layer_norm1", "layer_norm2"] {
+            put(format!("{p}.{ln}.weight"), vec![h], 0.1, 1.0)?;
+            put(format!("{p}.{ln}.bias"), vec![h], 0.1, 0.0)?;
+        }
+        for proj in ["q_proj", "k_proj", "v_proj", "out_proj"] {
+            put(format!("{p}.self_attn.{proj}.weight"), vec![h, h], 2.0 * w, 0.0)?;
+            put(format!("{p}.self_attn.{proj}.bias"), vec![h], 0.1, 0.0)?;
+        }
+        put(format!("{p}.mlp.fc1.weight"), vec![m, h], 2.0 * w, 0.0)?;
+        put(format!("{p}.mlp.fc1.bias"), vec![m], 0.1, 0.0)?;
+        put(format!("{p}.mlp.fc2.weight"), vec![h, m], 2.0 / (m as f32).sqrt(), 0.0)?;
+        put(format!("{p}.mlp.fc2.bias"), vec![h], 0.1, 0.0)?;
+    }
+    put("text_model.final_layer_norm.weight".into(), vec![h], 0.1, 1.0)?;
+    put("text_model.final_layer_norm.bias".into(), vec![h], 0.1, 0.0)?;
+    put("text_projection.weight".into(), vec![projection, h], 2.0 * w, 0.0)?;
+    super::clip::write_safetensors(&tensors, &dir.join(super::clip::WEIGHTS_FILE))
+        .map_err(std::io::Error::other)?;
+    let config = json!({
+        "architectures": ["CLIPModel"],
+        "projection_dim": projection,
+        "text_config": {
+            "hidden_size": h, "intermediate_size": m, "num_attention_heads": heads,
+            "num_hidden_layers": layers, "max_position_embeddings": 77,
+            "hidden_act": "gelu", "layer_norm_eps": 1e-5, "vocab_size": n_vocab,
+        },
+    });
+    std::fs::write(dir.join("config.json"), serde_json::to_string_pretty(&config)?)?;
+    let ordered: std::collections::BTreeMap<&String, &u32> = vocab.iter().collect();
+    std::fs::write(dir.join("vocab.json"), serde_json::to_string(&ordered)?)?;
+    let mut text = String::from("#version: 0.2\n");
+    for (a, b) in TINY_MERGES {
+        text.push_str(a);
+        text.push(' ');
+        text.push_str(b);
+        text.push('\n');
+    }
+    std::fs::write(dir.join("merges.txt"), text)
+}
+
+/// The seed of the clip fixture's tiny tower.
+#[cfg(feature = "clip")]
+pub const TINY_TOWER_SEED: u64 = 55;
+
+/// The text the fixture asset `name` is described by, as the original's floor and wall query
+/// would say it (`a 3D model of <category>, <description>`).
+#[cfg(feature = "clip")]
+pub fn fixture_text(name: &str) -> String {
+    let uid = fixture_uid(name);
+    let ann = annotation(name, uid);
+    let ann = ann.get("annotations").unwrap_or(&ann);
+    let field = |k: &str| ann.get(k).and_then(Value::as_str).unwrap_or("").to_string();
+    format!("a 3D model of {}, {}", field("category"), field("description"))
+}
+
+/// What one of an asset's renders looks like to the fixture's CLIP besides the asset's own
+/// text: (asset, view, text). The cat tree's first view looks like a cat tower.
+#[cfg(feature = "clip")]
+pub const LOOKS_LIKE: &[(&str, usize, &str)] = &[("cat_tree", 0, "a 3D model of cat tower")];
+
+/// Writes the fixture folder ([`write_fixture`] with `options`) with CLIP rows computed by the
+/// tiny tower of [`write_tiny_tower`] (written to `<dir>/clip-tiny`, seed
+/// [`TINY_TOWER_SEED`]): each asset's text row is the tower's unit embedding `e` of
+/// [`fixture_text`]; its image view `v` is the unit vector `(e + b·w) / √(1+b²)`, where `b` is
+/// the view's value in [`FIXTURE_ASSETS`] and `w` a unit vector orthogonal to every text's
+/// embedding — so the view's cosine with its text is `1/√(1+b²)` (0.37 to 0.29, CLIP's
+/// matching range) and with another text `cos(e, e′)/√(1+b²)`. A view of [`LOOKS_LIKE`] uses
+/// that text's embedding for `e`. Returns the version folder and the tower's folder.
+#[cfg(feature = "clip")]
+pub fn write_clip_fixture(
+    dir: &Path,
+    options: FixtureOptions,
+) -> std::io::Result<(PathBuf, PathBuf)> {
+    use rand::{Rng as _, SeedableRng as _};
+    let root = write_fixture(dir, FixtureOptions { features: true, ..options })?;
+    let weights = dir.join("clip-tiny");
+    let shape = TinyTower::default();
+    write_tiny_tower(&weights, TINY_TOWER_SEED, shape)?;
+    let tower = super::clip::TextTower::load(&weights)
+        .map_err(|e| std::io::Error::other(format!("{e:?}")))?;
+    let embed = |t: &str| tower.embed(t).map(|v| v.to_vec()).map_err(std::io::Error::other);
+    let assets: Vec<&FixtureAsset> =
+        FIXTURE_ASSETS.iter().filter(|a| !options.without.contains(&a.name)).collect();
+    let dim = shape.projection;
+    // An orthonormal basis of every text's embedding, for the views' `w`.
+    let mut basis: Vec<Vec<f32>> = Vec::new();
+    let add = |v: &[f32], basis: &mut Vec<Vec<f32>>| {
+        let mut r = v.to_vec();
+        for e in basis.iter() {
+            let d: f32 = r.iter().zip(e).map(|(a, b)| a * b).sum();
+            r.iter_mut().zip(e).for_each(|(a, b)| *a -= d * b);
+        }
+        let n: f32 = r.iter().map(|a| a * a).sum::<f32>().sqrt();
+        if n > 1e-4 {
+            basis.push(r.iter().map(|a| a / n).collect());
+        }
+    };
+    let mut text_rows = Vec::new();
+    // Each asset's three views' texts' embeddings.
+    let mut units: Vec<Vec<Vec<f32>>> = Vec::new();
+    for a in &assets {
+        let own = embed(&fixture_text(a.name))?;
+        add(&own, &mut basis);
+        let mut views = vec![own.clone(); 3];
+        for &(_, v, t) in LOOKS_LIKE.iter().filter(|(n, _, _)| *n == a.name) {
+            let e = embed(t)?;
+            add(&e, &mut basis);
+            if let Some(slot) = views.get_mut(v) {
+                *slot = e;
+            }
+        }
+        text_rows.extend(own);
+        units.push(views);
+    }
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(TINY_TOWER_SEED);
+    let mut img = Vec::new();
+    for (a, views) in assets.iter().zip(&units) {
+        for (b, u) in a.views.iter().zip(views) {
+            let mut w: Vec<f32> = (0..dim).map(|_| rng.gen_range(-1.0f32..1.0)).collect();
+            for e in &basis {
+                let d: f32 = w.iter().zip(e).map(|(x, y)| x * y).sum();
+                w.iter_mut().zip(e).for_each(|(x, y)| *x -= d * y);
+            }
+            super::features::normalize(&mut w);
+            let norm = (1.0 + b * b).sqrt();
+            img.extend(u.iter().zip(&w).map(|(x, y)| (x + b * y) / norm));
+        }
+    }
+    let n = assets.len();
+    let uids: Vec<String> = assets.iter().map(|a| a.uid.to_string()).collect();
+    let array = |shape, values| feature_array(options.float32, shape, values);
+    let mut items =
+        vec![("uids", PickleValue::Strings(uids)), ("img_features", array(vec![n, 3, dim], img))];
+    if options.text_rows {
+        items.push(("text_features", array(vec![n, dim], text_rows)));
+    }
+    let clip = write(&items, options.protocol, options.modules);
+    std::fs::write(root.join("features").join("clip_features.pkl"), clip)?;
+    Ok((root, weights))
+}

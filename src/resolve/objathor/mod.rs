@@ -10,6 +10,8 @@
 //! assets are where AI2-THOR's `ProceduralAssetHookRunner` will look for them.
 
 pub mod annotations;
+#[cfg(feature = "clip")]
+pub mod clip;
 pub mod features;
 pub mod fixture;
 pub mod pickle;
@@ -155,7 +157,8 @@ pub struct ObjathorOptions {
     pub dir: PathBuf,
     /// The version folder's name under `dir` (`2023_09_23`).
     pub version: Option<String>,
-    /// The scoring mode; `None` is `features` when the folder has CLIP features, else `lexical`.
+    /// The scoring mode; `None` is `clip` with a text tower ([`ObjathorOptions::clip`]), else
+    /// `features` when the folder has CLIP features, else `lexical`.
     pub scoring: Option<Scoring>,
     /// How objathor assets and the other catalogs combine.
     pub mix: Mix,
@@ -163,6 +166,9 @@ pub struct ObjathorOptions {
     pub pick: Pick,
     /// Read the folder's files every time, never its index ([`stored`]), and write none.
     pub no_index: bool,
+    /// The CLIP text tower's weights folder of the `clip` mode (`--objathor-clip DIR`: Hugging
+    /// Face's `model.safetensors`, `config.json` and tokenizer files).
+    pub clip: Option<PathBuf>,
 }
 
 impl ObjathorOptions {
@@ -176,6 +182,7 @@ impl ObjathorOptions {
         scoring: Option<&str>,
         mix: Option<&str>,
         pick: Option<&str>,
+        clip: Option<&Path>,
     ) -> Result<Option<ObjathorOptions>, String> {
         let Some(dir) = dir else { return Ok(None) };
         let scoring = match scoring {
@@ -202,6 +209,7 @@ impl ObjathorOptions {
             mix,
             pick,
             no_index: false,
+            clip: clip.map(|c| base.join(c)),
         }))
     }
 }
@@ -248,6 +256,9 @@ pub struct Objathor {
     pub index_file: Option<PathBuf>,
     /// Whether the folder was read from that index (else from its files).
     pub from_index: bool,
+    /// The CLIP text tower of the `clip` mode.
+    #[cfg(feature = "clip")]
+    pub tower: Option<Arc<clip::TextTower>>,
 }
 
 impl Objathor {
@@ -629,7 +640,32 @@ fn install(
         features.text = None;
     }
     let has_clip = features.img.is_some();
-    let scoring = match options.scoring {
+    let asked = options.scoring.or(options.clip.as_ref().map(|_| Scoring::Clip));
+    if let (Some(dir), Some(s)) = (&options.clip, options.scoring.filter(|s| *s != Scoring::Clip)) {
+        diags.push(
+            Diagnostic::new(
+                Code::W0408,
+                format!("the CLIP text tower is not used: the scoring mode is `{}`", s.as_str()),
+            )
+            .with_note(format!("`--objathor-clip {}` was given", dir.display()))
+            .with_help("drop `--objathor-scoring` (a tower makes the mode `clip`), or drop `--objathor-clip`"),
+        );
+    }
+    #[cfg(feature = "clip")]
+    let mut tower = None;
+    let scoring = match asked {
+        Some(Scoring::Clip) if !has_clip => {
+            diags.push(
+                Diagnostic::new(
+                    Code::E0405,
+                    "the scoring mode `clip` needs the folder's CLIP image features, which are not usable",
+                )
+                .with_note(format!("looked for `{}`", root.join("features").join("clip_features.pkl").display()))
+                .with_help("download the features, or use `--objathor-scoring lexical`"),
+            );
+            Scoring::Lexical
+        }
+        #[cfg(not(feature = "clip"))]
         Some(Scoring::Clip) => {
             diags.push(
                 Diagnostic::new(
@@ -637,11 +673,25 @@ fn install(
                     "the scoring mode `clip` is not available in this build of holoc",
                 )
                 .with_note(
-                    "it needs a CLIP ViT-L-14 text tower run in process; holoc has no such model",
+                    "it runs CLIP's ViT-L-14 text tower in process, which this build leaves out (cargo feature `clip`)",
                 )
-                .with_help("use `--objathor-scoring features` (the stored CLIP rows, no model) or `lexical`"),
+                .with_help("build holoc with `--features clip`, or use `--objathor-scoring features` (the stored CLIP rows, no model) or `lexical`"),
             );
             Scoring::Lexical
+        }
+        #[cfg(feature = "clip")]
+        Some(Scoring::Clip) => {
+            let dim = features.img.as_ref().map_or(0, |r| r.dim);
+            match clip_tower(options.clip.as_deref(), dim) {
+                Ok(t) => {
+                    tower = Some(t);
+                    Scoring::Clip
+                }
+                Err(d) => {
+                    diags.push(*d);
+                    Scoring::Lexical
+                }
+            }
         }
         Some(Scoring::Features) if !has_clip => {
             diags.push(
@@ -689,8 +739,86 @@ fn install(
         synset_members,
         index_file,
         from_index,
+        #[cfg(feature = "clip")]
+        tower,
     });
     diags
+}
+
+/// The help of the clip mode's diagnostics: where the weights come from.
+#[cfg(feature = "clip")]
+const CLIP_WEIGHTS_HELP: &str = "point `--objathor-clip` at a folder with Hugging Face's `model.safetensors`, `config.json`, `vocab.json` and `merges.txt` of `laion/CLIP-ViT-L-14-laion2B-s32B-b82K` (the original's open_clip ViT-L-14 laion2b_s32b_b82k)";
+
+/// The text towers loaded in this process, by folder and the weights file's length and time:
+/// the language server and `holoc batch` load one once.
+#[cfg(feature = "clip")]
+type TowerCache =
+    std::sync::Mutex<HashMap<(PathBuf, u64, Option<std::time::SystemTime>), Arc<clip::TextTower>>>;
+
+/// The text tower of the weights folder `dir`, checked against the folder's CLIP rows of
+/// length `dim`: E0406 without a folder, E0407 for weights and E0408 for tokenizer files that
+/// cannot be used, E0409 for a tower whose embeddings are not of the rows' length.
+#[cfg(feature = "clip")]
+fn clip_tower(dir: Option<&Path>, dim: usize) -> Result<Arc<clip::TextTower>, Box<Diagnostic>> {
+    static TOWERS: std::sync::OnceLock<TowerCache> = std::sync::OnceLock::new();
+    let Some(dir) = dir else {
+        return Err(Box::new(
+            Diagnostic::new(
+                Code::E0406,
+                "the scoring mode `clip` needs CLIP's text tower, and no weights were given",
+            )
+            .with_note("the original embeds each query with open_clip ViT-L-14 (laion2b_s32b_b82k)")
+            .with_help(CLIP_WEIGHTS_HELP),
+        ));
+    };
+    let meta = std::fs::metadata(dir.join(clip::WEIGHTS_FILE)).ok();
+    let key = (
+        dir.to_path_buf(),
+        meta.as_ref().map_or(0, std::fs::Metadata::len),
+        meta.as_ref().and_then(|m| m.modified().ok()),
+    );
+    let cache = TOWERS.get_or_init(TowerCache::default);
+    let cached = cache.lock().ok().and_then(|c| c.get(&key).cloned());
+    let tower = match cached {
+        Some(t) => t,
+        None => {
+            let t = Arc::new(clip::TextTower::load(dir).map_err(|e| {
+                Box::new(match e {
+                    clip::LoadError::Weights(path, why) => Diagnostic::new(
+                        Code::E0407,
+                        format!(
+                            "the CLIP text tower's weights `{}` cannot be used: {why}",
+                            path.display()
+                        ),
+                    )
+                    .with_help(CLIP_WEIGHTS_HELP),
+                    clip::LoadError::Tokenizer(path, why) => Diagnostic::new(
+                        Code::E0408,
+                        format!("the CLIP tokenizer `{}` cannot be used: {why}", path.display()),
+                    )
+                    .with_help(CLIP_WEIGHTS_HELP),
+                })
+            })?);
+            if let Ok(mut c) = cache.lock() {
+                c.insert(key, t.clone());
+            }
+            t
+        }
+    };
+    if tower.config.projection != dim {
+        return Err(Box::new(
+            Diagnostic::new(
+                Code::E0409,
+                format!(
+                    "the CLIP text tower makes embeddings of {} numbers, the folder's CLIP rows have {dim}",
+                    tower.config.projection
+                ),
+            )
+            .with_note(format!("the tower of `{}`", dir.display()))
+            .with_help("the tower must be the model the folder's features were made with: ViT-L-14 (768) for objathor"),
+        ));
+    }
+    Ok(tower)
 }
 
 /// The assets and entries of an annotations text (an object keyed by uid) and its unusable
@@ -873,6 +1001,14 @@ pub fn rank(catalog: &Catalog, query: &Query, seed: u64, limit: usize) -> Vec<Ca
     let Some(obj) = catalog.objathor() else { return Vec::new() };
     let mut lexical = super::index::rank_in(catalog, &obj.index, obj.start, query, seed, limit);
     lexical.retain(|c| looks_alike(obj, c.idx));
+    #[cfg(feature = "clip")]
+    if let (Some(tower), Some(features), Scoring::Clip) = (&obj.tower, &obj.features, obj.scoring) {
+        if let Some(ranked) =
+            clip_rank(catalog, obj, (&**tower, &**features), query, seed, &lexical)
+        {
+            return ranked;
+        }
+    }
     let (Some(features), Scoring::Features) = (&obj.features, obj.scoring) else {
         return lexical;
     };
@@ -993,6 +1129,84 @@ pub fn rank(catalog: &Catalog, query: &Query, seed: u64, limit: usize) -> Vec<Ca
             .then_with(|| a.asset_id.cmp(&b.asset_id))
     });
     out
+}
+
+/// The text the original embeds for a query (`objaverse_retriever.py`'s callers): `a 3D model
+/// of <key>, <description>` for floor and wall objects, `a 3D model of <object name>` for small
+/// objects, `a 3D model of <description>` for ceiling objects (the object's name where there is
+/// no description).
+pub fn clip_query_text(query: &Query) -> String {
+    let description = query.description.as_deref().map(str::trim).filter(|d| !d.is_empty());
+    match (query.kind, description) {
+        (Some(PlacementKind::OnObject), _) | (_, None) => {
+            format!("a 3D model of {}", query.category)
+        }
+        (Some(PlacementKind::Ceiling), Some(d)) => format!("a 3D model of {d}"),
+        (_, Some(d)) => format!("a 3D model of {}, {d}", query.category),
+    }
+}
+
+/// The `clip` mode: the original's `retrieve` then its size re-ranking. The query
+/// ([`clip_query_text`]) is embedded by the text tower; every asset of the folder that may be
+/// placed as asked and looks alike in AI2-THOR gets `clip = 100 × max over views cos(query,
+/// view)`; those with `clip` above the placement's threshold are kept, scored `clip − 10 ×
+/// size difference` (the SBERT part is left out: holoc has no SBERT model, see the book), best
+/// first, ties by the seed. `None` when the tower fails (then the lexical ranking stands).
+#[cfg(feature = "clip")]
+fn clip_rank(
+    catalog: &Catalog,
+    obj: &Objathor,
+    (tower, features): (&clip::TextTower, &Features),
+    query: &Query,
+    seed: u64,
+    lexical: &[Candidate],
+) -> Option<Vec<Candidate>> {
+    use rayon::prelude::*;
+    let img = features.img.as_ref()?;
+    let q = tower.embed(&clip_query_text(query)).ok()?;
+    let threshold = clip_threshold(query.kind.unwrap_or(PlacementKind::Floor));
+    let n = obj.end - obj.start;
+    // Every asset's CLIP part, in parallel (each is its own; the order does not depend on it).
+    let clip: Vec<Option<f64>> = (0..n)
+        .into_par_iter()
+        .map(|k| {
+            if !super::index::allows(&obj.index, k, query.kind) || !looks_alike(obj, obj.start + k)
+            {
+                return None;
+            }
+            let row = features.clip_row_of(k)?;
+            Some(100.0 * f64::from(img.max_cosine(&q, row)))
+        })
+        .collect();
+    let lexical_scores: HashMap<usize, f64> = lexical.iter().map(|c| (c.idx, c.score)).collect();
+    let mut out: Vec<Candidate> = clip
+        .iter()
+        .enumerate()
+        .filter_map(|(k, clip)| {
+            let clip = clip.filter(|c| *c > threshold)?;
+            let c =
+                super::index::wordless_candidate(catalog, &obj.index, obj.start, k, query, seed)?;
+            let lexical_score = lexical_scores.get(&c.idx).copied().unwrap_or(c.score);
+            Some(Candidate {
+                features: Some(FeatureScore {
+                    clip,
+                    sbert: None,
+                    threshold,
+                    lexical_score,
+                    text_space: true,
+                }),
+                score: clip - SIZE_WEIGHT * c.size_diff_m.unwrap_or(0.0),
+                ..c
+            })
+        })
+        .collect();
+    out.sort_by(|a, b| {
+        b.score
+            .total_cmp(&a.score)
+            .then(a.tie.cmp(&b.tie))
+            .then_with(|| a.asset_id.cmp(&b.asset_id))
+    });
+    Some(out)
 }
 
 /// Whether an objathor asset fits the room as the original asks: each side at most 0.8 of the
