@@ -454,10 +454,11 @@ fn bad_folders_and_feature_files_are_diagnostics() {
     std::fs::rename(dir.path().join("more").join(FIXTURE_VERSION), dir.path().join("2024_08_16"))
         .expect("moved");
     assert_eq!(codes(&load(&options(dir.path())).1), vec!["E0404"]);
-    // `clip` is not in this build; `features` without features cannot run.
+    // `clip` is not in a build without the feature (E0405), and needs weights in one with it
+    // (E0406); `features` without features cannot run.
     assert_eq!(
         codes(&load(&ObjathorOptions { scoring: Some(Scoring::Clip), ..options(&root) }).1),
-        vec!["E0405"]
+        vec![if cfg!(feature = "clip") { "E0406" } else { "E0405" }]
     );
     let (_d, bare) = fixture(FixtureOptions { features: false, ..FixtureOptions::default() });
     let (catalog, diags) = load(&options(&bare));
