@@ -135,10 +135,11 @@ pub struct ProblemConstraint {
     pub kind: RelationKind,
     /// The relation as the scene writes it (what the report prints).
     pub written: RelationKind,
-    /// Whether the layout adds it, unwritten: a screen facing the main seat of its room's
-    /// seating group ([`seating_groups`]).
+    /// Whether the layout adds it, unwritten: the main seat of its room's seating group
+    /// facing its screen ([`seating_groups`]), a set of desks in rows ([`desk_rows`]).
     pub implied: bool,
-    /// Index of the target in [`RoomProblem::objects`] (must be earlier).
+    /// Index of the target in [`RoomProblem::objects`] (earlier, but for an implied seating
+    /// group's seat, which waits for its screen: [`targets_first`]).
     pub target: usize,
     /// Where the constraint is written.
     pub span: Option<Span>,
@@ -439,11 +440,15 @@ impl Prepared<'_> {
     /// that floor object `k` breaks at `pose`, if any.
     pub(crate) fn static_rule(&self, k: usize, pose: &Pose) -> Option<constraints::HardRule> {
         let obj = &self.problem.objects[k];
+        // A seat turned to its screen by an implied seating group may leave the wall.
+        let global = (!(obj.constraints.iter().any(|c| c.implied)
+            && leaves_wall_to_watch(self.problem, k)))
+        .then_some(obj.global);
         constraints::static_rules(
             pose,
             obj.size,
             window_height(obj),
-            Some(obj.global),
+            global,
             &self.room,
             &self.keep_out,
             &self.windows,
@@ -556,13 +561,13 @@ pub fn measure_object(
     let mut score = 0.0;
     for c in &obj.constraints {
         let target_id = problem.objects.get(c.target).map_or("?", |t| t.id.as_str());
-        let text = if c.implied {
-            format!("{} {target_id} (seating group)", c.written.as_str())
-        } else {
-            format!("{} {target_id}", c.written.as_str())
+        let meaning = meaning_of(problem, index, c);
+        let text = match (c.implied, meaning.view) {
+            (true, true) => format!("{} {target_id} (seating group)", c.written.as_str()),
+            (true, false) => format!("{} {target_id} (rows)", c.written.as_str()),
+            _ => format!("{} {target_id}", c.written.as_str()),
         };
         let target = poses.get(c.target).copied().flatten().zip(problem.objects.get(c.target));
-        let meaning = meaning_of(problem, index, c);
         let mut measure = match target {
             Some((tp, t)) => {
                 constraints::relation_meant(c.kind, &meaning, pose, obj.size, &tp, t.size)
@@ -750,6 +755,7 @@ pub fn max_score(obj: &FloorObject) -> f64 {
 /// desks and tables whatever word the plan used ([`draw_up_seats`]) and the screen of a
 /// seating group facing its main seat ([`seating_groups`]).
 pub fn read_meanings(objects: &mut [FloorObject]) {
+    desk_rows(objects);
     draw_up_seats(objects);
     seating_groups(objects);
 }
@@ -802,6 +808,84 @@ pub fn draw_up_seats(objects: &mut [FloorObject]) {
     }
 }
 
+/// Desks of one set (`count N`: the same name before the instance number) that all `face to`
+/// the same object and have no relation among themselves (the original system's plans write
+/// a classroom so) stand in rows facing it, as a person sets out a classroom: rows of
+/// `ceil(n / floor(sqrt(n)))` desks (ten desks: rows of four, four and two), the first desk `in
+/// front of` what they face, each next desk of a row `side of` and `near` the one before it,
+/// the first of each next row `behind` and `center aligned` with the first of the row before,
+/// every desk `face same as` the one it follows. The relations are implied
+/// ([`ProblemConstraint::implied`]): the report prints them with `(rows)`.
+pub fn desk_rows(objects: &mut [FloorObject]) {
+    let stem = |id: &str| id.rsplit_once('-').map_or(id.to_string(), |(s, _)| s.to_string());
+    let mut done = vec![false; objects.len()];
+    for first in 0..objects.len() {
+        if done[first] || objects[first].role != Role::Desk {
+            continue;
+        }
+        let name = stem(&objects[first].id);
+        let set: Vec<usize> = (first..objects.len())
+            .filter(|&i| objects[i].role == Role::Desk && stem(&objects[i].id) == name)
+            .collect();
+        for &i in &set {
+            done[i] = true;
+        }
+        if set.len() < 3 {
+            continue;
+        }
+        let faced = |o: &FloorObject| {
+            o.constraints.iter().find(|c| c.kind == RelationKind::FaceTo).map(|c| c.target)
+        };
+        let Some(target) = faced(&objects[first]) else { continue };
+        let alike = set.iter().all(|&i| {
+            faced(&objects[i]) == Some(target)
+                && !set.contains(&target)
+                && !objects[i].constraints.iter().any(|c| set.contains(&c.target))
+        });
+        if !alike {
+            continue;
+        }
+        let n = set.len();
+        let rows = ((n as f64).sqrt().floor() as usize).max(1);
+        let per_row = n.div_ceil(rows);
+        let implied = |kind: RelationKind, target: usize| ProblemConstraint {
+            kind,
+            written: kind,
+            implied: true,
+            target,
+            span: None,
+        };
+        for (j, &i) in set.iter().enumerate() {
+            let added: Vec<ProblemConstraint> = if j == 0 {
+                let ahead = objects[i]
+                    .constraints
+                    .iter()
+                    .any(|c| c.target == target && c.kind == RelationKind::InFrontOf);
+                if ahead {
+                    Vec::new()
+                } else {
+                    vec![implied(RelationKind::InFrontOf, target)]
+                }
+            } else if j % per_row != 0 {
+                let before = set[j - 1];
+                vec![
+                    implied(RelationKind::SideOf, before),
+                    implied(RelationKind::Near, before),
+                    implied(RelationKind::FaceSameAs, before),
+                ]
+            } else {
+                let ahead = set[j - per_row];
+                vec![
+                    implied(RelationKind::Behind, ahead),
+                    implied(RelationKind::CenterAligned, ahead),
+                    implied(RelationKind::FaceSameAs, ahead),
+                ]
+            };
+            objects[i].constraints.extend(added);
+        }
+    }
+}
+
 /// Whether desk `t` faces something other than its chair: it is `face to` something, or `face
 /// same as` a desk that does (a row of student desks facing the teacher).
 fn faces_elsewhere(objects: &[FloorObject], t: usize, depth: usize) -> bool {
@@ -845,13 +929,52 @@ pub fn seating_groups(objects: &mut [FloorObject]) {
         if related {
             continue;
         }
-        let (from, to) = if main < s { (s, main) } else { (main, s) };
-        objects[from].constraints.push(ProblemConstraint {
+        // The seat turns to its screen: the screen stands where the room puts it (against a
+        // wall) and is placed first ([`targets_first`]); the seat faces it from a viewing
+        // distance, off the wall when the room is too deep for it to watch from there
+        // ([`leaves_wall_to_watch`]).
+        objects[main].constraints.push(ProblemConstraint {
             kind: RelationKind::FaceTo,
             written: RelationKind::FaceTo,
             implied: true,
-            target: to,
+            target: s,
             span: None,
         });
     }
+}
+
+/// Whether floor object `k` is the seat of a seating group its plan did not write (an
+/// implied `face to` its screen): its `edge`, which no plan wrote either, gives way to the
+/// viewing rule, so that it may stand off the wall facing the screen from a viewing distance
+/// (a sofa floating in a room deeper than 4.5 m, its back to the rest of the room).
+pub fn leaves_wall_to_watch(problem: &RoomProblem, k: usize) -> bool {
+    let Some(obj) = problem.objects.get(k) else { return false };
+    obj.constraints.iter().any(|c| {
+        c.implied
+            && c.kind == RelationKind::FaceTo
+            && problem.objects.get(c.target).is_some_and(|t| constraints::views(obj.role, t.role))
+    })
+}
+
+/// The objects of a problem in an order in which every relation's target comes before the
+/// object that refers to it when it can: plan order, but an object whose target comes later
+/// (an implied seating group's sofa, which turns to its screen) waits for it. Plans whose
+/// relations all refer to earlier objects keep their order; a cycle is broken at the
+/// earliest object left.
+pub fn targets_first(problem: &RoomProblem, members: &[usize]) -> Vec<usize> {
+    let mut left: Vec<usize> = members.to_vec();
+    let mut out = Vec::with_capacity(left.len());
+    while !left.is_empty() {
+        let ready = left
+            .iter()
+            .position(|&k| {
+                problem.objects[k]
+                    .constraints
+                    .iter()
+                    .all(|c| c.target == k || !left.contains(&c.target))
+            })
+            .unwrap_or(0);
+        out.push(left.remove(ready));
+    }
+    out
 }
