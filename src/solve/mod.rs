@@ -562,11 +562,13 @@ pub fn measure_object(
     for c in &obj.constraints {
         let target_id = problem.objects.get(c.target).map_or("?", |t| t.id.as_str());
         let meaning = meaning_of(problem, index, c);
-        let text = match (c.implied, meaning.view) {
-            (true, true) => format!("{} {target_id} (seating group)", c.written.as_str()),
-            (true, false) => format!("{} {target_id} (rows)", c.written.as_str()),
-            _ => format!("{} {target_id}", c.written.as_str()),
+        let note = match c.kind {
+            _ if !c.implied => "",
+            _ if meaning.view => " (seating group)",
+            RelationKind::Around => " (at the table)",
+            _ => " (rows)",
         };
+        let text = format!("{} {target_id}{note}", c.written.as_str());
         let target = poses.get(c.target).copied().flatten().zip(problem.objects.get(c.target));
         let mut measure = match target {
             Some((tp, t)) => {
@@ -756,8 +758,59 @@ pub fn max_score(obj: &FloorObject) -> f64 {
 /// seating group facing its main seat ([`seating_groups`]).
 pub fn read_meanings(objects: &mut [FloorObject]) {
     desk_rows(objects);
+    chairs_at_the_table(objects);
     draw_up_seats(objects);
     seating_groups(objects);
+}
+
+/// Whether an object is unrelated: it has no relation and nothing relates to it.
+fn unrelated(objects: &[FloorObject], k: usize) -> bool {
+    objects[k].constraints.is_empty()
+        && !objects.iter().any(|o| o.constraints.iter().any(|c| c.target == k))
+}
+
+/// Chairs that a plan relates to nothing in a room with a table (the original system's
+/// replayed plans write a conference or dining room so: a table, ten chairs, nothing related)
+/// are the table's chairs, as a person reads the room: each is `around` the room's largest
+/// table (an implied relation, printed `(at the table)`), sharing its seats, and the table,
+/// when nothing else relates to it, stands in the middle. Armchairs,
+/// recliners, benches and lounge chairs are not (they stand by a coffee table or a wall).
+pub fn chairs_at_the_table(objects: &mut [FloorObject]) {
+    let area = |o: &FloorObject| o.size[0] * o.size[1];
+    let Some(table) = (0..objects.len())
+        .filter(|&i| objects[i].role == Role::Table)
+        .max_by(|&a, &b| area(&objects[a]).total_cmp(&area(&objects[b])).then(b.cmp(&a)))
+    else {
+        return;
+    };
+    let lounging = |id: &str| {
+        let id = id.to_lowercase();
+        ["armchair", "recliner", "bench", "lounge", "accent", "rocking", "bean"]
+            .iter()
+            .any(|w| id.contains(w))
+    };
+    let chairs: Vec<usize> = (0..objects.len())
+        .filter(|&k| {
+            objects[k].role == Role::Seat
+                && objects[k].pin.is_none()
+                && !lounging(&objects[k].id)
+                && unrelated(objects, k)
+        })
+        .collect();
+    // The table stands where its chairs can be drawn up round it (its `edge`, written by no
+    // such plan, gives way to `middle`).
+    if chairs.len() >= 2 && unrelated(objects, table) {
+        objects[table].global = GlobalKind::Middle;
+    }
+    for k in chairs {
+        objects[k].constraints.push(ProblemConstraint {
+            kind: RelationKind::Around,
+            written: RelationKind::Around,
+            implied: true,
+            target: table,
+            span: None,
+        });
+    }
 }
 
 /// A chair (a seat, not a sofa) that relates to a desk or table only by `near` or `face to` is
@@ -944,15 +997,20 @@ pub fn seating_groups(objects: &mut [FloorObject]) {
 }
 
 /// Whether floor object `k` is the seat of a seating group its plan did not write (an
-/// implied `face to` its screen): its `edge`, which no plan wrote either, gives way to the
-/// viewing rule, so that it may stand off the wall facing the screen from a viewing distance
+/// implied `face to` its screen), or a chair its plan relates to nothing that is drawn up to
+/// the room's table (an implied `around`): its `edge`, which no plan wrote either, gives way
+/// to the viewing rule or the table's seats, so that it may stand off the wall facing the screen from a viewing distance
 /// (a sofa floating in a room deeper than 4.5 m, its back to the rest of the room).
 pub fn leaves_wall_to_watch(problem: &RoomProblem, k: usize) -> bool {
     let Some(obj) = problem.objects.get(k) else { return false };
     obj.constraints.iter().any(|c| {
         c.implied
-            && c.kind == RelationKind::FaceTo
-            && problem.objects.get(c.target).is_some_and(|t| constraints::views(obj.role, t.role))
+            && (c.kind == RelationKind::Around
+                || c.kind == RelationKind::FaceTo
+                    && problem
+                        .objects
+                        .get(c.target)
+                        .is_some_and(|t| constraints::views(obj.role, t.role)))
     })
 }
 
