@@ -562,11 +562,13 @@ pub fn measure_object(
     for c in &obj.constraints {
         let target_id = problem.objects.get(c.target).map_or("?", |t| t.id.as_str());
         let meaning = meaning_of(problem, index, c);
+        let by_bed = problem.objects.get(c.target).is_some_and(|t| t.role == Role::Bed);
         let note = match c.kind {
             _ if !c.implied => "",
-            _ if meaning.view => " (seating group)",
             RelationKind::Around => " (at the table)",
-            _ => " (rows)",
+            _ if obj.role == Role::Desk => " (rows)",
+            _ if by_bed => " (by the bed)",
+            _ => " (seating group)",
         };
         let text = format!("{} {target_id}{note}", c.written.as_str());
         let target = poses.get(c.target).copied().flatten().zip(problem.objects.get(c.target));
@@ -759,6 +761,7 @@ pub fn max_score(obj: &FloorObject) -> f64 {
 pub fn read_meanings(objects: &mut [FloorObject]) {
     desk_rows(objects);
     chairs_at_the_table(objects);
+    nightstands_by_the_bed(objects);
     draw_up_seats(objects);
     seating_groups(objects);
 }
@@ -767,6 +770,42 @@ pub fn read_meanings(objects: &mut [FloorObject]) {
 fn unrelated(objects: &[FloorObject], k: usize) -> bool {
     objects[k].constraints.is_empty()
         && !objects.iter().any(|o| o.constraints.iter().any(|c| c.target == k))
+}
+
+/// Nightstands (bedside tables) that a plan relates to nothing in a room with a bed stand by
+/// the room's largest bed, one to a side as far as they go: `side of` and `near` it (implied,
+/// printed `(by the bed)`), their unwritten `edge` giving way.
+pub fn nightstands_by_the_bed(objects: &mut [FloorObject]) {
+    let area = |o: &FloorObject| o.size[0] * o.size[1];
+    let Some(bed) = (0..objects.len())
+        .filter(|&i| objects[i].role == Role::Bed)
+        .max_by(|&a, &b| area(&objects[a]).total_cmp(&area(&objects[b])).then(b.cmp(&a)))
+    else {
+        return;
+    };
+    let bedside = |id: &str| {
+        let id = id.to_lowercase();
+        id.contains("night") || id.contains("bedside")
+    };
+    let stands: Vec<usize> = (0..objects.len())
+        .filter(|&k| {
+            objects[k].role == Role::SideTable
+                && objects[k].pin.is_none()
+                && bedside(&objects[k].id)
+                && unrelated(objects, k)
+        })
+        .collect();
+    for k in stands {
+        for kind in [RelationKind::SideOf, RelationKind::Near] {
+            objects[k].constraints.push(ProblemConstraint {
+                kind,
+                written: kind,
+                implied: true,
+                target: bed,
+                span: None,
+            });
+        }
+    }
 }
 
 /// Chairs that a plan relates to nothing in a room with a table (the original system's
@@ -782,12 +821,6 @@ pub fn chairs_at_the_table(objects: &mut [FloorObject]) {
         .max_by(|&a, &b| area(&objects[a]).total_cmp(&area(&objects[b])).then(b.cmp(&a)))
     else {
         return;
-    };
-    let lounging = |id: &str| {
-        let id = id.to_lowercase();
-        ["armchair", "recliner", "bench", "lounge", "accent", "rocking", "bean"]
-            .iter()
-            .any(|w| id.contains(w))
     };
     let chairs: Vec<usize> = (0..objects.len())
         .filter(|&k| {
@@ -958,7 +991,7 @@ fn faces_elsewhere(objects: &[FloorObject], t: usize, depth: usize) -> bool {
 /// A room with a screen (a TV or its stand) and a sofa is a seating group even when its plan
 /// relates none of them: a screen no seat, sofa or bed relates to (and that relates to none)
 /// faces the room's main seat (its largest sofa) by the viewing rule, as an implied `face to`
-/// ([`ProblemConstraint::implied`]) on whichever of the two is placed later in plan order.
+/// ([`ProblemConstraint::implied`]) on the sofa, turned to its screen.
 pub fn seating_groups(objects: &mut [FloorObject]) {
     let watcher = |r: Role| matches!(r, Role::Seat | Role::Sofa | Role::Bed);
     let area = |o: &FloorObject| o.size[0] * o.size[1];
@@ -994,24 +1027,63 @@ pub fn seating_groups(objects: &mut [FloorObject]) {
             span: None,
         });
     }
+    coffee_table_group(objects, main);
 }
 
-/// Whether floor object `k` is the seat of a seating group its plan did not write (an
-/// implied `face to` its screen), or a chair its plan relates to nothing that is drawn up to
-/// the room's table (an implied `around`): its `edge`, which no plan wrote either, gives way
-/// to the viewing rule or the table's seats, so that it may stand off the wall facing the screen from a viewing distance
+/// The rest of a seating group its plan did not write: the room's coffee table that nothing
+/// relates to stands `in front of` the main sofa (0.3–0.6 m before it), and the armchairs,
+/// accent, lounge and club chairs and recliners that nothing relates to stand `near` the
+/// coffee table and `face to` it, as a person sets out a living room. Implied relations,
+/// printed `(seating group)`; their `edge`, which no such plan wrote, gives way.
+fn coffee_table_group(objects: &mut [FloorObject], main: usize) {
+    let area = |o: &FloorObject| o.size[0] * o.size[1];
+    let Some(table) = (0..objects.len())
+        .filter(|&i| {
+            objects[i].role == Role::LowTable && objects[i].pin.is_none() && unrelated(objects, i)
+        })
+        .max_by(|&a, &b| area(&objects[a]).total_cmp(&area(&objects[b])).then(b.cmp(&a)))
+    else {
+        return;
+    };
+    let implied = |kind: RelationKind, target: usize| ProblemConstraint {
+        kind,
+        written: kind,
+        implied: true,
+        target,
+        span: None,
+    };
+    let seats: Vec<usize> = (0..objects.len())
+        .filter(|&k| {
+            objects[k].role == Role::Seat
+                && objects[k].pin.is_none()
+                && lounging(&objects[k].id)
+                && unrelated(objects, k)
+        })
+        .collect();
+    objects[table].constraints.push(implied(RelationKind::InFrontOf, main));
+    for k in seats {
+        objects[k].constraints.push(implied(RelationKind::Near, table));
+        objects[k].constraints.push(implied(RelationKind::FaceTo, table));
+    }
+}
+
+/// A seat one lounges in (an armchair, recliner, bench, lounge, accent, club, rocking or
+/// bean-bag chair), by the words of its name: not a chair drawn up to a table.
+fn lounging(id: &str) -> bool {
+    let id = id.to_lowercase();
+    ["armchair", "recliner", "bench", "lounge", "accent", "club", "rocking", "bean"]
+        .iter()
+        .any(|w| id.contains(w))
+}
+
+/// Whether floor object `k` is a piece of a seating group its plan did not write (the sofa's
+/// implied `face to` its screen, the coffee table before it, the armchairs by it), or a chair
+/// its plan relates to nothing that is drawn up to the room's table (an implied `around`):
+/// its `edge`, which no plan wrote either, gives way to the viewing rule or the table's seats, so that it may stand off the wall facing the screen from a viewing distance
 /// (a sofa floating in a room deeper than 4.5 m, its back to the rest of the room).
 pub fn leaves_wall_to_watch(problem: &RoomProblem, k: usize) -> bool {
     let Some(obj) = problem.objects.get(k) else { return false };
-    obj.constraints.iter().any(|c| {
-        c.implied
-            && (c.kind == RelationKind::Around
-                || c.kind == RelationKind::FaceTo
-                    && problem
-                        .objects
-                        .get(c.target)
-                        .is_some_and(|t| constraints::views(obj.role, t.role)))
-    })
+    obj.role != Role::Desk && obj.constraints.iter().any(|c| c.implied)
 }
 
 /// The objects of a problem in an order in which every relation's target comes before the
