@@ -508,15 +508,19 @@ pub enum Role {
     Screen,
     /// A fridge.
     Fridge,
-    /// A dresser, wardrobe, chest of drawers, cabinet, pantry or a kitchen appliance with a
-    /// door (oven, dishwasher): something opened from its front, whose drawers or doors swing
-    /// out.
+    /// A dresser, wardrobe, chest of drawers, cabinet or pantry: something opened from its
+    /// front, whose drawers or doors swing out.
     Storage,
     /// Open storage stood against a wall: a bookcase, shelf or shelving unit.
     Shelf,
     /// An ottoman, footstool or pouf: the one thing besides a table that may stand in a seat's
     /// front strip.
     Ottoman,
+    /// A fixture a person stands in front of to cook or wash: a stove, range, cooktop, oven,
+    /// dishwasher, washing machine or dryer (its door opens and its user stands before it).
+    Appliance,
+    /// A basin a person stands at to wash: a sink, washbasin, lavatory or vanity.
+    Basin,
     /// Anything else.
     #[default]
     Other,
@@ -539,6 +543,13 @@ impl Role {
         if has("coffee") || has("cocktail") {
             return Role::LowTable;
         }
+        // A hood over a range, a machine that washes clothes.
+        if has("hood") || has("extractor") {
+            return Role::Other;
+        }
+        if has("washing") && has("machine") {
+            return Role::Appliance;
+        }
         if (has("nightstand") || has("bedside") || has("night") || has("side") || has("end"))
             && words.last().is_some_and(|w| w == "table" || w == "nightstand" || w == "stand")
         {
@@ -557,8 +568,10 @@ impl Role {
                 "nightstand" => Role::SideTable,
                 "fridge" | "refrigerator" | "freezer" => Role::Fridge,
                 "dresser" | "wardrobe" | "chest" | "drawer" | "armoire" | "closet" | "cabinet"
-                | "cupboard" | "pantry" | "sideboard" | "credenza" | "oven" | "dishwasher"
-                | "hutch" => Role::Storage,
+                | "cupboard" | "pantry" | "sideboard" | "credenza" | "hutch" => Role::Storage,
+                "stove" | "range" | "cooktop" | "hob" | "cooker" | "oven" | "dishwasher"
+                | "washer" | "dryer" => Role::Appliance,
+                "sink" | "washbasin" | "basin" | "lavatory" | "vanity" => Role::Basin,
                 "bookcase" | "bookshelf" | "shelf" | "shelve" | "shelving" | "bookshelve"
                 | "etagere" => Role::Shelf,
                 "ottoman" | "footstool" | "pouf" | "pouffe" | "footrest" | "hassock" => {
@@ -596,7 +609,8 @@ impl Role {
     /// desk, coffee table or ottoman, related or not (nobody sits facing a chair's back or a
     /// chaise's end); a desk's pull-out space only a related seat (the desk's chair; a student
     /// desk `in front of` the teacher's desk keeps out of it); the swing of a fridge's,
-    /// cabinet's, pantry's, oven's or wardrobe's doors and a dresser's drawers nothing; any
+    /// cabinet's, pantry's or wardrobe's doors, a dresser's drawers and the place before a
+    /// stove, oven, dishwasher, washing machine or sink where its user stands nothing; any
     /// other clearance any related object (a coffee table before its sofa, a nightstand by its
     /// bed, a stool at its counter).
     pub fn lets_in(self, other: Role, related: bool) -> bool {
@@ -605,7 +619,7 @@ impl Role {
                 matches!(other, Role::Table | Role::Desk | Role::LowTable | Role::Ottoman)
             }
             Role::Desk => related && other.seats(),
-            Role::Fridge | Role::Storage => false,
+            Role::Fridge | Role::Storage | Role::Appliance | Role::Basin => false,
             _ => related,
         }
     }
@@ -620,6 +634,8 @@ impl Role {
             Role::Table if height_m >= COUNTER_HEIGHT_M => COUNTER_CLEARANCE_M,
             Role::Fridge => FRIDGE_CLEARANCE_M,
             Role::Storage => STORAGE_CLEARANCE_M,
+            Role::Appliance => APPLIANCE_CLEARANCE_M,
+            Role::Basin => BASIN_CLEARANCE_M,
             _ => 0.0,
         }
     }
@@ -647,6 +663,13 @@ pub const COUNTER_HEIGHT_M: f64 = 0.85;
 pub const FRIDGE_CLEARANCE_M: f64 = 0.8;
 /// The space to open a dresser's drawers.
 pub const STORAGE_CLEARANCE_M: f64 = 0.5;
+/// The space before a stove, range, oven, dishwasher, washing machine or dryer: its door
+/// open and its user standing before it (kitchen planning's 0.9 m work aisle; an open oven
+/// or dishwasher door reaches about 0.55 m).
+pub const APPLIANCE_CLEARANCE_M: f64 = 0.9;
+/// The space before a sink or washbasin where its user stands (bathroom planning: 0.55 m at
+/// least, 0.75 m comfortable).
+pub const BASIN_CLEARANCE_M: f64 = 0.75;
 /// The access kept free along the open long sides of a bed.
 pub const BED_SIDE_CLEARANCE_M: f64 = 0.5;
 /// `near` means at least this gap (not touching), unless the pair touches by nature.
@@ -1068,6 +1091,22 @@ pub fn faces(pose: &Pose, target: &Rect) -> bool {
     }
 }
 
+/// The score of a `face to` kept by turning towards the target (within 45°) without the
+/// facing ray meeting it: kept, but the search still prefers facing it squarely.
+pub const TURNED_TO_SCORE: f64 = 0.8;
+
+/// Whether the pose is turned towards a point: of the four rotations, its own is the one
+/// nearest to the way to the point (the point lies within 45° of its facing). A row of desks
+/// wider than the teacher's desk faces it this way, each desk turned to the board, although
+/// the ray from an outer desk passes beside the teacher's desk.
+pub fn turned_to(pose: &Pose, p: [f64; 2]) -> bool {
+    let f = pose.rot.front();
+    let d = [p[0] - pose.x, p[1] - pose.z];
+    let ahead = dot(f, d);
+    let across = (f[0] * d[1] - f[1] * d[0]).abs();
+    ahead > EPS && across <= ahead + EPS
+}
+
 /// The angle in degrees between the pose's facing direction and the direction to a point.
 pub fn angle_to(pose: &Pose, p: [f64; 2]) -> f64 {
     let f = pose.rot.front();
@@ -1264,7 +1303,17 @@ fn measure_relation_with<const VALUE: bool>(
         }
         RelationKind::FaceTo => {
             let angle = if VALUE { angle_to(me, [target.x, target.z]) } else { 0.0 };
-            Measure::yes_no(faces(me, &tf), angle, "deg")
+            // Held when turned towards it; best when the facing ray meets it.
+            let ray = faces(me, &tf);
+            let ok = ray || turned_to(me, tf.center());
+            let score = if ray {
+                1.0
+            } else if ok {
+                TURNED_TO_SCORE
+            } else {
+                0.0
+            };
+            Measure { satisfied: ok, score, value: angle, unit: "deg" }
         }
         RelationKind::FaceSameAs => {
             let diff = (me.rot.deg() - target.rot.deg()).rem_euclid(360.0);

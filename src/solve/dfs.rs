@@ -2312,6 +2312,9 @@ fn next_step(
 #[derive(Clone, Copy, Debug)]
 struct Rank {
     placed: usize,
+    /// Seating groups whose viewing rule is kept: a room's use before its plan's wording (a
+    /// sofa off the wall that watches its TV beats one against the wall that cannot).
+    views: usize,
     kept: usize,
     score: f64,
 }
@@ -2319,20 +2322,27 @@ struct Rank {
 impl Rank {
     /// Strictly better (a tie keeps the layout found first).
     fn beats(&self, other: &Rank) -> bool {
-        (self.placed, self.kept)
-            .cmp(&(other.placed, other.kept))
+        (self.placed, self.views, self.kept)
+            .cmp(&(other.placed, other.views, other.kept))
             .then(self.score.total_cmp(&(other.score + 1e-9)))
             .is_gt()
     }
 }
 
 fn rank(prep: &Prepared<'_>, st: &State) -> Rank {
-    let mut r = Rank { placed: 0, kept: 0, score: 0.0 };
+    let mut r = Rank { placed: 0, views: 0, kept: 0, score: 0.0 };
     for (k, pose) in st.poses.iter().enumerate() {
         let Some(pose) = pose else { continue };
         let (reports, score) = measure_object(prep.problem, &prep.room, k, pose, &st.poses);
         r.placed += 1;
         r.kept += reports.iter().filter(|c| c.measure.satisfied).count();
+        // The relations' reports follow the global constraint's.
+        r.views += reports
+            .iter()
+            .skip(1)
+            .enumerate()
+            .filter(|(ci, c)| c.measure.satisfied && prep.meaning(k, *ci).view)
+            .count();
         r.score += score;
     }
     r
@@ -2364,7 +2374,8 @@ pub(crate) fn static_reason(fails: &BTreeMap<HardRule, usize>) -> (HardRule, Str
 /// The order the search places the floor objects in: group by group, a group being the objects
 /// joined by relations (a table and its chairs, a sofa with its coffee table and side table, a
 /// shelf and its plant), each group's objects in plan order (a relation's target comes before
-/// the object that refers to it). Groups with a pinned object come first, in plan order (what
+/// the object that refers to it; an object whose target comes later in the plan, as an implied
+/// seating group's sofa turned to its screen, waits for it: [`super::targets_first`]). Groups with a pinned object come first, in plan order (what
 /// is fixed is there before anything is placed round it); then the others, the group with the
 /// most floor (its objects' footprints summed) first, ties in plan order: the large pieces
 /// find their place while the room is open and the small ones fill what is left between them,
@@ -2408,7 +2419,10 @@ pub(crate) fn placement_order(problem: &super::RoomProblem) -> Vec<usize> {
             }
         })
     });
-    anchors.into_iter().flat_map(|g| std::mem::take(&mut members[g])).collect()
+    anchors
+        .into_iter()
+        .flat_map(|g| super::targets_first(problem, &std::mem::take(&mut members[g])))
+        .collect()
 }
 
 /// Runs the search in [`placement_order`] and turns the best state into a layout, in plan

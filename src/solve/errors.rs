@@ -36,7 +36,10 @@ pub(crate) fn check_objects(problem: &RoomProblem, diags: &mut Vec<Diagnostic>) 
             bad(&o.id, o.span, "has a size that is not a positive length".to_string());
         }
         for c in &o.constraints {
-            if c.target >= k {
+            // An implied seating group's seat turns to a screen declared after it (both
+            // solvers place the screen first).
+            let forward_ok = c.implied && c.target > k && c.target < problem.objects.len();
+            if c.target >= k && !forward_ok {
                 bad(
                     &o.id,
                     c.span.or(o.span),

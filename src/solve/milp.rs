@@ -136,6 +136,9 @@ fn solve_one(
         m.cons.push(constraint!(z + hi[1] <= r.max_z + big * (1.0 - y)));
     }
     m.cons.push(constraint!(pick == 1.0));
+    // A seat of a seating group its plan did not write (an implied `face to` its screen) may
+    // stand off the wall to keep the viewing rule: its `edge` is then a preference.
+    let off_wall = super::leaves_wall_to_watch(prep.problem, k);
     if obj.global == GlobalKind::Edge {
         // The back touches a wall whose inward normal is the object's front.
         let mut any: Expression = Expression::from(0.0);
@@ -160,10 +163,15 @@ fn solve_one(
             m.cons.push(constraint!(lateral >= s0 - big * (1.0 - e)));
             m.cons.push(constraint!(lateral <= s1 + big * (1.0 - e)));
         }
-        if count == 0 {
+        if count == 0 && !off_wall {
             return None;
         }
-        m.cons.push(constraint!(any == 1.0));
+        if off_wall {
+            m.cons.push(constraint!(any.clone() <= 1.0));
+            m.objective += 0.5 * any;
+        } else {
+            m.cons.push(constraint!(any == 1.0));
+        }
     }
     // Non-overlap: one of four sides for every obstacle.
     for o in obstacles {
@@ -300,9 +308,52 @@ fn solve_one(
                 m.cons.push(constraint!(ax + az <= 1.0));
                 m.objective += w * ax + w * az;
             }
-            RelationKind::FaceTo => {
+            RelationKind::FaceTo if meaning.view => {
+                // The viewing rule: across from each other (opposite rotations), each within
+                // the viewing angle of the other's centre, at a viewing gap.
+                // Facing it at all is worth part (as the shared score grades it).
+                let ray = facing(&mut m);
+                m.objective += 0.4 * w * ray;
+                if tfront != [-f[0], -f[1]] {
+                    continue;
+                }
                 let i = facing(&mut m);
-                m.objective += w * i;
+                let tan = constraints::VIEWING_ANGLE_DEG.to_radians().tan();
+                let across = [f[1], -f[0]];
+                // Mine: the target's centre ahead, within the angle.
+                let ahead = f[0] * (tp.x - x) + f[1] * (tp.z - z);
+                let lateral = across[0] * (tp.x - x) + across[1] * (tp.z - z);
+                m.cons.push(constraint!(lateral.clone() <= tan * ahead.clone() + big * (1.0 - i)));
+                m.cons.push(constraint!(-lateral <= tan * ahead + big * (1.0 - i)));
+                // Theirs: the target's ray meets my footprint and my centre is within its angle.
+                let back = [-f[0], -f[1]];
+                let t_lat = across[0] * (x - tp.x) + across[1] * (z - tp.z);
+                let t_ahead = back[0] * (x - tp.x) + back[1] * (z - tp.z);
+                let half = if f[0] == 0.0 { h[0] } else { h[1] };
+                m.cons.push(constraint!(t_lat.clone() <= half + big * (1.0 - i)));
+                m.cons.push(constraint!(-t_lat.clone() <= half + big * (1.0 - i)));
+                m.cons.push(constraint!(t_lat.clone() <= tan * t_ahead.clone() + big * (1.0 - i)));
+                m.cons.push(constraint!(-t_lat <= tan * t_ahead + big * (1.0 - i)));
+                // The gap between my front and the target's near side.
+                let near = -proj_max(&tf, back);
+                let my_front = far_side(x, z, h, f);
+                m.cons.push(constraint!(near - my_front.clone() >= gap_min - big * (1.0 - i)));
+                m.cons.push(constraint!(near - my_front <= gap_max + big * (1.0 - i)));
+                m.objective += 2.0 * w * i;
+            }
+            RelationKind::FaceTo => {
+                // The ray meets the target, or the target's centre lies within 45° of the
+                // facing (turned towards it).
+                let ray = facing(&mut m);
+                let cone = m.binary();
+                let ahead = f[0] * (tp.x - x) + f[1] * (tp.z - z);
+                let lateral = f[1] * (tp.x - x) - f[0] * (tp.z - z);
+                m.cons.push(constraint!(lateral.clone() <= ahead.clone() + big * (1.0 - cone)));
+                m.cons.push(constraint!(-lateral <= ahead.clone() + big * (1.0 - cone)));
+                m.cons.push(constraint!(ahead >= 0.01 - big * (1.0 - cone)));
+                let i = m.binary();
+                m.cons.push(constraint!(i <= ray + cone));
+                m.objective += w * (constraints::TURNED_TO_SCORE * i + 0.2 * ray);
             }
             RelationKind::FaceSameAs => {}
         }
@@ -366,6 +417,27 @@ fn clearance_obstacles(
     let depth = obj.role.front_clearance(obj.height);
     let f = super::use_pose(pose, prep.from_behind[k]).rot.front();
     let mut out = Vec::new();
+    // The lines of sight of the placed seating groups: a piece taller than the line keeps off
+    // them (the segment between the screen's and the seat's centres, as an obstacle).
+    if obj.height > constraints::SIGHT_LINE_M {
+        for (i, o) in objects.iter().enumerate() {
+            let Some(p) = poses.get(i).copied().flatten() else { continue };
+            for (ci, c) in o.constraints.iter().enumerate() {
+                if i == k || c.target == k || !prep.meaning(i, ci).view {
+                    continue;
+                }
+                let Some(t) = poses.get(c.target).copied().flatten() else { continue };
+                if fp.meets_segment([p.x, p.z], [t.x, t.z]) {
+                    out.push(Rect {
+                        min_x: p.x.min(t.x),
+                        max_x: p.x.max(t.x),
+                        min_z: p.z.min(t.z),
+                        max_z: p.z.max(t.z),
+                    });
+                }
+            }
+        }
+    }
     for (i, o) in objects.iter().enumerate() {
         let Some(p) = poses.get(i).copied().flatten() else { continue };
         if i == k {
@@ -516,7 +588,9 @@ pub(crate) fn solve(prep: &Prepared<'_>, options: &SolveOptions) -> RoomLayout {
     let mut by = vec!["milp"; n];
     let mut layout = RoomLayout::default();
     let mut fails: Vec<Option<(HardRule, String)>> = vec![None; n];
-    for k in 0..n {
+    // Plan order, a relation's target first (an implied seating group's sofa after its screen).
+    let all: Vec<usize> = (0..n).collect();
+    for k in super::targets_first(prep.problem, &all) {
         let obj = &prep.problem.objects[k];
         layout.nodes += 1;
         if let Some(pin) = obj.pin {

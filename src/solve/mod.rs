@@ -135,10 +135,11 @@ pub struct ProblemConstraint {
     pub kind: RelationKind,
     /// The relation as the scene writes it (what the report prints).
     pub written: RelationKind,
-    /// Whether the layout adds it, unwritten: a screen facing the main seat of its room's
-    /// seating group ([`seating_groups`]).
+    /// Whether the layout adds it, unwritten: the main seat of its room's seating group
+    /// facing its screen ([`seating_groups`]), a set of desks in rows ([`desk_rows`]).
     pub implied: bool,
-    /// Index of the target in [`RoomProblem::objects`] (must be earlier).
+    /// Index of the target in [`RoomProblem::objects`] (earlier, but for an implied seating
+    /// group's seat, which waits for its screen: [`targets_first`]).
     pub target: usize,
     /// Where the constraint is written.
     pub span: Option<Span>,
@@ -439,11 +440,15 @@ impl Prepared<'_> {
     /// that floor object `k` breaks at `pose`, if any.
     pub(crate) fn static_rule(&self, k: usize, pose: &Pose) -> Option<constraints::HardRule> {
         let obj = &self.problem.objects[k];
+        // A seat turned to its screen by an implied seating group may leave the wall.
+        let global = (!(obj.constraints.iter().any(|c| c.implied)
+            && leaves_wall_to_watch(self.problem, k)))
+        .then_some(obj.global);
         constraints::static_rules(
             pose,
             obj.size,
             window_height(obj),
-            Some(obj.global),
+            global,
             &self.room,
             &self.keep_out,
             &self.windows,
@@ -556,13 +561,17 @@ pub fn measure_object(
     let mut score = 0.0;
     for c in &obj.constraints {
         let target_id = problem.objects.get(c.target).map_or("?", |t| t.id.as_str());
-        let text = if c.implied {
-            format!("{} {target_id} (seating group)", c.written.as_str())
-        } else {
-            format!("{} {target_id}", c.written.as_str())
-        };
-        let target = poses.get(c.target).copied().flatten().zip(problem.objects.get(c.target));
         let meaning = meaning_of(problem, index, c);
+        let by_bed = problem.objects.get(c.target).is_some_and(|t| t.role == Role::Bed);
+        let note = match c.kind {
+            _ if !c.implied => "",
+            RelationKind::Around => " (at the table)",
+            _ if obj.role == Role::Desk => " (rows)",
+            _ if by_bed => " (by the bed)",
+            _ => " (seating group)",
+        };
+        let text = format!("{} {target_id}{note}", c.written.as_str());
+        let target = poses.get(c.target).copied().flatten().zip(problem.objects.get(c.target));
         let mut measure = match target {
             Some((tp, t)) => {
                 constraints::relation_meant(c.kind, &meaning, pose, obj.size, &tp, t.size)
@@ -750,8 +759,91 @@ pub fn max_score(obj: &FloorObject) -> f64 {
 /// desks and tables whatever word the plan used ([`draw_up_seats`]) and the screen of a
 /// seating group facing its main seat ([`seating_groups`]).
 pub fn read_meanings(objects: &mut [FloorObject]) {
+    desk_rows(objects);
+    chairs_at_the_table(objects);
+    nightstands_by_the_bed(objects);
     draw_up_seats(objects);
     seating_groups(objects);
+}
+
+/// Whether an object is unrelated: it has no relation and nothing relates to it.
+fn unrelated(objects: &[FloorObject], k: usize) -> bool {
+    objects[k].constraints.is_empty()
+        && !objects.iter().any(|o| o.constraints.iter().any(|c| c.target == k))
+}
+
+/// Nightstands (bedside tables) that a plan relates to nothing in a room with a bed stand by
+/// the room's largest bed, one to a side as far as they go: `side of` and `near` it (implied,
+/// printed `(by the bed)`), their unwritten `edge` giving way.
+pub fn nightstands_by_the_bed(objects: &mut [FloorObject]) {
+    let area = |o: &FloorObject| o.size[0] * o.size[1];
+    let Some(bed) = (0..objects.len())
+        .filter(|&i| objects[i].role == Role::Bed)
+        .max_by(|&a, &b| area(&objects[a]).total_cmp(&area(&objects[b])).then(b.cmp(&a)))
+    else {
+        return;
+    };
+    let bedside = |id: &str| {
+        let id = id.to_lowercase();
+        id.contains("night") || id.contains("bedside")
+    };
+    let stands: Vec<usize> = (0..objects.len())
+        .filter(|&k| {
+            objects[k].role == Role::SideTable
+                && objects[k].pin.is_none()
+                && bedside(&objects[k].id)
+                && unrelated(objects, k)
+        })
+        .collect();
+    for k in stands {
+        for kind in [RelationKind::SideOf, RelationKind::Near] {
+            objects[k].constraints.push(ProblemConstraint {
+                kind,
+                written: kind,
+                implied: true,
+                target: bed,
+                span: None,
+            });
+        }
+    }
+}
+
+/// Chairs that a plan relates to nothing in a room with a table (the original system's
+/// replayed plans write a conference or dining room so: a table, ten chairs, nothing related)
+/// are the table's chairs, as a person reads the room: each is `around` the room's largest
+/// table (an implied relation, printed `(at the table)`), sharing its seats, and the table,
+/// when nothing else relates to it, stands in the middle. Armchairs,
+/// recliners, benches and lounge chairs are not (they stand by a coffee table or a wall).
+pub fn chairs_at_the_table(objects: &mut [FloorObject]) {
+    let area = |o: &FloorObject| o.size[0] * o.size[1];
+    let Some(table) = (0..objects.len())
+        .filter(|&i| objects[i].role == Role::Table)
+        .max_by(|&a, &b| area(&objects[a]).total_cmp(&area(&objects[b])).then(b.cmp(&a)))
+    else {
+        return;
+    };
+    let chairs: Vec<usize> = (0..objects.len())
+        .filter(|&k| {
+            objects[k].role == Role::Seat
+                && objects[k].pin.is_none()
+                && !lounging(&objects[k].id)
+                && unrelated(objects, k)
+        })
+        .collect();
+    // The table stands where its chairs can be drawn up round it (its `edge`, written by no
+    // such plan, gives way to `middle`).
+    if chairs.len() >= 2 && unrelated(objects, table) {
+        objects[table].global = GlobalKind::Middle;
+    }
+    for k in chairs {
+        objects[k].constraints.push(ProblemConstraint {
+            kind: RelationKind::Around,
+            written: RelationKind::Around,
+            implied: true,
+            target: table,
+            span: None,
+        });
+    }
 }
 
 /// A chair (a seat, not a sofa) that relates to a desk or table only by `near` or `face to` is
@@ -802,6 +894,84 @@ pub fn draw_up_seats(objects: &mut [FloorObject]) {
     }
 }
 
+/// Desks of one set (`count N`: the same name before the instance number) that all `face to`
+/// the same object and have no relation among themselves (the original system's plans write
+/// a classroom so) stand in rows facing it, as a person sets out a classroom: rows of
+/// `ceil(n / floor(sqrt(n)))` desks (ten desks: rows of four, four and two), the first desk `in
+/// front of` what they face, each next desk of a row `side of` and `near` the one before it,
+/// the first of each next row `behind` and `center aligned` with the first of the row before,
+/// every desk `face same as` the one it follows. The relations are implied
+/// ([`ProblemConstraint::implied`]): the report prints them with `(rows)`.
+pub fn desk_rows(objects: &mut [FloorObject]) {
+    let stem = |id: &str| id.rsplit_once('-').map_or(id.to_string(), |(s, _)| s.to_string());
+    let mut done = vec![false; objects.len()];
+    for first in 0..objects.len() {
+        if done[first] || objects[first].role != Role::Desk {
+            continue;
+        }
+        let name = stem(&objects[first].id);
+        let set: Vec<usize> = (first..objects.len())
+            .filter(|&i| objects[i].role == Role::Desk && stem(&objects[i].id) == name)
+            .collect();
+        for &i in &set {
+            done[i] = true;
+        }
+        if set.len() < 3 {
+            continue;
+        }
+        let faced = |o: &FloorObject| {
+            o.constraints.iter().find(|c| c.kind == RelationKind::FaceTo).map(|c| c.target)
+        };
+        let Some(target) = faced(&objects[first]) else { continue };
+        let alike = set.iter().all(|&i| {
+            faced(&objects[i]) == Some(target)
+                && !set.contains(&target)
+                && !objects[i].constraints.iter().any(|c| set.contains(&c.target))
+        });
+        if !alike {
+            continue;
+        }
+        let n = set.len();
+        let rows = ((n as f64).sqrt().floor() as usize).max(1);
+        let per_row = n.div_ceil(rows);
+        let implied = |kind: RelationKind, target: usize| ProblemConstraint {
+            kind,
+            written: kind,
+            implied: true,
+            target,
+            span: None,
+        };
+        for (j, &i) in set.iter().enumerate() {
+            let added: Vec<ProblemConstraint> = if j == 0 {
+                let ahead = objects[i]
+                    .constraints
+                    .iter()
+                    .any(|c| c.target == target && c.kind == RelationKind::InFrontOf);
+                if ahead {
+                    Vec::new()
+                } else {
+                    vec![implied(RelationKind::InFrontOf, target)]
+                }
+            } else if j % per_row != 0 {
+                let before = set[j - 1];
+                vec![
+                    implied(RelationKind::SideOf, before),
+                    implied(RelationKind::Near, before),
+                    implied(RelationKind::FaceSameAs, before),
+                ]
+            } else {
+                let ahead = set[j - per_row];
+                vec![
+                    implied(RelationKind::Behind, ahead),
+                    implied(RelationKind::CenterAligned, ahead),
+                    implied(RelationKind::FaceSameAs, ahead),
+                ]
+            };
+            objects[i].constraints.extend(added);
+        }
+    }
+}
+
 /// Whether desk `t` faces something other than its chair: it is `face to` something, or `face
 /// same as` a desk that does (a row of student desks facing the teacher).
 fn faces_elsewhere(objects: &[FloorObject], t: usize, depth: usize) -> bool {
@@ -821,7 +991,7 @@ fn faces_elsewhere(objects: &[FloorObject], t: usize, depth: usize) -> bool {
 /// A room with a screen (a TV or its stand) and a sofa is a seating group even when its plan
 /// relates none of them: a screen no seat, sofa or bed relates to (and that relates to none)
 /// faces the room's main seat (its largest sofa) by the viewing rule, as an implied `face to`
-/// ([`ProblemConstraint::implied`]) on whichever of the two is placed later in plan order.
+/// ([`ProblemConstraint::implied`]) on the sofa, turned to its screen.
 pub fn seating_groups(objects: &mut [FloorObject]) {
     let watcher = |r: Role| matches!(r, Role::Seat | Role::Sofa | Role::Bed);
     let area = |o: &FloorObject| o.size[0] * o.size[1];
@@ -845,13 +1015,96 @@ pub fn seating_groups(objects: &mut [FloorObject]) {
         if related {
             continue;
         }
-        let (from, to) = if main < s { (s, main) } else { (main, s) };
-        objects[from].constraints.push(ProblemConstraint {
+        // The seat turns to its screen: the screen stands where the room puts it (against a
+        // wall) and is placed first ([`targets_first`]); the seat faces it from a viewing
+        // distance, off the wall when the room is too deep for it to watch from there
+        // ([`leaves_wall_to_watch`]).
+        objects[main].constraints.push(ProblemConstraint {
             kind: RelationKind::FaceTo,
             written: RelationKind::FaceTo,
             implied: true,
-            target: to,
+            target: s,
             span: None,
         });
     }
+    coffee_table_group(objects, main);
+}
+
+/// The rest of a seating group its plan did not write: the room's coffee table that nothing
+/// relates to stands `in front of` the main sofa (0.3–0.6 m before it), and the armchairs,
+/// accent, lounge and club chairs and recliners that nothing relates to stand `near` the
+/// coffee table and `face to` it, as a person sets out a living room. Implied relations,
+/// printed `(seating group)`; their `edge`, which no such plan wrote, gives way.
+fn coffee_table_group(objects: &mut [FloorObject], main: usize) {
+    let area = |o: &FloorObject| o.size[0] * o.size[1];
+    let Some(table) = (0..objects.len())
+        .filter(|&i| {
+            objects[i].role == Role::LowTable && objects[i].pin.is_none() && unrelated(objects, i)
+        })
+        .max_by(|&a, &b| area(&objects[a]).total_cmp(&area(&objects[b])).then(b.cmp(&a)))
+    else {
+        return;
+    };
+    let implied = |kind: RelationKind, target: usize| ProblemConstraint {
+        kind,
+        written: kind,
+        implied: true,
+        target,
+        span: None,
+    };
+    let seats: Vec<usize> = (0..objects.len())
+        .filter(|&k| {
+            objects[k].role == Role::Seat
+                && objects[k].pin.is_none()
+                && lounging(&objects[k].id)
+                && unrelated(objects, k)
+        })
+        .collect();
+    objects[table].constraints.push(implied(RelationKind::InFrontOf, main));
+    for k in seats {
+        objects[k].constraints.push(implied(RelationKind::Near, table));
+        objects[k].constraints.push(implied(RelationKind::FaceTo, table));
+    }
+}
+
+/// A seat one lounges in (an armchair, recliner, bench, lounge, accent, club, rocking or
+/// bean-bag chair), by the words of its name: not a chair drawn up to a table.
+fn lounging(id: &str) -> bool {
+    let id = id.to_lowercase();
+    ["armchair", "recliner", "bench", "lounge", "accent", "club", "rocking", "bean"]
+        .iter()
+        .any(|w| id.contains(w))
+}
+
+/// Whether floor object `k` is a piece of a seating group its plan did not write (the sofa's
+/// implied `face to` its screen, the coffee table before it, the armchairs by it), or a chair
+/// its plan relates to nothing that is drawn up to the room's table (an implied `around`):
+/// its `edge`, which no plan wrote either, gives way to the viewing rule or the table's seats, so that it may stand off the wall facing the screen from a viewing distance
+/// (a sofa floating in a room deeper than 4.5 m, its back to the rest of the room).
+pub fn leaves_wall_to_watch(problem: &RoomProblem, k: usize) -> bool {
+    let Some(obj) = problem.objects.get(k) else { return false };
+    obj.role != Role::Desk && obj.constraints.iter().any(|c| c.implied)
+}
+
+/// The objects of a problem in an order in which every relation's target comes before the
+/// object that refers to it when it can: plan order, but an object whose target comes later
+/// (an implied seating group's sofa, which turns to its screen) waits for it. Plans whose
+/// relations all refer to earlier objects keep their order; a cycle is broken at the
+/// earliest object left.
+pub fn targets_first(problem: &RoomProblem, members: &[usize]) -> Vec<usize> {
+    let mut left: Vec<usize> = members.to_vec();
+    let mut out = Vec::with_capacity(left.len());
+    while !left.is_empty() {
+        let ready = left
+            .iter()
+            .position(|&k| {
+                problem.objects[k]
+                    .constraints
+                    .iter()
+                    .all(|c| c.target == k || !left.contains(&c.target))
+            })
+            .unwrap_or(0);
+        out.push(left.remove(ready));
+    }
+    out
 }
