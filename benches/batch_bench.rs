@@ -58,7 +58,9 @@ fn run(manifest: &Path, out: &Path, jobs: usize) -> (f64, Option<u64>) {
     let started = Instant::now();
     let output = if time.exists() {
         Command::new(time)
-            .args(["-f", "%M", holoc, "batch"])
+            .args(["-f", "%M"])
+            .arg(&holoc)
+            .arg("batch")
             .arg(manifest)
             .arg("-o")
             .arg(out)
@@ -66,7 +68,7 @@ fn run(manifest: &Path, out: &Path, jobs: usize) -> (f64, Option<u64>) {
             .args(["-q", "--allow-outside", "--jobs", &jobs.to_string()])
             .output()
     } else {
-        Command::new(holoc)
+        Command::new(&holoc)
             .arg("batch")
             .arg(manifest)
             .arg("-o")
