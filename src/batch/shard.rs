@@ -117,7 +117,7 @@ impl Place {
                 // Seeds `r·N` to `r·N + N - 1` are round `r`: one ranking per round, each
                 // position of it taken once.
                 let n = count as u64;
-                let round = mix(self.group ^ mix((seed / n) ^ 0x524f_554e_44));
+                let round = mix(self.group ^ mix((seed / n) ^ 0x52_4f55_4e44));
                 nth_best(round, count, (seed % n) as usize)
             }
         }
