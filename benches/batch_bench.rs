@@ -24,7 +24,16 @@ mod llm_server;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::Command;
-use std::time::Instant;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
+
+/// The holoc binary to measure: `HOLOC_BIN` (a release build, when the benchmark itself runs in
+/// test mode: `cargo test --bench batch_bench`), else the one cargo built with the benchmark.
+fn holoc_bin() -> PathBuf {
+    std::env::var_os("HOLOC_BIN")
+        .map_or_else(|| PathBuf::from(env!("CARGO_BIN_EXE_holoc")), PathBuf::from)
+}
 
 fn manifest(dir: &Path, jobs: usize, examples: &[PathBuf]) -> PathBuf {
     let mut lines = String::new();
@@ -44,12 +53,14 @@ fn manifest(dir: &Path, jobs: usize, examples: &[PathBuf]) -> PathBuf {
 
 /// Runs `holoc batch` and returns (seconds, peak resident memory in KB when measurable).
 fn run(manifest: &Path, out: &Path, jobs: usize) -> (f64, Option<u64>) {
-    let holoc = env!("CARGO_BIN_EXE_holoc");
+    let holoc = holoc_bin();
     let time = Path::new("/usr/bin/time");
     let started = Instant::now();
     let output = if time.exists() {
         Command::new(time)
-            .args(["-f", "%M", holoc, "batch"])
+            .args(["-f", "%M"])
+            .arg(&holoc)
+            .arg("batch")
             .arg(manifest)
             .arg("-o")
             .arg(out)
@@ -57,7 +68,7 @@ fn run(manifest: &Path, out: &Path, jobs: usize) -> (f64, Option<u64>) {
             .args(["-q", "--allow-outside", "--jobs", &jobs.to_string()])
             .output()
     } else {
-        Command::new(holoc)
+        Command::new(&holoc)
             .arg("batch")
             .arg(manifest)
             .arg("-o")
@@ -92,7 +103,7 @@ fn big_catalog(path: &Path, mb: usize) {
 /// Runs `holoc batch` with extra arguments; returns the seconds.
 fn run_with(manifest: &Path, out: &Path, extra: &[&str]) -> f64 {
     let started = Instant::now();
-    let output = Command::new(env!("CARGO_BIN_EXE_holoc"))
+    let output = Command::new(holoc_bin())
         .arg("batch")
         .arg(manifest)
         .arg("-o")
@@ -215,6 +226,11 @@ fn main() {
         .map(|p| std::fs::canonicalize(p).expect("a path"))
         .collect();
     examples.sort();
+    if args.iter().any(|a| a == "stable") {
+        stable(&dir, &examples);
+        let _ = std::fs::remove_dir_all(&dir);
+        return;
+    }
     if args.iter().any(|a| a == "week") {
         week(&dir, &examples, value("--catalog-jobs", 200));
         let _ = std::fs::remove_dir_all(&dir);
@@ -251,5 +267,422 @@ fn main() {
     );
     println!();
     week(&dir, &examples, value("--catalog-jobs", 200));
+    println!();
+    stable(&dir, &examples);
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Runs the holoc binary with `args` (and `env`), returning its exit status, its stderr and the
+/// CPU it used (user + system seconds, read with `/usr/bin/time -f` when it exists, else the
+/// wall clock).
+fn timed(args: &[&std::ffi::OsStr], env: &[(&str, &str)]) -> (Option<i32>, String, f64) {
+    let time = Path::new("/usr/bin/time");
+    let mut command = if time.exists() {
+        let mut c = Command::new(time);
+        c.args(["-f", "cpu %U %S"]).arg(holoc_bin());
+        c
+    } else {
+        Command::new(holoc_bin())
+    };
+    command.args(args);
+    for (k, v) in env {
+        command.env(k, v);
+    }
+    let started = Instant::now();
+    let output = command.output().expect("holoc runs");
+    let wall = started.elapsed().as_secs_f64();
+    let stderr = String::from_utf8_lossy(&output.stderr).into_owned();
+    let cpu = stderr
+        .lines()
+        .rev()
+        .find_map(|l| l.strip_prefix("cpu "))
+        .and_then(|l| {
+            let mut f = l.split_whitespace().map(str::parse::<f64>);
+            Some(f.next()?.ok()? + f.next()?.ok()?)
+        })
+        .unwrap_or(wall);
+    (output.status.code(), stderr, cpu)
+}
+
+fn os(s: &str) -> &std::ffi::OsStr {
+    std::ffi::OsStr::new(s)
+}
+
+/// A manifest of `files` (names in `dir`) at `seeds`, one line per (seed, file).
+fn seeded_manifest(
+    dir: &Path,
+    name: &str,
+    files: &[String],
+    seeds: std::ops::RangeInclusive<u64>,
+) -> PathBuf {
+    let mut lines = String::new();
+    for seed in seeds {
+        for f in files {
+            let _ = writeln!(lines, "{{\"build\": \"{f}\", \"seed\": {seed}}}");
+        }
+    }
+    let path = dir.join(name);
+    std::fs::write(&path, lines).expect("write");
+    path
+}
+
+/// The shard of every line of a manifest (line → shard), as `holoc batch --shard I/N` splits it.
+fn shards_of(manifest: &Path, count: usize) -> std::collections::BTreeMap<usize, usize> {
+    let text = std::fs::read_to_string(manifest).expect("manifest");
+    let base = manifest.parent().expect("a folder");
+    let files = holoc::batch::FileHashes::default();
+    let url = "http://127.0.0.1:9/v1";
+    holoc::batch::manifest_lines(&text)
+        .filter_map(|(line, raw)| match holoc::batch::read_line(line, raw, base)? {
+            Ok(job) => Some((line, holoc::batch::job_place(&job, &files, url).shard(count))),
+            Err(_) => {
+                Some((line, holoc::batch::shard_of(&holoc::batch::line_identity(raw), count)))
+            }
+        })
+        .collect()
+}
+
+/// The figures of issue 52 (a run that loses nothing): jobs moved by a one-line edit, the
+/// balance of the shards by CPU, merge of a partial run, an outage of the model of 1 and 5
+/// minutes, a full disk, and houses per CPU-second on the examples and on a mix.
+/// `-- --only stable` runs only these.
+fn stable(dir: &Path, examples: &[PathBuf]) {
+    let work = dir.join("stable");
+    std::fs::create_dir_all(&work).expect("folder");
+    let mut names = Vec::new();
+    for e in examples {
+        let name = e.file_name().expect("a name").to_string_lossy().into_owned();
+        std::fs::copy(e, work.join(&name)).expect("copy");
+        names.push(name);
+    }
+    println!("| measure | value |\n|---|---|");
+    // Houses per CPU-second: the examples at seeds 1–30, --jobs 1, a fresh folder.
+    let manifest = seeded_manifest(&work, "examples.jsonl", &names, 1..=30);
+    let jobs = names.len() * 30;
+    let out = work.join("out-examples");
+    let (code, stderr, cpu) = timed(
+        &[
+            os("batch"),
+            manifest.as_os_str(),
+            os("-o"),
+            out.as_os_str(),
+            os("-q"),
+            os("--jobs"),
+            os("1"),
+        ],
+        &[],
+    );
+    assert_eq!(code, Some(0), "{stderr}");
+    println!(
+        "| houses per CPU-second, the {} examples at seeds 1–30 ({jobs} jobs), `--jobs 1` | {:.0} ({cpu:.2} CPU-s) |",
+        names.len(),
+        jobs as f64 / cpu
+    );
+    // The CPU of each job (its seconds at --jobs 1), for the balance below.
+    let per_job: std::collections::BTreeMap<usize, f64> = summary(&out.join("summary.json"))
+        ["jobs"]
+        .as_array()
+        .expect("jobs")
+        .iter()
+        .filter_map(|j| Some((j["line"].as_u64()? as usize, j["seconds"].as_f64()?)))
+        .collect();
+    // A mix: the examples and the scenes of the corpus that build, each at seeds 1–10.
+    let mut mix = names.clone();
+    for folder in ["tests/corpus/plan/ok", "tests/corpus/resolve/scenes", "tests/corpus/repair/ok"]
+    {
+        let Ok(entries) = std::fs::read_dir(folder) else { continue };
+        let mut found: Vec<PathBuf> = entries
+            .filter_map(Result::ok)
+            .map(|e| e.path())
+            .filter(|p| p.extension().is_some_and(|e| e == "holo"))
+            .collect();
+        found.sort();
+        for p in found {
+            let name = format!("mix-{}", p.file_name().expect("name").to_string_lossy());
+            std::fs::copy(&p, work.join(&name)).expect("copy");
+            mix.push(name);
+        }
+    }
+    let mixed = seeded_manifest(&work, "mix.jsonl", &mix, 1..=10);
+    let out = work.join("out-mix");
+    let (code, stderr, cpu) = timed(
+        &[
+            os("batch"),
+            mixed.as_os_str(),
+            os("-o"),
+            out.as_os_str(),
+            os("-q"),
+            os("--jobs"),
+            os("1"),
+        ],
+        &[],
+    );
+    assert!(code.is_some_and(|c| c <= 1), "{stderr}");
+    let s = summary(&out.join("summary.json"));
+    let houses = s["done"].as_u64().unwrap_or(0);
+    println!(
+        "| houses per CPU-second, a mix of {} scenes at seeds 1–10 ({} jobs, {} failed) | {:.0} ({cpu:.2} CPU-s) |",
+        mix.len(),
+        houses + s["failed"].as_u64().unwrap_or(0),
+        s["failed"],
+        houses as f64 / cpu
+    );
+
+    // Balance by CPU, from each job's measured seconds, and jobs moved by a one-line edit.
+    for count in [4usize, 8, 32] {
+        let split = shards_of(&manifest, count);
+        let mut sum = vec![0.0f64; count];
+        for (line, shard) in &split {
+            sum[*shard] += per_job.get(line).copied().unwrap_or(0.0);
+        }
+        let mean = sum.iter().sum::<f64>() / count as f64;
+        let most = sum.iter().copied().fold(0.0, f64::max);
+        println!(
+            "| {count} shards of the {jobs} jobs, by their measured CPU | largest {:.3}x the mean |",
+            most / mean
+        );
+    }
+    let count = 32;
+    let before = shards_of(&manifest, count);
+    let text = std::fs::read_to_string(&manifest).expect("manifest");
+    // One seed edited (line 5), a line added at the top: every other line moves down by one.
+    let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
+    lines[4] = lines[4].replace("\"seed\": 1}", "\"seed\": 1000}");
+    let edited = work.join("edited.jsonl");
+    std::fs::write(
+        &edited,
+        format!("{{\"build\": \"{}\", \"seed\": 77}}\n{}\n", names[0], lines.join("\n")),
+    )
+    .expect("write");
+    let after = shards_of(&edited, count);
+    let moved =
+        before.iter().filter(|(l, s)| **l != 5 && after.get(&(**l + 1)) != Some(*s)).count();
+    println!("| jobs moved by a one-line edit and a line added, 32 shards | {moved} of {} besides the edited line |", jobs - 1);
+    // A comment added to one scene: its 30 jobs are new jobs; the others stay.
+    let touched = &names[0];
+    let mut scene = std::fs::read_to_string(work.join(touched)).expect("scene");
+    scene.push_str("// a comment\n");
+    let copy = work.join("commented");
+    std::fs::create_dir_all(&copy).expect("folder");
+    for n in &names {
+        std::fs::copy(work.join(n), copy.join(n)).expect("copy");
+    }
+    std::fs::write(copy.join(touched), scene).expect("write");
+    std::fs::copy(&manifest, copy.join("examples.jsonl")).expect("copy");
+    let after = shards_of(&copy.join("examples.jsonl"), count);
+    let moved_other = before
+        .iter()
+        .filter(|(l, s)| {
+            !text.lines().nth(**l - 1).is_some_and(|t| t.contains(touched.as_str()))
+                && after.get(l) != Some(*s)
+        })
+        .count();
+    println!(
+        "| jobs of other scenes moved by a comment added to one scene, 32 shards | {moved_other} of {} |",
+        jobs - 30
+    );
+
+    // Merge of a partial run: 4 shards of 40 jobs, one line then edited and only its old
+    // shard re-run.
+    let small = seeded_manifest(&work, "small.jsonl", &names[..4], 1..=10);
+    let out = work.join("out-merge");
+    for i in 0..4 {
+        let shard = format!("{i}/4");
+        let (code, stderr, _) = timed(
+            &[
+                os("batch"),
+                small.as_os_str(),
+                os("-o"),
+                out.as_os_str(),
+                os("-q"),
+                os("--shard"),
+                os(&shard),
+            ],
+            &[],
+        );
+        assert_eq!(code, Some(0), "{stderr}");
+    }
+    let (code, _, _) = timed(
+        &[
+            os("batch"),
+            os("merge"),
+            out.as_os_str(),
+            os("-q"),
+            os("-o"),
+            work.join("merged.json").as_os_str(),
+        ],
+        &[],
+    );
+    println!("| merge of 4 complete shards (40 jobs) | exit {} |", code.unwrap_or(-1));
+    let text = std::fs::read_to_string(&small).expect("manifest");
+    // The first line of seed 3 edited to a new seed, and the shard that ran it re-run (read
+    // from the shards' summaries: the benchmark's own build of holoc has another identity),
+    // until the new seed takes the line to another shard.
+    let line = text.lines().position(|l| l.contains("\"seed\": 3}")).expect("a line") + 1;
+    let old_shard = (0..4)
+        .find(|i| {
+            summary(&out.join(format!("summary.shard-{i}-of-4.json")))["jobs"]
+                .as_array()
+                .is_some_and(|jobs| jobs.iter().any(|j| j["line"].as_u64() == Some(line as u64)))
+        })
+        .expect("the line's shard");
+    let mut result = (None, String::new(), 0.0);
+    for new_seed in 300..340 {
+        let edited = text.replacen("\"seed\": 3}", &format!("\"seed\": {new_seed}}}"), 1);
+        std::fs::write(&small, &edited).expect("write");
+        let shard = format!("{old_shard}/4");
+        let (code, _, _) = timed(
+            &[
+                os("batch"),
+                small.as_os_str(),
+                os("-o"),
+                out.as_os_str(),
+                os("-q"),
+                os("--shard"),
+                os(&shard),
+            ],
+            &[],
+        );
+        assert!(code.is_some_and(|c| c <= 1));
+        let merged = work.join("merged.json");
+        result = timed(
+            &[os("batch"), os("merge"), out.as_os_str(), os("-q"), os("-o"), merged.as_os_str()],
+            &[],
+        );
+        if result.0 != Some(0) {
+            break;
+        }
+    }
+    let (code, stderr, _) = result;
+    let named = stderr.lines().filter(|l| l.contains("note:") && l.contains("line")).count();
+    let (partial, _, _) = timed(
+        &[
+            os("batch"),
+            os("merge"),
+            out.as_os_str(),
+            os("-q"),
+            os("--partial"),
+            os("-o"),
+            work.join("partial.json").as_os_str(),
+        ],
+        &[],
+    );
+    let incomplete =
+        summary(&work.join("partial.json"))["incomplete"].as_array().map_or(0, Vec::len);
+    println!(
+        "| merge after one line edited and its old shard re-run | exit {} naming {named} line(s); `--partial` exit {}, {incomplete} line(s) under `incomplete` |",
+        code.unwrap_or(-1),
+        partial.unwrap_or(-1)
+    );
+
+    // An outage of the model of 1 and 5 minutes, played 100 times faster
+    // (HOLOC_BATCH_TIME_SCALE): the server answers the first 3 requests, then fails every
+    // request (503, 502, 429 with Retry-After: 30, 500 in turn) for the outage's length, then
+    // answers again. Default back-off (1 s) and patience (15 minutes).
+    let scale = 100.0;
+    for (minutes, patience) in [(1u64, None), (5, None), (5, Some("2m"))] {
+        let down_from: Arc<Mutex<Option<Instant>>> = Arc::default();
+        let failed = Arc::new(AtomicUsize::new(0));
+        let (from, fails) = (Arc::clone(&down_from), Arc::clone(&failed));
+        let outage = Duration::from_secs_f64(minutes as f64 * 60.0 / scale);
+        let server = llm_server::Server::start(Arc::new(move |asked: &llm_server::Asked, n| {
+            if n >= 3 {
+                let mut start = from.lock().expect("lock");
+                let at = *start.get_or_insert_with(Instant::now);
+                if at.elapsed() < outage {
+                    let k = fails.fetch_add(1, Ordering::SeqCst);
+                    return match k % 4 {
+                        0 => llm_server::Reply::status(503, "{}"),
+                        1 => llm_server::Reply::status(502, "{}"),
+                        2 => llm_server::Reply {
+                            retry_after: Some("30"),
+                            ..llm_server::Reply::status(429, "{}")
+                        },
+                        _ => llm_server::Reply::status(500, "{}"),
+                    };
+                }
+            }
+            llm_server::clean_answer(asked)
+        }));
+        let manifest = work.join(format!("outage-{minutes}.jsonl"));
+        std::fs::write(&manifest, "{\"generate\": \"a 1b1b apartment\", \"seed\": 4}\n")
+            .expect("write");
+        let out = work.join(format!("out-outage-{minutes}-{}", patience.unwrap_or("default")));
+        let mut args = vec![
+            os("batch"),
+            manifest.as_os_str(),
+            os("-o"),
+            out.as_os_str(),
+            os("-q"),
+            os("--base-url"),
+            os(&server.base_url),
+        ];
+        if let Some(p) = patience {
+            args.extend([os("--model-patience"), os(p)]);
+        }
+        let started = Instant::now();
+        let (code, stderr, _) = timed(&args, &[("HOLOC_BATCH_TIME_SCALE", "100")]);
+        let first_wall = started.elapsed().as_secs_f64();
+        let first_calls = server.calls();
+        let s = summary(&out.join("summary.json"));
+        let record = &s["jobs"][0];
+        let mut line = format!(
+            "| outage of {minutes} min, patience {} | exit {}, {} done, {} requests ({} failed, {} retries), {:.0} s simulated",
+            patience.unwrap_or("15m (default)"),
+            code.unwrap_or(-1),
+            s["done"],
+            first_calls,
+            failed.load(Ordering::SeqCst),
+            record["model_retries"],
+            first_wall * scale,
+        );
+        if code != Some(0) {
+            // The outage over: the same command again.
+            while down_from.lock().expect("lock").is_some_and(|at| at.elapsed() < outage) {
+                std::thread::sleep(Duration::from_millis(20));
+            }
+            let (again, _, _) = timed(&args, &[("HOLOC_BATCH_TIME_SCALE", "100")]);
+            let asked = server.calls() - first_calls;
+            let _ = write!(
+                line,
+                "; run again: exit {}, {} done, {asked} requests, the {} answered before reused",
+                again.unwrap_or(-1),
+                summary(&out.join("summary.json"))["done"],
+                3
+            );
+            let _ = stderr;
+        }
+        println!("{line} |");
+    }
+
+    // A full disk: writes fail after the 6th file of the run (HOLOC_BATCH_DISK_FULL_AFTER).
+    let manifest = seeded_manifest(&work, "disk.jsonl", &names[..2], 1..=5);
+    let out = work.join("out-disk");
+    let (code, _, _) = timed(
+        &[
+            os("batch"),
+            manifest.as_os_str(),
+            os("-o"),
+            out.as_os_str(),
+            os("-q"),
+            os("--jobs"),
+            os("1"),
+        ],
+        &[("HOLOC_BATCH_DISK_FULL_AFTER", "6")],
+    );
+    let s = summary(&out.join("summary.json"));
+    let failures =
+        std::fs::read_to_string(out.join("failures.jsonl")).map_or(0, |t| t.lines().count());
+    let (again, _, _) =
+        timed(&[os("batch"), manifest.as_os_str(), os("-o"), out.as_os_str(), os("-q")], &[]);
+    let t = summary(&out.join("summary.json"));
+    println!(
+        "| disk full after 6 files, 10 jobs | exit {}, summary.json with {} done + {} failed, failures.jsonl {failures} lines; run again: exit {}, {} done + {} skipped |",
+        code.unwrap_or(-1),
+        s["done"],
+        s["failed"],
+        again.unwrap_or(-1),
+        t["done"],
+        t["skipped"]
+    );
 }

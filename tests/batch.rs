@@ -926,6 +926,51 @@ fn a_one_line_edit_moves_only_that_line() {
     assert!(moved.is_empty(), "lines moved by an edit elsewhere: {moved:?}");
 }
 
+/// Shards balance by CPU: the consecutive seeds of each scene are dealt out one per shard, so a
+/// scene that costs many times another (the dining room ten times the bathroom, release build)
+/// is split as evenly as the cheap one; and an edit of one line still moves only that line.
+#[test]
+fn shards_balance_by_cpu_dealing_each_scenes_seeds() {
+    let dir = scratch("balance-cpu");
+    for example in ["bathroom_towels", "dining_room"] {
+        let file = format!("{example}.holo");
+        std::fs::copy(Path::new("examples").join(&file), dir.join(&file)).expect("copy");
+    }
+    // Seeds 3 to 8 over 3 shards: two whole rounds of each scene.
+    let mut lines = Vec::new();
+    for seed in 3..=8 {
+        for example in ["bathroom_towels", "dining_room"] {
+            lines.push(format!(r#"{{"build": "{example}.holo", "seed": {seed}}}"#));
+        }
+    }
+    let manifest = dir.join("manifest.jsonl");
+    std::fs::write(&manifest, lines.join("\n") + "\n").expect("write");
+    let count = 3;
+    run_shards(&manifest, &dir.join("out"), count);
+    let shards = shard_of_lines(&dir.join("out"), count);
+    assert_eq!(shards.len(), 12, "every line in one shard");
+    // Per shard, the jobs of each scene (odd lines: the bathroom, even lines: the dining room).
+    let mut per = vec![[0usize; 2]; count];
+    for (line, shard) in &shards {
+        per[*shard][usize::from(line % 2 == 0)] += 1;
+    }
+    assert!(per.iter().all(|p| *p == [2, 2]), "{per:?}");
+    // So by CPU (the dining room about ten times the bathroom, release build, 30 seeds each)
+    // every shard holds the same work: 2 x 10 + 2 x 1 against a mean of 22.
+    // One line's seed edited: only it moves.
+    let text = std::fs::read_to_string(&manifest).expect("manifest");
+    let edited = text.replacen(r#""seed": 5}"#, r#""seed": 50}"#, 1);
+    std::fs::write(&manifest, &edited).expect("write");
+    let edited_line = text.lines().position(|l| l.contains(r#""seed": 5}"#)).expect("a line") + 1;
+    run_shards(&manifest, &dir.join("after"), count);
+    let after = shard_of_lines(&dir.join("after"), count);
+    for (line, shard) in &shards {
+        if *line != edited_line as u64 {
+            assert_eq!(after.get(line), Some(shard), "line {line} moved");
+        }
+    }
+}
+
 /// The issue's case: a line fails, is fixed, the failed index is re-run; if the fixed job now
 /// belongs to another shard, merge refuses and names the line and that shard, and merges once
 /// it has run. `--partial` accepts a partial run.

@@ -20,7 +20,7 @@ pub mod shard;
 
 pub use files::{CatalogCache, FileHashes, Scratch};
 pub use run::{run_job, Permits, RunOptions};
-pub use shard::{assign, line_identity, shard_of, Planned, Shard};
+pub use shard::{assign, line_identity, shard_of, Place, Planned, Shard};
 
 use crate::diag::Code;
 use serde::{Deserialize, Serialize};
@@ -589,10 +589,23 @@ pub fn manifest_failure(e: &ManifestError) -> JobResult {
 /// stage and is tried again by the next run). Files are read through `files`, so each is read
 /// and hashed once per run while it does not change.
 pub fn job_hash(job: &Job, files: &FileHashes, run_base_url: &str) -> String {
-    let model = generation_identity(&job.spec, run_base_url);
+    hash_of_spec(job, &job.spec, files, run_base_url)
+}
+
+/// Where the job goes among shards ([`shard::Place`]): its group, the hash of the job as
+/// [`job_hash`] computes it but without its seed (the same scene, settings, catalogs, model),
+/// and its seed.
+pub fn job_place(job: &Job, files: &FileHashes, run_base_url: &str) -> shard::Place {
+    let unseeded = JobSpec { seed: None, ..job.spec.clone() };
+    let group = hash_of_spec(job, &unseeded, files, run_base_url);
+    shard::Place::of_group(&group, job.spec.seed)
+}
+
+fn hash_of_spec(job: &Job, spec: &JobSpec, files: &FileHashes, run_base_url: &str) -> String {
+    let model = generation_identity(spec, run_base_url);
     let key = serde_json::json!({
         "holoc": crate::build_info::LONG_VERSION,
-        "spec": job.spec.for_identity(),
+        "spec": spec.for_identity(),
         "input": job.input.as_deref().map(|p| files.hash(p)),
         "catalogs": job.catalogs.iter().map(|p| files.hash(p)).collect::<Vec<_>>(),
         "model": model,

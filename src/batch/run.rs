@@ -238,9 +238,10 @@ impl ReusingLlm<'_> {
         }
     }
 
-    /// Sleeps `d` in short slices, stopping early when the job is cancelled.
+    /// Sleeps `d` in short slices, stopping early when the job is cancelled (`d` divided by
+    /// the time scale of the test hook, [`time_scale`]).
     fn sleep(&self, d: Duration) {
-        let until = Instant::now() + d;
+        let until = Instant::now() + d.div_f64(time_scale());
         while !self.token.is_cancelled() {
             let now = Instant::now();
             if now >= until {
@@ -288,7 +289,7 @@ impl Llm for ReusingLlm<'_> {
             };
             // A try that timed out used up its time limit of the patience.
             if let LlmError::Timeout { seconds, .. } = &error {
-                waited += Duration::from_secs_f64(seconds.clamp(0.0, 1e6));
+                waited += Duration::from_secs_f64((seconds * time_scale()).clamp(0.0, 1e9));
             }
             let retry_after = match &error {
                 LlmError::Server { retry_after, .. } => *retry_after,
@@ -609,6 +610,22 @@ fn codes(diagnostics: &[Diagnostic], errors: bool) -> Vec<String> {
     codes.sort();
     codes.dedup();
     codes
+}
+
+/// How many times faster than the wall clock the pauses between a model request's tries run,
+/// from `HOLOC_BATCH_TIME_SCALE` (a test hook, default 1): with 100, a pause of 60 s (the
+/// back-off's, a `Retry-After`'s) sleeps 0.6 s and counts 60 s against `--model-patience`, so
+/// that a benchmark can play an outage of minutes in seconds, every decision (which pause, when
+/// to give up) being the one a real run takes. Nothing a job writes depends on it.
+fn time_scale() -> f64 {
+    static SCALE: std::sync::OnceLock<f64> = std::sync::OnceLock::new();
+    *SCALE.get_or_init(|| {
+        std::env::var("HOLOC_BATCH_TIME_SCALE")
+            .ok()
+            .and_then(|v| v.trim().parse::<f64>().ok())
+            .filter(|v| v.is_finite())
+            .map_or(1.0, |v| v.clamp(1.0, 1e6))
+    })
 }
 
 /// The number of job files after which writes fail as on a full disk, from

@@ -249,16 +249,22 @@ pub fn run(args: &BatchArgs) -> ExitCode {
     // a function of its identity alone (`batch::shard`).
     let mut planned: Vec<(usize, String)> = Vec::new();
     let mut generates = false;
+    let mut in_shard: HashSet<usize> = HashSet::new();
     for (line, raw) in batch::manifest_lines(text) {
         if let Some(Ok(job)) = batch::read_line(line, raw, base) {
             generates |= job.spec.generate.is_some();
+            if shard.is_none_or(|s| {
+                s.takes_place(batch::job_place(&job, &options.files, &options.base_url))
+            }) {
+                in_shard.insert(line);
+            }
             planned.push((line, batch::job_hash(&job, &options.files, &options.base_url)));
         }
     }
     let mut first_line: HashMap<&str, usize> = HashMap::new();
     let mut hash_of: HashMap<usize, &str> = HashMap::new();
     for (line, hash) in &planned {
-        if shard.is_none_or(|s| s.takes(hash)) {
+        if in_shard.contains(line) {
             first_line.entry(hash.as_str()).or_insert(*line);
             hash_of.insert(*line, hash.as_str());
         }
@@ -1022,7 +1028,7 @@ fn against_manifest(
         }
     }
     let files = batch::FileHashes::default();
-    let shard_name = |hash: &str| count.map(|n| format!("{}/{n}", batch::shard_of(hash, n)));
+    let shard_name = |place: batch::Place| count.map(|n| format!("{}/{n}", place.shard(n)));
     let mut jobs = Vec::new();
     let mut incomplete = Vec::new();
     for (line, raw) in batch::manifest_lines(text) {
@@ -1033,7 +1039,7 @@ fn against_manifest(
                 incomplete.push(batch::Incomplete {
                     line,
                     id: e.id.clone().unwrap_or_else(|| format!("line-{line}")),
-                    shard: shard_name(&hash),
+                    shard: shard_name(batch::Place::of_hash(&hash)),
                     hash: String::new(),
                     why: e.message.clone(),
                 });
@@ -1041,6 +1047,7 @@ fn against_manifest(
             }
             Some(Ok(job)) => {
                 let hash = batch::job_hash(&job, &files, base_url);
+                let place = batch::job_place(&job, &files, base_url);
                 let complete = |dir: &PathBuf| dir.join(&hash).join(batch::DONE_MARKER).is_file();
                 match best.get(hash.as_str()) {
                     Some(r) if batch::rank(r.status) == 3 => {
@@ -1070,7 +1077,7 @@ fn against_manifest(
                         incomplete.push(batch::Incomplete {
                             line,
                             id: job.id.clone(),
-                            shard: shard_name(&hash),
+                            shard: shard_name(place),
                             hash,
                             why,
                         });
