@@ -336,20 +336,9 @@ pub fn read_asset(dir: &Path, uid: &str) -> Result<ReadAsset, ReadError> {
     if file.name.as_deref() != Some(uid) {
         return Err(format(format!("its `name` is not `{uid}`")));
     }
-    fn points<const N: usize>(
-        list: Points<N>,
-        key: &str,
-        format: &dyn Fn(String) -> ReadError,
-    ) -> Result<Vec<[f64; N]>, ReadError> {
-        match list {
-            Points::NotAList => Err(format(format!("no `{key}` list"))),
-            Points::BadEntry => Err(format(format!("a `{key}` entry is not a point"))),
-            Points::Good(list) => Ok(list),
-        }
-    }
-    let vertices = points(file.vertices, "vertices", &format)?;
-    let normals = points(file.normals, "normals", &format)?;
-    let uvs = points(file.uvs, "uvs", &format)?;
+    let vertices = point_list(file.vertices, "vertices", &format)?;
+    let normals = point_list(file.normals, "normals", &format)?;
+    let uvs = point_list(file.uvs, "uvs", &format)?;
     if normals.len() != vertices.len() || uvs.len() != vertices.len() {
         return Err(format("`normals` and `uvs` must have one entry per vertex".to_string()));
     }
@@ -395,6 +384,19 @@ pub fn read_asset(dir: &Path, uid: &str) -> Result<ReadAsset, ReadError> {
         .collect();
     let receptacle = file.receptacle.unwrap_or(false);
     Ok(ReadAsset { vertices, triangles, uvs, triangle_rgb, size, receptacle })
+}
+
+/// The points of a member, or why not (the words of the reader on a `Value`).
+fn point_list<const N: usize>(
+    list: Points<N>,
+    key: &str,
+    format: &dyn Fn(String) -> ReadError,
+) -> Result<Vec<[f64; N]>, ReadError> {
+    match list {
+        Points::NotAList => Err(format(format!("no `{key}` list"))),
+        Points::BadEntry => Err(format(format!("a `{key}` entry is not a point"))),
+        Points::Good(list) => Ok(list),
+    }
 }
 
 /// What [`read_asset`] takes of a mesh file, read in one pass with serde visitors (no tree of
@@ -998,6 +1000,8 @@ mod tests {
 
     #[test]
     fn the_typed_reader_refuses_what_the_value_reader_did_with_its_words() {
+        // The bytes random edits write.
+        const ALPHABET: &[u8] = b"{}[],:\"\\0123456789-+.eExyz \n\x00\xff";
         let (dir, uid, text) = folder();
         let mut cases: Vec<Vec<u8>> = Vec::new();
         let mut edit = |from: &str, to: &str| {
@@ -1082,10 +1086,9 @@ mod tests {
             state ^= state << 17;
             state
         };
-        const ALPHABET: &[u8] = b"{}[],:\"\\0123456789-+.eExyz \n\x00\xff";
         for _ in 0..1500 {
             let mut mutant = bytes.to_vec();
-            for _ in 0..1 + next() % 3 {
+            for _ in 0..=(next() % 3) {
                 let at = (next() % mutant.len() as u64) as usize;
                 mutant[at] = ALPHABET[(next() % ALPHABET.len() as u64) as usize];
             }
