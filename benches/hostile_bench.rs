@@ -296,9 +296,239 @@ fn lsp(holoc: &Path, text: &str) -> (f64, Option<f64>) {
     (seconds, peak)
 }
 
+/// The uid of synthetic asset `i` (32 hex digits).
+fn synthetic_uid(i: usize) -> String {
+    format!("{:032x}", (i as u128).wrapping_mul(0x9e37_79b9_7f4a_7c15_f39c_c060_5ced_c835))
+}
+
+/// One annotation entry, as objathor writes them (the shape of `fixture::write_synthetic`'s).
+fn annotation_entry(i: usize) -> String {
+    const NOUNS: [&str; 8] = ["sofa", "chair", "lamp", "table", "shelf", "plant", "rug", "desk"];
+    let uid = synthetic_uid(i);
+    let noun = NOUNS[i % NOUNS.len()];
+    let kind = i % 4;
+    serde_json::json!({
+        "annotations": {
+            "uid": uid, "category": noun,
+            "description": format!("a wooden {noun} number {i}"),
+            "onFloor": kind == 0, "onWall": kind == 1, "onObject": kind == 2, "onCeiling": kind == 3,
+            "license_info": {"license": "by", "uri": format!("https://api.sketchfab.com/v3/models/user{}", i % 997),
+                "creator_username": format!("user{}", i % 997), "creator_display_name": "USER",
+                "creator_profile_url": "https://sketchfab.com/user"},
+        },
+        "thor_metadata": {"assetMetadata": {"boundingBox": {"x": 0.5 + (i % 7) as f64 * 0.1, "y": 0.8, "z": 0.4}}},
+    })
+    .to_string()
+}
+
+/// Writes `<dir>/annotations.json`: entries (as many as `bytes` holds) or only the first `n`.
+/// Returns the entries written and the file's size.
+fn write_annotations(dir: &Path, bytes: u64, n: Option<usize>) -> (usize, u64) {
+    let file = std::fs::File::create(dir.join("annotations.json")).expect("annotations");
+    let mut out = std::io::BufWriter::new(file);
+    let mut written = 1u64;
+    out.write_all(b"{").expect("write");
+    let mut i = 0;
+    loop {
+        if n.is_some_and(|n| i >= n) {
+            break;
+        }
+        let entry = format!(
+            "{}\"{}\":{}",
+            if i == 0 { "" } else { "," },
+            synthetic_uid(i),
+            annotation_entry(i)
+        );
+        if written + entry.len() as u64 + 2 > bytes {
+            break;
+        }
+        out.write_all(entry.as_bytes()).expect("write");
+        written += entry.len() as u64;
+        i += 1;
+    }
+    out.write_all(b"}\n").expect("write");
+    out.flush().expect("flush");
+    (i, written + 2)
+}
+
+/// Writes `<dir>/features/clip_features.pkl`: a numpy pickle (protocol 5) of `uids` and
+/// `img_features` of 3 views × 768 float16 per asset, with as many assets as `bytes` holds,
+/// streamed to disk (the array is never in memory). Returns the assets and the file's size.
+fn write_features(dir: &Path, bytes: u64) -> (usize, u64) {
+    use holoc::resolve::objathor::pickle::{f32_to_f16, write, NumpyModules, Value};
+    const ROW: u64 = 3 * 768 * 2;
+    // The pickle with a 16-byte marker for the array's data: everything but the data is
+    // written by holoc's own writer, the data's length patched in.
+    let marker: Vec<u16> = vec![0x1234, 0x5678, 0x9abc, 0x0ef0, 0x1357, 0x2468, 0x0ace, 0x0bdf];
+    let marker_bytes: Vec<u8> = marker.iter().flat_map(|b| b.to_le_bytes()).collect();
+    let pickle = |n: usize| {
+        let uids = (0..n).map(synthetic_uid).collect();
+        write(
+            &[
+                ("uids", Value::Strings(uids)),
+                ("img_features", Value::F16 { shape: vec![n, 3, 768], bits: marker.clone() }),
+            ],
+            5,
+            NumpyModules::Core,
+        )
+    };
+    // A uid costs its string in the pickle besides its row.
+    let per_asset = ROW + pickle(1).len() as u64 - pickle(0).len() as u64;
+    let mut n = (bytes / per_asset) as usize;
+    let (head, tail) = loop {
+        let out = pickle(n);
+        let at = out.windows(16).position(|w| w == marker_bytes).expect("the marker");
+        let total = out.len() as u64 - 16 + n as u64 * ROW;
+        if total <= bytes {
+            let mut head = out[..at].to_vec();
+            let len_at = head.len() - 8;
+            head[len_at..].copy_from_slice(&(n as u64 * ROW).to_le_bytes());
+            break (head, out[at + 16..].to_vec());
+        }
+        n -= 1 + ((total - bytes) / ROW) as usize;
+    };
+    std::fs::create_dir_all(dir.join("features")).expect("features");
+    let file = std::fs::File::create(dir.join("features").join("clip_features.pkl")).expect("pkl");
+    let mut out = std::io::BufWriter::with_capacity(1 << 20, file);
+    out.write_all(&head).expect("write");
+    // 64 KiB of small float16 values, repeated.
+    let chunk: Vec<u8> = (0..32_768u32)
+        .flat_map(|k| {
+            f32_to_f16(((k * 2_654_435_761) % 1201) as f32 / 10_000.0 - 0.06).to_le_bytes()
+        })
+        .collect();
+    let mut left = n as u64 * ROW;
+    while left > 0 {
+        let take = left.min(chunk.len() as u64) as usize;
+        out.write_all(&chunk[..take]).expect("write");
+        left -= take as u64;
+    }
+    out.write_all(&tail).expect("write");
+    out.flush().expect("flush");
+    let size =
+        std::fs::metadata(dir.join("features").join("clip_features.pkl")).map_or(0, |m| m.len());
+    (n, size)
+}
+
+/// The readers of the largest legal inputs of `--objathor`: annotations of 512 MiB (the most a
+/// catalog holds, `resolve::catalog::MAX_CATALOG_BYTES`) and a feature file of 4 GiB
+/// (`resolve::objathor::MAX_FEATURES_BYTES`), each read by `build` of the cat studio from the
+/// folder's files (`--objathor-no-index`, features scoring). The folders are written under
+/// `target/hostile-readers` and removed after (they take 4.5 GB of disk). Each runs with
+/// `holoc`, or with every binary `HOLOC_BINS` names (comma-separated paths; to compare builds).
+fn readers(holoc: &Path) {
+    let bins: Vec<PathBuf> = match std::env::var("HOLOC_BINS") {
+        Ok(list) => list.split(',').filter(|p| !p.is_empty()).map(PathBuf::from).collect(),
+        Err(_) => vec![holoc.to_path_buf()],
+    };
+    let label = |bin: &Path| {
+        if bins.len() > 1 {
+            format!(" [{}]", bin.file_name().map(|f| f.to_string_lossy()).unwrap_or_default())
+        } else {
+            String::new()
+        }
+    };
+    let base = std::env::current_dir().expect("a folder").join("target").join("hostile-readers");
+    let _ = std::fs::remove_dir_all(&base);
+    let row = |name: &str,
+               bytes: u64,
+               command: &str,
+               s: f64,
+               cpu: Option<f64>,
+               peak: Option<f64>,
+               code: Option<i32>| {
+        let cpu = cpu.map_or("–".to_string(), |c| format!("{c:.2}"));
+        let peak = peak.map_or("–".to_string(), |p| format!("{p:.0}"));
+        let code = code.map_or("signal".to_string(), |c| c.to_string());
+        println!("| {name} | {bytes} | {command} | {s:.2} | {cpu} | {peak} | {code} |");
+    };
+    let out = base.join("house.json");
+    let build = |dir: &Path| -> Vec<std::ffi::OsString> {
+        vec![
+            "build".into(),
+            "examples/cat_studio.holo".into(),
+            "--objathor".into(),
+            dir.into(),
+            "--objathor-no-index".into(),
+            "--objathor-scoring".into(),
+            "features".into(),
+            "-q".into(),
+            "-o".into(),
+            out.clone().into(),
+        ]
+    };
+    // Annotations just under the bound, and just over it (refused: E0403).
+    for (what, bytes) in [
+        ("annotations, 512 MiB", 512 * 1024 * 1024 - 4096),
+        ("annotations over 512 MiB", 512 * 1024 * 1024 + 4096),
+    ] {
+        let dir = base.join("annotations");
+        std::fs::create_dir_all(&dir).expect("scratch");
+        let (n, size) = write_annotations(&dir, bytes, None);
+        let args = build(&dir);
+        let args: Vec<&std::ffi::OsStr> = args.iter().map(std::ffi::OsString::as_os_str).collect();
+        for bin in &bins {
+            let (s, cpu, peak, code) = measure(&args, bin);
+            let name = format!("{what} ({n} entries){}", label(bin));
+            row(&name, size, "build --objathor", s, cpu, peak, code);
+        }
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+    // A feature file just under 4 GiB, with 1,000 annotations among its uids.
+    let dir = base.join("features");
+    std::fs::create_dir_all(&dir).expect("scratch");
+    write_annotations(&dir, u64::MAX, Some(1000));
+    let (n, size) = write_features(&dir, holoc::resolve::objathor::MAX_FEATURES_BYTES - 4096);
+    let args = build(&dir);
+    let args: Vec<&std::ffi::OsStr> = args.iter().map(std::ffi::OsString::as_os_str).collect();
+    for bin in &bins {
+        let (s, cpu, peak, code) = measure(&args, bin);
+        let name = format!("clip features, 4 GiB ({n} assets){}", label(bin));
+        row(&name, size, "build --objathor", s, cpu, peak, code);
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+    // The largest house `validate`, `export` and `diff` read: just under 32 MiB (the input
+    // bound) of beds on one spot.
+    std::fs::create_dir_all(&base).expect("scratch");
+    let house = base.join("largest.json");
+    let mut n = 2000;
+    let text = loop {
+        let text = crowded_house(holoc, &base, n);
+        if text.len() > 31 * 1024 * 1024 {
+            break text;
+        }
+        n = n * 31 * 1024 * 1024 / text.len().max(1) + 100;
+    };
+    std::fs::write(&house, &text).expect("write");
+    let glb = base.join("largest.glb");
+    for bin in &bins {
+        for (command, args) in [
+            (
+                "validate",
+                vec!["validate".as_ref(), "--format".as_ref(), "short".as_ref(), house.as_os_str()],
+            ),
+            ("export", vec!["export".as_ref(), house.as_os_str(), "-o".as_ref(), glb.as_os_str()]),
+            ("diff (against itself)", vec!["diff".as_ref(), house.as_os_str(), house.as_os_str()]),
+        ] {
+            let (s, cpu, peak, code) = measure(&args, bin);
+            let name = format!("house with {n} beds on one spot{}", label(bin));
+            row(&name, text.len() as u64, command, s, cpu, peak, code);
+        }
+    }
+    let _ = std::fs::remove_dir_all(&base);
+}
+
 fn main() {
     // `cargo bench` passes `--bench`; a filter argument is not supported.
     let holoc = PathBuf::from(env!("CARGO_BIN_EXE_holoc"));
+    // `HOLOC_HOSTILE_ROWS=readers` runs only the readers of the largest legal inputs.
+    let only = std::env::var("HOLOC_HOSTILE_ROWS").ok();
+    if only.as_deref() == Some("readers") {
+        println!("| input | bytes | command | seconds | CPU seconds | peak MB | exit |");
+        println!("|---|---:|---|---:|---:|---:|---:|");
+        readers(&holoc);
+        return;
+    }
     let dir = std::env::temp_dir().join(format!("holoc-hostile-bench-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).expect("scratch");
@@ -434,5 +664,6 @@ fn main() {
         let (s, cpu, peak, code) = measure(&args, &holoc);
         row(&name, text.len(), command, s, cpu, peak, code);
     }
+    readers(&holoc);
     let _ = std::fs::remove_dir_all(&dir);
 }

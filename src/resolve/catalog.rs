@@ -466,23 +466,49 @@ pub(crate) fn unreadable(name: &str, message: &str) -> Diagnostic {
 /// The text of a catalog file's bytes: gzip is decompressed (at most [`MAX_CATALOG_BYTES`]),
 /// and the text must be UTF-8.
 pub(crate) fn catalog_text(bytes: &[u8]) -> Result<String, String> {
-    let too_large = || format!("it is larger than {} MiB", MAX_CATALOG_BYTES / (1024 * 1024));
     if bytes.len() as u64 > MAX_CATALOG_BYTES {
         return Err(too_large());
     }
-    let raw = if bytes.starts_with(&[0x1f, 0x8b]) {
-        let mut out = Vec::new();
-        flate2::read::GzDecoder::new(bytes)
-            .take(MAX_CATALOG_BYTES + 1)
-            .read_to_end(&mut out)
-            .map_err(|e| format!("bad gzip data: {e}"))?;
-        if out.len() as u64 > MAX_CATALOG_BYTES {
-            return Err(too_large());
-        }
-        out
+    if bytes.starts_with(&[0x1f, 0x8b]) {
+        utf8(gunzip(bytes)?)
     } else {
-        bytes.to_vec()
-    };
+        utf8(bytes.to_vec())
+    }
+}
+
+/// [`catalog_text`] of bytes it may keep: plain text becomes the string without a copy (512
+/// MiB of annotations were held twice while they were copied).
+pub(crate) fn catalog_text_owned(bytes: Vec<u8>) -> Result<String, String> {
+    if bytes.len() as u64 > MAX_CATALOG_BYTES {
+        return Err(too_large());
+    }
+    if bytes.starts_with(&[0x1f, 0x8b]) {
+        let raw = gunzip(&bytes)?;
+        drop(bytes);
+        utf8(raw)
+    } else {
+        utf8(bytes)
+    }
+}
+
+fn too_large() -> String {
+    format!("it is larger than {} MiB", MAX_CATALOG_BYTES / (1024 * 1024))
+}
+
+/// Gzip data decompressed, at most [`MAX_CATALOG_BYTES`].
+fn gunzip(bytes: &[u8]) -> Result<Vec<u8>, String> {
+    let mut out = Vec::new();
+    flate2::read::GzDecoder::new(bytes)
+        .take(MAX_CATALOG_BYTES + 1)
+        .read_to_end(&mut out)
+        .map_err(|e| format!("bad gzip data: {e}"))?;
+    if out.len() as u64 > MAX_CATALOG_BYTES {
+        return Err(too_large());
+    }
+    Ok(out)
+}
+
+fn utf8(raw: Vec<u8>) -> Result<String, String> {
     String::from_utf8(raw).map_err(|_| "the file is not UTF-8 text".to_string())
 }
 

@@ -83,8 +83,13 @@ pub fn read_input(path: &Path, limit: u64) -> Result<Vec<u8>, ReadError> {
         return Err(ReadError::Folder);
     }
     if meta.is_file() {
+        // A regular file over the limit is refused without reading it (a 4 GiB feature file
+        // was read whole to be refused); one within it is read into a buffer of its size.
+        if meta.len() > limit {
+            return Err(ReadError::TooLarge(limit));
+        }
         let file = std::fs::File::open(path).map_err(io)?;
-        return read_limited(file, limit);
+        return read_limited_into(file, limit, usize::try_from(meta.len()).unwrap_or(0));
     }
     // A device or an anonymous pipe: opened and read on a helper thread, waited for at most
     // the timeout.
@@ -133,7 +138,19 @@ pub fn read_text(path: &Path, limit: u64) -> Result<String, ReadError> {
 
 /// Reads at most `limit` bytes of `file`; one more is [`ReadError::TooLarge`].
 fn read_limited(file: std::fs::File, limit: u64) -> Result<Vec<u8>, ReadError> {
+    read_limited_into(file, limit, 0)
+}
+
+/// [`read_limited`] into a buffer made for `expected` bytes (a regular file's size: the buffer
+/// is not grown by doubling, which held up to twice the file while it was copied).
+fn read_limited_into(
+    file: std::fs::File,
+    limit: u64,
+    expected: usize,
+) -> Result<Vec<u8>, ReadError> {
     let mut bytes = Vec::new();
+    // The size may have changed since it was asked: the bytes read are what count.
+    bytes.try_reserve_exact(expected).map_err(|e| ReadError::Io(e.to_string()))?;
     file.take(limit.saturating_add(1))
         .read_to_end(&mut bytes)
         .map_err(|e| ReadError::Io(e.to_string()))?;
@@ -146,6 +163,18 @@ fn read_limited(file: std::fs::File, limit: u64) -> Result<Vec<u8>, ReadError> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_regular_file_is_read_into_a_buffer_of_its_size_or_refused_by_its_size() {
+        let dir = tempfile::tempdir().expect("a temporary folder");
+        let path = dir.path().join("f");
+        std::fs::write(&path, vec![7u8; 5000]).expect("written");
+        let read = read_input(&path, 5000).expect("read");
+        assert_eq!((read.len(), read.capacity()), (5000, 5000));
+        assert_eq!(read_input(&path, 4999), Err(ReadError::TooLarge(4999)));
+        std::fs::write(&path, b"").expect("written");
+        assert_eq!(read_input(&path, 0), Ok(Vec::new()));
+    }
 
     #[test]
     fn a_device_stops_at_the_limit() {

@@ -456,7 +456,7 @@ fn read_folder(files: &stored::FolderFiles, source: usize) -> Result<stored::Fol
             let bytes = crate::source::read_input(&files.annotations, super::MAX_CATALOG_BYTES)
                 .map_err(|e| e.to_string())?;
             let sha = super::sha256_hex(&bytes);
-            super::catalog::catalog_text(&bytes).map(|text| (text, sha))
+            super::catalog::catalog_text_owned(bytes).map(|text| (text, sha))
         },
         || {
             rayon::join(
@@ -823,27 +823,66 @@ fn clip_tower(dir: Option<&Path>, dim: usize) -> Result<Arc<clip::TextTower>, Bo
 
 /// The assets and entries of an annotations text (an object keyed by uid) and its unusable
 /// entries; the JSON error when it is not an object of entries.
+///
+/// The entries are read one at a time as the parser meets them (each a `serde_json::Value`
+/// only while it is read), never as one tree of the whole file: 512 MiB of annotations, the
+/// most holoc reads, would otherwise take several times their size in memory.
 fn parse(
     text: &str,
     source: usize,
 ) -> Result<(Vec<(Asset, Entry)>, stored::Problems), serde_json::Error> {
-    let object: super::catalog::OrderedObject = serde_json::from_str(text)?;
-    let mut cursor = 0usize;
-    let mut out = Vec::with_capacity(object.0.len());
-    let mut problems = stored::Problems::default();
-    for (uid, value) in &object.0 {
-        let span = super::catalog::key_span(text, FileId(0), uid, &mut cursor);
-        match annotations::read_entry(uid, value, source) {
-            Ok(pair) => out.push(pair),
+    use serde::de::DeserializeSeed as _;
+    let mut entries =
+        Entries { text, source, cursor: 0, out: Vec::new(), problems: stored::Problems::default() };
+    let mut de = serde_json::Deserializer::from_str(text);
+    (&mut entries).deserialize(&mut de)?;
+    de.end()?;
+    Ok((entries.out, entries.problems))
+}
+
+/// What [`parse`] has read so far.
+struct Entries<'t> {
+    text: &'t str,
+    source: usize,
+    cursor: usize,
+    out: Vec<(Asset, Entry)>,
+    problems: stored::Problems,
+}
+
+impl Entries<'_> {
+    fn entry(&mut self, uid: String, value: &serde_json::Value) {
+        let span = super::catalog::key_span(self.text, FileId(0), &uid, &mut self.cursor);
+        match annotations::read_entry(&uid, value, self.source) {
+            Ok(pair) => self.out.push(pair),
             // Past the first few, unusable entries are counted by reason in one warning.
-            Err(why) if problems.shown.len() < MAX_ENTRY_WARNINGS => {
+            Err(why) if self.problems.shown.len() < MAX_ENTRY_WARNINGS => {
                 let range = span.range();
-                problems.shown.push((uid.clone(), why, (range.start, range.end)));
+                self.problems.shown.push((uid, why, (range.start, range.end)));
             }
-            Err(why) => problems.more.entry(why).or_insert((0, uid.clone())).0 += 1,
+            Err(why) => self.problems.more.entry(why).or_insert((0, uid)).0 += 1,
         }
     }
-    Ok((out, problems))
+}
+
+impl<'de> serde::de::DeserializeSeed<'de> for &mut Entries<'_> {
+    type Value = ();
+    fn deserialize<D: serde::Deserializer<'de>>(self, d: D) -> Result<(), D::Error> {
+        d.deserialize_map(self)
+    }
+}
+
+impl<'de> serde::de::Visitor<'de> for &mut Entries<'_> {
+    type Value = ();
+    fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        // The words of `catalog::OrderedObject`, which read the whole object first.
+        f.write_str("a JSON object")
+    }
+    fn visit_map<A: serde::de::MapAccess<'de>>(self, mut map: A) -> Result<(), A::Error> {
+        while let Some((uid, value)) = map.next_entry::<String, serde_json::Value>()? {
+            self.entry(uid, &value);
+        }
+        Ok(())
+    }
 }
 
 /// The warnings of the unusable entries, pointing into the annotations `file`.
