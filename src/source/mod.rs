@@ -209,6 +209,13 @@ impl SourceFile {
         self.line_starts.len()
     }
 
+    /// The length in bytes of the line that holds byte `offset`, its line break included.
+    pub fn line_len_at(&self, offset: usize) -> usize {
+        let line = self.line_index(self.clamp(offset));
+        let end = self.line_starts.get(line + 1).copied().unwrap_or(self.text.len());
+        end - self.line_starts[line]
+    }
+
     /// The text of 1-based line `line`, without its line break.
     pub fn line_text(&self, line: usize) -> &str {
         let Some(&start) = self.line_starts.get(line.saturating_sub(1)) else { return "" };

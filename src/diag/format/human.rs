@@ -51,6 +51,11 @@ const NEAR_LINES: usize = 6;
 /// A main label over more lines than this is drawn on its first line only.
 const LONG_LABEL_LINES: usize = 10;
 
+/// A diagnostic on a line longer than this (a house written on one line) names its place
+/// instead of drawing the line: drawing it would copy the whole line into every diagnostic
+/// (32 MB each for the largest house `export` reads).
+const LONG_LINE_BYTES: usize = 4096;
+
 /// A diagnostic paired with its source, in the shape miette renders.
 struct Report<'a> {
     diagnostic: &'a Diagnostic,
@@ -113,7 +118,22 @@ fn report<'a>(sources: &SourceMap, texts: &mut Texts, d: &'a Diagnostic) -> Repo
     let mut labels = Vec::new();
     let mut source = None;
     if let Some(primary) = &d.primary {
-        if let Some(file) = sources.try_get(primary.span.file) {
+        let long_line = sources
+            .try_get(primary.span.file)
+            .is_some_and(|file| file.line_len_at(primary.span.start as usize) > LONG_LINE_BYTES);
+        if long_line {
+            for l in std::iter::once(primary).chain(&d.secondary) {
+                if let Some(p) = place(sources, l.span) {
+                    let what = if l.text.is_empty() { "here" } else { l.text.as_str() };
+                    footer_lines.push(
+                        visible(&format!("{}:{}:{}: {what}", p.file, p.line, p.column))
+                            .into_owned(),
+                    );
+                }
+            }
+            footer_lines
+                .push(format!("(a line of more than {LONG_LINE_BYTES} bytes is not drawn)"));
+        } else if let Some(file) = sources.try_get(primary.span.file) {
             let text = texts
                 .entry(primary.span.file)
                 .or_insert_with(|| Arc::new(terminal_safe(&file.text)))
@@ -218,4 +238,34 @@ thread_local! {
 /// Whether this thread is drawing a diagnostic (a panic now is caught and drawn plainly).
 pub fn is_drawing() -> bool {
     DRAWING.with(std::cell::Cell::get)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::diag::{Code, Diagnostic};
+    use crate::source::Span;
+
+    /// A diagnostic on a house written on one line names its place and does not copy the line
+    /// (the largest house `export` reads is one line of 32 MB, with a diagnostic per object).
+    #[test]
+    fn a_diagnostic_on_a_long_line_names_its_place_without_drawing_it() {
+        let mut sources = SourceMap::new();
+        let line = format!("{{\"objects\": [{}]}}", "{\"id\": \"bed\"},".repeat(2_000));
+        let file = sources.add("house.json", line.clone());
+        let at = line.find("bed").expect("there");
+        let d = Diagnostic::new(Code::W0608, "floor object `bed` overlaps 1 floor object")
+            .with_primary(Span::new(file, at, at + 3), "overlaps `bed-1`");
+        let text = render_human(&sources, &[d], HumanOptions { color: false, width: 80 });
+        assert!(text.contains("house.json:1:22: overlaps `bed-1`"), "{text}");
+        assert!(text.contains("is not drawn"), "{text}");
+        assert!(text.len() < 1_000, "{} bytes:\n{text}", text.len());
+        // A short line is drawn as before.
+        let mut sources = SourceMap::new();
+        let file = sources.add("house.json", "{\"id\": \"bed\"}\n".to_string());
+        let d = Diagnostic::new(Code::W0608, "floor object `bed` overlaps 1 floor object")
+            .with_primary(Span::new(file, 8, 11), "overlaps `bed-1`");
+        let text = render_human(&sources, &[d], HumanOptions { color: false, width: 80 });
+        assert!(text.contains("1 │ {\"id\": \"bed\"}"), "{text}");
+    }
 }
