@@ -7,6 +7,9 @@ use proptest::prelude::*;
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
+#[path = "support/user_scene.rs"]
+mod user_scene;
+
 fn holo_files() -> Vec<PathBuf> {
     let mut out = Vec::new();
     let mut stack = vec![PathBuf::from("tests/corpus"), PathBuf::from("examples")];
@@ -457,5 +460,103 @@ proptest! {
         let whole = holoc::parse::parse_whole(&sources, file);
         prop_assert_eq!(format!("{:?}", piecewise.value), format!("{:?}", whole.value));
         prop_assert_eq!(format!("{:?}", piecewise.diagnostics), format!("{:?}", whole.diagnostics));
+    }
+}
+
+/// [`incremental_equals_whole`] for large scenes: the analysis from scratch of each version
+/// shares the asset rankings of the one before (a ranking depends on its query, the catalog
+/// and the seed alone: the result is the same without them), and each version's diagnostics,
+/// sorted as the language server publishes them, are compared first.
+fn keystrokes_equal_checks_from_scratch(
+    versions: &[String],
+) -> Result<holoc::lsp::incremental::Counts, TestCaseError> {
+    let mut memo = holoc::lsp::incremental::Memo::default();
+    let mut ranks = holoc::resolve::RankCache::default();
+    for text in versions {
+        let mut sources = holoc::source::SourceMap::new();
+        let file = sources.add("t.holo", text.as_str());
+        let incremental = holoc::lsp::incremental::analyse(&sources, file, catalog(), &mut memo);
+        let mut scratch = holoc::compile::AnalysisCache {
+            parse: holoc::parse::ParseCache::default(),
+            ranks: std::mem::take(&mut ranks),
+        };
+        let whole = holoc::compile::analyse_cached(
+            &sources,
+            file,
+            catalog(),
+            holoc::compile::CheckStage::Resolve,
+            &mut scratch,
+        );
+        ranks = scratch.ranks;
+        let sorted = |d: &[holoc::diag::Diagnostic]| {
+            let mut d = d.to_vec();
+            holoc::diag::sort(&mut d);
+            format!("{d:?}")
+        };
+        prop_assert_eq!(sorted(&incremental.diagnostics), sorted(&whole.diagnostics));
+        prop_assert_eq!(format!("{incremental:?}"), format!("{whole:?}"));
+        memo.give_back(incremental, text);
+    }
+    Ok(memo.counts)
+}
+
+/// `typed` typed one character at a time after the `nth` quote of `text` (into a description
+/// or a name, as a user types), then the edits of [`typed_versions`].
+fn keystrokes(
+    text: String,
+    nth: usize,
+    typed: &str,
+    edits: &[(usize, usize, usize, String)],
+) -> Vec<String> {
+    let at = after_nth(&text, b"\"", nth);
+    let mut versions = vec![text.clone()];
+    let mut current = text;
+    for (k, c) in typed.char_indices() {
+        current = mutate(&current, at + k, 0, &c.to_string());
+        versions.push(current.clone());
+    }
+    let mut rest = typed_versions(current, edits);
+    rest.remove(0);
+    versions.extend(rest);
+    versions
+}
+
+#[test]
+fn keystrokes_in_one_group_of_a_large_room_check_and_resolve_that_group_alone() {
+    // The large room of the users' shape: from the second keystroke in a description on, the
+    // group typed in is checked and chosen again alone; the result is a check from scratch's.
+    let text = user_scene::user_scene(0, true);
+    let at = text.match_indices("describe \"").nth(400).expect("a description").0 + 10;
+    let mut versions = vec![text.clone()];
+    let mut current = text;
+    for (k, c) in "oak".chars().enumerate() {
+        current = mutate(&current, at + k, 0, &c.to_string());
+        versions.push(current.clone());
+    }
+    let counts = keystrokes_equal_checks_from_scratch(&versions).expect("the same analyses");
+    // The first keystroke checks the room, the next two the group alone.
+    assert_eq!((counts.rooms_checked, counts.groups_checked), (1 + 1, 2), "{counts:?}");
+    // And every other group's choice is kept (937 groups in the room).
+    assert_eq!(counts.groups_kept, 2 * 937, "{counts:?}");
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 24, rng_seed: proptest::test_runner::RngSeed::Fixed(0x0053), ..ProptestConfig::default() })]
+
+    #[test]
+    fn keystrokes_in_the_large_users_room_give_the_diagnostics_of_a_check_from_scratch(nth in 0usize..4000, typed in "[a-z \"{}0-9]{1,4}", edits in proptest::collection::vec((0usize..20000, 0usize..3, 0usize..3, "[a-z0-9 \"}]{0,2}"), 0..4)) {
+        // Keystrokes in one place of the 6,200-line room (a description, a name, a category),
+        // then edits anywhere: quotes and braces typed too, which break the groups around.
+        let versions = keystrokes(user_scene::user_scene(0, true), nth, &typed, &edits);
+        keystrokes_equal_checks_from_scratch(&versions)?;
+    }
+
+    #[test]
+    fn keystrokes_in_the_examples_give_the_diagnostics_of_a_check_from_scratch(index in 0usize..64, nth in 0usize..200, typed in "[a-z \"{}0-9]{1,4}", edits in proptest::collection::vec((0usize..400, 0usize..3, 0usize..3, "[a-z0-9 \"}]{0,2}"), 0..4)) {
+        let files = holo_files();
+        let path = &files[index % files.len()];
+        let text = std::fs::read_to_string(path).expect("readable");
+        let versions = keystrokes(text, nth, &typed, &edits);
+        keystrokes_equal_checks_from_scratch(&versions)?;
     }
 }

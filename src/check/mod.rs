@@ -139,6 +139,277 @@ pub fn renumber_objects(room: &mut Room, objects: &mut [Object], by: isize) {
     }
 }
 
+/// What the check of one room records to check one of its object groups again alone
+/// ([`check_group_again`]): the room's instance names and, for each object group, where its
+/// statement starts, what it declares and where its diagnostics are in the room's. Offsets are
+/// from the room's start and object ids from its first object, so that the shape holds while
+/// the room moves in the text and in the scene's list of objects.
+#[derive(Clone, Debug)]
+pub struct RoomShape {
+    names: RoomNames,
+    /// The object groups in the order they are expanded (floor groups, then wall groups).
+    groups: Vec<GroupShape>,
+    /// Where each statement of the room's body that is not a comment or a blank line starts.
+    statements: Vec<u32>,
+    /// Whether a constraint named an object declared after its own (the room's objects were
+    /// then put in another order, which one group alone cannot be checked against).
+    forward: bool,
+}
+
+/// One object group of a [`RoomShape`].
+#[derive(Clone, Debug)]
+struct GroupShape {
+    name: String,
+    /// Where its statement starts, from the room's start.
+    start: u32,
+    is_wall: bool,
+    count: u32,
+    /// Its first object, from the room's first.
+    first: usize,
+    /// Whether its `count` gave no diagnostic.
+    count_clean: bool,
+    /// Where the diagnostics of its expansion are in the room's.
+    diagnostics: std::ops::Range<usize>,
+}
+
+impl RoomShape {
+    fn of(
+        room: &ast::Room,
+        groups: &[Group<'_>],
+        names: &RoomNames,
+        base: usize,
+        expanded: Vec<std::ops::Range<usize>>,
+        count_clean: &[bool],
+        forward: bool,
+    ) -> RoomShape {
+        let from = room.span.start;
+        let relative = |id: ObjectId| ObjectId(id.0 - base);
+        let names = RoomNames {
+            instances: names
+                .instances
+                .iter()
+                .map(|(k, &(id, floor))| (k.clone(), (relative(id), floor)))
+                .collect(),
+            groups: names
+                .groups
+                .iter()
+                .map(|(k, &(n, id))| (k.clone(), (n, relative(id))))
+                .collect(),
+        };
+        // `count_clean` is in declaration order, `groups` floor groups first.
+        let mut clean_of: BTreeMap<u32, bool> = BTreeMap::new();
+        let mut declared: Vec<&Group<'_>> = groups.iter().collect();
+        declared.sort_by_key(|g| g.decl.span.start);
+        for (g, clean) in declared.iter().zip(count_clean) {
+            clean_of.insert(g.decl.span.start, *clean);
+        }
+        let groups = groups
+            .iter()
+            .zip(expanded)
+            .map(|(g, diagnostics)| GroupShape {
+                name: g.decl.id.name.clone(),
+                start: g.decl.span.start - from,
+                is_wall: g.is_wall,
+                count: g.count,
+                first: g.first - base,
+                count_clean: clean_of.get(&g.decl.span.start).copied().unwrap_or(false),
+                diagnostics,
+            })
+            .collect();
+        let statements = room
+            .body
+            .iter()
+            .filter(|st| !matches!(st, ast::RoomStmt::Comment(_) | ast::RoomStmt::Blank(_)))
+            .map(|st| room_stmt_start(st) - from)
+            .collect();
+        RoomShape { names, groups, statements, forward }
+    }
+}
+
+/// Where a room statement starts.
+fn room_stmt_start(stmt: &ast::RoomStmt) -> u32 {
+    match stmt {
+        ast::RoomStmt::FloorDesign(_, s)
+        | ast::RoomStmt::WallDesign(_, s)
+        | ast::RoomStmt::FloorMaterial(_, s)
+        | ast::RoomStmt::WallMaterial(_, s)
+        | ast::RoomStmt::Blank(s) => s.start,
+        ast::RoomStmt::Corners(c) => c.span.start,
+        ast::RoomStmt::Window(w) => w.span.start,
+        ast::RoomStmt::Object(o) | ast::RoomStmt::WallObject(o) => o.span.start,
+        ast::RoomStmt::Ceiling(c) => c.span.start,
+        ast::RoomStmt::Comment(c) => c.span.start,
+        ast::RoomStmt::Error(e) => e.span.start,
+    }
+}
+
+/// [`check_room`], with the room's [`RoomShape`] (`None` when a group's name is given twice).
+pub fn check_room_shaped(
+    file: &ast::File,
+    room: &ast::Room,
+    id: RoomId,
+    first_object: usize,
+    wall_height_m: f64,
+) -> (Room, Vec<Object>, RoomDiagnostics, Option<RoomShape>) {
+    let mut checker = Checker::new(file);
+    checker.record_shape = true;
+    let mut scene = Scene::empty(wall_height_m);
+    let mut checked = checker.room(room, id, &mut scene);
+    let mut objects = scene.objects;
+    if first_object != 0 {
+        renumber_objects(&mut checked, &mut objects, first_object as isize);
+    }
+    let diagnostics = RoomDiagnostics {
+        diagnostics: checker.diagnostics,
+        reads_other_rooms: checker.read_other_rooms,
+    };
+    (checked, objects, diagnostics, checker.shape)
+}
+
+/// One object group checked again alone ([`check_group_again`]).
+#[derive(Debug)]
+pub struct GroupChecked {
+    /// The place of the group's objects in the room's (from its first object).
+    pub objects: std::ops::Range<usize>,
+    /// Its objects checked again, numbered from the scene's first object.
+    pub new_objects: Vec<Object>,
+    /// The place of the diagnostics of its expansion in the room's.
+    pub diagnostics: std::ops::Range<usize>,
+    /// Those diagnostics now.
+    pub new_diagnostics: Vec<Diagnostic>,
+    /// Whether they read the other rooms.
+    pub reads_other_rooms: bool,
+}
+
+/// Checks again, alone, the one object group an edit inside the body of `room` replaced
+/// (`body`, the statement groups the parser replaced, see [`crate::parse::BodySplice`]), as
+/// [`check`] checks it in that room: `checked` is the room as checked before the edit, its
+/// objects numbered from `first_object`, and `shape` its shape, updated to the edited room.
+/// `None` (with `shape` unchanged) when the edit did more than change one object group's
+/// statements but its name, kind and count (and the count said nothing), or when the room's
+/// objects are placed in an order of their own (a constraint naming a later object): then the
+/// room is to be checked whole.
+pub fn check_group_again(
+    file: &ast::File,
+    room: &ast::Room,
+    checked: &Room,
+    shape: &mut RoomShape,
+    body: crate::parse::BodySplice,
+    first_object: usize,
+    wall_height_m: f64,
+) -> Option<GroupChecked> {
+    if shape.forward || body.old_groups != 1 || body.new_groups != 1 {
+        return None;
+    }
+    let from = u32::try_from(body.room_start).ok()?;
+    if room.span.start != from || body.start < body.room_start {
+        return None;
+    }
+    let relative = |at: usize| u32::try_from(at - body.room_start).ok();
+    let (start, old_end, new_end) =
+        (relative(body.start)?, relative(body.old_end)?, relative(body.new_end)?);
+    // Before the edit: one statement in the groups replaced, an object group's.
+    let in_old = |at: u32| (start..old_end).contains(&at);
+    if shape.statements.iter().filter(|&&at| in_old(at)).count() != 1 {
+        return None;
+    }
+    let k = shape.groups.iter().position(|g| in_old(g.start))?;
+    // After: one statement there, an object group of the same name and kind.
+    let in_new = |at: u32| (start..new_end).contains(&at);
+    let mut found = room
+        .body
+        .iter()
+        .filter(|st| !matches!(st, ast::RoomStmt::Comment(_) | ast::RoomStmt::Blank(_)))
+        .skip_while(|st| room_stmt_start(st) - from < start)
+        .take_while(|st| in_new(room_stmt_start(st) - from));
+    let (stmt, extra) = (found.next()?, found.next());
+    if extra.is_some() {
+        return None;
+    }
+    let (o, is_wall) = match stmt {
+        ast::RoomStmt::Object(o) => (o, false),
+        ast::RoomStmt::WallObject(o) => (o, true),
+        _ => return None,
+    };
+    let g = &shape.groups[k];
+    if o.id.name != g.name || is_wall != g.is_wall || !g.count_clean {
+        return None;
+    }
+    let mut checker = Checker::new(file);
+    let count = checker.group_count(o);
+    if count != g.count || !checker.diagnostics.is_empty() {
+        return None;
+    }
+    let mut scene = Scene::empty(wall_height_m);
+    let group = Group { decl: o, is_wall, count, first: g.first };
+    checker.expand_group(&group, checked.id, checked, &shape.names, &mut scene);
+    let mut objects = scene.objects;
+    // A constraint naming a later object would put the room's objects in another order.
+    let forward = objects.iter().any(|obj| match &obj.placement {
+        Placement::Floor { constraints, .. } => constraints.iter().any(|c| c.target.0 > obj.id.0),
+        Placement::Wall { .. } => false,
+    });
+    if forward {
+        return None;
+    }
+    renumber(&mut objects, first_object as isize);
+    // The shape of the edited room.
+    let delta = i64::from(new_end) - i64::from(old_end);
+    let moved = |at: &mut u32| {
+        if *at >= old_end {
+            *at = (i64::from(*at) + delta) as u32;
+        }
+    };
+    for at in &mut shape.statements {
+        moved(at);
+    }
+    let old = shape.groups[k].diagnostics.clone();
+    let grown = checker.diagnostics.len() as isize - old.len() as isize;
+    for (j, g) in shape.groups.iter_mut().enumerate() {
+        if j == k {
+            g.start = o.span.start - from;
+            g.diagnostics = old.start..old.start + checker.diagnostics.len();
+        } else {
+            moved(&mut g.start);
+            // The groups after it in the room's order (their diagnostics come after its own,
+            // an empty range at the same place included).
+            if j > k {
+                g.diagnostics = g.diagnostics.start.wrapping_add_signed(grown)
+                    ..g.diagnostics.end.wrapping_add_signed(grown);
+            }
+        }
+    }
+    let g = &shape.groups[k];
+    Some(GroupChecked {
+        objects: g.first..g.first + g.count as usize,
+        new_objects: objects,
+        diagnostics: old,
+        new_diagnostics: checker.diagnostics,
+        reads_other_rooms: checker.read_other_rooms,
+    })
+}
+
+/// Moves the ids of objects by `by`: each object's id, its relations' targets and the object
+/// it hangs above.
+fn renumber(objects: &mut [Object], by: isize) {
+    let moved = |id: &mut ObjectId| id.0 = id.0.wrapping_add_signed(by);
+    for object in objects {
+        moved(&mut object.id);
+        match &mut object.placement {
+            Placement::Floor { global: _, constraints } => {
+                for c in constraints {
+                    moved(&mut c.target);
+                }
+            }
+            Placement::Wall { above, height_m: _ } => {
+                if let Some((id, _)) = above {
+                    moved(id);
+                }
+            }
+        }
+    }
+}
+
 struct Checker<'a> {
     diagnostics: Vec<Diagnostic>,
     /// The file, whose rooms [`Checker::all_instances`] is made from when first needed.
@@ -149,6 +420,10 @@ struct Checker<'a> {
     all_instances: Option<BTreeMap<String, Vec<String>>>,
     /// Whether the room being checked read [`Checker::all_instances`].
     read_other_rooms: bool,
+    /// Whether to record the shape of each room checked ([`check_room_shaped`]).
+    record_shape: bool,
+    /// The shape of the room checked last, when recorded.
+    shape: Option<RoomShape>,
 }
 
 /// A declared object group, before expansion.
@@ -160,6 +435,7 @@ struct Group<'a> {
 }
 
 /// The instance names of one room, for reference resolution.
+#[derive(Clone, Debug)]
 struct RoomNames {
     /// Instance name → object index and whether it stands on the floor.
     instances: BTreeMap<String, (ObjectId, bool)>,
@@ -169,7 +445,14 @@ struct RoomNames {
 
 impl<'a> Checker<'a> {
     fn new(file: &'a ast::File) -> Checker<'a> {
-        Checker { diagnostics: Vec::new(), file, all_instances: None, read_other_rooms: false }
+        Checker {
+            diagnostics: Vec::new(),
+            file,
+            all_instances: None,
+            read_other_rooms: false,
+            record_shape: false,
+            shape: None,
+        }
     }
 
     fn push(&mut self, d: Diagnostic) {
@@ -412,6 +695,9 @@ impl<'a> Checker<'a> {
         let mut groups: Vec<Group<'_>> = Vec::new();
         let mut group_spans: BTreeMap<String, Span> = BTreeMap::new();
         let mut ceiling_decl: Option<&ast::Ceiling> = None;
+        // Whether each group's `count` gave no diagnostic (for the room's shape).
+        let mut count_clean: Vec<bool> = Vec::new();
+        let mut duplicates = false;
         for stmt in &room.body {
             let single = match stmt {
                 ast::RoomStmt::FloorDesign(_, s) => Some(("floor", *s)),
@@ -457,10 +743,13 @@ impl<'a> Checker<'a> {
                             .with_secondary(*first, "first defined here")
                             .with_help("give each object group its own identifier, or use `count`"),
                         );
+                        duplicates = true;
                         continue;
                     }
                     group_spans.insert(o.id.name.clone(), o.id.span);
+                    let before = self.diagnostics.len();
                     let n = self.group_count(o);
+                    count_clean.push(self.diagnostics.len() == before);
                     groups.push(Group { decl: o, is_wall, count: n, first: 0 });
                 }
                 ast::RoomStmt::Ceiling(c) => ceiling_decl = Some(c),
@@ -477,7 +766,8 @@ impl<'a> Checker<'a> {
         // Floor groups first, then wall groups, each in declaration order.
         groups.sort_by_key(|g| g.is_wall);
         let mut names = RoomNames { instances: BTreeMap::new(), groups: BTreeMap::new() };
-        let mut next = scene.objects.len();
+        let base = scene.objects.len();
+        let mut next = base;
         for g in &mut groups {
             g.first = next;
             names.groups.insert(g.decl.id.name.clone(), (g.count, ObjectId(next)));
@@ -489,14 +779,24 @@ impl<'a> Checker<'a> {
             }
             next += g.count as usize;
         }
+        let mut expanded = Vec::with_capacity(if self.record_shape { groups.len() } else { 0 });
         for g in &groups {
+            let before = self.diagnostics.len();
             self.expand_group(g, id, &checked, &names, scene);
+            if self.record_shape {
+                expanded.push(before..self.diagnostics.len());
+            }
         }
         checked.objects = (groups.first().map_or(scene.objects.len(), |g| g.first)
             ..scene.objects.len())
             .map(ObjectId)
             .collect();
-        self.check_constraint_order(&mut checked, scene);
+        let forward = self.check_constraint_order(&mut checked, scene);
+        if self.record_shape {
+            self.shape = (!duplicates).then(|| {
+                RoomShape::of(room, &groups, &names, base, expanded, &count_clean, forward)
+            });
+        }
         if let Some(c) = ceiling_decl {
             checked.ceiling = Some(self.ceiling(c, &checked, &names, scene));
         }
@@ -1263,7 +1563,7 @@ impl<'a> Checker<'a> {
     /// blocks); the objects are then placed in declaration order except that an object comes
     /// after every object its constraints name (a stable topological order). A constraint that
     /// closes a circle is reported (E0205) and leaves the scene.
-    fn check_constraint_order(&mut self, room: &mut Room, scene: &mut Scene) {
+    fn check_constraint_order(&mut self, room: &mut Room, scene: &mut Scene) -> bool {
         let ids: Vec<ObjectId> = room.objects.clone();
         let mut forward: Vec<(ObjectId, usize)> = Vec::new();
         for &id in &ids {
@@ -1276,7 +1576,7 @@ impl<'a> Checker<'a> {
             }
         }
         if forward.is_empty() {
-            return;
+            return false;
         }
         // Edges of the dependency graph: object → target, over every constraint.
         let mut edges: BTreeMap<usize, Vec<(usize, Span)>> = BTreeMap::new();
@@ -1352,6 +1652,7 @@ impl<'a> Checker<'a> {
             placed.push(left.remove(next));
         }
         room.objects = placed;
+        true
     }
 
     fn ceiling(

@@ -682,7 +682,7 @@ pub struct Memo {
     /// When the last check was made in place from the tree before it: that tree's number, the
     /// new tree's, and for each room whether its check was kept (the room's scene value is the
     /// one before, its spans moved and its objects numbered again).
-    kept_checks: Option<(u64, u64, Vec<bool>)>,
+    kept_checks: Option<(u64, u64, Vec<RoomCheck>)>,
     /// How often each stage ran and was reused (for the tests and the benchmark).
     pub counts: Counts,
 }
@@ -706,6 +706,22 @@ struct CheckMemo {
     /// given twice): then the rooms' names and ids stay while the rooms an edit touched keep
     /// their names.
     every_room_kept: bool,
+    /// The shape of each room checked alone since the last whole check (the rooms being
+    /// edited), from which an edit inside one object group checks that group alone.
+    shapes: Vec<Option<crate::check::RoomShape>>,
+}
+
+/// How the last check made a room's check.
+#[derive(Clone, Debug, PartialEq, Eq)]
+enum RoomCheck {
+    /// Kept from the check before (its scene value the one before, its spans moved and its
+    /// objects numbered again).
+    Kept,
+    /// Kept but for one object group checked again alone: the places of its objects in the
+    /// room's list.
+    Group(std::ops::Range<usize>),
+    /// Checked again.
+    Again,
 }
 
 /// How often the plan ran and its last output was reused, and how many rooms' asset choices
@@ -728,6 +744,8 @@ pub struct Counts {
     pub doors_kept: u64,
     /// Object groups whose asset choice was taken again in a room resolved again.
     pub groups_kept: u64,
+    /// Object groups checked again alone (their room's other groups' checks kept).
+    pub groups_checked: u64,
 }
 
 impl Memo {
@@ -846,16 +864,17 @@ fn check(ast: &crate::ast::File, memo: &mut Memo) -> crate::diag::Outcome<Scene>
         _ => None,
     };
     let from = splice.map(|s| s.from);
-    let (mut scene, head, rooms, kept_tail) = match in_place {
-        Some((scene, head, rooms, tail, kept)) => {
+    let (mut scene, head, rooms, kept_tail, shapes) = match in_place {
+        Some(InPlace { scene, head, rooms, tail, kept, shapes }) => {
             memo.kept_checks = from.zip(memo.cache.parse.tree_number()).map(|(a, b)| (a, b, kept));
-            (scene, head, rooms, tail)
+            (scene, head, rooms, tail, shapes)
         }
         None => {
             memo.kept_checks = None;
             let parts = crate::check::check_parts(ast);
             memo.counts.rooms_checked += parts.rooms.len() as u64;
-            (parts.scene, parts.head, parts.rooms, None)
+            let shapes = vec![None; parts.rooms.len()];
+            (parts.scene, parts.head, parts.rooms, None, shapes)
         }
     };
     let tail = match kept_tail {
@@ -899,6 +918,7 @@ fn check(ast: &crate::ast::File, memo: &mut Memo) -> crate::diag::Outcome<Scene>
             doors,
             scene_blocks,
             every_room_kept: room_items == scene.rooms.len(),
+            shapes,
         });
     }
     crate::diag::Outcome::new(scene, diagnostics)
@@ -910,7 +930,7 @@ fn check_in_place(
     last: &mut CheckMemo,
     splice: crate::parse::Splice,
     counts: &mut Counts,
-) -> Option<CheckedInPlace> {
+) -> Option<InPlace> {
     if !last.every_room_kept {
         return None;
     }
@@ -943,23 +963,83 @@ fn check_in_place(
         return None;
     }
     let mut diagnostics = std::mem::take(&mut last.rooms);
+    let mut shapes = std::mem::take(&mut last.shapes);
+    shapes.resize(rooms.len(), None);
     let mut kept_checks = Vec::with_capacity(rooms.len());
     let wall_height_m = scene.wall_height_m;
     // Where the room's objects start in the scene's list now, and where they started.
     let (mut first, mut old_first) = (0usize, 0usize);
     for (r, room) in rooms.iter().enumerate() {
         let old_count = scene.rooms[r].objects.len();
-        if in_new(room.span) || diagnostics[r].reads_other_rooms {
+        let touched = in_new(room.span);
+        // An edit inside one object group of the room: that group alone is checked again.
+        let body = splice.body.filter(|b| touched && b.room_start == room.span.start as usize);
+        let group_checked = match (body, shapes[r].as_mut()) {
+            (Some(body), Some(shape)) => {
+                let moved_by = first as isize - old_first as isize;
+                let old_first_object = first;
+                crate::check::check_group_again(
+                    ast,
+                    room,
+                    &scene.rooms[r],
+                    shape,
+                    body,
+                    old_first_object,
+                    wall_height_m,
+                )
+                .map(|done| (done, body, moved_by))
+            }
+            _ => None,
+        };
+        let mut members = None;
+        let group_checked = group_checked.is_some_and(|(done, body, moved_by)| {
+            members = Some(done.objects.clone());
+            let inner = Shift { start: body.start, old_end: body.old_end, new_end: body.new_end };
+            let kept = &mut scene.rooms[r];
+            let objects = &mut scene.objects[first..first + old_count];
+            if moved_by != 0 {
+                crate::check::renumber_objects(kept, objects, moved_by);
+            }
+            let own = &mut diagnostics[r];
+            let ok = done.new_objects.len() == done.objects.len()
+                && inner.move_in_place(kept)
+                && objects
+                    .iter_mut()
+                    .enumerate()
+                    .filter(|(i, _)| !done.objects.contains(i))
+                    .all(|(_, o)| inner.move_in_place(o))
+                && own
+                    .diagnostics
+                    .iter_mut()
+                    .enumerate()
+                    .filter(|(i, _)| !done.diagnostics.contains(i))
+                    .all(|(_, d)| inner.move_in_place(d));
+            if ok {
+                for (slot, object) in objects[done.objects.clone()].iter_mut().zip(done.new_objects)
+                {
+                    *slot = object;
+                }
+                let _ = own.diagnostics.splice(done.diagnostics, done.new_diagnostics);
+                own.reads_other_rooms |= done.reads_other_rooms;
+            }
+            ok
+        });
+        if let (true, Some(members)) = (group_checked, members) {
+            first += old_count;
+            counts.groups_checked += 1;
+            kept_checks.push(RoomCheck::Group(members));
+        } else if touched || diagnostics[r].reads_other_rooms {
             let id = crate::check::RoomId(r);
-            let (checked, objects, own) =
-                crate::check::check_room(ast, room, id, first, wall_height_m);
+            let (checked, objects, own, shape) =
+                crate::check::check_room_shaped(ast, room, id, first, wall_height_m);
             let count = objects.len();
             let _ = scene.objects.splice(first..first + old_count, objects);
             scene.rooms[r] = checked;
             diagnostics[r] = own;
+            shapes[r] = shape;
             first += count;
             counts.rooms_checked += 1;
-            kept_checks.push(false);
+            kept_checks.push(RoomCheck::Again);
         } else {
             let kept = &mut scene.rooms[r];
             let objects = &mut scene.objects[first..first + old_count];
@@ -978,7 +1058,7 @@ fn check_in_place(
             }
             first += old_count;
             counts.rooms_check_reused += 1;
-            kept_checks.push(true);
+            kept_checks.push(RoomCheck::Kept);
         }
         old_first += old_count;
     }
@@ -992,19 +1072,23 @@ fn check_in_place(
         && shift.move_in_place(&mut tail)
         && scene.doors.iter_mut().all(|d| shift.move_in_place(d)))
     .then_some(tail);
-    Some((scene, head, diagnostics, tail, kept_checks))
+    Some(InPlace { scene, head, rooms: diagnostics, tail, kept: kept_checks, shapes })
 }
 
-/// What [`check_in_place`] gives: the scene, the head's and each room's diagnostics, the
-/// doors' diagnostics when the doors were kept (`None`: they are to be checked again), and for
-/// each room whether its check was kept.
-type CheckedInPlace = (
-    Scene,
-    Vec<Diagnostic>,
-    Vec<crate::check::RoomDiagnostics>,
-    Option<Vec<Diagnostic>>,
-    Vec<bool>,
-);
+/// What [`check_in_place`] gives.
+struct InPlace {
+    scene: Scene,
+    /// The head's diagnostics.
+    head: Vec<Diagnostic>,
+    /// Each room's diagnostics.
+    rooms: Vec<crate::check::RoomDiagnostics>,
+    /// The doors' diagnostics when the doors were kept (`None`: they are to be checked again).
+    tail: Option<Vec<Diagnostic>>,
+    /// For each room, how its check was made.
+    kept: Vec<RoomCheck>,
+    /// The rooms' shapes.
+    shapes: Vec<Option<crate::check::RoomShape>>,
+}
 
 /// The most asset rankings the open of a document keeps that no room holds (about 12 KB
 /// each): a scene that repeats its descriptions asks fewer questions than that, and one whose
@@ -1029,7 +1113,7 @@ fn resolve_rooms(
     // The rooms whose check the last check kept, when it was made from the tree this
     // resolution's memo was made for: their input is the one before, moved, and is not
     // compared again.
-    let kept_checks: &[bool] = match &memo.kept_checks {
+    let kept_checks: &[RoomCheck] = match &memo.kept_checks {
         Some((from, to, kept))
             if last_tree == Some(*from) && memo.cache.parse.tree_number() == Some(*to) =>
         {
@@ -1062,15 +1146,25 @@ fn resolve_rooms(
     // when a room is resolved or its answers checked, so that an edit in the last rooms does
     // not go through every earlier room's assets.
     let mut counted = 0;
+    // The objects of the groups chosen again alone, with their new resolutions.
+    let mut patches: Vec<(Vec<crate::check::ObjectId>, Vec<crate::resolve::Resolution>)> =
+        Vec::new();
     for (k, room) in scene.rooms.iter().enumerate() {
         let place = by_name.get(room.name.as_str()).copied();
         let mut run = place.and_then(|i| old.get_mut(i)).and_then(Option::take);
         in_step &= place == Some(k);
         // The run's input and diagnostics moved by the edit (a run that cannot be is thrown
         // away).
+        // A room whose check changed in one object group alone: that group is chosen again
+        // alone (its other groups' choices kept), when its last run recorded them.
+        let group = match kept_checks.get(k) {
+            Some(RoomCheck::Group(members)) if place == Some(k) => Some(members.clone()),
+            _ => None,
+        };
         let reusable = match (&mut run, shift) {
+            (Some(_), Some(_)) if group.is_some() => false,
             (Some(run), Some(shift)) => {
-                let check_kept = place == Some(k) && kept_checks.get(k) == Some(&true);
+                let check_kept = place == Some(k) && kept_checks.get(k) == Some(&RoomCheck::Kept);
                 (in_step || {
                     used_up_to(&mut resolver, &runs, &mut counted);
                     resolver.reads_hold(&run.output)
@@ -1080,6 +1174,37 @@ fn resolve_rooms(
             }
             _ => false,
         };
+        // The group chosen again alone: its results, to be put in the result once it is put
+        // together (the run's other entries are kept as a kept run's are).
+        let mut spoiled = false;
+        if let (Some(members), Some(last), Some(shift), Some(resolved)) =
+            (group, run.as_mut(), shift, last_resolved.as_ref())
+        {
+            let no_small = members.clone().all(|i| {
+                room.objects.get(i).is_some_and(|&id| {
+                    resolved.small.range((id, 0)..=(id, usize::MAX)).next().is_none()
+                })
+            });
+            if last.ids == room.objects && no_small {
+                used_up_to(&mut resolver, &runs, &mut counted);
+                let moved = |span: Span| shift.span(span);
+                match resolver.group_again(scene, room, &mut last.output, members.clone(), &moved) {
+                    Some((results, writes_changed)) => {
+                        memo.counts.rooms_resolved += 1;
+                        in_step &= !writes_changed;
+                        last.input = RoomInput::of(scene, room);
+                        let ids: Vec<crate::check::ObjectId> =
+                            members.map(|i| room.objects[i]).collect();
+                        patches.push((ids, results));
+                        kept_from.push(place);
+                        let run = run.take().expect("matched above");
+                        runs.push((room.name.clone(), run));
+                        continue;
+                    }
+                    None => spoiled = true,
+                }
+            }
+        }
         let run = match run {
             Some(mut run) if reusable => {
                 memo.counts.rooms_reused += 1;
@@ -1105,7 +1230,7 @@ fn resolve_rooms(
                 // resolution of a scene records none (`Resolver::room`).
                 let mut run = run;
                 let output = match (shift, &mut run) {
-                    (Some(shift), Some(last)) => {
+                    (Some(shift), Some(last)) if !spoiled => {
                         let ok = std::cell::Cell::new(true);
                         last.output.spans_mut(
                             &mut |span| match shift.span(*span) {
@@ -1120,7 +1245,7 @@ fn resolve_rooms(
                         );
                         resolver.room_again(scene, room, ok.get().then_some(&mut last.output))
                     }
-                    (Some(_), None) => resolver.room_again(scene, room, None),
+                    (Some(_), _) => resolver.room_again(scene, room, None),
                     (None, _) => {
                         // The open: the rooms share rankings while they are resolved, and
                         // then hold none, so that the cache keeps only the rankings of the
@@ -1147,12 +1272,19 @@ fn resolve_rooms(
     drop(old);
     memo.counts.groups_kept += resolver.groups_kept();
     resolver.finish(&mut memo.cache.ranks);
-    let resolved = match last_resolved {
+    let mut resolved = match last_resolved {
         Some(last) if same_rooms && last.objects.len() == scene.objects.len() => {
             assemble_in_place(last, scene, &mut runs, &again, &gone, &kept_from)
         }
         last => assemble_anew(last, scene, &mut runs, &kept_from),
     };
+    for (ids, results) in patches {
+        for (id, res) in ids.into_iter().zip(results) {
+            if let Some(slot) = resolved.value.objects.get_mut(id.0) {
+                *slot = res;
+            }
+        }
+    }
     memo.resolve = Some(ResolveMemo {
         made_for: std::sync::Arc::clone(text),
         tree: memo.cache.parse.tree_number(),

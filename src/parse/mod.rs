@@ -75,6 +75,29 @@ pub struct Splice {
     pub old_end: usize,
     /// Where the new ones end in the new text.
     pub new_end: usize,
+    /// When the edit was made inside one room's body: the statement groups of that body it
+    /// replaced (see [`BodySplice`]); every statement of the room outside them is the same.
+    pub body: Option<BodySplice>,
+}
+
+/// The statement groups of one room's body an edit replaced: those of bytes `start..old_end`
+/// of the old text became those of `start..new_end` of the new one. Every statement of the
+/// room that starts before `start` is the same; every one that started at or after `old_end`
+/// the same but for its spans, moved by the change in length (blank lines aside). A group is a
+/// statement that begins a line with its comments and blank lines after it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct BodySplice {
+    /// Where the room starts (in both texts).
+    pub room_start: usize,
+    /// Where the groups replaced start.
+    pub start: usize,
+    /// Where they ended in the old text.
+    pub old_end: usize,
+    /// Where the new ones end in the new text.
+    pub new_end: usize,
+    /// How many groups were replaced, and by how many.
+    pub old_groups: usize,
+    pub new_groups: usize,
 }
 
 impl ParseCache {
@@ -112,6 +135,9 @@ struct LastCut {
     diagnostics: Vec<Diagnostic>,
     /// The tree, once handed back ([`ParseCache::give_back`]).
     tree: Option<ast::File>,
+    /// How many tokens the text holds ([`count_tokens`]), once counted: an edit inside a
+    /// room's body counts the tokens of the statement groups it replaced, not the text's.
+    tokens: Option<usize>,
 }
 
 /// One top-level piece of a [`LastCut`].
@@ -229,6 +255,7 @@ fn parse_cut(
         pieces,
         diagnostics: diagnostics.clone(),
         tree: None,
+        tokens: None,
     });
     cache.generation += 1;
     cache.tree = Some(cache.generation);
@@ -307,14 +334,14 @@ pub fn parse_edited(
     let text = &sources.get(file).text;
     if let Some(last) = &mut cache.last {
         if let Some(mut tree) = last.tree.take() {
-            if let Some((start, old_end, new_end)) =
+            if let Some((start, old_end, new_end, body)) =
                 splice(text, file, last, &mut cache.groups, &mut tree)
             {
                 let diagnostics = last.diagnostics.clone();
                 let from = cache.generation;
                 cache.generation += 1;
                 cache.tree = Some(cache.generation);
-                cache.splice = Some(Splice { from, start, old_end, new_end });
+                cache.splice = Some(Splice { from, start, old_end, new_end, body });
                 return Outcome::new(tree, diagnostics);
             }
             // Kept for the next version, which may be cut again.
@@ -328,26 +355,37 @@ pub fn parse_edited(
 
 /// Edits `tree`, the tree of `last.text`, into the tree of `text` (see [`parse_edited`]), with
 /// `last` then describing `text`: the bytes of the pieces replaced in the old text and the new
-/// one (`start`, `old_end`, `new_end`), or `None` (with nothing changed) when it cannot.
+/// one (`start`, `old_end`, `new_end`) and, for an edit inside a room's body, the statement
+/// groups replaced; or `None` (with nothing changed) when it cannot.
 fn splice(
     text: &std::sync::Arc<String>,
     file: FileId,
     last: &mut LastCut,
     groups: &mut GroupMap,
     tree: &mut ast::File,
-) -> Option<(usize, usize, usize)> {
+) -> Option<(usize, usize, usize, Option<BodySplice>)> {
     let old_len = last.text.len();
     let (start, old_end, new_end) = crate::source::changed_range(&last.text, text);
     if start == old_end && start == new_end {
-        return Some((0, 0, 0));
+        return Some((0, 0, 0, None));
     }
-    let pieces = &last.pieces;
-    if pieces.first().is_none_or(|p| p.start != 0) {
+    if last.pieces.first().is_none_or(|p| p.start != 0) {
         return None;
     }
     // The piece the edit starts in (a cut at the edit's start may no longer be one: the piece
     // before it is cut again too, unless the edit starts the text).
-    let k0 = pieces.partition_point(|p| p.start < start).saturating_sub(1);
+    let k0 = last.pieces.partition_point(|p| p.start < start).saturating_sub(1);
+    let edit = (start, old_end, new_end);
+    if let Some(body) = splice_in_body(text, file, last, groups, tree, k0, edit) {
+        return Some((
+            last.pieces[k0].start,
+            body.old_piece_end,
+            body.new_piece_end,
+            Some(body.splice),
+        ));
+    }
+    last.tokens = None;
+    let pieces = &last.pieces;
     let s0 = pieces[k0].start;
     // A cut of the new text at or after the edit's end where the old text had one: from there
     // the scan goes as it went then.
@@ -380,14 +418,18 @@ fn splice(
                 piece_start: s0,
                 edit: (start, old_end),
             };
-            let keys = edit.apply(piece, room, groups, &mut used)?;
+            let (keys, body) = edit.apply(piece, room, groups, &mut used)?;
             let room = std::mem::replace(&mut tree.items[at], ast::Item::Blank(Span::default()));
-            Some(Chunk { items: vec![room], diagnostics: Vec::new(), groups: keys })
+            Some((Chunk { items: vec![room], diagnostics: Vec::new(), groups: keys }, body))
         })
         .flatten();
     let absolute = in_body.is_some();
+    let mut body_splice = None;
     match in_body {
-        Some(chunk) => chunks.push((s0, chunk)),
+        Some((chunk, body)) => {
+            body_splice = Some(body);
+            chunks.push((s0, chunk));
+        }
         None => {
             for (k, &at) in starts.iter().enumerate() {
                 let end = starts.get(k + 1).copied().unwrap_or(region_end);
@@ -477,7 +519,229 @@ fn splice(
     }
     tree.span = Span::new(file, 0, text.len());
     last.text = std::sync::Arc::clone(text);
-    Some((s0, old_region_end, region_end))
+    Some((s0, old_region_end, region_end, body_splice))
+}
+
+/// What [`splice_in_body`] did: the statement groups it replaced, and where the room's piece
+/// ended in the old text and ends in the new one.
+struct InBody {
+    splice: BodySplice,
+    old_piece_end: usize,
+    new_piece_end: usize,
+}
+
+/// [`splice`] for an edit inside the body of a room whose statement groups the last parse kept
+/// (its piece's `groups`, which tile its body): the groups around the edit alone are cut again
+/// (from the last group start before the edit to the first after it), checked for depth and
+/// counted, parsed with the cache and put in the room in place; nothing else of the room or
+/// the text is scanned. `None`, with nothing changed, when the edit is not so or the groups
+/// cut again do not close where they began (a brace or quote left open, a block comment over
+/// lines): then the room's piece is cut again whole.
+fn splice_in_body(
+    text: &std::sync::Arc<String>,
+    file: FileId,
+    last: &mut LastCut,
+    groups: &mut GroupMap,
+    tree: &mut ast::File,
+    k0: usize,
+    (start, old_end, new_end): (usize, usize, usize),
+) -> Option<InBody> {
+    let piece = last.pieces.get(k0)?;
+    if piece.groups.is_empty()
+        || piece.diagnostics != 0
+        || piece.items != 1 + usize::from(piece.blank)
+    {
+        return None;
+    }
+    let s0 = piece.start;
+    let old_piece_end = last.pieces.get(k0 + 1).map_or(last.text.len(), |p| p.start);
+    // The body: after the room's first `{` (in its header, before any group), tiled by the
+    // groups.
+    let open = s0 + first_open_brace(last.text.get(s0..old_piece_end)?)?;
+    let body_start = open + 1;
+    let mut starts = Vec::with_capacity(piece.groups.len() + 1);
+    let mut at = body_start;
+    for key in &piece.groups {
+        starts.push(at);
+        at += key.len();
+    }
+    let body_end = at;
+    starts.push(body_end);
+    debug_assert!(
+        piece.groups.iter().zip(&starts).all(|(k, &a)| last.text.get(a..a + k.len()) == Some(&**k)),
+        "the groups tile the body"
+    );
+    if last.text.as_bytes().get(body_end) != Some(&b'}') || start <= open || old_end > body_end {
+        return None;
+    }
+    // The groups cut again: from the last group start before the edit (the first group if
+    // none) to the first group start after its end (the body's end if none), so that the text
+    // before and after them is the same in both versions and their first and last cuts stand.
+    let n_old = piece.groups.len();
+    let a = starts[..n_old].partition_point(|&g| g < start).saturating_sub(1);
+    let b = starts[..n_old].partition_point(|&g| g <= old_end).max(a + 1);
+    let (region_start, old_region_end) = (starts[a], starts[b]);
+    let new_region_end = (old_region_end + new_end).checked_sub(old_end)?;
+    let new_region = text.get(region_start..new_region_end)?;
+    let old_region = last.text.get(region_start..old_region_end)?;
+    // Its first and last cuts stand: a line that starts with a letter where a group began (the
+    // body's first group starts at its start whatever it holds), a line's end where one ended
+    // (but at the body's end).
+    let letter_first = new_region
+        .bytes()
+        .find(|c| !matches!(c, b' ' | b'\t'))
+        .is_some_and(|c| c.is_ascii_alphabetic());
+    if a > 0 && !letter_first || b < n_old && !new_region.ends_with('\n') {
+        return None;
+    }
+    // The new groups' starts: the region must close where it began (no brace of the room
+    // closed, none left open, no string or comment left open).
+    let mut new_starts = vec![0];
+    scan_cuts(new_region, 0, true, |i| {
+        new_starts.push(i);
+        ControlFlow::Continue(())
+    })?;
+    // The room's body is one level deep: the region may nest one level less.
+    if first_too_deep_from(new_region, 1).is_some() {
+        return None;
+    }
+    let tokens = match last.tokens {
+        Some(t) => t,
+        None => count_tokens(&last.text),
+    };
+    let tokens =
+        tokens.checked_sub(count_tokens(old_region))?.checked_add(count_tokens(new_region))?;
+    if tokens > MAX_TOKENS {
+        return None;
+    }
+    // Parse the new groups (with the cache) before anything is changed.
+    let mut parsed: Vec<(std::rc::Rc<str>, std::rc::Rc<Group>)> =
+        Vec::with_capacity(new_starts.len());
+    for (k, &from) in new_starts.iter().enumerate() {
+        let to = new_starts.get(k + 1).copied().unwrap_or(new_region.len());
+        let group_text = &new_region[from..to];
+        let (key, group) = match groups.get_key_value(group_text) {
+            Some((key, hit)) => (std::rc::Rc::clone(key), std::rc::Rc::clone(hit)),
+            None => (std::rc::Rc::from(group_text), std::rc::Rc::new(parse_group(group_text)?)),
+        };
+        if !group.diagnostics.is_empty() {
+            return None;
+        }
+        parsed.push((key, group));
+    }
+    // The room: the piece's last item.
+    let i_room =
+        last.pieces[..k0].iter().map(|p| p.items).sum::<usize>() + usize::from(piece.blank);
+    let Some(ast::Item::Room(room)) = tree.items.get_mut(i_room) else { return None };
+    let room_start = room.span.start as usize;
+    // Nothing fails from here on.
+    let delta = new_end as i64 - old_end as i64;
+    let first_of = |room: &ast::Room, g: usize| {
+        room.body.partition_point(|st| (room_stmt_span(st).start as usize) < g)
+    };
+    let (i_p, i_s) = (first_of(room, region_start), first_of(room, old_region_end));
+    let mut body = std::mem::take(&mut room.body);
+    let mut suffix = body.split_off(i_s);
+    let _ = body.split_off(i_p);
+    let mut previous_end = body.last().map(|st| room_stmt_span(st).end as usize);
+    let blank = |previous_end: Option<usize>, first: &ast::RoomStmt| {
+        let first_start = room_stmt_span(first).start as usize;
+        let end = previous_end?;
+        text.get(end..first_start)
+            .is_some_and(|gap| gap.matches('\n').count() >= 2)
+            .then(|| ast::RoomStmt::Blank(Span::new(file, first_start, first_start)))
+    };
+    for ((_, group), &from) in parsed.iter().zip(&new_starts) {
+        let m =
+            relocate::Move::shift(file, (region_start + from) as i64 - GROUP_PREFIX.len() as i64);
+        let mut group_stmts = group.stmts.clone();
+        relocate::Relocate::relocate(&mut group_stmts, m);
+        if let Some(first) = group_stmts.first() {
+            body.extend(blank(previous_end, first));
+        }
+        previous_end =
+            group_stmts.last().map(|st| room_stmt_span(st).end as usize).or(previous_end);
+        body.extend(group_stmts);
+    }
+    if delta != 0 {
+        relocate::Relocate::relocate(&mut suffix, relocate::Move::shift(file, delta));
+    }
+    // The blank line kept before the groups kept after the edit: the text before changed.
+    if matches!(suffix.first(), Some(ast::RoomStmt::Blank(_))) {
+        suffix.remove(0);
+    }
+    if let Some(first) = suffix.first() {
+        body.extend(blank(previous_end, first));
+    }
+    body.extend(suffix);
+    room.body = body;
+    room.span.end = (i64::from(room.span.end) + delta) as u32;
+    // The items and diagnostics after the room move.
+    if delta != 0 {
+        let m = relocate::Move::shift(file, delta);
+        for item in &mut tree.items[i_room + 1..] {
+            relocate::Relocate::relocate(item, m);
+        }
+        let d_after: usize = last.pieces[..=k0].iter().map(|p| p.diagnostics).sum();
+        for d in &mut last.diagnostics[d_after..] {
+            relocate::Relocate::relocate(d, m);
+        }
+        for p in &mut last.pieces[k0 + 1..] {
+            p.start = (p.start as i64 + delta) as usize;
+        }
+    }
+    tree.span = Span::new(file, 0, text.len());
+    // The piece's groups, and the cache's: the groups replaced leave it (unless a new one has
+    // the same text), the new ones come.
+    let b_new = a + parsed.len();
+    let old_keys: Vec<std::rc::Rc<str>> = {
+        let keys = &mut last.pieces[k0].groups;
+        let new_keys = parsed.iter().map(|(key, _)| std::rc::Rc::clone(key));
+        keys.splice(a..b, new_keys).collect()
+    };
+    for key in &old_keys {
+        if !parsed.iter().any(|(k, _)| **k == **key) {
+            groups.remove(key);
+        }
+    }
+    for (key, group) in parsed {
+        groups.insert(key, group);
+    }
+    last.text = std::sync::Arc::clone(text);
+    last.tokens = Some(tokens);
+    let new_piece_end = (old_piece_end as i64 + delta) as usize;
+    Some(InBody {
+        splice: BodySplice {
+            room_start,
+            start: region_start,
+            old_end: old_region_end,
+            new_end: new_region_end,
+            old_groups: b - a,
+            new_groups: b_new - a,
+        },
+        old_piece_end,
+        new_piece_end,
+    })
+}
+
+/// Where the first `{` of a piece is, outside strings and comments.
+fn first_open_brace(piece: &str) -> Option<usize> {
+    let bytes = piece.as_bytes();
+    let mut i = 0;
+    while i < bytes.len() {
+        match bytes[i] {
+            b'{' => return Some(i),
+            b'}' => return None,
+            b'"' | b'/' => match literal_at(piece, i) {
+                Literal::EndsAt(end) => i = end,
+                Literal::Uncuttable => return None,
+                Literal::Neither => {}
+            },
+            _ => {}
+        }
+        i += 1;
+    }
+    None
 }
 
 fn item_span(item: &ast::Item) -> Span {
@@ -527,14 +791,15 @@ impl BodyEdit<'_> {
     /// the edit), the groups between are parsed (with the cache) and put between them, and
     /// the blank lines kept where they meet are made again. `None`, with nothing changed, when
     /// the edit is not inside the body, the room or a group between has a diagnostic, or the
-    /// piece holds more than the room. The new groups' texts, in order (each in `used`).
+    /// piece holds more than the room. The new groups' texts, in order (each in `used`), and
+    /// the groups replaced.
     fn apply(
         &self,
         piece: &Piece,
         room: &mut ast::Room,
         groups: &GroupMap,
         used: &mut GroupMap,
-    ) -> Option<Vec<std::rc::Rc<str>>> {
+    ) -> Option<(Vec<std::rc::Rc<str>>, BodySplice)> {
         if piece.groups.is_empty()
             || piece.diagnostics != 0
             || piece.items != 1 + usize::from(piece.blank)
@@ -661,7 +926,16 @@ impl BodyEdit<'_> {
             keys.push(std::rc::Rc::clone(&key));
             used.insert(key, group);
         }
-        Some(keys)
+        let new_at = |k: usize| new_starts.get(k).copied().unwrap_or(new_body.len());
+        let body_splice = BodySplice {
+            room_start: room.span.start as usize,
+            start: body_start + old_starts[p],
+            old_end: body_start + old_starts[n_old - s],
+            new_end: body_start + new_at(n_new - s),
+            old_groups: n_old - s - p,
+            new_groups: n_new - s - p,
+        };
+        Some((keys, body_splice))
     }
 }
 
@@ -1028,8 +1302,13 @@ pub const MAX_NESTING: usize = 64;
 /// The byte offset of the first `{` nested deeper than [`MAX_NESTING`], outside strings and
 /// comments (a string ends at its line's end, as the grammar reads it). One pass, no recursion.
 pub(crate) fn first_too_deep(text: &str) -> Option<usize> {
+    first_too_deep_from(text, 0)
+}
+
+/// [`first_too_deep`] for a text that starts `depth` blocks deep.
+fn first_too_deep_from(text: &str, depth: usize) -> Option<usize> {
     let bytes = text.as_bytes();
-    let mut depth = 0usize;
+    let mut depth = depth;
     let mut i = 0;
     while i < bytes.len() {
         match bytes[i] {

@@ -479,6 +479,11 @@ pub struct RoomResolution {
     /// Each object group's choice with what it read and gave, in the room's order: what the
     /// next resolution of the room takes again for a group whose input is the same.
     groups: Vec<GroupRun>,
+    /// The assets the room's things on top and ceiling object use, and the rankings they
+    /// asked for (with [`RoomResolution::groups`], what one group chosen again alone needs to
+    /// make the room's `writes` and `ranks` again).
+    rest_writes: Vec<String>,
+    rest_asked: Vec<std::rc::Rc<Vec<Candidate>>>,
 }
 
 /// A span as the room's reported set keeps it: file, start, end.
@@ -605,6 +610,177 @@ impl<'a> Resolver<'a> {
         resolve_room(scene, room, &mut self.state, Some(groups))
     }
 
+    /// [`Resolver::room_again`] when one object group alone changed: the group of the room's
+    /// objects at places `members` (the room's objects in the order of their ids, each group
+    /// one run of them, none with things on top) is chosen again and put into `last` (an
+    /// earlier resolution of the room whose groups' choices were recorded), whose every other
+    /// group's choice, span and diagnostic `moved` moves to the current text: the room's
+    /// resolution as [`Resolver::room`] makes it (but for the answers it read, which may be
+    /// more). The group's new resolutions, and whether the room's assets changed; `None` when
+    /// `last` cannot be used so (then it is left with some of its spans moved: to be thrown
+    /// away).
+    pub fn group_again(
+        &mut self,
+        scene: &Scene,
+        room: &crate::check::Room,
+        last: &mut RoomResolution,
+        members: std::ops::Range<usize>,
+        moved: &dyn Fn(Span) -> Option<Span>,
+    ) -> Option<(Vec<Resolution>, bool)> {
+        let state = &mut self.state;
+        if last.made_with != state.made_with() || members.is_empty() {
+            return None;
+        }
+        // The groups line up with the room's objects, in the order of their ids.
+        let ids = &room.objects;
+        if !ids.windows(2).all(|w| w[1].0 == w[0].0 + 1) {
+            return None;
+        }
+        if last.groups.iter().map(|g| g.results.len()).sum::<usize>() != ids.len() {
+            return None;
+        }
+        let mut at = 0;
+        let gi = last.groups.iter().position(|g| {
+            let here = at;
+            at += g.results.len();
+            here == members.start
+        })?;
+        let first = scene.object(*ids.get(members.start)?);
+        if last.groups[gi].results.len() != members.len()
+            || last.groups[gi].what.name != first.name
+            || members
+                .clone()
+                .any(|i| ids.get(i).is_none_or(|&id| !scene.object(id).on_top.is_empty()))
+        {
+            return None;
+        }
+        let from: usize = last.groups[..gi].iter().map(|g| g.diagnostics.len()).sum();
+        let to = from + last.groups[gi].diagnostics.len();
+        if to > last.diagnostics.len() {
+            return None;
+        }
+        // Every span but the group's moved to the current text.
+        let mut ok = true;
+        let mut move_span = |span: &mut Span| match moved(*span) {
+            Some(m) => *span = m,
+            None => ok = false,
+        };
+        for (j, g) in last.groups.iter_mut().enumerate() {
+            if j == gi {
+                continue;
+            }
+            move_span(&mut g.what.span);
+            for pin in g.pins.iter_mut().flatten() {
+                move_span(&mut pin.span);
+            }
+            for d in &mut g.diagnostics {
+                move_diagnostic(d, &mut move_span);
+            }
+            for (key, _) in &mut g.reports {
+                let mut span =
+                    Span { file: crate::source::FileId(key.0), start: key.1, end: key.2 };
+                move_span(&mut span);
+                *key = (span.file.0, span.start, span.end);
+            }
+        }
+        for (j, d) in last.diagnostics.iter_mut().enumerate() {
+            if !(from..to).contains(&j) {
+                move_diagnostic(d, &mut move_span);
+            }
+        }
+        if !ok {
+            return None;
+        }
+        // The room's state when the group was chosen: the spans the groups before reported.
+        state.reported.clear();
+        for g in &last.groups[..gi] {
+            for (key, new) in &g.reports {
+                if *new {
+                    state.reported.insert(*key);
+                }
+            }
+        }
+        state.room_box = room_box(room, scene.wall_height_m);
+        let kind = match first.placement {
+            Placement::Floor { .. } => PlacementKind::Floor,
+            Placement::Wall { .. } => PlacementKind::Wall,
+        };
+        let query = Query {
+            category: first.category.clone(),
+            description: first.description.clone(),
+            size_m: first.size_m,
+            kind: Some(kind),
+        };
+        let pins: Vec<Option<&Pinned>> =
+            members.clone().map(|i| scene.object(ids[i]).asset.as_ref()).collect();
+        let what = Subject {
+            name: first.name.clone(),
+            description: first.description.clone().unwrap_or_else(|| first.category.clone()),
+            span: first.name_span,
+        };
+        state.diagnostics.clear();
+        state.reads.clear();
+        state.asked.clear();
+        let writes_before = std::mem::take(&mut state.writes);
+        let run = state.choose_recorded(what, query, first.variance, &pins, false);
+        state.writes = writes_before;
+        state.diagnostics.clear();
+        state.room_box = None;
+        // The spans the group reports are its own: no other group's choice reads them.
+        let own: BTreeSet<SpanKey> =
+            run.reports.iter().chain(&last.groups[gi].reports).map(|(key, _)| *key).collect();
+        let shared = last
+            .groups
+            .iter()
+            .enumerate()
+            .any(|(j, g)| j != gi && g.reports.iter().any(|(key, _)| own.contains(key)));
+        if shared || run.results.len() != members.len() {
+            return None;
+        }
+        let mut results = run.results.clone();
+        if let Some(obj) = state.catalog.objathor() {
+            for res in &mut results {
+                if let Resolution::Chosen(c) = res {
+                    c.breakable = state
+                        .catalog
+                        .index_of(&c.asset_id)
+                        .and_then(|i| obj.entry(i))
+                        .is_some_and(|e| e.can_break);
+                }
+            }
+        }
+        let _ = last.diagnostics.splice(from..to, run.diagnostics.iter().cloned());
+        let mut reads = std::mem::take(&mut last.reads);
+        reads.extend(run.reads.iter().copied());
+        reads.sort_unstable();
+        reads.dedup();
+        last.reads = reads;
+        let writes_changed = sorted(&run.writes) != sorted(&last.groups[gi].writes);
+        last.groups[gi] = run;
+        if writes_changed {
+            last.writes = last
+                .groups
+                .iter()
+                .flat_map(|g| g.writes.iter())
+                .chain(&last.rest_writes)
+                .cloned()
+                .collect();
+        }
+        if !last.ranks.is_empty() || !last.rest_asked.is_empty() || !last.groups.is_empty() {
+            let mut seen: rustc_hash::FxHashSet<*const Vec<Candidate>> =
+                rustc_hash::FxHashSet::default();
+            let mut ranks = Vec::new();
+            for list in last.groups.iter().flat_map(|g| g.asked.iter()).chain(&last.rest_asked) {
+                if seen.insert(std::rc::Rc::as_ptr(list)) {
+                    ranks.push(std::rc::Rc::clone(list));
+                }
+            }
+            last.ranks = ranks;
+        }
+        self.state.groups_kept += last.groups.len() as u64 - 1;
+        Some((results, writes_changed))
+    }
+
     /// Whether `room` (an earlier resolution, with this resolver's catalog and seed) would read
     /// now what it read then: each asset it asked about is used or not by the rooms given to
     /// [`Resolver::used_before`] as it was by the rooms before it then.
@@ -652,6 +828,27 @@ impl<'a> Resolver<'a> {
         }
         cache.made_with = Some(self.state.made_with());
         cache.rankings = rankings;
+    }
+}
+
+/// The assets of a list, sorted, each once.
+fn sorted(w: &[String]) -> Vec<&str> {
+    let mut w: Vec<&str> = w.iter().map(String::as_str).collect();
+    w.sort_unstable();
+    w.dedup();
+    w
+}
+
+/// Calls `f` on every span of a diagnostic (its labels' and fixes').
+fn move_diagnostic(d: &mut Diagnostic, f: &mut dyn FnMut(&mut Span)) {
+    if let Some(label) = &mut d.primary {
+        f(&mut label.span);
+    }
+    for label in &mut d.secondary {
+        f(&mut label.span);
+    }
+    for fix in &mut d.fixes {
+        f(&mut fix.span);
     }
 }
 
@@ -707,6 +904,8 @@ fn resolve_room(
         writes: BTreeSet::new(),
         ranks: Vec::new(),
         groups: Vec::new(),
+        rest_writes: Vec::new(),
+        rest_asked: Vec::new(),
     };
     // Without a last resolution (a room resolved for the first time) nothing is recorded:
     // only the rooms being edited keep their groups' choices.
@@ -792,6 +991,12 @@ fn resolve_room(
         done.groups.push(run);
     }
     done.objects = objects.into_iter().map(|res| res.unwrap_or_else(not_resolved)).collect();
+    // What the things on top and the ceiling object use and ask, when the groups' choices are
+    // recorded.
+    let rest_asked_from = state.asked.len();
+    if record {
+        state.writes_made = Some(Vec::new());
+    }
     // Small objects on top, per instance and line; each prefers assets that fit on the
     // top of its receptacle's asset, less the margin the layout keeps round its edge.
     for (i, &id) in room.objects.iter().enumerate() {
@@ -850,6 +1055,10 @@ fn resolve_room(
             }
             done.ceiling = Some(res);
         }
+    }
+    if record {
+        done.rest_writes = state.writes_made.take().unwrap_or_default();
+        done.rest_asked = state.asked[rest_asked_from..].to_vec();
     }
     done.diagnostics = std::mem::take(&mut state.diagnostics);
     // An asset asked about twice got the same answer (the rooms before do not change while
