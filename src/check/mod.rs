@@ -122,21 +122,7 @@ pub fn renumber_objects(room: &mut Room, objects: &mut [Object], by: isize) {
     if let Some((id, _)) = room.ceiling.as_mut().and_then(|c| c.above.as_mut()) {
         moved(id);
     }
-    for object in objects {
-        moved(&mut object.id);
-        match &mut object.placement {
-            Placement::Floor { global: _, constraints } => {
-                for c in constraints {
-                    moved(&mut c.target);
-                }
-            }
-            Placement::Wall { above, height_m: _ } => {
-                if let Some((id, _)) = above {
-                    moved(id);
-                }
-            }
-        }
-    }
+    renumber(objects, by);
 }
 
 /// What the check of one room records to check one of its object groups again alone

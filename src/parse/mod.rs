@@ -641,40 +641,11 @@ fn splice_in_body(
     };
     let (i_p, i_s) = (first_of(room, region_start), first_of(room, old_region_end));
     let mut body = std::mem::take(&mut room.body);
-    let mut suffix = body.split_off(i_s);
+    let suffix = body.split_off(i_s);
     let _ = body.split_off(i_p);
-    let mut previous_end = body.last().map(|st| room_stmt_span(st).end as usize);
-    let blank = |previous_end: Option<usize>, first: &ast::RoomStmt| {
-        let first_start = room_stmt_span(first).start as usize;
-        let end = previous_end?;
-        text.get(end..first_start)
-            .is_some_and(|gap| gap.matches('\n').count() >= 2)
-            .then(|| ast::RoomStmt::Blank(Span::new(file, first_start, first_start)))
-    };
-    for ((_, group), &from) in parsed.iter().zip(&new_starts) {
-        let m =
-            relocate::Move::shift(file, (region_start + from) as i64 - GROUP_PREFIX.len() as i64);
-        let mut group_stmts = group.stmts.clone();
-        relocate::Relocate::relocate(&mut group_stmts, m);
-        if let Some(first) = group_stmts.first() {
-            body.extend(blank(previous_end, first));
-        }
-        previous_end =
-            group_stmts.last().map(|st| room_stmt_span(st).end as usize).or(previous_end);
-        body.extend(group_stmts);
-    }
-    if delta != 0 {
-        relocate::Relocate::relocate(&mut suffix, relocate::Move::shift(file, delta));
-    }
-    // The blank line kept before the groups kept after the edit: the text before changed.
-    if matches!(suffix.first(), Some(ast::RoomStmt::Blank(_))) {
-        suffix.remove(0);
-    }
-    if let Some(first) = suffix.first() {
-        body.extend(blank(previous_end, first));
-    }
-    body.extend(suffix);
-    room.body = body;
+    let placed =
+        parsed.iter().zip(&new_starts).map(|((_, group), &from)| (&**group, region_start + from));
+    room.body = splice_body(text, file, body, placed, suffix, delta);
     room.span.end = (i64::from(room.span.end) + delta) as u32;
     // The items and diagnostics after the room move.
     if delta != 0 {
@@ -883,43 +854,15 @@ impl BodyEdit<'_> {
         let (i_p, i_s) = (first_of(p), first_of(n_old - s));
         // Nothing fails from here on.
         let mut body = std::mem::take(&mut room.body);
-        let mut suffix = body.split_off(i_s);
+        let suffix = body.split_off(i_s);
         body.truncate(i_p);
-        let mut previous_end = body.last().map(|st| room_stmt_span(st).end as usize);
-        let blank = |previous_end: Option<usize>, first: &ast::RoomStmt| {
-            let first_start = room_stmt_span(first).start as usize;
-            let end = previous_end?;
-            self.text
-                .get(end..first_start)
-                .is_some_and(|gap| gap.matches('\n').count() >= 2)
-                .then(|| ast::RoomStmt::Blank(Span::new(self.file, first_start, first_start)))
-        };
-        for (k, (_, group)) in parsed.iter().enumerate().take(n_new - s).skip(p) {
-            let m = relocate::Move::shift(
-                self.file,
-                (body_start + new_starts[k]) as i64 - GROUP_PREFIX.len() as i64,
-            );
-            let mut group_stmts = group.stmts.clone();
-            relocate::Relocate::relocate(&mut group_stmts, m);
-            if let Some(first) = group_stmts.first() {
-                body.extend(blank(previous_end, first));
-            }
-            previous_end =
-                group_stmts.last().map(|st| room_stmt_span(st).end as usize).or(previous_end);
-            body.extend(group_stmts);
-        }
-        if delta != 0 {
-            relocate::Relocate::relocate(&mut suffix, relocate::Move::shift(self.file, delta));
-        }
-        // The blank line kept before the groups kept after the edit: the text before changed.
-        if matches!(suffix.first(), Some(ast::RoomStmt::Blank(_))) {
-            suffix.remove(0);
-        }
-        if let Some(first) = suffix.first() {
-            body.extend(blank(previous_end, first));
-        }
-        body.extend(suffix);
-        room.body = body;
+        let placed = parsed
+            .iter()
+            .enumerate()
+            .take(n_new - s)
+            .skip(p)
+            .map(|(k, (_, group))| (&**group, body_start + new_starts[k]));
+        room.body = splice_body(self.text, self.file, body, placed, suffix, delta);
         room.span.end = (i64::from(room.span.end) + delta) as u32;
         let mut keys = Vec::with_capacity(parsed.len());
         for (key, group) in parsed {
@@ -1015,6 +958,50 @@ fn parse_room_by_groups(piece: &str, cache: &GroupMap, used: &mut GroupMap) -> O
     all.extend(diagnostics);
     all.extend(later);
     Some(Chunk { items: parsed.items, diagnostics: all, groups: keys })
+}
+/// A room's body made again after an edit: `body` (the statements before the groups parsed
+/// again), each group's statements moved from its own text to where that text starts in the
+/// file, then `suffix` (the statements after them) moved by `delta`, with the blank lines
+/// between them read again from `text`.
+fn splice_body<'g>(
+    text: &str,
+    file: FileId,
+    mut body: Vec<ast::RoomStmt>,
+    groups: impl IntoIterator<Item = (&'g Group, usize)>,
+    mut suffix: Vec<ast::RoomStmt>,
+    delta: i64,
+) -> Vec<ast::RoomStmt> {
+    let mut previous_end = body.last().map(|st| room_stmt_span(st).end as usize);
+    let blank = |previous_end: Option<usize>, first: &ast::RoomStmt| {
+        let first_start = room_stmt_span(first).start as usize;
+        let end = previous_end?;
+        text.get(end..first_start)
+            .is_some_and(|gap| gap.matches('\n').count() >= 2)
+            .then(|| ast::RoomStmt::Blank(Span::new(file, first_start, first_start)))
+    };
+    for (group, at) in groups {
+        let m = relocate::Move::shift(file, at as i64 - GROUP_PREFIX.len() as i64);
+        let mut group_stmts = group.stmts.clone();
+        relocate::Relocate::relocate(&mut group_stmts, m);
+        if let Some(first) = group_stmts.first() {
+            body.extend(blank(previous_end, first));
+        }
+        previous_end =
+            group_stmts.last().map(|st| room_stmt_span(st).end as usize).or(previous_end);
+        body.extend(group_stmts);
+    }
+    if delta != 0 {
+        relocate::Relocate::relocate(&mut suffix, relocate::Move::shift(file, delta));
+    }
+    // The blank line kept before the groups kept after the edit: the text before changed.
+    if matches!(suffix.first(), Some(ast::RoomStmt::Blank(_))) {
+        suffix.remove(0);
+    }
+    if let Some(first) = suffix.first() {
+        body.extend(blank(previous_end, first));
+    }
+    body.extend(suffix);
+    body
 }
 
 /// A group of room statements parsed inside a synthetic room header.
