@@ -195,7 +195,8 @@ fn main() {
         println!("all: placed {placed} kept {kept}/{total} nodes {nodes}");
         return;
     }
-    // `--why` prints, per room, the objects left out and the constraints the layout breaks.
+    // `--why` prints, per room, the objects left out and the constraints the layout breaks
+    // (`--poses`: and every placed object's pose and footprint).
     if args.iter().any(|a| a == "--why") {
         for (name, p) in &rooms {
             let out = solve::solve_room(p, &options).value;
@@ -204,6 +205,20 @@ fn main() {
                 println!("  left out {}: {}", u.id, u.reason);
             }
             for f in &out.floor {
+                if args.iter().any(|a| a == "--poses") {
+                    let r = &f.footprint;
+                    println!(
+                        "  {} at ({:.2}, {:.2}) {:?}: [{:.2}, {:.2}]-[{:.2}, {:.2}]",
+                        p.objects[f.index].id,
+                        f.pose.x,
+                        f.pose.z,
+                        f.pose.rot,
+                        r.min_x,
+                        r.min_z,
+                        r.max_x,
+                        r.max_z
+                    );
+                }
                 for c in f.constraints.iter().filter(|c| !c.measure.satisfied) {
                     println!("  {} {}: {:?}", p.objects[f.index].id, c.text, c.measure);
                 }

@@ -28,6 +28,10 @@ use crate::check::scene::{GlobalKind, RelationKind};
 const REACH_TRIES: usize = 24;
 /// The largest discrepancy tried (number of non-best choices on one path).
 const MAX_DISCREPANCY: usize = 3;
+
+/// How far round a broken relation's objects (metres) the objects that may take a
+/// discrepancy are looked for ([`Search::conflicts`]), at least.
+const CONFLICT_REACH_M: f64 = 0.75;
 /// The ordering bonus per side of a footprint touching a wall or a placed footprint (less than
 /// any satisfied relation is worth; it only breaks near-ties in favour of compact layouts).
 const CONTACT_BONUS: f64 = 0.1;
@@ -1098,6 +1102,10 @@ struct Search<'p, 'a> {
     /// The first object without a pin: where each round of discrepancy tries other poses
     /// first (see [`Search::visit`]).
     anchor: Option<usize>,
+    /// Per object, whether a round of discrepancy may try its other poses: the objects that
+    /// can change what the best layout so far loses ([`Search::conflicts`]). `None`: every
+    /// object (no layout yet, or one that leaves an object out).
+    conflict: Option<Vec<bool>>,
     /// The nodes walked when `kept` was found.
     found_at: u64,
     pin_breaks: Vec<(usize, HardRule)>,
@@ -1220,6 +1228,49 @@ impl Search<'_, '_> {
         self.best.as_ref().is_none_or(|b| value > b.value + 1e-9)
     }
 
+    /// The objects whose other poses can change what the layout `st` loses: each object that
+    /// breaks one of its relations, the objects it relates to and those related to it, and
+    /// every object standing where it or its targets could move to (their footprints grown by
+    /// the relation's reach, or by [`CONFLICT_REACH_M`] for a relation of facing or alignment).
+    /// `None` (every object) when an object is left out: it may stand anywhere.
+    fn conflicts(&self, st: &State) -> Option<Vec<bool>> {
+        let problem = self.prep.problem;
+        let n = problem.objects.len();
+        let mut conflict = vec![false; n];
+        let mut regions = Vec::new();
+        for (j, obj) in problem.objects.iter().enumerate() {
+            let pose = st.poses[j]?;
+            let s = fast_score(self.prep, j, &pose, &st.poses, self.sat_value);
+            let kept = (s / self.sat_value + 1e-9).floor();
+            if kept >= obj.constraints.len() as f64 {
+                continue;
+            }
+            conflict[j] = true;
+            let own = obj.size[0].max(obj.size[1]);
+            regions.push(footprint(&pose, obj.size).grow(CONFLICT_REACH_M));
+            for (ci, c) in obj.constraints.iter().enumerate() {
+                let Some(t) = problem.objects.get(c.target) else { continue };
+                conflict[c.target] = true;
+                let Some(tp) = st.poses[c.target] else { continue };
+                let gap = self.prep.meaning(j, ci).max_gap;
+                let reach = if gap.is_finite() { gap + own } else { CONFLICT_REACH_M };
+                regions.push(footprint(&tp, t.size).grow(reach.max(CONFLICT_REACH_M)));
+            }
+            for (i, other) in problem.objects.iter().enumerate() {
+                if other.constraints.iter().any(|c| c.target == j) {
+                    conflict[i] = true;
+                }
+            }
+        }
+        for (i, obj) in problem.objects.iter().enumerate() {
+            if let Some(p) = st.poses[i] {
+                let fp = footprint(&p, obj.size);
+                conflict[i] |= regions.iter().any(|r| r.overlaps(&fp));
+            }
+        }
+        Some(conflict)
+    }
+
     fn out_of_budget(&self) -> bool {
         // A cancelled batch job (`crate::cancel`) stops here; its layout is thrown away.
         (self.best.is_some() && self.nodes >= self.budget) || crate::cancel::requested()
@@ -1229,6 +1280,7 @@ impl Search<'_, '_> {
         let n = self.prep.problem.objects.len();
         if k == n {
             if self.better(st.value) {
+                self.conflict = self.conflicts(st);
                 self.best = Some(st.clone());
                 let mut finished = st.clone();
                 self.finish(&mut finished);
@@ -1283,6 +1335,9 @@ impl Search<'_, '_> {
                 return;
             }
         }
+        // A discrepancy is spent only where it can change what the best layout loses; any
+        // other object takes its best pose and passes the discrepancy on.
+        let disc_here = if self.conflict.as_ref().is_none_or(|c| c[k]) { disc } else { 0 };
         let mut tried = 0usize;
         let mut pruned = false;
         let mut reach_checks = 0;
@@ -1290,9 +1345,9 @@ impl Search<'_, '_> {
         // largest group, see `placement_order`) a round spends its discrepancy here first: its
         // best pose, with the discrepancy left for the objects after it, is walked last. The
         // same paths, in another order.
-        let anchor_first = Some(k) == self.anchor && disc > 0;
+        let anchor_first = Some(k) == self.anchor && disc_here > 0;
         let mut best_last: Option<(Cand, f64)> = None;
-        while tried <= disc && reach_checks < REACH_TRIES {
+        while tried <= disc_here && reach_checks < REACH_TRIES {
             let Some((c, s)) = self.node_candidate(k, st, &found, reach_checks) else { break };
             let (c, s) = (&c, &s);
             reach_checks += 1;
@@ -2634,6 +2689,7 @@ fn run(
         best: None,
         kept: None,
         anchor: prep.problem.objects.iter().position(|o| o.pin.is_none()),
+        conflict: None,
         found_at: 0,
         pin_breaks: Vec::new(),
         anywhere: RefCell::new(vec![None; n]),
