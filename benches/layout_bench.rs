@@ -2,7 +2,9 @@
 //!
 //! `cargo bench --bench layout_bench -- --table` prints a table per room (median time of the
 //! DFS over a few runs, objects placed, constraints satisfied by the DFS, by the MILP and by the
-//! greedy baseline). Without `--table` it runs criterion on a few representative rooms (a
+//! greedy baseline), then the generator's rooms of 10 to 100 objects
+//! (`tests/corpus/solve-generated`, also alone with `--generated`) with their nodes, time per
+//! node and the fitted exponents. Without `--table` it runs criterion on a few representative rooms (a
 //! criterion filter such as `dfs/classroom_25` picks one). `--why` prints the objects each room
 //! leaves out and the constraints its layout breaks, `--summary` one line per room and the
 //! totals (`--budget N` sets their node budget); `--only NAME` keeps one room, `--dir DIR` reads
@@ -142,6 +144,65 @@ fn table(rooms: &[(String, RoomProblem)]) {
     }
 }
 
+/// The relations a room's first (greedy) layout breaks: what keeps its search going, printed
+/// for rooms whose search walks more nodes than they have objects.
+fn searched_for(problem: &RoomProblem) -> Vec<String> {
+    let first = SolveOptions { node_budget: 1, ..SolveOptions::default() };
+    let out = solve::solve_room(problem, &first).value;
+    let mut broken: Vec<String> =
+        out.unplaced.iter().map(|u| format!("{} left out", u.id)).collect();
+    for f in &out.floor {
+        for c in f.constraints.iter().filter(|c| !c.measure.satisfied) {
+            broken.push(format!("{} {}", problem.objects[f.index].id, c.text));
+        }
+    }
+    broken
+}
+
+/// The generator's rooms of 10 to 100 objects (`tests/corpus/solve-generated`): per room its
+/// median time, nodes and time per node, and the fitted exponents of time, nodes and time per
+/// node against objects.
+fn generated_table(rooms: &[(String, RoomProblem)]) {
+    let mut rooms: Vec<&(String, RoomProblem)> = rooms.iter().collect();
+    rooms.sort_by_key(|(_, p)| p.objects.len());
+    println!(
+        "| generated room | objects | median ms | nodes | µs per node | kept | searched for |"
+    );
+    println!("|---|---|---|---|---|---|---|");
+    let (mut time, mut nodes, mut per_node) = (Vec::new(), Vec::new(), Vec::new());
+    for (name, p) in rooms {
+        let opts = SolveOptions::default();
+        let t = median_time(p, &opts, 5).as_secs_f64();
+        let out = solve::solve_room(p, &opts).value;
+        let (ok, total) = out.constraint_tally(p);
+        let n = p.objects.len() as f64;
+        let walked = out.nodes.max(1) as f64;
+        let why = if out.nodes as usize > p.objects.len() {
+            searched_for(p).join("; ")
+        } else {
+            String::new()
+        };
+        println!(
+            "| {name} | {} | {:.1} | {} | {:.0} | {ok}/{total} | {why} |",
+            p.objects.len(),
+            t * 1000.0,
+            out.nodes,
+            t / walked * 1e6,
+        );
+        time.push((n, t));
+        nodes.push((n, walked));
+        per_node.push((n, t / walked));
+    }
+    if time.len() >= 2 {
+        println!(
+            "over the generated rooms: time N^{:.2}, nodes N^{:.2}, time per node N^{:.2}",
+            fitted_exponent(&time),
+            fitted_exponent(&nodes),
+            fitted_exponent(&per_node)
+        );
+    }
+}
+
 fn main() {
     let args: Vec<String> = std::env::args().collect();
     // `--dir DIR` reads the rooms of another folder in the corpus's format (the generator of
@@ -166,6 +227,19 @@ fn main() {
     }
     if args.iter().any(|a| a == "--table") {
         table(&rooms);
+        // Beside the corpus, the generator's rooms of every size from 10 to 100 objects.
+        if !args.iter().any(|a| a == "--dir" || a == "--only") {
+            println!();
+            generated_table(&solve_corpus::load_dir(
+                &solve_corpus::corpus_dir().with_file_name("solve-generated"),
+            ));
+        }
+        return;
+    }
+    // `--generated` prints the table of the generator's rooms alone.
+    if args.iter().any(|a| a == "--generated") {
+        let dir = solve_corpus::corpus_dir().with_file_name("solve-generated");
+        generated_table(&solve_corpus::load_dir(&dir));
         return;
     }
     // `--budget N` sets the node budget of `--summary` and `--why` (0: the greedy pass).

@@ -323,8 +323,23 @@ def generated(n, seed):
 for n in (10, 20, 40, 80):
     generated(n, 26)
 
-for name, r in rooms.items():
-    with open(os.path.join(OUT, name + ".json"), "w") as f:
-        json.dump(r, f, indent=1)
-        f.write("\n")
-print(len(rooms), "rooms")
+
+def write(folder, written):
+    os.makedirs(folder, exist_ok=True)
+    for name, r in written.items():
+        with open(os.path.join(folder, name + ".json"), "w") as f:
+            json.dump(r, f, indent=1)
+            f.write("\n")
+    print(len(written), "rooms in", os.path.relpath(folder))
+
+
+write(OUT, rooms)
+
+# The generator's rooms of 10 to 100 objects, each size once (seed 26): what layout_bench fits
+# the growth of the solve's cost over (`--table`), beside the corpus. Not read by the tests.
+corpus = rooms
+rooms = {}
+for n in range(10, 101, 10):
+    generated(n, 26)
+write(os.path.join(os.path.dirname(OUT), "solve-generated"), rooms)
+rooms = corpus
