@@ -1176,6 +1176,10 @@ struct NodeRules {
     promises: Vec<Promise>,
     seat_promises: Vec<SeatPromise>,
     reserved: Vec<Rect>,
+    /// The zones placed objects keep free from this object's chairs (a sofa's legroom keeps a
+    /// dining chair out, though it lets a table in): a seat there is no seat for them. `None`
+    /// for an object without a ring of chairs.
+    seat_keep_free: Option<ZoneGrid>,
 }
 
 /// A step of a node's touch walk, ordered so that the one met first is the greatest: the
@@ -1544,7 +1548,9 @@ impl Search<'_, '_> {
     /// `k`: how many still find a free zone, and how many find one right next to `k`. A zone is
     /// free when no placed footprint and no use-clearance `k` must keep out of (`keep_free`: a
     /// sofa's legroom, a desk's pull-out space) covers it: a plant beside its shelf does not
-    /// stand in the legroom of the sofa next to the shelf either.
+    /// stand in the legroom of the sofa next to the shelf either. A table's seat counts when
+    /// its chair there would keep out of the zones placed objects keep free from chairs
+    /// (`seat_keep_free`).
     fn room_left_for_dependents(
         &self,
         k: usize,
@@ -1552,6 +1558,7 @@ impl Search<'_, '_> {
         placed: &FootprintGrid,
         keep_free: &ZoneGrid,
         reserved: &[Rect],
+        seat_keep_free: Option<&ZoneGrid>,
     ) -> (usize, usize) {
         let (kept, close) =
             self.room_left_where(k, c, |z| self.zone_free(z, placed) && !keep_free.any_overlap(z));
@@ -1559,6 +1566,7 @@ impl Search<'_, '_> {
             let apart = seat_apart_zone(p, ring);
             self.zone_free(&seat_zone(p, ring), placed)
                 && !reserved.iter().any(|r| r.overlaps(&apart))
+                && seat_keep_free.is_none_or(|z| !z.any_overlap(&footprint(p, ring.seat)))
         });
         (kept + seats, close + seats)
     }
@@ -2094,11 +2102,16 @@ impl Search<'_, '_> {
         // seats share that room leave their chairs back to back with no way between).
         let reserved =
             if self.rings[k].is_some() { self.placed_seat_zones(k, st) } else { Vec::new() };
+        // The first chair of the ring stands for them all: they are alike, and none relates
+        // to anything placed yet (their table is not).
+        let chair = self.dependents[k].iter().find(|d| d.ring).map(|d| d.object);
+        let seat_keep_free = chair.map(|j| self.clearances_with(j, &st.poses, &st.objs).keep_free);
         NodeRules {
             clearances: self.clearance_context(k, st),
             promises: self.open_promises(k, placed, st),
             seat_promises: self.open_seats(k, placed, st),
             reserved,
+            seat_keep_free,
         }
     }
 
@@ -2254,7 +2267,7 @@ impl Search<'_, '_> {
         // The placed footprints, bucketed: each question below looks only at those near it.
         let placed = &st.grid;
         let rules = Rc::clone(walk.rules.get_or_insert_with(|| Rc::new(self.node_rules(k, st))));
-        let NodeRules { clearances, promises, seat_promises, reserved } = &*rules;
+        let NodeRules { clearances, promises, seat_promises, reserved, seat_keep_free } = &*rules;
         let order = |a: &(f64, usize, f64, Cand), b: &(f64, usize, f64, Cand)| {
             b.0.total_cmp(&a.0).then(a.1.cmp(&b.1))
         };
@@ -2304,8 +2317,14 @@ impl Search<'_, '_> {
             let sides = sides(i, &c);
             // A touching candidate beyond reach is scored only now.
             let s = if step.score.is_nan() { context.scorer.score(&c) } else { step.score };
-            let (kept, close) =
-                self.room_left_for_dependents(k, &c, placed, &clearances.keep_free, reserved);
+            let (kept, close) = self.room_left_for_dependents(
+                k,
+                &c,
+                placed,
+                &clearances.keep_free,
+                reserved,
+                seat_keep_free.as_ref(),
+            );
             let covers = |zones: &[Rect]| zones.iter().all(|z| z.overlaps(&c.fp));
             let broken = promises.iter().filter(|p| covers(&p.zones)).count()
                 + seat_promises.iter().map(|p| p.broken_by(&c.fp)).sum::<usize>();
