@@ -394,7 +394,8 @@ fn write_features(dir: &Path, bytes: u64) -> (usize, u64) {
     // 64 KiB of small float16 values, repeated.
     let chunk: Vec<u8> = (0..32_768u32)
         .flat_map(|k| {
-            f32_to_f16(((k * 2_654_435_761) % 1201) as f32 / 10_000.0 - 0.06).to_le_bytes()
+            f32_to_f16((k.wrapping_mul(2_654_435_761) % 1201) as f32 / 10_000.0 - 0.06)
+                .to_le_bytes()
         })
         .collect();
     let mut left = n as u64 * ROW;
