@@ -394,7 +394,8 @@ fn write_features(dir: &Path, bytes: u64) -> (usize, u64) {
     // 64 KiB of small float16 values, repeated.
     let chunk: Vec<u8> = (0..32_768u32)
         .flat_map(|k| {
-            f32_to_f16(((k * 2_654_435_761) % 1201) as f32 / 10_000.0 - 0.06).to_le_bytes()
+            f32_to_f16((k.wrapping_mul(2_654_435_761) % 1201) as f32 / 10_000.0 - 0.06)
+                .to_le_bytes()
         })
         .collect();
     let mut left = n as u64 * ROW;
@@ -410,8 +411,9 @@ fn write_features(dir: &Path, bytes: u64) -> (usize, u64) {
     (n, size)
 }
 
-/// The readers of the largest legal inputs of `--objathor`: annotations of 512 MiB (the most a
-/// catalog holds, `resolve::catalog::MAX_CATALOG_BYTES`) and a feature file of 4 GiB
+/// The readers of the largest legal inputs of `--objathor` and `--catalog`: annotations of 512
+/// MiB (the most a catalog holds, `resolve::catalog::MAX_CATALOG_BYTES`), as a folder's and as
+/// a user catalog, and a feature file of 4 GiB
 /// (`resolve::objathor::MAX_FEATURES_BYTES`), each read by `build` of the cat studio from the
 /// folder's files (`--objathor-no-index`, features scoring). The folders are written under
 /// `target/hostile-readers` and removed after (they take 4.5 GB of disk). Each runs with
@@ -474,6 +476,28 @@ fn readers(holoc: &Path) {
         }
         let _ = std::fs::remove_dir_all(&dir);
     }
+    // The same annotations given as a user catalog (`--catalog`), just under the bound.
+    {
+        let dir = base.join("catalog");
+        std::fs::create_dir_all(&dir).expect("scratch");
+        let (n, size) = write_annotations(&dir, 512 * 1024 * 1024 - 4096, None);
+        let file = dir.join("annotations.json");
+        let args: Vec<&std::ffi::OsStr> = vec![
+            "build".as_ref(),
+            "examples/cat_studio.holo".as_ref(),
+            "--catalog".as_ref(),
+            file.as_os_str(),
+            "-q".as_ref(),
+            "-o".as_ref(),
+            out.as_os_str(),
+        ];
+        for bin in &bins {
+            let (s, cpu, peak, code) = measure(&args, bin);
+            let name = format!("user catalog, 512 MiB ({n} entries){}", label(bin));
+            row(&name, size, "build --catalog", s, cpu, peak, code);
+        }
+        let _ = std::fs::remove_dir_all(&dir);
+    }
     // A feature file just under 4 GiB, with 1,000 annotations among its uids.
     let dir = base.join("features");
     std::fs::create_dir_all(&dir).expect("scratch");
@@ -485,6 +509,17 @@ fn readers(holoc: &Path) {
         let (s, cpu, peak, code) = measure(&args, bin);
         let name = format!("clip features, 4 GiB ({n} assets){}", label(bin));
         row(&name, size, "build --objathor", s, cpu, peak, code);
+    }
+    // The same folder with its index: written (the rows copied into it), then read.
+    let with_index: Vec<&std::ffi::OsStr> =
+        args.iter().copied().filter(|a| *a != "--objathor-no-index").collect();
+    for bin in &bins {
+        let _ = std::fs::remove_dir_all(dir.join(".holoc-index"));
+        for what in ["build --objathor (writes its index)", "build --objathor (reads its index)"] {
+            let (s, cpu, peak, code) = measure(&with_index, bin);
+            let name = format!("clip features, 4 GiB ({n} assets){}", label(bin));
+            row(&name, size, what, s, cpu, peak, code);
+        }
     }
     let _ = std::fs::remove_dir_all(&dir);
     // The largest house `validate`, `export` and `diff` read: just under 32 MiB (the input

@@ -100,12 +100,100 @@ pub(crate) fn in_holocs_own_form(value: &Value) -> bool {
             .iter()
             .all(|w| w.get("polygon").and_then(Value::as_array).is_none_or(|p| p.len() >= 4))
     });
+    // The house is read from the tree without copying it, and written back as text compared
+    // with the tree as it is read (`Same`): neither a copy of the tree nor the tree written
+    // back is ever held beside it (issue 51: the two took 600 MB for a 32 MiB house).
     walls_closed
         && bounds_kept(value, None)
-        && serde_json::from_value::<crate::lower::thor::House>(value.clone())
+        && serde::Deserialize::deserialize(value)
             .ok()
-            .and_then(|house| serde_json::to_value(&house).ok())
-            .is_some_and(|back| back == *value)
+            .and_then(|house: crate::lower::thor::House| serde_json::to_vec(&house).ok())
+            .is_some_and(|back| same_json(&back, value))
+}
+
+/// Whether the JSON text `text` is the value `value` (as `serde_json::from_slice::<Value>(text)
+/// == Ok(value)` would say), read without building its tree.
+#[cfg(feature = "schema")]
+pub(crate) fn same_json(text: &[u8], value: &Value) -> bool {
+    use serde::de::DeserializeSeed as _;
+    let mut de = serde_json::Deserializer::from_slice(text);
+    Same(value).deserialize(&mut de).is_ok() && de.end().is_ok()
+}
+
+/// A seed that reads a JSON value and fails (with a custom error) as soon as it differs from the
+/// value it holds. Numbers compare as `serde_json::Value`s do: an unsigned, a negative and a
+/// floating-point number are never equal to each other.
+#[cfg(feature = "schema")]
+struct Same<'v>(&'v Value);
+
+#[cfg(feature = "schema")]
+impl<'de> serde::de::DeserializeSeed<'de> for Same<'_> {
+    type Value = ();
+    fn deserialize<D: serde::Deserializer<'de>>(self, d: D) -> Result<(), D::Error> {
+        d.deserialize_any(self)
+    }
+}
+
+#[cfg(feature = "schema")]
+impl<'de> serde::de::Visitor<'de> for Same<'_> {
+    type Value = ();
+    fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        write!(f, "the value {}", self.0)
+    }
+    fn visit_bool<E: serde::de::Error>(self, v: bool) -> Result<(), E> {
+        check(self.0.as_bool() == Some(v))
+    }
+    fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<(), E> {
+        check(self.0.is_u64() && self.0.as_u64() == Some(v))
+    }
+    fn visit_i64<E: serde::de::Error>(self, v: i64) -> Result<(), E> {
+        match u64::try_from(v) {
+            Ok(v) => self.visit_u64(v),
+            Err(_) => check(self.0.is_i64() && self.0.as_i64() == Some(v)),
+        }
+    }
+    fn visit_f64<E: serde::de::Error>(self, v: f64) -> Result<(), E> {
+        check(self.0.is_f64() && self.0.as_f64() == Some(v))
+    }
+    fn visit_str<E: serde::de::Error>(self, v: &str) -> Result<(), E> {
+        check(self.0.as_str() == Some(v))
+    }
+    fn visit_unit<E: serde::de::Error>(self) -> Result<(), E> {
+        check(self.0.is_null())
+    }
+    fn visit_seq<A: serde::de::SeqAccess<'de>>(self, mut seq: A) -> Result<(), A::Error> {
+        let Value::Array(items) = self.0 else { return check(false) };
+        let mut n = 0;
+        while let Some(item) = items.get(n) {
+            if seq.next_element_seed(Same(item))?.is_none() {
+                return check(false);
+            }
+            n += 1;
+        }
+        check(seq.next_element::<serde::de::IgnoredAny>()?.is_none())
+    }
+    fn visit_map<A: serde::de::MapAccess<'de>>(self, mut map: A) -> Result<(), A::Error> {
+        let Value::Object(object) = self.0 else { return check(false) };
+        let mut seen = std::collections::BTreeSet::new();
+        while let Some(key) = map.next_key::<std::borrow::Cow<'de, str>>()? {
+            let Some((key, expected)) = object.get_key_value(key.as_ref()) else {
+                return check(false);
+            };
+            map.next_value_seed(Same(expected))?;
+            seen.insert(key);
+        }
+        check(seen.len() == object.len())
+    }
+}
+
+/// `Ok` when `same`, else the error that stops [`Same`].
+#[cfg(feature = "schema")]
+fn check<E: serde::de::Error>(same: bool) -> Result<(), E> {
+    if same {
+        Ok(())
+    } else {
+        Err(E::custom("differs"))
+    }
 }
 
 /// Without the `schema` feature there is no schema check (see [`SCHEMA_CHECKED`]).
@@ -598,7 +686,13 @@ pub fn validate(
     let bounds: Vec<Aabb> = footprints.iter().map(Footprint::bounds).collect();
     let mut by_x: Vec<usize> = (0..footprints.len()).collect();
     by_x.sort_by(|&i, &j| bounds[i].min[0].total_cmp(&bounds[j].min[0]).then(i.cmp(&j)));
+    // The pairs are kept only while they may be reported one by one (up to
+    // `PAIR_DETAIL_LIMIT`); past that each object keeps its number of overlaps and its three
+    // first partners (by place in the file), which is all the per-object diagnostics say:
+    // 150,000 objects on one spot made 9.6 million pairs (420 MB, issue 51).
     let mut pairs: Vec<(usize, usize)> = Vec::new();
+    let mut n_pairs = 0usize;
+    let mut partners: Vec<Partners> = vec![Partners::default(); footprints.len()];
     // An object's overlaps are worked out up to `OVERLAPS_COUNTED_PER_OBJECT` as the sweep
     // meets them: thousands of objects on one spot cost a bounded number of tests each.
     let mut capped = false;
@@ -618,7 +712,12 @@ pub fn validate(
             }
             let ((ia, sa), (ib, sb)) = (a.shape(), b.shape());
             if intersection_test(&ia, &sa, &ib, &sb).unwrap_or(false) {
-                pairs.push((lo, hi));
+                if n_pairs <= crate::diag::PAIR_DETAIL_LIMIT {
+                    pairs.push((lo, hi));
+                }
+                n_pairs += 1;
+                partners[lo].add(hi);
+                partners[hi].add(lo);
                 hits += 1;
                 if hits >= OVERLAPS_COUNTED_PER_OBJECT {
                     capped = true;
@@ -628,7 +727,7 @@ pub fn validate(
         }
     }
     pairs.sort_unstable();
-    if pairs.len() <= crate::diag::PAIR_DETAIL_LIMIT {
+    if n_pairs <= crate::diag::PAIR_DETAIL_LIMIT {
         for &(i, j) in &pairs {
             let (a, b) = (&footprints[i], &footprints[j]);
             let (ba, bb) = (&bounds[i], &bounds[j]);
@@ -659,16 +758,11 @@ pub fn validate(
         }
     } else {
         // Many pairs: one diagnostic per object that overlaps others, with their number.
-        let mut others: Vec<Vec<usize>> = vec![Vec::new(); footprints.len()];
-        for &(i, j) in &pairs {
-            others[i].push(j);
-            others[j].push(i);
-        }
-        for (i, list) in others.iter().enumerate().filter(|(_, l)| !l.is_empty()) {
+        for (i, list) in partners.iter().enumerate().filter(|(_, l)| l.count > 0) {
             let fp = &footprints[i];
             let named: Vec<String> =
-                list.iter().take(3).map(|&j| format!("`{}`", footprints[j].id)).collect();
-            let more = if list.len() > 3 { ", …" } else { "" };
+                list.first().map(|j| format!("`{}`", footprints[j].id)).collect();
+            let more = if list.count > 3 { ", …" } else { "" };
             let span = ctx.span_of("id", fp.id, 0);
             ctx.push(
                 Diagnostic::new(
@@ -677,8 +771,8 @@ pub fn validate(
                         "floor object `{}` overlaps {}{} floor object{}",
                         fp.id,
                         if capped { "at least " } else { "" },
-                        list.len(),
-                        if list.len() == 1 { "" } else { "s" }
+                        list.count,
+                        if list.count == 1 { "" } else { "s" }
                     ),
                 )
                 .with_primary(span, format!("overlaps {}{more}", named.join(", ")))
@@ -686,7 +780,7 @@ pub fn validate(
                     "{}{} pairs of floor objects overlap in this house; past {} they are \
                      counted per object{}",
                     if capped { "at least " } else { "" },
-                    pairs.len(),
+                    n_pairs,
                     crate::diag::PAIR_DETAIL_LIMIT,
                     if capped {
                         format!(", and each object's count stops at {OVERLAPS_COUNTED_PER_OBJECT}")
@@ -1039,6 +1133,35 @@ impl Footprint<'_> {
     }
 }
 
+/// The overlaps of one floor object past `PAIR_DETAIL_LIMIT` pairs: how many, and its three
+/// partners of least place (the first three of its partners in the file's order).
+#[derive(Clone, Copy, Default)]
+struct Partners {
+    count: usize,
+    /// The least places, ascending; `usize::MAX` where there are fewer than three.
+    least: [usize; 3],
+}
+
+impl Partners {
+    fn add(&mut self, j: usize) {
+        if self.count == 0 {
+            self.least = [usize::MAX; 3];
+        }
+        self.count += 1;
+        let mut j = j;
+        for slot in &mut self.least {
+            if j < *slot {
+                std::mem::swap(slot, &mut j);
+            }
+        }
+    }
+
+    /// The least partners, ascending.
+    fn first(&self) -> impl Iterator<Item = usize> + '_ {
+        self.least.iter().copied().filter(|j| *j != usize::MAX)
+    }
+}
+
 /// The footprint of a top-level object that stands on the floor, from its asset's size in the
 /// catalog; `None` for objects off the floor (on walls, hanging) and assets of unknown size.
 fn floor_footprint<'v>(o: &'v Value, centre: Point, catalog: &Catalog) -> Option<Footprint<'v>> {
@@ -1102,6 +1225,48 @@ mod own_form_tests {
             .iter_errors(value)
             .map(|e| e.to_string())
             .collect()
+    }
+
+    #[test]
+    fn same_json_says_what_comparing_the_trees_says() {
+        let texts = [
+            "null",
+            "true",
+            "false",
+            "0",
+            "1",
+            "-1",
+            "1.0",
+            "-0.0",
+            "0.1",
+            "1e300",
+            "18446744073709551615",
+            "-9223372036854775808",
+            "\"a\"",
+            "\"\"",
+            "[]",
+            "[1]",
+            "[1, 2]",
+            "[2, 1]",
+            "{}",
+            "{\"a\": 1}",
+            "{\"a\": 1.0}",
+            "{\"a\": 1, \"b\": [true, null]}",
+            "{\"b\": [true, null], \"a\": 1}",
+            "{\"a\": {\"b\": {}}}",
+            "{\"a\": {\"b\": []}}",
+            "[[], {}]",
+            "[{}, []]",
+        ];
+        for a in texts {
+            for b in texts {
+                let (x, y): (Value, Value) =
+                    (serde_json::from_str(a).expect(a), serde_json::from_str(b).expect(b));
+                assert_eq!(same_json(a.as_bytes(), &y), x == y, "{a} against {b}");
+            }
+        }
+        assert!(!same_json(b"[1", &serde_json::json!([1])));
+        assert!(!same_json(b"1 2", &serde_json::json!(1)));
     }
 
     #[test]

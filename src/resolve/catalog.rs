@@ -217,7 +217,7 @@ impl Catalog {
             let path = path.as_ref();
             let name = path.display().to_string();
             match read_catalog_bytes(path) {
-                Ok(bytes) => catalog.add_source(&name, &bytes, sources, &mut diagnostics),
+                Ok(bytes) => catalog.add_source(&name, bytes, sources, &mut diagnostics),
                 Err(message) => diagnostics.push(unreadable(&name, &message)),
             }
         }
@@ -319,8 +319,7 @@ impl Catalog {
         let count = match catalog_text(bytes) {
             Ok(text) => {
                 let file = sources.add(name.to_string(), text);
-                let text = sources.get(file).text.clone();
-                parse_catalog(&text, file, 1, &mut diagnostics).assets.len()
+                parse_catalog(&sources.get(file).text, file, 1, &mut diagnostics).assets.len()
             }
             Err(message) => {
                 diagnostics.push(unreadable(name, &message));
@@ -332,14 +331,16 @@ impl Catalog {
 
     /// Adds the assets of one catalog file (its bytes) as a new source; the text index is
     /// rebuilt by the caller.
+    /// The bytes are hashed, then become the text without a copy when they are plain.
     fn add_source(
         &mut self,
         name: &str,
-        bytes: &[u8],
+        bytes: Vec<u8>,
         sources: &mut SourceMap,
         diagnostics: &mut Vec<Diagnostic>,
     ) {
-        let text = match catalog_text(bytes) {
+        let sha256 = sha256_hex(&bytes);
+        let text = match catalog_text_owned(bytes) {
             Ok(text) => text,
             Err(message) => {
                 diagnostics.push(unreadable(name, &message));
@@ -347,13 +348,12 @@ impl Catalog {
             }
         };
         let file = sources.add(name.to_string(), text);
-        let text = sources.get(file).text.clone();
         let source_idx = self.sources.len();
-        let parsed = parse_catalog(&text, file, source_idx, diagnostics);
+        let parsed = parse_catalog(&sources.get(file).text, file, source_idx, diagnostics);
         self.sources.push(CatalogSource {
             name: catalog_name(Path::new(name)),
             version: parsed.version,
-            sha256: sha256_hex(bytes),
+            sha256,
             path: Some(name.to_string()),
             n_assets: parsed.assets.len(),
         });
@@ -429,7 +429,11 @@ impl Catalog {
 }
 
 pub(crate) fn sha256_hex(bytes: &[u8]) -> String {
-    let digest = Sha256::digest(bytes);
+    digest_hex(&Sha256::digest(bytes))
+}
+
+/// A SHA-256 digest as lowercase hex.
+pub(crate) fn digest_hex(digest: &[u8]) -> String {
     let mut s = String::with_capacity(64);
     for b in digest {
         let _ = write!(s, "{b:02x}");
@@ -518,8 +522,10 @@ struct Parsed {
 }
 
 /// A JSON object with its keys in file order (serde_json's map would sort them).
+#[cfg(test)]
 pub(crate) struct OrderedObject(pub(crate) Vec<(String, Value)>);
 
+#[cfg(test)]
 impl<'de> serde::Deserialize<'de> for OrderedObject {
     fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
         struct V;
@@ -554,77 +560,319 @@ pub(crate) fn key_span(text: &str, file: FileId, key: &str, from: &mut usize) ->
     }
 }
 
+/// Reads a catalog's text: its assets (and version), with a warning for each entry skipped, or
+/// only the JSON error (E0403) when the text is not JSON of a catalog's shape.
+///
+/// The entries are read one at a time as the parser meets them (each a `serde_json::Value`
+/// only while it is read), never as one tree of the whole file (a catalog of 512 MiB, the most
+/// holoc reads, took several times its size in memory, issue 51). An object of entries is read
+/// twice: first through, building nothing, to learn whether it is a ProcTHOR database (every
+/// member a list) and whether it is JSON at all; then entry by entry.
 fn parse_catalog(text: &str, file: FileId, source: usize, diags: &mut Vec<Diagnostic>) -> Parsed {
-    let mut parsed = Parsed { assets: Vec::new(), version: None };
-    let trimmed = text.trim_start();
-    let mut cursor = 0usize;
-    if trimmed.starts_with('[') {
-        let list: Vec<Value> = match serde_json::from_str(text) {
-            Ok(v) => v,
-            Err(e) => {
-                diags.push(json_error(text, file, &e));
-                return parsed;
-            }
-        };
-        for (i, entry) in list.iter().enumerate() {
-            let id = entry_id(entry);
-            let span = match &id {
-                Some(id) => key_span(text, file, id, &mut cursor),
-                None => Span::new(file, 0, 0),
-            };
-            let label = id.clone().unwrap_or_else(|| format!("#{i}"));
-            match id {
-                Some(id) => push_objathor(&id, entry, span, file, source, &mut parsed, diags),
-                None => {
-                    diags.push(bad_entry(file, span, &label, "it has no `uid`, `assetId` or `id`"));
-                }
-            }
+    use serde::de::DeserializeSeed as _;
+    let mut reader = Reader {
+        text,
+        file,
+        source,
+        cursor: 0,
+        parsed: Parsed { assets: Vec::new(), version: None },
+        diags: Vec::new(),
+        procthor: false,
+    };
+    let read = if text.trim_start().starts_with('[') {
+        let mut de = serde_json::Deserializer::from_str(text);
+        de.deserialize_seq(List(&mut reader)).and_then(|()| de.end())
+    } else {
+        let mut de = serde_json::Deserializer::from_str(text);
+        Shape.deserialize(&mut de).and_then(|procthor| de.end().map(|()| procthor)).and_then(
+            |procthor| {
+                reader.procthor = procthor;
+                let mut de = serde_json::Deserializer::from_str(text);
+                de.deserialize_map(Members(&mut reader)).and_then(|()| de.end())
+            },
+        )
+    };
+    match read {
+        Ok(()) => {
+            diags.append(&mut reader.diags);
+            reader.parsed
         }
-        return parsed;
-    }
-    let object: OrderedObject = match serde_json::from_str(text) {
-        Ok(v) => v,
         Err(e) => {
             diags.push(json_error(text, file, &e));
-            return parsed;
-        }
-    };
-    let is_procthor = !object.0.is_empty()
-        && object.0.iter().all(|(k, v)| v.is_array() || k.starts_with('_') || k == "version");
-    for (key, value) in &object.0 {
-        if key == "version" || key == "_version" {
-            parsed.version = value.as_str().map(str::to_string).or_else(|| Some(value.to_string()));
-            continue;
-        }
-        if key.starts_with('_') {
-            continue;
-        }
-        let span = key_span(text, file, key, &mut cursor);
-        if is_procthor {
-            let Some(list) = value.as_array() else { continue };
-            for (i, entry) in list.iter().enumerate() {
-                let id = entry.get("assetId").and_then(Value::as_str).map(str::to_string);
-                let espan = match &id {
-                    Some(id) => key_span(text, file, id, &mut cursor),
-                    None => span,
-                };
-                match id {
-                    Some(id) => {
-                        push_procthor(&id, key, entry, espan, file, source, &mut parsed, diags);
-                    }
-                    None => diags.push(bad_entry(
-                        file,
-                        espan,
-                        &format!("{key}[{i}]"),
-                        "it has no `assetId`",
-                    )),
-                }
-            }
-        } else {
-            push_objathor(key, value, span, file, source, &mut parsed, diags);
+            Parsed { assets: Vec::new(), version: None }
         }
     }
-    parsed
+}
+
+/// What [`parse_catalog`] has read so far.
+struct Reader<'t> {
+    text: &'t str,
+    file: FileId,
+    source: usize,
+    /// Where the next entry's key is looked for in the text.
+    cursor: usize,
+    parsed: Parsed,
+    diags: Vec<Diagnostic>,
+    /// Whether the object read is a ProcTHOR database (lists of entries by object type).
+    procthor: bool,
+}
+
+impl Reader<'_> {
+    /// The `i`-th entry of a list of entries.
+    fn list_entry(&mut self, i: usize, entry: &Value) {
+        let id = entry_id(entry);
+        let span = match &id {
+            Some(id) => key_span(self.text, self.file, id, &mut self.cursor),
+            None => Span::new(self.file, 0, 0),
+        };
+        let label = id.clone().unwrap_or_else(|| format!("#{i}"));
+        match id {
+            Some(id) => push_objathor(
+                &id,
+                entry,
+                span,
+                self.file,
+                self.source,
+                &mut self.parsed,
+                &mut self.diags,
+            ),
+            None => self.diags.push(bad_entry(
+                self.file,
+                span,
+                &label,
+                "it has no `uid`, `assetId` or `id`",
+            )),
+        }
+    }
+
+    /// The `i`-th entry of the list `group` of a ProcTHOR database, whose key is at `span`.
+    fn procthor_entry(&mut self, group: &str, span: Span, i: usize, entry: &Value) {
+        let id = entry.get("assetId").and_then(Value::as_str).map(str::to_string);
+        let espan = match &id {
+            Some(id) => key_span(self.text, self.file, id, &mut self.cursor),
+            None => span,
+        };
+        match id {
+            Some(id) => push_procthor(
+                &id,
+                group,
+                entry,
+                espan,
+                self.file,
+                self.source,
+                &mut self.parsed,
+                &mut self.diags,
+            ),
+            None => self.diags.push(bad_entry(
+                self.file,
+                espan,
+                &format!("{group}[{i}]"),
+                "it has no `assetId`",
+            )),
+        }
+    }
+}
+
+/// A JSON value read through, building nothing (the errors those of a `serde_json::Value`).
+struct Skip;
+
+impl<'de> serde::de::DeserializeSeed<'de> for Skip {
+    type Value = ();
+    fn deserialize<D: Deserializer<'de>>(self, d: D) -> Result<(), D::Error> {
+        d.deserialize_any(Skip)
+    }
+}
+
+impl<'de> Visitor<'de> for Skip {
+    type Value = ();
+    fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        f.write_str("any valid JSON value")
+    }
+    fn visit_bool<E>(self, _: bool) -> Result<(), E> {
+        Ok(())
+    }
+    fn visit_i64<E>(self, _: i64) -> Result<(), E> {
+        Ok(())
+    }
+    fn visit_u64<E>(self, _: u64) -> Result<(), E> {
+        Ok(())
+    }
+    fn visit_f64<E>(self, _: f64) -> Result<(), E> {
+        Ok(())
+    }
+    fn visit_str<E>(self, _: &str) -> Result<(), E> {
+        Ok(())
+    }
+    fn visit_unit<E>(self) -> Result<(), E> {
+        Ok(())
+    }
+    fn visit_seq<A: serde::de::SeqAccess<'de>>(self, mut seq: A) -> Result<(), A::Error> {
+        while seq.next_element_seed(Skip)?.is_some() {}
+        Ok(())
+    }
+    fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<(), A::Error> {
+        while map.next_key_seed(Skip)?.is_some() {
+            map.next_value_seed(Skip)?;
+        }
+        Ok(())
+    }
+}
+
+/// A JSON value read through: whether it is a list.
+struct IsList;
+
+impl<'de> serde::de::DeserializeSeed<'de> for IsList {
+    type Value = bool;
+    fn deserialize<D: Deserializer<'de>>(self, d: D) -> Result<bool, D::Error> {
+        d.deserialize_any(IsList)
+    }
+}
+
+impl<'de> Visitor<'de> for IsList {
+    type Value = bool;
+    fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        f.write_str("any valid JSON value")
+    }
+    fn visit_bool<E>(self, _: bool) -> Result<bool, E> {
+        Ok(false)
+    }
+    fn visit_i64<E>(self, _: i64) -> Result<bool, E> {
+        Ok(false)
+    }
+    fn visit_u64<E>(self, _: u64) -> Result<bool, E> {
+        Ok(false)
+    }
+    fn visit_f64<E>(self, _: f64) -> Result<bool, E> {
+        Ok(false)
+    }
+    fn visit_str<E>(self, _: &str) -> Result<bool, E> {
+        Ok(false)
+    }
+    fn visit_unit<E>(self) -> Result<bool, E> {
+        Ok(false)
+    }
+    fn visit_seq<A: serde::de::SeqAccess<'de>>(self, seq: A) -> Result<bool, A::Error> {
+        Skip.visit_seq(seq).map(|()| true)
+    }
+    fn visit_map<A: MapAccess<'de>>(self, map: A) -> Result<bool, A::Error> {
+        Skip.visit_map(map).map(|()| false)
+    }
+}
+
+/// The first reading of an object of entries: whether it is a ProcTHOR database (some member,
+/// and every member a list, but `version` and those whose key starts with `_`).
+struct Shape;
+
+impl<'de> serde::de::DeserializeSeed<'de> for Shape {
+    type Value = bool;
+    fn deserialize<D: Deserializer<'de>>(self, d: D) -> Result<bool, D::Error> {
+        d.deserialize_map(Shape)
+    }
+}
+
+impl<'de> Visitor<'de> for Shape {
+    type Value = bool;
+    fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        f.write_str("a JSON object")
+    }
+    fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<bool, A::Error> {
+        let (mut members, mut lists) = (0usize, true);
+        while let Some(key) = map.next_key::<Cow<'de, str>>()? {
+            let list = map.next_value_seed(IsList)?;
+            members += 1;
+            lists &= list || key.starts_with('_') || key == "version";
+        }
+        Ok(members > 0 && lists)
+    }
+}
+
+/// A list of entries, read entry by entry.
+struct List<'r, 't>(&'r mut Reader<'t>);
+
+impl<'de> Visitor<'de> for List<'_, '_> {
+    type Value = ();
+    fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        f.write_str("a sequence")
+    }
+    fn visit_seq<A: serde::de::SeqAccess<'de>>(self, mut seq: A) -> Result<(), A::Error> {
+        let mut i = 0;
+        while let Some(entry) = seq.next_element::<Value>()? {
+            self.0.list_entry(i, &entry);
+            i += 1;
+        }
+        Ok(())
+    }
+}
+
+/// An object of entries (objathor's, by uid) or of lists of entries (ProcTHOR's, by object
+/// type), read member by member.
+struct Members<'r, 't>(&'r mut Reader<'t>);
+
+impl<'de> Visitor<'de> for Members<'_, '_> {
+    type Value = ();
+    fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        f.write_str("a JSON object")
+    }
+    fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<(), A::Error> {
+        let reader = self.0;
+        while let Some(key) = map.next_key::<String>()? {
+            if key == "version" || key == "_version" {
+                let value: Value = map.next_value()?;
+                reader.parsed.version =
+                    value.as_str().map(str::to_string).or_else(|| Some(value.to_string()));
+                continue;
+            }
+            if key.starts_with('_') {
+                map.next_value_seed(Skip)?;
+                continue;
+            }
+            let span = key_span(reader.text, reader.file, &key, &mut reader.cursor);
+            if reader.procthor {
+                map.next_value_seed(Group { reader: &mut *reader, key: &key, span })?;
+            } else {
+                let value: Value = map.next_value()?;
+                push_objathor(
+                    &key,
+                    &value,
+                    span,
+                    reader.file,
+                    reader.source,
+                    &mut reader.parsed,
+                    &mut reader.diags,
+                );
+            }
+        }
+        Ok(())
+    }
+}
+
+/// One list of a ProcTHOR database, read entry by entry.
+struct Group<'r, 't, 'k> {
+    reader: &'r mut Reader<'t>,
+    key: &'k str,
+    span: Span,
+}
+
+impl<'de> serde::de::DeserializeSeed<'de> for Group<'_, '_, '_> {
+    type Value = ();
+    fn deserialize<D: Deserializer<'de>>(self, d: D) -> Result<(), D::Error> {
+        d.deserialize_seq(self)
+    }
+}
+
+impl<'de> Visitor<'de> for Group<'_, '_, '_> {
+    type Value = ();
+    fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        f.write_str("a sequence")
+    }
+    fn visit_seq<A: serde::de::SeqAccess<'de>>(self, mut seq: A) -> Result<(), A::Error> {
+        let mut i = 0;
+        while let Some(entry) = seq.next_element::<Value>()? {
+            self.reader.procthor_entry(self.key, self.span, i, &entry);
+            i += 1;
+        }
+        Ok(())
+    }
 }
 
 fn entry_id(entry: &Value) -> Option<String> {
@@ -939,6 +1187,135 @@ mod tests {
         assert!(c.assets().iter().all(|a| a.object_type != "Doorway" && a.object_type != "Window"));
         assert_eq!(c.sources()[0].name, "procthor-builtin");
         assert_eq!(c.sources()[0].version.as_deref(), Some("53d5bd4"));
+    }
+
+    /// The reading of a catalog before it was streamed (issue 51): the whole text as one
+    /// `serde_json::Value` tree. The streamed reading must give the same assets and diagnostics.
+    #[allow(clippy::too_many_lines)]
+    fn parse_catalog_tree(
+        text: &str,
+        file: FileId,
+        source: usize,
+        diags: &mut Vec<Diagnostic>,
+    ) -> Parsed {
+        let mut parsed = Parsed { assets: Vec::new(), version: None };
+        let trimmed = text.trim_start();
+        let mut cursor = 0usize;
+        if trimmed.starts_with('[') {
+            let list: Vec<Value> = match serde_json::from_str(text) {
+                Ok(v) => v,
+                Err(e) => {
+                    diags.push(json_error(text, file, &e));
+                    return parsed;
+                }
+            };
+            for (i, entry) in list.iter().enumerate() {
+                let id = entry_id(entry);
+                let span = match &id {
+                    Some(id) => key_span(text, file, id, &mut cursor),
+                    None => Span::new(file, 0, 0),
+                };
+                let label = id.clone().unwrap_or_else(|| format!("#{i}"));
+                match id {
+                    Some(id) => push_objathor(&id, entry, span, file, source, &mut parsed, diags),
+                    None => {
+                        diags.push(bad_entry(
+                            file,
+                            span,
+                            &label,
+                            "it has no `uid`, `assetId` or `id`",
+                        ));
+                    }
+                }
+            }
+            return parsed;
+        }
+        let object: OrderedObject = match serde_json::from_str(text) {
+            Ok(v) => v,
+            Err(e) => {
+                diags.push(json_error(text, file, &e));
+                return parsed;
+            }
+        };
+        let is_procthor = !object.0.is_empty()
+            && object.0.iter().all(|(k, v)| v.is_array() || k.starts_with('_') || k == "version");
+        for (key, value) in &object.0 {
+            if key == "version" || key == "_version" {
+                parsed.version =
+                    value.as_str().map(str::to_string).or_else(|| Some(value.to_string()));
+                continue;
+            }
+            if key.starts_with('_') {
+                continue;
+            }
+            let span = key_span(text, file, key, &mut cursor);
+            if is_procthor {
+                let Some(list) = value.as_array() else { continue };
+                for (i, entry) in list.iter().enumerate() {
+                    let id = entry.get("assetId").and_then(Value::as_str).map(str::to_string);
+                    let espan = match &id {
+                        Some(id) => key_span(text, file, id, &mut cursor),
+                        None => span,
+                    };
+                    match id {
+                        Some(id) => {
+                            push_procthor(&id, key, entry, espan, file, source, &mut parsed, diags);
+                        }
+                        None => diags.push(bad_entry(
+                            file,
+                            espan,
+                            &format!("{key}[{i}]"),
+                            "it has no `assetId`",
+                        )),
+                    }
+                }
+            } else {
+                push_objathor(key, value, span, file, source, &mut parsed, diags);
+            }
+        }
+        parsed
+    }
+
+    #[test]
+    fn the_streamed_reading_gives_what_the_whole_tree_gave() {
+        let texts = [
+            r#"[{"uid": "a1", "category": "lamp", "onFloor": true,
+                "assetMetadata": {"boundingBox": {"x": 0.3, "y": 1.5, "z": 0.3}}},
+                {"category": "lamp"}, 3, {"assetId": "a2"}]"#,
+            r#"{"version": "2024-01", "b2": {"annotations": {"category": "rug",
+                "onFloor": true}, "thor_metadata": {"assetMetadata": {"boundingBox":
+                {"size": {"x": 2, "y": 0.01, "z": 1.5}}}}}, "b3": 7, "b2": {"onWall": true}}"#,
+            r#"{"_version": {"n": 3}, "_meta": [1, 2], "Sofa": [{"assetId": "s1",
+                "boundingBox": {"x": 2, "y": 1, "z": 1}}, {"assetId": "s2"}, {"x": 1},
+                {"assetId": "w", "objectType": "Window", "boundingBox": {"x": 1, "y": 1, "z": 1}}],
+                "Lamp": [], "Widget": [{"assetId": "g1", "boundingBox": {"x": 1, "y": 1, "z": 1}},
+                {"assetId": "g2", "onFloor": true, "boundingBox": {"x": 1, "y": 1, "z": 1}}]}"#,
+            r#"{"Sofa": [], "x": {}}"#,
+            r#"{"version": 3}"#,
+            "{}",
+            "[]",
+            "",
+            "   ",
+            r#""a string""#,
+            "17",
+            r#"{"a": 1} trailing"#,
+            r#"{"a": {"onFloor": true}, "b": [1, 2"#,
+            r#"{"a": "\ud800"}"#,
+            r#"{"a": 1e999}"#,
+            r#"[{"uid": "a"}, {"uid": "a"},]"#,
+            r#"{"Sofa": [{"assetId": "s1"}], "Lamp": 3}"#,
+            r#"{"Sofa": [{"assetId": "s1", "boundingBox": {"x": 1, "y": 1, "z": 1}}], "Sofa": [{"assetId": "s1"}]}"#,
+        ];
+        let deep = format!("{}{}", "[".repeat(200), "]".repeat(200));
+        let deep_object = format!("{{\"a\": {}1{}}}", "[".repeat(200), "]".repeat(200));
+        for text in texts.iter().copied().chain([deep.as_str(), deep_object.as_str()]) {
+            let (mut streamed, mut tree) = (Vec::new(), Vec::new());
+            let a = parse_catalog(text, FileId(0), 1, &mut streamed);
+            let b = parse_catalog_tree(text, FileId(0), 1, &mut tree);
+            assert_eq!(a.version, b.version, "{text}");
+            assert_eq!(a.assets, b.assets, "{text}");
+            assert_eq!(format!("{streamed:?}"), format!("{tree:?}"), "{text}");
+        }
     }
 
     #[test]

@@ -8,7 +8,7 @@
 
 use std::sync::Arc;
 
-use super::pickle::{f16_to_f32, ArrayBytes, Pickle};
+use super::pickle::{f16_to_f32, ArrayBytes};
 
 /// The bytes a matrix of rows lies in: a file read into memory, or the folder's index, read a
 /// row at a time where it lies on disk (only the rows a build looks at are read; the rest stay
@@ -46,13 +46,17 @@ impl Backing {
 
 /// Reads `buf.len()` bytes of `file` from byte `at`.
 #[cfg(unix)]
-fn read_at(file: &std::fs::File, buf: &mut [u8], at: u64) -> std::io::Result<()> {
+pub(crate) fn read_at(file: &std::fs::File, buf: &mut [u8], at: u64) -> std::io::Result<()> {
     std::os::unix::fs::FileExt::read_exact_at(file, buf, at)
 }
 
 /// Reads `buf.len()` bytes of `file` from byte `at`.
 #[cfg(windows)]
-fn read_at(file: &std::fs::File, mut buf: &mut [u8], mut at: u64) -> std::io::Result<()> {
+pub(crate) fn read_at(
+    file: &std::fs::File,
+    mut buf: &mut [u8],
+    mut at: u64,
+) -> std::io::Result<()> {
     while !buf.is_empty() {
         let n = std::os::windows::fs::FileExt::seek_read(file, buf, at)?;
         if n == 0 {
@@ -143,10 +147,10 @@ mod tests {
 }
 
 impl FeatureRows {
-    /// The rows of an array read from a pickle whose bytes are `file`.
+    /// The rows of an array read from a pickle whose bytes are `file` (the bytes read, or the
+    /// file itself, read a row at a time).
     pub(crate) fn new(
-        file: &Arc<Vec<u8>>,
-        pickle: &Pickle<'_>,
+        file: &Backing,
         array: super::pickle::F16Array,
     ) -> Result<FeatureRows, String> {
         let (rows, views, dim) = match array.shape[..] {
@@ -160,7 +164,7 @@ impl FeatureRows {
         // Every lookup indexes `start + (row · views + view) · 2 · dim`: the rows must hold
         // exactly the bytes present, counted without overflow (`Pickle::f16_array` checks the
         // same; this keeps the rows sound whatever array they are given).
-        let present = pickle.array_bytes(&array.bytes).len();
+        let present = array.bytes.len();
         let item = array.item;
         if !matches!(item, 2 | 4) {
             return Err(format!("its elements have {item} bytes, neither float16 nor float32"));
@@ -172,11 +176,9 @@ impl FeatureRows {
                 array.shape
             ));
         }
-        let (bytes, start) = match &array.bytes {
-            ArrayBytes::InFile(r) => (Backing::Read(Arc::clone(file)), r.start),
-            ArrayBytes::Owned(_) => {
-                (Backing::Read(Arc::new(pickle.array_bytes(&array.bytes).to_vec())), 0)
-            }
+        let (bytes, start) = match array.bytes {
+            ArrayBytes::InFile(r) => (file.clone(), r.start),
+            ArrayBytes::Owned(v) => (Backing::Read(Arc::new(v)), 0),
         };
         FeatureRows::within(bytes, start, [rows, views, dim], item, array.big_endian)
     }
@@ -205,13 +207,37 @@ impl FeatureRows {
         Ok(FeatureRows { bytes, start, rows, item, views, dim, big_endian })
     }
 
-    /// The rows as they lie: their bytes (`None` when they cannot be read), the shape (rows,
-    /// views, dim), the bytes per element and whether they are big-endian (what the index
-    /// writes).
-    pub(crate) fn raw(&self) -> (Option<std::borrow::Cow<'_, [u8]>>, [usize; 3], usize, bool) {
-        let n = self.rows * self.views * self.dim * self.item;
-        let shape = [self.rows, self.views, self.dim];
-        (self.bytes.get(self.start, n), shape, self.item, self.big_endian)
+    /// The rows as they lie: the shape (rows, views, dim), the bytes per element and whether
+    /// they are big-endian (what the index writes; [`FeatureRows::write_raw`] writes their
+    /// bytes).
+    pub(crate) fn raw(&self) -> ([usize; 3], usize, bool) {
+        ([self.rows, self.views, self.dim], self.item, self.big_endian)
+    }
+
+    /// How many bytes the rows take.
+    pub(crate) fn raw_len(&self) -> usize {
+        self.rows * self.views * self.dim * self.item
+    }
+
+    /// Writes the rows' bytes as they lie to `out`, a few MiB at a time (rows on disk are
+    /// never read whole into memory).
+    ///
+    /// # Errors
+    /// The rows cannot be read, or `out` cannot be written.
+    pub(crate) fn write_raw(&self, out: &mut impl std::io::Write) -> std::io::Result<()> {
+        const STEP: usize = 4 * 1024 * 1024;
+        let n = self.raw_len();
+        let mut done = 0;
+        while done < n {
+            let take = STEP.min(n - done);
+            let bytes = self
+                .bytes
+                .get(self.start + done, take)
+                .ok_or_else(|| std::io::Error::other("the rows cannot be read"))?;
+            out.write_all(&bytes)?;
+            done += take;
+        }
+        Ok(())
     }
 
     /// Rows made from float16 bits (tests).
@@ -240,6 +266,12 @@ impl FeatureRows {
             dim,
             big_endian: false,
         }
+    }
+
+    /// The bytes the rows lie in.
+    #[cfg(test)]
+    pub(crate) fn backing(&self) -> &Backing {
+        &self.bytes
     }
 
     /// Whether the rows are float32 (else float16).

@@ -26,7 +26,7 @@ use super::index::{Candidate, Query, TextIndex, SIZE_WEIGHT};
 use crate::diag::{Code, Diagnostic};
 use crate::source::{FileId, SourceMap, Span};
 use annotations::{Entry, License};
-use features::{FeatureRows, Features};
+use features::{Backing, FeatureRows, Features};
 
 /// The largest feature file holoc reads, bytes.
 pub const MAX_FEATURES_BYTES: u64 = 4 * 1024 * 1024 * 1024;
@@ -389,10 +389,85 @@ struct FeatureFile {
     sha256: String,
 }
 
+/// The most a gzip feature file may hold once decompressed: it is decompressed into memory (a
+/// gzip stream cannot be read at a row's place), so its bound is that of the memory, not the
+/// 4 GiB of a plain file, whose rows are read from disk. 512 MiB hold 116,000 assets of image
+/// features (objathor's 50,000 take 230 MB).
+pub const MAX_GZIP_FEATURES_BYTES: u64 = 512 * 1024 * 1024;
+
 /// Reads a pickled feature file (gzip allowed) with the arrays `keys` (the first required).
+///
+/// A regular file is read where it lies (issue 51: the largest legal file was held whole, 4.3
+/// GB): its bytes are hashed as they stream by, its pickle is read without its arrays'
+/// bytes, and its rows are read from disk when a query looks at them, as the folder's index's
+/// are. A gzip file is decompressed into memory (at most [`MAX_GZIP_FEATURES_BYTES`]); a device
+/// or pipe is read whole, as before.
 fn read_features(path: &Path, keys: &[&str]) -> Result<FeatureFile, String> {
-    let bytes = crate::source::read_input(path, MAX_FEATURES_BYTES).map_err(|e| e.to_string())?;
-    features_of_bytes(bytes, keys)
+    let regular = std::fs::metadata(path).is_ok_and(|m| m.is_file());
+    if !regular {
+        let bytes =
+            crate::source::read_input(path, MAX_FEATURES_BYTES).map_err(|e| e.to_string())?;
+        return features_of_bytes(bytes, keys);
+    }
+    let file = std::fs::File::open(path).map_err(|e| e.to_string())?;
+    let len = file.metadata().map_err(|e| e.to_string())?.len();
+    if len > MAX_FEATURES_BYTES {
+        return Err(crate::source::ReadError::TooLarge(MAX_FEATURES_BYTES).to_string());
+    }
+    let len = usize::try_from(len).map_err(|e| e.to_string())?;
+    let (sha256, gzip) = hash_file(&file, len)?;
+    if gzip {
+        use std::io::Read as _;
+        let mut out = Vec::new();
+        flate2::read::GzDecoder::new(std::io::BufReader::new(&file))
+            .take(MAX_GZIP_FEATURES_BYTES + 1)
+            .read_to_end(&mut out)
+            .map_err(|e| format!("bad gzip data: {e}"))?;
+        check_gunzipped(&out)?;
+        let out = Arc::new(out);
+        let pickle =
+            pickle::Pickle::read(&out).map_err(|e| format!("not a readable pickle: {e}"))?;
+        return features_of_pickle(&Backing::Read(Arc::clone(&out)), &pickle, keys, sha256);
+    }
+    let file = Arc::new(file);
+    let pickle =
+        pickle::Pickle::read_file(&file, len).map_err(|e| format!("not a readable pickle: {e}"))?;
+    features_of_pickle(&Backing::Stored(Arc::clone(&file), len), &pickle, keys, sha256)
+}
+
+/// The SHA-256 of the first `len` bytes of `file` (read a MiB at a time) and whether they
+/// start as gzip data.
+fn hash_file(file: &std::fs::File, len: usize) -> Result<(String, bool), String> {
+    use sha2::Digest as _;
+    let mut hasher = sha2::Sha256::new();
+    let mut buf = vec![0u8; (1 << 20).min(len)];
+    let mut gzip = false;
+    let mut at = 0;
+    while at < len {
+        let n = buf.len().min(len - at);
+        features::read_at(file, &mut buf[..n], at as u64)
+            .map_err(|e| format!("it cannot be read: {e}"))?;
+        if at == 0 {
+            gzip = buf[..n].starts_with(&[0x1f, 0x8b]);
+        }
+        hasher.update(&buf[..n]);
+        at += n;
+    }
+    Ok((super::catalog::digest_hex(&hasher.finalize()), gzip))
+}
+
+/// Refuses gzip data that decompressed to more than [`MAX_GZIP_FEATURES_BYTES`].
+fn check_gunzipped(out: &[u8]) -> Result<(), String> {
+    if out.len() as u64 > MAX_GZIP_FEATURES_BYTES {
+        return Err(format!(
+            "it holds more than {} MiB once decompressed, the most holoc decompresses (into \
+             memory); decompress it (`gunzip`): an uncompressed feature file is read from disk, \
+             up to {} GiB",
+            MAX_GZIP_FEATURES_BYTES >> 20,
+            MAX_FEATURES_BYTES >> 30
+        ));
+    }
+    Ok(())
 }
 
 /// Reads the bytes of a pickled feature file (gzip allowed) with the arrays `keys` (the first
@@ -403,22 +478,33 @@ fn features_of_bytes(bytes: Vec<u8>, keys: &[&str]) -> Result<FeatureFile, Strin
         use std::io::Read as _;
         let mut out = Vec::new();
         flate2::read::GzDecoder::new(&bytes[..])
-            .take(MAX_FEATURES_BYTES + 1)
+            .take(MAX_GZIP_FEATURES_BYTES + 1)
             .read_to_end(&mut out)
             .map_err(|e| format!("bad gzip data: {e}"))?;
+        check_gunzipped(&out)?;
         out
     } else {
         bytes
     };
     let bytes = Arc::new(bytes);
     let pickle = pickle::Pickle::read(&bytes).map_err(|e| format!("not a readable pickle: {e}"))?;
+    features_of_pickle(&Backing::Read(Arc::clone(&bytes)), &pickle, keys, sha256)
+}
+
+/// The arrays `keys` (the first required) and the `uids` of a read pickle whose bytes are
+/// `backing`: every shape checked against the bytes present before any row is looked at.
+fn features_of_pickle(
+    backing: &Backing,
+    pickle: &pickle::Pickle<'_>,
+    keys: &[&str],
+    sha256: String,
+) -> Result<FeatureFile, String> {
     let uids = pickle.strings("uids")?.ok_or("it has no `uids`")?;
     let mut arrays = Vec::new();
     for (i, key) in keys.iter().enumerate() {
         match pickle.f16_array(key)? {
             Some(array) => {
-                let rows = FeatureRows::new(&bytes, &pickle, array)
-                    .map_err(|e| format!("`{key}`: {e}"))?;
+                let rows = FeatureRows::new(backing, array).map_err(|e| format!("`{key}`: {e}"))?;
                 if rows.len() != uids.len() {
                     return Err(format!("`{key}` has {} rows for {} uids", rows.len(), uids.len()));
                 }
@@ -874,7 +960,7 @@ impl<'de> serde::de::DeserializeSeed<'de> for &mut Entries<'_> {
 impl<'de> serde::de::Visitor<'de> for &mut Entries<'_> {
     type Value = ();
     fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
-        // The words of `catalog::OrderedObject`, which read the whole object first.
+        // The words of a catalog's reading (`catalog::parse_catalog`).
         f.write_str("a JSON object")
     }
     fn visit_map<A: serde::de::MapAccess<'de>>(self, mut map: A) -> Result<(), A::Error> {
@@ -1497,4 +1583,122 @@ fn on_disk(
             Some(d)
         })
         .collect()
+}
+
+#[cfg(test)]
+mod read_tests {
+    use super::pickle::{f32_to_f16, write, NumpyModules, Value};
+    use super::*;
+
+    /// Every vector of every array of a feature file, decoded.
+    fn vectors(file: &FeatureFile) -> Vec<(String, Vec<Vec<f32>>)> {
+        file.arrays
+            .iter()
+            .map(|(key, rows)| {
+                let mut out = Vec::new();
+                for row in 0..rows.len() {
+                    for view in 0..rows.views {
+                        let mut v = vec![0f32; rows.dim];
+                        rows.decode(row, view, &mut v);
+                        out.push(v);
+                    }
+                }
+                (key.clone(), out)
+            })
+            .collect()
+    }
+
+    fn pickles() -> Vec<(String, Vec<u8>)> {
+        let uids: Vec<String> = (0..5).map(|i| format!("{i:032x}")).collect();
+        let bits: Vec<u16> = (0..5 * 3 * 7).map(|i| f32_to_f16(i as f32 / 50.0 - 1.0)).collect();
+        let values: Vec<f32> = (0..5 * 7).map(|i| i as f32 / 35.0 + 1e-4).collect();
+        let mut out = Vec::new();
+        for protocol in 2..=5 {
+            for modules in [NumpyModules::Core, NumpyModules::UnderscoreCore] {
+                let data = write(
+                    &[
+                        ("uids", Value::Strings(uids.clone())),
+                        ("img_features", Value::F16 { shape: vec![5, 3, 7], bits: bits.clone() }),
+                        ("text_features", Value::F32 { shape: vec![5, 7], values: values.clone() }),
+                    ],
+                    protocol,
+                    modules,
+                );
+                out.push((format!("protocol {protocol} {modules:?}"), data));
+            }
+        }
+        out
+    }
+
+    #[test]
+    fn a_feature_file_read_from_disk_gives_the_rows_of_the_file_read_whole() {
+        let dir = tempfile::tempdir().expect("scratch");
+        for (what, data) in pickles() {
+            let path = dir.path().join("clip_features.pkl");
+            std::fs::write(&path, &data).expect("write");
+            let keys = ["img_features", "text_features"];
+            let whole = features_of_bytes(data.clone(), &keys).expect("reads whole");
+            let streamed = read_features(&path, &keys).expect("reads from disk");
+            // Protocol 2 writes the elements as latin-1 text, decoded into bytes of their own.
+            assert_eq!(
+                streamed.arrays.iter().all(|(_, r)| matches!(r.backing(), Backing::Stored(..))),
+                !what.starts_with("protocol 2"),
+                "{what}: the rows stay on disk"
+            );
+            assert_eq!(streamed.uids, whole.uids, "{what}");
+            assert_eq!(streamed.sha256, whole.sha256, "{what}");
+            assert_eq!(streamed.sha256, super::super::sha256_hex(&data), "{what}");
+            assert_eq!(vectors(&streamed), vectors(&whole), "{what}");
+            assert_eq!(streamed.arrays.len(), 2, "{what}");
+            // What the index copies of them: the same bytes.
+            for ((_, a), (_, b)) in streamed.arrays.iter().zip(&whole.arrays) {
+                let (mut x, mut y) = (Vec::new(), Vec::new());
+                a.write_raw(&mut x).expect("reads");
+                b.write_raw(&mut y).expect("reads");
+                assert_eq!(x, y, "{what}");
+                assert_eq!(x.len(), a.raw_len(), "{what}");
+            }
+            // Gzip: decompressed into memory, the same rows.
+            let gz = dir.path().join("clip_features.pkl.gz");
+            let mut enc = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::fast());
+            std::io::Write::write_all(&mut enc, &data).expect("gzip");
+            let packed = enc.finish().expect("gzip");
+            std::fs::write(&gz, &packed).expect("write");
+            let unpacked = read_features(&gz, &keys).expect("reads gzip");
+            assert_eq!(unpacked.sha256, super::super::sha256_hex(&packed), "{what}");
+            assert_eq!(vectors(&unpacked), vectors(&whole), "{what}");
+        }
+    }
+
+    #[test]
+    fn a_cut_or_overflowing_feature_file_on_disk_is_refused_as_when_read_whole() {
+        let dir = tempfile::tempdir().expect("scratch");
+        let path = dir.path().join("clip_features.pkl");
+        let keys = ["img_features", "text_features"];
+        for (what, data) in pickles() {
+            for cut in [1, 7, data.len() / 2, data.len() - 1] {
+                std::fs::write(&path, &data[..cut]).expect("write");
+                let whole = features_of_bytes(data[..cut].to_vec(), &keys).err();
+                let streamed = read_features(&path, &keys).err();
+                assert!(streamed.is_some(), "{what}, cut at {cut}");
+                assert_eq!(streamed, whole, "{what}, cut at {cut}");
+            }
+        }
+        // A shape whose size wraps to zero bytes (issue 51, case 1).
+        let uids: Vec<String> = (0..3).map(|i| format!("{i:032x}")).collect();
+        for protocol in [4, 5] {
+            let data = write(
+                &[
+                    ("uids", Value::Strings(uids.clone())),
+                    ("img_features", Value::F16 { shape: vec![3, 1 << 62, 8], bits: Vec::new() }),
+                ],
+                protocol,
+                NumpyModules::Core,
+            );
+            std::fs::write(&path, &data).expect("write");
+            let why = read_features(&path, &keys).err().expect("refused");
+            assert!(why.contains("holds more elements than any file can"), "{why}");
+            assert_eq!(Some(why), features_of_bytes(data, &keys).err());
+        }
+    }
 }

@@ -61,9 +61,68 @@ enum Node {
 /// A read pickle: its nodes and the top value.
 #[derive(Debug)]
 pub struct Pickle<'a> {
-    data: &'a [u8],
+    data: Input<'a>,
     nodes: Vec<Node>,
     root: usize,
+}
+
+/// Where a pickle's bytes are: in memory, or in a file (of this length) read as the reader
+/// goes. From a file, only the opcodes and their small arguments are read: the byte strings
+/// (an array's elements) are passed over and kept by their place, so a feature file of 4 GiB
+/// is read with the memory of its `uids` (issue 51).
+#[derive(Clone, Copy, Debug)]
+pub enum Input<'a> {
+    /// The pickle's bytes.
+    Bytes(&'a [u8]),
+    /// A file and its length when it was opened.
+    File(&'a std::fs::File, usize),
+}
+
+impl Input<'_> {
+    fn len(&self) -> usize {
+        match self {
+            Input::Bytes(b) => b.len(),
+            Input::File(_, n) => *n,
+        }
+    }
+}
+
+/// The longest string (or Fortran-order array, reordered in memory) the reader takes: 256 MiB.
+/// Protocol 2 writes an array's bytes as latin-1 text, held twice while it is decoded; a
+/// larger one is refused with these words rather than filling the memory.
+pub const MAX_HELD_BYTES: usize = 256 * 1024 * 1024;
+
+/// How much of a file the reader reads at once (an opcode's argument longer than this, a
+/// string, is read on its own).
+const CHUNK: usize = 64 * 1024;
+
+/// The bytes `r` of `data` (within its length): borrowed from memory or from `buf`, the last
+/// chunk read of a file (starting at byte `*buf_at`), or read on their own when larger.
+fn fetch<'s>(
+    data: Input<'s>,
+    buf: &'s mut Vec<u8>,
+    buf_at: &mut usize,
+    r: Range<usize>,
+) -> std::io::Result<std::borrow::Cow<'s, [u8]>> {
+    use std::borrow::Cow;
+    match data {
+        Input::Bytes(b) => Ok(Cow::Borrowed(&b[r])),
+        Input::File(file, len) => {
+            if r.start >= *buf_at && r.end <= *buf_at + buf.len() {
+                return Ok(Cow::Borrowed(&buf[r.start - *buf_at..r.end - *buf_at]));
+            }
+            if r.len() > CHUNK {
+                let mut own = vec![0u8; r.len()];
+                super::features::read_at(file, &mut own, r.start as u64)?;
+                return Ok(Cow::Owned(own));
+            }
+            let n = CHUNK.min(len - r.start);
+            buf.resize(n, 0);
+            *buf_at = r.start;
+            super::features::read_at(file, buf, r.start as u64)?;
+            Ok(Cow::Borrowed(&buf[..r.len()]))
+        }
+    }
 }
 
 /// The elements of a numpy float16 or float32 array as they stand in the file (or decoded
@@ -89,8 +148,26 @@ pub enum ArrayBytes {
     Owned(Vec<u8>),
 }
 
+impl ArrayBytes {
+    /// How many bytes there are.
+    pub fn len(&self) -> usize {
+        match self {
+            ArrayBytes::InFile(r) => r.len(),
+            ArrayBytes::Owned(v) => v.len(),
+        }
+    }
+
+    /// Whether there are none.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+}
+
 struct Machine<'a> {
-    data: &'a [u8],
+    data: Input<'a>,
+    /// The chunk of a file last read, and where it starts.
+    buf: Vec<u8>,
+    buf_at: usize,
     pos: usize,
     nodes: Vec<Node>,
     stack: Vec<usize>,
@@ -103,6 +180,15 @@ fn err<T>(offset: usize, message: impl Into<String>) -> Result<T, PickleError> {
 }
 
 impl Machine<'_> {
+    /// The bytes `r` (within the data; see [`Machine::take`]).
+    fn read(&mut self, r: Range<usize>) -> Result<std::borrow::Cow<'_, [u8]>, PickleError> {
+        let at = r.start;
+        fetch(self.data, &mut self.buf, &mut self.buf_at, r).map_err(|e| PickleError {
+            offset: at,
+            message: format!("the file cannot be read: {e}"),
+        })
+    }
+
     fn take(&mut self, n: u64) -> Result<Range<usize>, PickleError> {
         let left = (self.data.len() - self.pos) as u64;
         if n > left {
@@ -116,7 +202,7 @@ impl Machine<'_> {
     fn uint(&mut self, width: usize) -> Result<u64, PickleError> {
         let r = self.take(width as u64)?;
         let mut v = 0u64;
-        for (i, b) in self.data[r].iter().enumerate() {
+        for (i, b) in self.read(r)?.iter().enumerate() {
             v |= u64::from(*b) << (8 * i);
         }
         Ok(v)
@@ -124,12 +210,20 @@ impl Machine<'_> {
 
     fn line(&mut self) -> Result<String, PickleError> {
         let start = self.pos;
-        let Some(n) = self.data[start..].iter().position(|b| *b == b'\n') else {
-            return err(start, "a text argument has no end of line");
+        // In a file, a line (a module or a memo key) is looked for in the next chunk.
+        let end = match self.data {
+            Input::Bytes(b) => b.len(),
+            Input::File(_, len) => len.min(start + CHUNK),
+        };
+        let (n, text) = {
+            let window = self.read(start..end)?;
+            let Some(n) = window.iter().position(|b| *b == b'\n') else {
+                return err(start, "a text argument has no end of line");
+            };
+            (n, String::from_utf8(window[..n].to_vec()))
         };
         self.pos = start + n + 1;
-        String::from_utf8(self.data[start..start + n].to_vec())
-            .map_err(|_| PickleError { offset: start, message: "text is not UTF-8".into() })
+        text.map_err(|_| PickleError { offset: start, message: "text is not UTF-8".into() })
     }
 
     fn push(&mut self, node: Node) {
@@ -165,9 +259,20 @@ impl Machine<'_> {
         let at = self.pos;
         let n = self.uint(width)?;
         let r = self.take(n)?;
-        let text = std::str::from_utf8(&self.data[r])
+        if r.len() > MAX_HELD_BYTES {
+            return err(
+                at,
+                format!(
+                    "a string of {n} bytes is longer than holoc reads ({} MiB; protocol 2 \
+                     writes an array as such a string: save the file with protocol 4 or 5)",
+                    MAX_HELD_BYTES >> 20
+                ),
+            );
+        }
+        let text = std::str::from_utf8(&self.read(r)?)
+            .map(str::to_string)
             .map_err(|_| PickleError { offset: at, message: "a string is not UTF-8".into() })?;
-        self.push(Node::Str(text.to_string()));
+        self.push(Node::Str(text));
         Ok(())
     }
 
@@ -197,9 +302,10 @@ impl Machine<'_> {
     fn run(mut self) -> Result<(Vec<Node>, usize), PickleError> {
         loop {
             let at = self.pos;
-            let Some(&op) = self.data.get(self.pos) else {
+            if at >= self.data.len() {
                 return err(at, "the file ends before the pickle's STOP");
-            };
+            }
+            let op = self.read(at..at + 1)?[0];
             self.pos += 1;
             match op {
                 0x80 => {
@@ -243,7 +349,7 @@ impl Machine<'_> {
                         return err(at, "an integer larger than 64 bits");
                     }
                     let r = self.take(n)?;
-                    let bytes = &self.data[r];
+                    let bytes = self.read(r)?;
                     let mut v: i64 = 0;
                     for (i, b) in bytes.iter().enumerate() {
                         v |= i64::from(*b) << (8 * i);
@@ -256,7 +362,7 @@ impl Machine<'_> {
                 b'G' => {
                     let r = self.take(8)?;
                     let mut b = [0u8; 8];
-                    b.copy_from_slice(&self.data[r]);
+                    b.copy_from_slice(&self.read(r)?);
                     self.push(Node::Float(f64::from_be_bytes(b)));
                 }
                 b'X' => self.string(4)?,
@@ -408,8 +514,26 @@ impl Machine<'_> {
 impl<'a> Pickle<'a> {
     /// Reads a pickle from its bytes.
     pub fn read(data: &'a [u8]) -> Result<Pickle<'a>, PickleError> {
+        Pickle::read_input(Input::Bytes(data))
+    }
+
+    /// Reads a pickle from a file of `len` bytes without reading its byte strings (an
+    /// array's elements), which stay on disk; [`Pickle::array_bytes`] and the rows made of it
+    /// read them where they lie.
+    pub fn read_file(file: &'a std::fs::File, len: usize) -> Result<Pickle<'a>, PickleError> {
+        Pickle::read_input(Input::File(file, len))
+    }
+
+    /// Where the pickle's bytes are.
+    pub fn input(&self) -> Input<'a> {
+        self.data
+    }
+
+    fn read_input(data: Input<'a>) -> Result<Pickle<'a>, PickleError> {
         let machine = Machine {
             data,
+            buf: Vec::new(),
+            buf_at: 0,
             pos: 0,
             nodes: Vec::new(),
             stack: Vec::new(),
@@ -466,7 +590,7 @@ impl<'a> Pickle<'a> {
                 if kind != 'U' {
                     return Err(format!("`{key}` is neither a list of strings nor a string array"));
                 }
-                let bytes = self.array_bytes(&array.bytes);
+                let bytes = self.read_array(&array.bytes).map_err(|e| format!("`{key}`: {e}"))?;
                 let width_bytes = width * 4;
                 if width_bytes == 0 || bytes.len() % width_bytes != 0 {
                     return Err(format!("`{key}`: the string array's bytes do not fit its type"));
@@ -502,7 +626,7 @@ impl<'a> Pickle<'a> {
                 "`{key}` is an array of `{kind}{width}`, not of float16 (`f2`) or float32 (`f4`)"
             ));
         }
-        let len = self.array_bytes(&array.bytes).len();
+        let len = array.bytes.len();
         // The shape's size with overflow checked: a shape whose product wraps (to zero, say)
         // would otherwise pass for an array of the bytes present.
         let Some(needed) = element_bytes(&array.shape, width) else {
@@ -519,18 +643,45 @@ impl<'a> Pickle<'a> {
             ));
         }
         let bytes = if array.fortran && array.shape.len() > 1 {
-            ArrayBytes::Owned(fortran_to_c(self.array_bytes(&array.bytes), &array.shape, width))
+            if len > MAX_HELD_BYTES {
+                return Err(format!(
+                    "`{key}`: a Fortran-order array of more than {} MiB is not read (it is \
+                     reordered in memory); save it in C order",
+                    MAX_HELD_BYTES >> 20
+                ));
+            }
+            let held = self.read_array(&array.bytes).map_err(|e| format!("`{key}`: {e}"))?;
+            ArrayBytes::Owned(fortran_to_c(&held, &array.shape, width))
         } else {
             array.bytes
         };
         Ok(Some(F16Array { shape: array.shape, bytes, big_endian, item: width }))
     }
 
-    /// The bytes an array's elements are in.
-    pub fn array_bytes<'b>(&'b self, bytes: &'b ArrayBytes) -> &'b [u8] {
-        match bytes {
-            ArrayBytes::InFile(r) => &self.data[r.clone()],
-            ArrayBytes::Owned(v) => v,
+    /// The bytes an array's elements are in (none when they are in a file that cannot be
+    /// read: see [`Pickle::read_array`]).
+    pub fn array_bytes<'b>(&'b self, bytes: &'b ArrayBytes) -> std::borrow::Cow<'b, [u8]> {
+        self.read_array(bytes).unwrap_or_default()
+    }
+
+    /// The bytes an array's elements are in, read from the file when they are there.
+    ///
+    /// # Errors
+    /// The file cannot be read.
+    pub fn read_array<'b>(
+        &'b self,
+        bytes: &'b ArrayBytes,
+    ) -> Result<std::borrow::Cow<'b, [u8]>, String> {
+        use std::borrow::Cow;
+        match (bytes, self.data) {
+            (ArrayBytes::Owned(v), _) => Ok(Cow::Borrowed(v)),
+            (ArrayBytes::InFile(r), Input::Bytes(b)) => Ok(Cow::Borrowed(&b[r.clone()])),
+            (ArrayBytes::InFile(r), Input::File(file, _)) => {
+                let mut own = vec![0u8; r.len()];
+                super::features::read_at(file, &mut own, r.start as u64)
+                    .map_err(|e| format!("the file cannot be read: {e}"))?;
+                Ok(Cow::Owned(own))
+            }
         }
     }
 

@@ -363,6 +363,23 @@ pub(crate) fn write(
     Err(why.join("; "))
 }
 
+/// A writer that counts the bytes written through it.
+struct Counted<'w> {
+    out: &'w mut std::io::BufWriter<tempfile::NamedTempFile>,
+    n: u64,
+}
+
+impl std::io::Write for Counted<'_> {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        let n = self.out.write(buf)?;
+        self.n += n as u64;
+        Ok(n)
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        self.out.flush()
+    }
+}
+
 /// The index file being written: where the next byte goes.
 struct Out {
     file: std::io::BufWriter<tempfile::NamedTempFile>,
@@ -372,11 +389,20 @@ struct Out {
 impl Out {
     /// Writes `bytes` at the next multiple of [`ALIGN`]; their offset.
     fn put(&mut self, bytes: &[u8]) -> std::io::Result<u64> {
+        self.put_with(|w| w.write_all(bytes))
+    }
+
+    /// Writes what `write` writes at the next multiple of [`ALIGN`]; its offset.
+    fn put_with(
+        &mut self,
+        write: impl FnOnce(&mut Counted<'_>) -> std::io::Result<()>,
+    ) -> std::io::Result<u64> {
         let pad = (ALIGN - self.at % ALIGN) % ALIGN;
         self.file.write_all(&[0u8; ALIGN as usize][..pad as usize])?;
         let start = self.at + pad;
-        self.file.write_all(bytes)?;
-        self.at = start + bytes.len() as u64;
+        let mut counted = Counted { out: &mut self.file, n: 0 };
+        write(&mut counted)?;
+        self.at = start + counted.n;
         Ok(start)
     }
 
@@ -391,9 +417,8 @@ impl Out {
         };
         let mut arrays = Vec::new();
         for (key, rows) in &f.arrays {
-            let (bytes, shape, item, big_endian) = rows.raw();
-            let bytes = bytes.ok_or_else(|| std::io::Error::other("the rows cannot be read"))?;
-            let offset = self.put(&bytes)?;
+            let (shape, item, big_endian) = rows.raw();
+            let offset = self.put_with(|w| rows.write_raw(w))?;
             let section =
                 Section { offset, shape: shape.map(|x| x as u64), item: item as u8, big_endian };
             arrays.push((key.clone(), section));
