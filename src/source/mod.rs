@@ -98,13 +98,33 @@ pub struct SourceFile {
     pub text: std::sync::Arc<String>,
     /// (Shared by the copies of the file, as its text is; copied when one of them changes.)
     line_starts: std::sync::Arc<Vec<usize>>,
+    /// The characters before each [`CHAR_BLOCK`] bytes of the text, worked out the first time
+    /// a column far into a long line is asked for (shared as the line starts are, and made
+    /// again after a change).
+    char_blocks: std::sync::Arc<std::sync::OnceLock<Vec<usize>>>,
+}
+
+/// The bytes of text between two counts kept by [`SourceFile::char_blocks`]: a column far into
+/// a long line (a house written on one line) is counted from the nearest count before it,
+/// never from the line's start.
+const CHAR_BLOCK: usize = 4096;
+
+/// The characters (Unicode scalar values) that start in `bytes`: those not a continuation
+/// byte. Any range of a string's bytes may be given, even one that cuts a character.
+fn chars_starting_in(bytes: &[u8]) -> usize {
+    bytes.iter().filter(|&&b| (b as i8) >= -0x40).count()
 }
 
 impl SourceFile {
     /// Makes a file and indexes its lines.
     pub fn new(name: impl Into<String>, text: impl Into<String>) -> SourceFile {
         let text = text.into();
-        SourceFile { name: name.into(), line_starts: line_starts(&text).into(), text: text.into() }
+        SourceFile {
+            name: name.into(),
+            line_starts: line_starts(&text).into(),
+            char_blocks: std::sync::Arc::default(),
+            text: text.into(),
+        }
     }
 
     /// The 0-based line index holding byte `offset`.
@@ -128,8 +148,29 @@ impl SourceFile {
     pub fn line_col(&self, offset: usize) -> LineCol {
         let offset = self.clamp(offset);
         let line = self.line_index(offset);
-        let column = self.text[self.line_starts[line]..offset].chars().count() + 1;
-        LineCol { line: line + 1, column }
+        let start = self.line_starts[line];
+        let column = if offset - start <= 2 * CHAR_BLOCK {
+            self.text[start..offset].chars().count()
+        } else {
+            self.chars_before(offset) - self.chars_before(start)
+        };
+        LineCol { line: line + 1, column: column + 1 }
+    }
+
+    /// The characters before byte `offset`, from the nearest block count before it.
+    fn chars_before(&self, offset: usize) -> usize {
+        let bytes = self.text.as_bytes();
+        let blocks = self.char_blocks.get_or_init(|| {
+            let mut counts = vec![0];
+            for block in bytes.chunks(CHAR_BLOCK) {
+                let before = counts.last().copied().unwrap_or(0);
+                counts.push(before + chars_starting_in(block));
+            }
+            counts
+        });
+        let block = offset / CHAR_BLOCK;
+        blocks.get(block).copied().unwrap_or(0)
+            + chars_starting_in(&bytes[(block * CHAR_BLOCK).min(offset)..offset])
     }
 
     /// The LSP position of byte `offset`: 0-based line, 0-based UTF-16 column.
@@ -181,6 +222,8 @@ impl SourceFile {
             text.reserve_exact(grown - text.len() + slack);
         }
         text.replace_range(start..end, with);
+        // The counts of characters are made again if asked for.
+        self.char_blocks = std::sync::Arc::default();
         let new_end = start + with.len();
         // A line start `s` depends on bytes `s - 1` and `s`: those from `start` to `end` (old)
         // are made again from the new text, from byte `start - 1` to `new_end`.
@@ -341,6 +384,34 @@ mod tests {
         assert_eq!(file.line_col(x), LineCol { line: 2, column: 4 });
         assert_eq!(file.lsp_position(x), (1, 4));
         assert_eq!(file.line_text(2), "çé😀x");
+    }
+
+    #[test]
+    fn a_column_far_into_a_long_line_is_the_count_of_its_characters() {
+        // Lines longer than two blocks, of characters of 1 to 4 bytes, cut by blocks anywhere.
+        let piece = "aé😀ç\u{2028}b";
+        let long: String = piece.repeat(3 * CHAR_BLOCK / piece.len() + 7);
+        let text = format!("first\n{long}\nx{long}");
+        let mut file = SourceFile::new("t", text.clone());
+        let plain = |text: &str, offset: usize| {
+            let start = text[..offset].rfind('\n').map_or(0, |i| i + 1);
+            text[start..offset].chars().count() + 1
+        };
+        let offsets: Vec<usize> = text
+            .char_indices()
+            .map(|(i, _)| i)
+            .filter(|i| i % 9973 < 4 || *i > text.len() - 8)
+            .chain([text.len()])
+            .collect();
+        for &offset in &offsets {
+            assert_eq!(file.line_col(offset).column, plain(&text, offset), "offset {offset}");
+        }
+        // After an edit the counts are made again.
+        file.replace_range(0..0, "😀😀");
+        let edited = file.text.to_string();
+        let end = edited.len();
+        assert_eq!(file.line_col(end).column, plain(&edited, end));
+        assert_eq!(file.line_col(end - long.len()).column, plain(&edited, end - long.len()));
     }
 
     #[test]
