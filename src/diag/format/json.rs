@@ -110,7 +110,7 @@ mod tests {
     fn the_document_written_item_by_item_is_the_whole_trees() {
         let mut sources = SourceMap::new();
         let file = sources.add("scene.holo", "room a {\n  bed \"x\\ny\"\n}\n".to_string());
-        let all = vec![
+        let all = [
             Diagnostic::new(Code::E0201, "unknown name `bde`\nsecond line \"quoted\"")
                 .with_primary(Span::new(file, 11, 14), "here")
                 .with_secondary(Span::new(file, 0, 4), "in this room")
