@@ -318,6 +318,15 @@ proptest! {
 }
 
 /// The rooms of an example, solved from the checked scene with the sizes written in it.
+/// The room problem of the first room of a scene's text (sizes as written), the scene checked.
+fn first_room_problem(name: &str, text: &str) -> RoomProblem {
+    let mut sources = holoc::source::SourceMap::new();
+    let id = sources.add(name, text.to_string());
+    let checked = holoc::compile::check_file(&sources, id);
+    let Some(scene) = checked.value else { panic!("checks: {:?}", checked.diagnostics) };
+    solve::room_problem(&scene, scene.rooms[0].id, &solve::WrittenSizes, Vec::new(), Vec::new())
+}
+
 fn example_rooms(name: &str) -> Vec<(RoomProblem, RoomLayout)> {
     let path = format!("{}/examples/{name}.holo", env!("CARGO_MANIFEST_DIR"));
     let text = std::fs::read_to_string(&path).expect("example exists");
@@ -1039,12 +1048,7 @@ fn a_chair_near_its_desk_is_drawn_up_to_it() {
         );
     }
     text.push_str("  }\n}\n\ndoor exterior -- classroom : doorway single \"door\"\n");
-    let mut sources = holoc::source::SourceMap::new();
-    let id = sources.add("classroom_near.holo", text);
-    let checked = holoc::compile::check_file(&sources, id);
-    let Some(scene) = checked.value else { panic!("checks: {:?}", checked.diagnostics) };
-    let room = scene.rooms[0].id;
-    let problem = solve::room_problem(&scene, room, &solve::WrittenSizes, Vec::new(), Vec::new());
+    let problem = first_room_problem("classroom_near.holo", &text);
     let out = solve::solve_room(&problem, &SolveOptions::default()).value;
     check_hard_rules(&problem, &out);
     assert_eq!(out.floor.len(), problem.objects.len(), "{:?}", out.unplaced);
@@ -1098,17 +1102,7 @@ fn the_milp_turns_every_desk_to_the_teacher() {
         "scene \"a classroom\" {\n  wall height 3 m\n  seed 3\n}\n\nroom classroom \"classroom\" {\n  corners in m (0, 0) (0, 8) (7, 8) (7, 0)\n\n  object teacher_desk \"teacher desk\" {\n    size 140 cm x 70 cm x 76 cm\n    edge\n  }\n  object student_desk \"student desk\" {\n    size 70 cm x 50 cm x 72 cm\n    count 10 same\n    middle\n    face to teacher_desk-0\n  }\n}\n\ndoor exterior -- classroom : doorway single \"door\"\n",
     );
     text.push('\n');
-    let mut sources = holoc::source::SourceMap::new();
-    let id = sources.add("classroom_milp.holo", text);
-    let checked = holoc::compile::check_file(&sources, id);
-    let Some(scene) = checked.value else { panic!("checks: {:?}", checked.diagnostics) };
-    let problem = solve::room_problem(
-        &scene,
-        scene.rooms[0].id,
-        &solve::WrittenSizes,
-        Vec::new(),
-        Vec::new(),
-    );
+    let problem = first_room_problem("classroom_milp.holo", &text);
     let opts = SolveOptions { solver: solve::Solver::Milp, ..SolveOptions::default() };
     let out = solve::solve_room(&problem, &opts).value;
     assert_eq!(out.floor.len(), problem.objects.len(), "{:?}", out.unplaced);
@@ -1153,17 +1147,7 @@ fn a_stove_keeps_the_place_where_its_cook_stands() {
         let opts = SolveOptions { solver, ..SolveOptions::default() };
         let path = format!("{}/examples/kitchen_island.holo", env!("CARGO_MANIFEST_DIR"));
         let text = std::fs::read_to_string(&path).expect("example exists");
-        let mut sources = holoc::source::SourceMap::new();
-        let id = sources.add(&path, text);
-        let checked = holoc::compile::check_file(&sources, id);
-        let Some(scene) = checked.value else { panic!("checks: {:?}", checked.diagnostics) };
-        let problem = solve::room_problem(
-            &scene,
-            scene.rooms[0].id,
-            &solve::WrittenSizes,
-            Vec::new(),
-            Vec::new(),
-        );
+        let problem = first_room_problem(&path, &text);
         let out = solve::solve_room(&problem, &opts).value;
         check_hard_rules(&problem, &out);
         let placed = |id: &str| {
@@ -1194,17 +1178,7 @@ fn a_stove_keeps_the_place_where_its_cook_stands() {
 #[test]
 fn a_sofa_in_a_deep_room_watches_its_tv() {
     let text = "scene \"a living room\" {\n  wall height 2.7 m\n  seed 0\n}\n\nroom living_room \"living room\" {\n  corners in m (0, 0) (0, 7) (6, 7) (6, 0)\n\n  object sectional_sofa \"sectional sofa\" {\n    size 250 cm x 90 cm x 80 cm\n  }\n  object armchair \"armchair\" {\n    size 90 cm x 90 cm x 100 cm\n    count 2 same\n  }\n  object tv_stand \"tv stand\" {\n    size 180 cm x 45 cm x 50 cm\n  }\n  object bookshelf \"bookshelf\" {\n    size 80 cm x 30 cm x 200 cm\n    count 2 same\n  }\n  object coffee_table \"coffee table\" {\n    size 140 cm x 70 cm x 45 cm\n  }\n  object floor_lamp \"floor lamp\" {\n    size 40 cm x 40 cm x 180 cm\n  }\n}\n\ndoor exterior -- living_room : doorway single \"door\"\n";
-    let mut sources = holoc::source::SourceMap::new();
-    let id = sources.add("deep_living.holo", text.to_string());
-    let checked = holoc::compile::check_file(&sources, id);
-    let Some(scene) = checked.value else { panic!("checks: {:?}", checked.diagnostics) };
-    let problem = solve::room_problem(
-        &scene,
-        scene.rooms[0].id,
-        &solve::WrittenSizes,
-        Vec::new(),
-        Vec::new(),
-    );
+    let problem = first_room_problem("deep_living.holo", text);
     for solver in [solve::Solver::Dfs, solve::Solver::Milp] {
         let opts = SolveOptions { solver, ..SolveOptions::default() };
         let out = solve::solve_room(&problem, &opts).value;
@@ -1244,17 +1218,7 @@ fn a_sofa_in_a_deep_room_watches_its_tv() {
 #[test]
 fn a_tv_in_a_room_with_a_sofa_faces_it_at_a_viewing_distance() {
     let text = "scene \"a living room\" {\n  wall height 2.7 m\n  seed 0\n}\n\nroom living_room \"living room\" {\n  corners in m (0, 0) (0, 5) (6.5, 5) (6.5, 0)\n\n  object tv_stand \"tv stand\" {\n    size 180 cm x 45 cm x 55 cm\n    edge\n  }\n  object bookcase \"bookcase\" {\n    size 90 cm x 35 cm x 180 cm\n    edge\n  }\n  object sofa \"sofa\" {\n    size 220 cm x 95 cm x 85 cm\n    edge\n  }\n  object armchair \"armchair\" {\n    size 80 cm x 80 cm x 90 cm\n    edge\n  }\n}\n\ndoor exterior -- living_room : doorway single \"door\"\n";
-    let mut sources = holoc::source::SourceMap::new();
-    let id = sources.add("living.holo", text.to_string());
-    let checked = holoc::compile::check_file(&sources, id);
-    let Some(scene) = checked.value else { panic!("checks: {:?}", checked.diagnostics) };
-    let problem = solve::room_problem(
-        &scene,
-        scene.rooms[0].id,
-        &solve::WrittenSizes,
-        Vec::new(),
-        Vec::new(),
-    );
+    let problem = first_room_problem("living.holo", text);
     let out = solve::solve_room(&problem, &SolveOptions::default()).value;
     check_hard_rules(&problem, &out);
     let placed = |id: &str| {
@@ -1282,17 +1246,7 @@ fn a_tv_in_a_room_with_a_sofa_faces_it_at_a_viewing_distance() {
 fn the_issues_classroom_is_rows_at_their_desks() {
     let path = format!("{}/tests/rooms/classroom_98.holo", env!("CARGO_MANIFEST_DIR"));
     let text = std::fs::read_to_string(&path).expect("the room exists");
-    let mut sources = holoc::source::SourceMap::new();
-    let id = sources.add(&path, text);
-    let checked = holoc::compile::check_file(&sources, id);
-    let Some(scene) = checked.value else { panic!("checks: {:?}", checked.diagnostics) };
-    let problem = solve::room_problem(
-        &scene,
-        scene.rooms[0].id,
-        &solve::WrittenSizes,
-        Vec::new(),
-        Vec::new(),
-    );
+    let problem = first_room_problem(&path, &text);
     for solver in [solve::Solver::Dfs, solve::Solver::Milp] {
         let opts = SolveOptions { solver, ..SolveOptions::default() };
         let out = solve::solve_room(&problem, &opts).value;
