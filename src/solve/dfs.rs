@@ -1113,6 +1113,9 @@ struct Search<'p, 'a> {
     anywhere: RefCell<Vec<Option<Rc<Vec<Cand>>>>>,
     /// Per object and placed footprint (its bits), the object's static candidates it touches.
     touch_answers: RefCell<FxHashMap<TouchKey, Rc<[u32]>>>,
+    /// Per object against the walls with room to keep beside it, and placed footprint (its
+    /// bits), the object's wall poses flush beside that footprint ([`Search::flush_beside`]).
+    flush_answers: RefCell<FxHashMap<TouchKey, Rc<[Cand]>>>,
     /// Target contexts by object and the bits of its targets' poses.
     contexts: RefCell<FxHashMap<ContextKey, Rc<TargetContext>>>,
     /// The candidates derived from one target ([`derived_for_target`]) by the object, the
@@ -1413,6 +1416,58 @@ impl Search<'_, '_> {
         }
         let found: Rc<[u32]> = self.statics[k].touching(fp).into();
         let mut answers = self.touch_answers.borrow_mut();
+        if answers.len() >= MAX_TOUCH_ANSWERS {
+            answers.clear();
+        }
+        answers.insert(key, Rc::clone(&found));
+        found
+    }
+
+    /// Whether object `k` looks for wall poses flush beside placed footprints: an object
+    /// against the walls that a later one wants to stand beside (a shelf with its plant), whose
+    /// gap between two placed objects may be only just wide enough for both.
+    fn packs_walls(&self, k: usize) -> bool {
+        self.prep.problem.objects[k].global == GlobalKind::Edge
+            && self.dependents[k].iter().any(|d| !d.ring)
+    }
+
+    /// Object `k`'s wall poses right beside the placed footprint `fp`, along each wall it
+    /// could stand flush against, keeping every static rule. The static grid steps along the
+    /// walls by [`wall_step`], so a gap between two placed objects only just wide enough for
+    /// `k` and what must stand beside it is met only here. Worked out once per footprint.
+    fn flush_beside(&self, k: usize, fp: &Rect) -> Rc<[Cand]> {
+        let key = (k, [fp.min_x, fp.min_z, fp.max_x, fp.max_z].map(f64::to_bits));
+        if let Some(found) = self.flush_answers.borrow().get(&key) {
+            return Rc::clone(found);
+        }
+        let prep = self.prep;
+        let size = prep.problem.objects[k].size;
+        let eps = constraints::EPS;
+        let mut out = Vec::new();
+        for rot in Rot::ALL {
+            let h = half_extents(size, rot);
+            let (fx, fz) = flush_values(prep, h);
+            // Flush against a wall across x (x fixed): beside `fp` along z, when the two
+            // share some of that wall's band; and the same turned.
+            for &x in &fx {
+                if fp.max_x > x - h[0] + eps && fp.min_x < x + h[0] - eps {
+                    out.extend([fp.max_z + h[1], fp.min_z - h[1]].map(|z| Pose { x, z, rot }));
+                }
+            }
+            for &z in &fz {
+                if fp.max_z > z - h[1] + eps && fp.min_z < z + h[1] - eps {
+                    out.extend([fp.max_x + h[0], fp.min_x - h[0]].map(|x| Pose { x, z, rot }));
+                }
+            }
+        }
+        let mut cands: Vec<Cand> = out
+            .into_iter()
+            .filter(|pose| prep.static_rule(k, pose).is_none())
+            .map(|pose| Cand { pose, fp: footprint(&pose, size) })
+            .collect();
+        dedup_cands(&mut cands);
+        let found: Rc<[Cand]> = cands.into();
+        let mut answers = self.flush_answers.borrow_mut();
         if answers.len() >= MAX_TOUCH_ANSWERS {
             answers.clear();
         }
@@ -2173,6 +2228,18 @@ impl Search<'_, '_> {
                 touch.push(TouchFirst(context.touch_step(i, set, self.sat_value)));
             }
         }
+        // Wall poses flush beside placed footprints, met in the touch walk after the statics
+        // and the derived (by position), bounded as a derived candidate is.
+        if self.packs_walls(k) {
+            let mut at = u32::try_from(n_static + context.derived.len()).unwrap_or(u32::MAX);
+            for fp in st.grid.rects() {
+                for c in self.flush_beside(k, fp).iter() {
+                    let (score, bound) = self.derived_bound(&context.scorer, k, c);
+                    touch.push(TouchFirst(Step { bound, cand: *c, score, index: at }));
+                    at = at.saturating_add(1);
+                }
+            }
+        }
         let mut walk = NodeWalk {
             kept: Vec::new(),
             next: 0,
@@ -2715,6 +2782,7 @@ fn run(
         contexts: RefCell::new(FxHashMap::default()),
         derived_pieces: RefCell::new(FxHashMap::default()),
         touch_answers: RefCell::new(FxHashMap::default()),
+        flush_answers: RefCell::new(FxHashMap::default()),
         reach_answers: FxHashMap::default(),
         node_answers: FxHashMap::default(),
         reach_bases: Vec::new(),
