@@ -798,6 +798,9 @@ struct Walk {
     /// relation is broken there, so each tier has one bound for all its candidates, and none
     /// of them is worked out until the walk comes down to it. Best (last) first.
     tiers: Vec<Tier>,
+    /// How many of `rest` have a bound above the best tier waiting, once counted: the walk
+    /// takes them best first, so it counts them again only when a tier joins.
+    above: Option<usize>,
 }
 
 /// How many candidates a walk puts in order at first; each further piece doubles it.
@@ -827,6 +830,27 @@ impl TargetContext {
         walk.tiers.iter().rposition(|t| !t.joined)
     }
 
+    /// How many candidates of `rest` come before the best tier waiting (all of them when none
+    /// waits).
+    fn above_tier(walk: &mut Walk) -> usize {
+        let Some(t) = TargetContext::next_tier(walk) else { return walk.rest.len() };
+        let (bound, bounds, rest) = (walk.tiers[t].bound, &walk.bounds, &walk.rest);
+        *walk.above.get_or_insert_with(|| {
+            rest.iter().filter(|&&i| bounds[i as usize].total_cmp(&bound).is_gt()).count()
+        })
+    }
+
+    /// When the `n`th step of the walk is a tier's to give (every step before it taken, and
+    /// nothing left above the tier), the tier's bound: a walk that needs nothing that high
+    /// stops without working its candidates out.
+    fn tier_next(&self, n: usize) -> Option<f64> {
+        let mut walk = self.walk.borrow_mut();
+        if n < walk.steps.len() || TargetContext::above_tier(&mut walk) > 0 {
+            return None;
+        }
+        TargetContext::next_tier(&walk).map(|t| walk.tiers[t].bound)
+    }
+
     /// Puts the next piece of the walk in order. A tier waiting joins it first when nothing
     /// left in it has a bound above the tier's.
     fn extend(&self, walk: &mut Walk, search: &Search<'_, '_>, k: usize) {
@@ -835,19 +859,16 @@ impl TargetContext {
         let cand_of =
             |i: usize| if i < n_static { set.cands[i] } else { self.derived[i - n_static] };
         loop {
-            let tier = TargetContext::next_tier(walk);
-            let above = match tier {
-                Some(t) => {
-                    let (bound, bounds) = (walk.tiers[t].bound, &walk.bounds);
-                    let above = |&&i: &&u32| bounds[i as usize].total_cmp(&bound).is_gt();
-                    walk.rest.iter().filter(above).count()
-                }
-                None => walk.rest.len(),
-            };
+            let above = TargetContext::above_tier(walk);
             if above == 0 {
-                let Some(t) = tier else { return };
+                let Some(t) = TargetContext::next_tier(walk) else { return };
                 self.join(walk, t, search, k);
+                walk.above = None;
                 continue;
+            }
+            // The best `take` of `rest` all come before the tier: counted off as they leave.
+            if let Some(left) = &mut walk.above {
+                *left -= above.min(walk.steps.len().max(FIRST_STEPS));
             }
             let Walk { steps, rest, scores, bounds, .. } = &mut *walk;
             let bounds = &*bounds;
@@ -1864,7 +1885,15 @@ impl Search<'_, '_> {
         for &i in on_targets.iter().filter(|&&i| (i as usize) < n_static) {
             on_target_bits[i as usize / 64] |= 1 << (i % 64);
         }
-        let walk = RefCell::new(Walk { steps: Vec::new(), rest, scores, bounds, waiting, tiers });
+        let walk = RefCell::new(Walk {
+            steps: Vec::new(),
+            rest,
+            scores,
+            bounds,
+            waiting,
+            tiers,
+            above: None,
+        });
         let context =
             Rc::new(TargetContext { derived, scorer, lazy, walk, on_targets, on_target_bits });
         let mut contexts = self.contexts.borrow_mut();
@@ -2319,10 +2348,14 @@ impl Search<'_, '_> {
                 step.bound < key || (step.bound == key && step.index as usize > at)
             }
         };
+        // The `m`th key kept, below which the walk stops: a tier waiting with a bound below
+        // it is never worked out (most often a chair at a free seat, with every pose away from
+        // its table waiting).
+        let stop_below = |walk: &NodeWalk| (walk.kept.len() >= m).then(|| walk.kept[m - 1].0);
         if walk.done {
             return;
         }
-        match next_step(&context, walk, self, k) {
+        match next_step(&context, walk, self, k, stop_below(walk)) {
             None => walk.done = true,
             Some((step, _)) if stops(walk, &step) => return,
             Some(_) => {}
@@ -2356,7 +2389,7 @@ impl Search<'_, '_> {
             }
         };
         loop {
-            let Some((step, touches)) = next_step(&context, walk, self, k) else {
+            let Some((step, touches)) = next_step(&context, walk, self, k, stop_below(walk)) else {
                 walk.done = true;
                 // Nothing is met again at this node.
                 walk.rules = None;
@@ -2416,15 +2449,32 @@ impl Search<'_, '_> {
 
 /// The next step of a node's walk, and whether it is one of the candidates touching a placed
 /// footprint: the better of the context's next step (those in the touch set passed over) and
-/// the touch walk's, by bound and then position.
+/// the touch walk's, by bound and then position. Where the context's next is a tier's whose
+/// bound is below `stop_below` (the key the walk stops under), a step with the tier's bound and
+/// no candidate (position `u32::MAX`) stands for it: the walk stops there, never taking it.
 fn next_step(
     context: &TargetContext,
     walk: &mut NodeWalk,
     search: &Search<'_, '_>,
     k: usize,
+    stop_below: Option<f64>,
 ) -> Option<(Step, bool)> {
     let n_static = search.statics[k].cands.len();
     let from_context = loop {
+        // The context's next step is a tier's to give: a touching step at or above the tier's
+        // bound comes first, and a walk that stops below `stop_below` stops at the tier's
+        // bound (which bounds every candidate of the tier), neither with the tier worked out.
+        if let Some(tier) = context.tier_next(walk.next) {
+            let top = walk.touch.peek().map(|t| t.0);
+            if let Some(top) = top.filter(|t| t.bound >= tier) {
+                return Some((top, true));
+            }
+            if stop_below.is_some_and(|key| tier < key) {
+                let pose = Pose { x: 0.0, z: 0.0, rot: Rot::R0 };
+                let cand = Cand { pose, fp: footprint(&pose, [0.0, 0.0]) };
+                return Some((Step { bound: tier, cand, score: f64::NAN, index: u32::MAX }, false));
+            }
+        }
         match context.step(walk.next, search, k) {
             Some(step)
                 if (step.index as usize) < n_static
