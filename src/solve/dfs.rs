@@ -750,6 +750,42 @@ impl SharedGrid {
         let centres = CentreIndex::new(&prep.room.bounds, &fps);
         SharedGrid { cands, fails, wall_touch, edges, centres }
     }
+
+    /// The places in the grid (each once) of the candidates that come within [`CONTACT_M`] of
+    /// the placed footprint `p` without overlapping it: every candidate that it can add a
+    /// touching side to. A side can only touch a footprint from just outside one of its edges, so each edge
+    /// is looked up in the sorted sides of the candidates.
+    fn touching(&self, p: &Rect) -> Vec<u32> {
+        // A little wider than the rules below, so that no rounding leaves a candidate out;
+        // the test itself is the one the walk makes.
+        const SLACK: f64 = 1e-9;
+        let (eps, c) = (constraints::EPS, CONTACT_M);
+        let mut out = Vec::new();
+        {
+            let grown = p.grow(c);
+            // (side of the candidate, from, to): beyond +x, short of −x, beyond +z, short of −z.
+            let shells = [
+                (0, p.max_x - eps, p.max_x + c),
+                (1, p.min_x - c, p.min_x + eps),
+                (2, p.max_z - eps, p.max_z + c),
+                (3, p.min_z - c, p.min_z + eps),
+            ];
+            for (side, from, to) in shells {
+                let edge = &self.edges[side];
+                let a = edge.partition_point(|e| e.0 < from - SLACK);
+                let b = edge.partition_point(|e| e.0 <= to + SLACK);
+                for &(_, g) in &edge[a..b.max(a)] {
+                    let fp = &self.cands[g as usize].fp;
+                    if fp.overlaps(&grown) && !fp.overlaps(p) {
+                        out.push(g);
+                    }
+                }
+            }
+        }
+        out.sort_unstable();
+        out.dedup();
+        out
+    }
 }
 
 /// What the search knows of an object once the poses of its relations' targets are fixed:
@@ -994,42 +1030,6 @@ impl StaticSet {
         }
         StaticSet { cands, wall_touch, room_static: Vec::new(), room_max: (0, 0), grid, pos_of }
     }
-
-    /// The candidates (sorted, each once) that come within [`CONTACT_M`] of the placed
-    /// footprint `p` without overlapping it: every candidate that it can add a touching side
-    /// to. A side can only touch a footprint from just outside one of its edges, so each edge
-    /// is looked up in the sorted sides of the candidates.
-    fn touching(&self, p: &Rect) -> Vec<u32> {
-        // A little wider than the rules below, so that no rounding leaves a candidate out;
-        // the test itself is the one the walk makes.
-        const SLACK: f64 = 1e-9;
-        let (eps, c) = (constraints::EPS, CONTACT_M);
-        let mut out = Vec::new();
-        {
-            let grown = p.grow(c);
-            // (side of the candidate, from, to): beyond +x, short of −x, beyond +z, short of −z.
-            let shells = [
-                (0, p.max_x - eps, p.max_x + c),
-                (1, p.min_x - c, p.min_x + eps),
-                (2, p.max_z - eps, p.max_z + c),
-                (3, p.min_z - c, p.min_z + eps),
-            ];
-            for (side, from, to) in shells {
-                let edge = &self.grid.edges[side];
-                let a = edge.partition_point(|e| e.0 < from - SLACK);
-                let b = edge.partition_point(|e| e.0 <= to + SLACK);
-                for &(_, g) in &edge[a..b.max(a)] {
-                    let fp = &self.grid.cands[g as usize].fp;
-                    if fp.overlaps(&grown) && !fp.overlaps(p) {
-                        out.push(self.pos_of[g as usize]);
-                    }
-                }
-            }
-        }
-        out.sort_unstable();
-        out.dedup();
-        out
-    }
 }
 
 /// A candidate's ordering key (see [`Search::walk_to`]) from its score, the side relations of
@@ -1132,7 +1132,8 @@ struct Search<'p, 'a> {
     pin_breaks: Vec<(usize, HardRule)>,
     /// Per object, its poses anywhere in the room ([`anywhere_candidates`]), once asked for.
     anywhere: RefCell<Vec<Option<Rc<Vec<Cand>>>>>,
-    /// Per object and placed footprint (its bits), the object's static candidates it touches.
+    /// Per static grid (its address) and placed footprint (its bits), the places of the grid's
+    /// candidates it touches.
     touch_answers: RefCell<FxHashMap<TouchKey, Rc<[u32]>>>,
     /// Per object against the walls with room to keep beside it, and placed footprint (its
     /// bits), the object's wall poses flush beside that footprint ([`Search::flush_beside`]).
@@ -1230,7 +1231,8 @@ impl PartialEq for TouchFirst {
 
 impl Eq for TouchFirst {}
 
-/// A key of [`Search::touching`]: the object and the bits of a placed footprint.
+/// A key of [`Search::touching`] (a grid's address) or [`Search::flush_beside`] (an object),
+/// and the bits of a placed footprint.
 type TouchKey = (usize, [u64; 4]);
 
 /// The most answers of [`Search::touching`] kept; the store is emptied when it is full.
@@ -1427,15 +1429,19 @@ impl Search<'_, '_> {
         }
     }
 
-    /// Object `k`'s static candidates that the placed footprint `fp` can add a touching side
-    /// to ([`StaticSet::touching`]): worked out once per footprint, as the search meets the
-    /// same footprints placed again and again.
+    /// The places in object `k`'s static grid of the candidates that the placed footprint
+    /// `fp` can add a touching side to ([`SharedGrid::touching`]): worked out once per grid
+    /// and footprint, as the search meets the same footprints placed again and again, and the
+    /// objects alike (the chairs of a set) share their grid.
     fn touching(&self, k: usize, fp: &Rect) -> Rc<[u32]> {
-        let key = (k, [fp.min_x, fp.min_z, fp.max_x, fp.max_z].map(f64::to_bits));
+        let grid = &self.statics[k].grid;
+        // The grid's address tells it from the others while the search holds them all.
+        let key =
+            (Rc::as_ptr(grid) as usize, [fp.min_x, fp.min_z, fp.max_x, fp.max_z].map(f64::to_bits));
         if let Some(found) = self.touch_answers.borrow().get(&key) {
             return Rc::clone(found);
         }
-        let found: Rc<[u32]> = self.statics[k].touching(fp).into();
+        let found: Rc<[u32]> = grid.touching(fp).into();
         let mut answers = self.touch_answers.borrow_mut();
         if answers.len() >= MAX_TOUCH_ANSWERS {
             answers.clear();
@@ -2240,7 +2246,8 @@ impl Search<'_, '_> {
         // target (met apart, below): each met once, in the node's own walk.
         let mut touch_bits = vec![0u64; n_static.div_ceil(64)];
         for fp in st.grid.rects() {
-            for &i in self.touching(k, fp).iter() {
+            for &g in self.touching(k, fp).iter() {
+                let i = self.statics[k].pos_of[g as usize];
                 touch_bits[i as usize / 64] |= 1 << (i % 64);
             }
         }
