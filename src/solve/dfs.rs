@@ -705,9 +705,8 @@ fn seat_apart_zone(pose: &Pose, ring: &constraints::SeatRing) -> Rect {
 
 /// The static candidates of one object with what the search asks of them at every node.
 struct StaticSet {
-    cands: Vec<Cand>,
-    /// Per candidate, the sides (bits: −x, +x, −z, +z) that touch a wall.
-    wall_touch: Vec<u8>,
+    /// Per position, the candidate's place in the grid: the grid in the object's seeded order.
+    order: Vec<u32>,
     /// Per candidate, what [`Search::room_left_for_dependents`] would count with nothing
     /// placed: an upper bound of it at every node.
     room_static: Vec<(u8, u8)>,
@@ -715,7 +714,7 @@ struct StaticSet {
     room_max: (u8, u8),
     /// The grid the candidates were shuffled from, shared by the objects alike.
     grid: Rc<SharedGrid>,
-    /// Per place in the grid, the candidate's position in `cands`.
+    /// Per place in the grid, the candidate's position in `order`.
     pos_of: Vec<u32>,
 }
 
@@ -891,9 +890,9 @@ impl TargetContext {
     /// left in it has a bound above the tier's.
     fn extend(&self, walk: &mut Walk, search: &Search<'_, '_>, k: usize) {
         let set = &search.statics[k];
-        let n_static = set.cands.len();
+        let n_static = set.len();
         let cand_of =
-            |i: usize| if i < n_static { set.cands[i] } else { self.derived[i - n_static] };
+            |i: usize| if i < n_static { set.cand(i) } else { self.derived[i - n_static] };
         loop {
             let above = TargetContext::above_tier(walk);
             if above == 0 {
@@ -930,7 +929,7 @@ impl TargetContext {
     /// Works out tier `t`'s candidates as the others were, and puts them with the rest.
     fn join(&self, walk: &mut Walk, t: usize, search: &Search<'_, '_>, k: usize) {
         let set = &search.statics[k];
-        let n_static = set.cands.len();
+        let n_static = set.len();
         walk.tiers[t].joined = true;
         let mark = u8::try_from(t + 1).unwrap_or(u8::MAX);
         for at in 0..walk.waiting.len() {
@@ -954,7 +953,7 @@ impl TargetContext {
     /// waiting (its score worked out only if the walk comes to it, NaN until then).
     fn touch_step(&self, i: u32, set: &StaticSet, sat_value: f64) -> Step {
         let at = i as usize;
-        let cand = set.cands[at];
+        let cand = set.cand(at);
         let walk = self.walk.borrow();
         if let Some(t) = walk.waiting.get(at).and_then(|&w| w.checked_sub(1)) {
             let bound = walk.tiers[t as usize].bound;
@@ -978,7 +977,7 @@ fn static_bound(
     set: &StaticSet,
     i: usize,
 ) -> (f64, f64) {
-    let c = &set.cands[i];
+    let c = &set.cand(i);
     // A chair's static candidate far from its table's seats is bounded without its score,
     // worked out only if the walk comes to it.
     let (s, score) = match lazy.then(|| scorer.far_bound(c)).flatten() {
@@ -989,7 +988,7 @@ fn static_bound(
         }
     };
     let (kept, close) = set.room_static.get(i).copied().unwrap_or((u8::MAX, u8::MAX));
-    let sides = set.wall_touch.get(i).map_or(4, |w| w.count_ones());
+    let sides = set.wall_touch(i).count_ones();
     (score, ordering_key(s, sat_value, f64::from(kept), f64::from(close), f64::from(sides)))
 }
 
@@ -1022,13 +1021,27 @@ impl StaticSet {
         let mut order: Vec<u32> =
             (0..u32::try_from(grid.cands.len()).unwrap_or(u32::MAX)).collect();
         shuffle_static(&mut order, plan_index, seed);
-        let cands = order.iter().map(|&g| grid.cands[g as usize]).collect();
-        let wall_touch = order.iter().map(|&g| grid.wall_touch[g as usize]).collect();
         let mut pos_of = vec![0; order.len()];
         for (at, &g) in (0u32..).zip(&order) {
             pos_of[g as usize] = at;
         }
-        StaticSet { cands, wall_touch, room_static: Vec::new(), room_max: (0, 0), grid, pos_of }
+        StaticSet { order, room_static: Vec::new(), room_max: (0, 0), grid, pos_of }
+    }
+
+    /// How many static candidates the object has.
+    fn len(&self) -> usize {
+        self.order.len()
+    }
+
+    /// The candidate at position `i` (read from the shared grid: each object keeps only its
+    /// order, not a copy of the grid).
+    fn cand(&self, i: usize) -> Cand {
+        self.grid.cands[self.order[i] as usize]
+    }
+
+    /// The sides (bits: −x, +x, −z, +z) of the candidate at position `i` that touch a wall.
+    fn wall_touch(&self, i: usize) -> u8 {
+        self.grid.wall_touch[self.order[i] as usize]
     }
 }
 
@@ -1790,7 +1803,7 @@ impl Search<'_, '_> {
         }
         let set = &self.statics[k];
         let derived = self.derived(k, poses);
-        let n_static = set.cands.len();
+        let n_static = set.len();
         let n = n_static + derived.len();
         let scorer = Scorer::new(prep, k, poses, self.sat_value);
         let lazy = scorer.seat_boxes.iter().any(Option::is_some);
@@ -1818,7 +1831,7 @@ impl Search<'_, '_> {
         if limited.is_empty() || limited.len() >= usize::from(u8::MAX) || whole_contexts() {
             for i in 0..u32::try_from(n_static).unwrap_or(u32::MAX) {
                 let at = i as usize;
-                if on_target(&set.cands[at]) {
+                if on_target(&set.cand(at)) {
                     on_targets.push(i);
                 } else {
                     (scores[at], bounds[at]) = static_bound(&scorer, lazy, sat, set, at);
@@ -2008,7 +2021,8 @@ impl Search<'_, '_> {
             if st.poses[k].is_some() || obj.pin.is_some() {
                 continue;
             }
-            let mut cands = self.statics[k].cands.clone();
+            let set = &self.statics[k];
+            let mut cands: Vec<Cand> = (0..set.len()).map(|i| set.cand(i)).collect();
             cands.extend(self.derived(k, &st.poses));
             let mut why = self.place_best(k, st, &cands);
             if why.is_some() && stands_elsewhere(obj) {
@@ -2235,7 +2249,7 @@ impl Search<'_, '_> {
     fn candidates(&self, k: usize, st: &State) -> NodeCandidates {
         let prep = self.prep;
         let context = self.target_context(k, &st.poses);
-        let n_static = self.statics[k].cands.len();
+        let n_static = self.statics[k].len();
         if n_static == 0
             && context.derived.is_empty()
             && prep.problem.objects[k].global != GlobalKind::Edge
@@ -2294,7 +2308,7 @@ impl Search<'_, '_> {
         // Why nothing is left counts the candidates standing on a target too.
         let set = &self.statics[k];
         let derived = &context.derived;
-        let pick = |i: usize| if i < n_static { set.cands[i] } else { derived[i - n_static] };
+        let pick = |i: usize| if i < n_static { set.cand(i) } else { derived[i - n_static] };
         for &i in &context.on_targets {
             let first = st.grid.first_overlap(&pick(i as usize).fp).unwrap_or(usize::MAX);
             *blockers.entry(first).or_insert(0) += 1;
@@ -2346,7 +2360,7 @@ impl Search<'_, '_> {
         let m = m.min(REACH_TRIES);
         let context = self.target_context(k, &st.poses);
         let set = &self.statics[k];
-        let n_static = set.cands.len();
+        let n_static = set.len();
         // No step left can come before the `m`th kept: the steps are met in the order of their
         // bounds and then of their positions, as the kept are ordered by key and position.
         let stops = |walk: &NodeWalk, step: &Step| {
@@ -2383,7 +2397,7 @@ impl Search<'_, '_> {
         // does not) is touched.
         let sides = |i: usize, c: &Cand| {
             if i < n_static {
-                let mut sides = set.wall_touch[i];
+                let mut sides = set.wall_touch(i);
                 placed.near(&c.fp.grow(CONTACT_M), |j| {
                     let fp = &placed.rects()[j];
                     if c.fp.overlaps(&fp.grow(CONTACT_M)) {
@@ -2466,7 +2480,7 @@ fn next_step(
     k: usize,
     stop_below: Option<f64>,
 ) -> Option<(Step, bool)> {
-    let n_static = search.statics[k].cands.len();
+    let n_static = search.statics[k].len();
     let from_context = loop {
         // The context's next step is a tier's to give: a touching step at or above the tier's
         // bound comes first, and a walk that stops below `stop_below` stops at the tier's
@@ -2853,7 +2867,7 @@ fn run(
         let by_grid = room_by_grid.entry(key).or_insert_with(|| {
             set.grid.cands.iter().map(|c| search.room_left_static(k, c)).collect()
         });
-        let mut room_static = vec![(0, 0); set.cands.len()];
+        let mut room_static = vec![(0, 0); set.len()];
         for (g, &at) in set.pos_of.iter().enumerate() {
             room_static[at as usize] = by_grid[g];
         }
