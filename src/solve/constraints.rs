@@ -398,6 +398,20 @@ impl RoomShape {
             .fold(f64::INFINITY, f64::min)
     }
 
+    /// Whether a point lies within `d` of a wall line of the outline (`distance_to_wall(p) <=
+    /// d`), measuring only the walls whose bounding box comes that near (the box is never
+    /// farther than its wall).
+    pub fn near_wall(&self, p: [f64; 2], d: f64) -> bool {
+        let n = self.outline.len();
+        (0..n).any(|i| {
+            let (a, b) = (self.outline[i], self.outline[(i + 1) % n]);
+            let out_x = (a[0].min(b[0]) - p[0]).max(p[0] - a[0].max(b[0]));
+            let out_z = (a[1].min(b[1]) - p[1]).max(p[1] - a[1].max(b[1]));
+            // (A little slack for rounding: the measure itself decides.)
+            out_x <= d + 1e-9 && out_z <= d + 1e-9 && segment_distance(p, a, b) <= d
+        })
+    }
+
     /// The walls as segments with the unit normal pointing into the room, in outline order.
     pub fn walls(&self) -> Vec<([f64; 2], [f64; 2], [f64; 2])> {
         let n = self.outline.len();
@@ -1478,9 +1492,7 @@ pub fn static_rules(
         return Some(HardRule::InsideRoom);
     }
     let global_ok = match global_kind {
-        Some(GlobalKind::Edge) => {
-            room.distance_to_wall(back_center(pose, size)) <= EDGE_TOLERANCE_M + EPS
-        }
+        Some(GlobalKind::Edge) => room.near_wall(back_center(pose, size), EDGE_TOLERANCE_M + EPS),
         Some(GlobalKind::Middle) => room.contains_rect(&fp.grow(MIDDLE_GAP_M)),
         None => true,
     };
