@@ -753,7 +753,10 @@ fn a_room_of_eighty_puts_every_wall_piece_on_a_wall() {
     // Since issue 48 (seats keep their 0.45 m front strip, storage its doors' swing) the
     // search walks on to its layout (it was 80); since issue 49 it spends its discrepancies
     // only on the objects round what the best layout so far loses: 249 nodes (331 before).
-    assert_eq!(out.nodes, 249, "found at node {} of {}", out.found_at, out.nodes);
+    // Since a shelf with a plant to come also looks at the wall poses flush beside what is
+    // placed (the gaps the grid's 15 cm steps along the walls miss), the greedy pass keeps
+    // every relation: 80 nodes.
+    assert_eq!(out.nodes, 80, "found at node {} of {}", out.found_at, out.nodes);
 }
 
 /// An L-shaped living room whose TV stand wants a wall `in front of` the sofa and faces it:
