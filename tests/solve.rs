@@ -631,6 +631,75 @@ fn a_pin_that_cuts_the_room_off_is_reported() {
     }
 }
 
+/// A shelf whose plant stands `near` it, and one piece of wall left between a pinned cabinet and
+/// the doors' zones: 1.125 m, for 0.62 m of shelf, the 0.10 m a plant stands off its shelf and
+/// 0.40 m of plant. The wall poses of the grid step 10 cm along the wall and miss the 5 mm the
+/// two have to spare; the shelf also looks at the wall poses flush beside what stands there
+/// (the cabinet), so both stand against the wall and the plant near its shelf.
+#[test]
+fn a_shelf_and_its_plant_share_a_piece_of_wall_only_just_wide_enough() {
+    let object = |id: &str, size: [f64; 2], constraints: Vec<ProblemConstraint>| FloorObject {
+        id: id.into(),
+        size,
+        height: 1.0,
+        global: GlobalKind::Edge,
+        role: holoc::solve::Role::Other,
+        constraints,
+        pin: None,
+        thor_type: None,
+        span: None,
+    };
+    let near = ProblemConstraint {
+        kind: RelationKind::Near,
+        written: RelationKind::Near,
+        implied: false,
+        target: 1,
+        span: None,
+    };
+    let zone = |a: [f64; 2], b: [f64; 2]| vec![a, [a[0], b[1]], b, [b[0], a[1]]];
+    let mut cabinet = object("cabinet-0", [0.985, 0.4], Vec::new());
+    cabinet.pin = Some(solve::Pose { x: 0.4925, z: 0.2, rot: solve::Rot::from_deg(0.0) });
+    let problem = RoomProblem {
+        name: "one_piece_of_wall".into(),
+        outline: vec![[0.0, 0.0], [0.0, 3.0], [3.0, 3.0], [3.0, 0.0]],
+        wall_height: 2.7,
+        // Beyond the cabinet, every wall but 1.125 m of the bottom one (x from 0.985 to 2.11)
+        // lies in a door's zone.
+        keep_out: vec![
+            zone([2.11, 0.0], [3.0, 0.6]),
+            zone([0.0, 0.6], [0.6, 3.0]),
+            zone([2.4, 0.6], [3.0, 3.0]),
+            zone([0.6, 2.4], [2.4, 3.0]),
+        ],
+        walls: Vec::new(),
+        objects: vec![
+            cabinet,
+            object("shelf-0", [0.62, 0.4], Vec::new()),
+            object("plant-0", [0.4, 0.4], vec![near]),
+        ],
+        wall_objects: Vec::new(),
+        small_objects: Vec::new(),
+        ceiling: None,
+        span: None,
+    };
+    let out = solve::solve_room(&problem, &SolveOptions::default()).value;
+    assert_eq!(out.floor.len(), 3, "{:?}", out.unplaced);
+    for p in &out.floor {
+        for c in &p.constraints {
+            assert!(
+                c.measure.satisfied,
+                "{}: {} {:?}",
+                problem.objects[p.index].id, c.text, c.measure
+            );
+        }
+        assert!(
+            p.footprint.min_z.abs() < 1e-9,
+            "{} against the bottom wall",
+            problem.objects[p.index].id
+        );
+    }
+}
+
 /// The rank of a layout in the documented order: objects placed, then constraints kept.
 fn rank(problem: &RoomProblem, layout: &RoomLayout) -> (usize, usize) {
     (layout.floor.len(), layout.constraint_tally(problem).0)

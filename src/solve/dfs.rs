@@ -2224,7 +2224,6 @@ impl Search<'_, '_> {
         self.zone_open(z) && !placed.any_overlap(z)
     }
 
-    /// Whether a zone is inside the room and outside the door zones.
     /// Whether zone `z` (inside the room) has a wall within `d` of one of its sides: moved by
     /// `d` one way or another, it leaves the room.
     fn by_a_wall(&self, z: &Rect, d: f64) -> bool {
@@ -2240,6 +2239,7 @@ impl Search<'_, '_> {
         })
     }
 
+    /// Whether a zone is inside the room and outside the door zones.
     fn zone_open(&self, z: &Rect) -> bool {
         self.prep.room.contains_rect(z) && !self.prep.keep_out.iter().any(|o| o.overlaps(z))
     }
