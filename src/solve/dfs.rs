@@ -751,10 +751,11 @@ impl SharedGrid {
     }
 
     /// The places in the grid (each once) of the candidates that come within [`CONTACT_M`] of
-    /// the placed footprint `p` without overlapping it: every candidate that it can add a
-    /// touching side to. A side can only touch a footprint from just outside one of its edges, so each edge
+    /// the placed footprint `p` without overlapping it, each with the sides it comes near `p`
+    /// by (bits: −x, +x, −z, +z): every candidate that it can add a touching side to, and every
+    /// side it can add (a candidate at `p`'s corner comes near but touches by none). A side can only touch a footprint from just outside one of its edges, so each edge
     /// is looked up in the sorted sides of the candidates.
-    fn touching(&self, p: &Rect) -> Vec<u32> {
+    fn touching(&self, p: &Rect) -> Vec<(u32, u8)> {
         // A little wider than the rules below, so that no rounding leaves a candidate out;
         // the test itself is the one the walk makes.
         const SLACK: f64 = 1e-9;
@@ -776,13 +777,20 @@ impl SharedGrid {
                 for &(_, g) in &edge[a..b.max(a)] {
                     let fp = &self.cands[g as usize].fp;
                     if fp.overlaps(&grown) && !fp.overlaps(p) {
-                        out.push(g);
+                        out.push((g, 1u8 << side));
                     }
                 }
             }
         }
+        // Each place once, with every side it touches `p` by.
         out.sort_unstable();
-        out.dedup();
+        out.dedup_by(|later, first| {
+            let same = later.0 == first.0;
+            if same {
+                first.1 |= later.1;
+            }
+            same
+        });
         out
     }
 }
@@ -949,9 +957,10 @@ impl TargetContext {
     }
 
     /// Static candidate `i`'s step in a node's walk of the candidates touching placed
-    /// footprints: bounded with every side touching something, by its tier's bound for one
-    /// waiting (its score worked out only if the walk comes to it, NaN until then).
-    fn touch_step(&self, i: u32, set: &StaticSet, sat_value: f64) -> Step {
+    /// footprints: bounded with every side that touches a wall or comes near a placed footprint
+    /// (`near`, bits: −x, +x, −z, +z) counted as touching, by its tier's bound for one waiting
+    /// (its score worked out only if the walk comes to it, NaN until then).
+    fn touch_step(&self, i: u32, set: &StaticSet, sat_value: f64, near: u8) -> Step {
         let at = i as usize;
         let cand = set.cand(at);
         let walk = self.walk.borrow();
@@ -962,7 +971,8 @@ impl TargetContext {
         let score =
             if walk.scores[at].is_nan() { self.scorer.score(&cand) } else { walk.scores[at] };
         let (kept, close) = set.room_static.get(at).copied().unwrap_or((u8::MAX, u8::MAX));
-        let bound = ordering_key(score, sat_value, f64::from(kept), f64::from(close), 4.0);
+        let sides = f64::from((set.wall_touch(at) | near).count_ones());
+        let bound = ordering_key(score, sat_value, f64::from(kept), f64::from(close), sides);
         Step { bound, cand, score, index: i }
     }
 }
@@ -1147,7 +1157,7 @@ struct Search<'p, 'a> {
     anywhere: RefCell<Vec<Option<Rc<Vec<Cand>>>>>,
     /// Per static grid (its address) and placed footprint (its bits), the places of the grid's
     /// candidates it touches.
-    touch_answers: RefCell<FxHashMap<TouchKey, Rc<[u32]>>>,
+    touch_answers: RefCell<FxHashMap<TouchKey, Rc<[(u32, u8)]>>>,
     /// Per object against the walls with room to keep beside it, and placed footprint (its
     /// bits), the object's wall poses flush beside that footprint ([`Search::flush_beside`]).
     flush_answers: RefCell<FxHashMap<TouchKey, Rc<[Cand]>>>,
@@ -1446,7 +1456,7 @@ impl Search<'_, '_> {
     /// `fp` can add a touching side to ([`SharedGrid::touching`]): worked out once per grid
     /// and footprint, as the search meets the same footprints placed again and again, and the
     /// objects alike (the chairs of a set) share their grid.
-    fn touching(&self, k: usize, fp: &Rect) -> Rc<[u32]> {
+    fn touching(&self, k: usize, fp: &Rect) -> Rc<[(u32, u8)]> {
         let grid = &self.statics[k].grid;
         // The grid's address tells it from the others while the search holds them all.
         let key =
@@ -1454,7 +1464,7 @@ impl Search<'_, '_> {
         if let Some(found) = self.touch_answers.borrow().get(&key) {
             return Rc::clone(found);
         }
-        let found: Rc<[u32]> = grid.touching(fp).into();
+        let found: Rc<[(u32, u8)]> = grid.touching(fp).into();
         let mut answers = self.touch_answers.borrow_mut();
         if answers.len() >= MAX_TOUCH_ANSWERS {
             answers.clear();
@@ -2258,24 +2268,28 @@ impl Search<'_, '_> {
         }
         // The static candidates a placed footprint can add a touching side to, but those on a
         // target (met apart, below): each met once, in the node's own walk.
+        // With the sides each comes near a placed footprint by: with those that touch a wall,
+        // every side its key can count.
+        let set = &self.statics[k];
         let mut touch_bits = vec![0u64; n_static.div_ceil(64)];
+        let mut near_sides: Vec<(u32, u8)> = Vec::new();
         for fp in st.grid.rects() {
-            for &g in self.touching(k, fp).iter() {
-                let i = self.statics[k].pos_of[g as usize];
+            for &(g, sides) in self.touching(k, fp).iter() {
+                let i = set.pos_of[g as usize];
                 touch_bits[i as usize / 64] |= 1 << (i % 64);
+                near_sides.push((i, sides));
             }
         }
         for (bits, on) in touch_bits.iter_mut().zip(&context.on_target_bits) {
             *bits &= !on;
         }
-        let set = &self.statics[k];
+        near_sides.sort_unstable();
         let mut touch = Vec::new();
-        for (word, &bits) in (0u32..).zip(&touch_bits) {
-            let mut rest = bits;
-            while rest != 0 {
-                let i = word * 64 + rest.trailing_zeros();
-                rest &= rest - 1;
-                touch.push(TouchFirst(context.touch_step(i, set, self.sat_value)));
+        for run in near_sides.chunk_by(|a, b| a.0 == b.0) {
+            let i = run[0].0;
+            if touch_bits[i as usize / 64] & (1 << (i % 64)) != 0 {
+                let sides = run.iter().fold(0, |acc, r| acc | r.1);
+                touch.push(TouchFirst(context.touch_step(i, set, self.sat_value, sides)));
             }
         }
         // Wall poses flush beside placed footprints, met in the touch walk after the statics
