@@ -739,10 +739,20 @@ impl SharedGrid {
         let wall_touch =
             cands.iter().map(|c| touching(&c.fp, |m| !prep.room.contains_rect(m))).collect();
         let edge = |side: fn(&Rect) -> f64| {
-            let mut v: Vec<(f64, u32)> =
-                cands.iter().zip(0u32..).map(|(c, i)| (side(&c.fp), i)).collect();
-            v.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-            v
+            // Sorted as `f64::total_cmp` and then by place, on integer keys: the coordinate's
+            // bits turned so that they order as `total_cmp` does, above the place.
+            let mut keys: Vec<u128> = cands
+                .iter()
+                .zip(0u32..)
+                .map(|(c, i)| {
+                    let bits = side(&c.fp).to_bits();
+                    let ordered = if bits >> 63 == 1 { !bits } else { bits | (1 << 63) };
+                    (u128::from(ordered) << 32) | u128::from(i)
+                })
+                .collect();
+            keys.sort_unstable();
+            let place = |key: u128| (key & u128::from(u32::MAX)) as u32;
+            keys.iter().map(|&key| (side(&cands[place(key) as usize].fp), place(key))).collect()
         };
         let edges = [edge(|r| r.min_x), edge(|r| r.max_x), edge(|r| r.min_z), edge(|r| r.max_z)];
         let fps: Vec<Rect> = cands.iter().map(|c| c.fp).collect();
@@ -987,18 +997,24 @@ fn static_bound(
     set: &StaticSet,
     i: usize,
 ) -> (f64, f64) {
-    let c = &set.cand(i);
+    let g = set.order[i] as usize;
     // A chair's static candidate far from its table's seats is bounded without its score,
-    // worked out only if the walk comes to it.
-    let (s, score) = match lazy.then(|| scorer.far_bound(c)).flatten() {
-        Some(bound) => (bound, f64::NAN),
-        None => {
-            let s = scorer.score(c);
-            (s, s)
+    // worked out only if the walk comes to it. With no relation placed the score is 0, and
+    // the candidate is not read at all.
+    let (s, score) = if scorer.relations.is_empty() {
+        (0.0, 0.0)
+    } else {
+        let c = &set.grid.cands[g];
+        match lazy.then(|| scorer.far_bound(c)).flatten() {
+            Some(bound) => (bound, f64::NAN),
+            None => {
+                let s = scorer.score(c);
+                (s, s)
+            }
         }
     };
     let (kept, close) = set.room_static.get(i).copied().unwrap_or((u8::MAX, u8::MAX));
-    let sides = set.wall_touch(i).count_ones();
+    let sides = set.grid.wall_touch[g].count_ones();
     (score, ordering_key(s, sat_value, f64::from(kept), f64::from(close), f64::from(sides)))
 }
 
