@@ -55,7 +55,7 @@ pub(crate) fn grid_step(bounds: &Rect) -> f64 {
     (bounds.width().max(bounds.depth()) / 24.0).clamp(0.15, 0.4)
 }
 
-/// The step along walls: 1/40 of the room's longer side, between 10 and 25 cm.
+/// The step along walls: 1/60 of the room's longer side, between 10 and 15 cm.
 pub(crate) fn wall_step(bounds: &Rect) -> f64 {
     (bounds.width().max(bounds.depth()) / 60.0).clamp(0.1, 0.15)
 }
