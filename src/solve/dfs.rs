@@ -1173,7 +1173,7 @@ struct Search<'p, 'a> {
     anywhere: RefCell<Vec<Option<Rc<Vec<Cand>>>>>,
     /// Per static grid (its address) and placed footprint (its bits), the places of the grid's
     /// candidates it touches.
-    touch_answers: RefCell<FxHashMap<TouchKey, Rc<[(u32, u8)]>>>,
+    touch_answers: RefCell<FxHashMap<TouchKey, Touching>>,
     /// Per object against the walls with room to keep beside it, and placed footprint (its
     /// bits), the object's wall poses flush beside that footprint ([`Search::flush_beside`]).
     flush_answers: RefCell<FxHashMap<TouchKey, Rc<[Cand]>>>,
@@ -1269,6 +1269,10 @@ impl PartialEq for TouchFirst {
 }
 
 impl Eq for TouchFirst {}
+
+/// An answer of [`Search::touching`]: places in a grid, each with the sides (bits) it comes near
+/// the footprint by.
+type Touching = Rc<[(u32, u8)]>;
 
 /// A key of [`Search::touching`] (a grid's address) or [`Search::flush_beside`] (an object),
 /// and the bits of a placed footprint.
@@ -1472,7 +1476,7 @@ impl Search<'_, '_> {
     /// `fp` can add a touching side to ([`SharedGrid::touching`]): worked out once per grid
     /// and footprint, as the search meets the same footprints placed again and again, and the
     /// objects alike (the chairs of a set) share their grid.
-    fn touching(&self, k: usize, fp: &Rect) -> Rc<[(u32, u8)]> {
+    fn touching(&self, k: usize, fp: &Rect) -> Touching {
         let grid = &self.statics[k].grid;
         // The grid's address tells it from the others while the search holds them all.
         let key =
@@ -1480,7 +1484,7 @@ impl Search<'_, '_> {
         if let Some(found) = self.touch_answers.borrow().get(&key) {
             return Rc::clone(found);
         }
-        let found: Rc<[(u32, u8)]> = grid.touching(fp).into();
+        let found: Touching = grid.touching(fp).into();
         let mut answers = self.touch_answers.borrow_mut();
         if answers.len() >= MAX_TOUCH_ANSWERS {
             answers.clear();
