@@ -15,8 +15,8 @@ use good_lp::{
     constraint, variable, Expression, ProblemVariables, Solution, SolverModel, Variable,
 };
 
+use super::candidates::{derived_candidates, fast_score, static_candidates, Cand};
 use super::constraints::{self, footprint, half_extents, HardRule, Pose, Rect, Rot};
-use super::dfs::{derived_candidates, fast_score, static_candidates, Cand};
 use super::{measure_object, PlacedFloor, Prepared, RoomLayout, SolveOptions, Unplaced};
 use crate::check::scene::{GlobalKind, RelationKind};
 

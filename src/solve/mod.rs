@@ -9,6 +9,7 @@
 //! Hard rules are never broken: an object that cannot keep them is left out and reported with
 //! the rule that blocked it (W0501), and the objects after it are still placed.
 
+mod candidates;
 pub mod constraints;
 mod dfs;
 mod errors;
