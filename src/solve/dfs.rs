@@ -384,7 +384,7 @@ struct SharedGrid {
     wall_touch: Vec<u8>,
     /// The places in the grid by each side of their footprints (`min_x`, `max_x`, `min_z`,
     /// `max_z`), sorted by that coordinate: the candidates that can touch a placed footprint
-    /// are looked up here ([`StaticSet::touching`]).
+    /// are looked up here ([`SharedGrid::touching`]).
     edges: [Vec<(f64, u32)>; 4],
     /// The places in the grid by their centres: the candidates near a placed target are
     /// looked up here ([`Search::target_context`]).
@@ -421,8 +421,9 @@ impl SharedGrid {
     /// The places in the grid (each once) of the candidates that come within [`CONTACT_M`] of
     /// the placed footprint `p` without overlapping it, each with the sides it comes near `p`
     /// by (bits: −x, +x, −z, +z): every candidate that it can add a touching side to, and every
-    /// side it can add (a candidate at `p`'s corner comes near but touches by none). A side can only touch a footprint from just outside one of its edges, so each edge
-    /// is looked up in the sorted sides of the candidates.
+    /// side it can add (a candidate at `p`'s corner comes near but touches by none). A side can
+    /// only touch a footprint from just outside one of its edges, so each edge is looked up in
+    /// the sorted sides of the candidates.
     fn touching(&self, p: &Rect) -> Vec<(u32, u8)> {
         // A little wider than the rules below, so that no rounding leaves a candidate out;
         // the test itself is the one the walk makes.
@@ -870,7 +871,7 @@ struct NodeWalk {
     /// The next step of the target context's walk to meet.
     next: usize,
     /// The static candidates that a placed footprint comes within [`CONTACT_M`] of
-    /// ([`StaticSet::touching`]), one bit each: the context's walk bounds a static candidate
+    /// ([`SharedGrid::touching`]), one bit each: the context's walk bounds a static candidate
     /// with the sides that touch a wall only, so these are met in a walk of their own, `touch`,
     /// bounded with every side touching something.
     touch_bits: Vec<u64>,
@@ -1161,7 +1162,7 @@ impl Search<'_, '_> {
 
     /// Object `k`'s wall poses right beside the placed footprint `fp`, along each wall it
     /// could stand flush against, keeping every static rule. The static grid steps along the
-    /// walls by [`wall_step`], so a gap between two placed objects only just wide enough for
+    /// walls by [`super::candidates::wall_step`], so a gap between two placed objects only just wide enough for
     /// `k` and what must stand beside it is met only here. Worked out once per footprint.
     fn flush_beside(&self, k: usize, fp: &Rect) -> Rc<[Cand]> {
         let key = (k, [fp.min_x, fp.min_z, fp.max_x, fp.max_z].map(f64::to_bits));
@@ -1450,7 +1451,7 @@ impl Search<'_, '_> {
         (s, ordering_key(s, self.sat_value, f64::from(kept), f64::from(close), 4.0))
     }
 
-    /// [`derived_candidates`] of object `k` with its targets posed as in `poses`, each
+    /// [`super::candidates::derived_candidates`] of object `k` with its targets posed as in `poses`, each
     /// target's piece worked out once per pose.
     fn derived(&self, k: usize, poses: &[Option<Pose>]) -> Vec<Cand> {
         let mut out = Vec::new();
