@@ -929,6 +929,31 @@ impl PartialEq for TouchFirst {
 
 impl Eq for TouchFirst {}
 
+/// The bits of a footprint, as the stores of answers key it.
+fn rect_bits(r: &Rect) -> [u64; 4] {
+    [r.min_x, r.min_z, r.max_x, r.max_z].map(f64::to_bits)
+}
+
+/// The answer `store` keeps under `key`, or `make`'s, then kept (the store emptied first when it
+/// holds `most`): the search meets the same questions again and again.
+fn kept_answer<K: std::hash::Hash + Eq, V: Clone>(
+    store: &RefCell<FxHashMap<K, V>>,
+    key: K,
+    most: usize,
+    make: impl FnOnce() -> V,
+) -> V {
+    if let Some(found) = store.borrow().get(&key) {
+        return found.clone();
+    }
+    let found = make();
+    let mut answers = store.borrow_mut();
+    if answers.len() >= most {
+        answers.clear();
+    }
+    answers.insert(key, found.clone());
+    found
+}
+
 /// An answer of [`Search::touching`]: places in a grid, each with the sides (bits) it comes near
 /// the footprint by.
 type Touching = Rc<[(u32, u8)]>;
@@ -1138,18 +1163,8 @@ impl Search<'_, '_> {
     fn touching(&self, k: usize, fp: &Rect) -> Touching {
         let grid = &self.statics[k].grid;
         // The grid's address tells it from the others while the search holds them all.
-        let key =
-            (Rc::as_ptr(grid) as usize, [fp.min_x, fp.min_z, fp.max_x, fp.max_z].map(f64::to_bits));
-        if let Some(found) = self.touch_answers.borrow().get(&key) {
-            return Rc::clone(found);
-        }
-        let found: Touching = grid.touching(fp).into();
-        let mut answers = self.touch_answers.borrow_mut();
-        if answers.len() >= MAX_TOUCH_ANSWERS {
-            answers.clear();
-        }
-        answers.insert(key, Rc::clone(&found));
-        found
+        let key = (Rc::as_ptr(grid) as usize, rect_bits(fp));
+        kept_answer(&self.touch_answers, key, MAX_TOUCH_ANSWERS, || grid.touching(fp).into())
     }
 
     /// Whether object `k` looks for wall poses flush beside placed footprints: an object
@@ -1162,13 +1177,17 @@ impl Search<'_, '_> {
 
     /// Object `k`'s wall poses right beside the placed footprint `fp`, along each wall it
     /// could stand flush against, keeping every static rule. The static grid steps along the
-    /// walls by [`super::candidates::wall_step`], so a gap between two placed objects only just wide enough for
-    /// `k` and what must stand beside it is met only here. Worked out once per footprint.
+    /// walls by [`super::candidates::wall_step`], so a gap between two placed objects only just
+    /// wide enough for `k` and what must stand beside it is met only here. Worked out once per
+    /// footprint.
     fn flush_beside(&self, k: usize, fp: &Rect) -> Rc<[Cand]> {
-        let key = (k, [fp.min_x, fp.min_z, fp.max_x, fp.max_z].map(f64::to_bits));
-        if let Some(found) = self.flush_answers.borrow().get(&key) {
-            return Rc::clone(found);
-        }
+        kept_answer(&self.flush_answers, (k, rect_bits(fp)), MAX_TOUCH_ANSWERS, || {
+            self.flush_beside_now(k, fp)
+        })
+    }
+
+    /// [`Search::flush_beside`], worked out.
+    fn flush_beside_now(&self, k: usize, fp: &Rect) -> Rc<[Cand]> {
         let prep = self.prep;
         let size = prep.problem.objects[k].size;
         let eps = constraints::EPS;
@@ -1195,13 +1214,7 @@ impl Search<'_, '_> {
             .map(|pose| Cand { pose, fp: footprint(&pose, size) })
             .collect();
         dedup_cands(&mut cands);
-        let found: Rc<[Cand]> = cands.into();
-        let mut answers = self.flush_answers.borrow_mut();
-        if answers.len() >= MAX_TOUCH_ANSWERS {
-            answers.clear();
-        }
-        answers.insert(key, Rc::clone(&found));
-        found
+        cands.into()
     }
 
     /// The candidates of object `k` at this node, the first of them found. Each round of
@@ -1242,7 +1255,6 @@ impl Search<'_, '_> {
     /// pocket of floor. The search meets the same layouts again (each round of discrepancy
     /// walks the paths of the rounds before), so answers are kept by the footprints.
     fn boxed(&mut self, c: &Cand, st: &mut State) -> bool {
-        let rect_bits = |r: &Rect| [r.min_x, r.min_z, r.max_x, r.max_z].map(f64::to_bits);
         let mut key: Vec<u64> = Vec::with_capacity(4 * (st.fps.len() + 1));
         for fp in st.fps.iter().chain(std::iter::once(&c.fp)) {
             key.extend(rect_bits(fp));
@@ -1458,17 +1470,10 @@ impl Search<'_, '_> {
         for target in derived_targets(self.prep, k) {
             let Some(Some(tp)) = poses.get(target) else { continue };
             let key = (k, target, [tp.x.to_bits(), tp.z.to_bits(), tp.rot as u64]);
-            if let Some(piece) = self.derived_pieces.borrow().get(&key) {
-                out.extend_from_slice(piece);
-                continue;
-            }
-            let piece: Rc<[Cand]> = derived_for_target(self.prep, k, target, tp).into();
+            let piece = kept_answer(&self.derived_pieces, key, MAX_DERIVED_PIECES, || {
+                derived_for_target(self.prep, k, target, tp).into()
+            });
             out.extend_from_slice(&piece);
-            let mut pieces = self.derived_pieces.borrow_mut();
-            if pieces.len() >= MAX_DERIVED_PIECES {
-                pieces.clear();
-            }
-            pieces.insert(key, piece);
         }
         dedup_cands(&mut out);
         out
